@@ -1,0 +1,460 @@
+"""Static linear piezoelectric solve of a scene: assemble, constrain, scale, solve, report.
+
+Unknowns: displacement u everywhere (P2, or P1 + bubble with order 1), one P1
+pressure per solid region (mixed u-p, see fem.forms), and the electric
+potential phi only in the piezo bodies (P2 or P1). The weak form is in
+fem.forms.
+
+Electrodes. One electrode is the reference (phi = 0: the common bottom
+"ground" of an array, the first grounded electrode of a plate). Every other
+electrode is *active*: its potential DOFs collapse into one unknown V_k whose
+equation is the electrode's charge balance (the sum of its rows), right-hand
+side -Q_k. One factorization of that matrix then gives, by back-substitution:
+
+    x_f        load, all active electrodes open (Q = 0): open-circuit voltages V_f
+    X_k        unit charge on electrode k:        column k of C^-1
+    C          the capacitance matrix (clamped by the scene's supports, free elsewhere)
+    Q_sc = -C V_f   short-circuit charges (what a charge amplifier integrates)
+
+and the state the scene asks for (each electrode open, grounded or at a
+voltage) follows from the n x n relation V = V_f + C^-1 Q without another
+factorization.
+
+Scaling. Stiffnesses span 1e4 Pa (silicone) to 1e11 Pa (PZT) and the
+dielectric block is ~1e-8: the matrix is scaled symmetrically, A_s = D A D with
+D_ii = 1 / sqrt(max_j |A_ij|), before factorization, and the relative residual
+is reported as the normwise backward error of the system solved (it must be
+near machine precision; tests also check equilibrium of the reactions).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis, ElementTetMini, ElementTetP1, ElementTetP2, ElementTriMini, ElementTriP1, \
+    ElementTriP2, ElementVector, FacetBasis, asm
+
+from fem import forms, linsolve, materials
+from meshing.build import TaggedMesh, build
+from meshing.layout import layout
+from studies.scene import Scene, SceneError, electrode_state, user_materials
+
+
+@dataclass
+class ElectrodeResult:
+    name: str
+    state: str                    # open | ground | reference | "<V> V"
+    voltage: float                # V, under the scene's electrode states
+    charge: float                 # C, under the scene's electrode states
+    short_circuit_charge: float   # C, this and every other active electrode grounded
+    capacitance: float | None     # F, self capacitance with the others grounded; None for the reference
+
+
+@dataclass
+class Solution:
+    scene: Scene
+    electrodes: dict[str, ElectrodeResult]
+    applied_force: float          # N, total downward load
+    reaction: np.ndarray          # N, total support reaction (x, [y,] z); axisymmetric: (0, z)
+    max_silicone_strain: float    # largest |principal strain| of element-mean silicone strains
+    unknowns: int
+    solver: str
+    residual: float               # normwise backward error of the scaled system
+    times: dict[str, float]
+    mesh: TaggedMesh
+    fields: dict = field(repr=False, default_factory=dict)
+
+    def voltages(self):
+        return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
+
+    def record(self) -> dict:
+        """One JSON-ready record of the numbers a user asks for (SI units)."""
+        return {
+            "scene": self.scene.name, "model": self.scene.model.type,
+            "electrodes": {k: {"state": e.state, "voltage_V": e.voltage, "charge_C": e.charge,
+                               "short_circuit_charge_C": e.short_circuit_charge,
+                               "capacitance_F": e.capacitance} for k, e in self.electrodes.items()},
+            "applied_force_N": self.applied_force, "reaction_N": self.reaction.tolist(),
+            "max_silicone_strain": self.max_silicone_strain, "unknowns": self.unknowns,
+            "solver": self.solver, "relative_residual": self.residual,
+            "times_s": self.times,
+        }
+
+
+def solve(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | None = None,
+          scale: bool = True) -> Solution:
+    """Solve a scene (meshing it unless `tagged_mesh` is given)."""
+    t0 = time.perf_counter()
+    user = user_materials(scene)
+    tm = tagged_mesh or build(layout(scene), user)
+    t1 = time.perf_counter()
+    system = assemble(scene, tm, user)
+    t2 = time.perf_counter()
+    sol = _solve(system, solver, scale)
+    t3 = time.perf_counter()
+    sol.times = {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0}
+    return sol
+
+
+# --------------------------------------------------------------------------------------
+# assembly
+# --------------------------------------------------------------------------------------
+
+@dataclass
+class System:
+    scene: Scene
+    tm: TaggedMesh
+    A: sp.csr_matrix              # full (unconstrained) matrix
+    b: np.ndarray                 # full load vector
+    offsets: dict                 # block -> slice in the full vector
+    ubases: dict                  # region -> restricted displacement basis
+    pbases: dict                  # solid region -> restricted pressure basis
+    phibases: dict                # piezo region -> restricted potential basis
+    constitutive: dict            # region -> (c, e, eps) or ("solid", mu, lam)
+    fixed_u: np.ndarray           # constrained displacement DOFs (value 0)
+    fixed_by_support: dict        # support name -> DOFs
+    electrode_dofs: dict          # electrode -> global phi DOFs (offset applied)
+    states: dict                  # electrode -> "reference" | "open" | volts (float)
+    applied_force: float
+
+
+def _elements(dim, order, mixed):
+    tri = dim == 2
+    if order == 2:
+        eu = ElementTriP2() if tri else ElementTetP2()
+        return ElementVector(eu), ElementTriP1() if tri else ElementTetP1(), eu
+    p1 = ElementTriP1() if tri else ElementTetP1()
+    eu = (ElementTriMini() if tri else ElementTetMini()) if mixed else p1
+    return ElementVector(eu), p1, p1
+
+
+def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None) -> System:
+    model, lay, mesh = scene.model.type, tm.layout, tm.mesh
+    depth, dim = lay.depth, mesh.dim()
+    mixed = scene.mesh.silicone == "mixed"
+    eu, ep, ephi = _elements(dim, scene.mesh.order, mixed)
+    q = 4
+
+    ubases, pbases, phibases, constitutive = {}, {}, {}, {}
+    for region, (mname, poling) in tm.materials.items():
+        mat = materials.get(mname, user)
+        elems = tm.regions[region]
+        ubases[region] = Basis(mesh, eu, elements=elems, intorder=q)
+        if isinstance(mat, materials.Piezo):
+            try:
+                c, e, eps = materials.reduced(mat.poled([0, 0, poling]), model)
+            except ValueError as exc:
+                raise SceneError(f"{mname}: {exc}") from None
+            constitutive[region] = ("piezo", c, e, eps)
+            phibases[region] = Basis(mesh, ephi, elements=elems, intorder=q)
+        else:
+            mu, lam = mat.mu, mat.lam
+            if model == "plane_stress":
+                lam = 2 * lam * mu / (lam + 2 * mu)
+            constitutive[region] = ("solid", mu, lam)
+            if mixed:
+                pbases[region] = Basis(mesh, ep, elements=elems, intorder=q)
+
+    Nu = next(iter(ubases.values())).N
+    Np1 = mesh.nvertices if pbases else 0
+    Nphi = next(iter(phibases.values())).N if phibases else 0
+    offsets = {"u": slice(0, Nu)}
+    n = Nu
+    for region in pbases:
+        offsets[("p", region)] = slice(n, n + Np1)
+        n += Np1
+    offsets["phi"] = slice(n, n + Nphi)
+    n += Nphi
+
+    blocks = []      # (row slice, col slice, matrix)
+    for region, law in constitutive.items():
+        ub = ubases[region]
+        if law[0] == "piezo":
+            _, c, e, eps = law
+            blocks.append(("u", "u", asm(forms.elastic(c, model, depth), ub)))
+            Kup = asm(forms.piezo_coupling(e, model, depth), phibases[region], ub)
+            blocks += [("u", "phi", Kup), ("phi", "u", Kup.T),
+                       ("phi", "phi", -asm(forms.dielectric(eps, model, depth), phibases[region]))]
+        else:
+            _, mu, lam = law
+            if mixed:
+                pk = ("p", region)
+                B = asm(forms.pressure_divergence(model, depth), pbases[region], ub)
+                blocks += [("u", "u", asm(forms.deviatoric_shear(mu, model, depth), ub)),
+                           ("u", pk, B), (pk, "u", B.T),
+                           (pk, pk, -asm(forms.pressure_mass(lam, model, depth), pbases[region]))]
+            else:
+                c = _solid_stiffness(mu, lam, model)
+                blocks.append(("u", "u", asm(forms.elastic(c, model, depth), ub)))
+    coo = [sp.coo_matrix(M) for *_, M in blocks]
+    rows = np.concatenate([m.row + offsets[r].start for (r, _, _), m in zip(blocks, coo)])
+    cols = np.concatenate([m.col + offsets[c].start for (_, c, _), m in zip(blocks, coo)])
+    vals = np.concatenate([m.data for m in coo])
+    A = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    b, force = _load(scene, tm, eu, depth, n)
+    fixed_by_support = _supports(scene, tm, ubases)
+    fixed_u = np.unique(np.concatenate(list(fixed_by_support.values()) or [np.zeros(0, int)]))
+    electrode_dofs, states = _electrodes(scene, tm, phibases, offsets["phi"].start)
+    return System(scene, tm, A, b, offsets, ubases, pbases, phibases, constitutive, fixed_u,
+                  fixed_by_support, electrode_dofs, states, force)
+
+
+def _solid_stiffness(mu, lam, model):
+    """Reduced isotropic stiffness (lam is already the plane-stress one when needed)."""
+    c = np.zeros((6, 6))
+    c[:3, :3] = lam
+    c += mu * np.diag([2.0, 2, 2, 1, 1, 1])
+    s = {"3d": [0, 1, 2, 3, 4, 5], "axisymmetric": [0, 1, 2, 4]}.get(model, [0, 2, 4])
+    return c[np.ix_(s, s)]
+
+
+def _load(scene: Scene, tm: TaggedMesh, eu, depth, n):
+    """Full load vector (downward pressure on the "load" facets) and the total force (N)."""
+    lay, model, ld = tm.layout, scene.model.type, scene.load
+    dim = tm.mesh.dim()
+    fb = FacetBasis(tm.mesh, eu, facets=tm.facets["load"], intorder=4)
+    patch = lay.load
+
+    def shape(x):
+        if patch is None or lay.load_profile == "flat":
+            return np.ones_like(x[0])
+        if dim == 3:
+            rho = np.hypot(x[0] - patch.x, x[1] - patch.y)
+        else:
+            rho = np.abs(x[0] - patch.x)
+        return np.sqrt(np.clip(1 - (rho / patch.half) ** 2, 0, None))
+
+    unit = forms.resultant(shape, model, depth).assemble(fb)
+    if ld.kind == "pressure":
+        p0, force = ld.pressure, ld.pressure * unit
+    else:
+        p0, force = ld.force / unit, ld.force
+    b = np.zeros(n)
+    b[:fb.N] = asm(forms.surface_pressure(lambda x: p0 * shape(x), model, depth, dim), fb)
+    return b, force
+
+
+def _supports(scene: Scene, tm: TaggedMesh, ubases) -> dict[str, np.ndarray]:
+    """Constrained displacement DOFs (all homogeneous) by support."""
+    lay, model, sup = tm.layout, scene.model.type, scene.supports
+    dim = tm.mesh.dim()
+    ub = next(iter(ubases.values()))
+    comps = [f"u^{i + 1}" for i in range(dim)]
+    vertical = comps[-1]
+    out = {}
+
+    def dofs(name, which=None):
+        if name not in tm.facets:
+            return np.zeros(0, int)
+        d = ub.get_dofs(tm.facets[name])
+        return d.all() if which is None else d.all(which)
+
+    if sup.bottom == "bonded":
+        out["bottom"] = dofs("bottom")
+    elif sup.bottom == "rollers":
+        out["bottom"] = dofs("bottom", [vertical])
+        bottom_nodes = np.unique(tm.mesh.facets[:, tm.facets["bottom"]])
+        centre = np.array([lay.plan.x, lay.plan.y][: dim - 1])
+        if model != "axisymmetric":     # pin the in-plane rigid motion
+            pts = tm.mesh.p[: dim - 1, bottom_nodes]
+            k = bottom_nodes[np.argmin(np.linalg.norm(pts - centre[:, None], axis=0))]
+            pins = [ub.nodal_dofs[i, k] for i in range(dim - 1)]
+            if dim == 3:                # and the rotation about z
+                k2 = bottom_nodes[np.argmax(tm.mesh.p[0, bottom_nodes])]
+                pins.append(ub.nodal_dofs[1, k2])
+            out["pin"] = np.array(pins)
+    if sup.edges == "clamped":
+        out["edges"] = dofs("edges")
+    elif sup.edges == "rollers":
+        if dim == 3 and lay.plan.shape == "disk":
+            raise SceneError("supports.edges = 'rollers' needs a rectangular plan in 3d; "
+                             "use 'clamped' or a rectangle")
+        fac = tm.facets["edges"]
+        if dim == 2:
+            out["edges"] = ub.get_dofs(fac).all(["u^1"])
+        else:
+            mid = tm.mesh.p[:, tm.mesh.facets[:, fac]].mean(axis=1)
+            on_x = np.abs(np.abs(mid[0]) - lay.plan.half) < 1e-9 * lay.plan.half
+            out["edges"] = np.concatenate([ub.get_dofs(fac[on_x]).all(["u^1"]),
+                                           ub.get_dofs(fac[~on_x]).all(["u^2"])])
+    elif sup.edges == "simply_supported":       # hinged along the mid-plane line
+        d = dofs("edges")
+        out["edges"] = d[np.abs(ub.doflocs[dim - 1, d] - lay.midplane) < 1e-9 * lay.height]
+    if model == "axisymmetric":
+        out["axis"] = dofs("axis", ["u^1"])
+    return out
+
+
+def _electrodes(scene: Scene, tm: TaggedMesh, phibases, offset):
+    """Global phi DOFs of each electrode, and each one's state (one is the reference)."""
+    names = [e.name for e in tm.layout.electrodes]
+    for key in scene.electrodes:
+        if key not in names and key != "taxels":
+            raise SceneError(f"electrodes.{key}: no such electrode; this scene has: {', '.join(names)}")
+    states = {}
+    for name in names:
+        s = "ground" if name in ("ground", "bottom") else "open"
+        if name.startswith("taxel_") and "taxels" in scene.electrodes:
+            s = electrode_state(scene.electrodes["taxels"])
+        if name in scene.electrodes:
+            s = electrode_state(scene.electrodes[name])
+        states[name] = s
+    if names and "ground" not in states.values():
+        raise SceneError("electrodes: none is grounded, so the potential has no reference; "
+                         "set one electrode to 'ground'")
+    if names:
+        states[next(k for k, s in states.items() if s == "ground")] = "reference"
+    dofs = {}
+    for name in names:
+        d = [pb.get_dofs(tm.facets[name]).all() for pb in phibases.values() if name in tm.facets]
+        dofs[name] = np.unique(np.concatenate(d)) + offset if d else np.zeros(0, int)
+    return dofs, states
+
+
+# --------------------------------------------------------------------------------------
+# constrained solve
+# --------------------------------------------------------------------------------------
+
+def _solve(sy: System, method: str, scale: bool) -> Solution:
+    n = sy.A.shape[0]
+    used = np.zeros(n, bool)
+    used[sy.offsets["u"]] = True
+    for region, pb in sy.pbases.items():
+        used[sy.offsets[("p", region)].start + np.unique(pb.element_dofs)] = True
+    phi0 = sy.offsets["phi"].start
+    for pb in sy.phibases.values():
+        used[phi0 + np.unique(pb.element_dofs)] = True
+    used[sy.fixed_u] = False
+    active = [k for k, s in sy.states.items() if s != "reference"]
+    ref = [k for k, s in sy.states.items() if s == "reference"]
+    for k in ref + active:
+        used[sy.electrode_dofs[k]] = False
+    free = np.flatnonzero(used)
+    nf, na = len(free), len(active)
+    col = np.full(n, -1)
+    col[free] = np.arange(nf)
+    for i, k in enumerate(active):
+        col[sy.electrode_dofs[k]] = nf + i
+    rows = np.flatnonzero(col >= 0)
+    P = sp.csr_matrix((np.ones(len(rows)), (rows, col[rows])), shape=(n, nf + na))
+    A = (P.T @ sy.A @ P).tocsc()
+    B = np.zeros((nf + na, 1 + na))
+    B[:, 0] = P.T @ sy.b
+    B[nf + np.arange(na), 1 + np.arange(na)] = -1.0       # unit charge Q_k = 1 C (rhs -Q)
+
+    D = 1.0 / np.sqrt(abs(A).max(axis=1).toarray().ravel()) if scale else np.ones(nf + na)
+    As, Bs = sp.diags(D) @ A @ sp.diags(D), D[:, None] * B
+    Y = linsolve.factorize(As, method)(Bs).reshape(nf + na, 1 + na)
+    X = D[:, None] * Y
+    # normwise backward error of the (scaled) system solved: |A y - b| / (|A| |y| + |b|), inf-norms
+    normA = abs(As).sum(axis=1).max()
+    res = np.abs(As @ Y - Bs).max(axis=0) / (normA * np.abs(Y).max(axis=0) + np.abs(Bs).max(axis=0))
+    if not np.all(np.isfinite(X)):
+        raise RuntimeError("linear solve produced non-finite values: the system is singular "
+                           "(check the supports and that every piezo body touches a grounded electrode)")
+
+    # open-circuit voltages, capacitance matrix, and the state the scene asks for
+    Vf, Cinv = X[nf:, 0], X[nf:, 1:]
+    C = np.linalg.inv(Cinv) if na else np.zeros((0, 0))
+    fixedV = [i for i, k in enumerate(active) if sy.states[k] != "open"]
+    Q = np.zeros(na)
+    if fixedV:
+        Vset = np.array([0.0 if sy.states[active[i]] == "ground" else sy.states[active[i]] for i in fixedV])
+        Q[fixedV] = np.linalg.solve(Cinv[np.ix_(fixedV, fixedV)], Vset - Vf[fixedV])
+    x = P @ (X[:, 0] + X[:, 1:] @ Q)
+    r = sy.A @ x - sy.b
+
+    electrodes = {}
+    Qsc = -C @ Vf
+    for i, k in enumerate(active):
+        st = sy.states[k]
+        q = 0.0 if st == "open" else float(-r[sy.electrode_dofs[k]].sum())    # open: Q = 0 exactly
+        electrodes[k] = ElectrodeResult(k, st if isinstance(st, str) else f"{st:g} V",
+                                        float(x[sy.electrode_dofs[k][0]]), q,
+                                        float(Qsc[i]), float(C[i, i]))
+    for k in ref:   # with every active electrode grounded, the reference carries minus their charge
+        q = float(-r[sy.electrode_dofs[k]].sum())
+        electrodes[k] = ElectrodeResult(k, "reference", 0.0, q, float(-Qsc.sum()) if active else q, None)
+    dim = sy.tm.mesh.dim()
+    ub = next(iter(sy.ubases.values()))
+    reaction = np.array([r[np.intersect1d(sy.fixed_u, _component_dofs(ub, c))].sum() for c in range(dim)])
+    if sy.scene.model.type == "axisymmetric":
+        reaction[0] = 0.0           # radial support forces cancel around the circle
+    fields = _fields(sy, x)
+    return Solution(sy.scene, electrodes, sy.applied_force, reaction, fields.pop("max_silicone_strain"),
+                    nf + na, linsolve.resolve(method), float(res.max()), {}, sy.tm, fields)
+
+
+def _component_dofs(ub, c):
+    """All displacement DOFs of component c (nodal, edge or facet, interior)."""
+    out = [ub.nodal_dofs[c]]
+    if ub.facet_dofs.size and ub.mesh.dim() == 2:
+        out.append(ub.facet_dofs[c])
+    if ub.edge_dofs.size and ub.mesh.dim() == 3:
+        out.append(ub.edge_dofs[c])
+    if ub.interior_dofs.size:
+        out.append(ub.interior_dofs[c])
+    return np.concatenate(out)
+
+
+def _fields(sy: System, x) -> dict:
+    """Vertex values of u and phi, element-mean strain and stress, and the largest
+    |principal strain| of the element-mean strains in the silicone (element means
+    rather than point values: the strain is singular at taxel and load corners,
+    so a point maximum grows without bound under refinement)."""
+    model, mesh = sy.scene.model.type, sy.tm.mesh
+    dim = mesh.dim()
+    u = x[sy.offsets["u"]]
+    phi = x[sy.offsets["phi"]]
+    ub0 = next(iter(sy.ubases.values()))
+    nS = {"3d": 6, "axisymmetric": 4}.get(model, 3)
+    strain_cell = np.zeros((mesh.nelements, nS))
+    stress_cell = np.zeros((mesh.nelements, nS))
+    max_strain = 0.0
+    for region, law in sy.constitutive.items():
+        ub = sy.ubases[region]
+        elems = sy.tm.regions[region]
+        S = forms.strain(ub.interpolate(u), ub.global_coordinates().value, model)      # (nS, ne, nq)
+        if law[0] == "piezo":
+            _, c, e, eps = law
+            g = sy.phibases[region].interpolate(phi).grad
+            T = np.einsum("ij,j...->i...", c, S) + np.einsum("ki,k...->i...", e, g)
+        else:
+            _, mu, lam = law
+            wts = np.array(forms.shear_weights(model))
+            if region in sy.pbases:
+                p = sy.pbases[region].interpolate(x[sy.offsets[("p", region)]]).value
+            else:
+                p = lam * forms.divergence(S, model)
+            normal = np.zeros(nS)
+            normal[: (3 if model in ("3d", "axisymmetric") else 2)] = 1
+            T = 2 * mu * wts[:, None, None] * S + normal[:, None, None] * p
+        strain_cell[elems] = S.mean(axis=2).T
+        if law[0] == "solid" and sy.tm.layout.taxels:
+            max_strain = max(max_strain, _max_principal(strain_cell[elems].T, model, mu, lam))
+        stress_cell[elems] = T.mean(axis=2).T
+    vertex_u = u[ub0.nodal_dofs].T
+    phi_vertex = np.zeros(mesh.nvertices)
+    for pb in sy.phibases.values():
+        phi_vertex[pb.nodal_dofs[0]] = phi[pb.nodal_dofs[0]]
+    return {"u": vertex_u, "phi": phi_vertex, "strain": strain_cell, "stress": stress_cell,
+            "max_silicone_strain": float(max_strain), "x": x}
+
+
+def _max_principal(S, model, mu, lam):
+    """max |principal strain| of Voigt strains S (nS, ...)."""
+    if model == "3d":
+        E = np.array([[S[0], S[5] / 2, S[4] / 2], [S[5] / 2, S[1], S[3] / 2], [S[4] / 2, S[3] / 2, S[2]]])
+        extra = None
+    else:
+        xx, zz, xz = (S[0], S[2], S[3]) if model == "axisymmetric" else (S[0], S[1], S[2])
+        E = np.array([[xx, xz / 2], [xz / 2, zz]])
+        extra = {"axisymmetric": S[1] if model == "axisymmetric" else None,
+                 "plane_stress": -lam / (lam + 2 * mu) * (xx + zz)}.get(model)
+    ev = np.linalg.eigvalsh(np.moveaxis(E, (0, 1), (-2, -1)))
+    m = np.abs(ev).max()
+    return float(max(m, np.abs(extra).max()) if extra is not None else m)

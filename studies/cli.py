@@ -1,0 +1,116 @@
+"""The `taxel` command.
+
+    taxel solve SCENE [--json] [--vtu FILE] [--solver NAME]
+    taxel mesh SCENE -o FILE          (.msh with physical groups, or .vtu/.xdmf via meshio)
+    taxel examples
+
+SCENE is a TOML file or the name of a built-in example. Bad input exits with
+code 2 and one line naming the problem and the fix.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from studies.scene import SceneError, examples, load
+
+EXIT_INPUT, EXIT_FAILED = 2, 1
+
+
+def si(value: float | None, unit: str) -> str:
+    """A number with an SI prefix: si(2.97e-9, 'C') -> '2.97 nC'."""
+    if value is None:
+        return "-"
+    if value == 0:
+        return f"0 {unit}"
+    import math
+    value = float(f"{value:.4g}")
+    exp = max(-15, min(9, 3 * math.floor(math.log10(abs(value)) / 3)))
+    prefix = {-15: "f", -12: "p", -9: "n", -6: "u", -3: "m", 0: "", 3: "k", 6: "M", 9: "G"}[exp]
+    return f"{value / 10 ** exp:.4g} {prefix}{unit}"
+
+
+def _solve(args):
+    from fem.solve import solve
+    from meshing.build import export
+    scene = load(args.scene)
+    sol = solve(scene, solver=args.solver)
+    if args.vtu:
+        export(sol.mesh, args.vtu, point_data={"u": sol.fields["u"], "phi": sol.fields["phi"]},
+               cell_data={"strain": sol.fields["strain"], "stress": sol.fields["stress"]})
+    if args.json:
+        print(json.dumps(sol.record()))
+        return
+    m = scene.mesh
+    print(f"scene {scene.name}: {scene.model.type}, order {m.order} ({m.silicone} silicone), "
+          f"{sol.unknowns} unknowns, solver {sol.solver}, {sol.times['total']:.3f} s "
+          f"(mesh {sol.times['mesh']:.3f}, assemble {sol.times['assemble']:.3f}, solve {sol.times['solve']:.3f})")
+    print(f"{'electrode':<12}{'state':<10}{'voltage':>12}{'charge':>13}{'short-circuit Q':>18}{'capacitance':>14}")
+    for e in sol.electrodes.values():
+        print(f"{e.name:<12}{e.state:<10}{si(e.voltage, 'V'):>12}{si(e.charge, 'C'):>13}"
+              f"{si(e.short_circuit_charge, 'C'):>18}{si(e.capacitance, 'F'):>14}")
+    print(f"applied force {si(sol.applied_force, 'N')}, support reaction {si(sol.reaction[-1], 'N')} (vertical), "
+          f"backward error {sol.residual:.1e}")
+    if sol.mesh.layout.taxels:
+        print(f"largest silicone strain {100 * sol.max_silicone_strain:.1f} %"
+              + ("  (above ~10 %: a linear silicone model is not enough; see the hyperelastic model)"
+                 if sol.max_silicone_strain > 0.1 else ""))
+    if args.vtu:
+        print(f"fields written to {args.vtu}")
+
+
+def _mesh(args):
+    from meshing.build import build, export
+    from meshing.layout import layout
+    from studies.scene import user_materials
+    scene = load(args.scene)
+    out = Path(args.output)
+    if out.suffix == ".msh":
+        tm = build(layout(scene), user_materials(scene), msh_path=out)
+    else:
+        tm = build(layout(scene), user_materials(scene))
+        export(tm, out)
+    print(f"{out}: {tm.mesh.nelements} elements, {tm.mesh.nvertices} nodes; "
+          f"regions {', '.join(tm.regions)}; facet sets {', '.join(tm.facets)}")
+
+
+def _examples(args):
+    for name in examples():
+        print(name)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="taxel", description="Piezoelectric tactile sensor design tool")
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("solve", help="solve a scene and print per-electrode voltage and charge")
+    p.add_argument("scene", help="scene TOML file or built-in example name")
+    p.add_argument("--json", action="store_true", help="print one JSON record")
+    p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
+    p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack"])
+    p.set_defaults(run=_solve)
+    p = sub.add_parser("mesh", help="mesh a scene and write it")
+    p.add_argument("scene")
+    p.add_argument("-o", "--output", required=True, help=".msh (gmsh, physical groups) or .vtu/.xdmf")
+    p.set_defaults(run=_mesh)
+    p = sub.add_parser("examples", help="list the built-in example scenes")
+    p.set_defaults(run=_examples)
+    args = ap.parse_args(argv)
+    try:
+        args.run(args)
+    except SceneError as exc:
+        print(f"taxel: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except (ValueError, KeyError) as exc:
+        print(f"taxel: error: {exc.args[0] if exc.args else exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except RuntimeError as exc:
+        print(f"taxel: failed: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,272 @@
+"""The scene: one validated TOML description of a design and its load case.
+
+A scene is either a taxel array (`[array]`: piezo squares in silicone, one top
+electrode per taxel and a common bottom ground) or a verification plate
+(`[plate]`: a stack of full-width layers), plus `[load]`, `[supports]`, `[model]`
+and `[mesh]`. Lengths, forces and pressures are strings with units ("1 mm",
+"0.5 N", "10 kPa"); inside the code everything is SI.
+
+Every validation error is one line: `scene error: <key>: <problem>; <fix>`.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from functools import cache
+from pathlib import Path
+from typing import Annotated, Literal
+
+import pint
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationError,
+                      model_validator)
+
+from fem import materials
+
+EXAMPLES = Path(__file__).parent / "examples"
+
+
+class SceneError(ValueError):
+    """A scene that cannot be solved; the message is one line with the fix."""
+
+
+@cache
+def _ureg():
+    return pint.UnitRegistry()
+
+
+def _quantity(unit: str, what: str, positive=False, nonnegative=False):
+    def parse(v):
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            if v == 0:
+                return 0.0
+            raise ValueError(f"missing unit: write it as a string, e.g. \"{v} {unit_hint[unit]}\"")
+        if not isinstance(v, str):
+            raise ValueError(f"expected a {what} such as \"1 {unit_hint[unit]}\"")
+        try:
+            q = _ureg().Quantity(v)
+        except Exception:
+            raise ValueError(f"cannot read {v!r} as a {what}; write e.g. \"1 {unit_hint[unit]}\"") from None
+        if isinstance(q, (int, float)) or q.dimensionless:
+            raise ValueError(f"missing unit in {v!r}; write e.g. \"{v} {unit_hint[unit]}\"")
+        try:
+            x = float(q.to(unit).magnitude)
+        except pint.DimensionalityError:
+            raise ValueError(f"unit mismatch: {v!r} is not a {what}") from None
+        if positive and not x > 0:
+            raise ValueError(f"must be positive, got {v!r}")
+        if nonnegative and x < 0:
+            raise ValueError(f"must not be negative, got {v!r}")
+        return x
+    return BeforeValidator(parse)
+
+
+unit_hint = {"m": "mm", "N": "N", "Pa": "kPa", "V": "V"}
+Length = Annotated[float, _quantity("m", "length", positive=True)]
+Thickness = Annotated[float, _quantity("m", "length", nonnegative=True)]
+Force = Annotated[float, _quantity("N", "force")]
+Pressure = Annotated[float, _quantity("Pa", "pressure")]
+Coordinate = Annotated[float, _quantity("m", "length")]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+
+class Model(Strict):
+    type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
+    depth: Length | None = None     # out-of-plane depth of a 2D model; default: taxel width
+
+
+class Mesh(Strict):
+    size: Length = "0.5 mm"         # element size far from the piezo
+    piezo_size: Length | None = None  # in-plane element size on the taxels; default: size / 4
+    piezo_layers: int = Field(1, ge=1, le=8)   # elements through each piezo layer
+    order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
+    silicone: Literal["mixed", "displacement"] = "mixed"
+
+
+class Array(Strict):
+    rows: int = Field(1, ge=1, le=16)
+    cols: int = Field(1, ge=1, le=16)
+    taxel_width: Length = "4 mm"
+    piezo: str = "PSI-5H4E"
+    piezo_thickness: Length = "0.127 mm"
+    poling: Literal["up", "down"] = "up"
+    gap: Coordinate = "3 mm"        # edge to edge
+    margin: Thickness = "3 mm"      # silicone beyond the outer taxels
+    silicone: str = "Ecoflex-00-30"
+    silicone_above: Thickness = "1 mm"
+    silicone_below: Thickness = "1 mm"
+
+
+class Layer(Strict):
+    material: str
+    thickness: Length
+    poling: Literal["up", "down"] = "up"
+
+
+class Plate(Strict):
+    shape: Literal["rectangle", "disk"] = "rectangle"
+    width: Length | None = None     # rectangle, along x
+    length: Length | None = None    # rectangle, along y (3D)
+    radius: Length | None = None    # disk
+    layers: list[Layer] = Field(min_length=1)
+
+
+class Load(Strict):
+    kind: Literal["taxel", "between", "indenter", "pressure"] = "taxel"
+    force: Force | None = "1 N"
+    pressure: Pressure | None = None   # kind = "pressure" only
+    taxel: tuple[int, int] = (0, 0)    # [row, col] of the pressed taxel or indenter centre
+    neighbour: tuple[int, int] | None = None   # kind = "between": the other taxel
+    profile: Literal["flat", "round"] = "flat"  # indenter pressure: uniform, or Hertzian sqrt(1-r^2/a^2)
+    radius: Length | None = None       # indenter contact radius (half-width in 2D)
+    offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # indenter centre from the taxel centre
+
+
+class Supports(Strict):
+    bottom: Literal["bonded", "rollers", "free"] = "bonded"
+    edges: Literal["free", "clamped", "simply_supported", "rollers"] = "free"
+
+
+class Scene(Strict):
+    name: str = "scene"
+    description: str = ""
+    model: Model = Model()
+    mesh: Mesh = Mesh()
+    array: Array | None = None
+    plate: Plate | None = None
+    load: Load = Load()
+    supports: Supports = Supports()
+    electrodes: dict[str, str] = {}     # name (or "taxels") -> "open" | "ground" | "<value> V"
+    materials: dict[str, dict] = {}     # user materials, see fem.materials.from_record
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if (self.array is None) == (self.plate is None):
+            raise ValueError("give exactly one of [array] or [plate]")
+        if self.array is not None:
+            a = self.array
+            if a.gap <= 0 and a.rows * a.cols > 1:
+                raise ValueError(f"array.gap = {a.gap * 1e3:g} mm makes the taxels overlap or touch; "
+                                 "use a positive edge-to-edge gap")
+            if self.model.type == "axisymmetric" and a.rows * a.cols > 1:
+                raise ValueError("model.type = 'axisymmetric' holds one taxel; set rows = cols = 1 "
+                                 "or use a plane or 3d model")
+            for key in ("taxel", "neighbour"):
+                rc = getattr(self.load, key)
+                if rc is not None and not (0 <= rc[0] < a.rows and 0 <= rc[1] < a.cols):
+                    raise ValueError(f"load.{key} = {list(rc)} is outside the {a.rows}x{a.cols} array; "
+                                     f"use rows 0..{a.rows - 1}, cols 0..{a.cols - 1}")
+        if self.plate is not None:
+            p = self.plate
+            if self.load.kind not in ("pressure", "indenter"):
+                raise ValueError(f"load.kind = '{self.load.kind}' needs taxels; a plate takes "
+                                 "'pressure' or 'indenter'")
+            if p.shape == "rectangle" and p.width is None:
+                raise ValueError("plate.width is missing; give the rectangle's width, e.g. \"20 mm\"")
+            if p.shape == "rectangle" and self.model.type == "3d" and p.length is None:
+                raise ValueError("plate.length is missing; a 3d rectangle needs it, e.g. \"20 mm\"")
+            if p.shape == "disk" and p.radius is None:
+                raise ValueError("plate.radius is missing; give the disk's radius, e.g. \"10 mm\"")
+            if self.model.type == "axisymmetric" and p.shape != "disk":
+                raise ValueError("model.type = 'axisymmetric' needs plate.shape = 'disk'")
+        ld = self.load
+        if ld.kind == "pressure" and ld.pressure is None:
+            raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
+        if ld.kind != "pressure" and ld.force is None:
+            raise ValueError(f"load.force is missing for kind = '{ld.kind}'; e.g. \"0.5 N\"")
+        if ld.kind == "between":
+            if ld.neighbour is None:
+                raise ValueError("load.neighbour is missing for kind = 'between'; e.g. [0, 1]")
+            dr, dc = ld.neighbour[0] - ld.taxel[0], ld.neighbour[1] - ld.taxel[1]
+            if abs(dr) + abs(dc) != 1:
+                raise ValueError("load.neighbour must be next to load.taxel (one row or column apart)")
+        if ld.kind == "indenter" and ld.radius is None:
+            raise ValueError("load.radius is missing for kind = 'indenter'; e.g. \"1 mm\"")
+        if self.model.type == "axisymmetric" and (ld.offset != (0.0, 0.0) or ld.kind == "between"):
+            raise ValueError("an axisymmetric model needs a load centred on the axis; "
+                             "drop load.offset or use a 3d model")
+        if (self.supports.bottom == "free" and self.supports.edges == "free"):
+            raise ValueError("supports: bottom and edges are both free, so the body can move freely; "
+                             "set supports.bottom = 'bonded' or 'rollers', or fix the edges")
+        for name, state in self.electrodes.items():
+            electrode_state(state, f"electrodes.{name}")
+        return self
+
+
+def electrode_state(state: str, key="electrode"):
+    """'open' | 'ground' | volts (float) from a scene's electrode string."""
+    s = state.strip().lower()
+    if s in ("open", "ground"):
+        return s
+    if s == "short":
+        return "ground"
+    try:
+        q = _ureg().Quantity(state)
+        return float(q.to("V").magnitude)
+    except Exception:
+        raise ValueError(f"{key} = {state!r}: use 'open', 'ground' or a voltage such as \"10 V\"") from None
+
+
+def _one_line(err: ValidationError) -> str:
+    e = err.errors()[0]
+    loc = ".".join(str(x) for x in e["loc"] if not str(x).startswith("function-after"))
+    msg = e["msg"].removeprefix("Value error, ")
+    if e["type"] == "extra_forbidden":
+        return f"unknown key '{loc}'; check its spelling against the scene reference in README.md"
+    if e["type"] == "missing":
+        return f"'{loc}' is required; add it"
+    if e["type"] == "literal_error":
+        return f"{loc}: {msg} (got {e['input']!r})"
+    return f"{loc}: {msg}" if loc else msg
+
+
+def parse(data: dict) -> Scene:
+    """A validated Scene from a dict; raises SceneError with a one-line message."""
+    try:
+        scene = Scene.model_validate(data)
+    except ValidationError as err:
+        raise SceneError(_one_line(err)) from None
+    for name, rec in scene.materials.items():
+        try:
+            materials.from_record(name, rec)
+        except (KeyError, ValueError, TypeError) as exc:
+            raise SceneError(f"materials.{name}: {exc}") from None
+    for name in scene_material_names(scene):
+        try:
+            materials.get(name, user_materials(scene))
+        except KeyError as exc:
+            raise SceneError(exc.args[0]) from None
+    return scene
+
+
+def load(path_or_name: str | Path) -> Scene:
+    """A scene from a TOML file, or a built-in example by name (see `examples()`)."""
+    path = Path(path_or_name)
+    if not path.exists():
+        builtin = EXAMPLES / f"{path_or_name}.toml"
+        if not builtin.exists():
+            raise SceneError(f"no scene file '{path_or_name}' and no built-in example of that name; "
+                             f"built-in: {', '.join(examples())}")
+        path = builtin
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML: {exc}") from None
+    data.setdefault("name", path.stem)
+    return parse(data)
+
+
+def examples() -> list[str]:
+    return sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+
+
+def scene_material_names(scene: Scene) -> list[str]:
+    if scene.array is not None:
+        return [scene.array.piezo, scene.array.silicone]
+    return [layer.material for layer in scene.plate.layers]
+
+
+def user_materials(scene: Scene) -> dict:
+    return {name: materials.from_record(name, rec) for name, rec in scene.materials.items()}
