@@ -51,7 +51,7 @@ def strain(u, x, model):
     if model == "3d":
         return np.array([g[0, 0], g[1, 1], g[2, 2], g[1, 2] + g[2, 1], g[0, 2] + g[2, 0], g[0, 1] + g[1, 0]])
     if model == "axisymmetric":
-        return np.array([g[0, 0], u.value[0] / x[0], g[1, 1], g[0, 1] + g[1, 0]])
+        return np.array([g[0, 0], u[0] / x[0], g[1, 1], g[0, 1] + g[1, 0]])
     return np.array([g[0, 0], g[1, 1], g[0, 1] + g[1, 0]])
 
 
@@ -114,7 +114,7 @@ def pressure_divergence(model, depth):
     """B: \\int p div v; trial p (scalar), test v (vector)."""
     @BilinearForm
     def form(p, v, w):
-        return p.value * divergence(strain(v, w.x, model), model) * measure(w.x, model, depth)
+        return p * divergence(strain(v, w.x, model), model) * measure(w.x, model, depth)
     return form
 
 
@@ -122,7 +122,7 @@ def pressure_mass(lam, model, depth):
     """M / lambda: \\int p q / lambda."""
     @BilinearForm
     def form(p, q, w):
-        return p.value * q.value / lam * measure(w.x, model, depth)
+        return p * q / lam * measure(w.x, model, depth)
     return form
 
 
@@ -133,7 +133,7 @@ def surface_pressure(profile, model, depth, dim):
     """
     @LinearForm
     def form(v, w):
-        return -profile(w.x) * v.value[dim - 1] * measure(w.x, model, depth)
+        return -profile(w.x) * v[dim - 1] * measure(w.x, model, depth)
     return form
 
 

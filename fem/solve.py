@@ -263,8 +263,9 @@ def _supports(scene: Scene, tm: TaggedMesh, ubases) -> dict[str, np.ndarray]:
             pts = tm.mesh.p[: dim - 1, bottom_nodes]
             k = bottom_nodes[np.argmin(np.linalg.norm(pts - centre[:, None], axis=0))]
             pins = [ub.nodal_dofs[i, k] for i in range(dim - 1)]
-            if dim == 3:                # and the rotation about z
-                k2 = bottom_nodes[np.argmax(tm.mesh.p[0, bottom_nodes])]
+            if dim == 3:                # and the rotation about z: u_y at a node on the same y line
+                same_y = bottom_nodes[np.abs(tm.mesh.p[1, bottom_nodes] - tm.mesh.p[1, k]) < 1e-9 * lay.plan.half]
+                k2 = same_y[np.argmax(np.abs(tm.mesh.p[0, same_y] - tm.mesh.p[0, k]))]
                 pins.append(ub.nodal_dofs[1, k2])
             out["pin"] = np.array(pins)
     if sup.edges == "clamped":
@@ -352,7 +353,8 @@ def _solve(sy: System, method: str, scale: bool) -> Solution:
     X = D[:, None] * Y
     # normwise backward error of the (scaled) system solved: |A y - b| / (|A| |y| + |b|), inf-norms
     normA = abs(As).sum(axis=1).max()
-    res = np.abs(As @ Y - Bs).max(axis=0) / (normA * np.abs(Y).max(axis=0) + np.abs(Bs).max(axis=0))
+    scale_ = normA * np.abs(Y).max(axis=0) + np.abs(Bs).max(axis=0)
+    res = np.abs(As @ Y - Bs).max(axis=0) / np.where(scale_ > 0, scale_, 1.0)     # zero rhs: zero error
     if not np.all(np.isfinite(X)):
         raise RuntimeError("linear solve produced non-finite values: the system is singular "
                            "(check the supports and that every piezo body touches a grounded electrode)")
@@ -427,7 +429,7 @@ def _fields(sy: System, x) -> dict:
             _, mu, lam = law
             wts = np.array(forms.shear_weights(model))
             if region in sy.pbases:
-                p = sy.pbases[region].interpolate(x[sy.offsets[("p", region)]]).value
+                p = np.asarray(sy.pbases[region].interpolate(x[sy.offsets[("p", region)]]))
             else:
                 p = lam * forms.divergence(S, model)
             normal = np.zeros(nS)
