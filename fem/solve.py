@@ -263,9 +263,8 @@ def _supports(scene: Scene, tm: TaggedMesh, ubases) -> dict[str, np.ndarray]:
             pts = tm.mesh.p[: dim - 1, bottom_nodes]
             k = bottom_nodes[np.argmin(np.linalg.norm(pts - centre[:, None], axis=0))]
             pins = [ub.nodal_dofs[i, k] for i in range(dim - 1)]
-            if dim == 3:                # and the rotation about z: u_y at a node on the same y line
-                same_y = bottom_nodes[np.abs(tm.mesh.p[1, bottom_nodes] - tm.mesh.p[1, k]) < 1e-9 * lay.plan.half]
-                k2 = same_y[np.argmax(np.abs(tm.mesh.p[0, same_y] - tm.mesh.p[0, k]))]
+            if dim == 3:                # and the rotation about z: u_y at the node farthest in x
+                k2 = bottom_nodes[np.argmax(np.abs(tm.mesh.p[0, bottom_nodes] - tm.mesh.p[0, k]))]
                 pins.append(ub.nodal_dofs[1, k2])
             out["pin"] = np.array(pins)
     if sup.edges == "clamped":

@@ -153,9 +153,9 @@ def test_converse_effect_and_free_capacitance(model):
     top = p[-1] > T * (1 - 1e-9)
     # thickness strain S3 (= d33 E3 in 3D), uniform: top displacement = S3 t
     np.testing.assert_allclose(u[top, -1], ref["S"][2] * T, rtol=1e-8)
-    # lateral strain S1 (= d31 E3 in 3D): u_x = S1 x + a rigid shift (set by the pin)
-    shift = u[:, 0] - ref["S"][0] * p[0]
-    assert np.ptp(shift) < 1e-9 * abs(ref["S"][0]) * W
+    # lateral strain S1 (= d31 E3 in 3D), uniform in every element (the rollers' pins
+    # leave a rigid motion that carries no strain)
+    np.testing.assert_allclose(sol.fields["strain"][:, 0], ref["S"][0], rtol=1e-8)
     # free capacitance: D3 A / V of the state with T = 0 (charge on the top electrode -D3 A)
     cap = -reference_state(mat, model, voltage=1.0)["D"][2] * area(model)
     assert sol.electrodes["top"].capacitance == pytest.approx(cap, rel=1e-9)
