@@ -387,7 +387,7 @@ def _solve(sy: System, method: str, scale: bool) -> Solution:
         reaction[0] = 0.0           # radial support forces cancel around the circle
     fields = _fields(sy, x)
     return Solution(sy.scene, electrodes, sy.applied_force, reaction, fields.pop("max_silicone_strain"),
-                    nf + na, linsolve.resolve(method), float(res.max()), {}, sy.tm, fields)
+                    nf + na, linsolve.resolve(method, nf + na), float(res.max()), {}, sy.tm, fields)
 
 
 def _component_dofs(ub, c):

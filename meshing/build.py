@@ -12,12 +12,10 @@ singular), growing to `size` over a distance of 2 `size`, and at most
 `size`, ratio 1.5.
 
 Physical groups (names), classified by the first element of each entity:
-regions "silicone" and one per taxel ("taxel_0_0", ...) in arrays, one per layer
-("layer0", ...) in plates;
+regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
+per layer ("layer0", ...) in plates;
 facets "bottom", "top", "load", "edges" (the outline), "axis" (r = 0) and one
 per electrode ("taxel_0_0", "ground"; "bottom", "interface1", "top" on plates).
-An electrode and a piezo body may share a name: one is a region, the other a
-facet set.
 """
 
 from __future__ import annotations
@@ -181,6 +179,11 @@ def _size_field(gmsh, lay: Layout):
     f.setAsBackgroundMesh(mn)
 
 
+def region_name(patch):
+    """The region of a taxel's piezo body ("piezo_0_1"); its top electrode is "taxel_0_1"."""
+    return patch.name.replace("taxel", "piezo", 1)
+
+
 def _on_edge(p, x, y, tol=1e-9):
     if p.shape == "disk":
         return abs(math.hypot(x - p.x, y - p.y) - p.half) < tol
@@ -211,7 +214,7 @@ def _classify(gmsh, lay: Layout, user_materials):
         layer = next(L for L in lay.layers if L.z0 - tol <= z <= L.z1 + tol)
         patch = next((p for p in layer.patches if p.contains(x, y)), None)
         if patch is not None:
-            add(D, patch.name, tag)
+            add(D, region_name(patch), tag)
         elif lay.taxels:
             add(D, "silicone", tag)
         else:                                   # plates: one region per layer
@@ -293,7 +296,7 @@ def _to_skfem(gmsh, lay: Layout, groups, user_materials) -> TaggedMesh:
     mats = {}
     for L in lay.layers:
         mats[L.name if not lay.taxels else "silicone"] = (L.material, L.poling)
-        mats.update({patch.name: (L.patch_material, L.poling) for patch in L.patches})
+        mats.update({region_name(patch): (L.patch_material, L.poling) for patch in L.patches})
     return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions})
 
 

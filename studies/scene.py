@@ -11,6 +11,7 @@ Every validation error is one line: `scene error: <key>: <problem>; <fix>`.
 
 from __future__ import annotations
 
+import math
 import tomllib
 from functools import cache
 from pathlib import Path
@@ -38,7 +39,7 @@ def _quantity(unit: str, what: str, positive=False, nonnegative=False):
     def parse(v):
         if isinstance(v, (int, float)) and not isinstance(v, bool):
             if v == 0:
-                return 0.0
+                return check(0.0, v)
             raise ValueError(f"missing unit: write it as a string, e.g. \"{v} {unit_hint[unit]}\"")
         if not isinstance(v, str):
             raise ValueError(f"expected a {what} such as \"1 {unit_hint[unit]}\"")
@@ -52,6 +53,11 @@ def _quantity(unit: str, what: str, positive=False, nonnegative=False):
             x = float(q.to(unit).magnitude)
         except pint.DimensionalityError:
             raise ValueError(f"unit mismatch: {v!r} is not a {what}") from None
+        return check(x, v)
+
+    def check(x, v):
+        if not math.isfinite(x):
+            raise ValueError(f"must be a finite number, got {v!r}")
         if positive and not x > 0:
             raise ValueError(f"must be positive, got {v!r}")
         if nonnegative and x < 0:
@@ -231,29 +237,40 @@ def parse(data: dict) -> Scene:
     for name, rec in scene.materials.items():
         try:
             materials.from_record(name, rec)
-        except (KeyError, ValueError, TypeError) as exc:
+        except KeyError as exc:
+            raise SceneError(f"materials.{name}: missing {exc.args[0]!r}; see fem.materials.from_record") from None
+        except (ValueError, TypeError) as exc:
             raise SceneError(f"materials.{name}: {exc}") from None
+    user = user_materials(scene)
     for name in scene_material_names(scene):
         try:
-            materials.get(name, user_materials(scene))
+            materials.get(name, user)
         except KeyError as exc:
             raise SceneError(exc.args[0]) from None
+    if scene.array is not None:
+        for key, kind in (("piezo", materials.Piezo), ("silicone", materials.Solid)):
+            name = getattr(scene.array, key)
+            if not isinstance(materials.get(name, user), kind):
+                raise SceneError(f"array.{key} = '{name}' is not a {'piezoelectric' if key == 'piezo' else 'passive solid'} "
+                                 f"material; pick one that is (e.g. '{'PSI-5H4E' if key == 'piezo' else 'Ecoflex-00-30'}')")
     return scene
 
 
 def load(path_or_name: str | Path) -> Scene:
     """A scene from a TOML file, or a built-in example by name (see `examples()`)."""
     path = Path(path_or_name)
-    if not path.exists():
+    if not path.is_file():
         builtin = EXAMPLES / f"{path_or_name}.toml"
         if not builtin.exists():
             raise SceneError(f"no scene file '{path_or_name}' and no built-in example of that name; "
                              f"built-in: {', '.join(examples())}")
         path = builtin
     try:
-        data = tomllib.loads(path.read_text())
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise SceneError(f"{path}: not UTF-8 text; save the scene as a UTF-8 TOML file") from None
     data.setdefault("name", path.stem)
     return parse(data)
 
@@ -270,3 +287,15 @@ def scene_material_names(scene: Scene) -> list[str]:
 
 def user_materials(scene: Scene) -> dict:
     return {name: materials.from_record(name, rec) for name, rec in scene.materials.items()}
+
+
+def refined(scene: Scene, factor: float) -> Scene:
+    """The scene with every element size divided by `factor` (in plane and through
+    the piezo), for convergence studies: factor 2 halves h everywhere."""
+    m = scene.mesh
+    mesh = m.model_copy(update={
+        "size": m.size / factor,
+        "piezo_size": (m.piezo_size or m.size / 4) / factor,
+        "piezo_layers": max(1, round(m.piezo_layers * factor)),
+    })
+    return scene.model_copy(update={"mesh": mesh})
