@@ -49,8 +49,10 @@ def factorize(A: sp.spmatrix, method: str = "auto"):
         return lambda B: lu.solve(np.asarray(B, dtype=float))
     if method == "pardiso":
         import pypardiso
-        solver = pypardiso.PyPardisoSolver(mtype=-2)       # real symmetric indefinite (upper triangle)
-        Ar = sp.triu(A, format="csr")
+        # real nonsymmetric mode: its pivoting keeps the backward error at round-off here;
+        # the symmetric-indefinite mode (-2) perturbs pivots and stalled at 1e-10 on 3D taxels
+        solver = pypardiso.PyPardisoSolver(mtype=11)
+        Ar = sp.csr_matrix(A)
         solver.factorize(Ar)
         return lambda B: solver.solve(Ar, np.asarray(B, dtype=float))
     from scikits.umfpack import splu

@@ -348,12 +348,18 @@ def _solve(sy: System, method: str, scale: bool) -> Solution:
 
     D = 1.0 / np.sqrt(abs(A).max(axis=1).toarray().ravel()) if scale else np.ones(nf + na)
     As, Bs = sp.diags(D) @ A @ sp.diags(D), D[:, None] * B
-    Y = linsolve.factorize(As, method)(Bs).reshape(nf + na, 1 + na)
-    X = D[:, None] * Y
-    # normwise backward error of the (scaled) system solved: |A y - b| / (|A| |y| + |b|), inf-norms
+    factor = linsolve.factorize(As, method)
     normA = abs(As).sum(axis=1).max()
-    scale_ = normA * np.abs(Y).max(axis=0) + np.abs(Bs).max(axis=0)
-    res = np.abs(As @ Y - Bs).max(axis=0) / np.where(scale_ > 0, scale_, 1.0)     # zero rhs: zero error
+    Y = factor(Bs).reshape(nf + na, 1 + na)
+    for _ in range(3):      # iterative refinement (PARDISO perturbs tiny pivots of indefinite systems)
+        R = Bs - As @ Y
+        # normwise backward error of the (scaled) system solved: |A y - b| / (|A| |y| + |b|), inf-norms
+        denom = normA * np.abs(Y).max(axis=0) + np.abs(Bs).max(axis=0)
+        res = np.abs(R).max(axis=0) / np.where(denom > 0, denom, 1.0)     # zero rhs: zero error
+        if res.max() < 1e-14:
+            break
+        Y = Y + factor(R).reshape(nf + na, 1 + na)
+    X = D[:, None] * Y
     if not np.all(np.isfinite(X)):
         raise RuntimeError("linear solve produced non-finite values: the system is singular "
                            "(check the supports and that every piezo body touches a grounded electrode)")
