@@ -24,7 +24,8 @@ boundary layer of width ~h). The 3D square therefore uses h/a = 0.005, below the
 h/a = 0.01 where the mesh limit already sits near the 1 % tolerance. Axisymmetric
 plates have no twisting moment; their hinged limit is within 0.01 % of Kirchhoff.
 
-Measured errors and times below: 2 cores, MKL_NUM_THREADS=1, PARDISO.
+Measured errors and times below: 2 cores, MKL_NUM_THREADS=1, the "auto" linear solver
+(SuperLU for the axisymmetric cases, PARDISO in its nonsymmetric mode for the 3D ones).
 """
 
 from __future__ import annotations
@@ -192,10 +193,20 @@ def test_3d_clamped_disk():
 # s = 1 ... 0.125 mm: 1.21 (pairwise 1.14, 1.19, 1.30; 1.51 from the three finest
 # meshes, 62.5 ... 15.6 um). With nu = 0 there is neither the layer nor the singularity
 # (the first root of Williams' equation is lambda = 1) and the same meshes give 2.58
-# (pairwise 2.19, 2.53, 3.04: the P2 point rate 3 is reached); the simply supported disk
-# (hinged, no clamp) gives 2.58 (2.22, 2.57, 2.95). The lower bounds sit ~0.2 below the
-# measurements; the clamped case is also bounded above, as a record that its rate is
-# singularity limited (a slope near 2 or more there would mean the problem changed).
+# (pairwise 2.19, 2.53, 3.04: the P2 point rate 3 is reached). The lower bounds sit ~0.2
+# below the measurements; the clamped case is also bounded above, as a record that its
+# rate is singularity limited (a slope near 2 or more there would mean the problem
+# changed).
+#
+# Not included: the simply supported disk. Its errors (-7e-4 at 1 mm, then 1e-4 ... 1e-6)
+# drop under two floors on the finer meshes: the hinge is a line of points, whose local
+# displacement grows like log(1/s) (about +3e-7 of w per halving), and the mixed u-p
+# solves differ between SuperLU and PARDISO by up to 2.5e-5 of w (see the report). On
+# 1 ... 0.25 mm it converges at order ~2.2 (mixed and displacement forms alike).
+#
+# Solver noise: in the mixed clamped case SuperLU and PARDISO agree to ~1e-6 of w, far
+# below the smallest error used here (1.1e-3) and the Richardson differences (>= 9e-5);
+# the displacement form (nu = 0) agrees to ~1e-8.
 #
 # nu = 0 needs mesh.silicone = "displacement": the default mixed u-p form divides by
 # lambda = E nu / ((1 + nu)(1 - 2 nu)) = 0 (fem.forms.pressure_mass), see the report.
@@ -204,18 +215,16 @@ SIZES = [1e-3 / 2 ** k for k in range(4)]               # the study: 1 ... 0.125
 FINER = [SIZES[-1] / 2 ** k for k in (1, 2, 3)]         # for the reference: 62.5 ... 15.6 um
 
 
-@pytest.mark.parametrize("edges, nu, formulation, slope_min, slope_max", [
-    ("clamped", NU, "mixed", 1.0, 1.8),                  # measured 1.21; extrapolated -0.014 %
-    ("clamped", 0.0, "displacement", 2.2, None),         # measured 2.58; extrapolated +0.032 %
-    ("simply_supported", NU, "mixed", 2.2, None),        # measured 2.58; extrapolated +0.006 %
-], ids=["clamped", "clamped-nu0", "simply_supported"])
-def test_axisymmetric_convergence_order(edges, nu, formulation, slope_min, slope_max):
-    """Seven solves, 1.2-2.5 s."""
+@pytest.mark.parametrize("nu, formulation, slope_min, slope_max", [
+    (NU, "mixed", 1.0, 1.8),                  # measured 1.21; extrapolated -0.014 % off Kirchhoff
+    (0.0, "displacement", 2.2, None),         # measured 2.58; extrapolated +0.032 %
+], ids=["nu0.3", "nu0"])
+def test_axisymmetric_clamped_convergence_order(nu, formulation, slope_min, slope_max):
+    """Seven solves, 0.3-1.5 s."""
     a, h = 10e-3, 0.1e-3
-    closed = (w_clamped_disk if edges == "clamped" else
-              lambda r, a, D: w_simply_supported_disk(r, a, D, nu))(0.0, a, rigidity(h, nu))
-    w = np.array([bottom_centre(solve(plate("axisymmetric", "disk", edges, h, s, 2, a, nu,
-                                            formulation)))[0] for s in SIZES + FINER]) / closed
+    w = np.array([bottom_centre(solve(plate("axisymmetric", "disk", "clamped", h, s, 2, a, nu,
+                                            formulation)))[0] for s in SIZES + FINER])
+    w /= w_clamped_disk(0.0, a, rigidity(h, nu))
 
     # Richardson extrapolation of the same discrete problem (same layers through h)
     # from the three finest meshes, with their own observed order
@@ -226,12 +235,12 @@ def test_axisymmetric_convergence_order(edges, nu, formulation, slope_min, slope
     w_ref = w[-1] - d2 / (2 ** p - 1)
 
     err = np.abs(w[:len(SIZES)] - w_ref)
-    # the reference must be much closer than the finest study mesh (clamped: 22x)
+    # the reference must be much closer than the finest study mesh (nu = 0.3: 22x)
     assert err[-1] > 10 * abs(w_ref - w[-1]), "reference not accurate enough for the slope"
     slope = np.polyfit(np.log(SIZES), np.log(err), 1)[0]
-    assert slope >= slope_min, f"{edges}, nu = {nu}: observed order {slope:.2f} < {slope_min}"
+    assert slope >= slope_min, f"nu = {nu}: observed order {slope:.2f} < {slope_min}"
     if slope_max is not None:
-        assert slope <= slope_max, f"{edges}, nu = {nu}: observed order {slope:.2f} > {slope_max}"
+        assert slope <= slope_max, f"nu = {nu}: observed order {slope:.2f} > {slope_max}"
 
     # the mesh limit of the solid model against Kirchhoff
-    assert abs(w_ref - 1) < 0.01, f"{edges}, nu = {nu}: extrapolated {w_ref - 1:+.3%} off Kirchhoff"
+    assert abs(w_ref - 1) < 0.01, f"nu = {nu}: extrapolated {w_ref - 1:+.3%} off Kirchhoff"
