@@ -445,7 +445,7 @@ def _fields(sy: System, x) -> dict:
     for region, law in sy.constitutive.items():
         ub = sy.ubases[region]
         elems = sy.tm.regions[region]
-        S = forms.strain(ub.interpolate(u), ub.global_coordinates().value, model)      # (nS, ne, nq)
+        S = forms.strain(ub.interpolate(u), np.asarray(ub.global_coordinates()), model)      # (nS, ne, nq)
         if law[0] == "piezo":
             _, c, e, eps = law
             g = sy.phibases[region].interpolate(phi).grad

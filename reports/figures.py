@@ -1,0 +1,62 @@
+"""Figures of a solution (matplotlib, no screen needed).
+
+`python -m reports.figures SCENE OUT.png` draws the deformed cross-section of a
+2D or axisymmetric scene coloured by electric potential, and the vertical
+displacement; the README's picture is made this way.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+
+def cross_section(sol, path, exaggerate=None):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.tri import Triangulation
+
+    mesh = sol.mesh.mesh
+    if mesh.dim() != 2:
+        raise ValueError("cross_section draws 2D and axisymmetric scenes")
+    p, u = mesh.p * 1e3, sol.fields["u"] * 1e3                       # mm
+    scale = exaggerate or max(1.0, round(0.1 * np.ptp(p[1]) / max(np.abs(u).max(), 1e-30)))
+    deformed = p + scale * u.T
+    fig, axes = plt.subplots(2, 1, figsize=(9, 6), constrained_layout=True)
+    piezo = np.zeros(mesh.nelements, bool)
+    for region in sol.mesh.materials:
+        if region != "silicone":
+            piezo[sol.mesh.regions[region]] = True
+    ax = axes[0]
+    ax.tripcolor(Triangulation(*deformed, mesh.t[:, ~piezo].T), np.zeros((~piezo).sum()),
+                 cmap="Greys", vmin=-1, vmax=4, edgecolors="0.75", linewidth=0.1)
+    pc = ax.tripcolor(Triangulation(*deformed, mesh.t[:, piezo].T), sol.fields["phi"],
+                      shading="gouraud", cmap="coolwarm")
+    fig.colorbar(pc, ax=ax, label="electric potential (V)")
+    ax.set_xlim(p[0].min() / 2, p[0].max() / 2)
+    ax.set_title(f"{sol.scene.name}: potential in the piezo (silicone grey), deformation x{scale:g}")
+    ax = axes[1]
+    pc = ax.tripcolor(Triangulation(*p, mesh.t.T), u[:, 1] * 1e3, shading="gouraud", cmap="viridis")
+    fig.colorbar(pc, ax=ax, label="vertical displacement (um)")
+    volts = ", ".join(f"{k}: {e.voltage * 1e3:.0f} mV" for k, e in sol.electrodes.items() if e.state != "reference")
+    ax.set_title(f"{sol.applied_force:g} N on the taxel; open-circuit {volts}")
+    axes[1].set_aspect("equal")
+    for a in axes:
+        a.set_xlabel("x (mm)")
+        a.set_ylabel("z (mm)")
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def main(argv=None):
+    from fem.solve import solve
+    from studies.scene import load
+    scene, out = (argv or sys.argv[1:])[:2]
+    cross_section(solve(load(scene)), out)
+    print(out)
+
+
+if __name__ == "__main__":
+    main()
