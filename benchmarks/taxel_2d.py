@@ -81,7 +81,7 @@ def main():
           f"{best[2]} unknowns, {best[3]:.3f} s wall (mesh + assemble + solve), error {best[4]:.2f} %")
 
     methods = [m for m in ("superlu", "pardiso", "umfpack") if linsolve.available(m)]
-    print(f"\nsparse direct solvers, order 2 (solve phase = factorize + back-substitute + refine; medians):")
+    print("\nsparse direct solvers, order 2 (solve phase = factorize + back-substitute + refine; medians):")
     print(f"{'h factor':>8} {'unknowns':>9} " + " ".join(f"{m + ' s':>11}" for m in methods)
           + " " + " ".join(f"{m + '/superlu':>17}" for m in methods[1:]))
     for f in FACTORS:

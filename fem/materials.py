@@ -21,10 +21,8 @@ models use (r, z) with the theta direction as the 3D y axis.
 from __future__ import annotations
 
 import math
-import tomllib
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from functools import cache
-from pathlib import Path
 
 import numpy as np
 

@@ -382,8 +382,9 @@ def _solve(sy: System, method: str, scale: bool) -> Solution:
         electrodes[k] = ElectrodeResult(k, st if isinstance(st, str) else f"{st:g} V",
                                         float(x[sy.electrode_dofs[k][0]]), q,
                                         float(Qsc[i]), float(C[i, i]))
-    for k in ref:   # with every active electrode grounded, the reference carries minus their charge
-        q = float(-r[sy.electrode_dofs[k]].sum())
+    for k in ref:   # charge is conserved: the reference carries minus the others' charge
+        q_others = sum(e.charge for e in electrodes.values())
+        q = -q_others if active else float(-r[sy.electrode_dofs[k]].sum())
         electrodes[k] = ElectrodeResult(k, "reference", 0.0, q, float(-Qsc.sum()) if active else q, None)
     dim = sy.tm.mesh.dim()
     ub = next(iter(sy.ubases.values()))

@@ -14,7 +14,7 @@ and the domain into a disk of radius (that radius + margin).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from fem import materials
 from studies.scene import Scene, SceneError, user_materials

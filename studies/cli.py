@@ -53,7 +53,7 @@ def _solve(args):
         print(f"{e.name:<12}{e.state:<10}{si(e.voltage, 'V'):>12}{si(e.charge, 'C'):>13}"
               f"{si(e.short_circuit_charge, 'C'):>18}{si(e.capacitance, 'F'):>14}")
     print(f"applied force {si(sol.applied_force, 'N')}, support reaction {si(sol.reaction[-1], 'N')} (vertical), "
-          f"backward error {sol.residual:.1e}")
+          f"relative residual {sol.residual:.1e}")
     if sol.mesh.layout.taxels:
         print(f"largest silicone strain {100 * sol.max_silicone_strain:.1f} %"
               + ("  (above ~10 %: a linear silicone model is not enough; see the hyperelastic model)"
