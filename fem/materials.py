@@ -317,19 +317,33 @@ def _pvdf() -> Piezo:
                                     Qm=10.0, tan_delta=0.02)
 
 
-def _ecoflex0030() -> Solid:
-    """Ecoflex 00-30 (Smooth-On), small-strain moduli from the Yeoh fit.
+# Incompressible Yeoh least-squares fits to the Marechal et al. uniaxial test of Ecoflex
+# 00-30 (Soft Robotics Materials Database; nominal stress vs engineering strain), by
+# the strain range fitted; REFERENCE.md, reproduced by fem.yeoh_fit (tests/test_yeoh_fit.py).
+ECOFLEX_YEOH = {
+    "fit50": (6.70e3, 1.93e3, -1.07e3),
+    "fit100": (7.18e3, 0.619e3, -0.114e3),
+    "fit300": (7.83e3, 0.103e3, -0.0008e3),
+}
 
-    mu = 2 C10 with C10 = 6.70 kPa: the incompressible Yeoh fit to the Marechal et
-    al. uniaxial test up to 50 % strain (REFERENCE.md), the range closest to small
-    strain; C20 = 1.93, C30 = -1.07 kPa. K = 1000 mu (nu = 0.4995) is a modelling
-    choice: no sourced bulk modulus exists. rho = 1070 kg/m^3, eps_r = 2.8.
+
+def _ecoflex0030(fit="fit300") -> Solid:
+    """Ecoflex 00-30 (Smooth-On) with one of the published Yeoh sets.
+
+    The default "Ecoflex-00-30" uses the fit to 300 % strain: it is the only set
+    whose energy stays stable (dP/dlambda > 0) in uniaxial, equibiaxial and pure
+    shear from stretch 0.5 to 4; the 50 % set, closer at small strain, loses
+    stability in equibiaxial tension at 36 % strain and the 100 % set at 72 %
+    (fem.yeoh_fit.stability_limit), strains a 1 N press reaches. Linear model:
+    mu = 2 C10 (the small-strain limit of the same energy). K = 1000 mu
+    (nu = 0.4995) is a modelling choice: no sourced bulk modulus exists.
+    rho = 1070 kg/m^3, eps_r = 2.8 (REFERENCE.md).
     """
-    C10 = 6.70e3
-    return Solid("Ecoflex-00-30", mu=2 * C10, K=1000 * 2 * C10, rho=1070.0, eps_r=2.8,
-                 source="Marechal et al., Soft Robotics Materials Database (Yeoh fit to 50 %); "
-                        "K = 1000 mu assumed",
-                 yeoh=(6.70e3, 1.93e3, -1.07e3))
+    C = ECOFLEX_YEOH[fit]
+    name = "Ecoflex-00-30" if fit == "fit300" else f"Ecoflex-00-30-{fit}"
+    return Solid(name, mu=2 * C[0], K=1000 * 2 * C[0], rho=1070.0, eps_r=2.8,
+                 source=f"Marechal et al., Soft Robotics Materials Database (Yeoh {fit}); K = 1000 mu assumed",
+                 yeoh=C)
 
 
 def _transversely_isotropic_compliance(s11, s12, s13, s33, s44, s66=None):
@@ -354,7 +368,7 @@ def _pz_d(d31, d33, d15):
 
 @cache
 def library() -> dict:
-    mats = [_psi5h4e(), _pzt5h(), _pvdf(), _ecoflex0030()]
+    mats = [_psi5h4e(), _pzt5h(), _pvdf(), *(_ecoflex0030(f) for f in ECOFLEX_YEOH)]
     return {m.name.lower(): m for m in mats}
 
 
@@ -380,6 +394,7 @@ def from_record(name: str, rec: dict):
     Piezo, strain-charge:  {kind="piezo", s=6x6, d=3x6, eps_T=3x3 (relative), rho}
     Piezo, stress-charge:  {kind="piezo", c=6x6, e=3x6, eps_S=3x3 (relative), rho}
     Solid:                 {kind="solid", E, nu, rho[, eps_r]} or {kind="solid", mu, K, rho}
+                           optional Yeoh: C10, C20, C30 (Pa); with only C10.. given, mu = 2 C10
     """
     kind = rec.get("kind")
     rho = float(rec["rho"])
@@ -394,9 +409,12 @@ def from_record(name: str, rec: dict):
         return m
     if kind == "solid":
         eps_r = float(rec.get("eps_r", 1.0))
+        yeoh = tuple(float(rec.get(k, 0.0)) for k in ("C10", "C20", "C30")) if "C10" in rec else None
         if "E" in rec:
-            return Solid.from_E_nu(name, float(rec["E"]), float(rec["nu"]), rho, eps_r=eps_r, source="user")
-        return Solid(name, float(rec["mu"]), float(rec["K"]), rho, eps_r=eps_r, source="user")
+            return Solid.from_E_nu(name, float(rec["E"]), float(rec["nu"]), rho, eps_r=eps_r, source="user",
+                                   yeoh=yeoh)
+        mu = float(rec["mu"]) if "mu" in rec else 2 * yeoh[0]
+        return Solid(name, mu, float(rec["K"]), rho, eps_r=eps_r, source="user", yeoh=yeoh)
     raise ValueError(f"material '{name}': kind must be 'piezo' or 'solid', got {kind!r}")
 
 

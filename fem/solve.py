@@ -67,6 +67,7 @@ class Solution:
     times: dict[str, float]
     mesh: TaggedMesh
     fields: dict = field(repr=False, default_factory=dict)
+    newton: object = None         # fem.newton.NewtonResult for a hyperelastic solve
 
     def voltages(self):
         return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
@@ -86,15 +87,22 @@ class Solution:
 
 
 def solve(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | None = None,
-          scale: bool = True) -> Solution:
-    """Solve a scene (meshing it unless `tagged_mesh` is given)."""
+          scale: bool = True, newton: dict | None = None) -> Solution:
+    """Solve a scene (meshing it unless `tagged_mesh` is given). With a Yeoh
+    silicone, `newton` passes options to fem.newton.newton (tol, max_iter,
+    first_step, stepping, line_search)."""
     t0 = time.perf_counter()
     user = user_materials(scene)
     tm = tagged_mesh or build(layout(scene), user)
     t1 = time.perf_counter()
-    system = assemble(scene, tm, user)
+    hyper = scene.model.silicone == "yeoh"
+    system = assemble(scene, tm, user, hyperelastic=hyper)
     t2 = time.perf_counter()
-    sol = _solve(system, solver, scale)
+    if hyper:
+        from fem.newton import solve_yeoh
+        sol = solve_yeoh(system, solver, **(newton or {}))
+    else:
+        sol = _solve(system, solver, scale)
     t3 = time.perf_counter()
     sol.times = {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0}
     return sol
@@ -120,6 +128,7 @@ class System:
     electrode_dofs: dict          # electrode -> global phi DOFs (offset applied)
     states: dict                  # electrode -> "reference" | "open" | volts (float)
     applied_force: float
+    yeoh: dict = field(default_factory=dict)   # solid region -> (C10, C20, C30), K  (hyperelastic)
 
 
 def _elements(dim, order, mixed):
@@ -132,14 +141,16 @@ def _elements(dim, order, mixed):
     return ElementVector(eu), p1, p1
 
 
-def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None) -> System:
+def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelastic: bool = False) -> System:
+    """The full linear system; with `hyperelastic`, solid regions with Yeoh data are
+    left out of A (fem.newton adds their state-dependent residual and tangent)."""
     model, lay, mesh = scene.model.type, tm.layout, tm.mesh
     depth, dim = lay.depth, mesh.dim()
-    mixed = scene.mesh.silicone == "mixed"
+    mixed = scene.mesh.formulation == "mixed"
     eu, ep, ephi = _elements(dim, scene.mesh.order, mixed)
     q = 4
 
-    ubases, pbases, phibases, constitutive = {}, {}, {}, {}
+    ubases, pbases, phibases, constitutive, yeoh = {}, {}, {}, {}, {}
     for region, (mname, poling) in tm.materials.items():
         mat = materials.get(mname, user)
         elems = tm.regions[region]
@@ -158,6 +169,8 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None) -> System:
             constitutive[region] = ("solid", mu, lam)
             if mixed and lam != 0:        # lam = 0 (nu = 0): p = 0, nothing to constrain
                 pbases[region] = Basis(mesh, ep, elements=elems, intorder=q)
+            if hyperelastic and mat.yeoh is not None:
+                yeoh[region] = (mat.yeoh, mat.K)
 
     Nu = next(iter(ubases.values())).N
     Np1 = mesh.nvertices if pbases else 0
@@ -179,6 +192,8 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None) -> System:
             Kup = asm(forms.piezo_coupling(e, model, depth), phibases[region], ub)
             blocks += [("u", "phi", Kup), ("phi", "u", Kup.T),
                        ("phi", "phi", -asm(forms.dielectric(eps, model, depth), phibases[region]))]
+        elif region in yeoh:
+            continue
         else:
             _, mu, lam = law
             if region in pbases:
@@ -190,18 +205,25 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None) -> System:
             else:
                 c = _solid_stiffness(mu, lam, model)
                 blocks.append(("u", "u", asm(forms.elastic(c, model, depth), ub)))
-    coo = [sp.coo_matrix(M) for *_, M in blocks]
-    rows = np.concatenate([m.row + offsets[r].start for (r, _, _), m in zip(blocks, coo)])
-    cols = np.concatenate([m.col + offsets[c].start for (_, c, _), m in zip(blocks, coo)])
-    vals = np.concatenate([m.data for m in coo])
-    A = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    A = place(blocks, offsets, n)
 
     b, force = _load(scene, tm, eu, depth, n)
     fixed_by_support = _supports(scene, tm, ubases)
     fixed_u = np.unique(np.concatenate(list(fixed_by_support.values()) or [np.zeros(0, int)]))
     electrode_dofs, states = _electrodes(scene, tm, phibases, offsets["phi"].start)
     return System(scene, tm, A, b, offsets, ubases, pbases, phibases, constitutive, fixed_u,
-                  fixed_by_support, electrode_dofs, states, force)
+                  fixed_by_support, electrode_dofs, states, force, yeoh)
+
+
+def place(blocks, offsets, n) -> sp.csr_matrix:
+    """An n x n matrix from (row block, column block, matrix) triples."""
+    coo = [sp.coo_matrix(M) for *_, M in blocks]
+    if not coo:
+        return sp.csr_matrix((n, n))
+    rows = np.concatenate([m.row + offsets[r].start for (r, _, _), m in zip(blocks, coo)])
+    cols = np.concatenate([m.col + offsets[c].start for (_, c, _), m in zip(blocks, coo)])
+    vals = np.concatenate([m.data for m in coo])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
 
 
 def _solid_stiffness(mu, lam, model):
@@ -320,7 +342,31 @@ def _electrodes(scene: Scene, tm: TaggedMesh, phibases, offset):
 # constrained solve
 # --------------------------------------------------------------------------------------
 
-def _solve(sy: System, method: str, scale: bool) -> Solution:
+@dataclass
+class Reduction:
+    """The constrained, collapsed unknowns: x_full = P y. Columns: free DOFs, then
+    one potential per active electrode (whose equation is its charge balance)."""
+
+    P: sp.csr_matrix
+    nf: int
+    active: list[str]
+    ref: list[str]
+    is_u: np.ndarray          # reduced unknowns that are displacements
+
+    @property
+    def n(self):
+        return self.nf + len(self.active)
+
+    def unit_charges(self):
+        """Right-hand sides for Q_k = 1 C on each active electrode (rhs -Q)."""
+        B = np.zeros((self.n, len(self.active)))
+        B[self.nf + np.arange(len(self.active)), np.arange(len(self.active))] = -1.0
+        return B
+
+
+def reduction(sy: System, eliminate_grounded: bool = False) -> Reduction:
+    """Drop fixed displacements, unused pressure/potential DOFs and the reference
+    electrode (and, if asked, every grounded electrode); collapse active electrodes."""
     n = sy.A.shape[0]
     used = np.zeros(n, bool)
     used[sy.offsets["u"]] = True
@@ -330,62 +376,93 @@ def _solve(sy: System, method: str, scale: bool) -> Solution:
     for pb in sy.phibases.values():
         used[phi0 + np.unique(pb.element_dofs)] = True
     used[sy.fixed_u] = False
-    active = [k for k, s in sy.states.items() if s != "reference"]
-    ref = [k for k, s in sy.states.items() if s == "reference"]
+    grounded = ("reference", "ground") if eliminate_grounded else ("reference",)
+    ref = [k for k, s in sy.states.items() if s in grounded]
+    active = [k for k, s in sy.states.items() if s not in grounded]
     for k in ref + active:
         used[sy.electrode_dofs[k]] = False
     free = np.flatnonzero(used)
-    nf, na = len(free), len(active)
+    nf = len(free)
     col = np.full(n, -1)
     col[free] = np.arange(nf)
     for i, k in enumerate(active):
         col[sy.electrode_dofs[k]] = nf + i
     rows = np.flatnonzero(col >= 0)
-    P = sp.csr_matrix((np.ones(len(rows)), (rows, col[rows])), shape=(n, nf + na))
-    A = (P.T @ sy.A @ P).tocsc()
-    B = np.zeros((nf + na, 1 + na))
-    B[:, 0] = P.T @ sy.b
-    B[nf + np.arange(na), 1 + np.arange(na)] = -1.0       # unit charge Q_k = 1 C (rhs -Q)
+    P = sp.csr_matrix((np.ones(len(rows)), (rows, col[rows])), shape=(n, nf + len(active)))
+    return Reduction(P, nf, active, ref, np.append(free < sy.offsets["u"].stop, np.zeros(len(active), bool)))
 
-    D = _scaling(A, free < sy.offsets["u"].stop) if scale else np.ones(nf + na)
-    As, Bs = sp.diags(D) @ A @ sp.diags(D), D[:, None] * B
+
+def scaled_solver(A: sp.spmatrix, red: Reduction, method: str, scale: bool = True):
+    """Factorize D A D once; return solve(B) -> (X, relative residuals), with
+    iterative refinement reusing the factors."""
+    D = _scaling(A, red.is_u) if scale else np.ones(red.n)
+    As = (sp.diags(D) @ A @ sp.diags(D)).tocsc()
     factor = linsolve.factorize(As, method)
-    Y = factor(Bs).reshape(nf + na, 1 + na)
-    for _ in range(3):      # iterative refinement (cheap: the factorization is reused)
-        R = Bs - As @ Y
-        norm_b = np.linalg.norm(Bs, axis=0)
-        res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)    # zero rhs: zero error
-        if res.max() < 1e-13:
-            break
-        Y = Y + factor(R).reshape(nf + na, 1 + na)
-    X = D[:, None] * Y
-    if not np.all(np.isfinite(X)):
-        raise RuntimeError("linear solve produced non-finite values: the system is singular "
-                           "(check the supports and that every piezo body touches a grounded electrode)")
+
+    def solve_(B):
+        B = np.asarray(B, float).reshape(red.n, -1)
+        Bs = D[:, None] * B
+        Y = factor(Bs).reshape(Bs.shape)
+        for _ in range(3):
+            R = Bs - As @ Y
+            norm_b = np.linalg.norm(Bs, axis=0)
+            res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)    # zero rhs: zero error
+            if res.max() < 1e-13:
+                break
+            Y = Y + factor(R).reshape(Bs.shape)
+        X = D[:, None] * Y
+        if not np.all(np.isfinite(X)):
+            raise RuntimeError("linear solve produced non-finite values: the system is singular "
+                               "(check the supports and that every piezo body touches a grounded electrode)")
+        return X, res
+    solve_.D = D
+    return solve_
+
+
+def _solve(sy: System, method: str, scale: bool) -> Solution:
+    red = reduction(sy)
+    nf, na = red.nf, len(red.active)
+    A = (red.P.T @ sy.A @ red.P).tocsc()
+    X, res = scaled_solver(A, red, method, scale)(np.column_stack([red.P.T @ sy.b, red.unit_charges()]))
 
     # open-circuit voltages, capacitance matrix, and the state the scene asks for
     Vf, Cinv = X[nf:, 0], X[nf:, 1:]
-    C = np.linalg.inv(Cinv) if na else np.zeros((0, 0))
-    fixedV = [i for i, k in enumerate(active) if sy.states[k] != "open"]
+    fixedV = [i for i, k in enumerate(red.active) if sy.states[k] != "open"]
     Q = np.zeros(na)
     if fixedV:
-        Vset = np.array([0.0 if sy.states[active[i]] == "ground" else sy.states[active[i]] for i in fixedV])
+        Vset = np.array([0.0 if sy.states[red.active[i]] == "ground" else sy.states[red.active[i]]
+                         for i in fixedV])
         Q[fixedV] = np.linalg.solve(Cinv[np.ix_(fixedV, fixedV)], Vset - Vf[fixedV])
-    x = P @ (X[:, 0] + X[:, 1:] @ Q)
+    x = red.P @ (X[:, 0] + X[:, 1:] @ Q)
     r = sy.A @ x - sy.b
+    return results(sy, red, x, r, Cinv, linsolve.resolve(method, red.n), float(res.max()))
 
+
+def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float) -> Solution:
+    """Per-electrode numbers, reactions and fields from a solved state.
+
+    x: full solution; r: full residual (A x - b: reactions at supports, charges at
+    electrodes); Cinv: inverse capacitance matrix of the active electrodes.
+    """
+    na = len(red.active)
+    C = np.linalg.inv(Cinv) if na else np.zeros((0, 0))
+    V = np.array([x[sy.electrode_dofs[k][0]] for k in red.active])
     electrodes = {}
-    Qsc = -C @ Vf
-    for i, k in enumerate(active):
+    for i, k in enumerate(red.active):
         st = sy.states[k]
         q = 0.0 if st == "open" else float(-r[sy.electrode_dofs[k]].sum())    # open: Q = 0 exactly
-        electrodes[k] = ElectrodeResult(k, st if isinstance(st, str) else f"{st:g} V",
-                                        float(x[sy.electrode_dofs[k][0]]), q,
-                                        float(Qsc[i]), float(C[i, i]))
-    for k in ref:   # charge is conserved: the reference carries minus the others' charge
-        q_others = sum(e.charge for e in electrodes.values())
-        q = -q_others if active else float(-r[sy.electrode_dofs[k]].sum())
-        electrodes[k] = ElectrodeResult(k, "reference", 0.0, q, float(-Qsc.sum()) if active else q, None)
+        qsc = float(q - (C @ V)[i])                # Q = Q_sc + C V
+        electrodes[k] = ElectrodeResult(k, st if isinstance(st, str) else f"{st:g} V", float(V[i]), q,
+                                        qsc, float(C[i, i]))
+    for k in red.ref:
+        q = float(-r[sy.electrode_dofs[k]].sum())
+        if sy.states[k] == "reference" and not any(sy.states[j] == "ground" for j in red.ref if j != k):
+            q = -sum(e.charge for e in electrodes.values())     # charge is conserved
+        st = sy.states[k]
+        electrodes[k] = ElectrodeResult(k, st, 0.0, q, q, None)
+    if red.active and len(red.ref) == 1:       # with every active electrode grounded
+        electrodes[red.ref[0]].short_circuit_charge = -sum(e.short_circuit_charge for k, e in electrodes.items()
+                                                           if k in red.active)
     dim = sy.tm.mesh.dim()
     ub = next(iter(sy.ubases.values()))
     reaction = np.array([r[np.intersect1d(sy.fixed_u, _component_dofs(ub, c))].sum() for c in range(dim)])
@@ -393,7 +470,7 @@ def _solve(sy: System, method: str, scale: bool) -> Solution:
         reaction[0] = 0.0           # radial support forces cancel around the circle
     fields = _fields(sy, x)
     return Solution(sy.scene, electrodes, sy.applied_force, reaction, fields.pop("max_silicone_strain"),
-                    nf + na, linsolve.resolve(method, nf + na), float(res.max()), {}, sy.tm, fields)
+                    red.n, solver, residual, {}, sy.tm, fields)
 
 
 def _scaling(A, is_u):
@@ -406,12 +483,12 @@ def _scaling(A, is_u):
     maxima instead leaves that Schur complement at ~1e-16 for a steel plate or a
     PZT patch (coupling entries dominate the rows) and loses every digit.
     """
-    diag = A.diagonal()
+    diag = np.abs(A.diagonal())    # |.|: a hyperelastic tangent may lose definiteness mid-Newton
     is_u = np.append(is_u, np.zeros(A.shape[0] - len(is_u), bool))      # electrode unknowns
-    s = np.abs(diag).astype(float)
+    s = diag.astype(float)
     if (~is_u).any():
         Aqu = A[~is_u][:, is_u]
-        s[~is_u] += np.asarray(Aqu.multiply(Aqu) @ (1.0 / diag[is_u])).ravel()
+        s[~is_u] += np.asarray(Aqu.multiply(Aqu) @ (1.0 / np.maximum(diag[is_u], 1e-300))).ravel()
     if not (s > 0).all():
         raise RuntimeError("the system has an empty row: a region without stiffness or an unconnected unknown")
     return 1.0 / np.sqrt(s)

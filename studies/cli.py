@@ -45,7 +45,7 @@ def _solve(args):
         print(json.dumps(sol.record()))
         return
     m = scene.mesh
-    print(f"scene {scene.name}: {scene.model.type}, order {m.order} ({m.silicone} silicone), "
+    print(f"scene {scene.name}: {scene.model.type}, order {m.order} ({scene.model.silicone} silicone, {m.formulation}), "
           f"{sol.unknowns} unknowns, solver {sol.solver}, {sol.times['total']:.3f} s "
           f"(mesh {sol.times['mesh']:.3f}, assemble {sol.times['assemble']:.3f}, solve {sol.times['solve']:.3f})")
     print(f"{'electrode':<12}{'state':<10}{'voltage':>12}{'charge':>13}{'short-circuit Q':>18}{'capacitance':>14}")
@@ -82,6 +82,52 @@ def _examples(args):
         print(name)
 
 
+def _material_fit_yeoh(args):
+    from fem.yeoh_fit import (
+        COMPRESSION_STRETCH,
+        fit_yeoh,
+        parse_strain,
+        plot_fit,
+        read_uniaxial,
+        stability_losses,
+    )
+    max_strain = parse_strain("--max-strain", args.max_strain)
+    check = parse_strain("--check-strain", args.check_strain) if args.check_strain else 2.0 * max_strain
+    strain, stress = read_uniaxial(args.file)
+    fit = fit_yeoh(strain, stress, max_strain)
+    lost = stability_losses(fit, (COMPRESSION_STRETCH, 1.0 + check))
+    span = f"{100 * (COMPRESSION_STRETCH - 1):+.0f} % (stretch {COMPRESSION_STRETCH:g}) to {100 * check:+.0f} % strain"
+    warnings = [f"WARNING: unstable in {r['mode']} {r['direction']} beyond {100 * r['strain']:+.1f} % strain "
+                f"(stretch {r['stretch']:.3f}, {r['reason']}), inside the checked range {span}"
+                for r in lost]
+    if args.plot:
+        try:
+            plot_fit(strain, stress, fit, args.plot, check_strain=check,
+                     title=f"{Path(args.file).name}: Yeoh fit to {100 * max_strain:g} %")
+        except OSError as exc:
+            raise ValueError(f"cannot write plot {args.plot}: {exc.strerror or exc}") from None
+    if args.json:
+        rec = {"file": str(args.file), "C10_Pa": fit.C10, "C20_Pa": fit.C20, "C30_Pa": fit.C30,
+               "r2": fit.r2, "n_points": fit.n_points, "rms_Pa": fit.rms_Pa, "max_strain": fit.max_strain,
+               "check_strain": check, "check_stretch_min": COMPRESSION_STRETCH,
+               "stability_lost": lost, "plot": args.plot}
+        print(json.dumps(rec))
+        for w in warnings:
+            print(w, file=sys.stderr)
+        return
+    print(f"Yeoh fit to {args.file}: engineering strain vs nominal stress, "
+          f"{fit.n_points} points with 0 < strain <= {100 * max_strain:g} %")
+    print(f"C10 = {fit.C10 / 1e3:.4g} kPa, C20 = {fit.C20 / 1e3:.4g} kPa, C30 = {fit.C30 / 1e3:.4g} kPa"
+          f"  (mu = 2 C10 = {2 * fit.C10 / 1e3:.4g} kPa)")
+    print(f"R^2 = {fit.r2:.5f}, RMS error {si(fit.rms_Pa, 'Pa')} over {fit.n_points} points")
+    if not lost:
+        print(f"stable in uniaxial, equibiaxial and pure shear from {span}")
+    for w in warnings:
+        print(w)
+    if args.plot:
+        print(f"plot written to {args.plot}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="taxel", description="Piezoelectric tactile sensor design tool")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -97,6 +143,18 @@ def main(argv=None):
     p.set_defaults(run=_mesh)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)
+    p = sub.add_parser("material", help="material tools (hyperelastic fits)")
+    msub = p.add_subparsers(dest="material_command", required=True)
+    p = msub.add_parser("fit-yeoh", help="fit an incompressible Yeoh law to a uniaxial tensile test")
+    p.add_argument("file", help="CSV with engineering strain and engineering (nominal) stress columns")
+    p.add_argument("--max-strain", default="0.5", metavar="S",
+                   help="fit points with 0 < strain <= S (fraction, or percent as '50%%'); default 0.5")
+    p.add_argument("--check-strain", metavar="S", default=None,
+                   help="check stability up to this tensile strain (default 2 x max strain) "
+                        "and down to stretch 0.5 in compression")
+    p.add_argument("--plot", metavar="OUT.png", help="write a plot of the data and the fit")
+    p.add_argument("--json", action="store_true", help="print one JSON record")
+    p.set_defaults(run=_material_fit_yeoh)
     args = ap.parse_args(argv)
     try:
         args.run(args)

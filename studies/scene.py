@@ -81,6 +81,7 @@ class Strict(BaseModel):
 class Model(Strict):
     type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
     depth: Length | None = None     # out-of-plane depth of a 2D model; default: taxel width
+    silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
 
 
 class Mesh(Strict):
@@ -88,7 +89,7 @@ class Mesh(Strict):
     piezo_size: Length | None = None  # in-plane element size on the taxels; default: size / 4
     piezo_layers: int = Field(1, ge=1, le=8)   # elements through each piezo layer
     order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
-    silicone: Literal["mixed", "displacement"] = "mixed"
+    formulation: Literal["mixed", "displacement"] = "mixed"   # silicone: u-p mixed, or u only (locks)
 
 
 class Array(Strict):
@@ -198,6 +199,14 @@ class Scene(Strict):
                              "set supports.bottom = 'bonded' or 'rollers', or fix the edges")
         for name, state in self.electrodes.items():
             electrode_state(state, f"electrodes.{name}")
+        if self.model.silicone != "linear":
+            if self.model.type == "plane_stress":
+                raise ValueError("model.silicone = 'yeoh' is not offered in plane stress (an incompressible "
+                                 "sheet needs its own condensation); use plane_strain, axisymmetric or 3d")
+            if self.mesh.formulation != "mixed":
+                raise ValueError("model.silicone = 'yeoh' needs mesh.formulation = 'mixed'")
+            if any(not isinstance(electrode_state(v), str) for v in self.electrodes.values()):
+                raise ValueError("electrodes at a set voltage are linear-model only; use 'open' or 'ground'")
         return self
 
 

@@ -74,7 +74,7 @@ def plate(model, shape, edges, h, size, layers, a, nu=NU, formulation="mixed"):
         {"width": f"{a * 1e3:g} mm", "length": f"{a * 1e3:g} mm"}
     return parse({
         "model": {"type": model},
-        "mesh": {"size": f"{size * 1e3:g} mm", "piezo_layers": layers, "silicone": formulation},
+        "mesh": {"size": f"{size * 1e3:g} mm", "piezo_layers": layers, "formulation": formulation},
         "plate": {"shape": shape, "layers": [{"material": "steel", "thickness": f"{h * 1e3:g} mm"}],
                   **geometry},
         "load": {"kind": "pressure", "pressure": "1 kPa"},
@@ -208,8 +208,8 @@ def test_3d_clamped_disk():
 # below the smallest error used here (1.1e-3) and the Richardson differences (>= 9e-5);
 # the displacement form (nu = 0) agrees to ~1e-8.
 #
-# nu = 0 needs mesh.silicone = "displacement": the default mixed u-p form divides by
-# lambda = E nu / ((1 + nu)(1 - 2 nu)) = 0 (fem.forms.pressure_mass), see the report.
+# nu = 0 once needed mesh.formulation = "displacement" (the mixed form divided by
+# lambda = 0); now the mixed form drops the pressure when lambda = 0, either works.
 
 SIZES = [1e-3 / 2 ** k for k in range(4)]               # the study: 1 ... 0.125 mm
 FINER = [SIZES[-1] / 2 ** k for k in (1, 2, 3)]         # for the reference: 62.5 ... 15.6 um
