@@ -17,15 +17,18 @@ and indefinite:
     [ K_uu     K_uphi ] [ u   ]   [ f  ]
     [ K_uphi^T -K_phiphi ] [ phi ] = [ -Q ]
 
-Silicone, mixed u-p (perturbed Lagrangian), T = 2 mu S + p I, p = lambda div u:
+Silicone, mixed u-p (perturbed Lagrangian), T = 2 mu (S - beta tr S I) + p I,
+p = kappa div u:
 
-    \int 2 mu S(v) : S(u) + p div v = \int t . v
-    \int q div u - q p / lambda       = 0
+    \int 2 mu (S(v) : S(u) - beta div v div u) + p div v = \int t . v
+    \int q div u - q p / kappa                              = 0
 
-which stays well posed as lambda -> infinity (Taylor-Hood P2/P1 or MINI
-P1+bubble/P1 are inf-sup stable). In plane stress lambda is replaced by the
-reduced lambda* = 2 lambda mu / (lambda + 2 mu), which stays bounded (a thin
-sheet is not incompressible in its plane), so plane stress does not lock.
+with beta = 1/3, kappa = K (the deviatoric/volumetric split: the same split as
+the Yeoh form of fem.hyperelastic, so both discretize the small-strain limit
+identically), which stays well posed as K -> infinity (Taylor-Hood P2/P1 or
+MINI P1+bubble/P1 are inf-sup stable). In plane stress beta = 0 and kappa is
+the reduced lambda* = 2 lambda mu / (lambda + 2 mu), which stays bounded (a
+thin sheet is not incompressible in its plane), so plane stress does not lock.
 
 Models and the strain vector (mesh coordinates x, z; r, z axisymmetric):
 
@@ -99,14 +102,16 @@ def dielectric(eps, model, depth):
     return form
 
 
-def deviatoric_shear(mu, model, depth):
-    """\\int 2 mu S(v) : S(u)  (the shear part of the mixed silicone form)."""
+def deviatoric_shear(mu, beta, model, depth):
+    """\\int 2 mu (S(v) : S(u) - beta tr S(v) tr S(u)): the unprojected part of the
+    mixed silicone form (beta = 1/3: the deviatoric split, 0 in plane stress)."""
     wts = np.array(shear_weights(model))
 
     @BilinearForm
     def form(u, v, w):
         Su, Sv = strain(u, w.x, model), strain(v, w.x, model)
-        return 2 * mu * np.einsum("i,i...,i...->...", wts, Su, Sv) * measure(w.x, model, depth)
+        return 2 * mu * (np.einsum("i,i...,i...->...", wts, Su, Sv)
+                         - beta * divergence(Su, model) * divergence(Sv, model)) * measure(w.x, model, depth)
     return form
 
 
@@ -118,11 +123,11 @@ def pressure_divergence(model, depth):
     return form
 
 
-def pressure_mass(lam, model, depth):
-    """M / lambda: \\int p q / lambda."""
+def pressure_mass(kappa, model, depth):
+    """M / kappa: \\int p q / kappa."""
     @BilinearForm
     def form(p, q, w):
-        return p * q / lam * measure(w.x, model, depth)
+        return p * q / kappa * measure(w.x, model, depth)
     return form
 
 

@@ -122,7 +122,7 @@ class System:
     ubases: dict                  # region -> restricted displacement basis
     pbases: dict                  # solid region -> restricted pressure basis
     phibases: dict                # piezo region -> restricted potential basis
-    constitutive: dict            # region -> (c, e, eps) or ("solid", mu, lam)
+    constitutive: dict            # region -> ("piezo", c, e, eps) or ("solid", mu, lam, beta, kappa)
     fixed_u: np.ndarray           # constrained displacement DOFs (value 0)
     fixed_by_support: dict        # support name -> DOFs
     electrode_dofs: dict          # electrode -> global phi DOFs (offset applied)
@@ -164,10 +164,12 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
             phibases[region] = Basis(mesh, ephi, elements=elems, intorder=q)
         else:
             mu, lam = mat.mu, mat.lam
+            beta, kappa = 1 / 3, mat.K            # deviatoric split (see fem.forms)
             if model == "plane_stress":
                 lam = 2 * lam * mu / (lam + 2 * mu)
-            constitutive[region] = ("solid", mu, lam)
-            if mixed and lam != 0:        # lam = 0 (nu = 0): p = 0, nothing to constrain
+                beta, kappa = 0.0, lam
+            constitutive[region] = ("solid", mu, lam, beta, kappa)
+            if mixed and kappa != 0:      # kappa = 0 (plane stress, nu = 0): p = 0, nothing to constrain
                 pbases[region] = Basis(mesh, ep, elements=elems, intorder=q)
             if hyperelastic and mat.yeoh is not None:
                 yeoh[region] = (mat.yeoh, mat.K)
@@ -195,13 +197,13 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
         elif region in yeoh:
             continue
         else:
-            _, mu, lam = law
+            _, mu, lam, beta, kappa = law
             if region in pbases:
                 pk = ("p", region)
                 B = asm(forms.pressure_divergence(model, depth), pbases[region], ub)
-                blocks += [("u", "u", asm(forms.deviatoric_shear(mu, model, depth), ub)),
+                blocks += [("u", "u", asm(forms.deviatoric_shear(mu, beta, model, depth), ub)),
                            ("u", pk, B), (pk, "u", B.T),
-                           (pk, pk, -asm(forms.pressure_mass(lam, model, depth), pbases[region]))]
+                           (pk, pk, -asm(forms.pressure_mass(kappa, model, depth), pbases[region]))]
             else:
                 c = _solid_stiffness(mu, lam, model)
                 blocks.append(("u", "u", asm(forms.elastic(c, model, depth), ub)))
@@ -529,15 +531,16 @@ def _fields(sy: System, x) -> dict:
             g = sy.phibases[region].interpolate(phi).grad
             T = np.einsum("ij,j...->i...", c, S) + np.einsum("ki,k...->i...", e, g)
         else:
-            _, mu, lam = law
+            _, mu, lam, beta, kappa = law
             wts = np.array(forms.shear_weights(model))
+            tr = forms.divergence(S, model)
             if region in sy.pbases:
                 p = np.asarray(sy.pbases[region].interpolate(x[sy.offsets[("p", region)]]))
             else:
-                p = lam * forms.divergence(S, model)
+                p, beta = lam * tr, 0.0
             normal = np.zeros(nS)
             normal[: (3 if model in ("3d", "axisymmetric") else 2)] = 1
-            T = 2 * mu * wts[:, None, None] * S + normal[:, None, None] * p
+            T = 2 * mu * (wts[:, None, None] * S - beta * normal[:, None, None] * tr) + normal[:, None, None] * p
         strain_cell[elems] = S.mean(axis=2).T
         if law[0] == "solid" and sy.tm.layout.taxels:
             max_strain = max(max_strain, _max_principal(strain_cell[elems].T, model, mu, lam))

@@ -3,7 +3,7 @@
 The taxel mixes 1e4 Pa silicone, 1e11 Pa PZT and 1e-8 F/m permittivity in one
 indefinite matrix. Scaled (fem.solve._scaling), SuperLU and PARDISO agree to
 1e-9 and the relative residual is ~1e-12; unscaled, the same factorizations
-leave a residual of ~1e-6 and the voltages differ in the 7th digit.
+leave a residual of ~2e-6 (measured).
 """
 
 import numpy as np
@@ -29,10 +29,10 @@ def test_scaling_keeps_digits_that_the_unscaled_system_loses():
     scaled = solve(scene, solver="superlu")
     raw = solve(scene, solver="superlu", scale=False)
     assert scaled.residual < 1e-10 < 1e-7 < raw.residual
+    # the voltage itself survives (iterative refinement repairs much of it), but only
+    # the scaled solve is accurate to the digits its residual promises
     ref = solve(scene, solver=SOLVERS[-1]).voltages()["taxel_0_0"]
-    err_scaled = abs(scaled.voltages()["taxel_0_0"] - ref)
-    err_raw = abs(raw.voltages()["taxel_0_0"] - ref)
-    assert err_scaled < err_raw / 100
+    assert abs(scaled.voltages()["taxel_0_0"] - ref) < 1e-9 * abs(ref)
 
 
 @pytest.mark.parametrize("nu", [0.3, 0.0])
