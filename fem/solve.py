@@ -285,13 +285,7 @@ def _supports(scene: Scene, tm: TaggedMesh, ubases) -> dict[str, np.ndarray]:
         bottom_nodes = np.unique(tm.mesh.facets[:, tm.facets["bottom"]])
         centre = np.array([lay.plan.x, lay.plan.y][: dim - 1])
         if model != "axisymmetric":     # pin the in-plane rigid motion
-            pts = tm.mesh.p[: dim - 1, bottom_nodes]
-            k = bottom_nodes[np.argmin(np.linalg.norm(pts - centre[:, None], axis=0))]
-            pins = [ub.nodal_dofs[i, k] for i in range(dim - 1)]
-            if dim == 3:                # and the rotation about z: u_y at the node farthest in x
-                k2 = bottom_nodes[np.argmax(np.abs(tm.mesh.p[0, bottom_nodes] - tm.mesh.p[0, k]))]
-                pins.append(ub.nodal_dofs[1, k2])
-            out["pin"] = np.array(pins)
+            out["pin"] = _pins(tm, ub, bottom_nodes, centre)
     if sup.edges == "clamped":
         out["edges"] = dofs("edges")
     elif sup.edges == "rollers":
@@ -312,6 +306,27 @@ def _supports(scene: Scene, tm: TaggedMesh, ubases) -> dict[str, np.ndarray]:
     if model == "axisymmetric":
         out["axis"] = dofs("axis", ["u^1"])
     return out
+
+
+def _pins(tm: TaggedMesh, ub, nodes, centre):
+    """In-plane rigid-motion pins on the bottom: u_x (and u_y) at node k, and in 3D
+    u_y at a node k2 on the same y line (so a free lateral expansion comes with no
+    rigid rotation: harmless in a linear model, not strain-free in finite strain).
+    k is the node nearest the centre among those with a partner on their y line."""
+    dim = tm.mesh.dim()
+    p = tm.mesh.p[: dim - 1, nodes]
+    if dim == 2:
+        k = nodes[np.argmin(np.abs(p[0] - centre[0]))]
+        return np.array([ub.nodal_dofs[0, k]])
+    tol = 1e-9 * max(np.ptp(p[0]), np.ptp(p[1]))
+    y = np.round(p[1] / tol)
+    _, inverse, counts = np.unique(y, return_inverse=True, return_counts=True)
+    paired = counts[inverse] > 1
+    cand = np.flatnonzero(paired) if paired.any() else np.arange(len(nodes))
+    i = cand[np.argmin(np.linalg.norm(p[:, cand] - centre[:, None], axis=0))]
+    same = np.flatnonzero(y == y[i]) if paired.any() else np.arange(len(nodes))
+    j = same[np.argmax(np.abs(p[0, same] - p[0, i]))]
+    return np.array([ub.nodal_dofs[0, nodes[i]], ub.nodal_dofs[1, nodes[i]], ub.nodal_dofs[1, nodes[j]]])
 
 
 def _electrodes(scene: Scene, tm: TaggedMesh, phibases, offset):

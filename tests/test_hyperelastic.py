@@ -1,0 +1,233 @@
+"""Yeoh silicone: constitutive consistency, tangents, Newton, closed forms, and the
+places where methods fail (locking, Newton without load stepping)."""
+
+import numpy as np
+import pytest
+from scipy.optimize import fsolve
+
+from fem import hyperelastic as H
+from fem.newton import NewtonError, newton, yeoh_terms
+from fem.solve import assemble, reduction, solve
+from meshing.build import build
+from meshing.layout import layout
+from studies.scene import SceneError, load, parse, user_materials
+
+C_YEOH = (7.83e3, 0.103e3, -0.0008e3)       # the 300 % fit (REFERENCE.md)
+
+
+def with_(scene, silicone=None, force=None, **mesh):
+    up = {}
+    if silicone:
+        up["model"] = scene.model.model_copy(update={"silicone": silicone})
+    if force is not None:
+        up["load"] = scene.load.model_copy(update={"force": force})
+    if mesh:
+        up["mesh"] = scene.mesh.model_copy(update=mesh)
+    return scene.model_copy(update=up)
+
+
+# ---------------------------------------------------------------- constitutive level
+
+def test_stress_is_the_derivative_of_the_energy_and_tangent_of_the_stress():
+    rng = np.random.default_rng(3)
+    F = (np.eye(3) + 0.3 * rng.normal(size=(3, 3)))[..., None, None]
+    p = np.array([[2.5e3]])
+    K = 1e6
+
+    def W(F):
+        J = np.linalg.det(F[..., 0, 0])
+        return H.psi(J ** (-2 / 3) * (F ** 2).sum(), C_YEOH) + p[0, 0] * (J - 1)
+    P = H.stress(F, p, C_YEOH)[0][..., 0, 0]
+    A = H.tangent(F, p, C_YEOH)[..., 0, 0]
+    h = 1e-6
+    for i in range(3):
+        for j in range(3):
+            E = np.zeros_like(F)
+            E[i, j] = h
+            assert (W(F + E) - W(F - E)) / (2 * h) == pytest.approx(P[i, j], rel=1e-6, abs=1e-6 * np.abs(P).max())
+            dP = (H.stress(F + E, p, C_YEOH)[0] - H.stress(F - E, p, C_YEOH)[0])[..., 0, 0] / (2 * h)
+            np.testing.assert_allclose(dP, A[:, :, i, j], rtol=1e-6, atol=1e-7 * np.abs(A).max())
+
+
+@pytest.fixture(scope="module")
+def taxel_state():
+    """The 2D thesis taxel at 0.2 N with Yeoh silicone: system and converged state."""
+    scene = with_(load("thesis-pzt-single-2d"), "yeoh", 0.2, size=1e-3, piezo_size=2e-4)
+    sy = assemble(scene, build(layout(scene)), hyperelastic=True)
+    x, res, red, _ = newton(sy)
+    return sy, x, res
+
+
+def test_assembled_tangent_matches_finite_differences(taxel_state):
+    sy, x, _ = taxel_state
+    rng = np.random.default_rng(0)
+    d = np.zeros_like(x)
+    d[sy.offsets["u"]] = rng.normal(size=sy.offsets["u"].stop) * 1e-6
+    for region in sy.yeoh:
+        d[sy.offsets[("p", region)]] = rng.normal(size=sy.offsets[("p", region)].stop
+                                                  - sy.offsets[("p", region)].start) * 1e2
+    _, K = yeoh_terms(sy, x)
+    h = 1e-3
+    fd = (yeoh_terms(sy, x + h * d, False)[0] - yeoh_terms(sy, x - h * d, False)[0]) / (2 * h)
+    Kd = K @ d
+    assert np.linalg.norm(fd - Kd) < 1e-6 * np.linalg.norm(Kd)
+
+
+def test_newton_converges_quadratically(taxel_state):
+    _, _, res = taxel_state
+    r = [v for v in res.residuals[-1] if v > 1e-13]
+    assert res.converged and len(r) >= 3
+    # quadratic: log r_{k+1} / log r_k -> 2 (r relative, < 1); the last ratios show it
+    orders = [np.log(r[k + 1]) / np.log(r[k]) for k in range(1, len(r) - 1)]
+    assert max(orders) > 1.8, (r, orders)
+
+
+def test_small_load_limit_yeoh_equals_linear():
+    base = load("thesis-pzt-single-2d")
+    v_lin = solve(base).voltages()["taxel_0_0"]
+    rel = []
+    for F in (1e-4, 1e-2):
+        v = solve(with_(base, "yeoh", F)).voltages()["taxel_0_0"]
+        rel.append(abs(v / (v_lin * F) - 1))
+    assert rel[0] < 1e-4                       # same discretization of the small-strain limit
+    assert rel[1] == pytest.approx(100 * rel[0], rel=0.2)    # and the difference is first order in F
+
+
+# ---------------------------------------------------------------- homogeneous states
+
+def block(model, sil="yeoh", pressure="5 kPa", K_ratio=1e3, size="2 mm", layers=1):
+    plate = ({"shape": "disk", "radius": "2 mm"} if model == "axisymmetric"
+             else {"shape": "rectangle", "width": "2 mm", "length": "2 mm"})
+    plate["layers"] = [{"material": "gel", "thickness": "2 mm"}]
+    return parse({
+        "model": {"type": model, "silicone": sil, "depth": "1 mm"} if model.startswith("plane")
+        else {"type": model, "silicone": sil},
+        "mesh": {"size": size, "piezo_layers": layers, "order": 2},
+        "plate": plate, "materials": {"gel": {"kind": "solid", "C10": C_YEOH[0], "C20": C_YEOH[1],
+                                              "C30": C_YEOH[2], "K": K_ratio * 2 * C_YEOH[0], "rho": 1070}},
+        "load": {"kind": "pressure", "pressure": pressure},
+        "supports": {"bottom": "rollers", "edges": "free"},
+    })
+
+
+def homogeneous_reference(P_top, K, lateral_free_dims):
+    """Stretches of the two-field Yeoh model in a homogeneous state with nominal
+    stress P_top on z and zero stress on the free lateral directions (2: uniaxial,
+    1: plane strain = pure shear), solved from the closed-form stress."""
+    def F_of(l):
+        lz, lt = l
+        return np.diag([lt, lt if lateral_free_dims == 2 else 1.0, lz])[..., None, None]
+
+    def eqs(l):
+        F = F_of(l)
+        J = np.linalg.det(F[..., 0, 0])
+        P, _, _ = H.stress(F, np.array([[K * (J - 1)]]), C_YEOH)
+        return [P[2, 2, 0, 0] - P_top, P[0, 0, 0, 0]]
+    return fsolve(eqs, [0.9, 1.05], xtol=1e-14)
+
+
+@pytest.mark.parametrize("model,free", [("3d", 2), ("axisymmetric", 2), ("plane_strain", 1)])
+@pytest.mark.parametrize("pressure", ["5 kPa", "-3 kPa"])
+def test_homogeneous_compression_and_tension_to_round_off(model, free, pressure):
+    """One element per direction; the FE state is homogeneous and must equal the
+    closed-form stretches of the same energy to round-off."""
+    sol = solve(block(model, pressure=pressure))
+    P = -float(pressure.split()[0]) * 1e3
+    lz, lt = homogeneous_reference(P, 1e3 * 2 * C_YEOH[0], free)
+    p, u = sol.mesh.mesh.p, sol.fields["u"]
+    top = p[-1] > 2e-3 * (1 - 1e-9)
+    np.testing.assert_allclose(u[top, -1], (lz - 1) * 2e-3, rtol=1e-8)
+    np.testing.assert_allclose(sol.fields["strain"][:, 0], lt - 1, rtol=1e-7)
+
+
+def test_distorted_mesh_still_exact():
+    scene = block("plane_strain", size="0.5 mm", layers=4)
+    tm = build(layout(scene), user_materials(scene))
+    m = tm.mesh
+    inner = (np.abs(m.p[0]) < 1e-3 - 1e-9) & (m.p[1] > 1e-9) & (m.p[1] < 2e-3 - 1e-9)
+    rng = np.random.default_rng(5)
+    p = m.p.copy()
+    p[:, inner] += rng.uniform(-0.1e-3, 0.1e-3, size=(2, inner.sum()))
+    tm.mesh = type(m)(p, m.t).with_subdomains(tm.regions).with_boundaries(tm.facets)
+    sol = solve(scene, tagged_mesh=tm)
+    lz, lt = homogeneous_reference(-5e3, 1e3 * 2 * C_YEOH[0], 1)
+    top = sol.mesh.mesh.p[1] > 2e-3 * (1 - 1e-9)
+    np.testing.assert_allclose(sol.fields["u"][top, 1], (lz - 1) * 2e-3, rtol=1e-8)
+
+
+@pytest.mark.parametrize("mode", ["uniaxial", "equibiaxial", "pure_shear"])
+def test_incompressible_closed_forms(mode):
+    """REFERENCE.md's incompressible formulas, reached as K/C10 grows (K = 1e5 mu):
+    uniaxial P = 2 (l - l^-2) W'; equibiaxial P = 2 (l - l^-5) W' (the uniaxial
+    compression state plus a hydrostatic pressure); pure shear P = 2 (l - l^-3) W'."""
+    model = "plane_strain" if mode == "pure_shear" else "3d"
+    sol = solve(block(model, pressure="5 kPa", K_ratio=1e5))
+    p, u = sol.mesh.mesh.p, sol.fields["u"]
+    lz = 1 + u[p[-1] > 2e-3 * (1 - 1e-9), -1].mean() / 2e-3
+    Pz = -5e3
+
+    def dW(I1):
+        return H.dpsi(I1, C_YEOH)[0]
+    if mode == "uniaxial":
+        ref = 2 * (lz - lz ** -2) * dW(lz ** 2 + 2 / lz)
+        assert Pz == pytest.approx(ref, rel=1e-4)
+    elif mode == "equibiaxial":
+        le = lz ** -0.5                       # lateral stretch; sigma_eb = -sigma_zz of the uniaxial state
+        P_eb = -Pz * lz / le
+        assert P_eb == pytest.approx(2 * (le - le ** -5) * dW(2 * le ** 2 + le ** -4), rel=1e-4)
+    else:
+        ref = 2 * (lz - lz ** -3) * dW(lz ** 2 + 1 + lz ** -2)
+        assert Pz == pytest.approx(ref, rel=1e-4)
+
+
+# ---------------------------------------------------------------- where methods fail
+
+@pytest.mark.parametrize("ratio", [1e1, 1e3, 1e5])
+def test_displacement_p1_locks_mixed_does_not(ratio):
+    """Linear silicone, K/mu growing: P1 displacement-only elements lock (the taxel
+    voltage error against the converged mixed P2/P1 answer grows with K/mu), the
+    mixed formulations (MINI and Taylor-Hood) stay within their discretization error."""
+    base = load("thesis-pzt-single-2d")
+    gel = {"kind": "solid", "mu": 2 * C_YEOH[0], "K": ratio * 2 * C_YEOH[0], "rho": 1070}
+
+    def v(order, formulation, f=1.0):
+        s = base.model_copy(update={
+            "array": base.array.model_copy(update={"silicone": "gel"}), "materials": {"gel": gel},
+            "mesh": base.mesh.model_copy(update={"order": order, "formulation": formulation})})
+        from studies.scene import refined
+        return solve(refined(s, f)).voltages()["taxel_0_0"]
+    ref = v(2, "mixed", 2.0)
+    err_p1 = abs(v(1, "displacement") / ref - 1)
+    err_mini = abs(v(1, "mixed") / ref - 1)
+    err_th = abs(v(2, "mixed") / ref - 1)
+    assert err_th < 0.01 and err_mini < 0.05
+    if ratio >= 1e3:
+        assert err_p1 > 5 * err_mini            # locking
+    if ratio == 1e5:
+        assert err_p1 > 0.3
+
+
+def test_newton_without_stepping_or_line_search_fails_where_the_default_converges():
+    scene = with_(load("thesis-pzt-single-2d"), "yeoh", 0.5)
+    with pytest.raises(NewtonError, match="last converged"):
+        solve(scene, newton={"stepping": False, "line_search": False})
+    sol = solve(scene)
+    assert sol.newton.converged
+    assert sol.reaction[-1] == pytest.approx(0.5, rel=1e-8)
+
+
+def test_pvdf_52um_under_silicone_converges():
+    """Aspect ratio: a 52 um film under 1 mm of silicone, nested refinement; the
+    voltage steps shrink and the Yeoh solve converges."""
+    scene = with_(load("thesis-pvdf-single-2d"), None, 0.2)
+    tm = build(layout(scene))
+    v = [solve(scene, tagged_mesh=tm.refined(k) if k else tm).voltages()["taxel_0_0"] for k in range(3)]
+    assert abs(v[2] - v[1]) < abs(v[1] - v[0])
+    assert abs(v[2] - v[1]) < 0.01 * abs(v[2])
+    sol = solve(with_(scene, "yeoh"))
+    assert sol.newton.converged and sol.voltages()["taxel_0_0"] > 0
+
+
+def test_plane_stress_yeoh_is_refused_with_a_reason():
+    with pytest.raises(SceneError, match="plane stress"):
+        parse({"model": {"type": "plane_stress", "silicone": "yeoh"}, "array": {}})
