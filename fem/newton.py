@@ -30,7 +30,11 @@ from fem.solve import Reduction, Solution, System, place, reduction, results, sc
 
 
 class NewtonError(RuntimeError):
-    """Newton failed; the message names the last converged load."""
+    """Newton failed; the message names the last converged load, `.result` has the history."""
+
+    def __init__(self, message, result=None):
+        super().__init__(message)
+        self.result = result
 
 
 @dataclass
@@ -41,6 +45,7 @@ class NewtonResult:
     residuals: list[list[float]] = field(default_factory=list)  # scaled relative residual, per iteration
     cutbacks: int = 0
     message: str = ""
+    failed: list[tuple[float, list[float]]] = field(default_factory=list)   # (load factor, residuals)
 
     @property
     def total_iterations(self):
@@ -71,7 +76,7 @@ def _min_jacobian(sy: System, x):
     return min(hyperelastic.min_jacobian(sy.ubases[r], u, sy.scene.model.type) for r in sy.yeoh)
 
 
-def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0, min_step=1e-3,
+def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0, min_step=1e-2,
            stepping=True, line_search=True, red: Reduction | None = None):
     """Solve r(x, 1) = 0. Returns (x, NewtonResult, reduction, last scaled solver).
 
@@ -132,13 +137,15 @@ def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0,
             if stepping and len(history) - 1 <= 4:
                 step *= 1.5
             continue
+        res.failed.append((target, history))
         if not stepping or step / 2 < min_step:
             last = res.load_factors[-1] if res.load_factors else 0.0
             res.message = (f"Newton did not converge at load factor {target:.4g} (last converged {last:.4g}, "
-                           f"i.e. {last * sy.applied_force:.4g} N of {sy.applied_force:.4g} N); the silicone "
-                           "may be over-compressed: lower the force, refine the mesh, or check the Yeoh set "
-                           "is stable at this strain")
-            raise NewtonError(res.message)
+                           f"i.e. {last * sy.applied_force:.4g} N of {sy.applied_force:.4g} N): a pressure "
+                           "patch on soft silicone folds the free surface at its edge at a few C10 "
+                           "of pressure (a crease a load without contact cannot follow); lower "
+                           "the force, or check the Yeoh set is stable at this strain")
+            raise NewtonError(res.message, res)
         res.cutbacks += 1
         step /= 2
     res.converged = True

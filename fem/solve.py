@@ -68,6 +68,7 @@ class Solution:
     mesh: TaggedMesh
     fields: dict = field(repr=False, default_factory=dict)
     newton: object = None         # fem.newton.NewtonResult for a hyperelastic solve
+    model_note: str = ""          # which silicone model was used and why ("auto")
 
     def voltages(self):
         return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
@@ -82,15 +83,32 @@ class Solution:
             "applied_force_N": self.applied_force, "reaction_N": self.reaction.tolist(),
             "max_silicone_strain": self.max_silicone_strain, "unknowns": self.unknowns,
             "solver": self.solver, "relative_residual": self.residual,
-            "times_s": self.times,
+            "times_s": self.times, "silicone": self.scene.model.silicone, "model_note": self.model_note,
+            "newton": None if self.newton is None else {
+                "load_factors": self.newton.load_factors, "iterations": self.newton.iterations,
+                "cutbacks": self.newton.cutbacks, "message": self.newton.message},
         }
+
+
+# Linear silicone's taxel-voltage error per unit of its own largest silicone strain:
+# the worst ratio measured over the thesis PZT and PVDF taxels, 0.05 to 0.45 N
+# (benchmarks/silicone_model_error.py: 0.223 least squares, 0.257 worst).
+LINEAR_ERROR_PER_STRAIN = 0.257
 
 
 def solve(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | None = None,
           scale: bool = True, newton: dict | None = None) -> Solution:
     """Solve a scene (meshing it unless `tagged_mesh` is given). With a Yeoh
     silicone, `newton` passes options to fem.newton.newton (tol, max_iter,
-    first_step, stepping, line_search)."""
+    first_step, stepping, line_search).
+
+    model.silicone = "auto" solves the linear model, estimates its voltage error
+    as LINEAR_ERROR_PER_STRAIN x its largest silicone strain, keeps it when the
+    estimate is within model.tolerance and otherwise solves Yeoh; the choice and
+    the estimate are in `Solution.model_note`.
+    """
+    if scene.model.silicone == "auto":
+        return _solve_auto(scene, solver, tagged_mesh, scale, newton)
     t0 = time.perf_counter()
     user = user_materials(scene)
     tm = tagged_mesh or build(layout(scene), user)
@@ -106,6 +124,27 @@ def solve(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | None = N
     t3 = time.perf_counter()
     sol.times = {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0}
     return sol
+
+
+def _solve_auto(scene, solver, tagged_mesh, scale, newton):
+    from fem.newton import NewtonError
+
+    def as_(model):
+        return scene.model_copy(update={"model": scene.model.model_copy(update={"silicone": model})})
+    lin = solve(as_("linear"), solver, tagged_mesh, scale)
+    est, tol = LINEAR_ERROR_PER_STRAIN * lin.max_silicone_strain, scene.model.tolerance
+    if est <= tol:
+        lin.model_note = (f"auto: linear silicone (largest strain {100 * lin.max_silicone_strain:.1f} %, "
+                          f"estimated voltage error {100 * est:.2g} % <= {100 * tol:g} %)")
+        return lin
+    try:
+        hyper = solve(as_("yeoh"), solver, lin.mesh, scale, newton)
+    except NewtonError as exc:
+        lin.model_note = (f"auto: Yeoh silicone needed (linear error about {100 * est:.2g} %) but {exc}; "
+                          f"returning the LINEAR result")
+        return lin
+    hyper.model_note = f"auto: Yeoh silicone (the linear model would err by about {100 * est:.2g} %)"
+    return hyper
 
 
 # --------------------------------------------------------------------------------------

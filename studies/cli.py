@@ -54,10 +54,17 @@ def _solve(args):
               f"{si(e.short_circuit_charge, 'C'):>18}{si(e.capacitance, 'F'):>14}")
     print(f"applied force {si(sol.applied_force, 'N')}, support reaction {si(sol.reaction[-1], 'N')} (vertical), "
           f"relative residual {sol.residual:.1e}")
+    if sol.newton is not None:
+        print(f"Newton: {sol.newton.message}")
+    if sol.model_note:
+        print(sol.model_note)
     if sol.mesh.layout.taxels:
+        from fem.solve import LINEAR_ERROR_PER_STRAIN
+        est = LINEAR_ERROR_PER_STRAIN * sol.max_silicone_strain
+        linear = sol.newton is None
         print(f"largest silicone strain {100 * sol.max_silicone_strain:.1f} %"
-              + ("  (above ~10 %: a linear silicone model is not enough; see the hyperelastic model)"
-                 if sol.max_silicone_strain > 0.1 else ""))
+              + (f" (a linear silicone errs by about {100 * est:.2g} % here; model.silicone = 'auto' or "
+                 "'yeoh' to do better)" if linear and est > 0.02 else ""))
     if args.vtu:
         print(f"fields written to {args.vtu}")
 
@@ -164,7 +171,7 @@ def main(argv=None):
     except (ValueError, KeyError) as exc:
         print(f"taxel: error: {exc.args[0] if exc.args else exc}", file=sys.stderr)
         return EXIT_INPUT
-    except RuntimeError as exc:
+    except RuntimeError as exc:          # includes fem.newton.NewtonError
         print(f"taxel: failed: {exc}", file=sys.stderr)
         return EXIT_FAILED
     return 0

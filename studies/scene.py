@@ -82,6 +82,7 @@ class Model(Strict):
     type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
     depth: Length | None = None     # out-of-plane depth of a 2D model; default: taxel width
     silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
+    tolerance: float = Field(0.02, gt=0, lt=1)   # "auto": largest accepted linear-model voltage error
 
 
 class Mesh(Strict):

@@ -231,3 +231,14 @@ def test_pvdf_52um_under_silicone_converges():
 def test_plane_stress_yeoh_is_refused_with_a_reason():
     with pytest.raises(SceneError, match="plane stress"):
         parse({"model": {"type": "plane_stress", "silicone": "yeoh"}, "array": {}})
+
+
+@pytest.mark.parametrize("force,expect", [(0.01, "linear"), (0.3, "Yeoh")])
+def test_auto_picks_the_cheapest_model_that_is_accurate_enough(force, expect):
+    base = load("thesis-pzt-single-2d")
+    scene = with_(base, "auto", force)
+    sol = solve(scene)
+    assert sol.model_note.startswith(f"auto: {expect}")
+    v_yeoh = solve(with_(base, "yeoh", force)).voltages()["taxel_0_0"]
+    # the answer returned is within the scene's tolerance of the Yeoh answer
+    assert abs(sol.voltages()["taxel_0_0"] / v_yeoh - 1) <= scene.model.tolerance
