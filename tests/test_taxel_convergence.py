@@ -4,10 +4,10 @@ Nested meshes (each triangle split in 4, names kept) of the 2D PZT taxel,
 order 2. The voltage is an integral over the electrode, but the field is
 singular at the piezo corners (a stiff inclusion corner in nearly
 incompressible silicone) and at the load edges, so the observed order is below
-the smooth-solution order of P2 (4 for such a functional): measured 0.73 on
-the finest three levels. Richardson extrapolation with that order gives the
+the smooth-solution order of P2 (4 for such a functional): measured 1.0 on
+the finest three levels (0.7 before the deviatoric split of the silicone form). Richardson extrapolation with that order gives the
 reference; the default mesh of the example must be within 1 % of it (measured
-0.48 %).
+0.79 %).
 """
 
 import numpy as np
