@@ -60,7 +60,7 @@ class Solution:
     electrodes: dict[str, ElectrodeResult]
     applied_force: float          # N, total downward load
     reaction: np.ndarray          # N, total support reaction (x, [y,] z); axisymmetric: (0, z)
-    max_silicone_strain: float    # largest |principal strain| of element-mean silicone strains
+    max_silicone_strain: float    # largest |principal strain| of element-mean strains in solids with Yeoh data
     unknowns: int
     solver: str
     residual: float               # relative residual |A x - b| / |b| of the scaled system
@@ -168,6 +168,7 @@ class System:
     states: dict                  # electrode -> "reference" | "open" | volts (float)
     applied_force: float
     yeoh: dict = field(default_factory=dict)   # solid region -> (C10, C20, C30), K  (hyperelastic)
+    soft: set = field(default_factory=set)     # solid regions with Yeoh data (the silicone), solved or not
 
 
 def _elements(dim, order, mixed):
@@ -189,7 +190,7 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
     eu, ep, ephi = _elements(dim, scene.mesh.order, mixed)
     q = 4
 
-    ubases, pbases, phibases, constitutive, yeoh = {}, {}, {}, {}, {}
+    ubases, pbases, phibases, constitutive, yeoh, soft = {}, {}, {}, {}, {}, set()
     for region, (mname, poling) in tm.materials.items():
         mat = materials.get(mname, user)
         elems = tm.regions[region]
@@ -210,8 +211,10 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
             constitutive[region] = ("solid", mu, lam, beta, kappa)
             if mixed and kappa != 0:      # kappa = 0 (plane stress, nu = 0): p = 0, nothing to constrain
                 pbases[region] = Basis(mesh, ep, elements=elems, intorder=q)
-            if hyperelastic and mat.yeoh is not None:
-                yeoh[region] = (mat.yeoh, mat.K)
+            if mat.yeoh is not None:
+                soft.add(region)
+                if hyperelastic:
+                    yeoh[region] = (mat.yeoh, mat.K)
 
     Nu = next(iter(ubases.values())).N
     Np1 = mesh.nvertices if pbases else 0
@@ -253,7 +256,7 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
     fixed_u = np.unique(np.concatenate(list(fixed_by_support.values()) or [np.zeros(0, int)]))
     electrode_dofs, states = _electrodes(scene, tm, phibases, offsets["phi"].start)
     return System(scene, tm, A, b, offsets, ubases, pbases, phibases, constitutive, fixed_u,
-                  fixed_by_support, electrode_dofs, states, force, yeoh)
+                  fixed_by_support, electrode_dofs, states, force, yeoh, soft)
 
 
 def place(blocks, offsets, n) -> sp.csr_matrix:
@@ -596,7 +599,7 @@ def _fields(sy: System, x) -> dict:
             normal[: (3 if model in ("3d", "axisymmetric") else 2)] = 1
             T = 2 * mu * (wts[:, None, None] * S - beta * normal[:, None, None] * tr) + normal[:, None, None] * p
         strain_cell[elems] = S.mean(axis=2).T
-        if law[0] == "solid" and sy.tm.layout.taxels:
+        if law[0] == "solid" and region in sy.soft:
             max_strain = max(max_strain, _max_principal(strain_cell[elems].T, model, mu, lam))
         stress_cell[elems] = T.mean(axis=2).T
     vertex_u = u[ub0.nodal_dofs].T
