@@ -9,9 +9,6 @@ free surface before it (fem.newton), and the benchmark prints where it stopped.
 Run: MKL_NUM_THREADS=1 python benchmarks/hyperelastic_taxel.py
 """
 
-import statistics
-import time
-
 import numpy as np
 
 from fem.newton import NewtonError
@@ -19,20 +16,12 @@ from fem.solve import solve
 from meshing.build import build
 from meshing.layout import layout
 from studies.scene import load
+from taxel_2d import median_time     # benchmarks/ is on sys.path when run as a script
 
 
 def with_(scene, silicone, force):
     return scene.model_copy(update={"model": scene.model.model_copy(update={"silicone": silicone}),
                                     "load": scene.load.model_copy(update={"force": force})})
-
-
-def timed(fn, repeat=3):
-    ts, out = [], None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t)
-    return statistics.median(ts), out
 
 
 def reference(scene):
@@ -50,7 +39,7 @@ def main():
     for F in (0.1, 0.2, 0.45, 1.0):
         scene = with_(base, "yeoh", F)
         try:
-            t, sol = timed(lambda: solve(scene))
+            t, sol = median_time(lambda: solve(scene), 3)
         except NewtonError as exc:
             print(f"{F:>7.2f}  Newton stopped: last converged load factor "
                   f"{exc.result.load_factors[-1] if exc.result.load_factors else 0:.3f} "
