@@ -19,11 +19,9 @@ below `min_step` stop with a message that names the last converged load.
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from skfem import asm
 
 from fem import hyperelastic, linsolve
 from fem.solve import Reduction, Solution, System, place, reduction, results, scaled_solver

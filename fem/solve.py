@@ -247,7 +247,7 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
                            ("u", pk, B), (pk, "u", B.T),
                            (pk, pk, -asm(forms.pressure_mass(kappa, model, depth), pbases[region]))]
             else:
-                c = _solid_stiffness(mu, lam, model)
+                c = materials.reduced(materials.get(tm.materials[region][0], user), model)[0]
                 blocks.append(("u", "u", asm(forms.elastic(c, model, depth), ub)))
     A = place(blocks, offsets, n)
 
@@ -268,15 +268,6 @@ def place(blocks, offsets, n) -> sp.csr_matrix:
     cols = np.concatenate([m.col + offsets[c].start for (_, c, _), m in zip(blocks, coo)])
     vals = np.concatenate([m.data for m in coo])
     return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
-
-
-def _solid_stiffness(mu, lam, model):
-    """Reduced isotropic stiffness (lam is already the plane-stress one when needed)."""
-    c = np.zeros((6, 6))
-    c[:3, :3] = lam
-    c += mu * np.diag([2.0, 2, 2, 1, 1, 1])
-    s = {"3d": [0, 1, 2, 3, 4, 5], "axisymmetric": [0, 1, 2, 4]}.get(model, [0, 2, 4])
-    return c[np.ix_(s, s)]
 
 
 def _load(scene: Scene, tm: TaggedMesh, eu, depth, n):

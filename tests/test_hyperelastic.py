@@ -7,7 +7,7 @@ from scipy.optimize import fsolve
 
 from fem import hyperelastic as H
 from fem.newton import NewtonError, newton, yeoh_terms
-from fem.solve import assemble, reduction, solve
+from fem.solve import assemble, solve
 from meshing.build import build
 from meshing.layout import layout
 from studies.scene import SceneError, load, parse, user_materials
