@@ -148,3 +148,11 @@ def resultant(profile, model, depth):
     def form(w):
         return profile(w.x) * measure(w.x, model, depth)
     return form
+
+
+def mass(rho, model, depth):
+    """M: \\int rho v . u."""
+    @BilinearForm
+    def form(u, v, w):
+        return rho * np.einsum("i...,i...->...", u, v) * measure(w.x, model, depth)
+    return form

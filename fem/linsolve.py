@@ -41,7 +41,22 @@ def resolve(method: str, n: int = 0) -> str:
 
 
 def factorize(A: sp.spmatrix, method: str = "auto"):
-    """A solve function for A (factorized once; accepts a vector or a matrix of RHS)."""
+    """A solve function for A (factorized once; accepts a vector or a matrix of RHS,
+    real or complex). Complex matrices use SuperLU."""
+    if np.iscomplexobj(A.data if sp.issparse(A) else A):
+        lu = spla.splu(sp.csc_matrix(A), permc_spec="COLAMD")
+        return lambda B: lu.solve(np.asarray(B, dtype=complex))
+    real = _factorize_real(A, method)
+
+    def solve(B):
+        B = np.asarray(B)
+        if np.iscomplexobj(B):
+            return real(B.real) + 1j * real(B.imag)
+        return real(B)
+    return solve
+
+
+def _factorize_real(A, method):
     method = resolve(method, A.shape[0])
     A = sp.csc_matrix(A)
     if method == "superlu":

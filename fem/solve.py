@@ -169,6 +169,7 @@ class System:
     applied_force: float
     yeoh: dict = field(default_factory=dict)   # solid region -> (C10, C20, C30), K  (hyperelastic)
     soft: set = field(default_factory=set)     # solid regions with Yeoh data (the silicone), solved or not
+    parts: dict = field(default_factory=dict)  # A split by kind (see assemble), for loss factors
 
 
 def _elements(dim, order, mixed):
@@ -227,15 +228,21 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
     offsets["phi"] = slice(n, n + Nphi)
     n += Nphi
 
-    blocks = []      # (row slice, col slice, matrix)
+    # blocks by kind, so that dynamics can give each its own loss factor:
+    # "elastic:<region>" piezo stiffness, "coupling", "dielectric:<region>",
+    # "shear:<region>" / "volumetric:<region>" silicone, "constraint" (the u-p coupling)
+    blocks: dict[str, list] = {}
+
+    def add(kind, *triples):
+        blocks.setdefault(kind, []).extend(triples)
     for region, law in constitutive.items():
         ub = ubases[region]
         if law[0] == "piezo":
             _, c, e, eps = law
-            blocks.append(("u", "u", asm(forms.elastic(c, model, depth), ub)))
+            add(f"elastic:{region}", ("u", "u", asm(forms.elastic(c, model, depth), ub)))
             Kup = asm(forms.piezo_coupling(e, model, depth), phibases[region], ub)
-            blocks += [("u", "phi", Kup), ("phi", "u", Kup.T),
-                       ("phi", "phi", -asm(forms.dielectric(eps, model, depth), phibases[region]))]
+            add("coupling", ("u", "phi", Kup), ("phi", "u", Kup.T))
+            add(f"dielectric:{region}", ("phi", "phi", -asm(forms.dielectric(eps, model, depth), phibases[region])))
         elif region in yeoh:
             continue
         else:
@@ -243,20 +250,21 @@ def assemble(scene: Scene, tm: TaggedMesh, user: dict | None = None, hyperelasti
             if region in pbases:
                 pk = ("p", region)
                 B = asm(forms.pressure_divergence(model, depth), pbases[region], ub)
-                blocks += [("u", "u", asm(forms.deviatoric_shear(mu, beta, model, depth), ub)),
-                           ("u", pk, B), (pk, "u", B.T),
-                           (pk, pk, -asm(forms.pressure_mass(kappa, model, depth), pbases[region]))]
+                add(f"shear:{region}", ("u", "u", asm(forms.deviatoric_shear(mu, beta, model, depth), ub)))
+                add("constraint", ("u", pk, B), (pk, "u", B.T))
+                add(f"volumetric:{region}", (pk, pk, -asm(forms.pressure_mass(kappa, model, depth), pbases[region])))
             else:
                 c = materials.reduced(materials.get(tm.materials[region][0], user), model)[0]
-                blocks.append(("u", "u", asm(forms.elastic(c, model, depth), ub)))
-    A = place(blocks, offsets, n)
+                add(f"shear:{region}", ("u", "u", asm(forms.elastic(c, model, depth), ub)))
+    parts = {kind: place(triples, offsets, n) for kind, triples in blocks.items()}
+    A = sum(parts.values()) if parts else sp.csr_matrix((n, n))
 
     b, force = _load(scene, tm, eu, depth, n)
     fixed_by_support = _supports(scene, tm, ubases)
     fixed_u = np.unique(np.concatenate(list(fixed_by_support.values()) or [np.zeros(0, int)]))
     electrode_dofs, states = _electrodes(scene, tm, phibases, offsets["phi"].start)
     return System(scene, tm, A, b, offsets, ubases, pbases, phibases, constitutive, fixed_u,
-                  fixed_by_support, electrode_dofs, states, force, yeoh, soft)
+                  fixed_by_support, electrode_dofs, states, force, yeoh, soft, parts)
 
 
 def place(blocks, offsets, n) -> sp.csr_matrix:
@@ -450,7 +458,7 @@ def scaled_solver(A: sp.spmatrix, red: Reduction, method: str, scale: bool = Tru
     factor = linsolve.factorize(As, method)
 
     def solve_(B):
-        B = np.asarray(B, float).reshape(red.n, -1)
+        B = np.asarray(B).reshape(red.n, -1)
         Bs = D[:, None] * B
         Y = factor(Bs).reshape(Bs.shape)
         for _ in range(3):
@@ -538,7 +546,7 @@ def _scaling(A, is_u):
     s = diag.astype(float)
     if (~is_u).any():
         Aqu = A[~is_u][:, is_u]
-        s[~is_u] += np.asarray(Aqu.multiply(Aqu) @ (1.0 / np.maximum(diag[is_u], 1e-300))).ravel()
+        s[~is_u] += np.asarray(abs(Aqu).power(2) @ (1.0 / np.maximum(diag[is_u], 1e-300))).ravel()
     if not (s > 0).all():
         raise RuntimeError("the system has an empty row: a region without stiffness or an unconnected unknown")
     return 1.0 / np.sqrt(s)

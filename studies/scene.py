@@ -44,7 +44,7 @@ def _quantity(unit: str, what: str, positive=False, nonnegative=False):
         if not isinstance(v, str):
             raise ValueError(f"expected a {what} such as \"1 {unit_hint[unit]}\"")
         try:
-            q = _ureg().Quantity(v)
+            q = _ureg().Quantity(v.replace("Ohm", "ohm"))
         except Exception:
             raise ValueError(f"cannot read {v!r} as a {what}; write e.g. \"1 {unit_hint[unit]}\"") from None
         if isinstance(q, (int, float)) or q.dimensionless:
@@ -66,12 +66,16 @@ def _quantity(unit: str, what: str, positive=False, nonnegative=False):
     return BeforeValidator(parse)
 
 
-unit_hint = {"m": "mm", "N": "N", "Pa": "kPa", "V": "V"}
+unit_hint = {"m": "mm", "N": "N", "Pa": "kPa", "V": "V", "Hz": "Hz", "s": "ms", "ohm": "MOhm", "F": "pF"}
 Length = Annotated[float, _quantity("m", "length", positive=True)]
 Thickness = Annotated[float, _quantity("m", "length", nonnegative=True)]
 Force = Annotated[float, _quantity("N", "force")]
 Pressure = Annotated[float, _quantity("Pa", "pressure")]
 Coordinate = Annotated[float, _quantity("m", "length")]
+Frequency = Annotated[float, _quantity("Hz", "frequency", positive=True)]
+Duration = Annotated[float, _quantity("s", "time", positive=True)]
+Resistance = Annotated[float, _quantity("ohm", "resistance", positive=True)]
+Capacitance = Annotated[float, _quantity("F", "capacitance", nonnegative=True)]
 
 
 class Strict(BaseModel):
@@ -137,6 +141,46 @@ class Supports(Strict):
     edges: Literal["free", "clamped", "simply_supported", "rollers"] = "free"
 
 
+class Dynamics(Strict):
+    """Damping. No sourced damping data exists for Ecoflex: loss factors are parameters."""
+    silicone_loss: float = Field(0.1, ge=0, lt=2)     # structural loss factor eta of the silicone
+    piezo_loss: float | None = Field(None, ge=0, lt=1)        # default 1/Qm of the material
+    dielectric_loss: float | None = Field(None, ge=0, lt=1)   # default tan(delta) of the material
+    rayleigh_alpha: float = Field(0.0, ge=0)          # 1/s, C = alpha M + beta K
+    rayleigh_beta: float = Field(0.0, ge=0)           # s
+    reference_frequency: Frequency = "100 Hz"         # time domain: eta -> viscous eta / (2 pi f_ref)
+
+
+class Analysis(Strict):
+    type: Literal["static", "frequency", "transient"] = "static"
+    f_min: Frequency = "1 Hz"
+    f_max: Frequency = "1000 Hz"
+    points: int = Field(200, ge=2, le=100000)
+    spacing: Literal["log", "linear"] = "log"
+    method: Literal["reduced", "direct"] = "reduced"
+    tolerance: float = Field(1e-3, gt=0, lt=1)        # reduced sweep: accepted relative error
+    input: Literal["step", "impulse", "chirp", "csv"] = "step"
+    duration: Duration = "1 s"
+    dt: Duration = "0.5 ms"
+    rise: Duration = "1 ms"           # step: rise time (a smooth ramp)
+    width: Duration = "10 ms"         # impulse: half-sine width
+    f0: float = Field(0.0, ge=0)      # chirp start frequency, Hz
+    f1: float = Field(100.0, gt=0)    # chirp end frequency, Hz (thesis: 0 to 100 Hz over 8 s)
+    file: str | None = None           # csv: columns time (s), force (N)
+
+
+class Readout(Strict):
+    circuit: Literal["open", "resistor", "charge_amplifier"] = "open"
+    R: Resistance = "500 Mohm"        # resistor: the input resistance (thesis tau 1.7-3.1 s at ~4 nF)
+    C_f: Capacitance = "820 pF"       # charge amplifier, TI SLOA033A
+    R_f: Resistance = "10 Mohm"
+    R_i: Resistance = "10 kohm"       # input resistor (assumed; sets the upper cutoff)
+    C_c: Capacitance = "100 pF"       # cable (assumed: about 1 m)
+    notch: bool = False               # the thesis's 50 Hz second-order Butterworth band-stop
+    notch_frequency: Frequency = "50 Hz"
+    notch_bandwidth: Frequency = "10 Hz"
+
+
 class Scene(Strict):
     name: str = "scene"
     description: str = ""
@@ -147,6 +191,9 @@ class Scene(Strict):
     load: Load = Load()
     supports: Supports = Supports()
     electrodes: dict[str, str] = {}     # name (or "taxels") -> "open" | "ground" | "<value> V"
+    dynamics: Dynamics = Dynamics()
+    analysis: Analysis = Analysis()
+    readout: Readout = Readout()
     materials: dict[str, dict] = {}     # user materials, see fem.materials.from_record
 
     @model_validator(mode="after")
@@ -195,6 +242,15 @@ class Scene(Strict):
         if self.model.type == "axisymmetric" and (ld.offset != (0.0, 0.0) or ld.kind == "between"):
             raise ValueError("an axisymmetric model needs a load centred on the axis; "
                              "drop load.offset or use a 3d model")
+        if self.analysis.f_min >= self.analysis.f_max:
+            raise ValueError("analysis.f_min must be below analysis.f_max")
+        if self.analysis.type == "transient" and self.analysis.dt >= self.analysis.duration:
+            raise ValueError("analysis.dt must be below analysis.duration")
+        if self.analysis.input == "csv" and self.analysis.type == "transient" and not self.analysis.file:
+            raise ValueError("analysis.file is missing for input = 'csv'; give a CSV of time (s), force (N)")
+        if self.analysis.type != "static" and self.model.silicone != "linear":
+            raise ValueError("frequency and transient analyses use the linear silicone here; "
+                             "set model.silicone = 'linear'")
         if (self.supports.bottom == "free" and self.supports.edges == "free"):
             raise ValueError("supports: bottom and edges are both free, so the body can move freely; "
                              "set supports.bottom = 'bonded' or 'rollers', or fix the edges")
