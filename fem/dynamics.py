@@ -61,7 +61,8 @@ class DynamicModel:
     beta: float
     F: np.ndarray        # reduced load vector of the scene's force (f = 1)
     Be: np.ndarray       # (n, na) unit-charge right-hand sides
-    names: list[str]     # active electrodes
+    names: list[str]     # active electrodes (open model) or grounded ones (short model)
+    charge_rows: sp.csr_matrix | None = None   # short model: Q = charge_rows @ x (massless rows)
 
     @property
     def K0(self):
@@ -86,11 +87,16 @@ def _mechanical(kind):
     return kind.split(":")[0] in ("shear", "elastic")
 
 
-def model(scene: Scene, tm: TaggedMesh | None = None) -> DynamicModel:
-    """The dynamic model of a scene (open electrodes; the reference one grounded)."""
+def model(scene: Scene, tm: TaggedMesh | None = None, short: bool = False) -> DynamicModel:
+    """The dynamic model of a scene: electrodes open (the reference grounded), or
+    with `short` every electrode grounded and their charges read from the
+    (massless, undamped) potential rows: Q_k = -sum of row k of K x."""
     user = user_materials(scene)
     tm = tm or build(layout(scene), user)
     sy = assemble(scene, tm, user)
+    names = [k for k, st in sy.states.items() if st != "reference"]
+    if short:
+        sy.states = {k: ("reference" if st == "reference" else "ground") for k, st in sy.states.items()}
     red = reduction(sy, eliminate_grounded=True)
     P = red.P
     dyn = scene.dynamics
@@ -117,8 +123,15 @@ def model(scene: Scene, tm: TaggedMesh | None = None) -> DynamicModel:
         rho = materials.get(tm.materials[region][0], user).rho
         Mr = asm(forms.mass(rho, scene.model.type, tm.layout.depth), ub)
         M = M + _embed(Mr, sy.offsets["u"].start, sy.A.shape[0])
+    charge_rows = None
+    if short:
+        S = sp.csr_matrix((np.ones(sum(len(sy.electrode_dofs[k]) for k in names)),
+                           (np.repeat(np.arange(len(names)), [len(sy.electrode_dofs[k]) for k in names]),
+                            np.concatenate([sy.electrode_dofs[k] for k in names]))), shape=(len(names), sy.A.shape[0]))
+        charge_rows = -(S @ sy.A @ P).tocsr()
     return DynamicModel(sy, red, parts, kappa, viscous, (P.T @ M @ P).tocsr(), dyn.rayleigh_alpha,
-                        dyn.rayleigh_beta, P.T @ sy.b, red.unit_charges(), list(red.active))
+                        dyn.rayleigh_beta, P.T @ sy.b, red.unit_charges(), names if short else list(red.active),
+                        charge_rows)
 
 
 def _embed(M, offset, n):
@@ -220,7 +233,10 @@ def _rel_error(a, b):
 
 
 def _krylov(dm: DynamicModel, shifts, moments, previous=None):
-    """Orthonormal (in scaled coordinates) block Krylov basis, real."""
+    """Orthonormal (in scaled coordinates) block Krylov basis, real, with separate
+    columns for the displacement part and for the pressure/potential part of the
+    Krylov vectors: its span contains the Krylov space, and the reduced mass is
+    exactly zero on the second group, so `condense` is exact."""
     K0, M = dm.K0, dm.M
     # the loss factors make K complex: K = K0 + i Kim; its directions enter the basis too
     Kim = sum(np.imag(dm.kappa[k]) * P for k, P in dm.parts.items())
@@ -236,13 +252,22 @@ def _krylov(dm: DynamicModel, shifts, moments, previous=None):
                 Zs = Z / D[:, None]
                 cols.append(Zs / np.maximum(np.linalg.norm(Zs, axis=0), 1e-300))
             W = solve(M @ W)[0]
-    Q, R, _ = la.qr(np.hstack(cols), mode="economic", pivoting=True)
-    keep = np.abs(np.diag(R)) > 1e-10 * abs(R[0, 0])
-    return D[:, None] * Q[:, keep]
+    W = np.hstack(cols)
+    u = dm.red.is_u
+    blocks = []
+    for rows in (u, ~u):          # displacements apart from pressure/potential: block-diagonal basis
+        Q, R, _ = la.qr(W[rows], mode="economic", pivoting=True)
+        keep = np.abs(np.diag(R)) > 1e-10 * abs(R[0, 0]) if R.size else np.zeros(0, bool)
+        Z = np.zeros((len(u), keep.sum()))
+        Z[rows] = Q[:, keep]
+        blocks.append(Z)
+    basis = D[:, None] * np.hstack(blocks)
+    return basis
 
 
 def _project(dm: DynamicModel, V):
-    return {"V": V, "parts": {k: V.T @ (P @ V) for k, P in dm.parts.items()}, "M": V.T @ (dm.M @ V),
+    u_cols = np.abs(V[~dm.red.is_u]).sum(axis=0) == 0        # columns supported on displacements only
+    return {"V": V, "u_cols": u_cols, "parts": {k: V.T @ (P @ V) for k, P in dm.parts.items()}, "M": V.T @ (dm.M @ V),
             "mech": sum(V.T @ (P @ V) for k, P in dm.parts.items() if _mechanical(k)),
             "B": V.T @ np.column_stack([dm.F, dm.Be]), "E": V[dm.red.nf:, :]}
 
@@ -259,36 +284,59 @@ def _reduced_ports(dm: DynamicModel, r, f_hz):
 # transients
 # --------------------------------------------------------------------------------------
 
-def newmark(M, C, K, rhs, dt, n_steps, q0=None, coupling=None):
+def newmark(M, C, K, F, f, dt, q0=None, coupling=None):
     """Newmark average acceleration (gamma = 1/2, beta = 1/4): implicit,
-    unconditionally stable, second order, no numerical damping.
+    unconditionally stable for M > 0, K >= 0, second order, no numerical damping.
 
-    Dense small matrices (a reduced model). rhs(k) -> load vector at step k.
-    coupling = (Be, G, R): extra charge states Q with Q' = -G q / R (resistive
-    electrodes), entering the load as Be Q; trapezoidal in time like Newmark.
-    Returns q (n_steps + 1, n) and Q (n_steps + 1, na).
+    Dense matrices (a reduced, condensed model): M q'' + C q' + K q = F f(t) + B Q.
+    coupling = (B, Gz, gf, gQ, R): charge states Q of resistive electrodes with
+    Q' = -V / R, V = Gz q + gf f + gQ Q, trapezoidal in time like Newmark (so the
+    pair is solved together each step). Returns q (nt, n), Q (nt, na).
     """
-    n = K.shape[0]
-    a1, a2, a3 = 4 / dt ** 2, 4 / dt, 1.0
-    a4, a5, a6 = 2 / dt, 1.0, 0.0
+    n, nt = K.shape[0], len(f)
+    a1, a2, a4 = 4 / dt ** 2, 4 / dt, 2 / dt
     Keff = K + a4 * C + a1 * M
-    Be, G, Rr = coupling if coupling is not None else (np.zeros((n, 0)), np.zeros((0, n)), 1.0)
-    h = dt / (2 * Rr)
-    lu = la.lu_factor(Keff + h * Be @ G)
-    q = np.zeros((n_steps + 1, n))
-    Q = np.zeros((n_steps + 1, Be.shape[1]))
-    q[0] = q0 if q0 is not None else 0.0
+    if coupling is None:
+        coupling = (np.zeros((n, 0)), np.zeros((0, n)), np.zeros(0), np.zeros((0, 0)), 1.0)
+    B, Gz, gf, gQ, R = coupling
+    na, h = B.shape[1], dt / (2 * R)
+    lu = la.lu_factor(np.block([[Keff, -B], [h * Gz, np.eye(na) + h * gQ]]))
+    q = np.zeros((nt, n))
+    Q = np.zeros((nt, na))
+    q[0] = 0.0 if q0 is None else q0
     v = np.zeros(n)
-    a = np.zeros(n)
-    for k in range(n_steps):
-        Qpart = Q[k] - h * (G @ q[k])
-        r = rhs(k + 1) + Be @ Qpart + M @ (a1 * q[k] + a2 * v + a3 * a) + C @ (a4 * q[k] + a5 * v + a6 * a)
-        q[k + 1] = la.lu_solve(lu, r)
-        Q[k + 1] = Qpart - h * (G @ q[k + 1])
-        a_new = a1 * (q[k + 1] - q[k]) - a2 * v - a3 * a
+    a = np.linalg.solve(M, F * f[0] + B @ Q[0] - K @ q[0] - C @ v) if n else v
+    for k in range(nt - 1):
+        V_k = Gz @ q[k] + gf * f[k] + gQ @ Q[k]
+        rhs = np.concatenate([F * f[k + 1] + M @ (a1 * q[k] + a2 * v + a) + C @ (a4 * q[k] + v),
+                              Q[k] - h * V_k - h * gf * f[k + 1]])
+        sol = la.lu_solve(lu, rhs)
+        q[k + 1], Q[k + 1] = sol[:n], sol[n:]
+        a_new = a1 * (q[k + 1] - q[k]) - a2 * v - a
         v = v + dt * 0.5 * (a + a_new)
         a = a_new
     return q, Q
+
+
+def condense(r, C):
+    """Split the reduced model into its displacement columns (mass) and its
+    pressure/potential columns (no mass, no damping: algebraic) and condense the
+    latter statically. Returns the matrices of the dynamic part and the maps
+    back: q = Tq z + tf f + tQ Q."""
+    d = r["u_cols"]
+    eye = np.eye(len(d))
+    Ud, Ua = eye[:, d], eye[:, ~d]
+    K = sum(P for P in r["parts"].values())
+    F, Be = r["B"][:, 0], r["B"][:, 1:]
+    Kaa = Ua.T @ K @ Ua
+    X = np.linalg.solve(Kaa, np.column_stack([Ua.T @ K @ Ud, Ua.T @ F, Ua.T @ Be])) if Ua.shape[1] \
+        else np.zeros((0, d.sum() + 1 + Be.shape[1]))
+    nd = d.sum()
+    XK, XF, XB = X[:, :nd], X[:, nd], X[:, nd + 1:]
+    Kda = Ud.T @ K @ Ua
+    return dict(M=Ud.T @ r["M"] @ Ud, C=Ud.T @ C @ Ud, K=Ud.T @ K @ Ud - Kda @ XK,
+                F=Ud.T @ F - Kda @ XF, B=Ud.T @ Be - Kda @ XB,
+                Tq=Ud - Ua @ XK, tf=Ua @ XF, tQ=Ua @ XB)
 
 
 def central_difference(M, K, rhs, dt, n_steps):
@@ -315,23 +363,32 @@ def transient(dm: DynamicModel, t: np.ndarray, load: np.ndarray, R: float | None
               basis=None, moments: int = 8) -> Transient:
     """Response to a force history (load: factor on the scene's force at times t,
     uniform step). R: a resistor from every active electrode to ground (None:
-    open circuit). Reduced model: Krylov basis at shift 0 plus one at the
-    highest frequency the input carries."""
+    open circuit). Reduced model: Krylov basis at shift 0 plus one at half the
+    Nyquist frequency; the massless pressure and potential directions condensed
+    statically (`condense`), then Newmark."""
     t0 = time.perf_counter()
     dt = t[1] - t[0]
     if basis is None:
         f_top = 0.25 / dt                          # half the Nyquist frequency
         basis = _krylov(dm, [0.0, 2 * np.pi * f_top], moments)
     r = _project(dm, basis)
-    K = sum(P for P in r["parts"].values())
-    C = basis.T @ (dm.C_time() @ basis)
-    Fr = r["B"][:, 0]
+    c = condense(r, basis.T @ (dm.C_time() @ basis))
+    E = r["E"]                                        # electrode potentials: V = E q
     coupling = None
-    if R is not None:
-        coupling = (r["B"][:, 1:], r["E"], R)
-    q, Q = newmark(r["M"], C, K, lambda k: Fr * load[k], dt, len(t) - 1,
-                   q0=np.linalg.solve(K, Fr * load[0]), coupling=coupling)
-    V = q @ r["E"].T
+    if R is not None and E.shape[0]:
+        coupling = (c["B"], E @ c["Tq"], E @ c["tf"], E @ c["tQ"], R)
+    z0 = np.linalg.solve(c["K"], c["F"] * load[0])
+    z, Q = newmark(c["M"], c["C"], c["K"], c["F"], load, dt, q0=z0, coupling=coupling)
+    q = z @ c["Tq"].T + np.outer(load, c["tf"])
+    if Q.shape[1]:
+        q += Q @ c["tQ"].T
+    else:
+        Q = np.zeros((len(t), E.shape[0]))
+    if dm.charge_rows is not None:              # short circuit: V = 0, charges from the rows
+        Q = q @ (dm.charge_rows @ basis).T
+        V = np.zeros_like(Q)
+    else:
+        V = q @ r["E"].T
     return Transient(t, load * dm.sy.applied_force, V, Q, dm.names, basis.shape[1], time.perf_counter() - t0)
 
 
