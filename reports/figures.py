@@ -60,3 +60,45 @@ def main(argv=None):
 
 if __name__ == "__main__":
     main()
+
+
+def bode(freqs, H, names, label, path, title=""):
+    """Magnitude and phase of H (nf, na) against frequency."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
+    for k, name in enumerate(names):
+        a1.loglog(freqs, np.abs(H[:, k]), label=name)
+        a2.semilogx(freqs, np.degrees(np.angle(H[:, k])), label=name)
+    a1.set_ylabel(f"|{label}| (V/N)")
+    a2.set_ylabel("phase (deg)")
+    a2.set_xlabel("frequency (Hz)")
+    a1.set_title(title)
+    a1.legend(fontsize=8)
+    for a in (a1, a2):
+        a.grid(True, which="both", alpha=0.3)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def time_response(t, force, y, names, label, path, title=""):
+    """Force and output voltages over time."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True, constrained_layout=True)
+    a1.plot(t, force, color="k")
+    a1.set_ylabel("force (N)")
+    a1.set_title(title)
+    for k, name in enumerate(names):
+        a2.plot(t, y[:, k], label=name)
+    a2.set_ylabel(f"{label} (V)")
+    a2.set_xlabel("time (s)")
+    a2.legend(fontsize=8)
+    for a in (a1, a2):
+        a.grid(True, alpha=0.3)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

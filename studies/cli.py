@@ -1,6 +1,7 @@
 """The `taxel` command.
 
-    taxel solve SCENE [--json] [--vtu FILE] [--solver NAME]
+    taxel solve SCENE [--json] [--vtu FILE] [--solver NAME] [--out DIR]
+    taxel lumped SCENE [--out DIR]
     taxel mesh SCENE -o FILE          (.msh with physical groups, or .vtu/.xdmf via meshio)
     taxel examples
 
@@ -33,10 +34,27 @@ def si(value: float | None, unit: str) -> str:
     return f"{value / 10 ** exp:.4g} {prefix}{unit}"
 
 
+def _out_dir(args, scene):
+    out = Path(args.out or Path("out") / scene.name)
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
+def _print_output(o):
+    for line in o.summary:
+        print(line)
+    for f in o.files:
+        print(f"wrote {f}")
+
+
 def _solve(args):
     from fem.solve import solve
     from meshing.build import export
     scene = load(args.scene)
+    if scene.analysis.type != "static":
+        from studies import run
+        _print_output(getattr(run, scene.analysis.type)(scene, _out_dir(args, scene)))
+        return
     sol = solve(scene, solver=args.solver)
     if args.vtu:
         export(sol.mesh, args.vtu, point_data={"u": sol.fields["u"], "phi": sol.fields["phi"]},
@@ -67,6 +85,12 @@ def _solve(args):
                  "'yeoh' to do better)" if linear and est > 0.02 else ""))
     if args.vtu:
         print(f"fields written to {args.vtu}")
+
+
+def _lumped(args):
+    from studies import run
+    scene = load(args.scene)
+    _print_output(run.lumped_model(scene, _out_dir(args, scene)))
 
 
 def _mesh(args):
@@ -143,7 +167,13 @@ def main(argv=None):
     p.add_argument("--json", action="store_true", help="print one JSON record")
     p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
     p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack"])
+    p.add_argument("--out", metavar="DIR", help="folder for CSV and PNG of frequency/transient analyses "
+                   "(default out/SCENE)")
     p.set_defaults(run=_solve)
+    p = sub.add_parser("lumped", help="the 3-DoF lumped model's answer to a scene (frequency response)")
+    p.add_argument("scene")
+    p.add_argument("--out", metavar="DIR")
+    p.set_defaults(run=_lumped)
     p = sub.add_parser("mesh", help="mesh a scene and write it")
     p.add_argument("scene")
     p.add_argument("-o", "--output", required=True, help=".msh (gmsh, physical groups) or .vtu/.xdmf")
