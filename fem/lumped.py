@@ -36,6 +36,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as la
 from scipy import signal
 
 from fem import materials
@@ -67,8 +68,19 @@ class Lumped:
         return A, B, C, np.zeros((1, 1))
 
     def transfer_function(self):
-        """(num, den) of Q_sc(s) / F(s)."""
-        return signal.ss2tf(*self.state_space())
+        """(zeros, poles, gain) of Q_sc(s) / F(s). Zeros-poles-gain rather than
+        polynomials: the poles span 1e3 to 1e10 rad/s (the stiff piezo), and
+        polynomial coefficients would lose every digit."""
+        A, B, C, D = self.state_space()
+        n = A.shape[0]
+        pencil_a = np.block([[A, B], [C, D]])
+        pencil_b = np.block([[np.eye(n), np.zeros((n, 1))], [np.zeros((1, n + 1))]])
+        z = la.eigvals(pencil_a, pencil_b)
+        z = z[np.isfinite(z)]                          # the transmission zeros
+        p = np.linalg.eigvals(A)
+        s0 = 1j * np.abs(p).min()
+        k = self.Q_sc([s0.imag / (2 * np.pi)])[0] / self.force * np.prod(s0 - p) / np.prod(s0 - z)
+        return z, p, k
 
     def Q_sc(self, freqs):
         """Short-circuit charge per the scene's force at frequencies (Hz), vectorized

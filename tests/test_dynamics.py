@@ -1,0 +1,236 @@
+"""Dynamics and the readout chain against closed forms, each other, and the lumped model."""
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq, minimize_scalar
+
+from fem import circuits, dynamics, lumped, materials
+from studies.scene import load, parse
+
+
+# ---------------------------------------------------------------- integrator, 1 DoF
+
+def test_newmark_one_dof_step_against_closed_form():
+    m, k, zeta = 2.0, 800.0, 0.05
+    wn = np.sqrt(k / m)
+    c = 2 * zeta * m * wn
+    dt, n = 1e-3, 2000
+    t = np.arange(n + 1) * dt
+    f = np.ones(n + 1)
+    q, _ = dynamics.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), f, dt,
+                            q0=np.zeros(1))
+    wd = wn * np.sqrt(1 - zeta ** 2)
+    exact = (1 - np.exp(-zeta * wn * t) * (np.cos(wd * t) + zeta / np.sqrt(1 - zeta ** 2) * np.sin(wd * t))) / k
+    # the step is applied from t = 0+ (q0 = 0, a0 = f/m): second-order accurate
+    assert np.abs(q[:, 0] - exact).max() < 2e-3 * exact.max()
+
+
+def test_newmark_one_dof_harmonic_steady_state_against_closed_form():
+    m, k, c, w = 1.0, 400.0, 2.0, 15.0
+    dt = 2e-4
+    t = np.arange(0, 12, dt)
+    q, _ = dynamics.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), np.sin(w * t), dt)
+    amp = 1 / abs(k - m * w ** 2 + 1j * w * c)
+    late = t > 8
+    assert q[late, 0].max() == pytest.approx(amp, rel=2e-3)
+
+
+def test_undamped_newmark_conserves_energy():
+    rng = np.random.default_rng(0)
+    A = rng.normal(size=(6, 6))
+    K = A @ A.T + 6 * np.eye(6)
+    M = np.diag(rng.uniform(1, 2, 6))
+    dt, n = 0.05, 4000                             # steps far above 2 / omega_max: still stable
+    q0 = rng.normal(size=6)
+    q, _ = dynamics.newmark(M, np.zeros((6, 6)), K, np.zeros(6), np.zeros(n + 1), dt, q0=q0)
+    v = np.zeros(6)
+    E = []
+    for i in range(n + 1):                         # the scheme's velocity: v+ = 2 (q+ - q) / dt - v
+        E.append(0.5 * v @ M @ v + 0.5 * q[i] @ K @ q[i])
+        if i < n:
+            v = 2 * (q[i + 1] - q[i]) / dt - v
+    assert np.ptp(E) < 1e-10 * E[0]
+
+
+def test_explicit_central_difference_is_unstable_above_its_critical_step():
+    rng = np.random.default_rng(1)
+    A = rng.normal(size=(5, 5))
+    K = A @ A.T + np.eye(5)
+    M = np.eye(5)
+    w_max = np.sqrt(np.linalg.eigvalsh(K).max())
+    dt_crit = 2 / w_max
+    rhs = lambda k: np.zeros(5)        # noqa: E731
+    q = dynamics.central_difference(M, K, rhs, 0.95 * dt_crit, 400)
+    q[1] = q[0] = 1e-3                 # a small disturbance
+    grow = dynamics.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 1.05 * dt_crit, 400)
+    stay = dynamics.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 0.95 * dt_crit, 400)
+    assert np.abs(grow).max() > 1e6 * np.abs(stay).max()
+    implicit, _ = dynamics.newmark(M, np.zeros((5, 5)), K, np.full(5, 1.0), np.r_[0, 1e-6, np.zeros(399)],
+                                   100 * dt_crit)
+    assert np.abs(implicit).max() < 1e-3
+
+
+# ---------------------------------------------------------------- the taxel
+
+@pytest.fixture(scope="module")
+def taxel():
+    scene = load("thesis-pzt-single-2d")
+    return scene, dynamics.model(scene)
+
+
+def test_reduced_sweep_matches_direct_and_reports_its_error(taxel):
+    scene, dm = taxel
+    f = np.geomspace(1, 1000, 40)
+    red = dynamics.sweep(dm, f)
+    direct = dynamics.sweep(dm, f[::8], method="direct")
+    assert red.error < 1e-6
+    rel = np.abs(red.V_oc[::8] - direct.V_oc).max() / np.abs(direct.V_oc).max()
+    assert rel < 1e-6
+    np.testing.assert_allclose(red.Cinv[::8], direct.Cinv, rtol=1e-6)
+
+
+def lossless(scene, beta=0.0):
+    return scene.model_copy(update={"dynamics": scene.dynamics.model_copy(update={
+        "silicone_loss": 0.0, "piezo_loss": 0.0, "dielectric_loss": 0.0, "rayleigh_beta": beta})})
+
+
+def test_low_frequency_limit_is_the_static_solution(taxel):
+    from fem.solve import solve
+    scene, dm = taxel
+    static = solve(scene).electrodes["taxel_0_0"]
+    dyn = dynamics.sweep(dynamics.model(lossless(scene), tm=dm.sy.tm), [1e-3], method="direct")
+    assert dyn.V_oc[0, 0] == pytest.approx(static.voltage, rel=1e-8)
+    assert dyn.C[0, 0, 0] == pytest.approx(static.capacitance, rel=1e-8)
+
+
+def test_resistive_load_coupled_equals_norton_postprocessing(taxel):
+    scene, dm = taxel
+    f = np.array([0.05, 0.5, 5.0, 50.0, 500.0])
+    R = 5e8
+    port = dynamics.sweep(dm, f, method="direct")
+    norton = circuits.resistor(port.V_oc, port.C, 2 * np.pi * f, R)[:, 0]
+    coupled = np.array([dynamics.coupled_resistor(dm, fi, R)[0] for fi in f])
+    np.testing.assert_allclose(norton, coupled, rtol=1e-8)
+
+
+def test_step_through_a_resistor_decays_with_tau_RC(taxel):
+    scene, dm = taxel
+    R = 5e8
+    t = np.arange(0, 4.0, 2e-3)
+    f = np.clip(t / 0.02, 0, 1)
+    tr = dynamics.transient(dm, t, f, R=R)
+    C = abs(dynamics.sweep(dm, [0.1], method="direct").C[0, 0, 0])
+    late = (t > 0.5) & (t < 3.5)
+    tau = -1 / np.polyfit(t[late], np.log(np.abs(tr.V[late, 0])), 1)[0]
+    assert tau == pytest.approx(R * C, rel=0.01)
+    assert 1.7 <= tau <= 3.1 or R * C < 1.7          # the thesis's range at 500 MOhm and 4 nF (2D: 3.4 nF)
+
+
+def test_charge_amplifier_frequency_and_time_domain_agree(taxel):
+    """FFT of the amplifier output for a chirp over FFT of the force = the sweep
+    through the same amplifier (time domain: short-circuit charges simulated and
+    filtered by the amplifier's ODE; frequency domain: Norton post-processing)."""
+    scene, dm = taxel
+    scene = lossless(scene, beta=2e-4)        # Rayleigh damping: the same model in both domains
+    dm = dynamics.model(scene, tm=dm.sy.tm)
+    r = scene.readout.model_copy(update={"circuit": "charge_amplifier"})
+    T, dt = 4.0, 5e-4
+    t = np.arange(0, T, dt)
+    f = np.sin(2 * np.pi * (2 * t + (100 - 2) * t ** 2 / (2 * T))) * np.hanning(len(t))
+    short = dynamics.model(scene, tm=dm.sy.tm, short=True)
+    tr = dynamics.transient(short, t, f)
+    C_p = abs(dynamics.sweep(dm, [1.0], method="direct").C[0, 0, 0])
+    y = circuits.amplifier_in_time(t, tr.Q, [C_p], r)[:, 0]
+    F = np.fft.rfft(tr.force)
+    Y = np.fft.rfft(y)
+    freqs = np.fft.rfftfreq(len(t), dt)
+    band = (freqs > 15) & (freqs < 80)
+    H_time = Y[band] / F[band]
+    port = dynamics.sweep(dm, freqs[band])
+    H_freq = circuits.readout(port, r)[:, 0] / dm.sy.applied_force
+    assert np.median(np.abs(H_time / H_freq - 1)) < 0.01      # magnitude and phase
+
+
+def test_notch_removes_50_hz():
+    w = 2 * np.pi * np.array([10.0, 50.0, 200.0])
+    H = np.abs(circuits.notch(w))
+    assert H[1] < 1e-12 and H[0] > 0.95 and H[2] > 0.95
+
+
+# ---------------------------------------------------------------- thickness mode
+
+def test_thickness_mode_resonance_and_antiresonance_of_a_clamped_column():
+    """A PZT-5H column, laterally clamped (edge rollers, plane strain), bottom on
+    rollers: by symmetry the free-free column of twice the thickness. Its
+    open-circuit (anti-)resonance f_a = v^D / (2 t), v^D = sqrt(c33^D / rho), and the
+    short-circuit resonance from k_t^2 = (pi/2)(f_r/f_a) tan((pi/2)(f_a - f_r)/f_a)."""
+    h = 1e-3
+    scene = parse({
+        "model": {"type": "plane_strain", "depth": "1 mm"},
+        "mesh": {"size": "1 mm", "piezo_layers": 8},
+        "plate": {"shape": "rectangle", "width": "1 mm",
+                  "layers": [{"material": "PZT-5H", "thickness": f"{h} m"}]},
+        "load": {"kind": "pressure", "pressure": "1 kPa"},
+        "supports": {"bottom": "rollers", "edges": "rollers"},
+        "dynamics": {"piezo_loss": 1e-5, "dielectric_loss": 0.0},
+    })
+    dm = dynamics.model(scene)
+    m = materials.get("PZT-5H")
+    c33D = m.c[2, 2] + m.e[2, 2] ** 2 / m.eps[2, 2]
+    fa = np.sqrt(c33D / m.rho) / (2 * 2 * h)
+    kt2 = m.e[2, 2] ** 2 / (m.eps[2, 2] * c33D)
+    fr = brentq(lambda x: (np.pi / 2) * x * np.tan((np.pi / 2) * (1 - x)) - kt2, 0.5, 0.999) * fa
+
+    def peak(fn, f0):
+        res = minimize_scalar(lambda f: -abs(fn(f)), bracket=(0.95 * f0, f0, 1.05 * f0),
+                              options={"xtol": 1e-7})
+        return res.x
+    fa_fem = peak(lambda f: dynamics.direct(dm, f)[1][0, 0], fa)            # C^-1 blows up: open circuit
+    fr_fem = peak(lambda f: 1 / dynamics.direct(dm, f)[1][0, 0], fr)        # C blows up: short circuit
+    assert fa_fem == pytest.approx(fa, rel=2e-4)
+    assert fr_fem == pytest.approx(fr, rel=2e-4)
+
+
+# ---------------------------------------------------------------- lumped vs FEM
+
+def confined_stack():
+    """The thesis taxel as a laterally confined stack (no silicone beside the
+    piezo, edge rollers, plane strain): a 1-D problem, where the lumped model's
+    assumptions hold."""
+    base = load("thesis-pzt-single-2d")
+    return base.model_copy(update={
+        "array": base.array.model_copy(update={"margin": 0.0}),
+        "supports": base.supports.model_copy(update={"edges": "rollers"})})
+
+
+def test_lumped_equals_fem_for_a_confined_stack():
+    scene = confined_stack()
+    dm = dynamics.model(scene)
+    lm = lumped.from_scene(scene, confined=True)
+    f = np.array([1.0, 100.0])
+    fem_q = dynamics.sweep(dm, f, method="direct").Q_sc[:, 0]
+    lum_q = lm.Q_sc(f)
+    # static limit: exact in 1-D (e33 F / c33^E); tolerance = the loss factors' phase
+    np.testing.assert_allclose(np.abs(lum_q), np.abs(fem_q), rtol=2e-3)
+
+
+def test_lumped_and_fem_part_for_the_real_taxel():
+    """The embedded taxel: the silicone flows sideways and stretches the piezo in
+    its plane (d31 adds to d33), which a 1-D model cannot see: the FEM's charge is
+    several times the lumped d33 F."""
+    scene = load("thesis-pzt-single-2d")
+    dm = dynamics.model(scene)
+    fem_q = abs(dynamics.sweep(dm, [1.0], method="direct").Q_sc[0, 0])
+    lum_q = abs(lumped.from_scene(scene).Q_sc([1.0])[0])
+    assert lum_q == pytest.approx(materials.get("PSI-5H4E").d33 * scene.load.force, rel=1e-3)
+    assert fem_q > 3 * lum_q
+
+
+def test_lumped_model_is_fast_and_has_consistent_forms():
+    lm = lumped.from_scene(load("thesis-pzt-single-2d"))
+    assert lumped.points_per_second(lm) > 1e5
+    z, p, k = lm.transfer_function()
+    f = np.array([3.0, 300.0])
+    s = 2j * np.pi * f
+    H = k * np.prod(s[:, None] - z[None, :], axis=1) / np.prod(s[:, None] - p[None, :], axis=1) * lm.force
+    np.testing.assert_allclose(H, lm.Q_sc(f), rtol=1e-6)
