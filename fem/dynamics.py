@@ -339,6 +339,15 @@ def condense(r, C):
                 Tq=Ud - Ua @ XK, tf=Ua @ XF, tQ=Ua @ XB)
 
 
+def critical_time_step(dm: DynamicModel) -> float:
+    """dt_crit = 2 / omega_max of explicit central differences for a (small) model:
+    pressure and potential condensed exactly, dense generalized eigenvalues."""
+    K, M = dm.K0.toarray(), dm.M.toarray()
+    u = dm.red.is_u
+    Kc = K[np.ix_(u, u)] - K[np.ix_(u, ~u)] @ np.linalg.solve(K[np.ix_(~u, ~u)], K[np.ix_(~u, u)])
+    return float(2 / np.sqrt(la.eigvalsh(Kc, M[np.ix_(u, u)]).max()))
+
+
 def central_difference(M, K, rhs, dt, n_steps):
     """Explicit central difference (conditionally stable: dt < 2 / omega_max)."""
     Minv = np.linalg.inv(M)

@@ -234,3 +234,53 @@ def test_lumped_model_is_fast_and_has_consistent_forms():
     s = 2j * np.pi * f
     H = k * np.prod(s[:, None] - z[None, :], axis=1) / np.prod(s[:, None] - p[None, :], axis=1) * lm.force
     np.testing.assert_allclose(H, lm.Q_sc(f), rtol=1e-6)
+
+
+def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_user_steps():
+    """The 0.127 mm PZT layer (one P2 element through it): dt_crit of explicit central
+    differences is a few nanoseconds; central differences blow up just above it,
+    the implicit Newmark default is stable at 1e5 times that step."""
+    scene = parse({"model": {"type": "plane_strain", "depth": "0.1 mm"}, "mesh": {"size": "0.1 mm"},
+                   "plate": {"shape": "rectangle", "width": "0.1 mm",
+                             "layers": [{"material": "PSI-5H4E", "thickness": "0.127 mm"}]},
+                   "load": {"kind": "pressure", "pressure": "1 kPa"},
+                   "supports": {"bottom": "rollers", "edges": "rollers"}})
+    dm = dynamics.model(scene)
+    dt_crit = dynamics.critical_time_step(dm)
+    assert 1e-9 < dt_crit < 2e-8                       # measured 5.5e-9 s
+    K, M, u = dm.K0.toarray(), dm.M.toarray(), dm.red.is_u
+    Kc = K[np.ix_(u, u)] - K[np.ix_(u, ~u)] @ np.linalg.solve(K[np.ix_(~u, ~u)], K[np.ix_(~u, u)])
+    Mc = M[np.ix_(u, u)]
+    kick = np.zeros(u.sum())
+    kick[0] = 1e-3
+    with np.errstate(over="ignore", invalid="ignore"):
+        blow = dynamics.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 1.05 * dt_crit, 2000)
+    calm = dynamics.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 0.95 * dt_crit, 2000)
+    growth = np.nan_to_num(np.abs(blow), nan=np.inf).max()          # overflow counts as blowing up
+    assert growth > 1e6 * np.abs(calm).max()
+    f = np.r_[0.0, np.ones(200)]
+    q, _ = dynamics.newmark(Mc, 0 * Mc, Kc, kick, f, 1e5 * dt_crit)
+    assert np.isfinite(q).all() and np.abs(q).max() < 10 * np.abs(np.linalg.solve(Kc, kick)).max()
+
+
+def test_transient_from_a_csv_force_file(tmp_path, capsys):
+    from studies.cli import main
+    csv = tmp_path / "force.csv"
+    tt = np.linspace(0, 0.05, 51)
+    np.savetxt(csv, np.column_stack([tt, 0.3 * np.sin(np.pi * tt / 0.05)]), delimiter=",",
+               header="time_s,force_N")
+    scene = tmp_path / "s.toml"
+    scene.write_text(f"""[array]
+[load]
+force = "0.3 N"
+[analysis]
+type = "transient"
+input = "csv"
+file = "{csv}"
+dt = "1 ms"
+duration = "0.05 s"
+""")
+    assert main(["solve", str(scene), "--out", str(tmp_path)]) == 0
+    data = np.loadtxt(tmp_path / "s-transient.csv", delimiter=",", skiprows=1)
+    assert data[:, 1].max() == pytest.approx(0.3, rel=1e-3)            # the file's newtons
+    assert (tmp_path / "s-transient.png").stat().st_size > 1000
