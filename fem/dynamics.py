@@ -17,6 +17,11 @@ none), f(t) the load history scaling the scene's force. Damping:
 * time domain: the same loss factors as viscous damping matched at the
   reference frequency, C = alpha M + sum_mech (beta + eta / w_ref) K_part.
 
+With a Yeoh silicone the model is linearised about the static state under the
+scene's force (the preload): K_part are then the consistent tangents at that
+state (fem.newton.yeoh_terms), and responses are per newton of a small force
+added on the same footprint.
+
 Port quantities. For open electrodes (Q = 0) the solution gives the
 open-circuit voltages V_oc(w); unit charges give C(w)^-1. Any linear circuit
 on the electrodes then follows exactly from the port relation
@@ -93,7 +98,14 @@ def model(scene: Scene, tm: TaggedMesh | None = None, short: bool = False) -> Dy
     (massless, undamped) potential rows: Q_k = -sum of row k of K x."""
     user = user_materials(scene)
     tm = tm or build(layout(scene), user)
-    sy = assemble(scene, tm, user)
+    hyper = scene.model.silicone == "yeoh"
+    sy = assemble(scene, tm, user, hyperelastic=hyper)
+    if hyper:                       # linearise about the static Yeoh state under the scene's force
+        from fem.newton import newton, yeoh_terms
+        x0 = newton(sy)[0]
+        for kind, Kt in yeoh_terms(sy, x0, by_kind=True)[1].items():
+            sy.parts[kind] = sy.parts.get(kind, 0) + Kt
+        sy.preload = x0
     names = [k for k, st in sy.states.items() if st != "reference"]
     if short:
         sy.states = {k: ("reference" if st == "reference" else "ground") for k, st in sy.states.items()}
@@ -337,6 +349,58 @@ def condense(r, C):
     return dict(M=Ud.T @ r["M"] @ Ud, C=Ud.T @ C @ Ud, K=Ud.T @ K @ Ud - Kda @ XK,
                 F=Ud.T @ F - Kda @ XF, B=Ud.T @ Be - Kda @ XB,
                 Tq=Ud - Ua @ XK, tf=Ua @ XF, tQ=Ua @ XB)
+
+
+def transient_hyperelastic(scene: Scene, t: np.ndarray, load: np.ndarray, tol=1e-9, max_iter=12):
+    """Full-order Newmark (average acceleration) with Newton at every step for a
+    Yeoh silicone, open-circuit electrodes. Residual at step n+1:
+
+        G(x) = M a(x) + C v(x) + R(x) - f_{n+1},  a = 4/dt^2 (x - x_n) - 4/dt v_n - a_n,
+        v = 2/dt (x - x_n) - v_n,   R(x) = A_lin x + R_yeoh(x)   (dead load f)
+
+    Jacobian 4/dt^2 M + 2/dt C + K_t(x). M and C act on displacements only, so the
+    massless pressure and potential stay algebraic. C: the loss factors as viscous
+    damping at the reference frequency, on the small-strain tangent. The tangent
+    is refactorized at every iteration (full Newton)."""
+    from fem.newton import NewtonError, yeoh_terms
+    t0 = time.perf_counter()
+    dm = model(scene.model_copy(update={"model": scene.model.model_copy(update={"silicone": "linear"})}))
+    sy = assemble(scene, dm.sy.tm, user_materials(scene), hyperelastic=True)
+    red = reduction(sy, eliminate_grounded=True)
+    P = red.P
+    M, C = dm.M, dm.C_time()
+    A_lin, b = sy.A, P.T @ sy.b
+    dt = t[1] - t[0]
+    a1, a2 = 4 / dt ** 2, 2 / dt
+    n = red.n
+    x_full = np.zeros(sy.A.shape[0])
+    y, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
+    V = np.zeros((len(t), len(red.active)))
+    iters = []
+    for k in range(1, len(t)):
+        y_new = y + dt * v
+        for it in range(max_iter):
+            xf = P @ y_new
+            r_y, K_y = yeoh_terms(sy, xf)
+            acc = a1 * (y_new - y) - a1 * dt * v - a
+            vel = a2 * (y_new - y) - v
+            G = M @ acc + C @ vel + P.T @ (A_lin @ xf + r_y) - load[k] * b
+            J = (a1 * M + a2 * C + P.T @ (A_lin + K_y) @ P).tocsc()
+            solve = scaled_solver(J, red, linsolve.resolve("auto", n))
+            norm = np.linalg.norm(solve.D * G) / max(np.linalg.norm(solve.D * b), 1e-300)
+            if norm < tol:
+                break
+            y_new = y_new - solve(G)[0][:, 0]
+        else:
+            raise NewtonError(f"Newton did not converge at t = {t[k]:.4g} s (step {k}); "
+                              "reduce analysis.dt or the force")
+        iters.append(it)
+        a_new = a1 * (y_new - y) - a1 * dt * v - a
+        v = a2 * (y_new - y) - v
+        a, y = a_new, y_new
+        V[k] = y[red.nf:]
+    return Transient(t, load * sy.applied_force, V, np.zeros_like(V), list(red.active), n,
+                     time.perf_counter() - t0), iters
 
 
 def critical_time_step(dm: DynamicModel) -> float:

@@ -50,12 +50,14 @@ class NewtonResult:
         return sum(self.iterations)
 
 
-def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True):
-    """Full-size residual R_yeoh(x) and tangent K_yeoh(x) of every hyperelastic region."""
+def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True, by_kind=False):
+    """Full-size residual R_yeoh(x) and tangent K_yeoh(x) of every hyperelastic region
+    (with `by_kind`, the tangent as {"shear:<region>", "constraint", "volumetric:<region>"},
+    the kinds of fem.solve.assemble, so that loss factors apply to it)."""
     n = sy.A.shape[0]
     model, depth = sy.scene.model.type, sy.tm.layout.depth
     r = np.zeros(n)
-    blocks = []
+    blocks: dict[str, list] = {}
     u = x[sy.offsets["u"]]
     for region, (C, K) in sy.yeoh.items():
         ub, pb, pk = sy.ubases[region], sy.pbases[region], ("p", region)
@@ -65,8 +67,13 @@ def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True):
         r[sy.offsets[pk]] += r_p
         if with_tangent:
             Kuu, Kup, Kpp = hyperelastic.tangent_blocks(ub, pb, st, K, model, depth)
-            blocks += [("u", "u", Kuu), ("u", pk, Kup), (pk, "u", Kup.T), (pk, pk, Kpp)]
-    return r, (place(blocks, sy.offsets, n) if with_tangent else None)
+            blocks.setdefault(f"shear:{region}", []).append(("u", "u", Kuu))
+            blocks.setdefault("constraint", []).extend([("u", pk, Kup), (pk, "u", Kup.T)])
+            blocks.setdefault(f"volumetric:{region}", []).append((pk, pk, Kpp))
+    if not with_tangent:
+        return r, None
+    parts = {k: place(v, sy.offsets, n) for k, v in blocks.items()}
+    return r, (parts if by_kind else sum(parts.values()))
 
 
 def _min_jacobian(sy: System, x):

@@ -170,6 +170,7 @@ class System:
     yeoh: dict = field(default_factory=dict)   # solid region -> (C10, C20, C30), K  (hyperelastic)
     soft: set = field(default_factory=set)     # solid regions with Yeoh data (the silicone), solved or not
     parts: dict = field(default_factory=dict)  # A split by kind (see assemble), for loss factors
+    preload: np.ndarray | None = None          # static state a dynamic model is linearised about
 
 
 def _elements(dim, order, mixed):

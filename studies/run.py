@@ -72,6 +72,9 @@ def transient(scene: Scene, out: Path) -> Output:
         tr = dynamics.transient(dm, t, f)
         C_p = np.diag(dynamics.direct(dynamics.model(scene), 1.0)[1].real)
         y = circuits.amplifier_in_time(t, tr.Q, 1 / C_p, r)
+    elif scene.model.silicone == "yeoh":
+        tr, _ = dynamics.transient_hyperelastic(scene, t, f)
+        y = tr.V
     else:
         dm = dynamics.model(scene)
         tr = dynamics.transient(dm, t, f, R=r.R if r.circuit == "resistor" else None)

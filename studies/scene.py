@@ -248,9 +248,11 @@ class Scene(Strict):
             raise ValueError("analysis.dt must be below analysis.duration")
         if self.analysis.input == "csv" and self.analysis.type == "transient" and not self.analysis.file:
             raise ValueError("analysis.file is missing for input = 'csv'; give a CSV of time (s), force (N)")
-        if self.analysis.type != "static" and self.model.silicone != "linear":
-            raise ValueError("frequency and transient analyses use the linear silicone here; "
-                             "set model.silicone = 'linear'")
+        if self.analysis.type != "static" and self.model.silicone == "auto":
+            raise ValueError("dynamic analyses need model.silicone = 'linear' or 'yeoh' (not 'auto')")
+        if self.analysis.type == "transient" and self.model.silicone == "yeoh" and self.readout.circuit != "open":
+            raise ValueError("a hyperelastic transient reads open-circuit voltages; set readout.circuit = "
+                             "'open' (or use the linear silicone for circuits)")
         if (self.supports.bottom == "free" and self.supports.edges == "free"):
             raise ValueError("supports: bottom and edges are both free, so the body can move freely; "
                              "set supports.bottom = 'bonded' or 'rollers', or fix the edges")

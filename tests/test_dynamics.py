@@ -284,3 +284,35 @@ duration = "0.05 s"
     data = np.loadtxt(tmp_path / "s-transient.csv", delimiter=",", skiprows=1)
     assert data[:, 1].max() == pytest.approx(0.3, rel=1e-3)            # the file's newtons
     assert (tmp_path / "s-transient.png").stat().st_size > 1000
+
+
+def _yeoh(scene, force, lossless_=True):
+    s = scene.model_copy(update={"model": scene.model.model_copy(update={"silicone": "yeoh"}),
+                                 "load": scene.load.model_copy(update={"force": force})})
+    return lossless(s) if lossless_ else s
+
+
+def test_frequency_response_linearised_about_a_hyperelastic_preload():
+    """At zero frequency the response linearised about the Yeoh state under a
+    0.3 N preload is the slope of the static Yeoh voltage-force curve there."""
+    from fem.solve import solve
+    base = load("thesis-pzt-single-2d")
+    F0, dF = 0.3, 1e-3
+    slope = (solve(_yeoh(base, F0 + dF)).voltages()["taxel_0_0"]
+             - solve(_yeoh(base, F0 - dF)).voltages()["taxel_0_0"]) / (2 * dF)
+    dm = dynamics.model(_yeoh(base, F0))
+    incremental = dynamics.sweep(dm, [1e-3], method="direct").V_oc[0, 0] / F0
+    assert incremental.real == pytest.approx(slope, rel=1e-6)          # measured 3e-8
+    linear = abs(dynamics.sweep(dynamics.model(lossless(base)), [1e-3], method="direct").V_oc[0, 0]) / base.load.force
+    assert abs(incremental) < 0.9 * linear                             # the preloaded silicone is stiffer
+
+
+def test_hyperelastic_transient_small_load_equals_linear():
+    base = load("thesis-pzt-single-2d")
+    t = np.arange(0, 0.012 + 5e-4, 1e-3)
+    f = np.clip(t / 0.005, 0, 1)
+    lin = dynamics.transient(dynamics.model(_yeoh(base, 0.01).model_copy(update={
+        "model": base.model})), t, f)
+    hyper, iters = dynamics.transient_hyperelastic(_yeoh(base, 0.01, lossless_=False), t, f)
+    assert max(iters) <= 4
+    np.testing.assert_allclose(hyper.V[-1], lin.V[-1], rtol=0.006)     # Yeoh vs linear at 10 mN: 0.37 %
