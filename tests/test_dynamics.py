@@ -316,3 +316,13 @@ def test_hyperelastic_transient_small_load_equals_linear():
     hyper, iters = dynamics.transient_hyperelastic(_yeoh(base, 0.01, lossless_=False), t, f)
     assert max(iters) <= 4
     np.testing.assert_allclose(hyper.V[-1], lin.V[-1], rtol=0.006)     # Yeoh vs linear at 10 mN: 0.37 %
+
+
+@pytest.mark.slow
+def test_thesis_chapter4_study_runs_and_states_its_findings(tmp_path):
+    from reports import thesis_ch4
+    thesis_ch4.main(tmp_path)
+    text = (tmp_path / "statements.txt").read_text()
+    assert "first order" in text and "silicone 0 / 1 / 2 mm" in text
+    for png in ("step-impulse.png", "chirp.png", "silicone-thickness.png", "fem-vs-lumped.png"):
+        assert (tmp_path / png).stat().st_size > 5000
