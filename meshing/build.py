@@ -54,7 +54,7 @@ def _gmsh_model(name="taxel"):
     import gmsh
     fresh = not gmsh.isInitialized()
     if fresh:
-        gmsh.initialize(readConfigFiles=False)
+        gmsh.initialize(readConfigFiles=False, interruptible=False)   # no signal handler: works off the main thread
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.model.add(name)
     try:

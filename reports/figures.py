@@ -102,3 +102,43 @@ def time_response(t, force, y, names, label, path, title=""):
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def study_plots(rows, parameters, outputs, folder, title=""):
+    """Each output against each numeric varied parameter; one line per combination
+    of the other parameters (labels in the legend). Returns the files written."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from studies.study import magnitude
+    folder.mkdir(parents=True, exist_ok=True)
+    done = [r for r in rows if r["status"] == "done"]
+    files = []
+    for p in parameters:
+        xs = [magnitude(r.get(p)) for r in done]
+        if not xs or not all(isinstance(x, float) for x in xs):
+            continue
+        others = [q for q in parameters if q != p]
+        for out in outputs:
+            if not any(out in r for r in done):
+                continue
+            fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
+            groups = {}
+            for r in done:
+                groups.setdefault(tuple(str(r.get(q)) for q in others), []).append(r)
+            for key, grp in sorted(groups.items()):
+                grp = sorted(grp, key=lambda r: magnitude(r[p]))
+                ys = [abs(r[out]) if isinstance(r.get(out), (int, float)) else np.nan for r in grp]
+                ax.plot([magnitude(r[p]) for r in grp], ys, "o-", ms=3,
+                        label=", ".join(f"{q}={v}" for q, v in zip(others, key)) or None)
+            ax.set_xlabel(f"{p} (SI)")
+            ax.set_ylabel(f"|{out}|")
+            ax.set_title(title)
+            if len(groups) > 1:
+                ax.legend(fontsize=6, ncol=2)
+            ax.grid(True, alpha=0.3)
+            path = folder / f"{out}-vs-{p}.png"
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+            files.append(path)
+    return files

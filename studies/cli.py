@@ -3,6 +3,8 @@
     taxel solve SCENE [--json] [--vtu FILE] [--solver NAME] [--out DIR]
     taxel lumped SCENE [--out DIR]
     taxel mesh SCENE -o FILE          (.msh with physical groups, or .vtu/.xdmf via meshio)
+    taxel study run STUDY [--out DIR] [--workers N] [--scheduler ADDR] [--retry-failed]
+    taxel study status DIR | taxel study export DIR --csv FILE
     taxel examples
 
 SCENE is a TOML file or the name of a built-in example. Bad input exits with
@@ -93,6 +95,63 @@ def _lumped(args):
     _print_output(run.lumped_model(scene, _out_dir(args, scene)))
 
 
+def _study(args):
+    import csv
+    import shutil
+
+    from reports.figures import study_plots
+    from studies import study as S
+    if args.action == "run":
+        st = S.load_study(args.target)
+        out = Path(args.out or Path("out") / st.spec.name)
+        out.mkdir(parents=True, exist_ok=True)
+        spec_copy = out / "study.json"
+        spec_copy.write_text(st.spec.model_dump_json(indent=1))
+        summary = S.run(st, out, workers=args.workers, scheduler=args.scheduler,
+                        retry_failed=args.retry_failed, progress=not args.quiet)
+        rows = S.tidy_rows(out, st)
+        _write_rows(rows, out / "results.csv")
+        plots = study_plots(rows, [p.name for p in st.spec.parameters],
+                            ["voltage_pressed", "crosstalk", "max_strain"], out / "plots", st.spec.name)
+        print(f"{st.spec.name}: {summary.total} points: {summary.done} computed, {summary.cached} cached, "
+              f"{summary.failed} failed, {summary.seconds:.2f} s; results in {out} "
+              f"(results.csv, {len(plots)} plots)")
+        return 0 if summary.failed == 0 else EXIT_FAILED
+    out = Path(args.target)
+    if not (out / "results.sqlite").exists():
+        raise S.StudyError(f"{out}: no study results here (no results.sqlite); run 'taxel study run' first")
+    rows = S.tidy_rows(out)
+    if args.action == "status":
+        total = None
+        if (out / "study.json").exists():
+            spec = S.StudySpec.model_validate_json((out / "study.json").read_text())
+            total = len(S.Study(spec, {}, out).points())
+        n_done = sum(r["status"] == "done" for r in rows)
+        n_failed = sum(r["status"] == "failed" for r in rows)
+        print(f"{out}: {n_done} done, {n_failed} failed"
+              + (f", {max(total - n_done - n_failed, 0)} pending of {total}" if total is not None else ""))
+        for r in rows:
+            if r["status"] == "failed":
+                print(f"  failed: {', '.join(f'{k}={v}' for k, v in r.items() if k not in ('status', 'error'))[:120]}"
+                      f": {r['error']}")
+    else:
+        if not args.csv:
+            raise S.StudyError("study export needs --csv FILE")
+        _write_rows(rows, Path(args.csv))
+        print(f"{len(rows)} rows written to {args.csv}")
+
+
+def _write_rows(rows, path):
+    import csv
+    cols = []
+    for r in rows:
+        cols += [k for k in r if k not in cols]
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=cols)
+        w.writeheader()
+        w.writerows(rows)
+
+
 def _mesh(args):
     from meshing.build import build, export
     from meshing.layout import layout
@@ -178,6 +237,16 @@ def main(argv=None):
     p.add_argument("scene")
     p.add_argument("-o", "--output", required=True, help=".msh (gmsh, physical groups) or .vtu/.xdmf")
     p.set_defaults(run=_mesh)
+    p = sub.add_parser("study", help="parameter studies: run, status, export")
+    p.add_argument("action", choices=["run", "status", "export"])
+    p.add_argument("target", help="run: a study TOML file or built-in study name; status/export: a study folder")
+    p.add_argument("--out", metavar="DIR", help="run: the study folder (default out/NAME)")
+    p.add_argument("--workers", type=int, default=2, help="local Dask workers (1: in-process)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (tcp://host:8786)")
+    p.add_argument("--retry-failed", action="store_true", help="rerun the points that failed before")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--csv", metavar="FILE", help="export: the CSV to write")
+    p.set_defaults(run=_study)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)
     p = sub.add_parser("material", help="material tools (hyperelastic fits)")
@@ -194,7 +263,7 @@ def main(argv=None):
     p.set_defaults(run=_material_fit_yeoh)
     args = ap.parse_args(argv)
     try:
-        args.run(args)
+        code = args.run(args)
     except SceneError as exc:
         print(f"taxel: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -204,7 +273,10 @@ def main(argv=None):
     except RuntimeError as exc:          # includes fem.newton.NewtonError
         print(f"taxel: failed: {exc}", file=sys.stderr)
         return EXIT_FAILED
-    return 0
+    except KeyboardInterrupt:
+        print("taxel: interrupted; finished points are kept, run again to resume", file=sys.stderr)
+        return 130
+    return code or 0
 
 
 if __name__ == "__main__":
