@@ -100,6 +100,10 @@ class StudySpec(BaseModel):
     def _check(self):
         if self.sampling == "lhs" and not self.samples:
             raise ValueError("sampling = 'lhs' needs samples = N")
+        names = [p.name for p in self.parameters]
+        for n in names:
+            if names.count(n) > 1:
+                raise ValueError(f"two parameters are named '{n}'; give one a label = \"...\"")
         return self
 
 
@@ -477,7 +481,11 @@ def tidy_rows(out: Path, study: Study | None = None) -> list[dict]:
     for r in store.rows():
         row = {}
         for k, v in r["params"].items():
-            row[k] = v["label"] if isinstance(v, dict) and "label" in v else v
+            if isinstance(v, dict) and "label" in v:
+                v = v["label"]
+            elif isinstance(v, dict):                 # an unlabelled table: "key=value; ..."
+                v = "; ".join(f"{a}={b}" for a, b in v.items())
+            row[k] = v
         row["status"] = r["status"]
         res = r["result"] or {}
         for name in ("voltage", "charge"):

@@ -1,0 +1,210 @@
+"""Parameter studies: resumable after kill -9, identical on Dask, cached by content,
+and bad study files refused with one line."""
+
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from studies import study as S
+from studies.cli import main
+
+SMALL = """
+name = "small"
+base = "{base}"
+outputs = ["voltage", "charge", "max_strain"]
+
+[fidelity]
+"mesh.size" = "1 mm"
+
+[[parameters]]
+path = ["array.silicone_above", "array.silicone_below"]
+label = "silicone"
+start = "0.5 mm"
+stop = "2 mm"
+step = "0.5 mm"
+
+[[parameters]]
+path = "load.force"
+values = ["0.2 N", "0.4 N", "0.6 N"]
+"""
+
+
+def write_study(tmp_path, base="thesis-pzt-single-2d", extra="", name="s.toml"):
+    p = tmp_path / name
+    p.write_text(SMALL.format(base=base) + extra)
+    return p
+
+
+def results(folder):
+    db = sqlite3.connect(Path(folder) / "results.sqlite")
+    rows = db.execute("SELECT key, status, result FROM points ORDER BY key").fetchall()
+    db.close()
+    return rows
+
+
+def count(folder):
+    try:
+        db = sqlite3.connect(Path(folder) / "results.sqlite", timeout=5)
+        n = db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
+        db.close()
+        return n
+    except sqlite3.Error:
+        return 0
+
+
+def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
+    study = write_study(tmp_path)
+    ref = tmp_path / "ref"
+    assert main(["study", "run", str(study), "--out", str(ref), "--workers", "1", "--quiet"]) == 0
+    out = tmp_path / "killed"
+    cmd = [sys.executable, "-m", "studies.cli", "study", "run", str(study), "--out", str(out),
+           "--workers", "1", "--quiet"]
+    env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    for target in (3, 7):                      # kill after some points, twice
+        proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                cwd=Path(__file__).parent.parent)
+        deadline = time.time() + 120
+        while count(out) < target and proc.poll() is None and time.time() < deadline:
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+        assert 0 < count(out) < 12
+    assert main(["study", "run", str(study), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    got, want = results(out), results(ref)
+    assert len(got) == len(want) == 12                      # every point exactly once (key is primary)
+    assert [(k, s) for k, s, _ in got] == [(k, s) for k, s, _ in want]
+    import json
+    for (_, _, a), (_, _, b) in zip(got, want):
+        ra, rb = json.loads(a), json.loads(b)
+        assert ra["voltage"] == rb["voltage"] and ra["charge"] == rb["charge"]
+
+
+def test_dask_two_workers_equal_in_process(tmp_path):
+    study = S.load_study(write_study(tmp_path))
+    a = S.run(study, tmp_path / "one", workers=1, progress=False)
+    b = S.run(study, tmp_path / "dask", workers=2, progress=False)
+    assert a.done == b.done == 12 and a.failed == b.failed == 0
+    import json
+
+    def physics(rows):
+        return [(k, s, {n: v for n, v in json.loads(r).items() if n != "seconds"}) for k, s, r in rows]
+    assert physics(results(tmp_path / "one")) == physics(results(tmp_path / "dask"))
+
+
+def test_changing_the_base_invalidates_exactly_the_affected_points(tmp_path):
+    base = tmp_path / "base.toml"
+    base.write_text((S.EXAMPLES / "thesis-pzt-single-2d.toml").read_text())
+    study_file = write_study(tmp_path, base=str(base))
+    out = tmp_path / "out"
+    first = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    assert first.done == 12
+    again = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    assert again.done == 0 and again.cached == 12               # changing nothing reruns nothing
+    # the base's force is overridden by the study: no point changes
+    base.write_text(base.read_text().replace('force = "1 N"', 'force = "0.9 N"'))
+    same = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    assert same.done == 0 and same.cached == 12
+    # one more force value: exactly its 4 new points run
+    study_file.write_text(study_file.read_text().replace('"0.6 N"]', '"0.6 N", "0.8 N"]'))
+    grown = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    assert grown.done == 4 and grown.cached == 12
+    # the margin changes every point
+    base.write_text(base.read_text().replace('margin = "3 mm"', 'margin = "2.5 mm"'))
+    changed = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    assert changed.done == 16 and changed.cached == 0
+
+
+def test_a_failing_point_is_recorded_and_retried_on_request(tmp_path):
+    """PVDF is not transversely isotropic: its axisymmetric points fail at assembly;
+    they are stored with their error, the PZT points succeed, and only
+    --retry-failed runs the failed ones again."""
+    study_file = write_study(tmp_path, extra='[[parameters]]\npath = "array"\nlabel = "piezo"\n'
+                             'values = [{piezo = "PSI-5H4E"}, {piezo = "PVDF", piezo_thickness = "52 um"}]\n')
+    study_file.write_text(study_file.read_text().replace('"mesh.size" = "1 mm"',
+                                                         '"mesh.size" = "1 mm"\n"model.type" = "axisymmetric"'))
+    out = tmp_path / "out"
+    summary = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    assert summary.failed == 12 and summary.done == 12
+    rows = [r for r in S.tidy_rows(out) if r["status"] == "failed"]
+    assert all("transversely isotropic" in r["error"] and "piezo=PVDF" in r["piezo"] for r in rows)
+    again = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    assert again.done == 0 and again.failed == 0 and again.cached == 24
+    retried = S.run(S.load_study(study_file), out, workers=1, retry_failed=True, progress=False)
+    assert retried.failed == 12 and retried.cached == 12
+
+
+def test_status_and_export(tmp_path, capsys):
+    study = write_study(tmp_path)
+    out = tmp_path / "out"
+    assert main(["study", "run", str(study), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    assert main(["study", "status", str(out)]) == 0
+    assert "12 done, 0 failed, 0 pending of 12" in capsys.readouterr().out
+    csv = tmp_path / "r.csv"
+    assert main(["study", "export", str(out), "--csv", str(csv)]) == 0
+    lines = csv.read_text().splitlines()
+    assert len(lines) == 13 and "voltage_pressed" in lines[0]
+    assert (out / "plots" / "voltage_pressed-vs-silicone.png").stat().st_size > 1000
+
+
+BAD = [
+    ("unknown-path", '[[parameters]]\npath = "arrya.gap"\nvalues = ["1 mm"]\n', "unknown scene path"),
+    ("unknown-leaf", '[[parameters]]\npath = "array.gapp"\nvalues = ["1 mm"]\n', "array.gapp"),
+    ("empty-range", '[[parameters]]\npath = "array.gap"\nstart = "3 mm"\nstop = "1 mm"\nstep = "1 mm"\n',
+     "empty range"),
+    ("empty-values", '[[parameters]]\npath = "array.gap"\nvalues = []\n', "values is empty"),
+    ("unit-mismatch", '[[parameters]]\npath = "array.gap"\nstart = "1 mm"\nstop = "2 N"\nstep = "1 mm"\n',
+     "unit mismatch"),
+    ("bad-value-unit", '[[parameters]]\npath = "array.gap"\nvalues = ["1 N"]\n', "array.gap"),
+    ("no-step", '[[parameters]]\npath = "array.gap"\nstart = "1 mm"\nstop = "2 mm"\n', "step"),
+    ("labels", '[[parameters]]\npath = "array.gap"\nvalues = ["1 mm"]\nlabels = ["a", "b"]\n', "labels"),
+]
+
+
+@pytest.mark.parametrize("extra,words", [pytest.param(e, w, id=i) for i, e, w in BAD])
+def test_bad_study_files_exit_2_with_one_line(tmp_path, capsys, extra, words):
+    p = tmp_path / "bad.toml"
+    p.write_text('base = "thesis-pzt-single-2d"\n' + extra)
+    code = main(["study", "run", str(p), "--out", str(tmp_path / "o"), "--workers", "1", "--quiet"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith("taxel: error:")
+    assert words in err[0]
+
+
+@pytest.mark.parametrize("text,words", [
+    ('base = "nope"\n[[parameters]]\npath = "array.gap"\nvalues = ["1 mm"]\n', "base = 'nope'"),
+    ('base = "thesis-pzt-single-2d"\nsampling = "lhs"\n[[parameters]]\npath = "array.gap"\n'
+     'start = "1 mm"\nstop = "2 mm"\n', "samples"),
+    ('base = "thesis-pzt-single-2d"\ncolour = 1\n[[parameters]]\npath = "array.gap"\nvalues = ["1 mm"]\n',
+     "unknown key 'colour'"),
+    ('base = "thesis-pzt-single-2d"\n', "parameters"),
+])
+def test_bad_study_headers_exit_2(tmp_path, capsys, text, words):
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    assert main(["study", "run", str(p), "--workers", "1", "--quiet", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0]
+
+
+def test_latin_hypercube_is_seeded_and_stratified(tmp_path):
+    p = tmp_path / "lhs.toml"
+    p.write_text('base = "thesis-pzt-single-2d"\nsampling = "lhs"\nsamples = 8\nseed = 3\n'
+                 '[[parameters]]\npath = "array.gap"\nstart = "1 mm"\nstop = "5 mm"\n'
+                 '[[parameters]]\npath = "load.force"\nstart = "0.2 N"\nstop = "1 N"\n')
+    a, b = S.load_study(p).points(), S.load_study(p).points()
+    assert a == b and len(a) == 8
+    gaps = sorted(S.magnitude(x["gap"]) for x in a)
+    strata = [int((g - 1e-3) / (4e-3 / 8)) for g in gaps]
+    assert strata == list(range(8))                 # one sample in each of the 8 strata
+
+
+def test_duplicate_parameter_names_are_refused(tmp_path, capsys):
+    p = write_study(tmp_path, extra='[[parameters]]\npath = "model.silicone"\nvalues = ["yeoh"]\n')
+    assert main(["study", "run", str(p), "--workers", "1", "--quiet", "--out", str(tmp_path / "o")]) == 2
+    assert "two parameters are named 'silicone'" in capsys.readouterr().err
