@@ -204,7 +204,22 @@ def _fmt(x, unit):
     return f"{x:g} {unit}" if unit else x
 
 
+def _merge(node: dict, value: dict):
+    for k, v in value.items():
+        if isinstance(v, dict) and isinstance(node.get(k), dict):
+            _merge(node[k], v)
+        else:
+            node[k] = v
+
+
 def _set(data: dict, path: str, value):
+    """Set `value` at a dotted path; a table is merged (deeply) into the table there.
+    The path "" is the scene itself (a value such as {model = {...}, mesh = {...}})."""
+    if path == "":
+        if not isinstance(value, dict):
+            raise StudyError("a parameter at the scene root (path = \"\") needs tables as values")
+        _merge(data, value)
+        return
     keys = path.split(".")
     node = data
     for k in keys[:-1]:
@@ -212,7 +227,7 @@ def _set(data: dict, path: str, value):
         if not isinstance(node, dict):
             raise StudyError(f"'{path}': '{k}' is not a table in the base scene")
     if isinstance(value, dict) and isinstance(node.get(keys[-1]), dict):
-        node[keys[-1]] = {**node[keys[-1]], **value}
+        _merge(node[keys[-1]], value)
     else:
         node[keys[-1]] = value
 
@@ -247,7 +262,7 @@ def load_study(path) -> Study:
     known = _known_paths()
     for p in spec.parameters:
         for dotted in p.paths:
-            if dotted.split(".")[0] not in known:
+            if dotted and dotted.split(".")[0] not in known:
                 raise StudyError(f"parameters: unknown scene path '{dotted}'; it must start with one of "
                                  f"{', '.join(sorted(known))}")
     points = study.points()

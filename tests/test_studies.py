@@ -208,3 +208,9 @@ def test_duplicate_parameter_names_are_refused(tmp_path, capsys):
     p = write_study(tmp_path, extra='[[parameters]]\npath = "model.silicone"\nvalues = ["yeoh"]\n')
     assert main(["study", "run", str(p), "--workers", "1", "--quiet", "--out", str(tmp_path / "o")]) == 2
     assert "two parameters are named 'silicone'" in capsys.readouterr().err
+
+
+def test_a_root_parameter_merges_tables_deeply():
+    data = {"model": {"type": "plane_strain", "silicone": "linear"}, "mesh": {"size": "0.5 mm", "order": 2}}
+    S._set(data, "", {"model": {"type": "3d"}, "mesh": {"size": "1 mm"}})
+    assert data == {"model": {"type": "3d", "silicone": "linear"}, "mesh": {"size": "1 mm", "order": 2}}
