@@ -5,6 +5,7 @@
     taxel mesh SCENE -o FILE          (.msh with physical groups, or .vtu/.xdmf via meshio)
     taxel study run STUDY [--out DIR] [--workers N] [--scheduler ADDR] [--retry-failed]
     taxel study status DIR | taxel study export DIR --csv FILE
+    taxel optimize OPT [--out DIR] [--workers N]
     taxel examples
 
 SCENE is a TOML file or the name of a built-in example. Bad input exits with
@@ -152,6 +153,51 @@ def _write_rows(rows, path):
         w.writerows(rows)
 
 
+def _optimize(args):
+    import numpy as np
+
+    from optimize import problem as O
+    from optimize.report import write_front, write_run
+    path = args.file
+    probe = O.load_problem(path)
+    out = Path(args.out or Path("out") / probe.spec.name)
+    out.mkdir(parents=True, exist_ok=True)
+    prob = O.load_problem(path, out)
+    resolved = path if Path(path).is_file() else O.BUILTIN / f"{path}.toml"
+    reference = None
+    if prob.spec.reference:
+        x_ref = np.array([O._magnitude(prob.spec.reference[n], u, f"reference.{n}")[0]
+                          for n, u in zip(prob.names, prob.units)])
+        reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
+        print(f"reference design {reference['x']}: sensitivity {reference['sensitivity']:.4g} V/N, "
+              f"crosstalk {100 * reference['crosstalk']:.2f} %")
+    if prob.spec.pareto:
+        runs = O.front(prob, resolved, workers=args.workers)
+        rows, nd = write_front(prob, runs, reference, out)
+        for r in rows:
+            print(f"  crosstalk <= {100 * r['crosstalk_bound']:.2f} %: sensitivity {r['sensitivity_V_per_N']:.4g} V/N, "
+                  f"crosstalk {100 * r['crosstalk']:.2f} %, "
+                  + ", ".join(f"{n} {r[n]:.3g} {u}" for n, u in zip(prob.names, prob.units)))
+        if reference:
+            dominated = any(s >= reference["sensitivity"] * (1 + 1e-3) and c <= reference["crosstalk"] * (1 - 1e-3)
+                            for s, c in nd)
+            print(f"the reference design is {'DOMINATED (not on the front)' if dominated else 'on the front'}")
+        from studies.study import Store
+        store = Store(out)
+        solves = len(store.rows())
+        store.close()
+        print(f"front: {len(rows)} runs, {sum(r.nfev for _, r in runs)} optimizer evaluations, "
+              f"{solves} distinct FEM solves in the store; {out / 'pareto.png'}")
+        return 0
+    result = O.optimize(prob)
+    rec = write_run(prob, result, out)
+    print(f"{'optimum' if result.success else 'best found (constraints violated)'}: "
+          + ", ".join(f"{n} = {v:.4g}" for n, v in rec["x"].items())
+          + f"; {result.nfev} evaluations; {result.message}")
+    print("metrics: " + ", ".join(f"{k} {v:.4g}" for k, v in result.metrics.items() if v is not None))
+    return 0 if result.success else EXIT_FAILED
+
+
 def _mesh(args):
     from meshing.build import build, export
     from meshing.layout import layout
@@ -247,6 +293,11 @@ def main(argv=None):
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--csv", metavar="FILE", help="export: the CSV to write")
     p.set_defaults(run=_study)
+    p = sub.add_parser("optimize", help="optimize a design (nlopt), or its sensitivity-crosstalk front")
+    p.add_argument("file", help="an optimization TOML file or a built-in name")
+    p.add_argument("--out", metavar="DIR", help="results folder (default out/NAME); its store caches every design")
+    p.add_argument("--workers", type=int, default=2, help="Dask workers for the front's runs")
+    p.set_defaults(run=_optimize)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)
     p = sub.add_parser("material", help="material tools (hyperelastic fits)")

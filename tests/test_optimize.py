@@ -1,0 +1,116 @@
+"""Optimization: the driver on problems with known optima and a known front; a
+coarse FEM optimization that converges and reruns from the cache; bad files."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from optimize import driver
+from optimize.problem import load_problem, optimize
+from studies.cli import main
+from studies.study import Store
+
+
+def test_bound_constrained_rosenbrock():
+    ev = lambda x: {"f": (1 - x[0]) ** 2 + 100 * (x[1] - x[0] ** 2) ** 2}      # noqa: E731
+    r = driver.minimize(ev, [-1, 2], [(-2, 2), (-1, 3)], "f", local_alg="BOBYQA", max_evals=400, xtol=1e-8)
+    np.testing.assert_allclose(r.x, [1, 1], atol=1e-4)
+    assert r.success
+
+
+def test_constrained_problem_and_active_constraint():
+    """min x^2 + y^2 subject to x + y >= 1: the optimum (0.5, 0.5) on the constraint."""
+    ev = lambda x: {"f": x[0] ** 2 + x[1] ** 2, "s": x[0] + x[1]}             # noqa: E731
+    r = driver.minimize(ev, [1, 1], [(-2, 2), (-2, 2)], "f", [("s", ">=", 1.0)], max_evals=200, xtol=1e-8)
+    np.testing.assert_allclose(r.x, [0.5, 0.5], atol=1e-4)
+    assert r.success and abs(r.constraints["s >= 1"]) < 1e-6
+
+
+def test_maximize_with_isres_global_pass():
+    ev = lambda x: {"g": np.exp(-((x[0] - 0.3) ** 2 + (x[1] + 0.2) ** 2))}   # noqa: E731
+    r = driver.minimize(ev, [1.5, 1.5], [(-2, 2), (-2, 2)], "g", maximize=True, global_alg="ISRES",
+                        local_alg="SBPLX", max_evals=600, xtol=1e-8)
+    np.testing.assert_allclose(r.x, [0.3, -0.2], atol=1e-3)
+
+
+def test_epsilon_constraint_recovers_a_known_front():
+    """Maximize S = 1 - x^2 subject to C = (1 - x)^2 <= eps, x in [0, 1]: the front
+    is S(eps) = 1 - (1 - sqrt(eps))^2."""
+    ev = lambda x: {"S": 1 - x[0] ** 2, "C": (1 - x[0]) ** 2}                  # noqa: E731
+    pts = []
+    for eps in (0.05, 0.2, 0.4, 0.6, 0.8):
+        r = driver.minimize(ev, [0.9], [(0.0, 1.0)], "S", [("C", "<=", eps)], maximize=True,
+                            max_evals=150, xtol=1e-9)
+        assert r.metrics["S"] == pytest.approx(1 - (1 - np.sqrt(eps)) ** 2, abs=1e-4)
+        pts.append((r.metrics["S"], r.metrics["C"]))
+    assert len(driver.pareto_front(pts)) == len(pts)
+
+
+def coarse_problem(tmp_path):
+    text = """
+base = "thesis-pzt-single-2d"
+[variables]
+silicone_above = {path = "array.silicone_above", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
+[objective]
+maximize = "sensitivity"
+[constraints]
+total_thickness = "<= 2.127 mm"
+max_strain = "<= 5"
+[algorithm]
+global = "none"
+local = "COBYLA"
+max_evaluations = 15
+xtol = 0.01
+"""
+    p = tmp_path / "opt.toml"
+    p.write_text(text)
+    return p
+
+
+def test_coarse_fem_optimization_converges_and_reruns_from_the_cache(tmp_path):
+    """One variable (silicone above, below fixed at 1 mm): the sensitivity rises
+    with the top silicone (Fig. 2.5), so the optimum is the thickness limit
+    (1 mm on top); COBYLA finds it within 15 evaluations, and a rerun solves
+    nothing new."""
+    path = coarse_problem(tmp_path)
+    out = tmp_path / "out"
+    r = optimize(load_problem(path, out))
+    assert r.success and r.nfev <= 15
+    assert r.x[0] == pytest.approx(1.0, abs=0.02)
+    n_solved = len(Store(out).rows())
+    again = optimize(load_problem(path, out))
+    assert len(Store(out).rows()) == n_solved                      # every design from the store
+    np.testing.assert_allclose(again.x, r.x)
+
+
+def test_cli_writes_optimum_history_and_plots(tmp_path, capsys):
+    path = coarse_problem(tmp_path)
+    assert main(["optimize", str(path), "--out", str(tmp_path / "o")]) == 0
+    rec = json.loads((tmp_path / "o" / "optimum.json").read_text())
+    assert rec["success"] and rec["x"]["silicone_above"] == pytest.approx(1.0, abs=0.02)
+    assert (tmp_path / "o" / "optimum-convergence.png").stat().st_size > 1000
+    assert len((tmp_path / "o" / "optimum-history.csv").read_text().splitlines()) == rec["evaluations"] + 1
+
+
+BAD = [
+    ("infeasible", ('[constraints]\ntotal_thickness = "<= 2.127 mm"', '[constraints]\ntotal_thickness = "<= 0.1 mm"'),
+     "cannot be met"),
+    ("empty-bounds", ('min = "0.2 mm", max = "1.8 mm"', 'min = "1.8 mm", max = "0.2 mm"'), "empty bounds"),
+    ("unknown-path", ('path = "array.silicone_above"', 'path = "arry.silicone_above"'), "unknown scene path"),
+    ("unit-mismatch", ('max = "1.8 mm"', 'max = "1.8 N"'), "unit mismatch"),
+    ("start-outside", ('start = "1 mm"', 'start = "3 mm"'), "outside"),
+    ("bad-constraint", ('"<= 2.127 mm"', '"< 2.127 mm"'), "<="),
+    ("unknown-metric", ("max_strain = \"<= 5\"", "stiffness = \"<= 5\""), "constraints.stiffness"),
+    ("unknown-algorithm", ('local = "COBYLA"', 'local = "NEWUOA"'), "algorithm.local"),
+]
+
+
+@pytest.mark.parametrize("change,words", [pytest.param(c, w, id=i) for i, c, w in BAD])
+def test_bad_optimization_files_exit_2(tmp_path, capsys, change, words):
+    path = coarse_problem(tmp_path)
+    path.write_text(path.read_text().replace(*change))
+    assert main(["optimize", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("taxel: error:") and words in err[0]
