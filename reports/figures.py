@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import sys
 
+import io
+
 import numpy as np
 
 
@@ -142,3 +144,94 @@ def study_plots(rows, parameters, outputs, folder, title=""):
             plt.close(fig)
             files.append(path)
     return files
+
+
+def scene_drawing(scene):
+    """The scene's cross-section to scale (x-z, mm): layers, taxels, load footprint,
+    with dimensions and materials. Returns a matplotlib figure."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
+
+    from meshing.layout import layout
+    lay = layout(scene)
+    x0, x1 = lay.x_range
+    fig, ax = plt.subplots(figsize=(9, 3.2), constrained_layout=True)
+    colours = {}
+    palette = ["#cfe3f3", "#f6c89f", "#c7e9c0", "#e5c6e8", "#f2e394"]
+    for L in lay.layers:
+        c = colours.setdefault(L.material, palette[len(colours) % len(palette)])
+        ax.add_patch(Rectangle((x0 * 1e3, L.z0 * 1e3), (x1 - x0) * 1e3, L.thickness * 1e3, fc=c, ec="0.4", lw=0.6))
+        for p in L.patches:
+            cp = colours.setdefault(L.patch_material, palette[len(colours) % len(palette)])
+            ax.add_patch(Rectangle(((p.x - p.half) * 1e3, L.z0 * 1e3), 2 * p.half * 1e3, L.thickness * 1e3,
+                                   fc=cp, ec="k", lw=0.8))
+    H = lay.height * 1e3
+    if lay.load is not None:
+        a, b = (lay.load.x - lay.load.half) * 1e3, (lay.load.x + lay.load.half) * 1e3
+    else:
+        a, b = x0 * 1e3, x1 * 1e3
+    for xa in np.linspace(a, b, 7):
+        ax.annotate("", (xa, H), (xa, H + 0.6), arrowprops=dict(arrowstyle="->", color="crimson"))
+    load = scene.load
+    what = f"{load.force:g} N" if load.kind != "pressure" else f"{load.pressure:g} Pa"
+    ax.text((a + b) / 2, H + 0.7, f"{load.kind}: {what}", ha="center", color="crimson", fontsize=8)
+    for L in lay.layers:
+        ax.text(x1 * 1e3 + 0.3, (L.z0 + L.thickness / 2) * 1e3, f"{L.thickness * 1e3:g} mm", va="center", fontsize=7)
+    if lay.taxels:
+        p = lay.taxels[0]
+        ax.annotate("", ((p.x - p.half) * 1e3, -0.35), ((p.x + p.half) * 1e3, -0.35),
+                    arrowprops=dict(arrowstyle="<->", lw=0.7))
+        ax.text(p.x * 1e3, -0.75, f"{2 * p.half * 1e3:g} mm", ha="center", fontsize=7)
+        if len(lay.taxels) > 1:
+            q = lay.taxels[1]
+            ax.annotate("", ((p.x + p.half) * 1e3, -0.35), ((q.x - q.half) * 1e3, -0.35),
+                        arrowprops=dict(arrowstyle="<->", lw=0.7, color="0.3"))
+            ax.text((p.x + p.half + q.x - q.half) / 2 * 1e3, -0.75, f"gap {(q.x - q.half - p.x - p.half) * 1e3:g} mm",
+                    ha="center", fontsize=7)
+    handles = [Rectangle((0, 0), 1, 1, fc=c, ec="0.4") for c in colours.values()]
+    ax.legend(handles, list(colours), loc="upper right", fontsize=7, ncol=len(colours))
+    ax.set_xlim(x0 * 1e3 - 0.5, x1 * 1e3 + 2.5)
+    ax.set_ylim(-1.2, H + 1.6)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)" if lay.model != "axisymmetric" else "r (mm)")
+    ax.set_ylabel("z (mm)")
+    ax.set_title(f"{scene.name}: {lay.model.replace('_', ' ')}"
+                 + (f", depth {lay.depth * 1e3:g} mm" if lay.model.startswith("plane") else ""), fontsize=9)
+    return fig
+
+
+def pyvista_render(sol, field="phi", window=(900, 420)) -> bytes:
+    """Off-screen pyvista render of the deformed mesh coloured by a field
+    (potential by default); 2D meshes are drawn in their x-z plane. PNG bytes."""
+    import pyvista as pv
+    pv.OFF_SCREEN = True
+    m = sol.mesh.mesh
+    pts = m.p.T * 1e3
+    u = sol.fields["u"] * 1e3
+    if m.dim() == 2:
+        pts = np.column_stack([pts[:, 0], np.zeros(len(pts)), pts[:, 1]])
+        u = np.column_stack([u[:, 0], np.zeros(len(u)), u[:, 1]])
+        cells = np.hstack([np.full((m.t.shape[1], 1), 3), m.t.T]).ravel()
+        grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TRIANGLE), pts + u)
+    else:
+        cells = np.hstack([np.full((m.t.shape[1], 1), 4), m.t.T]).ravel()
+        grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TETRA), pts + u)
+    grid.point_data[field] = sol.fields[field]
+    if m.dim() == 3:                  # cut through the pressed taxel: the piezo's potential is inside
+        grid = grid.clip(normal="-y", origin=(0.0, float(np.mean(pts[:, 1])), 0.0))
+    plotter = pv.Plotter(off_screen=True, window_size=window)
+    plotter.add_mesh(grid, scalars=field, cmap="coolwarm", show_edges=m.dim() == 2, edge_color="lightgray",
+                     line_width=0.3, scalar_bar_args={"title": "potential (V)" if field == "phi" else field})
+    if m.dim() == 2:
+        plotter.view_xz()
+    else:
+        plotter.view_isometric()
+    plotter.add_text(f"{sol.scene.name}: deformed (x1), coloured by {field}", font_size=9)
+    img = plotter.screenshot(return_img=True)
+    plotter.close()
+    import matplotlib.image as mpimg
+    buf = io.BytesIO()
+    mpimg.imsave(buf, img, format="png")
+    return buf.getvalue()

@@ -6,6 +6,8 @@
     taxel study run STUDY [--out DIR] [--workers N] [--scheduler ADDR] [--retry-failed]
     taxel study status DIR | taxel study export DIR --csv FILE
     taxel optimize OPT [--out DIR] [--workers N]
+    taxel report DIR... --out OUT [--pdf]
+    taxel demo [--out DIR] [--small]
     taxel examples
 
 SCENE is a TOML file or the name of a built-in example. Bad input exits with
@@ -43,11 +45,18 @@ def _out_dir(args, scene):
     return out
 
 
-def _print_output(o):
+def _print_output(o, out=None):
     for line in o.summary:
         print(line)
     for f in o.files:
         print(f"wrote {f}")
+    if out is not None:
+        (out / "summary.txt").write_text("\n".join(o.summary) + "\n")
+
+
+def _write_scene(out, scene):
+    from studies.scene import to_data
+    (out / "scene.json").write_text(json.dumps(to_data(scene), indent=1))
 
 
 def _solve(args):
@@ -56,12 +65,18 @@ def _solve(args):
     scene = load(args.scene)
     if scene.analysis.type != "static":
         from studies import run
-        _print_output(getattr(run, scene.analysis.type)(scene, _out_dir(args, scene)))
+        out = _out_dir(args, scene)
+        _write_scene(out, scene)
+        _print_output(getattr(run, scene.analysis.type)(scene, out), out)
         return
     sol = solve(scene, solver=args.solver)
     if args.vtu:
         export(sol.mesh, args.vtu, point_data={"u": sol.fields["u"], "phi": sol.fields["phi"]},
                cell_data={"strain": sol.fields["strain"], "stress": sol.fields["stress"]})
+    if args.out:
+        out = _out_dir(args, scene)
+        _write_scene(out, scene)
+        (out / "result.json").write_text(json.dumps(sol.record(), indent=1))
     if args.json:
         print(json.dumps(sol.record()))
         return
@@ -108,6 +123,7 @@ def _study(args):
         out.mkdir(parents=True, exist_ok=True)
         spec_copy = out / "study.json"
         spec_copy.write_text(st.spec.model_dump_json(indent=1))
+        _write_scene(out, load_scene_data(st.base_data()))
         summary = S.run(st, out, workers=args.workers, scheduler=args.scheduler,
                         retry_failed=args.retry_failed, progress=not args.quiet)
         rows = S.tidy_rows(out, st)
@@ -163,6 +179,7 @@ def _optimize(args):
     out = Path(args.out or Path("out") / probe.spec.name)
     out.mkdir(parents=True, exist_ok=True)
     prob = O.load_problem(path, out)
+    _write_scene(out, load_scene_data(prob.scene_data(prob.x0)))
     resolved = path if Path(path).is_file() else O.BUILTIN / f"{path}.toml"
     reference = None
     if prob.spec.reference:
@@ -196,6 +213,80 @@ def _optimize(args):
           + f"; {result.nfev} evaluations; {result.message}")
     print("metrics: " + ", ".join(f"{k} {v:.4g}" for k, v in result.metrics.items() if v is not None))
     return 0 if result.success else EXIT_FAILED
+
+
+def load_scene_data(data):
+    from studies.scene import parse
+    return parse({**data, "name": data.get("name", "scene")})
+
+
+def _report(args):
+    from reports.build import build
+    index = build(args.folders, Path(args.out), pdf=args.pdf, compare=not args.no_compare)
+    print(f"report: {index.resolve()}")
+
+
+def _demo(args):
+    """The main job: the thesis study, optimization and dynamics, then the report."""
+    import time as _time
+    from optimize import problem as O
+    from optimize.report import write_front, write_run
+    from studies import run as R
+    from studies import study as S
+    from studies.scene import load as load_scene
+    t0 = _time.perf_counter()
+    root = Path(args.out)
+    root.mkdir(parents=True, exist_ok=True)
+    folders = []
+    print("[1/4] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
+    st = S.load_study("fig-2-5")
+    if args.small:
+        st.spec = st.spec.model_copy(update={"parameters": [
+            p.model_copy(update={"values": p.values[:1], "labels": (p.labels or [None])[:1] if p.labels else None})
+            if p.values else p.model_copy(update={"step": None, "num": 2}) for p in st.spec.parameters]})
+    out = root / "fig-2-5"
+    out.mkdir(exist_ok=True)
+    (out / "study.json").write_text(st.spec.model_dump_json(indent=1))
+    _write_scene(out, load_scene_data(st.base_data()))
+    summ = S.run(st, out, workers=1 if args.small else 2, progress=True)
+    rows = S.tidy_rows(out, st)
+    _write_rows(rows, out / "results.csv")
+    from reports.figures import study_plots
+    study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "max_strain"], out / "plots",
+                st.spec.name)
+    folders.append(out)
+    print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
+    print("[2/4] optimization: the thesis design against the sensitivity-crosstalk front")
+    out = root / "thesis-pzt-front"
+    out.mkdir(exist_ok=True)
+    prob = O.load_problem("thesis-pzt-front", out)
+    _write_scene(out, load_scene_data(prob.scene_data(prob.x0)))
+    import numpy as np
+    x_ref = np.array([O._magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
+    reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
+    if args.small:
+        prob.spec = prob.spec.model_copy(update={"algorithm": prob.spec.algorithm.model_copy(
+            update={"max_evaluations": 6, "global_": "none"})})
+        write_run(prob, O.optimize(prob), out)
+    else:
+        runs = O.front(prob, O.BUILTIN / "thesis-pzt-front.toml", workers=2)
+        write_front(prob, runs, reference, out)
+    folders.append(out)
+    print("[3/4] frequency response through the charge amplifier and notch; step through 500 MOhm")
+    for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
+        scene = load_scene(name)
+        if args.small:
+            scene = scene.model_copy(update={"analysis": scene.analysis.model_copy(
+                update={"points": 20, "duration": 0.05})})
+        out = root / name
+        out.mkdir(exist_ok=True)
+        _write_scene(out, scene)
+        _print_output(getattr(R, scene.analysis.type)(scene, out), out)
+        folders.append(out)
+    print("[4/4] report")
+    from reports.build import build
+    index = build(folders, root / "report", compare=not args.small)
+    print(f"done in {_time.perf_counter() - t0:.0f} s; open {index.resolve()}")
 
 
 def _mesh(args):
@@ -272,8 +363,8 @@ def main(argv=None):
     p.add_argument("--json", action="store_true", help="print one JSON record")
     p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
     p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack"])
-    p.add_argument("--out", metavar="DIR", help="folder for CSV and PNG of frequency/transient analyses "
-                   "(default out/SCENE)")
+    p.add_argument("--out", metavar="DIR", help="folder for the outputs (scene.json, result.json; CSV and PNG "
+                   "of frequency/transient analyses; default for those: out/SCENE)")
     p.set_defaults(run=_solve)
     p = sub.add_parser("lumped", help="the 3-DoF lumped model's answer to a scene (frequency response)")
     p.add_argument("scene")
@@ -298,6 +389,16 @@ def main(argv=None):
     p.add_argument("--out", metavar="DIR", help="results folder (default out/NAME); its store caches every design")
     p.add_argument("--workers", type=int, default=2, help="Dask workers for the front's runs")
     p.set_defaults(run=_optimize)
+    p = sub.add_parser("report", help="self-contained HTML reports of result folders, and an index")
+    p.add_argument("folders", nargs="+", help="study, optimization or solve folders")
+    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--pdf", action="store_true", help="also a PDF of each page (needs Chromium)")
+    p.add_argument("--no-compare", action="store_true", help="skip the model comparison (faster)")
+    p.set_defaults(run=_report)
+    p = sub.add_parser("demo", help="the main job: thesis study, optimization, dynamics and the report")
+    p.add_argument("--out", default="out/demo", metavar="DIR")
+    p.add_argument("--small", action="store_true", help="a reduced run (for CI)")
+    p.set_defaults(run=_demo)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)
     p = sub.add_parser("material", help="material tools (hyperelastic fits)")

@@ -63,6 +63,7 @@ def _quantity(unit: str, what: str, positive=False, nonnegative=False):
         if nonnegative and x < 0:
             raise ValueError(f"must not be negative, got {v!r}")
         return x
+    parse.unit = unit
     return BeforeValidator(parse)
 
 
@@ -367,3 +368,30 @@ def refined(scene: Scene, factor: float) -> Scene:
         "piezo_layers": max(1, round(m.piezo_layers * factor)),
     })
     return scene.model_copy(update={"mesh": mesh})
+
+
+def to_data(model: BaseModel) -> dict:
+    """A scene (or part) as a TOML-like dict that `parse` reads back: quantities as
+    strings with their SI unit ("0.001 m"), everything else as is."""
+    import typing
+    out = {}
+    for name, info in type(model).model_fields.items():
+        value = getattr(model, name)
+        if value is None:
+            continue
+        unit = next((getattr(m.func, "unit", None) for m in info.metadata if hasattr(m, "func")), None)
+        if unit is None:                                  # tuple[Coordinate, Coordinate] and friends
+            for arg in typing.get_args(info.annotation):
+                for m in getattr(arg, "__metadata__", ()):
+                    unit = getattr(getattr(m, "func", None), "unit", unit)
+        if isinstance(value, BaseModel):
+            out[name] = to_data(value)
+        elif isinstance(value, list) and value and isinstance(value[0], BaseModel):
+            out[name] = [to_data(v) for v in value]
+        elif unit and isinstance(value, float):
+            out[name] = f"{value!r} {unit}"
+        elif unit and isinstance(value, tuple):
+            out[name] = [f"{v!r} {unit}" for v in value]
+        else:
+            out[name] = list(value) if isinstance(value, tuple) else value
+    return out

@@ -127,10 +127,15 @@ class Study:
         u = qmc.LatinHypercube(d=len(axes), seed=self.spec.seed).random(self.spec.samples)
         return [{n: ax(float(x)) for n, ax, x in zip(names, axes, row)} for row in u]
 
-    def scene_data(self, point: dict) -> dict:
+    def base_data(self) -> dict:
+        """The base scene with the study's fixed overrides (no parameter applied)."""
         data = json.loads(json.dumps(self.base))
         for path, value in self.spec.fidelity.items():
             _set(data, path, value)
+        return data
+
+    def scene_data(self, point: dict) -> dict:
+        data = self.base_data()
         for p in self.spec.parameters:
             for path in p.paths:
                 _set(data, path, _value(point[p.name]))
