@@ -1,4 +1,4 @@
-# Two entry points: `make demo` (set up, solve the thesis PZT taxel) and `make test`.
+# Two entry points: `make demo` (set up, run the main job, build the report) and `make test`.
 PY ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
@@ -12,8 +12,7 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 demo: $(STAMP)
-	$(VENV)/bin/taxel solve thesis-pzt-single-2d
-	$(VENV)/bin/taxel solve thesis-pzt-3x3-2d
+	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/taxel demo --out out/demo
 
 test: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q $(PYTEST_ARGS)

@@ -53,7 +53,8 @@ def write_front(problem, runs, reference, out: Path):
            if r.success and r.metrics["sensitivity"] is not None]
     nd = pareto_front([(s, c) for s, c, *_ in pts])
     rows = [{"crosstalk_bound": eps, "sensitivity_V_per_N": s, "crosstalk": c,
-             **dict(zip(problem.names, map(float, r.x)))} for s, c, eps, r in pts]
+             **{f"{n} ({u})": float(v) for n, u, v in zip(problem.names, problem.units, r.x)}}
+            for s, c, eps, r in pts]
     (out / "front.json").write_text(json.dumps({"front": rows, "reference": reference}, indent=1))
     fig, ax = plt.subplots(figsize=(6.5, 4.2), constrained_layout=True)
     from optimize.driver import _g

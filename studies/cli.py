@@ -194,7 +194,7 @@ def _optimize(args):
         for r in rows:
             print(f"  crosstalk <= {100 * r['crosstalk_bound']:.2f} %: sensitivity {r['sensitivity_V_per_N']:.4g} V/N, "
                   f"crosstalk {100 * r['crosstalk']:.2f} %, "
-                  + ", ".join(f"{n} {r[n]:.3g} {u}" for n, u in zip(prob.names, prob.units)))
+                  + ", ".join(f"{n} {r[f'{n} ({u})']:.3g} {u}" for n, u in zip(prob.names, prob.units)))
         if reference:
             dominated = any(s >= reference["sensitivity"] * (1 + 1e-3) and c <= reference["crosstalk"] * (1 - 1e-3)
                             for s, c in nd)
