@@ -41,16 +41,15 @@ the range and the local initial step (0.1) sit well above it.
 from __future__ import annotations
 
 import json
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from optimize import driver
-from studies.scene import EXAMPLES, SceneError, _one_line, _ureg, parse
+from studies.scene import SceneError, _ureg, parse
 from studies.study import Store, _evaluate_safely, _set, point_key
 
 METRICS = ("sensitivity", "crosstalk", "max_strain", "total_thickness", "footprint", "gap")
@@ -173,29 +172,8 @@ def _magnitude(v, unit=None, what=""):
 
 
 def load_problem(path, out: Path | None = None) -> Problem:
-    path = Path(path)
-    if not path.is_file():
-        builtin = BUILTIN / f"{path}.toml"
-        if not builtin.exists():
-            names = ", ".join(sorted(p.stem for p in BUILTIN.glob("*.toml")))
-            raise OptimizeError(f"no optimization file '{path}' and no built-in one of that name; built-in: {names}")
-        path = builtin
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise OptimizeError(f"{path}: not a valid UTF-8 TOML file: {exc}") from None
-    data.setdefault("name", path.stem)
-    try:
-        spec = OptSpec.model_validate(data)
-    except ValidationError as err:
-        raise OptimizeError(_one_line(err)) from None
-    base_path = path.parent / spec.base
-    if not base_path.is_file():
-        base_path = EXAMPLES / f"{spec.base}.toml"
-    if not base_path.is_file():
-        raise OptimizeError(f"base = '{spec.base}': no such scene file or built-in example")
-    base = tomllib.loads(base_path.read_text(encoding="utf-8"))
-    base.pop("name", None)
+    from studies.study import read_spec
+    spec, base, path = read_spec(path, BUILTIN, OptSpec, OptimizeError, "optimization")
     lo, hi, x0, units = [], [], [], []
     from studies.study import _known_paths
     for name, var in spec.variables.items():
@@ -288,13 +266,10 @@ def front(problem: Problem, problem_path, workers=2) -> list[tuple[float, driver
 def _spread(problem_path, out, eps, max_evals, workers):
     if workers <= 1:
         return [_front_run(problem_path, out, e, max_evals) for e in eps]
-    import dask
-    from dask.distributed import Client, LocalCluster
-    one = {v: "1" for v in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
-    with dask.config.set({"distributed.worker.profile.enabled": False,
-                          "distributed.worker.multiprocessing-method": "fork"}):
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, env=one,
-                               dashboard_address=None, silence_logs=40)
+    from dask.distributed import Client
+
+    from studies.study import local_cluster
+    cluster = local_cluster(workers)
     client = Client(cluster)
     try:
         futs = [client.submit(_front_run, str(problem_path), str(out), e, max_evals, pure=False) for e in eps]

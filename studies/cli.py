@@ -112,8 +112,6 @@ def _lumped(args):
 
 
 def _study(args):
-    import csv
-    import shutil
 
     from reports.figures import study_plots
     from studies import study as S

@@ -2,7 +2,6 @@
 coarse FEM optimization that converges and reruns from the cache; bad files."""
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest

@@ -8,10 +8,9 @@ import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from reports.build import CHROMIUM_FLAGS, ReportError, build, chromium
+from reports.build import CHROMIUM_FLAGS, build, chromium
 from studies.cli import main
 
 
