@@ -21,6 +21,7 @@ import json
 import sys
 from pathlib import Path
 
+from studies.outputs import load_scene_data, print_output, write_rows, write_scene
 from studies.scene import SceneError, examples, load
 
 EXIT_INPUT, EXIT_FAILED = 2, 1
@@ -45,20 +46,6 @@ def _out_dir(args, scene):
     return out
 
 
-def _print_output(o, out=None):
-    for line in o.summary:
-        print(line)
-    for f in o.files:
-        print(f"wrote {f}")
-    if out is not None:
-        (out / "summary.txt").write_text("\n".join(o.summary) + "\n")
-
-
-def _write_scene(out, scene):
-    from studies.scene import to_data
-    (out / "scene.json").write_text(json.dumps(to_data(scene), indent=1))
-
-
 def _solve(args):
     from fem.solve import solve
     from meshing.build import export
@@ -66,8 +53,8 @@ def _solve(args):
     if scene.analysis.type != "static":
         from studies import run
         out = _out_dir(args, scene)
-        _write_scene(out, scene)
-        _print_output(getattr(run, scene.analysis.type)(scene, out), out)
+        write_scene(out, scene)
+        print_output(getattr(run, scene.analysis.type)(scene, out), out)
         return
     sol = solve(scene, solver=args.solver)
     if args.vtu:
@@ -75,7 +62,7 @@ def _solve(args):
                cell_data={"strain": sol.fields["strain"], "stress": sol.fields["stress"]})
     if args.out:
         out = _out_dir(args, scene)
-        _write_scene(out, scene)
+        write_scene(out, scene)
         (out / "result.json").write_text(json.dumps(sol.record(), indent=1))
     if args.json:
         print(json.dumps(sol.record()))
@@ -108,7 +95,7 @@ def _solve(args):
 def _lumped(args):
     from studies import run
     scene = load(args.scene)
-    _print_output(run.lumped_model(scene, _out_dir(args, scene)))
+    print_output(run.lumped_model(scene, _out_dir(args, scene)))
 
 
 def _study(args):
@@ -121,11 +108,11 @@ def _study(args):
         out.mkdir(parents=True, exist_ok=True)
         spec_copy = out / "study.json"
         spec_copy.write_text(st.spec.model_dump_json(indent=1))
-        _write_scene(out, load_scene_data(st.base_data()))
+        write_scene(out, load_scene_data(st.base_data()))
         summary = S.run(st, out, workers=args.workers, scheduler=args.scheduler,
                         retry_failed=args.retry_failed, progress=not args.quiet)
         rows = S.tidy_rows(out, st)
-        _write_rows(rows, out / "results.csv")
+        write_rows(rows, out / "results.csv")
         plots = study_plots(rows, [p.name for p in st.spec.parameters],
                             ["voltage_pressed", "crosstalk", "max_strain"], out / "plots", st.spec.name)
         print(f"{st.spec.name}: {summary.total} points: {summary.done} computed, {summary.cached} cached, "
@@ -152,19 +139,8 @@ def _study(args):
     else:
         if not args.csv:
             raise S.StudyError("study export needs --csv FILE")
-        _write_rows(rows, Path(args.csv))
+        write_rows(rows, Path(args.csv))
         print(f"{len(rows)} rows written to {args.csv}")
-
-
-def _write_rows(rows, path):
-    import csv
-    cols = []
-    for r in rows:
-        cols += [k for k in r if k not in cols]
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=cols)
-        w.writeheader()
-        w.writerows(rows)
 
 
 def _optimize(args):
@@ -177,7 +153,7 @@ def _optimize(args):
     out = Path(args.out or Path("out") / probe.spec.name)
     out.mkdir(parents=True, exist_ok=True)
     prob = O.load_problem(path, out)
-    _write_scene(out, load_scene_data(prob.scene_data(prob.x0)))
+    write_scene(out, load_scene_data(prob.scene_data(prob.x0)))
     resolved = path if Path(path).is_file() else O.BUILTIN / f"{path}.toml"
     reference = None
     if prob.spec.reference:
@@ -213,11 +189,6 @@ def _optimize(args):
     return 0 if result.success else EXIT_FAILED
 
 
-def load_scene_data(data):
-    from studies.scene import parse
-    return parse({**data, "name": data.get("name", "scene")})
-
-
 def _report(args):
     from reports.build import build
     index = build(args.folders, Path(args.out), pdf=args.pdf, compare=not args.no_compare)
@@ -225,66 +196,8 @@ def _report(args):
 
 
 def _demo(args):
-    """The main job: the thesis study, optimization and dynamics, then the report."""
-    import time as _time
-    from optimize import problem as O
-    from optimize.report import write_front, write_run
-    from studies import run as R
-    from studies import study as S
-    from studies.scene import load as load_scene
-    t0 = _time.perf_counter()
-    root = Path(args.out)
-    root.mkdir(parents=True, exist_ok=True)
-    folders = []
-    print("[1/4] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
-    st = S.load_study("fig-2-5")
-    if args.small:
-        st.spec = st.spec.model_copy(update={"parameters": [
-            p.model_copy(update={"values": p.values[:1], "labels": (p.labels or [None])[:1] if p.labels else None})
-            if p.values else p.model_copy(update={"step": None, "num": 2}) for p in st.spec.parameters]})
-    out = root / "fig-2-5"
-    out.mkdir(exist_ok=True)
-    (out / "study.json").write_text(st.spec.model_dump_json(indent=1))
-    _write_scene(out, load_scene_data(st.base_data()))
-    summ = S.run(st, out, workers=1 if args.small else 2, progress=True)
-    rows = S.tidy_rows(out, st)
-    _write_rows(rows, out / "results.csv")
-    from reports.figures import study_plots
-    study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "max_strain"], out / "plots",
-                st.spec.name)
-    folders.append(out)
-    print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
-    print("[2/4] optimization: the thesis design against the sensitivity-crosstalk front")
-    out = root / "thesis-pzt-front"
-    out.mkdir(exist_ok=True)
-    prob = O.load_problem("thesis-pzt-front", out)
-    _write_scene(out, load_scene_data(prob.scene_data(prob.x0)))
-    import numpy as np
-    x_ref = np.array([O._magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
-    reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
-    if args.small:
-        prob.spec = prob.spec.model_copy(update={"algorithm": prob.spec.algorithm.model_copy(
-            update={"max_evaluations": 6, "global_": "none"})})
-        write_run(prob, O.optimize(prob), out)
-    else:
-        runs = O.front(prob, O.BUILTIN / "thesis-pzt-front.toml", workers=2)
-        write_front(prob, runs, reference, out)
-    folders.append(out)
-    print("[3/4] frequency response through the charge amplifier and notch; step through 500 MOhm")
-    for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
-        scene = load_scene(name)
-        if args.small:
-            scene = scene.model_copy(update={"analysis": scene.analysis.model_copy(
-                update={"points": 20, "duration": 0.05})})
-        out = root / name
-        out.mkdir(exist_ok=True)
-        _write_scene(out, scene)
-        _print_output(getattr(R, scene.analysis.type)(scene, out), out)
-        folders.append(out)
-    print("[4/4] report")
-    from reports.build import build
-    index = build(folders, root / "report", compare=not args.small)
-    print(f"done in {_time.perf_counter() - t0:.0f} s; open {index.resolve()}")
+    from reports.main_job import run
+    run(Path(args.out), small=args.small)
 
 
 def _mesh(args):
