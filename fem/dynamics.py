@@ -473,7 +473,7 @@ def load_history(a, t=None):
         return tt, np.interp(tt, data[:, 0], data[:, 1])       # in newtons; caller rescales
     tt = np.arange(0.0, a.duration + a.dt / 2, a.dt) if t is None else t
     if a.input == "step":
-        return tt, np.clip(tt / a.rise, 0, 1) - 0.0 * tt
+        return tt, np.clip(tt / a.rise, 0, 1)
     if a.input == "impulse":
         return tt, np.where(tt < a.width, np.sin(np.pi * tt / a.width), 0.0)
     # chirp from f0 to f1 over the duration: phase 2 pi (f0 t + (f1 - f0) t^2 / (2 T))

@@ -513,15 +513,13 @@ def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float
         qsc = float(q - (C @ V)[i])                # Q = Q_sc + C V
         electrodes[k] = ElectrodeResult(k, st if isinstance(st, str) else f"{st:g} V", float(V[i]), q,
                                         qsc, float(C[i, i]))
-    for k in red.ref:
+    for k in red.ref:                          # grounded: the charge is the residual of its rows
         q = float(-r[sy.electrode_dofs[k]].sum())
-        if sy.states[k] == "reference" and not any(sy.states[j] == "ground" for j in red.ref if j != k):
-            q = -sum(e.charge for e in electrodes.values())     # charge is conserved
-        st = sy.states[k]
-        electrodes[k] = ElectrodeResult(k, st, 0.0, q, q, None)
-    if red.active and len(red.ref) == 1:       # with every active electrode grounded
-        electrodes[red.ref[0]].short_circuit_charge = -sum(e.short_circuit_charge for k, e in electrodes.items()
-                                                           if k in red.active)
+        electrodes[k] = ElectrodeResult(k, sy.states[k], 0.0, q, q, None)
+    if len(red.ref) == 1 and red.active:       # charge is conserved: the one grounded electrode
+        ref = electrodes[red.ref[0]]           # carries minus the others' (exactly, not to round-off)
+        ref.charge = -sum(electrodes[k].charge for k in red.active)
+        ref.short_circuit_charge = -sum(electrodes[k].short_circuit_charge for k in red.active)
     dim = sy.tm.mesh.dim()
     ub = next(iter(sy.ubases.values()))
     reaction = np.array([r[np.intersect1d(sy.fixed_u, _component_dofs(ub, c))].sum() for c in range(dim)])

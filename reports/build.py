@@ -75,11 +75,12 @@ def _table(rows, cols=None, limit=40) -> str:
 
 
 def _fmt(v):
-    if isinstance(v, float):
-        return f"{v:.4g}"
+    """A table cell: numbers (also numeric strings from CSV) to 4 significant digits."""
+    if v is None or isinstance(v, bool):
+        return "" if v is None else str(v)
     try:
-        return f"{float(v):.4g}" if isinstance(v, str) and v.replace(".", "", 1).replace("e-", "").replace("-", "").isdigit() else str(v if v is not None else "")
-    except ValueError:
+        return f"{float(v):.4g}"
+    except (TypeError, ValueError):
         return str(v)
 
 
