@@ -420,8 +420,8 @@ def from_record(name: str, rec: dict):
 
 def check_piezo(m: Piezo):
     """Raise unless c and eps^S are symmetric positive definite (a stable material)."""
-    for what, a in (("c", m.c), ("eps", m.eps)):
-        if a.shape != (6, 6) if what == "c" else a.shape != (3, 3):
+    for what, a, shape in (("c", m.c, (6, 6)), ("eps", m.eps, (3, 3))):
+        if a.shape != shape:
             raise ValueError(f"material '{m.name}': {what} has shape {a.shape}")
         if np.linalg.eigvalsh(_sym(a)).min() <= 0:
             raise ValueError(f"material '{m.name}': {what} is not positive definite; check the table's Voigt order")

@@ -204,9 +204,11 @@ def load_problem(path, out: Path | None = None) -> Problem:
     except SceneError as exc:
         raise OptimizeError(f"the starting design is not a valid scene: {exc}") from None
     if "crosstalk" in (list(spec.objective.values()) + [c[0] for c in cons]) or spec.pareto:
-        if scene.array is None or scene.array.rows * scene.array.cols < 2 and scene.model.type != "3d" \
-                and scene.array.cols < 2:
-            raise OptimizeError("crosstalk needs at least two taxels in the base scene (array.cols >= 2)")
+        modelled = None if scene.array is None else \
+            scene.array.rows * scene.array.cols if scene.model.type == "3d" else scene.array.cols
+        if not modelled or modelled < 2:      # a 2D model holds the row through the pressed taxel
+            raise OptimizeError("crosstalk needs at least two modelled taxels in the base scene "
+                                "(array.cols >= 2, or rows x cols >= 2 in 3d)")
     _check_feasible(problem)
     return problem
 

@@ -102,6 +102,7 @@ BAD = [
     ("start-outside", ('start = "1 mm"', 'start = "3 mm"'), "outside"),
     ("bad-constraint", ('"<= 2.127 mm"', '"< 2.127 mm"'), "<="),
     ("unknown-metric", ("max_strain = \"<= 5\"", "stiffness = \"<= 5\""), "constraints.stiffness"),
+    ("crosstalk-one-taxel", ('max_strain = "<= 5"', 'crosstalk = "<= 0.05"'), "two modelled taxels"),
     ("unknown-algorithm", ('local = "COBYLA"', 'local = "NEWUOA"'), "algorithm.local"),
 ]
 
