@@ -605,7 +605,7 @@ def _fields(sy: System, x) -> dict:
     for pb in sy.phibases.values():
         phi_vertex[pb.nodal_dofs[0]] = phi[pb.nodal_dofs[0]]
     return {"u": vertex_u, "phi": phi_vertex, "strain": strain_cell, "stress": stress_cell,
-            "max_silicone_strain": float(max_strain)}
+            "max_silicone_strain": float(max_strain), "x": x}       # x: the full solution vector
 
 
 def _max_principal(S, model, mu, lam):
