@@ -11,9 +11,9 @@ Run: MKL_NUM_THREADS=1 python benchmarks/dynamics.py
 
 import numpy as np
 
-from fem import dynamics, lumped
-from fem.solve import solve
-from studies.scene import load, parse
+from taxel.fem import dynamics, lumped
+from taxel.analyses import solve_static as solve
+from taxel.scene import load, parse
 from taxel_2d import median_time     # benchmarks/ is on sys.path when run as a script
 
 

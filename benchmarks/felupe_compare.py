@@ -48,11 +48,11 @@ import time
 
 import numpy as np
 
-from fem.newton import yeoh_terms
-from fem.solve import assemble, solve
-from meshing.build import build
-from meshing.layout import layout
-from studies.scene import parse, user_materials
+from taxel.fem.newton import yeoh_terms
+from taxel.fem.solve import assemble, solve
+from taxel.meshing.build import build
+from taxel.meshing.layout import layout
+from taxel.scene import parse
 
 C_YEOH = (7.83e3, 0.103e3, -0.8)
 K = 1000 * 2 * C_YEOH[0]
@@ -84,14 +84,14 @@ def tagged_mesh(sc, refine=0):
 
 def ours(sc, tm, tol=1e-12):
     """Our solve (assembly + Newton + results) on a prebuilt mesh."""
-    return solve(sc, tagged_mesh=tm, newton={"tol": tol})
+    return solve(sc, tagged_mesh=tm, newton_options={"tol": tol})
 
 
 def our_point_values(sc, sol):
     """Full P2 displacement and support reactions per unit depth, in FELupe's point
     order (vertices, then edge midpoints in skfem's facet order)."""
     sy = assemble(sc, sol.mesh, user_materials(sc), hyperelastic=True)
-    x = sol.fields["x"]
+    x = sol.fields.x
     ub = next(iter(sy.ubases.values()))
     r_y, _ = yeoh_terms(sy, x, with_tangent=False)
     r = (sy.A @ x + r_y - sy.b)[sy.offsets["u"]]
@@ -192,7 +192,7 @@ def compare(sc, tm, **kw):
     nv = sol.mesh.mesh.p.shape[1]
     u_ours, r_ours = our_point_values(sc, sol)
     u_fe, r_fe, iters = felupe_solve(sol.mesh.mesh, sc.load.pressure, **kw)
-    du = np.abs(u_fe[:nv] - sol.fields["u"]).max() / np.abs(sol.fields["u"]).max()
+    du = np.abs(u_fe[:nv] - sol.fields.u).max() / np.abs(sol.fields.u).max()
     du_all = np.abs(u_fe - u_ours).max() / np.abs(u_ours).max()
     dr = np.abs(r_fe - r_ours).max() / np.abs(r_ours).max()
     R_fe = r_fe.sum(axis=0) * DEPTH
@@ -253,9 +253,9 @@ def main():
         t_ours = median_time(lambda: ours(sc, tm))
         t_fe = median_time(lambda: felupe_solve(m))
         top = np.isclose(m.p[1], HEIGHT)
-        uz = c["sol"].fields["u"][top, 1] / HEIGHT
+        uz = c["sol"].fields.u[top, 1] / HEIGHT
         x = m.p[0, top]
-        du_abs = np.abs(c["u_fe"][: m.p.shape[1]] - c["sol"].fields["u"]).max()
+        du_abs = np.abs(c["u_fe"][: m.p.shape[1]] - c["sol"].fields.u).max()
         line = (f"{m.t.shape[1]:>6} {c['sol'].unknowns:>7} {t_ours:>8.3f} {t_fe:>9.3f} {t_fe / t_ours:>8.2f} "
                 f"{c['du']:>11.2e} {du_abs:>9.1e} {c['dr']:>9.1e} {c['R_ours'][1]:>11.6f} {c['R_fe'][1]:>11.6f} "
                 f"{uz[np.argmin(np.abs(x))]:>7.3f}/{uz[np.argmax(x)]:.3f} {str(c['felupe_iterations']):>8}")

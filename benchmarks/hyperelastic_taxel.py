@@ -11,11 +11,11 @@ Run: MKL_NUM_THREADS=1 python benchmarks/hyperelastic_taxel.py
 
 import numpy as np
 
-from fem.newton import NewtonError
-from fem.solve import solve
-from meshing.build import build
-from meshing.layout import layout
-from studies.scene import load
+from taxel.fem.newton import NewtonError
+from taxel.analyses import solve_static as solve
+from taxel.meshing.build import build
+from taxel.meshing.layout import layout
+from taxel.scene import load
 from taxel_2d import median_time     # benchmarks/ is on sys.path when run as a script
 
 
@@ -25,7 +25,7 @@ def with_(scene, silicone, force):
 
 
 def reference(scene):
-    tm = build(layout(scene))
+    tm = mesh(scene)
     v = [solve(scene, tagged_mesh=tm.refined(k) if k else tm).voltages()["taxel_0_0"] for k in range(3)]
     p = np.log2(abs(v[1] - v[0]) / abs(v[2] - v[1]))
     return v[2] + (v[2] - v[1]) / (2 ** p - 1), p

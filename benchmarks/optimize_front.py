@@ -11,8 +11,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from optimize.problem import BUILTIN, front, load_problem, noise, optimize
-from studies.study import Store
+from taxel.optimize.problem import BUILTIN, front, load_problem, noise, optimize
+from taxel.studies.study import Store
 
 
 def main():

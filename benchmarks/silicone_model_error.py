@@ -14,9 +14,9 @@ Run: MKL_NUM_THREADS=1 python benchmarks/silicone_model_error.py
 
 import numpy as np
 
-from fem.newton import NewtonError
-from fem.solve import solve
-from studies.scene import load
+from taxel.fem.newton import NewtonError
+from taxel.analyses import solve_static as solve
+from taxel.scene import load
 
 FORCES = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45]
 

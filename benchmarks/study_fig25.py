@@ -10,7 +10,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from studies import study as S
+from taxel.studies import study as S
 
 
 def timed_run(study, out, workers):

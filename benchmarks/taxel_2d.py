@@ -18,11 +18,11 @@ import time
 
 import numpy as np
 
-from fem import linsolve
-from fem.solve import assemble, solve
-from meshing.build import build
-from meshing.layout import layout
-from studies.scene import load, refined, user_materials
+from taxel.fem import linalg as linsolve
+from taxel.fem.solve import assemble, solve
+from taxel.meshing.build import build
+from taxel.meshing.layout import layout
+from taxel.scene import load, refined
 
 REPEAT = 5
 FACTORS = [0.5, 1, 2, 4]
@@ -44,7 +44,7 @@ def with_order(scene, order):
 def reference_voltage(base):
     """Richardson extrapolation over 4 nested levels (order 2) from a coarse mesh."""
     scene = refined(base, 0.5)
-    tm = build(layout(scene))
+    tm = mesh(scene)
     v = np.array([solve(scene, tagged_mesh=tm.refined(k) if k else tm).voltages()["taxel_0_0"]
                   for k in range(5)])
     p = np.log2(abs(v[-2] - v[-3]) / abs(v[-1] - v[-2]))

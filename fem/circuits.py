@@ -1,6 +1,6 @@
 r"""Readout circuits on the electrodes, exact for a linear taxel.
 
-Port relation of the finite-element model at angular frequency w (fem.dynamics):
+Port relation of the finite-element model at angular frequency w (fem.sweep):
 charges and voltages of the active electrodes obey Q = Q_sc + C V, with
 Q_sc = -C V_oc. A circuit fixes a second relation between Q and V; together
 they give the electrode voltages and currents exactly (Norton equivalent):
@@ -8,25 +8,50 @@ they give the electrode voltages and currents exactly (Norton equivalent):
 * open circuit:  Q = 0,  V = V_oc.
 * resistor R to ground on every electrode: the current leaving an electrode is
   V / R = -dQ/dt, so Q = -V / (i w R) and V = -(C + I / (i w R))^-1 Q_sc.
-  One electrode: V / Q_sc = -i w R / (1 + i w R C)   (REFERENCE.md, up to sign).
+  One electrode: V / Q_sc = -i w R / (1 + i w R C)   (docs/materials.md, up to sign).
   A step of force decays with tau = R C.
 * charge amplifier (TI SLOA033A): the input is a virtual ground through R_i, with
   cable capacitance C_c at the electrode:
       V_out = -(Q_sc / C_f) (i w R_f C_f / (1 + i w R_f C_f)) / (1 + i w R_i (C + C_c))
-  lower cutoff 1 / (2 pi R_f C_f) = 19.4 Hz, upper 1 / (2 pi R_i (C_p + C_c)) (REFERENCE.md
+  lower cutoff 1 / (2 pi R_f C_f) = 19.4 Hz, upper 1 / (2 pi R_i (C_p + C_c)) (docs/materials.md
   errata: the cable capacitance belongs in it).
 * 50 Hz notch: the second-order Butterworth band-stop (the order-1 prototype
   transformed): H = (s^2 + w0^2) / (s^2 + (w0 / Qn) s + w0^2), Qn = f0 / bandwidth.
 
-The resistor is also coupled into the field equations (fem.dynamics.transient,
-and `coupled_resistor` here) where the load changes the mechanics; the tests
+The resistor is also coupled into the field equations (fem.timestep.transient,
+and fem.sweep.coupled_resistor) where the load changes the mechanics; the tests
 check that both routes agree.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Literal
+
 import numpy as np
 from scipy import signal
+
+
+@dataclass(frozen=True)
+class Readout:
+    """The conditioning chain on every active electrode (SI units)."""
+
+    circuit: Literal["open", "resistor", "charge_amplifier"] = "open"
+    R: float = 500e6            # resistor: the input resistance, ohm
+    C_f: float = 820e-12        # charge amplifier feedback capacitor, F (TI SLOA033A)
+    R_f: float = 10e6           # feedback resistor, ohm
+    R_i: float = 10e3           # input resistor, ohm
+    C_c: float = 100e-12        # cable capacitance, F
+    notch: bool = False         # the thesis's 50 Hz second-order Butterworth band-stop
+    notch_frequency: float = 50.0
+    notch_bandwidth: float = 10.0
+
+    @property
+    def label(self) -> str:
+        """What the chain outputs, in words."""
+        what = {"open": "open-circuit voltage", "resistor": f"voltage across {self.R:.3g} ohm",
+                "charge_amplifier": "charge-amplifier output"}[self.circuit]
+        return what + (" + 50 Hz notch" if self.notch else "")
 
 
 def resistor(V_oc, C, omega, R):
@@ -52,8 +77,8 @@ def notch(omega, f0=50.0, bandwidth=10.0):
     return (s ** 2 + w0 ** 2) / (s ** 2 + (w0 * bandwidth / f0) * s + w0 ** 2)
 
 
-def readout(port, r) -> np.ndarray:
-    """What the scene's [readout] reads (nf, na), for a PortResponse `port`."""
+def readout(port, r: Readout) -> np.ndarray:
+    """What the readout chain outputs (nf, na), for a PortResponse `port` (per newton)."""
     omega = 2 * np.pi * port.freqs
     if r.circuit == "open":
         out = port.V_oc

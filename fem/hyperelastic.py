@@ -10,7 +10,7 @@ We use that form because (i) it is the classic nearly incompressible penalty tha
 tends to J = 1 as K/C10 grows, (ii) with P1 pressure it makes the two-field
 Taylor-Hood form identical to the three-field (u, p, Jbar) Hu-Washizu form with
 P1 p and Jbar that FELupe uses (U' is linear in J, so the projections coincide),
-and (iii) K is the user-stated modelling parameter (REFERENCE.md: no sourced
+and (iii) K is the user-stated modelling parameter (docs/materials.md: no sourced
 bulk modulus for Ecoflex).
 
 Weak form (dead load t0 per reference area on the loaded top):
@@ -24,9 +24,9 @@ with P_iso = Psi'(I1b) dI1b/dF, and the consistent tangent
     K_up = \int J F^-T : Grad(du) Dp,     K_pp = -\int dp Dp / K
     A_iso = Psi'' dI1b/dF (x) dI1b/dF + Psi' d2I1b/dF2
 
-Models share one 3x3 F: 3D F = I + Grad u; plane strain F = [[Grad u (2x2), 0],
-[0, 1]]; axisymmetric (r, z, theta) F_33 = 1 + u_r / r. Volume measure as in
-fem.forms (depth, 2 pi r). Plane stress is not offered for Yeoh: an
+Models share one 3x3 F = I + H, H from the kinematics (fem.kinematics): 3D
+Grad u; plane strain [[Grad u (2x2), 0], [0, 0]]; axisymmetric (r, z, theta)
+H_33 = u_r / r. The law itself (Psi, P, dP/dF) is fem.yeoh. Plane stress is not offered for Yeoh: an
 incompressible sheet needs F_33 = 1/J_2D and a condensed tangent; use plane
 strain or axisymmetric (the issue's "own treatment": we say no and explain).
 
@@ -42,107 +42,34 @@ from functools import lru_cache
 import numpy as np
 from skfem import BilinearForm, LinearForm, asm
 
-from fem.forms import measure
-
-I3 = np.eye(3)
-
-
-# --------------------------------------------------------------------------------------
-# Yeoh energy: pure functions of I1b and F (arrays with trailing quadrature axes)
-# --------------------------------------------------------------------------------------
-
-def psi(I1b, C):
-    """Psi = sum_i C_i0 (I1b - 3)^i."""
-    d = I1b - 3
-    return C[0] * d + C[1] * d ** 2 + C[2] * d ** 3
+from taxel.fem.kinematics import Kinematics
+from taxel.fem.yeoh import I3, Yeoh, inv_det, stress, tangent
 
 
-def dpsi(I1b, C):
-    """(Psi', Psi'') with respect to I1b."""
-    d = I1b - 3
-    return C[0] + 2 * C[1] * d + 3 * C[2] * d ** 2, 2 * C[1] + 6 * C[2] * d
+def deformation_gradient(u, x, kin: Kinematics):
+    return I3.reshape(3, 3, *([1] * (u.grad.ndim - 2))) + kin.grad3(u, x)
 
 
-def _inv_det(F):
-    Fm = np.moveaxis(F, (0, 1), (-2, -1))
-    J = np.linalg.det(Fm)
-    Finv = np.moveaxis(np.linalg.inv(Fm), (-2, -1), (0, 1))
-    return J, Finv
-
-
-def stress(F, p, C):
-    """First Piola-Kirchhoff stress P = P_iso + p J F^-T, with J and F^-T."""
-    J, Finv = _inv_det(F)
-    FiT = np.swapaxes(Finv, 0, 1)
-    I1 = np.einsum("ij...,ij...->...", F, F)
-    a = J ** (-2.0 / 3.0)
-    dI1b = a * (2 * F - (2.0 / 3.0) * I1 * FiT)
-    d1, _ = dpsi(a * I1, C)
-    return d1 * dI1b + p * J * FiT, J, FiT
-
-
-def tangent(F, p, C):
-    """dP/dF (3,3,3,3,...) at fixed p: A_iso + p d(J F^-T)/dF.
-
-    d(F^-T)_iJ / dF_kL = -F^-1_Jk F^-1_Li;  dJ/dF = J F^-T;  dI1/dF = 2F;
-    dI1b/dF = a (2F - 2/3 I1 F^-T), a = J^-2/3, da/dF = -2/3 a F^-T.
-    """
-    J, Finv = _inv_det(F)
-    FiT = np.swapaxes(Finv, 0, 1)
-    I1 = np.einsum("ij...,ij...->...", F, F)
-    a = J ** (-2.0 / 3.0)
-    G = 2 * F - (2.0 / 3.0) * I1 * FiT                    # dI1b/dF = a G
-    d1, d2 = dpsi(a * I1, C)
-    X = np.einsum("Jk...,Li...->iJkL...", Finv, Finv)     # -d(F^-T)/dF
-    II = np.einsum("ik,JL->iJkL", I3, I3)[..., None, None]
-    d2I1b = (a * (2 * II - (4.0 / 3.0) * np.einsum("iJ...,kL...->iJkL...", FiT, F)
-                  + (2.0 / 3.0) * I1 * X)
-             - (2.0 / 3.0) * a * np.einsum("kL...,iJ...->iJkL...", FiT, G))
-    A = d2 * a * a * np.einsum("iJ...,kL...->iJkL...", G, G) + d1 * d2I1b
-    A += p * J * (np.einsum("iJ...,kL...->iJkL...", FiT, FiT) - X)
-    return A
-
-
-# --------------------------------------------------------------------------------------
-# kinematics per model and the weak forms
-# --------------------------------------------------------------------------------------
-
-def grad3(u, x, model):
-    """The 3x3 gradient of a vector field (for F = I + grad3(u) and its variations)."""
-    g = u.grad
-    if model == "3d":
-        return np.asarray(g)
-    G = np.zeros((3, 3) + g.shape[2:])
-    G[:2, :2] = g
-    if model == "axisymmetric":
-        G[2, 2] = u[0] / x[0]
-    return G
-
-
-def deformation_gradient(u, x, model):
-    return I3.reshape(3, 3, *([1] * (u.grad.ndim - 2))) + grad3(u, x, model)
-
-
-def state(ub, pb, u, p, C, K, model, with_tangent=True):
+def state(ub, pb, u, p, law: Yeoh, kin: Kinematics, with_tangent=True):
     """Stress, tangent and volume terms at the quadrature points of a region, for
     the current state: computed once per assembly and handed to the forms (a form
     is evaluated once per pair of local basis functions)."""
     x = np.asarray(ub.global_coordinates())
-    F = deformation_gradient(ub.interpolate(u), x, model)
+    F = deformation_gradient(ub.interpolate(u), x, kin)
     pq = np.asarray(pb.interpolate(p))
-    P, J, FiT = stress(F, pq, C)
-    return dict(P=P, A=tangent(F, pq, C) if with_tangent else None, JFiT=J * FiT, Jm1=J - 1 - pq / K)
+    P, J, FiT = stress(F, pq, law.C)
+    return dict(P=P, A=tangent(F, pq, law.C) if with_tangent else None, JFiT=J * FiT, Jm1=J - 1 - pq / law.K)
 
 
 @lru_cache(maxsize=32)
-def _forms(model, depth, K):
-    """The five forms for one model, depth and bulk modulus (state passed as arrays)."""
+def _forms(kin: Kinematics, K: float):
+    """The five forms for one kinematics and bulk modulus (state passed as arrays)."""
     def dV(w):
-        return measure(w.x, model, depth)
+        return kin.measure(w.x)
 
     @LinearForm
     def r_u(v, w):
-        return np.einsum("ij...,ij...->...", w.P, grad3(v, w.x, model)) * dV(w)
+        return np.einsum("ij...,ij...->...", w.P, kin.grad3(v, w.x)) * dV(w)
 
     @LinearForm
     def r_p(q, w):
@@ -150,11 +77,11 @@ def _forms(model, depth, K):
 
     @BilinearForm
     def k_uu(du, v, w):
-        return np.einsum("ij...,ijkl...,kl...->...", grad3(v, w.x, model), w.A, grad3(du, w.x, model)) * dV(w)
+        return np.einsum("ij...,ijkl...,kl...->...", kin.grad3(v, w.x), w.A, kin.grad3(du, w.x)) * dV(w)
 
     @BilinearForm
     def k_up(dp, v, w):
-        return dp * np.einsum("ij...,ij...->...", w.JFiT, grad3(v, w.x, model)) * dV(w)
+        return dp * np.einsum("ij...,ij...->...", w.JFiT, kin.grad3(v, w.x)) * dV(w)
 
     @BilinearForm
     def k_pp(dp, q, w):
@@ -162,19 +89,19 @@ def _forms(model, depth, K):
     return r_u, r_p, k_uu, k_up, k_pp
 
 
-def residual(ub, pb, st, K, model, depth):
+def residual(ub, pb, st, law: Yeoh, kin: Kinematics):
     """(R_u, R_p) of one region for a precomputed `state`."""
-    r_u, r_p, *_ = _forms(model, depth, K)
+    r_u, r_p, *_ = _forms(kin, law.K)
     return asm(r_u, ub, P=st["P"]), asm(r_p, pb, Jm1=st["Jm1"])
 
 
-def tangent_blocks(ub, pb, st, K, model, depth):
+def tangent_blocks(ub, pb, st, law: Yeoh, kin: Kinematics):
     """(K_uu, K_up, K_pp) of one region for a precomputed `state`."""
-    *_, k_uu, k_up, k_pp = _forms(model, depth, K)
+    *_, k_uu, k_up, k_pp = _forms(kin, law.K)
     return asm(k_uu, ub, A=st["A"]), asm(k_up, pb, ub, JFiT=st["JFiT"]), asm(k_pp, pb)
 
 
-def min_jacobian(ub, u, model):
+def min_jacobian(ub, u, kin: Kinematics):
     """Smallest J over the quadrature points of a basis (<= 0: an inverted element)."""
-    F = deformation_gradient(ub.interpolate(u), np.asarray(ub.global_coordinates()), model)
-    return float(_inv_det(F)[0].min())
+    F = deformation_gradient(ub.interpolate(u), np.asarray(ub.global_coordinates()), kin)
+    return float(inv_det(F)[0].min())

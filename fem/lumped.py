@@ -7,13 +7,13 @@ silicone; force F on the top mass. Newton's second law (thesis eqs. 3.2, 3.6, 3.
     m_p x2'' = k_t (x1 - x2) + b_t (x1' - x2') - k_p (x2 - x3) - b_p (x2' - x3')
     m_b x3'' = k_p (x2 - x3) + b_p (x2' - x3') - k_b x3 - b_b x3'
 
-State X = [x1, x1', x2, x2', x3, x3']. Errata (REFERENCE.md) corrected here:
+State X = [x1, x1', x2, x2', x3, x3']. Errata (docs/materials.md) corrected here:
 the axial stiffness is k = E A / t (eq. 3.5 has E / (t A)); in the last row of A
 the coefficient of x2' (state 4) is +b_p / m_b (eq. 3.9 has -(b_s + b_p)/m_s);
 the output uses the piezo deformation x2 - x3 (states 3 and 5; eq. 3.13 picks
 states 2 and 3).
 
-Parameters from the scene (A = taxel area; t_t, t_p, t_b layer thicknesses):
+Parameters (A = taxel area; t_t, t_p, t_b layer thicknesses):
     masses    m = rho t A of each layer (thesis eq. 3.3);
     piezo     k_p = A / (s33^E t_p), the free patch's axial stiffness (1/s33^E = Y3);
     silicone  k = E_c A / t with the bonded-block compression modulus of Gent
@@ -37,10 +37,9 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as la
-from scipy import signal
 
-from fem import materials
-from studies.scene import Scene, user_materials
+from taxel.fem import materials
+from taxel.fem.problem import Damping
 
 
 @dataclass
@@ -94,21 +93,13 @@ class Lumped:
     def V_oc(self, freqs):
         return -self.Q_sc(freqs) / self.C_p
 
-    def step(self, t):
-        """Short-circuit charge for a force step of the scene's amplitude."""
-        return self.force * signal.step(signal.StateSpace(*self.state_space()), T=t)[1]
 
-
-def from_scene(scene: Scene, confined: bool = False) -> Lumped:
-    """The lumped model of a single-taxel scene (see the module docstring)."""
-    a = scene.array
-    if a is None:
-        raise ValueError("the lumped model describes a taxel array scene ([array])")
-    user = user_materials(scene)
-    piezo, sil = materials.get(a.piezo, user), materials.get(a.silicone, user)
-    A = a.taxel_width ** 2
+def taxel_model(piezo: materials.Piezo, sil: materials.Solid, width: float, t_t: float, t_p: float,
+                t_b: float, force: float, dyn: Damping = Damping(), confined: bool = False) -> Lumped:
+    """The lumped model of one square taxel of `width` (m): silicone t_t above,
+    piezo t_p, silicone t_b below (m), loaded by `force` (N); see the module docstring."""
+    A = width ** 2
     s, d, eps_T = piezo.strain_charge()
-    dyn = scene.dynamics
     w_ref = 2 * np.pi * dyn.reference_frequency
     eta_p = dyn.piezo_loss if dyn.piezo_loss is not None else (1 / piezo.Qm if piezo.Qm else 0.0)
 
@@ -117,10 +108,9 @@ def from_scene(scene: Scene, confined: bool = False) -> Lumped:
             return np.inf
         if confined:
             return (sil.K + 4 * sil.mu / 3) * A / t
-        S = A / (4 * a.taxel_width * t)                 # shape factor of a bonded square pad
+        S = A / (4 * width * t)                 # shape factor of a bonded square pad
         return 3 * sil.mu * (1 + 2 * S ** 2) * A / t
 
-    t_t, t_p, t_b = a.silicone_above, a.piezo_thickness, a.silicone_below
     if confined:
         k_p = piezo.c[2, 2] * A / t_p
         gain = piezo.e[2, 2] * A / t_p
@@ -136,7 +126,6 @@ def from_scene(scene: Scene, confined: bool = False) -> Lumped:
                   max(sil.rho * t_b * A, 1e-3 * piezo.rho * t_p * A)])
     eta = np.array([dyn.silicone_loss, eta_p, dyn.silicone_loss])
     b = eta * k / w_ref + dyn.rayleigh_beta * k + dyn.rayleigh_alpha * m
-    force = scene.load.force if scene.load.kind != "pressure" else scene.load.pressure * A
     return Lumped(m, k, b, gain, C_p, force)
 
 

@@ -23,10 +23,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import cache
+from pathlib import Path
 
 import numpy as np
 
 EPS0 = 8.8541878128e-12  # F/m, CODATA 2018
+
+# Marechal et al. (2021) uniaxial test of Ecoflex 00-30, the data behind the Yeoh sets (fem/data/README.md)
+ECOFLEX_UNIAXIAL_CSV = Path(__file__).parent / "data" / "ecoflex-00-30-uniaxial.csv"
 
 # Voigt index pairs, IEEE order.
 _VOIGT = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)]
@@ -256,7 +260,7 @@ def reduced(material, model: str):
 
 def _pzt5h() -> Piezo:
     """Generic PZT-5H, strain-charge set of Erturk and Inman, Piezoelectric Energy
-    Harvesting (2011), App. E, Table E.1 (REFERENCE.md)."""
+    Harvesting (2011), App. E, Table E.1 (docs/materials.md)."""
     p = 1e-12
     s = _transversely_isotropic_compliance(16.5 * p, -4.78 * p, -8.45 * p, 20.7 * p, 43.5 * p, 42.6 * p)
     d = _pz_d(d31=-274e-12, d33=593e-12, d15=741e-12)
@@ -276,7 +280,7 @@ def _psi5h4e() -> Piezo:
       Poisson ratios nu12 = -s12/s11 = 0.290 and nu13 = -s13/s33 = 0.408 from
       generic PZT-5H (Erturk & Inman), so s12 = -0.290 s11, s13 = -0.408 s33;
       s44 = s55 = 52.4 pm^2/N and d15 = 1000 pC/N from the later sheet of the same
-      family (CTS 3203HD-like, REFERENCE.md); s66 = 2 (s11 - s12);
+      family (CTS 3203HD-like, docs/materials.md); s66 = 2 (s11 - s12);
       eps11^T = 3130 * 3800/3400 eps0 (generic ratio eps11/eps33, scaled);
       eps33^T = 3800 eps0.
     Checks (tests): g33 = d33/eps33^T = 19.3e-3 Vm/N (sheet 19.0e-3), k31 = 0.43
@@ -302,7 +306,7 @@ def _pvdf() -> Piezo:
     d32 = 3 pC/N (uniaxially drawn film, drawing direction = local 1), d15 = d24 = 0,
     isotropic elasticity with E = 3 GPa (the middle of the manual's 2-4 GPa) and
     nu = 0.34 (typical semicrystalline polymer). Thesis Table 2.1 swaps d31/d33 and
-    the g signs (REFERENCE.md errata); these are the manual's values.
+    the g signs (docs/materials.md errata); these are the manual's values.
     """
     E, nu = 3.0e9, 0.34
     s = np.zeros((6, 6))
@@ -319,7 +323,7 @@ def _pvdf() -> Piezo:
 
 # Incompressible Yeoh least-squares fits to the Marechal et al. uniaxial test of Ecoflex
 # 00-30 (Soft Robotics Materials Database; nominal stress vs engineering strain), by
-# the strain range fitted; REFERENCE.md, reproduced by fem.yeoh_fit (tests/test_yeoh_fit.py).
+# the strain range fitted; docs/materials.md, reproduced by fem.yeoh_fit (tests/test_yeoh_fit.py).
 ECOFLEX_YEOH = {
     "fit50": (6.70e3, 1.93e3, -1.07e3),
     "fit100": (7.18e3, 0.619e3, -0.114e3),
@@ -337,7 +341,7 @@ def _ecoflex0030(fit="fit300") -> Solid:
     (fem.yeoh_fit.stability_limit), strains a 1 N press reaches. Linear model:
     mu = 2 C10 (the small-strain limit of the same energy). K = 1000 mu
     (nu = 0.4995) is a modelling choice: no sourced bulk modulus exists.
-    rho = 1070 kg/m^3, eps_r = 2.8 (REFERENCE.md).
+    rho = 1070 kg/m^3, eps_r = 2.8 (docs/materials.md).
     """
     C = ECOFLEX_YEOH[fit]
     name = "Ecoflex-00-30" if fit == "fit300" else f"Ecoflex-00-30-{fit}"

@@ -5,7 +5,7 @@ Residual at load factor lam (fem.hyperelastic for the Yeoh part):
 
     r(x, lam) = A_lin x + R_yeoh(x) - lam b,     tangent K(x) = A_lin + K_yeoh(x)
 
-on the reduced unknowns of fem.solve.reduction (supports and grounded
+on the reduced unknowns of fem.constraints.reduction (supports and grounded
 electrodes eliminated; each open electrode one potential with zero net charge).
 
 Each Newton step solves K dy = -r with the scaled direct solver, then backtracks
@@ -23,8 +23,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem import hyperelastic, linsolve
-from fem.solve import Reduction, Solution, System, place, reduction, results, scaled_solver
+from taxel.fem import hyperelastic, linalg
+from taxel.fem.assembly import System, place
+from taxel.fem.constraints import Reduction, reduction
+from taxel.fem.static import Solution, results
 
 
 class NewtonError(RuntimeError):
@@ -53,20 +55,20 @@ class NewtonResult:
 def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True, by_kind=False):
     """Full-size residual R_yeoh(x) and tangent K_yeoh(x) of every hyperelastic region
     (with `by_kind`, the tangent as {"shear:<region>", "constraint", "volumetric:<region>"},
-    the kinds of fem.solve.assemble, so that loss factors apply to it)."""
+    the kinds of fem.assembly, so that loss factors apply to it)."""
     n = sy.A.shape[0]
-    model, depth = sy.scene.model.type, sy.tm.layout.depth
+    kin = sy.kin
     r = np.zeros(n)
     blocks: dict[str, list] = {}
     u = x[sy.offsets["u"]]
-    for region, (C, K) in sy.yeoh.items():
+    for region, law in sy.yeoh.items():
         ub, pb, pk = sy.ubases[region], sy.pbases[region], ("p", region)
-        st = hyperelastic.state(ub, pb, u, x[sy.offsets[pk]], C, K, model, with_tangent)
-        r_u, r_p = hyperelastic.residual(ub, pb, st, K, model, depth)
+        st = hyperelastic.state(ub, pb, u, x[sy.offsets[pk]], law, kin, with_tangent)
+        r_u, r_p = hyperelastic.residual(ub, pb, st, law, kin)
         r[sy.offsets["u"]] += r_u
         r[sy.offsets[pk]] += r_p
         if with_tangent:
-            Kuu, Kup, Kpp = hyperelastic.tangent_blocks(ub, pb, st, K, model, depth)
+            Kuu, Kup, Kpp = hyperelastic.tangent_blocks(ub, pb, st, law, kin)
             blocks.setdefault(f"shear:{region}", []).append(("u", "u", Kuu))
             blocks.setdefault("constraint", []).extend([("u", pk, Kup), (pk, "u", Kup.T)])
             blocks.setdefault(f"volumetric:{region}", []).append((pk, pk, Kpp))
@@ -78,7 +80,7 @@ def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True, by_kind=False):
 
 def _min_jacobian(sy: System, x):
     u = x[sy.offsets["u"]]
-    return min(hyperelastic.min_jacobian(sy.ubases[r], u, sy.scene.model.type) for r in sy.yeoh)
+    return min(hyperelastic.min_jacobian(sy.ubases[r], u, sy.kin) for r in sy.yeoh)
 
 
 def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0, min_step=1e-2,
@@ -108,7 +110,7 @@ def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0,
             r_y, K_y = yeoh_terms(sy, x_try)
             r = P.T @ (A_lin @ x_try + r_y) - target * b
             K = (P.T @ (A_lin + K_y) @ P).tocsc()
-            solver = scaled_solver(K, red, method)
+            solver = linalg.scaled_solver(K, red.is_u, method)
             D = solver.D
             norm = np.linalg.norm(D * r) / max(np.linalg.norm(D * target * b), 1e-300)
             history.append(float(norm))
@@ -167,6 +169,6 @@ def solve_yeoh(sy: System, method="auto", **kw) -> Solution:
     r = sy.A @ x + r_y - sy.b
     X, resid = solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), np.zeros(1))
     Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
-    sol = results(sy, red, x, r, Cinv, linsolve.resolve(method, red.n), nres.residuals[-1][-1])
+    sol = results(sy, red, x, r, Cinv, linalg.resolve(method, red.n), nres.residuals[-1][-1])
     sol.newton = nres
     return sol

@@ -28,8 +28,7 @@ from pathlib import Path
 import numpy as np
 import skfem
 
-from fem import materials
-from meshing.layout import Layout
+from taxel.meshing.layout import Layout
 
 
 @dataclass
@@ -63,7 +62,7 @@ def _gmsh_model(name="taxel"):
         gmsh.model.remove()
 
 
-def build(lay: Layout, user_materials: dict | None = None, msh_path: str | Path | None = None) -> TaggedMesh:
+def build(lay: Layout, msh_path: str | Path | None = None) -> TaggedMesh:
     """Mesh a layout with gmsh and return the tagged scikit-fem mesh.
 
     `msh_path`: also write the gmsh mesh (with physical groups) there.
@@ -73,19 +72,19 @@ def build(lay: Layout, user_materials: dict | None = None, msh_path: str | Path 
         plan = _plan(occ, lay)
         occ.synchronize()
         for layer in lay.layers:
-            n, heights = _vertical(lay, layer, user_materials)
+            n, heights = _vertical(lay, layer)
             step = (0, layer.thickness, 0) if lay.dim == 2 else (0, 0, layer.thickness)
             out = occ.extrude(plan, *step, numElements=n, heights=heights, recombine=False)
             plan = [out[i - 1] for i, e in enumerate(out) if e[0] == lay.dim]
         occ.synchronize()
         _size_field(gmsh, lay)
         gmsh.model.mesh.generate(lay.dim)
-        groups = _classify(gmsh, lay, user_materials)
+        groups = _classify(gmsh, lay)
         for (dim, name), tags in groups.items():
             gmsh.model.setPhysicalName(dim, gmsh.model.addPhysicalGroup(dim, sorted(tags)), name)
         if msh_path is not None:
             gmsh.write(str(msh_path))
-        return _to_skfem(gmsh, lay, groups, user_materials)
+        return _to_skfem(gmsh, lay, groups)
 
 
 def _plan(occ, lay: Layout):
@@ -111,14 +110,9 @@ def _plan(occ, lay: Layout):
     return [e for e in out if e[0] == 2]
 
 
-def _is_piezo(name, user_materials):
-    return isinstance(materials.get(name, user_materials), materials.Piezo)
-
-
-def _vertical(lay: Layout, layer, user_materials):
+def _vertical(lay: Layout, layer):
     """(numElements, heights) for one layer's extrusion."""
-    piezo_like = layer.patch_material is not None or _is_piezo(layer.material, user_materials) \
-        or not lay.taxels
+    piezo_like = layer.patch_material is not None or layer.piezo or not lay.taxels
     if piezo_like:
         return [lay.piezo_layers], [1.0]
     h, hs = lay.piezo_size, []
@@ -197,7 +191,7 @@ def _on_edge(p, x, y, tol=1e-9):
     return (abs(dx - p.half) < tol and dy <= p.half + tol) or (abs(dy - p.half) < tol and dx <= p.half + tol)
 
 
-def _classify(gmsh, lay: Layout, user_materials):
+def _classify(gmsh, lay: Layout):
     """Physical groups {(dim, name): [entity tags]} from each entity's first element."""
     D = lay.dim
     groups: dict[tuple[int, str], list[int]] = {}
@@ -256,7 +250,7 @@ def _on_outline(lay: Layout, x, y):
     return (np.abs(np.abs(x) - lay.plan.half) < tol) | (np.abs(np.abs(y) - lay.plan_half_y) < tol)
 
 
-def _to_skfem(gmsh, lay: Layout, groups, user_materials) -> TaggedMesh:
+def _to_skfem(gmsh, lay: Layout, groups) -> TaggedMesh:
     D = lay.dim
     tags, coords, _ = gmsh.model.mesh.getNodes()
     index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)

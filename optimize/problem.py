@@ -48,9 +48,13 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from optimize import driver
-from studies.scene import SceneError, _ureg, parse
-from studies.study import Store, _evaluate_safely, _set, point_key
+from taxel.optimize import driver
+from taxel import units as U
+from taxel.scene import Scene, SceneError, parse
+from taxel.studies.evaluate import evaluate_safely
+from taxel.studies.execute import local_cluster
+from taxel.studies.spec import read_spec, set_value
+from taxel.studies.store import Store
 
 METRICS = ("sensitivity", "crosstalk", "max_strain", "total_thickness", "footprint", "gap")
 BUILTIN = Path(__file__).parent / "builtin"
@@ -118,7 +122,7 @@ class Problem:
     def scene_data(self, x) -> dict:
         data = json.loads(json.dumps(self.base))
         for (name, var), value, unit in zip(self.spec.variables.items(), x, self.units):
-            _set(data, var.path, f"{value:.9g} {unit}" if unit else float(value))
+            set_value(data, var.path, f"{value:.9g} {unit}" if unit else float(value))
         return data
 
     def evaluate(self, x) -> dict:
@@ -126,21 +130,15 @@ class Problem:
         data = self.scene_data(x)
         scene = parse({**data, "name": "design"})
         metrics = _geometry(scene)
-        key = point_key(data)
-        store = Store(self.out) if self.out else None
-        row = None
-        if store is not None:
-            rows = store.rows({key})
-            row = rows[0] if rows else None
-        if row is None or row["status"] != "done":
-            status, result, error = _evaluate_safely(data, ("voltage", "crosstalk", "max_strain"))
-            if store is not None:
-                store.put(key, dict(zip(self.names, map(float, x))), status, result, error,
-                          (result or {}).get("seconds", 0.0))
+        outputs = ("voltage", "crosstalk", "max_strain")
+        if self.out is None:
+            status, result, _ = evaluate_safely(data, outputs)
         else:
-            status, result = "done", row["result"]
-        if store is not None:
-            store.close()
+            store = Store(self.out)
+            try:
+                status, result, _ = store.get_or_compute(data, outputs, dict(zip(self.names, map(float, x))))
+            finally:
+                store.close()
         if status != "done":
             return {**metrics, "sensitivity": None, "crosstalk": None, "max_strain": None}
         v = result["voltage"].get(result["pressed"])
@@ -156,11 +154,12 @@ def _geometry(scene) -> dict:
             "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap}
 
 
-def _magnitude(v, unit=None, what=""):
+def magnitude(v, unit=None, what=""):
+    """(SI magnitude, unit) of a bound or start value; one-line OptimizeError otherwise."""
     if isinstance(v, (int, float)) and not isinstance(v, bool):
         return float(v), unit or ""
     try:
-        q = _ureg().Quantity(str(v))
+        q = U.quantity(v)
     except Exception:
         raise OptimizeError(f"{what}: cannot read {v!r} as a quantity") from None
     if unit is None:
@@ -172,18 +171,16 @@ def _magnitude(v, unit=None, what=""):
 
 
 def load_problem(path, out: Path | None = None) -> Problem:
-    from studies.study import read_spec
     spec, base, path = read_spec(path, BUILTIN, OptSpec, OptimizeError, "optimization")
     lo, hi, x0, units = [], [], [], []
-    from studies.study import _known_paths
     for name, var in spec.variables.items():
-        if var.path.split(".")[0] not in _known_paths():
+        if var.path.split(".")[0] not in Scene.model_fields:
             raise OptimizeError(f"variables.{name}: unknown scene path '{var.path}'")
-        a, unit = _magnitude(var.min, what=f"variables.{name}.min")
-        b, _ = _magnitude(var.max, unit, f"variables.{name}.max")
+        a, unit = magnitude(var.min, what=f"variables.{name}.min")
+        b, _ = magnitude(var.max, unit, f"variables.{name}.max")
         if not b > a:
             raise OptimizeError(f"variables.{name}: empty bounds (min {var.min} >= max {var.max}); use min < max")
-        s = _magnitude(var.start, unit, f"variables.{name}.start")[0] if var.start is not None else (a + b) / 2
+        s = magnitude(var.start, unit, f"variables.{name}.start")[0] if var.start is not None else (a + b) / 2
         if not a <= s <= b:
             raise OptimizeError(f"variables.{name}: start {var.start} is outside [{var.min}, {var.max}]")
         lo.append(a), hi.append(b), x0.append(s), units.append(unit)
@@ -195,7 +192,7 @@ def load_problem(path, out: Path | None = None) -> Problem:
         if op not in ("<=", ">="):
             raise OptimizeError(f"constraints.{metric}: write \"<= value\" or \">= value\", got {text!r}")
         unit = si_units.get(metric, "")
-        bound = _magnitude(text[2:].strip(), unit or None, f"constraints.{metric}")[0] if unit else \
+        bound = magnitude(text[2:].strip(), unit or None, f"constraints.{metric}")[0] if unit else \
             float(text[2:].strip())
         cons.append((metric, op, bound))
     problem = Problem(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
@@ -269,8 +266,6 @@ def _spread(problem_path, out, eps, max_evals, workers):
     if workers <= 1:
         return [_front_run(problem_path, out, e, max_evals) for e in eps]
     from dask.distributed import Client
-
-    from studies.study import local_cluster
     cluster = local_cluster(workers)
     client = Client(cluster)
     try:

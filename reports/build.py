@@ -24,7 +24,10 @@ import json
 import time
 from pathlib import Path
 
-from studies.scene import SceneError, parse
+from taxel.analyses import lumped_model, scene_materials, solve_static
+from taxel.fem.newton import NewtonError
+from taxel.scene import SceneError, parse, scene_material_names
+from taxel.studies.store import code_version
 
 CSS = """body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;color:#222;padding:0 1em}
 h1{font-size:1.6em}h2{font-size:1.2em;border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
@@ -93,11 +96,10 @@ def _page(title, sections) -> str:
 
 
 def _scene_sections(scene_data: dict, compare: bool):
-    from reports import figures
+    from taxel.reports import figures
     scene = parse({**scene_data, "name": scene_data.get("name", "scene")})
     out = [("Scene", _png(figures.scene_drawing(scene)) + _scene_table(scene))]
-    from fem.solve import solve
-    sol = solve(scene)
+    sol = solve_static(scene)
     out.append(("Fields", _render(sol)))
     out.append(("Solver", _table([{
         "model": scene.model.type, "silicone": scene.model.silicone, "order": scene.mesh.order,
@@ -112,17 +114,15 @@ def _scene_sections(scene_data: dict, compare: bool):
 
 
 def _scene_table(scene) -> str:
-    from fem import materials
-    from studies.scene import scene_material_names, user_materials
-    user = user_materials(scene)
-    rows = [{"material": m, "source": materials.get(m, user).source} for m in scene_material_names(scene)]
+    mats = scene_materials(scene)
+    rows = [{"material": m, "source": mats[m].source} for m in scene_material_names(scene)]
     return _table(rows, ["material", "source"])
 
 
 def _render(sol) -> str:
     """The solved fields: a pyvista render (off-screen) of the deformed mesh
     coloured by the potential, and the 2D cross-section with matplotlib."""
-    from reports import figures
+    from taxel.reports import figures
     parts = []
     try:
         parts.append(_png_bytes(figures.pyvista_render(sol)))
@@ -144,20 +144,15 @@ def _comparison(scene) -> str:
     """Lumped, 2D plane stress/strain, axisymmetric, 3D, linear and Yeoh, at the
     scene's force (Yeoh at min(force, 0.2 N), where Newton follows it): voltage,
     cost, and the deviation from the 3D model."""
-    from fem import lumped
-    from fem.newton import NewtonError
-    from fem.solve import solve
     rows = []
     F = scene.load.force
 
     def variant(label, model=None, silicone="linear", mesh=None):
-        upd = {"model": scene.model.model_copy(update={"type": model or scene.model.type, "silicone": silicone})}
-        if mesh:
-            upd["mesh"] = scene.mesh.model_copy(update=mesh)
-        s = scene.model_copy(update=upd)
         t = time.perf_counter()
         try:
-            v = solve(s).voltages()
+            s = scene.replace(**{"model.type": model or scene.model.type, "model.silicone": silicone},
+                              **{f"mesh.{k}": v for k, v in (mesh or {}).items()})
+            v = solve_static(s).voltages()
             v = next(iter(v.values()))
         except (NewtonError, SceneError, ValueError) as exc:
             rows.append({"model": label, "voltage V/N": "-", "seconds": "-", "vs 3D %": str(exc)[:60]})
@@ -165,7 +160,7 @@ def _comparison(scene) -> str:
         rows.append({"model": label, "voltage V/N": abs(v) / F, "seconds": time.perf_counter() - t})
         return abs(v) / F
     t = time.perf_counter()
-    lm = abs(lumped.from_scene(scene).V_oc([1e-3])[0]) / F
+    lm = abs(lumped_model(scene).V_oc([1e-3])[0]) / F
     rows.append({"model": "lumped 3-DoF", "voltage V/N": lm, "seconds": time.perf_counter() - t})
     variant("2D plane stress", "plane_stress")
     variant("2D plane strain", "plane_strain")
@@ -182,7 +177,6 @@ def _comparison(scene) -> str:
 
 
 def _provenance(folder: Path, scene_data: dict | None) -> str:
-    from studies.study import code_version
     rows = [{"item": "folder", "value": str(folder.resolve())}, {"item": "code version", "value": code_version()},
             {"item": "report date", "value": time.strftime("%Y-%m-%d %H:%M:%S")}]
     scene_txt = f"<details><summary>scene</summary><pre>{html.escape(json.dumps(scene_data, indent=1))}</pre>" \

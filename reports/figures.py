@@ -1,29 +1,35 @@
-"""Figures of a solution (matplotlib, no screen needed).
+"""Figures (matplotlib on the Agg backend, no screen needed; pyvista off-screen).
 
-`python -m reports.figures SCENE OUT.png` draws the deformed cross-section of a
-2D or axisymmetric scene coloured by electric potential, and the vertical
-displacement; the README's picture is made this way.
+`pyplot()` is the one place the backend is chosen. `docs/readme_figure.py`
+makes the README's picture with `cross_section`.
 """
 
 from __future__ import annotations
-
-import sys
 
 import io
 
 import numpy as np
 
+from taxel.analyses.geometry import layout
+from taxel.analyses.problem import scene_materials
+from taxel.fem.yeoh_fit import stability_limit
+from taxel.units import magnitude
+
+
+def pyplot():
+    """matplotlib.pyplot on the Agg backend."""
+    plt = pyplot()
+    return plt
+
 
 def cross_section(sol, path, exaggerate=None):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.tri import Triangulation
 
     mesh = sol.mesh.mesh
     if mesh.dim() != 2:
         raise ValueError("cross_section draws 2D and axisymmetric scenes")
-    p, u = mesh.p * 1e3, sol.fields["u"] * 1e3                       # mm
+    p, u = mesh.p * 1e3, sol.fields.u * 1e3                       # mm
     scale = exaggerate or max(1.0, round(0.1 * np.ptp(p[1]) / max(np.abs(u).max(), 1e-30)))
     deformed = p + scale * u.T
     fig, axes = plt.subplots(2, 1, figsize=(9, 6), constrained_layout=True)
@@ -34,7 +40,7 @@ def cross_section(sol, path, exaggerate=None):
     ax = axes[0]
     ax.tripcolor(Triangulation(*deformed, mesh.t[:, ~piezo].T), np.zeros((~piezo).sum()),
                  cmap="Greys", vmin=-1, vmax=4, edgecolors="0.75", linewidth=0.1)
-    pc = ax.tripcolor(Triangulation(*deformed, mesh.t[:, piezo].T), sol.fields["phi"],
+    pc = ax.tripcolor(Triangulation(*deformed, mesh.t[:, piezo].T), sol.fields.phi,
                       shading="gouraud", cmap="coolwarm")
     fig.colorbar(pc, ax=ax, label="electric potential (V)")
     ax.set_xlim(p[0].min() / 2, p[0].max() / 2)
@@ -52,23 +58,9 @@ def cross_section(sol, path, exaggerate=None):
     plt.close(fig)
 
 
-def main(argv=None):
-    from fem.solve import solve
-    from studies.scene import load
-    scene, out = (argv or sys.argv[1:])[:2]
-    cross_section(solve(load(scene)), out)
-    print(out)
-
-
-if __name__ == "__main__":
-    main()
-
-
 def bode(freqs, H, names, label, path, title=""):
     """Magnitude and phase of H (nf, na) against frequency."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
     for k, name in enumerate(names):
         a1.loglog(freqs, np.abs(H[:, k]), label=name)
@@ -87,9 +79,7 @@ def bode(freqs, H, names, label, path, title=""):
 
 def time_response(t, force, y, names, label, path, title=""):
     """Force and output voltages over time."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True, constrained_layout=True)
     a1.plot(t, force, color="k")
     a1.set_ylabel("force (N)")
@@ -109,10 +99,7 @@ def time_response(t, force, y, names, label, path, title=""):
 def study_plots(rows, parameters, outputs, folder, title=""):
     """Each output against each numeric varied parameter; one line per combination
     of the other parameters (labels in the legend). Returns the files written."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from studies.study import magnitude
+    plt = pyplot()
     folder.mkdir(parents=True, exist_ok=True)
     done = [r for r in rows if r["status"] == "done"]
     files = []
@@ -146,16 +133,17 @@ def study_plots(rows, parameters, outputs, folder, title=""):
     return files
 
 
+def scene_layout(scene):
+    return layout(scene, scene_materials(scene))
+
+
 def scene_drawing(scene):
     """The scene's cross-section to scale (x-z, mm): layers, taxels, load footprint,
     with dimensions and materials. Returns a matplotlib figure."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.patches import Rectangle
 
-    from meshing.layout import layout
-    lay = layout(scene)
+    lay = scene_layout(scene)
     x0, x1 = lay.x_range
     fig, ax = plt.subplots(figsize=(9, 3.2), constrained_layout=True)
     colours = {}
@@ -209,7 +197,7 @@ def pyvista_render(sol, field="phi", window=(900, 420)) -> bytes:
     pv.OFF_SCREEN = True
     m = sol.mesh.mesh
     pts = m.p.T * 1e3
-    u = sol.fields["u"] * 1e3
+    u = sol.fields.u * 1e3
     if m.dim() == 2:
         pts = np.column_stack([pts[:, 0], np.zeros(len(pts)), pts[:, 1]])
         u = np.column_stack([u[:, 0], np.zeros(len(u)), u[:, 1]])
@@ -218,7 +206,7 @@ def pyvista_render(sol, field="phi", window=(900, 420)) -> bytes:
     else:
         cells = np.hstack([np.full((m.t.shape[1], 1), 4), m.t.T]).ravel()
         grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TETRA), pts + u)
-    grid.point_data[field] = sol.fields[field]
+    grid.point_data[field] = getattr(sol.fields, field)
     if m.dim() == 3:                  # cut through the pressed taxel: the piezo's potential is inside
         grid = grid.clip(normal="-y", origin=(0.0, float(np.mean(pts[:, 1])), 0.0))
     plotter = pv.Plotter(off_screen=True, window_size=window)
@@ -235,3 +223,45 @@ def pyvista_render(sol, field="phi", window=(900, 420)) -> bytes:
     buf = io.BytesIO()
     mpimg.imsave(buf, img, format="png")
     return buf.getvalue()
+
+
+def yeoh_fit(strain, stress, fit, out, check_strain: float | None = None, title: str = ""):
+    """PNG of the data, the fit over its range (solid) and beyond it (dashed).
+
+    The fit range 0 < strain <= max_strain is shaded; the plot extends to
+    max(3 max_strain, check_strain); where the uniaxial fit loses stability within
+    it, a marker shows the point.
+    """
+    plt = pyplot()
+
+    strain, stress = np.asarray(strain, float), np.asarray(stress, float)
+    x_hi = max(3.0 * fit.max_strain, check_strain or 0.0)
+    show = (strain >= 0) & (strain <= x_hi)
+    order = np.argsort(strain[show])
+    xs, ys = strain[show][order], stress[show][order]
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
+    ax.axvspan(0, 100 * fit.max_strain, color="0.9", label=f"fit range (<= {100 * fit.max_strain:g} %)")
+    ax.plot(100 * xs, ys / 1e3, ".", ms=4, color="k", label="test data")
+    x_in = np.linspace(0, fit.max_strain, 200)
+    x_out = np.linspace(fit.max_strain, x_hi, 400)
+    lbl = (f"Yeoh: C10 {fit.C10 / 1e3:.3g}, C20 {fit.C20 / 1e3:.3g}, C30 {fit.C30 / 1e3:.3g} kPa"
+           f" (R² {fit.r2:.4f})")
+    ax.plot(100 * x_in, fit.stress(x_in) / 1e3, "-", color="C0", lw=2, label=lbl)
+    ax.plot(100 * x_out, fit.stress(x_out) / 1e3, "--", color="C0", lw=1.5, label="fit, extrapolated")
+    lost = stability_limit(fit, (0.5, 1.0 + x_hi))["uniaxial"]["tension"]
+    if lost is not None:
+        ax.plot(100 * (lost - 1), fit.stress(lost - 1) / 1e3, "x", color="C3", ms=10, mew=2,
+                label=f"uniaxial stability lost ({100 * (lost - 1):.0f} %)")
+    y_data = ys.max() if len(ys) else float(fit.stress(x_hi))
+    ax.set_ylim(min(0.0, ys.min() / 1e3 if len(ys) else 0.0) - 0.05 * y_data / 1e3, 1.3 * y_data / 1e3)
+    ax.set_xlim(0, 100 * x_hi)
+    ax.set_xlabel("engineering strain (%)")
+    ax.set_ylabel("nominal stress (kPa)")
+    if title:
+        ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)

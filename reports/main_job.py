@@ -6,24 +6,31 @@ CI uses."""
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
-from studies.outputs import load_scene_data, print_output, write_rows, write_scene
+import numpy as np
+
+from taxel.analyses import solve
+from taxel.analyses.results import write_scene
+from taxel.optimize import problem as O
+from taxel.reports import analysis
+from taxel.reports.build import build
+from taxel.reports.figures import study_plots
+from taxel.reports.optimization import write_front, write_run
+from taxel.scene import load, parse
+from taxel.studies.execute import run as run_study
+from taxel.studies.spec import load_study
+from taxel.studies.store import tidy_rows, write_rows
 
 
 def run(root: Path, small: bool = False) -> Path:
     """Run the main job into `root` and return the report's index page."""
-    import time as _time
-    from optimize import problem as O
-    from optimize.report import write_front, write_run
-    from studies import run as R
-    from studies import study as S
-    from studies.scene import load as load_scene
-    t0 = _time.perf_counter()
+    t0 = time.perf_counter()
     root.mkdir(parents=True, exist_ok=True)
     folders = []
     print("[1/4] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
-    st = S.load_study("fig-2-5")
+    st = load_study("fig-2-5")
     if small:
         st.spec = st.spec.model_copy(update={"parameters": [
             p.model_copy(update={"values": p.values[:1], "labels": (p.labels or [None])[:1] if p.labels else None})
@@ -31,11 +38,10 @@ def run(root: Path, small: bool = False) -> Path:
     out = root / "fig-2-5"
     out.mkdir(exist_ok=True)
     (out / "study.json").write_text(st.spec.model_dump_json(indent=1))
-    write_scene(out, load_scene_data(st.base_data()))
-    summ = S.run(st, out, workers=1 if small else 2, progress=True)
-    rows = S.tidy_rows(out, st)
+    write_scene(out, parse({**st.base_data(), "name": st.spec.name}))
+    summ = run_study(st, out, workers=1 if small else 2, progress=True)
+    rows = tidy_rows(out)
     write_rows(rows, out / "results.csv")
-    from reports.figures import study_plots
     study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "max_strain"], out / "plots",
                 st.spec.name)
     folders.append(out)
@@ -44,9 +50,8 @@ def run(root: Path, small: bool = False) -> Path:
     out = root / "thesis-pzt-front"
     out.mkdir(exist_ok=True)
     prob = O.load_problem("thesis-pzt-front", out)
-    write_scene(out, load_scene_data(prob.scene_data(prob.x0)))
-    import numpy as np
-    x_ref = np.array([O._magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
+    write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
+    x_ref = np.array([O.magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
     reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
     if small:
         prob.spec = prob.spec.model_copy(update={"algorithm": prob.spec.algorithm.model_copy(
@@ -58,19 +63,15 @@ def run(root: Path, small: bool = False) -> Path:
     folders.append(out)
     print("[3/4] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
-        scene = load_scene(name)
+        scene = load(name)
         if small:
-            scene = scene.model_copy(update={"analysis": scene.analysis.model_copy(
-                update={"points": 20, "duration": 0.05})})
+            scene = scene.replace(**{"analysis.points": 20, "analysis.duration": 0.05})
         out = root / name
-        out.mkdir(exist_ok=True)
-        write_scene(out, scene)
-        print_output(getattr(R, scene.analysis.type)(scene, out), out)
+        files, summary = analysis.write(solve(scene), out)
+        for line in summary:
+            print(line)
         folders.append(out)
     print("[4/4] report")
-    from reports.build import build
     index = build(folders, root / "report", compare=not small)
-    print(f"done in {_time.perf_counter() - t0:.0f} s; open {index.resolve()}")
+    print(f"done in {time.perf_counter() - t0:.0f} s; open {index.resolve()}")
     return index
-
-

@@ -1,6 +1,6 @@
 """The model side of thesis chapter 4, in one run: figures and the statements.
 
-    python -m reports.thesis_ch4 [OUT_DIR]      (default out/thesis-ch4)
+    python -m taxel.reports.thesis_ch4 [OUT_DIR]      (default out/thesis-ch4)
 
 1. step force through the 500 MOhm input: first-order decay, tau = R C_p (Fig. 4.4);
 2. half-sine impulse (Fig. 4.8);
@@ -18,27 +18,28 @@ from pathlib import Path
 
 import numpy as np
 
-from fem import circuits, dynamics, lumped
-from studies.scene import load
+from taxel.analyses import force_history, lumped_model, problem, readout
+from taxel.fem import circuits, dynmodel, sweep, timestep
+from taxel.reports.figures import pyplot
+from taxel.scene import load
 
 
 def main(out="out/thesis-ch4"):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     base = load("thesis-pzt-frequency")
     lines = []
 
     # 1, 2: step and impulse through the resistor
-    dm = dynamics.model(base)
-    C_p = abs(dynamics.sweep(dm, [0.1], method="direct").C[0, 0, 0])
+    prob = problem(base)
+    dm = dynmodel.model(prob)
+    C_p = abs(sweep.sweep(dm, [0.1], method="direct").C[0, 0, 0])
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
     for ax, name in zip(axes, ("thesis-pzt-step", "thesis-pzt-impulse")):
         s = load(name)
-        t, f = dynamics.load_history(s.analysis)
-        tr = dynamics.transient(dynamics.model(s, tm=dm.sy.tm), t, f, R=s.readout.R)
+        t, f = force_history(s.analysis, s.load.force)
+        tr = timestep.transient(dynmodel.model(problem(s, prob.mesh)), t, f, R=s.readout.R)
         ax.plot(t, tr.V[:, 0])
         ax.set_title(f"{s.analysis.input}, {s.load.force:g} N, 500 MOhm input")
         ax.set_xlabel("time (s)")
@@ -55,22 +56,22 @@ def main(out="out/thesis-ch4"):
 
     # 3: chirp through the charge amplifier, with and without the notch
     chirp = load("thesis-pzt-chirp")
-    t, f = dynamics.load_history(chirp.analysis)
-    short = dynamics.model(chirp, tm=dm.sy.tm, short=True)
-    Q = dynamics.transient(short, t, f).Q
+    t, f = force_history(chirp.analysis, chirp.load.force)
+    short = dynmodel.model(problem(chirp, prob.mesh), short=True)
+    Q = timestep.transient(short, t, f).Q
     fig, axes = plt.subplots(2, 1, figsize=(8, 6), constrained_layout=True)
     freqs = np.fft.rfftfreq(len(t), t[1] - t[0])
     band = (freqs > 1) & (freqs < 100)
-    port = dynamics.sweep(dm, freqs[band])
+    port = sweep.sweep(dm, freqs[band])
     for notch in (False, True):
-        r = chirp.readout.model_copy(update={"notch": notch})
+        r = readout(chirp.replace(**{"readout.notch": notch}))
         y = circuits.amplifier_in_time(t, Q, [C_p], r)
         if notch:
             y = circuits.notch_in_time(t, y, r)
         axes[0].plot(t, y[:, 0], lw=0.6, label="with notch" if notch else "no notch")
-        H = np.abs(np.fft.rfft(y[:, 0]) / np.fft.rfft(chirp.load.force * f))[band]
+        H = np.abs(np.fft.rfft(y[:, 0]) / np.fft.rfft(f))[band]
         axes[1].semilogy(freqs[band], H, lw=0.8, label=f"chirp FFT ratio{' + notch' if notch else ''}")
-        axes[1].semilogy(freqs[band], np.abs(circuits.readout(port, r)[:, 0]) / dm.sy.applied_force, "--",
+        axes[1].semilogy(freqs[band], np.abs(circuits.readout(port, r)[:, 0]), "--",
                          label=f"frequency sweep{' + notch' if notch else ''}")
     axes[0].set_xlabel("time (s)")
     axes[0].set_ylabel("amplifier output (V)")
@@ -87,9 +88,8 @@ def main(out="out/thesis-ch4"):
     fq = np.geomspace(1, 100, 60)
     gains = {}
     for k in (0.0, 0.5e-3, 1e-3):
-        s = base.model_copy(update={"array": base.array.model_copy(update={"silicone_above": k, "silicone_below": k})})
-        d = dynamics.model(s)
-        H = np.abs(circuits.readout(dynamics.sweep(d, fq), s.readout)[:, 0]) / d.sy.applied_force
+        s = base.replace(**{"array.silicone_above": k, "array.silicone_below": k})
+        H = np.abs(circuits.readout(sweep.sweep(dynmodel.model(problem(s)), fq), readout(s))[:, 0])
         gains[2 * k] = H[np.argmin(abs(fq - 30))]
         ax.loglog(fq, H, label=f"silicone {2e3 * k:g} mm in total")
     ax.set_xlabel("frequency (Hz)")
@@ -107,10 +107,11 @@ def main(out="out/thesis-ch4"):
                     "in this model, is held laterally; the experiment's bare taxel sat on other supports)"))
 
     # 5: FEM vs lumped
-    lm = lumped.from_scene(base)
-    fem = circuits.readout(dynamics.sweep(dm, fq), base.readout)[:, 0] / dm.sy.applied_force
-    lport = dynamics.PortResponse(fq, lm.V_oc(fq)[:, None], np.full((len(fq), 1, 1), 1 / lm.C_p), ["l"], "l", 0.0)
-    lum = circuits.readout(lport, base.readout)[:, 0] / lm.force
+    lm = lumped_model(base)
+    fem = circuits.readout(sweep.sweep(dm, fq), readout(base))[:, 0]
+    lport = sweep.PortResponse(fq, lm.V_oc(fq)[:, None] / lm.force, np.full((len(fq), 1, 1), 1 / lm.C_p),
+                               ["l"], "l", 0.0)
+    lum = circuits.readout(lport, readout(base))[:, 0]
     fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
     ax.loglog(fq, np.abs(fem), label="FEM (2D plane strain)")
     ax.loglog(fq, np.abs(lum), label="lumped 3-DoF (errata corrected)")

@@ -11,7 +11,7 @@ import json
 
 import pytest
 
-from studies.cli import EXIT_INPUT, main
+from taxel.cli import EXIT_INPUT, main
 
 # A small, fast scene (one PZT taxel, coarse mesh) for cases that get as far as meshing.
 FAST = '''

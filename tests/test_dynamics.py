@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from fem import circuits, dynamics, lumped, materials
-from studies.scene import load, parse
+from taxel.fem import circuits, dynamics, lumped, materials
+from taxel.scene import load, parse
 
 
 # ---------------------------------------------------------------- integrator, 1 DoF
@@ -92,7 +92,7 @@ def lossless(scene, beta=0.0):
 
 
 def test_low_frequency_limit_is_the_static_solution(taxel):
-    from fem.solve import solve
+    from taxel.analyses import solve_static as solve
     scene, dm = taxel
     static = solve(scene).electrodes["taxel_0_0"]
     dyn = dynamics.sweep(dynamics.model(lossless(scene), tm=dm.sy.tm), [1e-3], method="direct")
@@ -261,7 +261,7 @@ def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_us
 
 
 def test_transient_from_a_csv_force_file(tmp_path, capsys):
-    from studies.cli import main
+    from taxel.cli import main
     csv = tmp_path / "force.csv"
     tt = np.linspace(0, 0.05, 51)
     np.savetxt(csv, np.column_stack([tt, 0.3 * np.sin(np.pi * tt / 0.05)]), delimiter=",",
@@ -292,7 +292,7 @@ def _yeoh(scene, force, lossless_=True):
 def test_frequency_response_linearised_about_a_hyperelastic_preload():
     """At zero frequency the response linearised about the Yeoh state under a
     0.3 N preload is the slope of the static Yeoh voltage-force curve there."""
-    from fem.solve import solve
+    from taxel.analyses import solve_static as solve
     base = load("thesis-pzt-single-2d")
     F0, dF = 0.3, 1e-3
     slope = (solve(_yeoh(base, F0 + dF)).voltages()["taxel_0_0"]
@@ -317,7 +317,7 @@ def test_hyperelastic_transient_small_load_equals_linear():
 
 @pytest.mark.slow
 def test_thesis_chapter4_study_runs_and_states_its_findings(tmp_path):
-    from reports import thesis_ch4
+    from taxel.reports import thesis_ch4
     thesis_ch4.main(tmp_path)
     text = (tmp_path / "statements.txt").read_text()
     assert "first order" in text and "silicone 0 / 1 / 2 mm" in text

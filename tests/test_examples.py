@@ -20,9 +20,9 @@ from functools import cache
 import meshio
 import pytest
 
-from fem.solve import solve
-from studies.cli import main
-from studies.scene import examples, load
+from taxel.analyses import solve_static as solve
+from taxel.cli import main
+from taxel.scene import examples, load
 
 SLOW = {"thesis-pvdf-3x3-3d", "thesis-pzt-3x3-3d"}
 SLOW_SECONDS = 8.0

@@ -37,7 +37,7 @@ def agreement(block):
 
 def test_block_is_compressed_by_tens_of_percent(agreement):
     sol = agreement["sol"]
-    m, u = sol.mesh.mesh, sol.fields["u"]
+    m, u = sol.mesh.mesh, sol.fields.u
     top = np.isclose(m.p[1], fc.HEIGHT)
     uz = u[top, 1] / fc.HEIGHT
     assert sol.newton.converged

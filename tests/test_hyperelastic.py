@@ -5,25 +5,23 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from fem import hyperelastic as H
-from fem.newton import NewtonError, newton, yeoh_terms
-from fem.solve import assemble, solve
-from meshing.build import build
-from meshing.layout import layout
-from studies.scene import SceneError, load, parse, user_materials
+from taxel.analyses import mesh, problem
+from taxel.analyses import solve_static as solve
+from taxel.fem import yeoh as H
+from taxel.fem.assembly import assemble
+from taxel.fem.newton import NewtonError, newton, yeoh_terms
+from taxel.scene import SceneError, load, parse, refined
 
-C_YEOH = (7.83e3, 0.103e3, -0.0008e3)       # the 300 % fit (REFERENCE.md)
+C_YEOH = (7.83e3, 0.103e3, -0.0008e3)       # the 300 % fit (docs/materials.md)
 
 
 def with_(scene, silicone=None, force=None, **mesh):
-    up = {}
+    up = {f"mesh.{k}": v for k, v in mesh.items()}
     if silicone:
-        up["model"] = scene.model.model_copy(update={"silicone": silicone})
+        up["model.silicone"] = silicone
     if force is not None:
-        up["load"] = scene.load.model_copy(update={"force": force})
-    if mesh:
-        up["mesh"] = scene.mesh.model_copy(update=mesh)
-    return scene.model_copy(update=up)
+        up["load.force"] = force
+    return scene.replace(**up)
 
 
 # ---------------------------------------------------------------- constitutive level
@@ -53,7 +51,7 @@ def test_stress_is_the_derivative_of_the_energy_and_tangent_of_the_stress():
 def taxel_state():
     """The 2D thesis taxel at 0.2 N with Yeoh silicone: system and converged state."""
     scene = with_(load("thesis-pzt-single-2d"), "yeoh", 0.2, size=1e-3, piezo_size=2e-4)
-    sy = assemble(scene, build(layout(scene)), hyperelastic=True)
+    sy = assemble(problem(scene))
     x, res, red, _ = newton(sy)
     return sy, x, res
 
@@ -134,15 +132,15 @@ def test_homogeneous_compression_and_tension_to_round_off(model, free, pressure)
     sol = solve(block(model, pressure=pressure))
     P = -float(pressure.split()[0]) * 1e3
     lz, lt = homogeneous_reference(P, 1e3 * 2 * C_YEOH[0], free)
-    p, u = sol.mesh.mesh.p, sol.fields["u"]
+    p, u = sol.mesh.mesh.p, sol.fields.u
     top = p[-1] > 2e-3 * (1 - 1e-9)
     np.testing.assert_allclose(u[top, -1], (lz - 1) * 2e-3, rtol=1e-8)
-    np.testing.assert_allclose(sol.fields["strain"][:, 0], lt - 1, rtol=1e-7)
+    np.testing.assert_allclose(sol.fields.strain[:, 0], lt - 1, rtol=1e-7)
 
 
 def test_distorted_mesh_still_exact():
     scene = block("plane_strain", size="0.5 mm", layers=4)
-    tm = build(layout(scene), user_materials(scene))
+    tm = mesh(scene)
     m = tm.mesh
     inner = (np.abs(m.p[0]) < 1e-3 - 1e-9) & (m.p[1] > 1e-9) & (m.p[1] < 2e-3 - 1e-9)
     rng = np.random.default_rng(5)
@@ -152,17 +150,17 @@ def test_distorted_mesh_still_exact():
     sol = solve(scene, tagged_mesh=tm)
     lz, lt = homogeneous_reference(-5e3, 1e3 * 2 * C_YEOH[0], 1)
     top = sol.mesh.mesh.p[1] > 2e-3 * (1 - 1e-9)
-    np.testing.assert_allclose(sol.fields["u"][top, 1], (lz - 1) * 2e-3, rtol=1e-8)
+    np.testing.assert_allclose(sol.fields.u[top, 1], (lz - 1) * 2e-3, rtol=1e-8)
 
 
 @pytest.mark.parametrize("mode", ["uniaxial", "equibiaxial", "pure_shear"])
 def test_incompressible_closed_forms(mode):
-    """REFERENCE.md's incompressible formulas, reached as K/C10 grows (K = 1e5 mu):
+    """docs/materials.md's incompressible formulas, reached as K/C10 grows (K = 1e5 mu):
     uniaxial P = 2 (l - l^-2) W'; equibiaxial P = 2 (l - l^-5) W' (the uniaxial
     compression state plus a hydrostatic pressure); pure shear P = 2 (l - l^-3) W'."""
     model = "plane_strain" if mode == "pure_shear" else "3d"
     sol = solve(block(model, pressure="5 kPa", K_ratio=1e5))
-    p, u = sol.mesh.mesh.p, sol.fields["u"]
+    p, u = sol.mesh.mesh.p, sol.fields.u
     lz = 1 + u[p[-1] > 2e-3 * (1 - 1e-9), -1].mean() / 2e-3
     Pz = -5e3
 
@@ -191,10 +189,8 @@ def test_displacement_p1_locks_mixed_does_not(ratio):
     gel = {"kind": "solid", "mu": 2 * C_YEOH[0], "K": ratio * 2 * C_YEOH[0], "rho": 1070}
 
     def v(order, formulation, f=1.0):
-        s = base.model_copy(update={
-            "array": base.array.model_copy(update={"silicone": "gel"}), "materials": {"gel": gel},
-            "mesh": base.mesh.model_copy(update={"order": order, "formulation": formulation})})
-        from studies.scene import refined
+        s = base.replace(**{"array.silicone": "gel", "materials": {"gel": gel}, "mesh.order": order,
+                            "mesh.formulation": formulation})
         return solve(refined(s, f)).voltages()["taxel_0_0"]
     ref = v(2, "mixed", 2.0)
     err_p1 = abs(v(1, "displacement") / ref - 1)
@@ -210,7 +206,7 @@ def test_displacement_p1_locks_mixed_does_not(ratio):
 def test_newton_without_stepping_or_line_search_fails_where_the_default_converges():
     scene = with_(load("thesis-pzt-single-2d"), "yeoh", 0.5)
     with pytest.raises(NewtonError, match="last converged"):
-        solve(scene, newton={"stepping": False, "line_search": False})
+        solve(scene, newton_options={"stepping": False, "line_search": False})
     sol = solve(scene)
     assert sol.newton.converged
     assert sol.reaction[-1] == pytest.approx(0.5, rel=1e-8)
@@ -220,7 +216,7 @@ def test_pvdf_52um_under_silicone_converges():
     """Aspect ratio: a 52 um film under 1 mm of silicone, nested refinement; the
     voltage steps shrink and the Yeoh solve converges."""
     scene = with_(load("thesis-pvdf-single-2d"), None, 0.2)
-    tm = build(layout(scene))
+    tm = mesh(scene)
     v = [solve(scene, tagged_mesh=tm.refined(k) if k else tm).voltages()["taxel_0_0"] for k in range(3)]
     assert abs(v[2] - v[1]) < abs(v[1] - v[0])
     assert abs(v[2] - v[1]) < 0.01 * abs(v[2])

@@ -9,9 +9,9 @@ leave a residual of ~2e-6 (measured).
 import numpy as np
 import pytest
 
-from fem import linsolve
-from fem.solve import solve
-from studies.scene import load, parse
+from taxel.fem import linalg as linsolve
+from taxel.analyses import solve_static as solve
+from taxel.scene import load, parse
 
 SOLVERS = [m for m in ("superlu", "pardiso") if linsolve.available(m)]
 
@@ -50,6 +50,6 @@ def test_thin_stiff_plate_mixed_form_solvers_agree(nu):
     for m in SOLVERS:
         sol = solve(scene, solver=m)
         p = sol.mesh.mesh.p
-        w.append(sol.fields["u"][np.argmin(np.hypot(p[0], p[1])), 1])
+        w.append(sol.fields.u[np.argmin(np.hypot(p[0], p[1])), 1])
         assert sol.residual < 1e-5
     assert max(w) - min(w) < 1e-6 * abs(w[0])

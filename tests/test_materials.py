@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 
-from fem import materials as M
+from taxel.fem import materials as M
 
 EPS0 = M.EPS0
 
 
 def test_pzt5h_stress_charge_matches_reference_table():
-    # REFERENCE.md: converted from Erturk & Inman Table E.1
+    # docs/materials.md: converted from Erturk & Inman Table E.1
     m = M.get("PZT-5H")
     c = m.c / 1e9
     assert c[0, 0] == pytest.approx(127.205, rel=2e-4)
@@ -38,7 +38,7 @@ def test_psi5h4e_reproduces_its_datasheet():
     k33 = d[2, 2] / np.sqrt(s[2, 2] * epsT[2, 2])
     assert k31 == pytest.approx(0.44, abs=0.02)                # sheet: 0.44
     assert k33 == pytest.approx(0.75, abs=0.05)                # sheet: 0.75
-    # free capacitance of a 4 x 4 x 0.127 mm taxel: about 4.24 nF (REFERENCE.md)
+    # free capacitance of a 4 x 4 x 0.127 mm taxel: about 4.24 nF (docs/materials.md)
     assert epsT[2, 2] * 16e-6 / 0.127e-3 == pytest.approx(4.24e-9, rel=0.01)
 
 

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from fem.solve import solve
-from meshing.build import build
-from meshing.layout import layout
-from studies.scene import parse
+from taxel.analyses import solve_static as solve
+from taxel.meshing.build import build
+from taxel.meshing.layout import layout
+from taxel.scene import parse
 
 
 def array_scene(model="plane_strain", **array):
@@ -18,7 +18,7 @@ def array_scene(model="plane_strain", **array):
 @pytest.mark.parametrize("model", ["plane_strain", "axisymmetric", "3d"])
 def test_named_groups_and_volumes(model):
     scene = parse(array_scene(model, cols=1) | {"mesh": {"size": "1 mm"}})
-    tm = build(layout(scene))
+    tm = mesh(scene)
     assert set(tm.regions) == {"silicone", "piezo_0_0"}
     assert {"bottom", "top", "load", "edges", "ground", "taxel_0_0"} <= set(tm.facets)
     m = tm.mesh

@@ -6,10 +6,10 @@ import json
 import numpy as np
 import pytest
 
-from optimize import driver
-from optimize.problem import load_problem, optimize
-from studies.cli import main
-from studies.study import Store
+from taxel.optimize import driver
+from taxel.optimize.problem import load_problem, optimize
+from taxel.cli import main
+from taxel.studies.study import Store
 
 
 def test_bound_constrained_rosenbrock():

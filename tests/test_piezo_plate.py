@@ -4,7 +4,7 @@ The reference is computed independently of the solver's reductions: the 3D
 strain-charge law (S = s T + d^T E, D = d T + eps^T E) is solved with the
 conditions that define each case and model (which stresses vanish, which
 strains are zero, open or short circuit). For the 3D free plate this is the
-textbook V = g33 sigma t and Q = d33 F (REFERENCE.md); plane strain, plane
+textbook V = g33 sigma t and Q = d33 F (docs/materials.md); plane strain, plane
 stress and axisymmetric follow from the same conditions.
 
 Uniform fields lie in the finite-element space, so the solver must reproduce
@@ -14,9 +14,9 @@ them to round-off (rtol 1e-9) with any mesh and any element order.
 import numpy as np
 import pytest
 
-from fem import materials as M
-from fem.solve import solve
-from studies.scene import parse
+from taxel.fem import materials as M
+from taxel.analyses import solve_static as solve
+from taxel.scene import parse
 
 P = 10e3          # Pa, downward pressure
 T = 0.5e-3        # m, plate thickness
@@ -136,7 +136,7 @@ def test_laterally_clamped_plate(model):
     sol = solve(plate_scene(model, "PZT-5H", clamped=True))
     ref = reference_state(mat, model, pressure=P, clamped=True)
     assert sol.electrodes["top"].voltage == pytest.approx(-ref["E"][2] * T, rel=1e-9)
-    if model == "3d":     # REFERENCE.md: V = h33 sigma t / c33^D, 1D strain
+    if model == "3d":     # docs/materials.md: V = h33 sigma t / c33^D, 1D strain
         c33D = mat.c[2, 2] + mat.e[2, 2] ** 2 / mat.eps[2, 2]
         h33 = mat.e[2, 2] / mat.eps[2, 2]
         assert sol.electrodes["top"].voltage == pytest.approx(-h33 * P * T / c33D, rel=1e-9)
@@ -148,14 +148,14 @@ def test_converse_effect_and_free_capacitance(model):
     V = 100.0
     sol = solve(plate_scene(model, pressure=0.0, electrodes={"top": f"{V} V"}))
     ref = reference_state(mat, model, voltage=V)
-    u = sol.fields["u"]
+    u = sol.fields.u
     p = sol.mesh.mesh.p
     top = p[-1] > T * (1 - 1e-9)
     # thickness strain S3 (= d33 E3 in 3D), uniform: top displacement = S3 t
     np.testing.assert_allclose(u[top, -1], ref["S"][2] * T, rtol=1e-8)
     # lateral strain S1 (= d31 E3 in 3D), uniform in every element (the rollers' pins
     # leave a rigid motion that carries no strain)
-    np.testing.assert_allclose(sol.fields["strain"][:, 0], ref["S"][0], rtol=1e-8)
+    np.testing.assert_allclose(sol.fields.strain[:, 0], ref["S"][0], rtol=1e-8)
     # free capacitance: D3 A / V of the state with T = 0 (charge on the top electrode -D3 A)
     cap = -reference_state(mat, model, voltage=1.0)["D"][2] * area(model)
     assert sol.electrodes["top"].capacitance == pytest.approx(cap, rel=1e-9)

@@ -35,8 +35,8 @@ import math
 import numpy as np
 import pytest
 
-from fem.solve import solve
-from studies.scene import parse
+from taxel.analyses import solve_static as solve
+from taxel.scene import parse
 
 E, NU, RHO = 2e11, 0.3, 7800.0      # steel
 P = 1e3                             # Pa, downward on the top
@@ -85,7 +85,7 @@ def plate(model, shape, edges, h, size, layers, a, nu=NU, formulation="mixed"):
 
 def bottom_centre(sol):
     """(downward deflection, plan position) at the bottom vertex nearest the axis."""
-    p, u = sol.mesh.mesh.p, sol.fields["u"]
+    p, u = sol.mesh.mesh.p, sol.fields.u
     z = p[-1]
     bottom = np.flatnonzero(np.abs(z) < 1e-9 * z.max())
     k = bottom[np.argmin(np.linalg.norm(p[:-1, bottom], axis=0))]

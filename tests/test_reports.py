@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from reports.build import CHROMIUM_FLAGS, build, chromium
-from studies.cli import main
+from taxel.reports.build import CHROMIUM_FLAGS, build, chromium
+from taxel.cli import main
 
 
 @pytest.fixture(scope="module")

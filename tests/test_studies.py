@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from studies import study as S
-from studies.cli import main
+from taxel.studies import study as S
+from taxel.cli import main
 
 SMALL = """
 name = "small"
@@ -63,7 +63,7 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
     ref = tmp_path / "ref"
     assert main(["study", "run", str(study), "--out", str(ref), "--workers", "1", "--quiet"]) == 0
     out = tmp_path / "killed"
-    cmd = [sys.executable, "-m", "studies.cli", "study", "run", str(study), "--out", str(out),
+    cmd = [sys.executable, "-m", "taxel.studies.cli", "study", "run", str(study), "--out", str(out),
            "--workers", "1", "--quiet"]
     env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
     for target in (3, 7):                      # kill after some points, twice

@@ -13,16 +13,16 @@ reference; the default mesh of the example must be within 1 % of it (measured
 import numpy as np
 import pytest
 
-from fem.solve import solve
-from meshing.build import build
-from meshing.layout import layout
-from studies.scene import load, refined
+from taxel.analyses import solve_static as solve
+from taxel.meshing.build import build
+from taxel.meshing.layout import layout
+from taxel.scene import load, refined
 
 
 @pytest.fixture(scope="module")
 def nested_voltages():
     scene = refined(load("thesis-pzt-single-2d"), 0.5)
-    tm = build(layout(scene))
+    tm = mesh(scene)
     return np.array([solve(scene, tagged_mesh=tm.refined(k) if k else tm).voltages()["taxel_0_0"]
                      for k in range(4)])
 

@@ -1,6 +1,6 @@
 """Yeoh fit of a uniaxial tensile test (fem.yeoh_fit, `taxel material fit-yeoh`).
 
-The published Ecoflex 00-30 sets (REFERENCE.md) are reproduced by a linear least-squares
+The published Ecoflex 00-30 sets (docs/materials.md) are reproduced by a linear least-squares
 fit of the incompressible uniaxial nominal stress P = 2 (lam - lam^-2) W'(I1) to the
 *engineering* strain and *engineering* stress columns of the Marechal et al. file, on the
 points with 0 < strain <= max strain (end point included). Measured (kPa):
@@ -18,21 +18,18 @@ selections do not reproduce them: true stress vs true strain (Cauchy fit) gives 
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from fem import materials as M
-from fem import yeoh_fit as Y
-from studies.cli import EXIT_INPUT, main
+from taxel.fem import materials as M
+from taxel.fem import yeoh_fit as Y
+from taxel.cli import EXIT_INPUT, main
 
-DATA = Path(os.environ.get("TAXEL_ECOFLEX_CSV",
-                           Path(__file__).resolve().parents[2] / "shared/data/ecoflex-00-30-uniaxial.csv"))
-needs_data = pytest.mark.skipif(not DATA.is_file(), reason=f"test data {DATA} not found (set TAXEL_ECOFLEX_CSV)")
+DATA = M.ECOFLEX_UNIAXIAL_CSV      # vendored with its source (fem/data/README.md)
 
-# REFERENCE.md, "Ecoflex 00-30": (max strain, (C10, C20, C30) in kPa, printed decimals of each)
+# docs/materials.md, "Ecoflex 00-30": (max strain, (C10, C20, C30) in kPa, printed decimals of each)
 PUBLISHED = [
     (0.5, (6.70, 1.93, -1.07), (2, 2, 2)),
     (1.0, (7.18, 0.619, -0.114), (2, 3, 3)),
@@ -49,16 +46,14 @@ def data():
 # the real file
 # --------------------------------------------------------------------------------------
 
-@needs_data
 def test_reads_engineering_columns_in_pa(data):
     strain, stress = data
     assert len(strain) == 705 and np.isfinite(strain).all() and np.isfinite(stress).all()
     assert strain[0] == pytest.approx(0.06795) and stress[0] == pytest.approx(1490.0)   # 0.00149 MPa
-    # REFERENCE.md: nominal stress at 100 % strain 29.7 kPa
+    # docs/materials.md: nominal stress at 100 % strain 29.7 kPa
     assert np.interp(1.0, strain, stress) == pytest.approx(29.7e3, abs=50)
 
 
-@needs_data
 @pytest.mark.parametrize("max_strain, published, decimals", PUBLISHED, ids=["50%", "100%", "300%"])
 def test_fit_reproduces_published_sets(data, max_strain, published, decimals):
     fit = Y.fit_yeoh(*data, max_strain)
@@ -69,7 +64,6 @@ def test_fit_reproduces_published_sets(data, max_strain, published, decimals):
     assert 300 < fit.rms_Pa < 400
 
 
-@needs_data
 @pytest.mark.parametrize("name,max_strain", [("Ecoflex-00-30", 3.0), ("Ecoflex-00-30-fit100", 1.0),
                                              ("Ecoflex-00-30-fit50", 0.5)])
 def test_library_records_are_the_fits_of_the_data(data, name, max_strain):
@@ -79,7 +73,6 @@ def test_library_records_are_the_fits_of_the_data(data, name, max_strain):
     assert np.allclose(np.array(fit.C), lib, atol=6.0)     # library carries 3 digits in kPa
 
 
-@needs_data
 def test_stability_50_percent_fit_lost_300_percent_fit_kept(data):
     f50, f300 = Y.fit_yeoh(*data, 0.5), Y.fit_yeoh(*data, 3.0)
     assert f50.C30 < 0 and f300.C30 < 0
@@ -200,7 +193,6 @@ def test_fit_needs_positive_max_strain_and_enough_points():
 # CLI
 # --------------------------------------------------------------------------------------
 
-@needs_data
 def test_cli_prints_coefficients_and_warning(capsys):
     assert main(["material", "fit-yeoh", str(DATA), "--max-strain", "0.5"]) == 0
     out = capsys.readouterr().out
@@ -209,7 +201,6 @@ def test_cli_prints_coefficients_and_warning(capsys):
     assert "WARNING: unstable in uniaxial tension beyond +69.3 % strain" in out
 
 
-@needs_data
 def test_cli_300_percent_stable_within_its_range(capsys):
     assert main(["material", "fit-yeoh", str(DATA), "--max-strain", "300%", "--check-strain", "3"]) == 0
     out = capsys.readouterr().out
@@ -217,7 +208,6 @@ def test_cli_300_percent_stable_within_its_range(capsys):
     assert "WARNING" not in out and "stable in uniaxial, equibiaxial and pure shear" in out
 
 
-@needs_data
 def test_cli_json_and_plot(tmp_path, capsys):
     png = tmp_path / "fit.png"
     assert main(["material", "fit-yeoh", str(DATA), "--max-strain", "1", "--json", "--plot", str(png)]) == 0

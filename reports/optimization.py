@@ -8,7 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from optimize.driver import pareto_front
+from taxel.optimize.driver import _g, pareto_front
+from taxel.reports.figures import pyplot
 
 
 def write_run(problem, result, out: Path, tag="optimum"):
@@ -27,9 +28,7 @@ def write_run(problem, result, out: Path, tag="optimum"):
 
 
 def _convergence(problem, result, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     (sense, metric), = problem.spec.objective.items()
     vals = [h["metrics"][metric] for h in result.history]
     vals = np.array([v if v is not None else np.nan for v in vals], float)
@@ -46,9 +45,7 @@ def _convergence(problem, result, path):
 
 
 def write_front(problem, runs, reference, out: Path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     pts = [(r.metrics["sensitivity"], r.metrics["crosstalk"], eps, r) for eps, r in runs
            if r.success and r.metrics["sensitivity"] is not None]
     nd = pareto_front([(s, c) for s, c, *_ in pts])
@@ -57,7 +54,6 @@ def write_front(problem, runs, reference, out: Path):
             for s, c, eps, r in pts]
     (out / "front.json").write_text(json.dumps({"front": rows, "reference": reference}, indent=1))
     fig, ax = plt.subplots(figsize=(6.5, 4.2), constrained_layout=True)
-    from optimize.driver import _g
     allh = [h["metrics"] for _, r in runs for h in r.history if h["metrics"]["sensitivity"] is not None]
     feasible = [m for m in allh if all(_g(m, c) <= 1e-9 for c in problem.constraints)]
     ax.plot([m["crosstalk"] * 100 for m in feasible], [m["sensitivity"] for m in feasible], ".", color="0.75",

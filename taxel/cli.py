@@ -21,23 +21,18 @@ import json
 import sys
 from pathlib import Path
 
-from studies.outputs import load_scene_data, print_output, write_rows, write_scene
-from studies.scene import SceneError, examples, load
+from taxel import api
+from taxel.scene import SceneError, examples
+from taxel.units import engineering as si
 
 EXIT_INPUT, EXIT_FAILED = 2, 1
 
 
-def si(value: float | None, unit: str) -> str:
-    """A number with an SI prefix: si(2.97e-9, 'C') -> '2.97 nC'."""
-    if value is None:
-        return "-"
-    if value == 0:
-        return f"0 {unit}"
-    import math
-    value = float(f"{value:.4g}")
-    exp = max(-15, min(9, 3 * math.floor(math.log10(abs(value)) / 3)))
-    prefix = {-15: "f", -12: "p", -9: "n", -6: "u", -3: "m", 0: "", 3: "k", 6: "M", 9: "G"}[exp]
-    return f"{value / 10 ** exp:.4g} {prefix}{unit}"
+def _print_output(files, summary):
+    for line in summary:
+        print(line)
+    for f in files:
+        print(f"wrote {f}")
 
 
 def _out_dir(args, scene):
@@ -47,34 +42,24 @@ def _out_dir(args, scene):
 
 
 def _solve(args):
-    from fem.solve import solve
-    from meshing.build import export
-    scene = load(args.scene)
+    from taxel.meshing.build import export
+    from taxel.reports import analysis
+    scene = api.load(args.scene)
     if scene.analysis.type != "static":
-        from studies import run
-        out = _out_dir(args, scene)
-        write_scene(out, scene)
-        print_output(getattr(run, scene.analysis.type)(scene, out), out)
+        _print_output(*analysis.write(api.solve(scene), _out_dir(args, scene)))
         return
-    sol = solve(scene, solver=args.solver)
+    sol = api.solve(scene, solver=args.solver)
     if args.vtu:
-        export(sol.mesh, args.vtu, point_data={"u": sol.fields["u"], "phi": sol.fields["phi"]},
-               cell_data={"strain": sol.fields["strain"], "stress": sol.fields["stress"]})
+        export(sol.mesh, args.vtu, point_data={"u": sol.fields.u, "phi": sol.fields.phi},
+               cell_data={"strain": sol.fields.strain, "stress": sol.fields.stress})
     if args.out:
-        out = _out_dir(args, scene)
-        write_scene(out, scene)
-        (out / "result.json").write_text(json.dumps(sol.record(), indent=1))
+        sol.to_folder(_out_dir(args, scene))
     if args.json:
         print(json.dumps(sol.record()))
         return
-    m = scene.mesh
-    print(f"scene {scene.name}: {scene.model.type}, order {m.order} ({scene.model.silicone} silicone, {m.formulation}), "
-          f"{sol.unknowns} unknowns, solver {sol.solver}, {sol.times['total']:.3f} s "
-          f"(mesh {sol.times['mesh']:.3f}, assemble {sol.times['assemble']:.3f}, solve {sol.times['solve']:.3f})")
-    print(f"{'electrode':<12}{'state':<10}{'voltage':>12}{'charge':>13}{'short-circuit Q':>18}{'capacitance':>14}")
-    for e in sol.electrodes.values():
-        print(f"{e.name:<12}{e.state:<10}{si(e.voltage, 'V'):>12}{si(e.charge, 'C'):>13}"
-              f"{si(e.short_circuit_charge, 'C'):>18}{si(e.capacitance, 'F'):>14}")
+    print(sol)
+    print(f"times: mesh {sol.times['mesh']:.3f} s, assemble {sol.times['assemble']:.3f} s, "
+          f"solve {sol.times['solve']:.3f} s")
     print(f"applied force {si(sol.applied_force, 'N')}, support reaction {si(sol.reaction[-1], 'N')} (vertical), "
           f"relative residual {sol.residual:.1e}")
     if sol.newton is not None:
@@ -82,8 +67,8 @@ def _solve(args):
     if sol.model_note:
         print(sol.model_note)
     if sol.mesh.layout.taxels:
-        from fem.solve import LINEAR_ERROR_PER_STRAIN
-        est = LINEAR_ERROR_PER_STRAIN * sol.max_silicone_strain
+        from taxel.analyses import linear_error
+        est = linear_error(sol.max_silicone_strain)
         linear = sol.newton is None
         print(f"largest silicone strain {100 * sol.max_silicone_strain:.1f} %"
               + (f" (a linear silicone errs by about {100 * est:.2g} % here; model.silicone = 'auto' or "
@@ -93,41 +78,33 @@ def _solve(args):
 
 
 def _lumped(args):
-    from studies import run
-    scene = load(args.scene)
-    print_output(run.lumped_model(scene, _out_dir(args, scene)))
+    from taxel.analyses import lumped_response
+    from taxel.reports import analysis
+    scene = api.load(args.scene)
+    _print_output(*analysis.write(lumped_response(scene), _out_dir(args, scene)))
 
 
 def _study(args):
 
-    from reports.figures import study_plots
-    from studies import study as S
+    from taxel.studies.spec import Study, StudyError, StudySpec
+    from taxel.studies.store import tidy_rows, write_rows
     if args.action == "run":
-        st = S.load_study(args.target)
-        out = Path(args.out or Path("out") / st.spec.name)
-        out.mkdir(parents=True, exist_ok=True)
-        spec_copy = out / "study.json"
-        spec_copy.write_text(st.spec.model_dump_json(indent=1))
-        write_scene(out, load_scene_data(st.base_data()))
-        summary = S.run(st, out, workers=args.workers, scheduler=args.scheduler,
-                        retry_failed=args.retry_failed, progress=not args.quiet)
-        rows = S.tidy_rows(out, st)
-        write_rows(rows, out / "results.csv")
-        plots = study_plots(rows, [p.name for p in st.spec.parameters],
-                            ["voltage_pressed", "crosstalk", "max_strain"], out / "plots", st.spec.name)
-        print(f"{st.spec.name}: {summary.total} points: {summary.done} computed, {summary.cached} cached, "
-              f"{summary.failed} failed, {summary.seconds:.2f} s; results in {out} "
-              f"(results.csv, {len(plots)} plots)")
+        out = Path(args.out) if args.out else None
+        summary = api.run_study(args.target, out, workers=args.workers, scheduler=args.scheduler,
+                                retry_failed=args.retry_failed, progress=not args.quiet)
+        print(f"{summary.name}: {summary.total} points: {summary.done} computed, {summary.cached} cached, "
+              f"{summary.failed} failed, {summary.seconds:.2f} s; results in {summary.folder} "
+              f"(results.csv, {len(summary.plots)} plots)")
         return 0 if summary.failed == 0 else EXIT_FAILED
     out = Path(args.target)
     if not (out / "results.sqlite").exists():
-        raise S.StudyError(f"{out}: no study results here (no results.sqlite); run 'taxel study run' first")
-    rows = S.tidy_rows(out)
+        raise StudyError(f"{out}: no study results here (no results.sqlite); run 'taxel study run' first")
+    rows = tidy_rows(out)
     if args.action == "status":
         total = None
         if (out / "study.json").exists():
-            spec = S.StudySpec.model_validate_json((out / "study.json").read_text())
-            total = len(S.Study(spec, {}, out).points())
+            spec = StudySpec.model_validate_json((out / "study.json").read_text())
+            total = len(Study(spec, {}, out).points())
         n_done = sum(r["status"] == "done" for r in rows)
         n_failed = sum(r["status"] == "failed" for r in rows)
         print(f"{out}: {n_done} done, {n_failed} failed"
@@ -138,7 +115,7 @@ def _study(args):
                       f": {r['error']}")
     else:
         if not args.csv:
-            raise S.StudyError("study export needs --csv FILE")
+            raise StudyError("study export needs --csv FILE")
         write_rows(rows, Path(args.csv))
         print(f"{len(rows)} rows written to {args.csv}")
 
@@ -146,18 +123,21 @@ def _study(args):
 def _optimize(args):
     import numpy as np
 
-    from optimize import problem as O
-    from optimize.report import write_front, write_run
+    from taxel.analyses.results import write_scene
+    from taxel.optimize import problem as O
+    from taxel.reports.optimization import write_front, write_run
+    from taxel.scene import parse
+    from taxel.studies.store import Store
     path = args.file
     probe = O.load_problem(path)
     out = Path(args.out or Path("out") / probe.spec.name)
     out.mkdir(parents=True, exist_ok=True)
     prob = O.load_problem(path, out)
-    write_scene(out, load_scene_data(prob.scene_data(prob.x0)))
+    write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
     resolved = path if Path(path).is_file() else O.BUILTIN / f"{path}.toml"
     reference = None
     if prob.spec.reference:
-        x_ref = np.array([O._magnitude(prob.spec.reference[n], u, f"reference.{n}")[0]
+        x_ref = np.array([O.magnitude(prob.spec.reference[n], u, f"reference.{n}")[0]
                           for n, u in zip(prob.names, prob.units)])
         reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
         print(f"reference design {reference['x']}: sensitivity {reference['sensitivity']:.4g} V/N, "
@@ -173,7 +153,6 @@ def _optimize(args):
             dominated = any(s >= reference["sensitivity"] * (1 + 1e-3) and c <= reference["crosstalk"] * (1 - 1e-3)
                             for s, c in nd)
             print(f"the reference design is {'DOMINATED (not on the front)' if dominated else 'on the front'}")
-        from studies.study import Store
         store = Store(out)
         solves = len(store.rows())
         store.close()
@@ -190,26 +169,26 @@ def _optimize(args):
 
 
 def _report(args):
-    from reports.build import build
-    index = build(args.folders, Path(args.out), pdf=args.pdf, compare=not args.no_compare)
+    index = api.report(args.folders, Path(args.out), pdf=args.pdf, compare=not args.no_compare)
     print(f"report: {index.resolve()}")
 
 
 def _demo(args):
-    from reports.main_job import run
+    from taxel.reports.main_job import run
     run(Path(args.out), small=args.small)
 
 
 def _mesh(args):
-    from meshing.build import build, export
-    from meshing.layout import layout
-    from studies.scene import user_materials
-    scene = load(args.scene)
+    from taxel.analyses.geometry import layout
+    from taxel.analyses.problem import scene_materials
+    from taxel.meshing.build import build, export
+    scene = api.load(args.scene)
     out = Path(args.output)
+    lay = layout(scene, scene_materials(scene))
     if out.suffix == ".msh":
-        tm = build(layout(scene), user_materials(scene), msh_path=out)
+        tm = build(lay, msh_path=out)
     else:
-        tm = build(layout(scene), user_materials(scene))
+        tm = build(lay)
         export(tm, out)
     print(f"{out}: {tm.mesh.nelements} elements, {tm.mesh.nvertices} nodes; "
           f"regions {', '.join(tm.regions)}; facet sets {', '.join(tm.facets)}")
@@ -221,14 +200,9 @@ def _examples(args):
 
 
 def _material_fit_yeoh(args):
-    from fem.yeoh_fit import (
-        COMPRESSION_STRETCH,
-        fit_yeoh,
-        parse_strain,
-        plot_fit,
-        read_uniaxial,
-        stability_losses,
-    )
+    from taxel.fem.yeoh_fit import COMPRESSION_STRETCH, fit_yeoh, stability_losses
+    from taxel.reports.figures import yeoh_fit as plot_fit
+    from taxel.studies.uniaxial import read_uniaxial
     max_strain = parse_strain("--max-strain", args.max_strain)
     check = parse_strain("--check-strain", args.check_strain) if args.check_strain else 2.0 * max_strain
     strain, stress = read_uniaxial(args.file)
@@ -264,6 +238,23 @@ def _material_fit_yeoh(args):
         print(w)
     if args.plot:
         print(f"plot written to {args.plot}")
+
+
+def parse_strain(option: str, text) -> float:
+    """A strain given as a fraction ('0.5') or a percentage ('50%', '50 %'); must be finite and > 0.
+
+    Raises ValueError with one line naming `option` otherwise.
+    """
+    import math
+    t = str(text).strip()
+    pct = t.endswith("%")
+    try:
+        value = float(t.rstrip("%").strip()) / (100.0 if pct else 1.0)
+    except ValueError:
+        raise ValueError(f"{option} must be a number such as 0.5 or '50%', got '{text}'") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise ValueError(f"{option} must be a positive strain (0.5 = 50 %), got '{text}'")
+    return value
 
 
 def main(argv=None):

@@ -11,17 +11,17 @@ Every validation error is one line: `scene error: <key>: <problem>; <fix>`.
 
 from __future__ import annotations
 
-import math
+import copy
+import json
 import tomllib
-from functools import cache
+import typing
 from pathlib import Path
 from typing import Annotated, Literal
 
-import pint
-from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationError,
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, ValidationInfo,
                       model_validator)
 
-from fem import materials
+from taxel import units
 
 EXAMPLES = Path(__file__).parent / "examples"
 
@@ -30,44 +30,16 @@ class SceneError(ValueError):
     """A scene that cannot be solved; the message is one line with the fix."""
 
 
-@cache
-def _ureg():
-    return pint.UnitRegistry()
-
-
 def _quantity(unit: str, what: str, positive=False, nonnegative=False):
-    def parse(v):
-        if isinstance(v, (int, float)) and not isinstance(v, bool):
-            if v == 0:
-                return check(0.0, v)
-            raise ValueError(f"missing unit: write it as a string, e.g. \"{v} {unit_hint[unit]}\"")
-        if not isinstance(v, str):
-            raise ValueError(f"expected a {what} such as \"1 {unit_hint[unit]}\"")
-        try:
-            q = _ureg().Quantity(v.replace("Ohm", "ohm"))
-        except Exception:
-            raise ValueError(f"cannot read {v!r} as a {what}; write e.g. \"1 {unit_hint[unit]}\"") from None
-        if isinstance(q, (int, float)) or q.dimensionless:
-            raise ValueError(f"missing unit in {v!r}; write e.g. \"{v} {unit_hint[unit]}\"")
-        try:
-            x = float(q.to(unit).magnitude)
-        except pint.DimensionalityError:
-            raise ValueError(f"unit mismatch: {v!r} is not a {what}") from None
-        return check(x, v)
-
-    def check(x, v):
-        if not math.isfinite(x):
-            raise ValueError(f"must be a finite number, got {v!r}")
-        if positive and not x > 0:
-            raise ValueError(f"must be positive, got {v!r}")
-        if nonnegative and x < 0:
-            raise ValueError(f"must not be negative, got {v!r}")
-        return x
+    """A field read by units.to_si: a string with a unit in a file, or SI numbers
+    when the scene is built from Python (validation context {"si_numbers": True})."""
+    def parse(v, info: ValidationInfo):
+        si_numbers = bool(info.context and info.context.get("si_numbers"))
+        return units.to_si(v, unit, what, si_numbers=si_numbers, positive=positive, nonnegative=nonnegative)
     parse.unit = unit
     return BeforeValidator(parse)
 
 
-unit_hint = {"m": "mm", "N": "N", "Pa": "kPa", "V": "V", "Hz": "Hz", "s": "ms", "ohm": "MOhm", "F": "pF"}
 Length = Annotated[float, _quantity("m", "length", positive=True)]
 Thickness = Annotated[float, _quantity("m", "length", nonnegative=True)]
 Force = Annotated[float, _quantity("N", "force")]
@@ -197,6 +169,10 @@ class Scene(Strict):
     readout: Readout = Readout()
     materials: dict[str, dict] = {}     # user materials, see fem.materials.from_record
 
+    def replace(self, **changes) -> Scene:
+        """A new validated scene with values changed by dotted path (see `replace`)."""
+        return replace(self, **changes)
+
     @model_validator(mode="after")
     def _consistent(self):
         if (self.array is None) == (self.plate is None):
@@ -278,13 +254,13 @@ def electrode_state(state: str, key="electrode"):
     if s == "short":
         return "ground"
     try:
-        q = _ureg().Quantity(state)
-        return float(q.to("V").magnitude)
-    except Exception:
+        return units.to_si(state, "V", "voltage")
+    except units.UnitError:
         raise ValueError(f"{key} = {state!r}: use 'open', 'ground' or a voltage such as \"10 V\"") from None
 
 
-def _one_line(err: ValidationError) -> str:
+def one_line(err: ValidationError) -> str:
+    """The first problem of a pydantic error as one line: the key, the problem, the fix."""
     e = err.errors()[0]
     loc = ".".join(str(x) for x in e["loc"] if not str(x).startswith("function-after"))
     msg = e["msg"].removeprefix("Value error, ")
@@ -297,50 +273,48 @@ def _one_line(err: ValidationError) -> str:
     return f"{loc}: {msg}" if loc else msg
 
 
-def parse(data: dict) -> Scene:
-    """A validated Scene from a dict; raises SceneError with a one-line message."""
+def parse(data: dict, *, si_numbers: bool = False) -> Scene:
+    """A validated Scene from a dict (TOML-like: quantities as strings with units;
+    with `si_numbers`, plain numbers are SI). Raises SceneError with one line.
+    Material names are checked where materials are known (taxel.analyses)."""
     try:
-        scene = Scene.model_validate(data)
+        return Scene.model_validate(data, context={"si_numbers": si_numbers})
     except ValidationError as err:
-        raise SceneError(_one_line(err)) from None
-    for name, rec in scene.materials.items():
-        try:
-            materials.from_record(name, rec)
-        except KeyError as exc:
-            raise SceneError(f"materials.{name}: missing {exc.args[0]!r}; see fem.materials.from_record") from None
-        except (ValueError, TypeError) as exc:
-            raise SceneError(f"materials.{name}: {exc}") from None
-    user = user_materials(scene)
-    for name in scene_material_names(scene):
-        try:
-            materials.get(name, user)
-        except KeyError as exc:
-            raise SceneError(exc.args[0]) from None
-    if scene.array is not None:
-        for key, kind in (("piezo", materials.Piezo), ("silicone", materials.Solid)):
-            name = getattr(scene.array, key)
-            if not isinstance(materials.get(name, user), kind):
-                raise SceneError(f"array.{key} = '{name}' is not a {'piezoelectric' if key == 'piezo' else 'passive solid'} "
-                                 f"material; pick one that is (e.g. '{'PSI-5H4E' if key == 'piezo' else 'Ecoflex-00-30'}')")
-    return scene
+        raise SceneError(one_line(err)) from None
 
 
-def load(path_or_name: str | Path) -> Scene:
-    """A scene from a TOML file, or a built-in example by name (see `examples()`)."""
-    path = Path(path_or_name)
+def read_toml(path: Path, error=SceneError) -> dict:
+    """A TOML file as a dict; an unreadable or invalid file is one line naming it."""
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise error(f"{path}: not UTF-8 text; save it as a UTF-8 TOML file") from None
+    except OSError as exc:
+        raise error(f"{path}: cannot read it ({exc.strerror or exc})") from None
+
+
+def load(source: str | Path | dict) -> Scene:
+    """A scene from a TOML file, a built-in example by name (see `examples()`), or a
+    dict (Python numbers in SI). A file's relative `analysis.file` is resolved
+    against the file's folder."""
+    if isinstance(source, dict):
+        return parse({"name": "scene", **source}, si_numbers=True)
+    path = Path(source)
     if not path.is_file():
-        builtin = EXAMPLES / f"{path_or_name}.toml"
+        builtin = EXAMPLES / f"{source}.toml"
         if not builtin.exists():
-            raise SceneError(f"no scene file '{path_or_name}' and no built-in example of that name; "
+            raise SceneError(f"no scene file '{source}' and no built-in example of that name; "
                              f"built-in: {', '.join(examples())}")
         path = builtin
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: not valid TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise SceneError(f"{path}: not UTF-8 text; save the scene as a UTF-8 TOML file") from None
+    data = read_toml(path)
     data.setdefault("name", path.stem)
+    analysis = data.get("analysis")
+    if isinstance(analysis, dict) and isinstance(analysis.get("file"), str):
+        f = Path(analysis["file"])
+        if not f.is_absolute():
+            analysis["file"] = str(path.parent / f)
     return parse(data)
 
 
@@ -354,26 +328,67 @@ def scene_material_names(scene: Scene) -> list[str]:
     return [layer.material for layer in scene.plate.layers]
 
 
-def user_materials(scene: Scene) -> dict:
-    return {name: materials.from_record(name, rec) for name, rec in scene.materials.items()}
+def set_path(data: dict, path: str, value):
+    """Set `value` at a dotted path of a scene dict; a table is merged (deeply) into
+    the table there. The path "" is the scene itself. Raises KeyError(path) where a
+    key on the way is not a table."""
+    if path == "":
+        if not isinstance(value, dict):
+            raise KeyError(path)
+        _merge(data, value)
+        return
+    keys = path.split(".")
+    node = data
+    for k in keys[:-1]:
+        node = node.setdefault(k, {})
+        if not isinstance(node, dict):
+            raise KeyError(path)
+    if isinstance(value, dict) and isinstance(node.get(keys[-1]), dict):
+        _merge(node[keys[-1]], value)
+    else:
+        node[keys[-1]] = value
+
+
+def _merge(node: dict, value: dict):
+    for k, v in value.items():
+        if isinstance(v, dict) and isinstance(node.get(k), dict):
+            _merge(node[k], v)
+        else:
+            node[k] = v
+
+
+def replace(scene: Scene, **changes) -> Scene:
+    """A new, validated scene with values changed by dotted path:
+    replace(scene, **{"array.silicone_above": "0.5 mm", "load.force": 0.2}).
+    Values are strings with units or SI numbers; a table merges into the table there."""
+    data = to_data(scene)
+    for path, value in changes.items():
+        if isinstance(value, BaseModel):
+            value = to_data(value)
+        try:
+            set_path(data, path, value)
+        except KeyError:
+            raise SceneError(f"'{path}': not a scene path; a key on the way is not a table") from None
+    return parse(data, si_numbers=True)
 
 
 def refined(scene: Scene, factor: float) -> Scene:
     """The scene with every element size divided by `factor` (in plane and through
     the piezo), for convergence studies: factor 2 halves h everywhere."""
     m = scene.mesh
-    mesh = m.model_copy(update={
-        "size": m.size / factor,
-        "piezo_size": (m.piezo_size or m.size / 4) / factor,
-        "piezo_layers": max(1, round(m.piezo_layers * factor)),
-    })
-    return scene.model_copy(update={"mesh": mesh})
+    return replace(scene, **{"mesh.size": m.size / factor,
+                             "mesh.piezo_size": (m.piezo_size or m.size / 4) / factor,
+                             "mesh.piezo_layers": max(1, round(m.piezo_layers * factor))})
+
+
+def canonical(scene: Scene) -> str:
+    """The scene as canonical JSON (sorted keys, SI numbers): what a result depends on."""
+    return json.dumps(scene.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
 
 
 def to_data(model: BaseModel) -> dict:
     """A scene (or part) as a TOML-like dict that `parse` reads back: quantities as
     strings with their SI unit ("0.001 m"), everything else as is."""
-    import typing
     out = {}
     for name, info in type(model).model_fields.items():
         value = getattr(model, name)
@@ -393,5 +408,5 @@ def to_data(model: BaseModel) -> dict:
         elif unit and isinstance(value, tuple):
             out[name] = [f"{v!r} {unit}" for v in value]
         else:
-            out[name] = list(value) if isinstance(value, tuple) else value
+            out[name] = copy.deepcopy(list(value) if isinstance(value, tuple) else value)
     return out
