@@ -17,7 +17,10 @@ demo: $(STAMP)
 test: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q $(PYTEST_ARGS)
 
+lint: $(STAMP)
+	.ci/lint-imports
+
 bench: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/taxel_2d.py
 
-.PHONY: setup demo test bench
+.PHONY: setup demo test lint bench

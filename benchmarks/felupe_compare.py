@@ -48,10 +48,10 @@ import time
 
 import numpy as np
 
+from taxel.analyses import mesh, problem
+from taxel.analyses import solve_static as solve
+from taxel.fem.assembly import assemble
 from taxel.fem.newton import yeoh_terms
-from taxel.fem.solve import assemble, solve
-from taxel.meshing.build import build
-from taxel.meshing.layout import layout
 from taxel.scene import parse
 
 C_YEOH = (7.83e3, 0.103e3, -0.8)
@@ -78,7 +78,7 @@ def scene(pressure=PRESSURE, size="0.625 mm", through=8):
 
 
 def tagged_mesh(sc, refine=0):
-    tm = build(layout(sc), user_materials(sc))
+    tm = mesh(sc)
     return tm.refined(refine) if refine else tm
 
 
@@ -90,7 +90,7 @@ def ours(sc, tm, tol=1e-12):
 def our_point_values(sc, sol):
     """Full P2 displacement and support reactions per unit depth, in FELupe's point
     order (vertices, then edge midpoints in skfem's facet order)."""
-    sy = assemble(sc, sol.mesh, user_materials(sc), hyperelastic=True)
+    sy = assemble(problem(sc, sol.mesh))
     x = sol.fields.x
     ub = next(iter(sy.ubases.values()))
     r_y, _ = yeoh_terms(sy, x, with_tangent=False)
@@ -219,7 +219,7 @@ def diagnose(sc, tm):
     print(f"stock QuadraticTriangle gradient vs finite differences at (0.2, 0.3): "
           f"max error {np.abs(el.gradient(rs) - fd).max():.2f} (row h5: {el.gradient(rs)[5]} vs {fd[5]})")
     print(f"corrected gradient vs finite differences: {np.abs(quadratic_triangle_fixed().gradient(rs) - fd).max():.1e}")
-    small = sc.model_copy(update={"load": sc.load.model_copy(update={"pressure": 1e3})})
+    small = sc.replace(**{"load.pressure": 1e3})
     c = compare(small, tm, fixed_gradient=False, substeps=1)
     print(f"1 kPa, stock FELupe gradient:            max |du| / max |u| = {c['du']:.2e}")
     try:

@@ -13,15 +13,13 @@ import numpy as np
 
 from taxel.fem.newton import NewtonError
 from taxel.analyses import solve_static as solve
-from taxel.meshing.build import build
-from taxel.meshing.layout import layout
+from taxel.analyses import mesh
 from taxel.scene import load
 from taxel_2d import median_time     # benchmarks/ is on sys.path when run as a script
 
 
 def with_(scene, silicone, force):
-    return scene.model_copy(update={"model": scene.model.model_copy(update={"silicone": silicone}),
-                                    "load": scene.load.model_copy(update={"force": force})})
+    return scene.replace(**{"model.silicone": silicone, "load.force": force})
 
 
 def reference(scene):

@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 from taxel.optimize.problem import BUILTIN, front, load_problem, noise, optimize
-from taxel.studies.study import Store
+from taxel.studies.store import Store
 
 
 def main():

@@ -3,7 +3,7 @@ against the Yeoh model, for the thesis PZT and PVDF taxels (2D plane strain),
 over force; and its relation to the linear solution's own largest silicone strain.
 
 The fitted slope (error per unit strain) is what `model.silicone = "auto"` uses
-(fem.solve.LINEAR_ERROR_PER_STRAIN): solve linear, estimate the error from the
+(taxel.analyses.static.LINEAR_ERROR_PER_STRAIN): solve linear, estimate the error from the
 strain, and switch to Yeoh when the estimate passes the scene's tolerance.
 The uniform-pressure press on Ecoflex cannot be followed by Newton beyond
 about 0.45 N in 2D (see fem.newton; the surface folds at the load edge), so the
@@ -22,8 +22,7 @@ FORCES = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45]
 
 
 def with_(scene, silicone, force):
-    return scene.model_copy(update={"model": scene.model.model_copy(update={"silicone": silicone}),
-                                    "load": scene.load.model_copy(update={"force": force})})
+    return scene.replace(**{"model.silicone": silicone, "load.force": force})
 
 
 def study(name):

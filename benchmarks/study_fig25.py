@@ -2,7 +2,7 @@
 stress, default mesh: 0.8 % voltage accuracy, benchmarks/taxel_2d.py) with 1 and 2
 workers, the speed-up, and a fully cached rerun.
 
-Run: python benchmarks/studies.py
+Run: python benchmarks/study_fig25.py
 """
 
 import shutil
@@ -10,17 +10,18 @@ import tempfile
 import time
 from pathlib import Path
 
-from taxel.studies import study as S
+from taxel.studies.execute import run
+from taxel.studies.spec import load_study
 
 
 def timed_run(study, out, workers):
     t = time.perf_counter()
-    summary = S.run(study, out, workers=workers, progress=False)
+    summary = run(study, out, workers=workers, progress=False)
     return time.perf_counter() - t, summary
 
 
 def main():
-    study = S.load_study("fig-2-5")
+    study = load_study("fig-2-5")
     tmp = Path(tempfile.mkdtemp())
     try:
         t1, s1 = timed_run(study, tmp / "one", 1)

@@ -18,10 +18,10 @@ import time
 
 import numpy as np
 
-from taxel.fem import linalg as linsolve
-from taxel.fem.solve import assemble, solve
-from taxel.meshing.build import build
-from taxel.meshing.layout import layout
+from taxel.analyses import mesh, problem
+from taxel.analyses import solve_static as solve
+from taxel.fem import linalg
+from taxel.fem.assembly import assemble
 from taxel.scene import load, refined
 
 REPEAT = 5
@@ -38,7 +38,7 @@ def median_time(fn, repeat=REPEAT):
 
 
 def with_order(scene, order):
-    return scene.model_copy(update={"mesh": scene.mesh.model_copy(update={"order": order})})
+    return scene.replace(**{"mesh.order": order})
 
 
 def reference_voltage(base):
@@ -64,9 +64,8 @@ def main():
     for order in (1, 2):
         for f in FACTORS:
             scene = refined(with_order(base, order), f)
-            user = user_materials(scene)
-            t_mesh, tm = median_time(lambda: build(layout(scene), user))
-            t_asm, _ = median_time(lambda: assemble(scene, tm, user))
+            t_mesh, tm = median_time(lambda: mesh(scene))
+            t_asm, _ = median_time(lambda: assemble(problem(scene, tm)))
             t_tot, sol = median_time(lambda: solve(scene, solver="auto", tagged_mesh=tm))
             t_solve = max(t_tot - t_asm, 0.0)
             v = sol.voltages()["taxel_0_0"]
@@ -80,22 +79,21 @@ def main():
     print(f"\ncheapest configuration under 1 % error: order {best[0]}, h factor {best[1]:g}: "
           f"{best[2]} unknowns, {best[3]:.3f} s wall (mesh + assemble + solve), error {best[4]:.2f} %")
 
-    methods = [m for m in ("superlu", "pardiso", "umfpack") if linsolve.available(m)]
+    methods = [m for m in ("superlu", "pardiso", "umfpack") if linalg.available(m)]
     print("\nsparse direct solvers, order 2 (solve phase = factorize + back-substitute + refine; medians):")
     print(f"{'h factor':>8} {'unknowns':>9} " + " ".join(f"{m + ' s':>11}" for m in methods)
           + " " + " ".join(f"{m + '/superlu':>17}" for m in methods[1:]))
     for f in FACTORS:
         scene = refined(base, f)
-        user = user_materials(scene)
-        tm = build(layout(scene), user)
-        t_asm, _ = median_time(lambda: assemble(scene, tm, user), 3)
+        tm = mesh(scene)
+        t_asm, _ = median_time(lambda: assemble(problem(scene, tm)), 3)
         ts = {}
         for m in methods:
             t, sol = median_time(lambda: solve(scene, solver=m, tagged_mesh=tm), 3)
             ts[m] = max(t - t_asm, 1e-9)
         print(f"{f:>8g} {sol.unknowns:>9} " + " ".join(f"{ts[m]:>11.3f}" for m in methods)
               + " " + " ".join(f"{ts[m] / ts['superlu']:>17.2f}" for m in methods[1:]))
-    print(f"\n'auto' uses SuperLU up to {linsolve.AUTO_PARDISO_ABOVE} unknowns and PARDISO above.")
+    print(f"\n'auto' uses SuperLU up to {linalg.AUTO_PARDISO_ABOVE} unknowns and PARDISO above.")
 
 
 if __name__ == "__main__":

@@ -82,13 +82,16 @@ class Lumped:
         return z, p, k
 
     def Q_sc(self, freqs):
-        """Short-circuit charge per the scene's force at frequencies (Hz), vectorized
-        through the modal form H = sum_i r_i / (i w - lambda_i)."""
+        """Short-circuit charge for the model's force at frequencies (Hz):
+        H = C (s I - A)^-1 B, one batched 6 x 6 solve per frequency. (The modal
+        form sum_i r_i / (s - lambda_i) is faster but loses 1e-5 relative here:
+        the residues of the 1e10 rad/s piezo pole cancel; measured against
+        50-digit arithmetic, the direct solve is within 2e-9.)"""
         A, B, C, _ = self.state_space()
-        lam, W = np.linalg.eig(A)
-        res = (C @ W).ravel() * np.linalg.solve(W, B).ravel()
         s = 2j * np.pi * np.asarray(freqs, float)
-        return self.force * (res[None, :] / (s[:, None] - lam[None, :])).sum(axis=1)
+        M = s[:, None, None] * np.eye(len(A))[None] - A[None]
+        x = np.linalg.solve(M, np.broadcast_to(B.astype(complex), (len(s),) + B.shape))
+        return self.force * (C @ x)[:, 0, 0]
 
     def V_oc(self, freqs):
         return -self.Q_sc(freqs) / self.C_p

@@ -18,7 +18,9 @@ from taxel.units import magnitude
 
 def pyplot():
     """matplotlib.pyplot on the Agg backend."""
-    plt = pyplot()
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
     return plt
 
 

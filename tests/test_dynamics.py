@@ -4,8 +4,14 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
-from taxel.fem import circuits, dynamics, lumped, materials
+from taxel.analyses import lumped_model, problem, readout
+from taxel.fem import circuits, dynmodel, lumped, materials, sweep, timestep
 from taxel.scene import load, parse
+
+
+def model(scene, tm=None, short=False):
+    """The dynamic model of a scene (on the mesh `tm` if given)."""
+    return dynmodel.model(problem(scene, tm), short=short)
 
 
 # ---------------------------------------------------------------- integrator, 1 DoF
@@ -17,7 +23,7 @@ def test_newmark_one_dof_step_against_closed_form():
     dt, n = 1e-3, 2000
     t = np.arange(n + 1) * dt
     f = np.ones(n + 1)
-    q, _ = dynamics.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), f, dt,
+    q, _ = timestep.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), f, dt,
                             q0=np.zeros(1))
     wd = wn * np.sqrt(1 - zeta ** 2)
     exact = (1 - np.exp(-zeta * wn * t) * (np.cos(wd * t) + zeta / np.sqrt(1 - zeta ** 2) * np.sin(wd * t))) / k
@@ -29,7 +35,7 @@ def test_newmark_one_dof_harmonic_steady_state_against_closed_form():
     m, k, c, w = 1.0, 400.0, 2.0, 15.0
     dt = 2e-4
     t = np.arange(0, 12, dt)
-    q, _ = dynamics.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), np.sin(w * t), dt)
+    q, _ = timestep.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), np.sin(w * t), dt)
     amp = 1 / abs(k - m * w ** 2 + 1j * w * c)
     late = t > 8
     assert q[late, 0].max() == pytest.approx(amp, rel=2e-3)
@@ -42,7 +48,7 @@ def test_undamped_newmark_conserves_energy():
     M = np.diag(rng.uniform(1, 2, 6))
     dt, n = 0.05, 4000                             # steps far above 2 / omega_max: still stable
     q0 = rng.normal(size=6)
-    q, _ = dynamics.newmark(M, np.zeros((6, 6)), K, np.zeros(6), np.zeros(n + 1), dt, q0=q0)
+    q, _ = timestep.newmark(M, np.zeros((6, 6)), K, np.zeros(6), np.zeros(n + 1), dt, q0=q0)
     v = np.zeros(6)
     E = []
     for i in range(n + 1):                         # the scheme's velocity: v+ = 2 (q+ - q) / dt - v
@@ -59,10 +65,10 @@ def test_explicit_central_difference_is_unstable_above_its_critical_step():
     M = np.eye(5)
     w_max = np.sqrt(np.linalg.eigvalsh(K).max())
     dt_crit = 2 / w_max
-    grow = dynamics.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 1.05 * dt_crit, 400)
-    stay = dynamics.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 0.95 * dt_crit, 400)
+    grow = timestep.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 1.05 * dt_crit, 400)
+    stay = timestep.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 0.95 * dt_crit, 400)
     assert np.abs(grow).max() > 1e6 * np.abs(stay).max()
-    implicit, _ = dynamics.newmark(M, np.zeros((5, 5)), K, np.full(5, 1.0), np.r_[0, 1e-6, np.zeros(399)],
+    implicit, _ = timestep.newmark(M, np.zeros((5, 5)), K, np.full(5, 1.0), np.r_[0, 1e-6, np.zeros(399)],
                                    100 * dt_crit)
     assert np.abs(implicit).max() < 1e-3
 
@@ -72,14 +78,14 @@ def test_explicit_central_difference_is_unstable_above_its_critical_step():
 @pytest.fixture(scope="module")
 def taxel():
     scene = load("thesis-pzt-single-2d")
-    return scene, dynamics.model(scene)
+    return scene, model(scene)
 
 
 def test_reduced_sweep_matches_direct_and_reports_its_error(taxel):
     scene, dm = taxel
     f = np.geomspace(1, 1000, 40)
-    red = dynamics.sweep(dm, f)
-    direct = dynamics.sweep(dm, f[::8], method="direct")
+    red = sweep.sweep(dm, f)
+    direct = sweep.sweep(dm, f[::8], method="direct")
     assert red.error < 1e-6
     rel = np.abs(red.V_oc[::8] - direct.V_oc).max() / np.abs(direct.V_oc).max()
     assert rel < 1e-6
@@ -87,15 +93,15 @@ def test_reduced_sweep_matches_direct_and_reports_its_error(taxel):
 
 
 def lossless(scene, beta=0.0):
-    return scene.model_copy(update={"dynamics": scene.dynamics.model_copy(update={
-        "silicone_loss": 0.0, "piezo_loss": 0.0, "dielectric_loss": 0.0, "rayleigh_beta": beta})})
+    return scene.replace(**{"dynamics.silicone_loss": 0.0, "dynamics.piezo_loss": 0.0,
+                            "dynamics.dielectric_loss": 0.0, "dynamics.rayleigh_beta": beta})
 
 
 def test_low_frequency_limit_is_the_static_solution(taxel):
     from taxel.analyses import solve_static as solve
     scene, dm = taxel
     static = solve(scene).electrodes["taxel_0_0"]
-    dyn = dynamics.sweep(dynamics.model(lossless(scene), tm=dm.sy.tm), [1e-3], method="direct")
+    dyn = sweep.sweep(model(lossless(scene), tm=dm.sy.tm), [1e-3], method="direct")
     assert dyn.V_oc[0, 0] == pytest.approx(static.voltage, rel=1e-8)
     assert dyn.C[0, 0, 0] == pytest.approx(static.capacitance, rel=1e-8)
 
@@ -104,9 +110,9 @@ def test_resistive_load_coupled_equals_norton_postprocessing(taxel):
     scene, dm = taxel
     f = np.array([0.05, 0.5, 5.0, 50.0, 500.0])
     R = 5e8
-    port = dynamics.sweep(dm, f, method="direct")
+    port = sweep.sweep(dm, f, method="direct")
     norton = circuits.resistor(port.V_oc, port.C, 2 * np.pi * f, R)[:, 0]
-    coupled = np.array([dynamics.coupled_resistor(dm, fi, R)[0] for fi in f])
+    coupled = np.array([sweep.coupled_resistor(dm, fi, R)[0] for fi in f])
     np.testing.assert_allclose(norton, coupled, rtol=1e-8)
 
 
@@ -115,8 +121,8 @@ def test_step_through_a_resistor_decays_with_tau_RC(taxel):
     R = 5e8
     t = np.arange(0, 4.0, 2e-3)
     f = np.clip(t / 0.02, 0, 1)
-    tr = dynamics.transient(dm, t, f, R=R)
-    C = abs(dynamics.sweep(dm, [0.1], method="direct").C[0, 0, 0])
+    tr = timestep.transient(dm, t, f, R=R)
+    C = abs(sweep.sweep(dm, [0.1], method="direct").C[0, 0, 0])
     late = (t > 0.5) & (t < 3.5)
     tau = -1 / np.polyfit(t[late], np.log(np.abs(tr.V[late, 0])), 1)[0]
     assert tau == pytest.approx(R * C, rel=0.01)
@@ -129,22 +135,22 @@ def test_charge_amplifier_frequency_and_time_domain_agree(taxel):
     filtered by the amplifier's ODE; frequency domain: Norton post-processing)."""
     scene, dm = taxel
     scene = lossless(scene, beta=2e-4)        # Rayleigh damping: the same model in both domains
-    dm = dynamics.model(scene, tm=dm.sy.tm)
-    r = scene.readout.model_copy(update={"circuit": "charge_amplifier"})
+    dm = model(scene, tm=dm.sy.tm)
+    r = readout(scene.replace(**{"readout.circuit": "charge_amplifier"}))
     T, dt = 4.0, 5e-4
     t = np.arange(0, T, dt)
     f = np.sin(2 * np.pi * (2 * t + (100 - 2) * t ** 2 / (2 * T))) * np.hanning(len(t))
-    short = dynamics.model(scene, tm=dm.sy.tm, short=True)
-    tr = dynamics.transient(short, t, f)
-    C_p = abs(dynamics.sweep(dm, [1.0], method="direct").C[0, 0, 0])
+    short = model(scene, tm=dm.sy.tm, short=True)
+    tr = timestep.transient(short, t, f)
+    C_p = abs(sweep.sweep(dm, [1.0], method="direct").C[0, 0, 0])
     y = circuits.amplifier_in_time(t, tr.Q, [C_p], r)[:, 0]
     F = np.fft.rfft(tr.force)
     Y = np.fft.rfft(y)
     freqs = np.fft.rfftfreq(len(t), dt)
     band = (freqs > 15) & (freqs < 80)
     H_time = Y[band] / F[band]
-    port = dynamics.sweep(dm, freqs[band])
-    H_freq = circuits.readout(port, r)[:, 0] / dm.sy.applied_force
+    port = sweep.sweep(dm, freqs[band])
+    H_freq = circuits.readout(port, r)[:, 0]
     assert np.median(np.abs(H_time / H_freq - 1)) < 0.01      # magnitude and phase
 
 
@@ -171,7 +177,7 @@ def test_thickness_mode_resonance_and_antiresonance_of_a_clamped_column():
         "supports": {"bottom": "rollers", "edges": "rollers"},
         "dynamics": {"piezo_loss": 1e-5, "dielectric_loss": 0.0},
     })
-    dm = dynamics.model(scene)
+    dm = model(scene)
     m = materials.get("PZT-5H")
     c33D = m.c[2, 2] + m.e[2, 2] ** 2 / m.eps[2, 2]
     fa = np.sqrt(c33D / m.rho) / (2 * 2 * h)
@@ -182,8 +188,8 @@ def test_thickness_mode_resonance_and_antiresonance_of_a_clamped_column():
         res = minimize_scalar(lambda f: -abs(fn(f)), bracket=(0.95 * f0, f0, 1.05 * f0),
                               options={"xtol": 1e-7})
         return res.x
-    fa_fem = peak(lambda f: dynamics.direct(dm, f)[1][0, 0], fa)            # C^-1 blows up: open circuit
-    fr_fem = peak(lambda f: 1 / dynamics.direct(dm, f)[1][0, 0], fr)        # C blows up: short circuit
+    fa_fem = peak(lambda f: sweep.direct(dm, f)[1][0, 0], fa)            # C^-1 blows up: open circuit
+    fr_fem = peak(lambda f: 1 / sweep.direct(dm, f)[1][0, 0], fr)        # C blows up: short circuit
     assert fa_fem == pytest.approx(fa, rel=2e-4)
     assert fr_fem == pytest.approx(fr, rel=2e-4)
 
@@ -195,17 +201,15 @@ def confined_stack():
     piezo, edge rollers, plane strain): a 1-D problem, where the lumped model's
     assumptions hold."""
     base = load("thesis-pzt-single-2d")
-    return base.model_copy(update={
-        "array": base.array.model_copy(update={"margin": 0.0}),
-        "supports": base.supports.model_copy(update={"edges": "rollers"})})
+    return base.replace(**{"array.margin": 0.0, "supports.edges": "rollers"})
 
 
 def test_lumped_equals_fem_for_a_confined_stack():
     scene = confined_stack()
-    dm = dynamics.model(scene)
-    lm = lumped.from_scene(scene, confined=True)
+    dm = model(scene)
+    lm = lumped_model(scene, confined=True)
     f = np.array([1.0, 100.0])
-    fem_q = dynamics.sweep(dm, f, method="direct").Q_sc[:, 0]
+    fem_q = sweep.sweep(dm, f, method="direct").Q_sc[:, 0]
     lum_q = lm.Q_sc(f)
     # static limit: exact in 1-D (e33 F / c33^E); tolerance = the loss factors' phase
     np.testing.assert_allclose(np.abs(lum_q), np.abs(fem_q), rtol=2e-3)
@@ -216,15 +220,15 @@ def test_lumped_and_fem_part_for_the_real_taxel():
     its plane (d31 adds to d33), which a 1-D model cannot see: the FEM's charge is
     several times the lumped d33 F."""
     scene = load("thesis-pzt-single-2d")
-    dm = dynamics.model(scene)
-    fem_q = abs(dynamics.sweep(dm, [1.0], method="direct").Q_sc[0, 0])
-    lum_q = abs(lumped.from_scene(scene).Q_sc([1.0])[0])
+    dm = model(scene)
+    fem_q = abs(sweep.sweep(dm, [1.0], method="direct").Q_sc[0, 0])
+    lum_q = abs(lumped_model(scene).Q_sc([1.0])[0])
     assert lum_q == pytest.approx(materials.get("PSI-5H4E").d33 * scene.load.force, rel=1e-3)
     assert fem_q > 3 * lum_q
 
 
 def test_lumped_model_is_fast_and_has_consistent_forms():
-    lm = lumped.from_scene(load("thesis-pzt-single-2d"))
+    lm = lumped_model(load("thesis-pzt-single-2d"))
     assert lumped.points_per_second(lm) > 1e5
     z, p, k = lm.transfer_function()
     f = np.array([3.0, 300.0])
@@ -242,8 +246,8 @@ def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_us
                              "layers": [{"material": "PSI-5H4E", "thickness": "0.127 mm"}]},
                    "load": {"kind": "pressure", "pressure": "1 kPa"},
                    "supports": {"bottom": "rollers", "edges": "rollers"}})
-    dm = dynamics.model(scene)
-    dt_crit = dynamics.critical_time_step(dm)
+    dm = model(scene)
+    dt_crit = timestep.critical_time_step(dm)
     assert 1e-9 < dt_crit < 2e-8                       # measured 5.5e-9 s
     K, M, u = dm.K0.toarray(), dm.M.toarray(), dm.red.is_u
     Kc = K[np.ix_(u, u)] - K[np.ix_(u, ~u)] @ np.linalg.solve(K[np.ix_(~u, ~u)], K[np.ix_(~u, u)])
@@ -251,12 +255,12 @@ def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_us
     kick = np.zeros(u.sum())
     kick[0] = 1e-3
     with np.errstate(over="ignore", invalid="ignore"):
-        blow = dynamics.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 1.05 * dt_crit, 2000)
-    calm = dynamics.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 0.95 * dt_crit, 2000)
+        blow = timestep.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 1.05 * dt_crit, 2000)
+    calm = timestep.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 0.95 * dt_crit, 2000)
     growth = np.nan_to_num(np.abs(blow), nan=np.inf).max()          # overflow counts as blowing up
     assert growth > 1e6 * np.abs(calm).max()
     f = np.r_[0.0, np.ones(200)]
-    q, _ = dynamics.newmark(Mc, 0 * Mc, Kc, kick, f, 1e5 * dt_crit)
+    q, _ = timestep.newmark(Mc, 0 * Mc, Kc, kick, f, 1e5 * dt_crit)
     assert np.isfinite(q).all() and np.abs(q).max() < 10 * np.abs(np.linalg.solve(Kc, kick)).max()
 
 
@@ -284,8 +288,7 @@ duration = "0.05 s"
 
 
 def _yeoh(scene, force, lossless_=True):
-    s = scene.model_copy(update={"model": scene.model.model_copy(update={"silicone": "yeoh"}),
-                                 "load": scene.load.model_copy(update={"force": force})})
+    s = scene.replace(**{"model.silicone": "yeoh", "load.force": force})
     return lossless(s) if lossless_ else s
 
 
@@ -297,20 +300,19 @@ def test_frequency_response_linearised_about_a_hyperelastic_preload():
     F0, dF = 0.3, 1e-3
     slope = (solve(_yeoh(base, F0 + dF)).voltages()["taxel_0_0"]
              - solve(_yeoh(base, F0 - dF)).voltages()["taxel_0_0"]) / (2 * dF)
-    dm = dynamics.model(_yeoh(base, F0))
-    incremental = dynamics.sweep(dm, [1e-3], method="direct").V_oc[0, 0] / F0
+    dm = model(_yeoh(base, F0))
+    incremental = sweep.sweep(dm, [1e-3], method="direct").V_oc[0, 0]          # per newton
     assert incremental.real == pytest.approx(slope, rel=1e-6)          # measured 3e-8
-    linear = abs(dynamics.sweep(dynamics.model(lossless(base)), [1e-3], method="direct").V_oc[0, 0]) / base.load.force
+    linear = abs(sweep.sweep(model(lossless(base)), [1e-3], method="direct").V_oc[0, 0])
     assert abs(incremental) < 0.9 * linear                             # the preloaded silicone is stiffer
 
 
 def test_hyperelastic_transient_small_load_equals_linear():
     base = load("thesis-pzt-single-2d")
     t = np.arange(0, 0.012 + 5e-4, 1e-3)
-    f = np.clip(t / 0.005, 0, 1)
-    lin = dynamics.transient(dynamics.model(_yeoh(base, 0.01, lossless_=False).model_copy(update={
-        "model": base.model})), t, f)
-    hyper, iters = dynamics.transient_hyperelastic(_yeoh(base, 0.01, lossless_=False), t, f)
+    f = 0.01 * np.clip(t / 0.005, 0, 1)                                     # N
+    lin = timestep.transient(model(base.replace(**{"load.force": 0.01})), t, f)
+    hyper, iters = timestep.transient_hyperelastic(problem(_yeoh(base, 0.01, lossless_=False)), t, f)
     assert max(iters) <= 4
     np.testing.assert_allclose(hyper.V[-1], lin.V[-1], rtol=0.006)     # Yeoh vs linear at 10 mN: 0.37 %
 

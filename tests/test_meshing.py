@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from taxel.analyses import solve_static as solve
-from taxel.meshing.build import build
-from taxel.meshing.layout import layout
+from taxel.analyses import mesh, scene_materials
+from taxel.analyses.geometry import layout as scene_layout
 from taxel.scene import parse
 
 
@@ -63,9 +63,9 @@ def test_every_load_kind_balances(load, model):
         # (measured 0.3 % in 2D at 0.5 mm, 7 % in 3D at the coarse 1.5 mm used here)
         assert v["taxel_0_0"] == pytest.approx(v["taxel_0_1"], rel=0.01 if model != "3d" else 0.1)
     if load["kind"] == "pressure":
-        plan = layout(parse(data)).plan
+        plan = scene_layout(parse(data), scene_materials(parse(data))).plan
         width = 2 * plan.half
-        area = width * (4e-3 if model != "3d" else 2 * layout(parse(data)).plan_half_y)
+        area = width * (4e-3 if model != "3d" else 2 * scene_layout(parse(data), scene_materials(parse(data))).plan_half_y)
         assert sol.applied_force == pytest.approx(1e3 * area, rel=1e-9)
 
 

@@ -9,7 +9,7 @@ import pytest
 from taxel.optimize import driver
 from taxel.optimize.problem import load_problem, optimize
 from taxel.cli import main
-from taxel.studies.study import Store
+from taxel.studies.store import Store
 
 
 def test_bound_constrained_rosenbrock():

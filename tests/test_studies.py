@@ -11,7 +11,11 @@ from pathlib import Path
 
 import pytest
 
-from taxel.studies import study as S
+from taxel.scene import EXAMPLES, set_path
+from taxel.units import magnitude
+from taxel.studies.execute import run as run_study
+from taxel.studies.spec import load_study
+from taxel.studies.store import tidy_rows
 from taxel.cli import main
 
 SMALL = """
@@ -63,7 +67,7 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
     ref = tmp_path / "ref"
     assert main(["study", "run", str(study), "--out", str(ref), "--workers", "1", "--quiet"]) == 0
     out = tmp_path / "killed"
-    cmd = [sys.executable, "-m", "taxel.studies.cli", "study", "run", str(study), "--out", str(out),
+    cmd = [sys.executable, "-m", "taxel.cli", "study", "run", str(study), "--out", str(out),
            "--workers", "1", "--quiet"]
     env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
     for target in (3, 7):                      # kill after some points, twice
@@ -86,9 +90,9 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
 
 
 def test_dask_two_workers_equal_in_process(tmp_path):
-    study = S.load_study(write_study(tmp_path))
-    a = S.run(study, tmp_path / "one", workers=1, progress=False)
-    b = S.run(study, tmp_path / "dask", workers=2, progress=False)
+    study = load_study(write_study(tmp_path))
+    a = run_study(study, tmp_path / "one", workers=1, progress=False)
+    b = run_study(study, tmp_path / "dask", workers=2, progress=False)
     assert a.done == b.done == 12 and a.failed == b.failed == 0
     import json
 
@@ -99,24 +103,24 @@ def test_dask_two_workers_equal_in_process(tmp_path):
 
 def test_changing_the_base_invalidates_exactly_the_affected_points(tmp_path):
     base = tmp_path / "base.toml"
-    base.write_text((S.EXAMPLES / "thesis-pzt-single-2d.toml").read_text())
+    base.write_text((EXAMPLES / "thesis-pzt-single-2d.toml").read_text())
     study_file = write_study(tmp_path, base=str(base))
     out = tmp_path / "out"
-    first = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    first = run_study(load_study(study_file), out, workers=1, progress=False)
     assert first.done == 12
-    again = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    again = run_study(load_study(study_file), out, workers=1, progress=False)
     assert again.done == 0 and again.cached == 12               # changing nothing reruns nothing
     # the base's force is overridden by the study: no point changes
     base.write_text(base.read_text().replace('force = "1 N"', 'force = "0.9 N"'))
-    same = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    same = run_study(load_study(study_file), out, workers=1, progress=False)
     assert same.done == 0 and same.cached == 12
     # one more force value: exactly its 4 new points run
     study_file.write_text(study_file.read_text().replace('"0.6 N"]', '"0.6 N", "0.8 N"]'))
-    grown = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    grown = run_study(load_study(study_file), out, workers=1, progress=False)
     assert grown.done == 4 and grown.cached == 12
     # the margin changes every point
     base.write_text(base.read_text().replace('margin = "3 mm"', 'margin = "2.5 mm"'))
-    changed = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    changed = run_study(load_study(study_file), out, workers=1, progress=False)
     assert changed.done == 16 and changed.cached == 0
 
 
@@ -129,13 +133,13 @@ def test_a_failing_point_is_recorded_and_retried_on_request(tmp_path):
     study_file.write_text(study_file.read_text().replace('"mesh.size" = "1 mm"',
                                                          '"mesh.size" = "1 mm"\n"model.type" = "axisymmetric"'))
     out = tmp_path / "out"
-    summary = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    summary = run_study(load_study(study_file), out, workers=1, progress=False)
     assert summary.failed == 12 and summary.done == 12
-    rows = [r for r in S.tidy_rows(out) if r["status"] == "failed"]
+    rows = [r for r in tidy_rows(out) if r["status"] == "failed"]
     assert all("transversely isotropic" in r["error"] and "piezo=PVDF" in r["piezo"] for r in rows)
-    again = S.run(S.load_study(study_file), out, workers=1, progress=False)
+    again = run_study(load_study(study_file), out, workers=1, progress=False)
     assert again.done == 0 and again.failed == 0 and again.cached == 24
-    retried = S.run(S.load_study(study_file), out, workers=1, retry_failed=True, progress=False)
+    retried = run_study(load_study(study_file), out, workers=1, retry_failed=True, progress=False)
     assert retried.failed == 12 and retried.cached == 12
 
 
@@ -197,9 +201,9 @@ def test_latin_hypercube_is_seeded_and_stratified(tmp_path):
     p.write_text('base = "thesis-pzt-single-2d"\nsampling = "lhs"\nsamples = 8\nseed = 3\n'
                  '[[parameters]]\npath = "array.gap"\nstart = "1 mm"\nstop = "5 mm"\n'
                  '[[parameters]]\npath = "load.force"\nstart = "0.2 N"\nstop = "1 N"\n')
-    a, b = S.load_study(p).points(), S.load_study(p).points()
+    a, b = load_study(p).points(), load_study(p).points()
     assert a == b and len(a) == 8
-    gaps = sorted(S.magnitude(x["gap"]) for x in a)
+    gaps = sorted(magnitude(x["gap"]) for x in a)
     strata = [int((g - 1e-3) / (4e-3 / 8)) for g in gaps]
     assert strata == list(range(8))                 # one sample in each of the 8 strata
 
@@ -212,5 +216,5 @@ def test_duplicate_parameter_names_are_refused(tmp_path, capsys):
 
 def test_a_root_parameter_merges_tables_deeply():
     data = {"model": {"type": "plane_strain", "silicone": "linear"}, "mesh": {"size": "0.5 mm", "order": 2}}
-    S._set(data, "", {"model": {"type": "3d"}, "mesh": {"size": "1 mm"}})
+    set_path(data, "", {"model": {"type": "3d"}, "mesh": {"size": "1 mm"}})
     assert data == {"model": {"type": "3d", "silicone": "linear"}, "mesh": {"size": "1 mm", "order": 2}}

@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 
 from taxel.analyses import solve_static as solve
-from taxel.meshing.build import build
-from taxel.meshing.layout import layout
+from taxel.analyses import mesh
 from taxel.scene import load, refined
 
 

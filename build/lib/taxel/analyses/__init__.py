@@ -1,0 +1,26 @@
+"""Analyses of a scene: the adapter to the finite-element model, the static,
+frequency and transient analyses, and their result objects."""
+
+from __future__ import annotations
+
+from taxel.scene import Scene
+from taxel.analyses.dynamic import (force_history, frequencies, frequency, lumped_model, lumped_response,
+                                    transient)
+from taxel.analyses.problem import mesh, problem, readout, scene_materials
+from taxel.analyses.results import FrequencyResult, LumpedResult, StaticResult, TransientResult
+from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_static
+
+__all__ = ["solve", "solve_static", "frequency", "transient", "lumped_model", "lumped_response", "problem", "mesh",
+           "readout", "scene_materials", "frequencies", "force_history", "linear_error",
+           "LINEAR_ERROR_PER_STRAIN", "StaticResult", "FrequencyResult", "TransientResult", "LumpedResult"]
+
+
+def solve(scene: Scene, **options) -> StaticResult | FrequencyResult | TransientResult:
+    """The scene's [analysis]: a static solve (options: solver, tagged_mesh, scale,
+    newton_options), a frequency sweep, or a transient."""
+    kind = scene.analysis.type
+    if kind == "frequency":
+        return frequency(scene)
+    if kind == "transient":
+        return transient(scene)
+    return solve_static(scene, **options)

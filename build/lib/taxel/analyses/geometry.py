@@ -1,0 +1,151 @@
+"""From a scene to its layered layout (meshing.layout): the geometry half of the
+adapter from the scene schema to the finite-element model.
+
+A 2D model is the x-z cross-section through the loaded taxel's row. An
+axisymmetric model turns a square taxel of width w into a disk of equal area
+(radius w / sqrt(pi)) and the domain into a disk of radius (that radius + margin).
+"""
+
+from __future__ import annotations
+
+import math
+
+from taxel.fem import materials
+from taxel.meshing.layout import Electrode, Layer, Layout, Patch
+from taxel.scene import Scene, SceneError
+
+
+def layout(scene: Scene, mats: dict) -> Layout:
+    """The layered layout of a scene; `mats` maps material names to materials
+    (raises SceneError for geometry that cannot be built)."""
+    m, mesh = scene.model, scene.mesh
+    common = dict(model=m.type, size=mesh.size, piezo_layers=mesh.piezo_layers)
+    if scene.array is not None:
+        return _array_layout(scene, common)
+    return _plate_layout(scene, common, mats)
+
+
+def _array_layout(scene: Scene, common) -> Layout:
+    a, ld, model = scene.array, scene.load, scene.model.type
+    w, pitch = a.taxel_width, a.taxel_width + a.gap
+    axisym = model == "axisymmetric"
+    half = w / math.sqrt(math.pi) if axisym else w / 2
+    shape = "disk" if axisym else "square"
+
+    def centre(r, c):
+        return (c - (a.cols - 1) / 2) * pitch, ((a.rows - 1) / 2 - r) * pitch
+
+    cells = [(r, c) for r in range(a.rows) for c in range(a.cols)]
+    if model != "3d":                       # 2D: the row through the loaded taxel
+        cells = [(r, c) for r, c in cells if r == ld.taxel[0]]
+    taxels = tuple(Patch(f"taxel_{r}_{c}", *(centre(r, c) if model == "3d" else (centre(r, c)[0], 0.0)),
+                         half, shape) for r, c in cells)
+    if axisym:
+        plan = Patch("plan", 0.0, 0.0, half + a.margin, "disk")
+        half_y = plan.half
+    else:
+        plan = Patch("plan", 0.0, 0.0, (a.cols * w + (a.cols - 1) * a.gap) / 2 + a.margin)
+        half_y = (a.rows * w + (a.rows - 1) * a.gap) / 2 + a.margin
+
+    load = _load_patch(scene, centre, half, model)
+    if load is not None:
+        inside = (abs(load.x) + load.half <= plan.half * (1 + 1e-9)
+                  and (model != "3d" or abs(load.y) + load.half <= half_y * (1 + 1e-9)))
+        if not inside:
+            raise SceneError("load: the load footprint lies (partly) outside the sensor; "
+                             "move it (load.offset) or make it smaller")
+
+    z, layers = 0.0, []
+    if a.silicone_below > 0:
+        layers.append(Layer("silicone_below", 0.0, a.silicone_below, a.silicone))
+        z = a.silicone_below
+    piezo = Layer("piezo", z, a.piezo_thickness, a.silicone, 1 if a.poling == "up" else -1,
+                  a.piezo, taxels)
+    layers.append(piezo)
+    if a.silicone_above > 0:
+        layers.append(Layer("silicone_above", piezo.z1, a.silicone_above, a.silicone))
+    electrodes = tuple(Electrode(t.name, piezo.z1, (t,)) for t in taxels) + (
+        Electrode("ground", piezo.z0, taxels),)
+    depth = scene.model.depth or w
+    return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
+                  load=load, taxels=taxels, depth=depth,
+                  piezo_size=scene.mesh.piezo_size or scene.mesh.size / 4, **common)
+
+
+def _load_patch(scene: Scene, centre, half, model) -> Patch | None:
+    ld = scene.load
+    if ld.kind == "pressure":
+        return None
+    shape = "disk" if model == "axisymmetric" else "square"
+    x, y = centre(*ld.taxel)
+    if ld.kind == "between":
+        if model != "3d" and ld.neighbour[0] != ld.taxel[0]:
+            raise SceneError("load.neighbour: a 2D model is the cross-section of one row; "
+                             "press between taxels of the same row or use a 3d model")
+        x2, y2 = centre(*ld.neighbour)
+        x, y = (x + x2) / 2, (y + y2) / 2
+    if model != "3d":
+        y = 0.0
+    if ld.kind == "indenter":
+        return Patch("load", x + ld.offset[0], y + (ld.offset[1] if model == "3d" else 0.0),
+                     ld.radius, "disk" if model in ("3d", "axisymmetric") else "square")
+    return Patch("load", x, y, half, shape)
+
+
+def _plate_layout(scene: Scene, common, mats) -> Layout:
+    p, model = scene.plate, scene.model.type
+    if p.shape == "disk":
+        plan = Patch("plan", 0.0, 0.0, p.radius, "disk")
+        half_y = p.radius
+    else:
+        plan = Patch("plan", 0.0, 0.0, p.width / 2)
+        half_y = (p.length or p.width) / 2
+    layers, z = [], 0.0
+    for i, L in enumerate(p.layers):
+        layers.append(Layer(f"layer{i}", z, L.thickness, L.material, 1 if L.poling == "up" else -1,
+                            piezo=isinstance(mats[L.material], materials.Piezo)))
+        z += L.thickness
+    midplane = None
+    if scene.supports.edges == "simply_supported":
+        midplane = z / 2
+        layers = _split_at(layers, midplane)
+    load = None
+    if scene.load.kind == "indenter":
+        ld = scene.load
+        load = Patch("load", ld.offset[0], ld.offset[1] if model == "3d" else 0.0, ld.radius,
+                     "disk" if model in ("3d", "axisymmetric") else "square")
+    # electrodes on every interface that touches a piezo layer (named bottom, interface<k>, top)
+    levels = sorted({round(L.z0, 15) for L in layers} | {round(z, 15)})
+    piezo_levels = set()
+    for L in layers:
+        if L.piezo:
+            piezo_levels.update((round(L.z0, 15), round(L.z1, 15)))
+    interfaces = sorted({round(L.z0, 15) for L in _unsplit(p)} | {round(z, 15)})
+    names = {lv: ("bottom" if k == 0 else "top" if k == len(interfaces) - 1 else f"interface{k}")
+             for k, lv in enumerate(interfaces)}
+    electrodes = tuple(Electrode(names[lv], lv) for lv in levels if lv in piezo_levels and lv in names)
+    depth = scene.model.depth or 1.0
+    return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
+                  load=load, depth=depth,
+                  piezo_size=scene.mesh.piezo_size or scene.mesh.size, midplane=midplane, **common)
+
+
+def _unsplit(plate):
+    z, out = 0.0, []
+    for i, L in enumerate(plate.layers):
+        out.append(Layer(f"layer{i}", z, L.thickness, L.material))
+        z += L.thickness
+    return out
+
+
+def _split_at(layers, zc):
+    """Split the layer that contains height zc in two (same material), so that a
+    node line exists at zc."""
+    out = []
+    for L in layers:
+        if L.z0 + 1e-12 < zc < L.z1 - 1e-12:
+            out.append(Layer(L.name, L.z0, zc - L.z0, L.material, L.poling, piezo=L.piezo))
+            out.append(Layer(L.name, zc, L.z1 - zc, L.material, L.poling, piezo=L.piezo))
+        else:
+            out.append(L)
+    return out

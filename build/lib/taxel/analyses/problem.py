@@ -1,0 +1,103 @@
+"""The adapter: a scene becomes the finite-element model's Problem, once.
+
+scene (taxel.scene) -> materials by name -> layout (taxel.analyses.geometry)
+-> tagged mesh (meshing.build) -> kinematics, laws, load, supports, electrodes
+(fem.problem). Below this module nothing reads the scene schema; above it
+nothing assembles. The readout chain and the damping are translated here too.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from taxel.fem import materials
+from taxel.fem.circuits import Readout
+from taxel.fem.kinematics import kinematics
+from taxel.fem.problem import Damping, Discretization, PatchLoad, Problem, Supports
+from taxel.meshing.build import TaggedMesh, build
+from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
+from taxel.analyses.geometry import layout
+
+
+def scene_materials(scene: Scene) -> dict:
+    """Every material the scene names (its own [materials] first, then the library),
+    checked: raises SceneError (one line) for an unknown or unphysical material."""
+    user = {}
+    for name, rec in scene.materials.items():
+        try:
+            user[name] = materials.from_record(name, rec)
+        except KeyError as exc:
+            raise SceneError(f"materials.{name}: missing {exc.args[0]!r}; see fem.materials.from_record") from None
+        except (ValueError, TypeError) as exc:
+            raise SceneError(f"materials.{name}: {exc}") from None
+    out = {}
+    for name in scene_material_names(scene):
+        try:
+            out[name] = materials.get(name, user)
+        except KeyError as exc:
+            raise SceneError(exc.args[0]) from None
+    if scene.array is not None:
+        for key, kind in (("piezo", materials.Piezo), ("silicone", materials.Solid)):
+            name = getattr(scene.array, key)
+            if not isinstance(out[name], kind):
+                raise SceneError(f"array.{key} = '{name}' is not a "
+                                 f"{'piezoelectric' if key == 'piezo' else 'passive solid'} material; pick one "
+                                 f"that is (e.g. '{'PSI-5H4E' if key == 'piezo' else 'Ecoflex-00-30'}')")
+    return out
+
+
+def mesh(scene: Scene) -> TaggedMesh:
+    """The tagged mesh of a scene."""
+    return build(layout(scene, scene_materials(scene)))
+
+
+def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
+    """The finite-element Problem of a scene (meshing it unless `tagged_mesh` is given)."""
+    mats = scene_materials(scene)
+    tm = tagged_mesh or build(layout(scene, mats))
+    m, ld = scene.model, scene.load
+    load = PatchLoad(pressure=ld.pressure) if ld.kind == "pressure" else \
+        PatchLoad(force=ld.force, profile=ld.profile if ld.kind == "indenter" else "flat")
+    return Problem(
+        mesh=tm,
+        kinematics=kinematics(m.type, tm.layout.depth),
+        materials=mats,
+        load=load,
+        supports=Supports(scene.supports.bottom, scene.supports.edges),
+        electrodes=electrode_states(scene, tm),
+        discretization=Discretization(scene.mesh.order, scene.mesh.formulation == "mixed"),
+        hyperelastic=m.silicone == "yeoh",
+        damping=damping(scene),
+    )
+
+
+def with_silicone(p: Problem, silicone: str) -> Problem:
+    """The same problem (same mesh) with a linear or a Yeoh silicone."""
+    return replace(p, hyperelastic=silicone == "yeoh")
+
+
+def electrode_states(scene: Scene, tm: TaggedMesh) -> dict:
+    """Each electrode's state: "taxels" sets every taxel electrode, a name sets one;
+    unset electrodes keep the FEM's default (common ground grounded, others open)."""
+    names = [e.name for e in tm.layout.electrodes]
+    for key in scene.electrodes:
+        if key not in names and key != "taxels":
+            raise SceneError(f"electrodes.{key}: no such electrode; this scene has: {', '.join(names)}")
+    states = {}
+    for name in names:
+        if name.startswith("taxel_") and "taxels" in scene.electrodes:
+            states[name] = electrode_state(scene.electrodes["taxels"])
+        if name in scene.electrodes:
+            states[name] = electrode_state(scene.electrodes[name])
+    return states
+
+
+def damping(scene: Scene) -> Damping:
+    d = scene.dynamics
+    return Damping(d.silicone_loss, d.piezo_loss, d.dielectric_loss, d.rayleigh_alpha, d.rayleigh_beta,
+                   d.reference_frequency)
+
+
+def readout(scene: Scene) -> Readout:
+    r = scene.readout
+    return Readout(r.circuit, r.R, r.C_f, r.R_f, r.R_i, r.C_c, r.notch, r.notch_frequency, r.notch_bandwidth)

@@ -1,0 +1,271 @@
+"""Result objects of the analyses: typed fields, `.record()` (JSON-ready, SI) and
+`.to_folder(dir)` (the scene and the data files). The CLI, studies and reports
+read these and never re-derive what a result holds."""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from taxel.fem.lumped import Lumped
+from taxel.fem.static import ElectrodeResult, Solution
+from taxel.fem.sweep import PortResponse
+from taxel.fem.timestep import Transient
+from taxel.meshing.build import TaggedMesh
+from taxel.scene import Scene, to_data
+from taxel.units import engineering
+
+
+def write_csv(path: Path, header, columns) -> Path:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        for row in zip(*columns):
+            w.writerow([f"{v:.9g}" for v in row])
+    return path
+
+
+def write_scene(out: Path, scene: Scene) -> Path:
+    """scene.json: the validated scene with units, readable by taxel.scene.parse."""
+    path = Path(out) / "scene.json"
+    path.write_text(json.dumps(to_data(scene), indent=1))
+    return path
+
+
+@dataclass
+class StaticResult:
+    """A static solve of a scene: per-electrode voltage, charge, short-circuit charge
+    and capacitance, the support reaction and the fields."""
+
+    scene: Scene
+    solution: Solution
+    times: dict[str, float] = field(default_factory=dict)     # s: mesh, assemble, solve, total
+    model_note: str = ""       # which silicone model was used and why (model.silicone = "auto")
+
+    @property
+    def electrodes(self) -> dict[str, ElectrodeResult]:
+        return self.solution.electrodes
+
+    @property
+    def applied_force(self) -> float:
+        return self.solution.applied_force
+
+    @property
+    def reaction(self) -> np.ndarray:
+        return self.solution.reaction
+
+    @property
+    def max_silicone_strain(self) -> float:
+        return self.solution.max_solid_strain
+
+    @property
+    def mesh(self) -> TaggedMesh:
+        return self.solution.mesh
+
+    @property
+    def fields(self):
+        return self.solution.fields
+
+    @property
+    def newton(self):
+        return self.solution.newton
+
+    @property
+    def unknowns(self) -> int:
+        return self.solution.unknowns
+
+    @property
+    def solver(self) -> str:
+        return self.solution.solver
+
+    @property
+    def residual(self) -> float:
+        return self.solution.residual
+
+    def voltages(self) -> dict[str, float]:
+        return self.solution.voltages()
+
+    @property
+    def pressed(self) -> str | None:
+        """The electrode of the pressed taxel, if the load presses one."""
+        s = self.scene
+        if s.array is None or s.load.kind not in ("taxel", "indenter"):
+            return None
+        name = f"taxel_{s.load.taxel[0]}_{s.load.taxel[1]}"
+        return name if name in self.electrodes else None
+
+    @property
+    def crosstalk(self) -> float | None:
+        """Largest |V| of a neighbour over |V| of the pressed taxel (None without one)."""
+        v = self.voltages()
+        p = self.pressed
+        if p is None or len(v) < 2 or v[p] == 0:
+            return None
+        return max(abs(x) for k, x in v.items() if k != p) / abs(v[p])
+
+    def record(self) -> dict:
+        """One JSON-ready record of the numbers a user asks for (SI units)."""
+        n = self.newton
+        return {
+            "scene": self.scene.name, "model": self.scene.model.type,
+            "electrodes": {k: {"state": e.state, "voltage_V": e.voltage, "charge_C": e.charge,
+                               "short_circuit_charge_C": e.short_circuit_charge,
+                               "capacitance_F": e.capacitance} for k, e in self.electrodes.items()},
+            "applied_force_N": self.applied_force, "reaction_N": self.reaction.tolist(),
+            "max_silicone_strain": self.max_silicone_strain, "unknowns": self.unknowns,
+            "solver": self.solver, "relative_residual": self.residual,
+            "times_s": self.times, "silicone": self.scene.model.silicone, "model_note": self.model_note,
+            "newton": None if n is None else {"load_factors": n.load_factors, "iterations": n.iterations,
+                                              "cutbacks": n.cutbacks, "message": n.message},
+        }
+
+    def to_folder(self, out) -> list[Path]:
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        path = out / "result.json"
+        path.write_text(json.dumps(self.record(), indent=1))
+        return [write_scene(out, self.scene), path]
+
+    def __str__(self) -> str:
+        s, m = self.scene, self.scene.mesh
+        lines = [f"scene {s.name}: {s.model.type}, order {m.order} ({s.model.silicone} silicone, {m.formulation}), "
+                 f"{self.unknowns} unknowns, solver {self.solver}"
+                 + (f", {self.times['total']:.3f} s" if "total" in self.times else ""),
+                 f"{'electrode':<12}{'state':<10}{'voltage':>12}{'charge':>13}{'short-circuit Q':>18}"
+                 f"{'capacitance':>14}"]
+        for e in self.electrodes.values():
+            lines.append(f"{e.name:<12}{e.state:<10}{engineering(e.voltage, 'V'):>12}"
+                         f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
+                         f"{engineering(e.capacitance, 'F'):>14}")
+        return "\n".join(lines)
+
+
+@dataclass
+class FrequencyResult:
+    """A frequency sweep: what the readout chain outputs per newton, per electrode."""
+
+    scene: Scene
+    port: PortResponse          # open-circuit voltages and capacitances per newton
+    output: np.ndarray          # (nf, na) complex readout output per newton (V/N)
+    label: str                  # what the output is ("charge-amplifier output + 50 Hz notch")
+
+    @property
+    def freqs(self) -> np.ndarray:
+        return self.port.freqs
+
+    @property
+    def names(self) -> list[str]:
+        return self.port.names
+
+    def record(self) -> dict:
+        return {"scene": self.scene.name, "output": self.label, "method": self.port.method,
+                "basis_size": self.port.basis_size, "measured_error": self.port.error,
+                "seconds": self.port.seconds, "frequency_Hz": self.freqs.tolist(),
+                "magnitude_V_per_N": {k: np.abs(self.output[:, i]).tolist() for i, k in enumerate(self.names)},
+                "phase_deg": {k: np.degrees(np.angle(self.output[:, i])).tolist()
+                              for i, k in enumerate(self.names)}}
+
+    def summary(self) -> list[str]:
+        f, V, p = self.freqs, self.output, self.port
+        out = [f"{len(f)} frequencies {f[0]:g}-{f[-1]:g} Hz, {p.method} ({p.basis_size} basis vectors, "
+               f"measured error {p.error:.1e}), {p.seconds:.2f} s"]
+        for k, name in enumerate(self.names):
+            mag = np.abs(V[:, k])
+            out.append(f"{name}: |{self.label}| {mag[0]:.4g} V/N at {f[0]:g} Hz, {mag[-1]:.4g} V/N at {f[-1]:g} Hz, "
+                       f"peak {mag.max():.4g} V/N at {f[np.argmax(mag)]:.4g} Hz")
+        return out
+
+    def to_folder(self, out) -> list[Path]:
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        header, cols = ["frequency_Hz"], [self.freqs]
+        for k, name in enumerate(self.names):
+            header += [f"{name}_mag_V_per_N", f"{name}_phase_deg"]
+            cols += [np.abs(self.output[:, k]), np.degrees(np.angle(self.output[:, k]))]
+        return [write_scene(out, self.scene), write_csv(out / f"{self.scene.name}-frequency.csv", header, cols)]
+
+
+@dataclass
+class TransientResult:
+    """A transient: the force history (N) and what the readout chain outputs (V)."""
+
+    scene: Scene
+    transient: Transient
+    output: np.ndarray          # (nt, na) readout output, V
+    label: str
+    newton_iterations: list[int] | None = None    # per time step (Yeoh transients)
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.transient.t
+
+    @property
+    def force(self) -> np.ndarray:
+        return self.transient.force
+
+    @property
+    def names(self) -> list[str]:
+        return self.transient.names
+
+    def record(self) -> dict:
+        return {"scene": self.scene.name, "output": self.label, "time_s": self.t.tolist(),
+                "force_N": self.force.tolist(),
+                "output_V": {k: self.output[:, i].tolist() for i, k in enumerate(self.names)},
+                "basis_size": self.transient.basis_size, "seconds": self.transient.seconds}
+
+    def summary(self) -> list[str]:
+        a, y = self.scene.analysis, self.output
+        out = [f"{a.input} input, {len(self.t)} steps of {self.t[1] - self.t[0]:g} s, reduced model of "
+               f"{self.transient.basis_size} vectors, {self.transient.seconds:.2f} s"]
+        for k, name in enumerate(self.names):
+            out.append(f"{name}: peak {y[np.argmax(abs(y[:, k])), k]:.4g} V, final {y[-1, k]:.4g} V")
+        return out
+
+    def to_folder(self, out) -> list[Path]:
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        header, cols = ["time_s", "force_N"], [self.t, self.force]
+        for k, name in enumerate(self.names):
+            header.append(f"{name}_V")
+            cols.append(self.output[:, k])
+        return [write_scene(out, self.scene), write_csv(out / f"{self.scene.name}-transient.csv", header, cols)]
+
+
+@dataclass
+class LumpedResult:
+    """The 3-DoF lumped model's frequency response to a scene, through its readout."""
+
+    scene: Scene
+    model: Lumped
+    freqs: np.ndarray
+    output: np.ndarray          # (nf,) complex readout output per newton
+    label: str
+
+    def summary(self) -> list[str]:
+        lm = self.model
+        A = lm.state_space()[0]
+        modes = sorted({round(abs(v.imag) / (2 * np.pi), 1) for v in np.linalg.eigvals(A) if abs(v.imag) > 0})
+        return [
+            f"masses {', '.join(f'{m * 1e6:.3g} mg' for m in lm.m)}; stiffnesses "
+            f"{', '.join(f'{k:.4g} N/m' for k in lm.k)}; damping {', '.join(f'{b:.3g} N s/m' for b in lm.b)}",
+            f"static short-circuit charge {abs(lm.Q_sc([1e-3])[0]):.4g} C, open-circuit voltage "
+            f"{abs(lm.V_oc([1e-3])[0]):.4g} V for {lm.force:g} N; C_p {lm.C_p:.4g} F",
+            f"damped natural frequencies {', '.join(f'{m:g} Hz' for m in modes) or 'none (overdamped)'}",
+        ]
+
+    def record(self) -> dict:
+        lm = self.model
+        return {"scene": self.scene.name, "output": self.label, "masses_kg": lm.m.tolist(),
+                "stiffnesses_N_per_m": lm.k.tolist(), "damping_N_s_per_m": lm.b.tolist(), "C_p_F": lm.C_p,
+                "frequency_Hz": self.freqs.tolist(), "magnitude_V_per_N": np.abs(self.output).tolist()}
+
+    def to_folder(self, out) -> list[Path]:
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        return [write_scene(out, self.scene),
+                write_csv(out / f"{self.scene.name}-lumped.csv", ["frequency_Hz", "mag_V_per_N", "phase_deg"],
+                          [self.freqs, np.abs(self.output), np.degrees(np.angle(self.output))])]

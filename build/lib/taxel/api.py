@@ -1,0 +1,102 @@
+"""The Python API: what a design engineer calls from a script or a notebook.
+
+    import taxel
+    scene = taxel.load("thesis-pzt-single-2d")             # a file, a built-in name, or a dict
+    thicker = scene.replace(**{"array.silicone_above": "2 mm", "load.force": 0.5})   # SI numbers or strings
+    result = taxel.solve(thicker)                           # StaticResult | FrequencyResult | TransientResult
+    result.voltages(), result.record(), result.to_folder("out/thicker")
+    taxel.run_study("fig-2-5", "out/fig-2-5", workers=2)
+    taxel.optimize("thesis-pzt-front", "out/front")
+    taxel.report(["out/fig-2-5", "out/front"], "out/report")
+
+The command line is a thin shell over these functions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from taxel import analyses
+from taxel.analyses.results import write_scene
+from taxel.scene import Scene, parse
+from taxel.scene import load as _load_scene
+
+
+def load(source: str | Path | dict) -> Scene:
+    """A validated scene from a TOML file, a built-in example name, or a dict
+    (Python numbers in SI); its materials are checked too. Raises SceneError
+    with a one-line message."""
+    scene = source if isinstance(source, Scene) else _load_scene(source)
+    analyses.scene_materials(scene)
+    return scene
+
+
+def solve(scene: Scene | str | Path | dict, **options):
+    """The scene's analysis ([analysis] type): StaticResult, FrequencyResult or
+    TransientResult. Static options: solver ("auto", "superlu", "pardiso"),
+    tagged_mesh, newton_options."""
+    return analyses.solve(load(scene), **options)
+
+
+@dataclass
+class StudyRun:
+    name: str
+    folder: Path
+    total: int
+    cached: int
+    done: int
+    failed: int
+    seconds: float
+    rows: list[dict] = field(repr=False, default_factory=list)     # one tidy row per point
+    plots: list[Path] = field(default_factory=list)
+
+
+def run_study(spec, out: str | Path | None = None, workers: int = 2, scheduler: str | None = None,
+              retry_failed: bool = False, progress: bool = True) -> StudyRun:
+    """Run a parameter study (a TOML file, a built-in name, or a studies.spec.Study)
+    into `out` (default out/NAME): every point not already stored is solved
+    (on `workers` local Dask workers, or the cluster at `scheduler`), then
+    results.csv and the plots are written."""
+    from taxel.reports.figures import study_plots
+    from taxel.studies.execute import run
+    from taxel.studies.spec import Study, load_study
+    from taxel.studies.store import tidy_rows, write_rows
+    st = spec if isinstance(spec, Study) else load_study(spec)
+    out = Path(out) if out is not None else Path("out") / st.spec.name
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "study.json").write_text(st.spec.model_dump_json(indent=1))
+    write_scene(out, parse({**st.base_data(), "name": st.spec.name}))
+    s = run(st, out, workers=workers, scheduler=scheduler, retry_failed=retry_failed, progress=progress)
+    rows = tidy_rows(out)
+    write_rows(rows, out / "results.csv")
+    plots = study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "crosstalk", "max_strain"],
+                        out / "plots", st.spec.name)
+    return StudyRun(st.spec.name, out, s.total, s.cached, s.done, s.failed, s.seconds, rows, plots)
+
+
+def optimize(problem, out: str | Path | None = None, workers: int = 2):
+    """Optimize a design (an optimization TOML file or a built-in name) into `out`:
+    the optimum (driver.Result), or with [pareto] the list of (bound, Result) of
+    the sensitivity-crosstalk front; every design is cached in out's store."""
+    from taxel.optimize import problem as O
+    from taxel.reports.optimization import write_front, write_run
+    name = O.load_problem(problem).spec.name
+    out = Path(out) if out is not None else Path("out") / name
+    out.mkdir(parents=True, exist_ok=True)
+    prob = O.load_problem(problem, out)
+    write_scene(out, parse({**prob.scene_data(prob.x0), "name": name}))
+    if prob.spec.pareto:
+        path = problem if Path(problem).is_file() else O.BUILTIN / f"{problem}.toml"
+        runs = O.front(prob, path, workers=workers)
+        write_front(prob, runs, None, out)
+        return runs
+    result = O.optimize(prob)
+    write_run(prob, result, out)
+    return result
+
+
+def report(folders, out: str | Path, pdf: bool = False, compare: bool = True) -> Path:
+    """Self-contained HTML pages of result folders and an index; returns the index."""
+    from taxel.reports.build import build
+    return build([Path(f) for f in folders], Path(out), pdf=pdf, compare=compare)

@@ -1,0 +1,109 @@
+"""The static linear solve: one factorization, every electrode quantity.
+
+With the active electrodes collapsed (fem.constraints), one factorization of the
+reduced matrix gives, by back-substitution:
+
+    x_f        load, all active electrodes open (Q = 0): open-circuit voltages V_f
+    X_k        unit charge on electrode k:        column k of C^-1
+    C          the capacitance matrix (clamped by the supports, free elsewhere)
+    Q_sc = -C V_f   short-circuit charges (what a charge amplifier integrates)
+
+and the state the problem asks for (each electrode open, grounded or at a
+voltage) follows from the n x n relation V = V_f + C^-1 Q without another
+factorization. Tests also check equilibrium of the reactions and agreement
+between solvers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from taxel.fem import linalg
+from taxel.fem.assembly import System
+from taxel.fem.constraints import Reduction, reduction
+from taxel.fem.fields import Fields, component_dofs, fields
+from taxel.fem.kinematics import Axisymmetric
+from taxel.meshing.build import TaggedMesh
+
+
+@dataclass
+class ElectrodeResult:
+    name: str
+    state: str                    # open | ground | reference | "<V> V"
+    voltage: float                # V, under the problem's electrode states
+    charge: float                 # C, under the problem's electrode states
+    short_circuit_charge: float   # C, this and every other active electrode grounded
+    capacitance: float | None     # F, self capacitance with the others grounded; None for the reference
+
+
+@dataclass
+class Solution:
+    electrodes: dict[str, ElectrodeResult]
+    applied_force: float          # N, total downward load
+    reaction: np.ndarray          # N, total support reaction (x, [y,] z); axisymmetric: (0, z)
+    max_solid_strain: float       # largest |principal strain| of element means in the passive solids
+    unknowns: int
+    solver: str
+    residual: float               # relative residual |A x - b| / |b| of the scaled system
+    mesh: TaggedMesh
+    fields: Fields = field(repr=False)
+    newton: object = None         # fem.newton.NewtonResult for a hyperelastic solve
+
+    def voltages(self) -> dict[str, float]:
+        return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
+
+
+def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Solution:
+    """The linear static Solution of an assembled system."""
+    red = reduction(sy)
+    nf, na = red.nf, len(red.active)
+    A = (red.P.T @ sy.A @ red.P).tocsc()
+    X, res = linalg.scaled_solver(A, red.is_u, method, scale)(np.column_stack([red.P.T @ sy.b,
+                                                                                red.unit_charges()]))
+    # open-circuit voltages, capacitance matrix, and the state the problem asks for
+    Vf, Cinv = X[nf:, 0], X[nf:, 1:]
+    states = sy.electrodes.states
+    fixedV = [i for i, k in enumerate(red.active) if states[k] != "open"]
+    Q = np.zeros(na)
+    if fixedV:
+        Vset = np.array([0.0 if states[red.active[i]] == "ground" else states[red.active[i]] for i in fixedV])
+        Q[fixedV] = np.linalg.solve(Cinv[np.ix_(fixedV, fixedV)], Vset - Vf[fixedV])
+    x = red.P @ (X[:, 0] + X[:, 1:] @ Q)
+    r = sy.A @ x - sy.b
+    return results(sy, red, x, r, Cinv, linalg.resolve(method, red.n), float(res.max()))
+
+
+def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float) -> Solution:
+    """Per-electrode numbers, reactions and fields from a solved state.
+
+    x: full solution; r: full residual (A x - b: reactions at supports, charges at
+    electrodes); Cinv: inverse capacitance matrix of the active electrodes.
+    """
+    na = len(red.active)
+    C = np.linalg.inv(Cinv) if na else np.zeros((0, 0))
+    states, edofs = sy.electrodes.states, sy.electrodes.dofs
+    V = np.array([x[edofs[k][0]] for k in red.active])
+    electrodes = {}
+    for i, k in enumerate(red.active):
+        st = states[k]
+        q = 0.0 if st == "open" else float(-r[edofs[k]].sum())    # open: Q = 0 exactly
+        qsc = float(q - (C @ V)[i])                                # Q = Q_sc + C V
+        electrodes[k] = ElectrodeResult(k, st if isinstance(st, str) else f"{st:g} V", float(V[i]), q,
+                                        qsc, float(C[i, i]))
+    for k in red.ref:                          # grounded: the charge is the residual of its rows
+        q = float(-r[edofs[k]].sum())
+        electrodes[k] = ElectrodeResult(k, states[k], 0.0, q, q, None)
+    if len(red.ref) == 1 and red.active:       # charge is conserved: the one grounded electrode
+        ref = electrodes[red.ref[0]]           # carries minus the others' (exactly, not to round-off)
+        ref.charge = -sum(electrodes[k].charge for k in red.active)
+        ref.short_circuit_charge = -sum(electrodes[k].short_circuit_charge for k in red.active)
+    dim = sy.tm.mesh.dim()
+    ub = next(iter(sy.ubases.values()))
+    reaction = np.array([r[np.intersect1d(sy.fixed_u, component_dofs(ub, c))].sum() for c in range(dim)])
+    if isinstance(sy.kin, Axisymmetric):
+        reaction[0] = 0.0           # radial support forces cancel around the circle
+    f = fields(sy, x)
+    return Solution(electrodes, sy.applied_force, reaction, f.max_solid_strain, red.n, solver, residual,
+                    sy.tm, f)

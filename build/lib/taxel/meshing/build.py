@@ -1,0 +1,326 @@
+"""gmsh (OCC) meshes of layered layouts, tagged, and their scikit-fem form.
+
+The plan (a line for 2D and axisymmetric models, a face set for 3D) is built and
+fragmented at every patch edge (taxels, load footprint), then extruded layer by
+layer with a fixed number of elements through each layer. The result is
+conformal at every interface, keeps thin layers (a 52 um PVDF film) at a
+controlled element count through the thickness, and has nodes on every patch
+edge. In-plane size: `piezo_size` at taxel and load edges (where stresses are
+singular), growing to `size` over a distance of 2 `size`, and at most
+2 `piezo_size` inside taxels. Vertically: `piezo_layers` elements per piezo
+(or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
+`size`, ratio 1.5.
+
+Physical groups (names), classified by the first element of each entity:
+regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
+per layer ("layer0", ...) in plates;
+facets "bottom", "top", "load", "edges" (the outline), "axis" (r = 0) and one
+per electrode ("taxel_0_0", "ground"; "bottom", "interface1", "top" on plates).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import skfem
+
+from taxel.meshing.layout import Layout
+
+
+@dataclass
+class TaggedMesh:
+    """A scikit-fem mesh with named regions (element indices) and facet sets."""
+
+    mesh: skfem.Mesh
+    layout: Layout
+    regions: dict[str, np.ndarray]
+    facets: dict[str, np.ndarray]
+    materials: dict[str, tuple[str, int]]       # region -> (material name, poling +-1)
+
+    def refined(self, times: int = 1) -> "TaggedMesh":
+        """Uniformly refined (each triangle in 4, tetrahedron in 8), names kept: nested
+        meshes for convergence studies."""
+        m = self.mesh.refined(times)
+        return TaggedMesh(m, self.layout, dict(m.subdomains), dict(m.boundaries), self.materials)
+
+
+@contextlib.contextmanager
+def _gmsh_model(name="taxel"):
+    import gmsh
+    fresh = not gmsh.isInitialized()
+    if fresh:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)   # no signal handler: works off the main thread
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.model.add(name)
+    try:
+        yield gmsh
+    finally:
+        gmsh.model.remove()
+
+
+def build(lay: Layout, msh_path: str | Path | None = None) -> TaggedMesh:
+    """Mesh a layout with gmsh and return the tagged scikit-fem mesh.
+
+    `msh_path`: also write the gmsh mesh (with physical groups) there.
+    """
+    with _gmsh_model() as gmsh:
+        occ = gmsh.model.occ
+        plan = _plan(occ, lay)
+        occ.synchronize()
+        for layer in lay.layers:
+            n, heights = _vertical(lay, layer)
+            step = (0, layer.thickness, 0) if lay.dim == 2 else (0, 0, layer.thickness)
+            out = occ.extrude(plan, *step, numElements=n, heights=heights, recombine=False)
+            plan = [out[i - 1] for i, e in enumerate(out) if e[0] == lay.dim]
+        occ.synchronize()
+        _size_field(gmsh, lay)
+        gmsh.model.mesh.generate(lay.dim)
+        groups = _classify(gmsh, lay)
+        for (dim, name), tags in groups.items():
+            gmsh.model.setPhysicalName(dim, gmsh.model.addPhysicalGroup(dim, sorted(tags)), name)
+        if msh_path is not None:
+            gmsh.write(str(msh_path))
+        return _to_skfem(gmsh, lay, groups)
+
+
+def _plan(occ, lay: Layout):
+    """Plan entities at z = 0, fragmented at every patch edge."""
+    patches = list(lay.taxels) + ([lay.load] if lay.load else [])
+    if lay.dim == 2:
+        xs = lay.breakpoints()
+        pts = [occ.addPoint(x, 0, 0) for x in xs]
+        return [(1, occ.addLine(a, b)) for a, b in zip(pts[:-1], pts[1:])]
+
+    def face(p, half_y=None):
+        if p.shape == "disk":
+            return (2, occ.addDisk(p.x, p.y, 0, p.half, p.half))
+        hy = p.half if half_y is None else half_y
+        return (2, occ.addRectangle(p.x - p.half, p.y - hy, 0, 2 * p.half, 2 * hy))
+
+    outline = face(lay.plan, lay.plan_half_y if lay.plan.shape != "disk" else None)
+    if not patches:
+        return [outline]
+    out, _ = occ.fragment([outline], [face(p) for p in patches])
+    occ.synchronize()
+    # drop parts of patches outside the outline (validation forbids it; be safe)
+    return [e for e in out if e[0] == 2]
+
+
+def _vertical(lay: Layout, layer):
+    """(numElements, heights) for one layer's extrusion."""
+    piezo_like = layer.patch_material is not None or layer.piezo or not lay.taxels
+    if piezo_like:
+        return [lay.piezo_layers], [1.0]
+    h, hs = lay.piezo_size, []
+    while sum(hs) < layer.thickness * (1 - 1e-9):
+        hs.append(min(h, lay.size))
+        h *= 1.5
+    hs = np.array(hs) * layer.thickness / sum(hs)
+    if len(hs) > 1 and hs[-1] < 0.5 * hs[-2]:       # merge a sliver into its neighbour
+        hs = np.append(hs[:-2], hs[-2] + hs[-1])
+    if layer.name == "silicone_below":             # fine end next to the piezo, on top
+        hs = hs[::-1]
+    return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
+
+
+def _size_field(gmsh, lay: Layout):
+    opt = gmsh.option
+    opt.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    opt.setNumber("Mesh.MeshSizeFromPoints", 0)
+    opt.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    opt.setNumber("Mesh.MeshSizeMax", lay.size)
+    f = gmsh.model.mesh.field
+    edges = [p for p in list(lay.taxels) + ([lay.load] if lay.load else [])]
+    if not edges:
+        return
+    # entities on the plan (z = 0) on patch edges
+    if lay.dim == 2:
+        xs = {round(p.x + s * p.half, 12) for p in edges for s in (-1, 1)}
+        ents = [t for _, t in gmsh.model.getEntities(0)
+                if abs(gmsh.model.getValue(0, t, [])[1]) < 1e-12
+                and round(gmsh.model.getValue(0, t, [])[0], 12) in xs]
+        kind = "PointsList"
+    else:
+        ents = []
+        for _, t in gmsh.model.getEntities(1):
+            lo = gmsh.model.getBoundingBox(1, t)
+            if abs(lo[2]) < 1e-12 and abs(lo[5]) < 1e-12:
+                mid = gmsh.model.getValue(1, t, [0.5 * sum(gmsh.model.getParametrizationBounds(1, t))])
+                if any(_on_edge(p, mid[0], mid[1]) for p in edges):
+                    ents.append(t)
+        kind = "CurvesList"
+    dist = f.add("Distance")
+    f.setNumbers(dist, kind, ents)
+    f.setNumber(dist, "Sampling", 50)
+    thr = f.add("Threshold")
+    f.setNumber(thr, "InField", dist)
+    f.setNumber(thr, "SizeMin", lay.piezo_size)
+    f.setNumber(thr, "SizeMax", lay.size)
+    f.setNumber(thr, "DistMin", 0.0)
+    f.setNumber(thr, "DistMax", 2 * lay.size)
+    fields = [thr]
+    for p in lay.taxels:                          # cap inside taxels
+        box = f.add("Box")
+        f.setNumber(box, "VIn", 2 * lay.piezo_size)
+        f.setNumber(box, "VOut", lay.size)
+        f.setNumber(box, "XMin", p.x - p.half)
+        f.setNumber(box, "XMax", p.x + p.half)
+        f.setNumber(box, "YMin", -1.0 if lay.dim == 2 else p.y - p.half)
+        f.setNumber(box, "YMax", 1.0 if lay.dim == 2 else p.y + p.half)
+        f.setNumber(box, "ZMin", -1.0)
+        f.setNumber(box, "ZMax", 1.0)
+        fields.append(box)
+    mn = f.add("Min")
+    f.setNumbers(mn, "FieldsList", fields)
+    f.setAsBackgroundMesh(mn)
+
+
+def region_name(patch):
+    """The region of a taxel's piezo body ("piezo_0_1"); its top electrode is "taxel_0_1"."""
+    return patch.name.replace("taxel", "piezo", 1)
+
+
+def _on_edge(p, x, y, tol=1e-9):
+    if p.shape == "disk":
+        return abs(math.hypot(x - p.x, y - p.y) - p.half) < tol
+    dx, dy = abs(x - p.x), abs(y - p.y)
+    return (abs(dx - p.half) < tol and dy <= p.half + tol) or (abs(dy - p.half) < tol and dx <= p.half + tol)
+
+
+def _classify(gmsh, lay: Layout):
+    """Physical groups {(dim, name): [entity tags]} from each entity's first element."""
+    D = lay.dim
+    groups: dict[tuple[int, str], list[int]] = {}
+
+    def add(dim, name, tag):
+        groups.setdefault((dim, name), []).append(tag)
+
+    def first_element_nodes(dim, tag):
+        _, _, nodes = gmsh.model.mesh.getElements(dim, tag)
+        n = {2: 3, 3: 4, 1: 2}[dim]
+        enodes = np.asarray(nodes[0][:n], dtype=np.int64)
+        return np.array([gmsh.model.mesh.getNode(int(k))[0] for k in enodes])
+
+    def plan_xyz(X):           # (plan x, plan y, height z) of gmsh points
+        return (X[:, 0], np.zeros(len(X)), X[:, 1]) if D == 2 else (X[:, 0], X[:, 1], X[:, 2])
+
+    H, tol = lay.height, 1e-9 * max(lay.height, lay.plan.half)
+    for _, tag in gmsh.model.getEntities(D):
+        x, y, z = (c.mean() for c in plan_xyz(first_element_nodes(D, tag)))
+        layer = next(L for L in lay.layers if L.z0 - tol <= z <= L.z1 + tol)
+        patch = next((p for p in layer.patches if p.contains(x, y)), None)
+        if patch is not None:
+            add(D, region_name(patch), tag)
+        elif lay.taxels:
+            add(D, "silicone", tag)
+        else:                                   # plates: one region per layer
+            add(D, layer.name, tag)
+    for _, tag in gmsh.model.getEntities(D - 1):
+        x, y, z = plan_xyz(first_element_nodes(D - 1, tag))
+        xc, yc, zc = x.mean(), y.mean(), z.mean()
+        if np.ptp(z) < tol:                                  # horizontal
+            if abs(zc) < tol:
+                add(D - 1, "bottom", tag)
+            if abs(zc - H) < tol:
+                add(D - 1, "top", tag)
+                if lay.load is None or lay.load.contains(xc, yc):
+                    add(D - 1, "load", tag)
+            for el in lay.electrodes:
+                if abs(zc - el.z) < tol and (not el.patches or any(p.contains(xc, yc) for p in el.patches)):
+                    add(D - 1, el.name, tag)
+        else:                                                # vertical
+            if _on_outline(lay, x, y).all():
+                add(D - 1, "edges", tag)
+            elif lay.model == "axisymmetric" and (np.abs(x) < tol).all():
+                add(D - 1, "axis", tag)
+    return groups
+
+
+def _on_outline(lay: Layout, x, y):
+    tol = 1e-9 * lay.plan.half
+    if lay.model == "axisymmetric" or lay.plan.shape == "disk":
+        r = np.hypot(x, y) if lay.dim == 3 else np.abs(x)
+        return np.abs(r - lay.plan.half) < tol
+    if lay.dim == 2:
+        return np.abs(np.abs(x) - lay.plan.half) < tol
+    return (np.abs(np.abs(x) - lay.plan.half) < tol) | (np.abs(np.abs(y) - lay.plan_half_y) < tol)
+
+
+def _to_skfem(gmsh, lay: Layout, groups) -> TaggedMesh:
+    D = lay.dim
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(len(tags))
+    p = coords.reshape(-1, 3)[:, :D].T
+    etype, nper = (2, 3) if D == 2 else (4, 4)
+    ftype, fper = (1, 2) if D == 2 else (2, 3)
+
+    blocks, regions, start = [], {}, 0
+    for (dim, name), ents in groups.items():
+        if dim != D:
+            continue
+        ix = []
+        for ent in ents:
+            _, nodes = gmsh.model.mesh.getElementsByType(etype, ent)
+            t = index[nodes.astype(np.int64)].reshape(-1, nper)
+            blocks.append(t)
+            ix.append(np.arange(start, start + len(t)))
+            start += len(t)
+        regions[name] = np.concatenate(ix)
+    t = np.vstack(blocks).T
+    used = np.unique(t)
+    renum = np.full(p.shape[1], -1, dtype=np.int64)
+    renum[used] = np.arange(len(used))
+    MeshType = skfem.MeshTri if D == 2 else skfem.MeshTet
+    mesh = MeshType(np.ascontiguousarray(p[:, used]), np.ascontiguousarray(renum[t]))
+
+    n = mesh.p.shape[1]
+    fkeys = _keys(mesh.facets, n)
+    order = np.argsort(fkeys)
+    facets = {}
+    for (dim, name), ents in groups.items():
+        if dim != D - 1:
+            continue
+        fs = [renum[index[gmsh.model.mesh.getElementsByType(ftype, ent)[1].astype(np.int64)]]
+              .reshape(-1, fper).T for ent in ents]
+        keys = _keys(np.sort(np.hstack(fs), axis=0), n)
+        pos = order[np.searchsorted(fkeys, keys, sorter=order)]
+        if not np.array_equal(fkeys[pos], keys):
+            raise RuntimeError(f"mesh conversion: facets of group '{name}' not found in the mesh")
+        facets[name] = np.unique(pos)
+    mesh = mesh.with_subdomains(regions).with_boundaries(facets)
+    mats = {}
+    for L in lay.layers:
+        mats[L.name if not lay.taxels else "silicone"] = (L.material, L.poling)
+        mats.update({region_name(patch): (L.patch_material, L.poling) for patch in L.patches})
+    return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions})
+
+
+def _keys(f, n):
+    f = np.sort(f, axis=0).astype(np.int64)
+    k = f[0]
+    for row in f[1:]:
+        k = k * n + row
+    return k
+
+
+def export(tm: TaggedMesh, path: str | Path, point_data=None, cell_data=None):
+    """Write the mesh (and optional fields) with meshio (.vtu, .xdmf, ...); for a
+    gmsh .msh with physical groups use `build(..., msh_path=...)`."""
+    import meshio
+    m = tm.mesh
+    cell_type = "triangle" if m.dim() == 2 else "tetra"
+    region_id = np.zeros(m.t.shape[1], dtype=np.int32)
+    for i, name in enumerate(tm.regions, start=1):
+        region_id[tm.regions[name]] = i
+    cd = {"region": [region_id]}
+    for k, v in (cell_data or {}).items():
+        cd[k] = [v]
+    pts = m.p.T if m.dim() == 3 else np.column_stack([m.p.T, np.zeros(m.p.shape[1])])
+    out = meshio.Mesh(pts, [(cell_type, m.t.T)], point_data=point_data or {}, cell_data=cd,
+                      cell_sets={k: [v] for k, v in tm.regions.items()})
+    meshio.write(path, out)

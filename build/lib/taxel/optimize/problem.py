@@ -1,0 +1,292 @@
+"""Design optimization of a taxel array: an optimization TOML, evaluated by the FEM
+through the study machinery (every design is a study point: cached in the same
+SQLite store and reused by later runs).
+
+    name = "thesis-pzt-front"
+    base = "thesis-pzt-3x3-2d"
+    reference = {silicone_above = "1 mm", silicone_below = "1 mm", gap = "3 mm"}   # marked on plots
+
+    [variables]                                   # name = {path, min, max, start}
+    silicone_above = {path = "array.silicone_above", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
+    silicone_below = {path = "array.silicone_below", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
+    gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
+
+    [objective]
+    maximize = "sensitivity"                      # or minimize = "crosstalk"
+
+    [constraints]                                 # metric = "<= value" or ">= value"
+    total_thickness = "<= 2 mm"
+
+    [pareto]                                      # optional: the epsilon-constraint front
+    points = 7                                    # maximize sensitivity s.t. crosstalk <= eps_k
+
+    [algorithm]
+    global = "DIRECT"                             # DIRECT | ISRES | none
+    local = "COBYLA"                              # COBYLA | BOBYQA | SBPLX
+    max_evaluations = 40
+    xtol = 0.02                                   # in normalised variables (see the noise note)
+
+Metrics: sensitivity (|V| of the pressed taxel per newton, open circuit, V/N),
+crosstalk (largest neighbour-to-pressed voltage ratio), max_strain (largest
+silicone strain), and geometric ones without FEM: total_thickness (silicone
+above + piezo + below, m), footprint (array width along x, m), gap (m).
+
+Discretisation noise: the mesh is rebuilt for every design, so the objective
+jitters at the level of the discretisation error's variation with geometry.
+`noise()` measures it (benchmarks/optimize.py: about 1e-4 relative on the
+default 2D mesh for steps of 1e-3 of the range); the tolerance xtol = 0.02 of
+the range and the local initial step (0.1) sit well above it.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from taxel.optimize import driver
+from taxel import units as U
+from taxel.scene import Scene, SceneError, parse
+from taxel.studies.evaluate import evaluate_safely
+from taxel.studies.execute import local_cluster
+from taxel.studies.spec import read_spec, set_value
+from taxel.studies.store import Store
+
+METRICS = ("sensitivity", "crosstalk", "max_strain", "total_thickness", "footprint", "gap")
+BUILTIN = Path(__file__).parent / "builtin"
+
+
+class OptimizeError(SceneError):
+    """An optimization file that cannot be run; one line with the fix."""
+
+
+class Variable(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    path: str
+    min: Any
+    max: Any
+    start: Any = None
+
+
+class Algorithm(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    global_: Literal["DIRECT", "ISRES", "none"] = Field("DIRECT", alias="global")
+    local: Literal["COBYLA", "BOBYQA", "SBPLX"] = "COBYLA"
+    max_evaluations: int = Field(40, ge=2, le=10000)
+    xtol: float = Field(0.02, gt=0, lt=1)
+
+
+class Pareto(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    points: int = Field(7, ge=2, le=50)
+
+
+class OptSpec(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+    name: str = "optimization"
+    description: str = ""
+    base: str
+    reference: dict[str, Any] = {}
+    variables: dict[str, Variable] = Field(min_length=1)
+    objective: dict[Literal["maximize", "minimize"], Literal[METRICS]]
+    constraints: dict[Literal[METRICS], str] = {}
+    pareto: Pareto | None = None
+    algorithm: Algorithm = Algorithm()
+
+    @model_validator(mode="after")
+    def _check(self):
+        if len(self.objective) != 1:
+            raise ValueError("objective: give exactly one of maximize = ... or minimize = ...")
+        return self
+
+
+@dataclass
+class Problem:
+    spec: OptSpec
+    base: dict
+    lo: np.ndarray
+    hi: np.ndarray
+    x0: np.ndarray
+    units: list[str]
+    constraints: list[tuple[str, str, float]]
+    out: Path | None = None
+
+    @property
+    def names(self):
+        return list(self.spec.variables)
+
+    def scene_data(self, x) -> dict:
+        data = json.loads(json.dumps(self.base))
+        for (name, var), value, unit in zip(self.spec.variables.items(), x, self.units):
+            set_value(data, var.path, f"{value:.9g} {unit}" if unit else float(value))
+        return data
+
+    def evaluate(self, x) -> dict:
+        """All metrics of design x, from the store when this design was solved before."""
+        data = self.scene_data(x)
+        scene = parse({**data, "name": "design"})
+        metrics = _geometry(scene)
+        outputs = ("voltage", "crosstalk", "max_strain")
+        if self.out is None:
+            status, result, _ = evaluate_safely(data, outputs)
+        else:
+            store = Store(self.out)
+            try:
+                status, result, _ = store.get_or_compute(data, outputs, dict(zip(self.names, map(float, x))))
+            finally:
+                store.close()
+        if status != "done":
+            return {**metrics, "sensitivity": None, "crosstalk": None, "max_strain": None}
+        v = result["voltage"].get(result["pressed"])
+        force = scene.load.force
+        metrics.update(sensitivity=abs(v) / force if v is not None else None,
+                       crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
+        return metrics
+
+
+def _geometry(scene) -> dict:
+    a = scene.array
+    return {"total_thickness": a.silicone_above + a.piezo_thickness + a.silicone_below,
+            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap}
+
+
+def magnitude(v, unit=None, what=""):
+    """(SI magnitude, unit) of a bound or start value; one-line OptimizeError otherwise."""
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return float(v), unit or ""
+    try:
+        q = U.quantity(v)
+    except Exception:
+        raise OptimizeError(f"{what}: cannot read {v!r} as a quantity") from None
+    if unit is None:
+        unit = f"{q.units:~}"
+    try:
+        return float(q.to(unit).magnitude), unit
+    except Exception:
+        raise OptimizeError(f"{what}: unit mismatch: {v!r} is not in {unit}") from None
+
+
+def load_problem(path, out: Path | None = None) -> Problem:
+    spec, base, path = read_spec(path, BUILTIN, OptSpec, OptimizeError, "optimization")
+    lo, hi, x0, units = [], [], [], []
+    for name, var in spec.variables.items():
+        if var.path.split(".")[0] not in Scene.model_fields:
+            raise OptimizeError(f"variables.{name}: unknown scene path '{var.path}'")
+        a, unit = magnitude(var.min, what=f"variables.{name}.min")
+        b, _ = magnitude(var.max, unit, f"variables.{name}.max")
+        if not b > a:
+            raise OptimizeError(f"variables.{name}: empty bounds (min {var.min} >= max {var.max}); use min < max")
+        s = magnitude(var.start, unit, f"variables.{name}.start")[0] if var.start is not None else (a + b) / 2
+        if not a <= s <= b:
+            raise OptimizeError(f"variables.{name}: start {var.start} is outside [{var.min}, {var.max}]")
+        lo.append(a), hi.append(b), x0.append(s), units.append(unit)
+    cons = []
+    si_units = {"total_thickness": "m", "footprint": "m", "gap": "m", "sensitivity": "V/N"}
+    for metric, text in spec.constraints.items():
+        text = text.strip()
+        op = text[:2]
+        if op not in ("<=", ">="):
+            raise OptimizeError(f"constraints.{metric}: write \"<= value\" or \">= value\", got {text!r}")
+        unit = si_units.get(metric, "")
+        bound = magnitude(text[2:].strip(), unit or None, f"constraints.{metric}")[0] if unit else \
+            float(text[2:].strip())
+        cons.append((metric, op, bound))
+    problem = Problem(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
+    try:
+        scene = parse({**problem.scene_data(problem.x0), "name": "start"})
+    except SceneError as exc:
+        raise OptimizeError(f"the starting design is not a valid scene: {exc}") from None
+    if "crosstalk" in (list(spec.objective.values()) + [c[0] for c in cons]) or spec.pareto:
+        modelled = None if scene.array is None else \
+            scene.array.rows * scene.array.cols if scene.model.type == "3d" else scene.array.cols
+        if not modelled or modelled < 2:      # a 2D model holds the row through the pressed taxel
+            raise OptimizeError("crosstalk needs at least two modelled taxels in the base scene "
+                                "(array.cols >= 2, or rows x cols >= 2 in 3d)")
+    _check_feasible(problem)
+    return problem
+
+
+def _check_feasible(problem: Problem):
+    """Geometric constraints that no design within the bounds can meet: say so now."""
+    corners = [problem.lo + (problem.hi - problem.lo) * np.array(c)
+               for c in np.ndindex(*(2,) * len(problem.lo))]
+    for metric, op, bound in problem.constraints:
+        if metric not in ("total_thickness", "footprint", "gap"):
+            continue
+        vals = [_geometry(parse({**problem.scene_data(x), "name": "c"}))[metric] for x in corners]
+        best = min(vals) if op == "<=" else max(vals)
+        if (op == "<=" and best > bound) or (op == ">=" and best < bound):
+            raise OptimizeError(f"constraints.{metric} {op} {bound:g} cannot be met within the variable bounds "
+                                f"(best possible {best:g}); widen the bounds or relax the constraint")
+
+
+def optimize(problem: Problem, constraints=None, max_evals=None) -> driver.Result:
+    """One run: the spec's objective under its constraints (plus `constraints`)."""
+    (sense, metric), = problem.spec.objective.items()
+    alg = problem.spec.algorithm
+    return driver.minimize(problem.evaluate, problem.x0, list(zip(problem.lo, problem.hi)), metric,
+                           problem.constraints + list(constraints or []), maximize=sense == "maximize",
+                           global_alg=None if alg.global_ == "none" else alg.global_, local_alg=alg.local,
+                           max_evals=max_evals or alg.max_evaluations, xtol=alg.xtol)
+
+
+def _front_run(problem_path, out, eps, max_evals):
+    """One epsilon-constraint run (on a Dask worker): maximize sensitivity s.t. crosstalk <= eps."""
+    p = load_problem(problem_path, Path(out))
+    cons = [("crosstalk", "<=", eps)] if eps is not None else []
+    return eps, optimize(p, cons, max_evals)
+
+
+def front(problem: Problem, problem_path, workers=2) -> list[tuple[float, driver.Result]]:
+    """Sensitivity vs crosstalk front by epsilon-constraint: first the unconstrained
+    maximum of sensitivity (its crosstalk c_max) and the minimum of crosstalk
+    (c_min), then maximize sensitivity with crosstalk <= eps_k for eps_k evenly
+    between; the runs are spread over Dask workers (each writes its evaluations
+    to the shared store)."""
+    if problem.spec.objective.get("maximize") != "sensitivity":
+        raise OptimizeError("[pareto] needs objective maximize = \"sensitivity\" (the front is sensitivity "
+                            "vs crosstalk)")
+    n = problem.spec.pareto.points
+    alg = problem.spec.algorithm
+    best = optimize(problem)
+    lowest = driver.minimize(problem.evaluate, problem.x0, list(zip(problem.lo, problem.hi)), "crosstalk",
+                             problem.constraints, global_alg=None if alg.global_ == "none" else alg.global_,
+                             local_alg=alg.local, max_evals=alg.max_evaluations, xtol=alg.xtol)
+    c_hi, c_lo = best.metrics["crosstalk"], lowest.metrics["crosstalk"]
+    eps = list(np.linspace(c_lo, c_hi, n)[1:-1])
+    runs = [(c_lo, lowest)] + _spread(problem_path, problem.out, eps, alg.max_evaluations, workers) + [(c_hi, best)]
+    return runs
+
+
+def _spread(problem_path, out, eps, max_evals, workers):
+    if workers <= 1:
+        return [_front_run(problem_path, out, e, max_evals) for e in eps]
+    from dask.distributed import Client
+    cluster = local_cluster(workers)
+    client = Client(cluster)
+    try:
+        futs = [client.submit(_front_run, str(problem_path), str(out), e, max_evals, pure=False) for e in eps]
+        return client.gather(futs)
+    finally:
+        client.close()
+        cluster.close()
+
+
+def noise(problem: Problem, variable: str, x=None, rel_steps=(1e-4, 3e-4, 1e-3, 3e-3)):
+    """Discretisation noise of the metrics along one variable: the scatter of
+    f(x + h e_i) about the straight line through the neighbours, relative."""
+    x = problem.x0.copy() if x is None else np.asarray(x, float)
+    i = problem.names.index(variable)
+    span = problem.hi[i] - problem.lo[i]
+    out = {}
+    for h in rel_steps:
+        xs = [x.copy() for _ in range(3)]
+        for k, d in enumerate((-1, 0, 1)):
+            xs[k][i] = x[i] + d * h * span
+        vals = [problem.evaluate(v)["sensitivity"] for v in xs]
+        out[h] = abs(vals[1] - 0.5 * (vals[0] + vals[2])) / abs(vals[1])
+    return out

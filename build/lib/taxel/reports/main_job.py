@@ -1,0 +1,77 @@
+"""The main job behind `make demo` (`taxel demo`): on the built-in example, run the
+thesis's Fig. 2.5 study, the sensitivity-crosstalk front of the thesis design,
+the frequency response through the charge amplifier and the step response
+through the 500 MOhm input, then build the report; `small` is the reduced run
+CI uses."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from taxel.analyses import solve
+from taxel.analyses.results import write_scene
+from taxel.optimize import problem as O
+from taxel.reports import analysis
+from taxel.reports.build import build
+from taxel.reports.figures import study_plots
+from taxel.reports.optimization import write_front, write_run
+from taxel.scene import load, parse
+from taxel.studies.execute import run as run_study
+from taxel.studies.spec import load_study
+from taxel.studies.store import tidy_rows, write_rows
+
+
+def run(root: Path, small: bool = False) -> Path:
+    """Run the main job into `root` and return the report's index page."""
+    t0 = time.perf_counter()
+    root.mkdir(parents=True, exist_ok=True)
+    folders = []
+    print("[1/4] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
+    st = load_study("fig-2-5")
+    if small:
+        st.spec = st.spec.model_copy(update={"parameters": [
+            p.model_copy(update={"values": p.values[:1], "labels": (p.labels or [None])[:1] if p.labels else None})
+            if p.values else p.model_copy(update={"step": None, "num": 2}) for p in st.spec.parameters]})
+    out = root / "fig-2-5"
+    out.mkdir(exist_ok=True)
+    (out / "study.json").write_text(st.spec.model_dump_json(indent=1))
+    write_scene(out, parse({**st.base_data(), "name": st.spec.name}))
+    summ = run_study(st, out, workers=1 if small else 2, progress=True)
+    rows = tidy_rows(out)
+    write_rows(rows, out / "results.csv")
+    study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "max_strain"], out / "plots",
+                st.spec.name)
+    folders.append(out)
+    print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
+    print("[2/4] optimization: the thesis design against the sensitivity-crosstalk front")
+    out = root / "thesis-pzt-front"
+    out.mkdir(exist_ok=True)
+    prob = O.load_problem("thesis-pzt-front", out)
+    write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
+    x_ref = np.array([O.magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
+    reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
+    if small:
+        prob.spec = prob.spec.model_copy(update={"algorithm": prob.spec.algorithm.model_copy(
+            update={"max_evaluations": 6, "global_": "none"})})
+        write_run(prob, O.optimize(prob), out)
+    else:
+        runs = O.front(prob, O.BUILTIN / "thesis-pzt-front.toml", workers=2)
+        write_front(prob, runs, reference, out)
+    folders.append(out)
+    print("[3/4] frequency response through the charge amplifier and notch; step through 500 MOhm")
+    for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
+        scene = load(name)
+        if small:
+            scene = scene.replace(**{"analysis.points": 20, "analysis.duration": 0.05})
+        out = root / name
+        files, summary = analysis.write(solve(scene), out)
+        for line in summary:
+            print(line)
+        folders.append(out)
+    print("[4/4] report")
+    index = build(folders, root / "report", compare=not small)
+    print(f"done in {time.perf_counter() - t0:.0f} s; open {index.resolve()}")
+    return index

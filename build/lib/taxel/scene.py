@@ -1,0 +1,412 @@
+"""The scene: one validated TOML description of a design and its load case.
+
+A scene is either a taxel array (`[array]`: piezo squares in silicone, one top
+electrode per taxel and a common bottom ground) or a verification plate
+(`[plate]`: a stack of full-width layers), plus `[load]`, `[supports]`, `[model]`
+and `[mesh]`. Lengths, forces and pressures are strings with units ("1 mm",
+"0.5 N", "10 kPa"); inside the code everything is SI.
+
+Every validation error is one line: `scene error: <key>: <problem>; <fix>`.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import tomllib
+import typing
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, ValidationInfo,
+                      model_validator)
+
+from taxel import units
+
+EXAMPLES = Path(__file__).parent / "examples"
+
+
+class SceneError(ValueError):
+    """A scene that cannot be solved; the message is one line with the fix."""
+
+
+def _quantity(unit: str, what: str, positive=False, nonnegative=False):
+    """A field read by units.to_si: a string with a unit in a file, or SI numbers
+    when the scene is built from Python (validation context {"si_numbers": True})."""
+    def parse(v, info: ValidationInfo):
+        si_numbers = bool(info.context and info.context.get("si_numbers"))
+        return units.to_si(v, unit, what, si_numbers=si_numbers, positive=positive, nonnegative=nonnegative)
+    parse.unit = unit
+    return BeforeValidator(parse)
+
+
+Length = Annotated[float, _quantity("m", "length", positive=True)]
+Thickness = Annotated[float, _quantity("m", "length", nonnegative=True)]
+Force = Annotated[float, _quantity("N", "force")]
+Pressure = Annotated[float, _quantity("Pa", "pressure")]
+Coordinate = Annotated[float, _quantity("m", "length")]
+Frequency = Annotated[float, _quantity("Hz", "frequency", positive=True)]
+Duration = Annotated[float, _quantity("s", "time", positive=True)]
+Resistance = Annotated[float, _quantity("ohm", "resistance", positive=True)]
+Capacitance = Annotated[float, _quantity("F", "capacitance", nonnegative=True)]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+
+class Model(Strict):
+    type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
+    depth: Length | None = None     # out-of-plane depth of a 2D model; default: taxel width
+    silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
+    tolerance: float = Field(0.02, gt=0, lt=1)   # "auto": largest accepted linear-model voltage error
+
+
+class Mesh(Strict):
+    size: Length = "0.5 mm"         # element size far from the piezo
+    piezo_size: Length | None = None  # in-plane element size on the taxels; default: size / 4
+    piezo_layers: int = Field(1, ge=1, le=8)   # elements through each piezo layer
+    order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
+    formulation: Literal["mixed", "displacement"] = "mixed"   # silicone: u-p mixed, or u only (locks)
+
+
+class Array(Strict):
+    rows: int = Field(1, ge=1, le=16)
+    cols: int = Field(1, ge=1, le=16)
+    taxel_width: Length = "4 mm"
+    piezo: str = "PSI-5H4E"
+    piezo_thickness: Length = "0.127 mm"
+    poling: Literal["up", "down"] = "up"
+    gap: Coordinate = "3 mm"        # edge to edge
+    margin: Thickness = "3 mm"      # silicone beyond the outer taxels
+    silicone: str = "Ecoflex-00-30"
+    silicone_above: Thickness = "1 mm"
+    silicone_below: Thickness = "1 mm"
+
+
+class Layer(Strict):
+    material: str
+    thickness: Length
+    poling: Literal["up", "down"] = "up"
+
+
+class Plate(Strict):
+    shape: Literal["rectangle", "disk"] = "rectangle"
+    width: Length | None = None     # rectangle, along x
+    length: Length | None = None    # rectangle, along y (3D)
+    radius: Length | None = None    # disk
+    layers: list[Layer] = Field(min_length=1)
+
+
+class Load(Strict):
+    kind: Literal["taxel", "between", "indenter", "pressure"] = "taxel"
+    force: Force | None = "1 N"
+    pressure: Pressure | None = None   # kind = "pressure" only
+    taxel: tuple[int, int] = (0, 0)    # [row, col] of the pressed taxel or indenter centre
+    neighbour: tuple[int, int] | None = None   # kind = "between": the other taxel
+    profile: Literal["flat", "round"] = "flat"  # indenter pressure: uniform, or Hertzian sqrt(1-r^2/a^2)
+    radius: Length | None = None       # indenter contact radius (half-width in 2D)
+    offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # indenter centre from the taxel centre
+
+
+class Supports(Strict):
+    bottom: Literal["bonded", "rollers", "free"] = "bonded"
+    edges: Literal["free", "clamped", "simply_supported", "rollers"] = "free"
+
+
+class Dynamics(Strict):
+    """Damping. No sourced damping data exists for Ecoflex: loss factors are parameters."""
+    silicone_loss: float = Field(0.1, ge=0, lt=2)     # structural loss factor eta of the silicone
+    piezo_loss: float | None = Field(None, ge=0, lt=1)        # default 1/Qm of the material
+    dielectric_loss: float | None = Field(None, ge=0, lt=1)   # default tan(delta) of the material
+    rayleigh_alpha: float = Field(0.0, ge=0)          # 1/s, C = alpha M + beta K
+    rayleigh_beta: float = Field(0.0, ge=0)           # s
+    reference_frequency: Frequency = "100 Hz"         # time domain: eta -> viscous eta / (2 pi f_ref)
+
+
+class Analysis(Strict):
+    type: Literal["static", "frequency", "transient"] = "static"
+    f_min: Frequency = "1 Hz"
+    f_max: Frequency = "1000 Hz"
+    points: int = Field(200, ge=2, le=100000)
+    spacing: Literal["log", "linear"] = "log"
+    method: Literal["reduced", "direct"] = "reduced"
+    tolerance: float = Field(1e-3, gt=0, lt=1)        # reduced sweep: accepted relative error
+    input: Literal["step", "impulse", "chirp", "csv"] = "step"
+    duration: Duration = "1 s"
+    dt: Duration = "0.5 ms"
+    rise: Duration = "1 ms"           # step: rise time (a smooth ramp)
+    width: Duration = "10 ms"         # impulse: half-sine width
+    f0: float = Field(0.0, ge=0)      # chirp start frequency, Hz
+    f1: float = Field(100.0, gt=0)    # chirp end frequency, Hz (thesis: 0 to 100 Hz over 8 s)
+    file: str | None = None           # csv: columns time (s), force (N)
+
+
+class Readout(Strict):
+    circuit: Literal["open", "resistor", "charge_amplifier"] = "open"
+    R: Resistance = "500 Mohm"        # resistor: the input resistance (thesis tau 1.7-3.1 s at ~4 nF)
+    C_f: Capacitance = "820 pF"       # charge amplifier, TI SLOA033A
+    R_f: Resistance = "10 Mohm"
+    R_i: Resistance = "10 kohm"       # input resistor (assumed; sets the upper cutoff)
+    C_c: Capacitance = "100 pF"       # cable (assumed: about 1 m)
+    notch: bool = False               # the thesis's 50 Hz second-order Butterworth band-stop
+    notch_frequency: Frequency = "50 Hz"
+    notch_bandwidth: Frequency = "10 Hz"
+
+
+class Scene(Strict):
+    name: str = "scene"
+    description: str = ""
+    model: Model = Model()
+    mesh: Mesh = Mesh()
+    array: Array | None = None
+    plate: Plate | None = None
+    load: Load = Load()
+    supports: Supports = Supports()
+    electrodes: dict[str, str] = {}     # name (or "taxels") -> "open" | "ground" | "<value> V"
+    dynamics: Dynamics = Dynamics()
+    analysis: Analysis = Analysis()
+    readout: Readout = Readout()
+    materials: dict[str, dict] = {}     # user materials, see fem.materials.from_record
+
+    def replace(self, **changes) -> Scene:
+        """A new validated scene with values changed by dotted path (see `replace`)."""
+        return replace(self, **changes)
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if (self.array is None) == (self.plate is None):
+            raise ValueError("give exactly one of [array] or [plate]")
+        if self.array is not None:
+            a = self.array
+            if a.gap <= 0 and a.rows * a.cols > 1:
+                raise ValueError(f"array.gap = {a.gap * 1e3:g} mm makes the taxels overlap or touch; "
+                                 "use a positive edge-to-edge gap")
+            if self.model.type == "axisymmetric" and a.rows * a.cols > 1:
+                raise ValueError("model.type = 'axisymmetric' holds one taxel; set rows = cols = 1 "
+                                 "or use a plane or 3d model")
+            for key in ("taxel", "neighbour"):
+                rc = getattr(self.load, key)
+                if rc is not None and not (0 <= rc[0] < a.rows and 0 <= rc[1] < a.cols):
+                    raise ValueError(f"load.{key} = {list(rc)} is outside the {a.rows}x{a.cols} array; "
+                                     f"use rows 0..{a.rows - 1}, cols 0..{a.cols - 1}")
+        if self.plate is not None:
+            p = self.plate
+            if self.load.kind not in ("pressure", "indenter"):
+                raise ValueError(f"load.kind = '{self.load.kind}' needs taxels; a plate takes "
+                                 "'pressure' or 'indenter'")
+            if p.shape == "rectangle" and p.width is None:
+                raise ValueError("plate.width is missing; give the rectangle's width, e.g. \"20 mm\"")
+            if p.shape == "rectangle" and self.model.type == "3d" and p.length is None:
+                raise ValueError("plate.length is missing; a 3d rectangle needs it, e.g. \"20 mm\"")
+            if p.shape == "disk" and p.radius is None:
+                raise ValueError("plate.radius is missing; give the disk's radius, e.g. \"10 mm\"")
+            if self.model.type == "axisymmetric" and p.shape != "disk":
+                raise ValueError("model.type = 'axisymmetric' needs plate.shape = 'disk'")
+        ld = self.load
+        if ld.kind == "pressure" and ld.pressure is None:
+            raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
+        if ld.kind != "pressure" and ld.force is None:
+            raise ValueError(f"load.force is missing for kind = '{ld.kind}'; e.g. \"0.5 N\"")
+        if ld.kind == "between":
+            if ld.neighbour is None:
+                raise ValueError("load.neighbour is missing for kind = 'between'; e.g. [0, 1]")
+            dr, dc = ld.neighbour[0] - ld.taxel[0], ld.neighbour[1] - ld.taxel[1]
+            if abs(dr) + abs(dc) != 1:
+                raise ValueError("load.neighbour must be next to load.taxel (one row or column apart)")
+        if ld.kind == "indenter" and ld.radius is None:
+            raise ValueError("load.radius is missing for kind = 'indenter'; e.g. \"1 mm\"")
+        if self.model.type == "axisymmetric" and (ld.offset != (0.0, 0.0) or ld.kind == "between"):
+            raise ValueError("an axisymmetric model needs a load centred on the axis; "
+                             "drop load.offset or use a 3d model")
+        if self.analysis.f_min >= self.analysis.f_max:
+            raise ValueError("analysis.f_min must be below analysis.f_max")
+        if self.analysis.type == "transient" and self.analysis.dt >= self.analysis.duration:
+            raise ValueError("analysis.dt must be below analysis.duration")
+        if self.analysis.input == "csv" and self.analysis.type == "transient" and not self.analysis.file:
+            raise ValueError("analysis.file is missing for input = 'csv'; give a CSV of time (s), force (N)")
+        if self.analysis.type != "static" and self.model.silicone == "auto":
+            raise ValueError("dynamic analyses need model.silicone = 'linear' or 'yeoh' (not 'auto')")
+        if self.analysis.type == "transient" and self.model.silicone == "yeoh" and self.readout.circuit != "open":
+            raise ValueError("a hyperelastic transient reads open-circuit voltages; set readout.circuit = "
+                             "'open' (or use the linear silicone for circuits)")
+        if (self.supports.bottom == "free" and self.supports.edges == "free"):
+            raise ValueError("supports: bottom and edges are both free, so the body can move freely; "
+                             "set supports.bottom = 'bonded' or 'rollers', or fix the edges")
+        for name, state in self.electrodes.items():
+            electrode_state(state, f"electrodes.{name}")
+        if self.model.silicone != "linear":
+            if self.model.type == "plane_stress":
+                raise ValueError("model.silicone = 'yeoh' is not offered in plane stress (an incompressible "
+                                 "sheet needs its own condensation); use plane_strain, axisymmetric or 3d")
+            if self.mesh.formulation != "mixed":
+                raise ValueError("model.silicone = 'yeoh' needs mesh.formulation = 'mixed'")
+            if any(not isinstance(electrode_state(v), str) for v in self.electrodes.values()):
+                raise ValueError("electrodes at a set voltage are linear-model only; use 'open' or 'ground'")
+        return self
+
+
+def electrode_state(state: str, key="electrode"):
+    """'open' | 'ground' | volts (float) from a scene's electrode string."""
+    s = state.strip().lower()
+    if s in ("open", "ground"):
+        return s
+    if s == "short":
+        return "ground"
+    try:
+        return units.to_si(state, "V", "voltage")
+    except units.UnitError:
+        raise ValueError(f"{key} = {state!r}: use 'open', 'ground' or a voltage such as \"10 V\"") from None
+
+
+def one_line(err: ValidationError) -> str:
+    """The first problem of a pydantic error as one line: the key, the problem, the fix."""
+    e = err.errors()[0]
+    loc = ".".join(str(x) for x in e["loc"] if not str(x).startswith("function-after"))
+    msg = e["msg"].removeprefix("Value error, ")
+    if e["type"] == "extra_forbidden":
+        return f"unknown key '{loc}'; check its spelling against the scene reference in README.md"
+    if e["type"] == "missing":
+        return f"'{loc}' is required; add it"
+    if e["type"] == "literal_error":
+        return f"{loc}: {msg} (got {e['input']!r})"
+    return f"{loc}: {msg}" if loc else msg
+
+
+def parse(data: dict, *, si_numbers: bool = False) -> Scene:
+    """A validated Scene from a dict (TOML-like: quantities as strings with units;
+    with `si_numbers`, plain numbers are SI). Raises SceneError with one line.
+    Material names are checked where materials are known (taxel.analyses)."""
+    try:
+        return Scene.model_validate(data, context={"si_numbers": si_numbers})
+    except ValidationError as err:
+        raise SceneError(one_line(err)) from None
+
+
+def read_toml(path: Path, error=SceneError) -> dict:
+    """A TOML file as a dict; an unreadable or invalid file is one line naming it."""
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise error(f"{path}: not UTF-8 text; save it as a UTF-8 TOML file") from None
+    except OSError as exc:
+        raise error(f"{path}: cannot read it ({exc.strerror or exc})") from None
+
+
+def load(source: str | Path | dict) -> Scene:
+    """A scene from a TOML file, a built-in example by name (see `examples()`), or a
+    dict (Python numbers in SI). A file's relative `analysis.file` is resolved
+    against the file's folder."""
+    if isinstance(source, dict):
+        return parse({"name": "scene", **source}, si_numbers=True)
+    path = Path(source)
+    if not path.is_file():
+        builtin = EXAMPLES / f"{source}.toml"
+        if not builtin.exists():
+            raise SceneError(f"no scene file '{source}' and no built-in example of that name; "
+                             f"built-in: {', '.join(examples())}")
+        path = builtin
+    data = read_toml(path)
+    data.setdefault("name", path.stem)
+    analysis = data.get("analysis")
+    if isinstance(analysis, dict) and isinstance(analysis.get("file"), str):
+        f = Path(analysis["file"])
+        if not f.is_absolute():
+            analysis["file"] = str(path.parent / f)
+    return parse(data)
+
+
+def examples() -> list[str]:
+    return sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+
+
+def scene_material_names(scene: Scene) -> list[str]:
+    if scene.array is not None:
+        return [scene.array.piezo, scene.array.silicone]
+    return [layer.material for layer in scene.plate.layers]
+
+
+def set_path(data: dict, path: str, value):
+    """Set `value` at a dotted path of a scene dict; a table is merged (deeply) into
+    the table there. The path "" is the scene itself. Raises KeyError(path) where a
+    key on the way is not a table."""
+    if path == "":
+        if not isinstance(value, dict):
+            raise KeyError(path)
+        _merge(data, value)
+        return
+    keys = path.split(".")
+    node = data
+    for k in keys[:-1]:
+        node = node.setdefault(k, {})
+        if not isinstance(node, dict):
+            raise KeyError(path)
+    if isinstance(value, dict) and isinstance(node.get(keys[-1]), dict):
+        _merge(node[keys[-1]], value)
+    else:
+        node[keys[-1]] = value
+
+
+def _merge(node: dict, value: dict):
+    for k, v in value.items():
+        if isinstance(v, dict) and isinstance(node.get(k), dict):
+            _merge(node[k], v)
+        else:
+            node[k] = v
+
+
+def replace(scene: Scene, **changes) -> Scene:
+    """A new, validated scene with values changed by dotted path:
+    replace(scene, **{"array.silicone_above": "0.5 mm", "load.force": 0.2}).
+    Values are strings with units or SI numbers; a table merges into the table there."""
+    data = to_data(scene)
+    for path, value in changes.items():
+        if isinstance(value, BaseModel):
+            value = to_data(value)
+        try:
+            set_path(data, path, value)
+        except KeyError:
+            raise SceneError(f"'{path}': not a scene path; a key on the way is not a table") from None
+    return parse(data, si_numbers=True)
+
+
+def refined(scene: Scene, factor: float) -> Scene:
+    """The scene with every element size divided by `factor` (in plane and through
+    the piezo), for convergence studies: factor 2 halves h everywhere."""
+    m = scene.mesh
+    return replace(scene, **{"mesh.size": m.size / factor,
+                             "mesh.piezo_size": (m.piezo_size or m.size / 4) / factor,
+                             "mesh.piezo_layers": max(1, round(m.piezo_layers * factor))})
+
+
+def canonical(scene: Scene) -> str:
+    """The scene as canonical JSON (sorted keys, SI numbers): what a result depends on."""
+    return json.dumps(scene.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
+
+
+def to_data(model: BaseModel) -> dict:
+    """A scene (or part) as a TOML-like dict that `parse` reads back: quantities as
+    strings with their SI unit ("0.001 m"), everything else as is."""
+    out = {}
+    for name, info in type(model).model_fields.items():
+        value = getattr(model, name)
+        if value is None:
+            continue
+        unit = next((getattr(m.func, "unit", None) for m in info.metadata if hasattr(m, "func")), None)
+        if unit is None:                                  # tuple[Coordinate, Coordinate] and friends
+            for arg in typing.get_args(info.annotation):
+                for m in getattr(arg, "__metadata__", ()):
+                    unit = getattr(getattr(m, "func", None), "unit", unit)
+        if isinstance(value, BaseModel):
+            out[name] = to_data(value)
+        elif isinstance(value, list) and value and isinstance(value[0], BaseModel):
+            out[name] = [to_data(v) for v in value]
+        elif unit and isinstance(value, float):
+            out[name] = f"{value!r} {unit}"
+        elif unit and isinstance(value, tuple):
+            out[name] = [f"{v!r} {unit}" for v in value]
+        else:
+            out[name] = copy.deepcopy(list(value) if isinstance(value, tuple) else value)
+    return out

@@ -1,0 +1,48 @@
+"""Evaluating one design point: a pure function of its scene, runs on any worker."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from taxel.analyses import frequency, solve_static
+from taxel.scene import parse, replace
+
+OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
+
+
+
+def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
+    """Solve one design point and return its outputs (JSON-ready, SI units)."""
+    scene = parse({**scene_data, "name": "point"})
+    t0 = time.perf_counter()
+    sol = solve_static(scene)
+    res: dict[str, Any] = {}
+    taxels = {k: e for k, e in sol.electrodes.items() if e.state != "reference"}
+    pressed = sol.pressed
+    if "voltage" in outputs:
+        res["voltage"] = {k: e.voltage for k, e in taxels.items()}
+    if "charge" in outputs:
+        res["charge"] = {k: e.short_circuit_charge for k, e in taxels.items()}
+    if "crosstalk" in outputs and pressed in taxels and len(taxels) > 1:
+        res["crosstalk"] = sol.crosstalk
+    if "max_strain" in outputs:
+        res["max_strain"] = sol.max_silicone_strain
+    if "frequency_response" in outputs:
+        fr = frequency(replace(scene, **{"analysis.method": "reduced"}))
+        res["frequency_response"] = {"freqs": fr.freqs.tolist(),
+                                     **{k: np.abs(fr.output[:, i]).tolist() for i, k in enumerate(fr.names)}}
+    res["pressed"] = pressed
+    res["model_note"] = sol.model_note
+    res["seconds"] = time.perf_counter() - t0
+    return res
+
+
+def evaluate_safely(scene_data: dict, outputs) -> tuple[str, dict | None, str | None]:
+    """(status, result, error): a failure is recorded with the point, the study goes on."""
+    try:
+        return "done", evaluate(scene_data, outputs), None
+    except Exception as exc:            # recorded with the point; the study goes on
+        return "failed", None, f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"

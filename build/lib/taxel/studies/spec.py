@@ -1,0 +1,253 @@
+"""Declarative parameter studies: one TOML file, cached, resumable, parallel.
+
+A study names a base scene, the parameters to vary and how (grid, explicit
+list, Latin hypercube), fixed overrides ("fidelity"), and the outputs to keep:
+
+    name = "fig-2-5"
+    base = "thesis-pzt-single-2d"            # built-in example or a path (relative to this file)
+    sampling = "grid"                        # grid (all combinations) | lhs
+    outputs = ["voltage", "charge", "crosstalk", "max_strain"]
+
+    [fidelity]                               # fixed overrides, by dotted scene path
+    "model.type" = "plane_stress"
+
+    [[parameters]]
+    path = ["array.silicone_above", "array.silicone_below"]   # one value for all the paths
+    start = "0 mm"
+    stop = "3 mm"
+    step = "0.5 mm"
+
+    [[parameters]]
+    path = "array"                           # a table: merged into the scene at the path
+    values = [{piezo = "PSI-5H4E", piezo_thickness = "0.127 mm"}, {piezo = "PVDF", piezo_thickness = "52 um"}]
+    labels = ["PZT", "PVDF"]
+
+Latin hypercube: sampling = "lhs", samples = N, seed = S, and each parameter a
+range (start, stop); values drawn uniformly in each stratum (scipy.stats.qmc).
+
+Results: studies.store (cache), studies.execute (running on Dask).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from itertools import product
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from taxel import units
+from taxel.scene import EXAMPLES, Scene, SceneError, one_line, parse, read_toml, set_path
+
+OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
+BUILTIN = Path(__file__).parent / "builtin"
+
+
+class StudyError(SceneError):
+    """A study file that cannot be run; one line with the fix."""
+
+
+class Parameter(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    path: str | list[str]
+    label: str | None = None          # display name (default: the last path key)
+    values: list[Any] | None = None
+    labels: list[str] | None = None
+    start: Any = None
+    stop: Any = None
+    step: Any = None
+    num: int | None = Field(None, ge=2)
+
+    @property
+    def paths(self) -> list[str]:
+        return [self.path] if isinstance(self.path, str) else list(self.path)
+
+    @property
+    def name(self) -> str:
+        if self.label:
+            return self.label
+        return self.paths[0].split(".")[-1] if len(self.paths) == 1 else \
+            "+".join(p.split(".")[-1] for p in self.paths)
+
+
+class StudySpec(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    name: str = "study"
+    description: str = ""
+    base: str
+    sampling: Literal["grid", "lhs"] = "grid"
+    samples: int | None = Field(None, ge=1)
+    seed: int = 0
+    fidelity: dict[str, Any] = {}
+    parameters: list[Parameter] = Field(min_length=1)
+    outputs: list[Literal[OUTPUTS]] = ["voltage", "charge", "crosstalk", "max_strain"]
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.sampling == "lhs" and not self.samples:
+            raise ValueError("sampling = 'lhs' needs samples = N")
+        names = [p.name for p in self.parameters]
+        for n in names:
+            if names.count(n) > 1:
+                raise ValueError(f"two parameters are named '{n}'; give one a label = \"...\"")
+        return self
+
+
+# --------------------------------------------------------------------------------------
+# reading a study and expanding it into design points
+# --------------------------------------------------------------------------------------
+
+@dataclass
+class Study:
+    spec: StudySpec
+    base: dict                      # the base scene as a TOML dict
+    folder: Path                    # where the study file lives (for relative paths)
+
+    def points(self) -> list[dict]:
+        """Design points: {parameter name: value (as typed in the file or generated)}."""
+        axes = [_axis(p, self.spec) for p in self.spec.parameters]
+        names = [p.name for p in self.spec.parameters]
+        if self.spec.sampling == "grid":
+            return [dict(zip(names, combo)) for combo in product(*axes)]
+        from scipy.stats import qmc
+        u = qmc.LatinHypercube(d=len(axes), seed=self.spec.seed).random(self.spec.samples)
+        return [{n: ax(float(x)) for n, ax, x in zip(names, axes, row)} for row in u]
+
+    def base_data(self) -> dict:
+        """The base scene with the study's fixed overrides (no parameter applied)."""
+        data = json.loads(json.dumps(self.base))
+        for path, value in self.spec.fidelity.items():
+            set_value(data, path, value)
+        return data
+
+    def scene_data(self, point: dict) -> dict:
+        data = self.base_data()
+        for p in self.spec.parameters:
+            for path in p.paths:
+                set_value(data, path, _value(point[p.name]))
+        return data
+
+
+def _value(v):
+    return v["value"] if isinstance(v, dict) and set(v) == {"label", "value"} else v
+
+
+def _axis(p: Parameter, spec: StudySpec):
+    """Values of one parameter (grid/list), or a map [0, 1) -> value (lhs)."""
+    if p.values is not None:
+        if not p.values:
+            raise StudyError(f"parameters '{p.name}': values is empty; give at least one value")
+        if p.labels is not None:
+            if len(p.labels) != len(p.values):
+                raise StudyError(f"parameters '{p.name}': {len(p.labels)} labels for {len(p.values)} values")
+            vals = [{"label": lab, "value": v} for lab, v in zip(p.labels, p.values)]
+        else:
+            vals = list(p.values)
+        if spec.sampling == "lhs":
+            return lambda x: vals[min(int(x * len(vals)), len(vals) - 1)]
+        return vals
+    if p.start is None or p.stop is None:
+        raise StudyError(f"parameters '{p.name}': give values = [...] or a range start/stop (and step or num)")
+    (a, b), unit = _same_unit(p.name, p.start, p.stop)
+    if spec.sampling == "lhs":
+        return lambda x: _fmt(a + (b - a) * x, unit)
+    if p.step is not None:
+        (s,), _ = _same_unit(p.name, p.step, unit=unit)
+        if s <= 0 or b < a:
+            raise StudyError(f"parameters '{p.name}': empty range ({p.start} to {p.stop} by {p.step}); "
+                             "use stop >= start and a positive step")
+        n = int(math.floor((b - a) / s + 1e-9)) + 1
+        return [_fmt(a + i * s, unit) for i in range(n)]
+    if p.num is None:
+        raise StudyError(f"parameters '{p.name}': a range needs step = ... or num = N")
+    if b < a:
+        raise StudyError(f"parameters '{p.name}': empty range ({p.start} to {p.stop}); use stop >= start")
+    return [_fmt(a + (b - a) * i / (p.num - 1), unit) for i in range(p.num)]
+
+
+def _same_unit(name, *values, unit=None):
+    """Magnitudes of quantities in one unit (that of the first, or `unit`)."""
+    out = []
+    for v in values:
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            if unit not in (None, ""):
+                raise StudyError(f"parameters '{name}': {v!r} has no unit but the range is in {unit}; "
+                                 f"write e.g. \"{v} {unit}\"")
+            out.append(float(v))
+            unit = ""
+            continue
+        try:
+            q = units.quantity(v)
+        except Exception:
+            raise StudyError(f"parameters '{name}': cannot read {v!r} as a quantity") from None
+        if unit is None:
+            unit = f"{q.units:~}"
+        try:
+            out.append(float(q.to(unit).magnitude) if unit else float(q))
+        except Exception:
+            raise StudyError(f"parameters '{name}': unit mismatch: {v!r} is not in {unit or 'plain numbers'}") \
+                from None
+    return out, unit
+
+
+def _fmt(x, unit):
+    x = round(x, 12)
+    return f"{x:g} {unit}" if unit else x
+
+
+def set_value(data: dict, path: str, value):
+    """taxel.scene.set_path, with a StudyError naming the path."""
+    try:
+        set_path(data, path, value)
+    except KeyError:
+        if path == "":
+            raise StudyError("a parameter at the scene root (path = \"\") needs tables as values") from None
+        raise StudyError(f"'{path}': a key on the way is not a table in the base scene") from None
+
+
+def read_spec(path, builtin_dir: Path, spec_class, error, what: str):
+    """(spec, base scene dict) of a study or optimization file, or a built-in one by
+    name; every problem is one line through `error`."""
+    path = Path(path)
+    if not path.is_file():
+        builtin = builtin_dir / f"{path}.toml"
+        if not builtin.exists():
+            names = ", ".join(sorted(p.stem for p in builtin_dir.glob("*.toml")))
+            raise error(f"no {what} file '{path}' and no built-in one of that name; built-in: {names}")
+        path = builtin
+    data = read_toml(path, error)
+    data.setdefault("name", path.stem)
+    try:
+        spec = spec_class.model_validate(data)
+    except ValidationError as err:
+        raise error(one_line(err)) from None
+    base_path = Path(spec.base)
+    if not base_path.is_absolute():
+        base_path = path.parent / base_path
+    if not base_path.is_file():
+        base_path = EXAMPLES / f"{spec.base}.toml"
+    if not base_path.is_file():
+        raise error(f"base = '{spec.base}': no such scene file or built-in example")
+    base = read_toml(base_path, error)
+    base.pop("name", None)
+    return spec, base, path
+
+
+def load_study(path) -> Study:
+    spec, base, path = read_spec(path, BUILTIN, StudySpec, StudyError, "study")
+    study = Study(spec, base, path.parent)
+    known = set(Scene.model_fields)
+    for p in spec.parameters:
+        for dotted in p.paths:
+            if dotted and dotted.split(".")[0] not in known:
+                raise StudyError(f"parameters: unknown scene path '{dotted}'; it must start with one of "
+                                 f"{', '.join(sorted(known))}")
+    points = study.points()
+    try:                                  # validate the first point fully: unknown keys, units
+        parse(study.scene_data(points[0]))
+    except SceneError as exc:
+        raise StudyError(f"the study's first point is not a valid scene: {exc}") from None
+    return study

@@ -1,0 +1,94 @@
+"""Units: the one pint registry, reading quantities typed by a person, and printing them.
+
+Inside the code every number is SI. At a boundary where a person types a number
+(a TOML scene, a study, a rig file) it is a string with its unit ("0.5 mm",
+"10 kPa"); `to_si` reads it. Called from Python, a plain number is taken as SI
+(`si_numbers=True`); in a file it is refused, because "1" next to a thickness is
+more often a millimetre than a metre.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+
+import pint
+
+# the unit a message suggests for each SI base unit
+HINT = {"m": "mm", "N": "N", "Pa": "kPa", "V": "V", "Hz": "Hz", "s": "ms", "ohm": "MOhm", "F": "pF",
+        "V/N": "V/N", "A": "A"}
+
+
+class UnitError(ValueError):
+    """A value that is not the quantity asked for; the message says what to write."""
+
+
+@cache
+def registry() -> pint.UnitRegistry:
+    return pint.UnitRegistry()
+
+
+def quantity(text: str) -> pint.Quantity:
+    """A pint quantity from a string ("Ohm" and "ohm" both read as ohms)."""
+    return registry().Quantity(str(text).replace("Ohm", "ohm"))
+
+
+def to_si(value, unit: str, what: str, *, si_numbers: bool = False, positive: bool = False,
+          nonnegative: bool = False) -> float:
+    """The SI magnitude of `value` in `unit`, checked; raises UnitError (one line).
+
+    value: a string with a unit ("0.5 mm"), or, with `si_numbers`, a number in SI.
+    Zero needs no unit.
+    """
+    hint = HINT.get(unit, unit)
+    if isinstance(value, bool):
+        raise UnitError(f"expected a {what} such as \"1 {hint}\", got {value!r}")
+    if isinstance(value, (int, float)):
+        if value != 0 and not si_numbers:
+            raise UnitError(f"missing unit: write it as a string, e.g. \"{value} {hint}\"")
+        return _check(float(value), value, positive, nonnegative)
+    if not isinstance(value, str):
+        raise UnitError(f"expected a {what} such as \"1 {hint}\"")
+    try:
+        q = quantity(value)
+    except Exception:
+        raise UnitError(f"cannot read {value!r} as a {what}; write e.g. \"1 {hint}\"") from None
+    if isinstance(q, (int, float)) or q.dimensionless:
+        raise UnitError(f"missing unit in {value!r}; write e.g. \"{value} {hint}\"")
+    try:
+        x = float(q.to(unit).magnitude)
+    except pint.DimensionalityError:
+        raise UnitError(f"unit mismatch: {value!r} is not a {what}") from None
+    return _check(x, value, positive, nonnegative)
+
+
+def _check(x: float, value, positive: bool, nonnegative: bool) -> float:
+    if not math.isfinite(x):
+        raise UnitError(f"must be a finite number, got {value!r}")
+    if positive and not x > 0:
+        raise UnitError(f"must be positive, got {value!r}")
+    if nonnegative and x < 0:
+        raise UnitError(f"must not be negative, got {value!r}")
+    return x
+
+
+def magnitude(value):
+    """The SI number in a value such as "0.5 mm", a number as is, anything else unchanged."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return float(value)
+    try:
+        return float(quantity(value).to_base_units().magnitude)
+    except Exception:
+        return value
+
+
+def engineering(value: float | None, unit: str, digits: int = 4) -> str:
+    """A number with an SI prefix: engineering(2.97e-9, 'C') -> '2.97 nC'."""
+    if value is None:
+        return "-"
+    if value == 0 or not math.isfinite(value):
+        return f"{value:g} {unit}"
+    value = float(f"{value:.{digits}g}")
+    exp = max(-15, min(9, 3 * math.floor(math.log10(abs(value)) / 3)))
+    prefix = {-15: "f", -12: "p", -9: "n", -6: "u", -3: "m", 0: "", 3: "k", 6: "M", 9: "G"}[exp]
+    return f"{value / 10 ** exp:.{digits}g} {prefix}{unit}"
