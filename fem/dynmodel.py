@@ -1,6 +1,6 @@
 r"""The linear dynamic model of a problem: mass, stiffness by kind, loss factors.
 
-Equation of motion on the reduced unknowns x of fem.solve.reduction (supports
+Equation of motion on the reduced unknowns x of fem.constraints.reduction (supports
 and the reference electrode eliminated; each other electrode one potential
 whose row is its charge balance, right-hand side -Q_k):
 

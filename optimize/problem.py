@@ -33,7 +33,7 @@ above + piezo + below, m), footprint (array width along x, m), gap (m).
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective
 jitters at the level of the discretisation error's variation with geometry.
-`noise()` measures it (benchmarks/optimize.py: about 1e-4 relative on the
+`noise()` measures it (benchmarks/optimize_front.py: about 1e-4 relative on the
 default 2D mesh for steps of 1e-3 of the range); the tolerance xtol = 0.02 of
 the range and the local initial step (0.1) sit well above it.
 """
@@ -142,8 +142,7 @@ class Problem:
         if status != "done":
             return {**metrics, "sensitivity": None, "crosstalk": None, "max_strain": None}
         v = result["voltage"].get(result["pressed"])
-        force = scene.load.force
-        metrics.update(sensitivity=abs(v) / force if v is not None else None,
+        metrics.update(sensitivity=abs(v) / result["force"] if v is not None else None,
                        crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
         return metrics
 

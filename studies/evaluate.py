@@ -13,7 +13,6 @@ from taxel.scene import parse, replace
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
 
 
-
 def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
     """Solve one design point and return its outputs (JSON-ready, SI units)."""
     scene = parse({**scene_data, "name": "point"})
@@ -35,6 +34,7 @@ def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
         res["frequency_response"] = {"freqs": fr.freqs.tolist(),
                                      **{k: np.abs(fr.output[:, i]).tolist() for i, k in enumerate(fr.names)}}
     res["pressed"] = pressed
+    res["force"] = sol.applied_force
     res["model_note"] = sol.model_note
     res["seconds"] = time.perf_counter() - t0
     return res

@@ -1,7 +1,7 @@
 """The coupled system's conditioning: scaling, solver agreement, residuals.
 
 The taxel mixes 1e4 Pa silicone, 1e11 Pa PZT and 1e-8 F/m permittivity in one
-indefinite matrix. Scaled (fem.solve._scaling), SuperLU and PARDISO agree to
+indefinite matrix. Scaled (fem.linalg.scaling), SuperLU and PARDISO agree to
 1e-9 and the relative residual is ~1e-12; unscaled, the same factorizations
 leave a residual of ~2e-6 (measured).
 """
@@ -9,11 +9,11 @@ leave a residual of ~2e-6 (measured).
 import numpy as np
 import pytest
 
-from taxel.fem import linalg as linsolve
+from taxel.fem import linalg
 from taxel.analyses import solve_static as solve
 from taxel.scene import load, parse
 
-SOLVERS = [m for m in ("superlu", "pardiso") if linsolve.available(m)]
+SOLVERS = [m for m in ("superlu", "pardiso") if linalg.available(m)]
 
 
 @pytest.mark.parametrize("name", ["thesis-pzt-single-2d", "thesis-pvdf-single-2d"])

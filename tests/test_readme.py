@@ -1,0 +1,73 @@
+"""The README cannot drift: every code block in it runs here.
+
+- ```python blocks are executed (their own asserts hold);
+- ```sh blocks: every `taxel ...` line runs as a command and must exit 0; the
+  two set-up commands (`make demo`, `make test`) run as `make -n` (their recipes
+  resolve: running them here would run this suite inside itself, and the main job
+  has its own test in test_reports.py);
+- ```toml blocks are scenes: they load, materials included.
+Outputs go to out/readme-* (ignored by git), as the README says.
+"""
+
+from __future__ import annotations
+
+import re
+import shlex
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import taxel
+
+ROOT = Path(__file__).resolve().parents[1]
+BLOCKS = re.findall(r"```(\w+)\n(.*?)```", (ROOT / "README.md").read_text(encoding="utf-8"), re.S)
+
+
+def blocks(lang):
+    return [pytest.param(body, id=f"{lang}-{i}") for i, (kind, body) in enumerate(BLOCKS) if kind == lang]
+
+
+def test_the_readme_has_the_blocks_this_test_runs():
+    kinds = [k for k, _ in BLOCKS]
+    assert kinds.count("python") >= 1 and kinds.count("sh") >= 2 and kinds.count("toml") >= 1
+    assert set(kinds) <= {"python", "sh", "toml"}, f"a block this test does not run: {set(kinds)}"
+
+
+@pytest.mark.parametrize("body", blocks("python"))
+def test_python_blocks_run(body, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    exec(compile(body, "README.md", "exec"), {"__name__": "readme"})
+
+
+def _commands(body):
+    for line in body.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            yield line
+
+
+@pytest.mark.parametrize("body", blocks("sh"))
+def test_shell_blocks_run(body):
+    bindir = Path(sys.executable).parent
+    for cmd in _commands(body):
+        argv = shlex.split(cmd)
+        if argv[0] == "make":
+            assert argv[1:] in (["demo"], ["test"]), f"an unexpected make target in the README: {cmd}"
+            run = subprocess.run(["make", "-n", *argv[1:]], cwd=ROOT, capture_output=True, text=True)
+        else:
+            assert argv[0] == "taxel", f"README command not run by this test: {cmd}"
+            run = subprocess.run([str(bindir / "taxel"), *argv[1:]], cwd=ROOT, capture_output=True, text=True,
+                                 timeout=300)
+        assert run.returncode == 0, f"{cmd}: exit {run.returncode}\n{run.stderr[-2000:]}"
+
+
+@pytest.mark.parametrize("body", blocks("toml"))
+def test_toml_blocks_are_valid_scenes(body, tmp_path):
+    path = tmp_path / "scene.toml"
+    path.write_text(body)
+    tomllib.loads(body)
+    scene = taxel.load(path)
+    assert scene.array is not None or scene.plate is not None
