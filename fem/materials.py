@@ -392,36 +392,6 @@ def get(name: str, user: dict | None = None):
     return lib[key]
 
 
-def from_record(name: str, rec: dict):
-    """A user material from a TOML table (SI numbers).
-
-    Piezo, strain-charge:  {kind="piezo", s=6x6, d=3x6, eps_T=3x3 (relative), rho}
-    Piezo, stress-charge:  {kind="piezo", c=6x6, e=3x6, eps_S=3x3 (relative), rho}
-    Solid:                 {kind="solid", E, nu, rho[, eps_r]} or {kind="solid", mu, K, rho}
-                           optional Yeoh: C10, C20, C30 (Pa); with only C10.. given, mu = 2 C10
-    """
-    kind = rec.get("kind")
-    rho = float(rec["rho"])
-    if kind == "piezo":
-        if "s" in rec:
-            m = Piezo.from_strain_charge(name, np.array(rec["s"], float), np.array(rec["d"], float),
-                                         np.array(rec["eps_T"], float) * EPS0, rho, source="user")
-        else:
-            m = Piezo(name, np.array(rec["c"], float), np.array(rec["e"], float),
-                      np.array(rec["eps_S"], float) * EPS0, rho, source="user")
-        check_piezo(m)
-        return m
-    if kind == "solid":
-        eps_r = float(rec.get("eps_r", 1.0))
-        yeoh = tuple(float(rec.get(k, 0.0)) for k in ("C10", "C20", "C30")) if "C10" in rec else None
-        if "E" in rec:
-            return Solid.from_E_nu(name, float(rec["E"]), float(rec["nu"]), rho, eps_r=eps_r, source="user",
-                                   yeoh=yeoh)
-        mu = float(rec["mu"]) if "mu" in rec else 2 * yeoh[0]
-        return Solid(name, mu, float(rec["K"]), rho, eps_r=eps_r, source="user", yeoh=yeoh)
-    raise ValueError(f"material '{name}': kind must be 'piezo' or 'solid', got {kind!r}")
-
-
 def check_piezo(m: Piezo):
     """Raise unless c and eps^S are symmetric positive definite (a stable material)."""
     for what, a, shape in (("c", m.c, (6, 6)), ("eps", m.eps, (3, 3))):

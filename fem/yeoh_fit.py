@@ -89,6 +89,9 @@ def fit_yeoh(strain, stress, max_strain: float) -> YeohFit:
         raise ValueError(f"only {n} data points with 0 < strain <= {max_strain:g} "
                          f"(at least 4 are needed for 3 coefficients): raise the max strain")
     e, P = strain[ok], stress[ok]
+    if len(np.unique(e)) < 4:
+        raise ValueError(f"only {len(np.unique(e))} distinct strain values with 0 < strain <= {max_strain:g}; "
+                         "three coefficients need a test that spans strains (at least 4 distinct values)")
     A = yeoh_basis(e)
     # column scaling keeps lstsq well conditioned at large strain ((I1-3)^2 grows fast)
     scale = np.linalg.norm(A, axis=0)

@@ -72,7 +72,7 @@ def build(lay: Layout, msh_path: str | Path | None = None) -> TaggedMesh:
         plan = _plan(occ, lay)
         occ.synchronize()
         for layer in lay.layers:
-            n, heights = _vertical(lay, layer)
+            n, heights = vertical_divisions(lay, layer)
             step = (0, layer.thickness, 0) if lay.dim == 2 else (0, 0, layer.thickness)
             out = occ.extrude(plan, *step, numElements=n, heights=heights, recombine=False)
             plan = [out[i - 1] for i, e in enumerate(out) if e[0] == lay.dim]
@@ -110,14 +110,21 @@ def _plan(occ, lay: Layout):
     return [e for e in out if e[0] == 2]
 
 
-def _vertical(lay: Layout, layer):
-    """(numElements, heights) for one layer's extrusion."""
-    piezo_like = layer.patch_material is not None or layer.piezo or not lay.taxels
-    if piezo_like:
+def is_graded(lay: Layout, layer) -> bool:
+    """Silicone layers of an array are graded from piezo_size (next to the piezo)
+    to size; piezo and plate layers get piezo_layers elements through."""
+    return not (layer.patch_material is not None or layer.piezo or not lay.taxels)
+
+
+def vertical_divisions(lay: Layout, layer):
+    """(numElements, heights) for one layer's extrusion (meshing.estimate checks the
+    count before this runs)."""
+    if not is_graded(lay, layer):
         return [lay.piezo_layers], [1.0]
-    h, hs = lay.piezo_size, []
-    while sum(hs) < layer.thickness * (1 - 1e-9):
+    h, hs, total = lay.piezo_size, [], 0.0
+    while total < layer.thickness * (1 - 1e-9):
         hs.append(min(h, lay.size))
+        total += hs[-1]
         h *= 1.5
     hs = np.array(hs) * layer.thickness / sum(hs)
     if len(hs) > 1 and hs[-1] < 0.5 * hs[-2]:       # merge a sliver into its neighbour

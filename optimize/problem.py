@@ -41,6 +41,7 @@ the range and the local initial step (0.1) sit well above it.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -50,7 +51,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
 from taxel import units as U
-from taxel.scene import Scene, SceneError, parse
+from taxel.scene import Name, Scene, SceneError, parse
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.execute import local_cluster
 from taxel.studies.spec import read_spec, set_value
@@ -87,7 +88,7 @@ class Pareto(BaseModel):
 
 class OptSpec(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
-    name: str = "optimization"
+    name: Name = "optimization"
     description: str = ""
     base: str
     reference: dict[str, Any] = {}
@@ -164,9 +165,12 @@ def magnitude(v, unit=None, what=""):
     if unit is None:
         unit = f"{q.units:~}"
     try:
-        return float(q.to(unit).magnitude), unit
+        x = float(q.to(unit).magnitude)
     except Exception:
         raise OptimizeError(f"{what}: unit mismatch: {v!r} is not in {unit}") from None
+    if not math.isfinite(x):
+        raise OptimizeError(f"{what}: {v!r} is not a finite number")
+    return x, unit
 
 
 def load_problem(path, out: Path | None = None) -> Problem:
@@ -191,8 +195,17 @@ def load_problem(path, out: Path | None = None) -> Problem:
         if op not in ("<=", ">="):
             raise OptimizeError(f"constraints.{metric}: write \"<= value\" or \">= value\", got {text!r}")
         unit = si_units.get(metric, "")
-        bound = magnitude(text[2:].strip(), unit or None, f"constraints.{metric}")[0] if unit else \
-            float(text[2:].strip())
+        value = text[2:].strip()
+        if unit:
+            bound = magnitude(value, unit, f"constraints.{metric}")[0]
+        else:
+            try:
+                bound = float(value)
+            except ValueError:
+                raise OptimizeError(f"constraints.{metric}: {value!r} is not a number; write e.g. \"<= 0.05\"") \
+                    from None
+        if not math.isfinite(bound):
+            raise OptimizeError(f"constraints.{metric}: the bound {value!r} is not a finite number")
         cons.append((metric, op, bound))
     problem = Problem(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
     try:
@@ -205,6 +218,9 @@ def load_problem(path, out: Path | None = None) -> Problem:
         if not modelled or modelled < 2:      # a 2D model holds the row through the pressed taxel
             raise OptimizeError("crosstalk needs at least two modelled taxels in the base scene "
                                 "(array.cols >= 2, or rows x cols >= 2 in 3d)")
+    if spec.pareto and spec.objective.get("maximize") != "sensitivity":
+        raise OptimizeError("[pareto] needs objective maximize = \"sensitivity\" (the front is sensitivity "
+                            "vs crosstalk)")
     _check_feasible(problem)
     return problem
 
@@ -246,9 +262,6 @@ def front(problem: Problem, problem_path, workers=2) -> list[tuple[float, driver
     (c_min), then maximize sensitivity with crosstalk <= eps_k for eps_k evenly
     between; the runs are spread over Dask workers (each writes its evaluations
     to the shared store)."""
-    if problem.spec.objective.get("maximize") != "sensitivity":
-        raise OptimizeError("[pareto] needs objective maximize = \"sensitivity\" (the front is sensitivity "
-                            "vs crosstalk)")
     n = problem.spec.pareto.points
     alg = problem.spec.algorithm
     best = optimize(problem)

@@ -25,6 +25,7 @@ import time
 from pathlib import Path
 
 from taxel.analyses import lumped_model, scene_materials, solve_static
+from taxel.analyses.results import output_folder
 from taxel.fem.newton import NewtonError
 from taxel.scene import SceneError, parse, scene_material_names
 from taxel.studies.store import code_version
@@ -39,6 +40,15 @@ td,th{border:1px solid #ddd;padding:.25em .5em;text-align:right}th{background:#f
 
 class ReportError(SceneError):
     """A folder that cannot be reported; one line with the fix."""
+
+
+def read_json(path: Path):
+    """A JSON file of a result folder; a corrupt one is one line naming it."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ReportError(f"{path}: not valid JSON ({getattr(exc, 'msg', exc)}); rerun the command that "
+                          "wrote it") from None
 
 
 def kind_of(folder: Path) -> str:
@@ -190,14 +200,14 @@ def build_page(folder: Path, out: Path, compare=True) -> tuple[Path, str, str]:
     if not folder.is_dir():
         raise ReportError(f"{folder}: no such folder")
     kind = kind_of(folder)
-    scene_data = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else None
+    scene_data = read_json(folder / "scene.json") if (folder / "scene.json").exists() else None
     title = f"{folder.name} ({kind})"
     sections = []
     if scene_data:
         sec, _ = _scene_sections(scene_data, compare)
         sections += sec
     if kind == "study":
-        spec = json.loads((folder / "study.json").read_text())
+        spec = read_json(folder / "study.json")
         plots = sorted((folder / "plots").glob("*.png"))
         sections.insert(0, ("Parameter study", f"<p>{html.escape(spec.get('description', ''))}</p>"
                             + "<div class=\"grid\">" + "".join(_png(p) for p in plots) + "</div>"))
@@ -207,7 +217,7 @@ def build_page(folder: Path, out: Path, compare=True) -> tuple[Path, str, str]:
         parts = []
         for name in ("front.json", "optimum.json"):
             if (folder / name).exists():
-                rec = json.loads((folder / name).read_text())
+                rec = read_json(folder / name)
                 if name == "front.json":
                     parts.append(_table(rec["front"]))
                     if rec.get("reference"):
@@ -233,16 +243,30 @@ def build_page(folder: Path, out: Path, compare=True) -> tuple[Path, str, str]:
 
 
 def build(folders, out: Path, pdf=False, compare=True) -> Path:
-    pages = [build_page(Path(f), out, compare) for f in folders]
-    links = "".join(f"<li><a href=\"{html.escape(p.name)}\">{html.escape(t)}</a></li>" for p, k, t in pages)
-    index = out / "index.html"
-    index.write_text(_page("taxel reports", [("Pages", f"<ul>{links}</ul>"),
-                                             ("About", "<p>Made by <code>taxel report</code>. Each page is "
-                                              "self-contained (images embedded).</p>")]), encoding="utf-8")
-    if pdf:
-        for p, _, _ in pages:
-            to_pdf(p)
-    return index
+    """One page per result folder and an index, written whole into `out` (a
+    failure on any folder leaves no partial report; an existing report is
+    replaced only when the new one is complete)."""
+    folders = [Path(f) for f in folders]
+    if not folders:
+        raise ReportError("no result folders given; name at least one study, optimization or solve folder")
+    for f in folders:                             # refuse bad input before writing anything
+        if not f.is_dir():
+            raise ReportError(f"{f}: no such folder")
+        kind_of(f)
+        for name in ("scene.json", "study.json", "front.json", "optimum.json"):
+            if (f / name).exists():
+                read_json(f / name)
+    out = Path(out)
+    with output_folder(out, replace=True) as tmp:
+        pages = [build_page(f, tmp, compare) for f in folders]
+        links = "".join(f"<li><a href=\"{html.escape(p.name)}\">{html.escape(t)}</a></li>" for p, k, t in pages)
+        (tmp / "index.html").write_text(_page("taxel reports", [("Pages", f"<ul>{links}</ul>"), (
+            "About", "<p>Made by <code>taxel report</code>. Each page is self-contained (images embedded).</p>")]),
+            encoding="utf-8")
+        if pdf:
+            for p, _, _ in pages:
+                to_pdf(p)
+    return out / "index.html"
 
 
 def chromium():

@@ -3,6 +3,8 @@ with progress; results are stored as they finish (studies.store)."""
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import hashlib
 import json
 import time
@@ -11,7 +13,7 @@ from pathlib import Path
 
 from taxel.scene import SceneError
 from taxel.studies.evaluate import evaluate_safely
-from taxel.studies.spec import Study
+from taxel.studies.spec import Study, StudyError
 from taxel.studies.store import Store, point_key
 
 
@@ -29,6 +31,31 @@ def run(study: Study, out: Path, workers: int = 2, scheduler: str | None = None,
     """Run every point not already in the store (in-process for workers = 1, else on
     a local Dask cluster or the one at `scheduler`); the store stays with the caller."""
     t0 = time.perf_counter()
+    with exclusive(out):
+        return _run(study, out, workers, scheduler, retry_failed, progress, t0)
+
+
+@contextlib.contextmanager
+def exclusive(folder: Path):
+    """Hold the folder's run lock (results.lock, flock) for the whole run: a second
+    `taxel study run` on the same folder is refused at once instead of computing
+    every point again. The OS drops the lock when the process dies (kill -9 too)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    fh = open(folder / "results.lock", "a+")
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        fh.close()
+        raise StudyError(f"{folder}: another study run is writing this folder; wait for it to finish "
+                         "(or stop it) and run again, or use another --out") from None
+    try:
+        yield
+    finally:
+        fcntl.flock(fh, fcntl.LOCK_UN)
+        fh.close()
+
+
+def _run(study, out, workers, scheduler, retry_failed, progress, t0) -> RunSummary:
     store = Store(out)
     points = study.points()
     todo, params_of, cached = [], {}, 0
@@ -85,7 +112,11 @@ def _execute(todo, outputs, workers, scheduler):
         return
     from dask.distributed import Client, as_completed
     if scheduler is not None:
-        client, cluster = Client(scheduler), None
+        try:
+            client, cluster = Client(scheduler, timeout="10s"), None
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise StudyError(f"--scheduler {scheduler}: cannot reach it ({str(exc).splitlines()[0][:120]}); "
+                             "check the address, or drop --scheduler to use local workers") from None
         n_workers = max(len(client.scheduler_info()["workers"]), 1)
     else:
         cluster = local_cluster(workers)

@@ -40,7 +40,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from taxel import units
-from taxel.scene import EXAMPLES, Scene, SceneError, one_line, parse, read_toml, set_path
+from taxel.scene import EXAMPLES, Name, Scene, SceneError, one_line, parse, read_toml, safe_name, set_path
 
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
 BUILTIN = Path(__file__).parent / "builtin"
@@ -75,7 +75,7 @@ class Parameter(BaseModel):
 
 class StudySpec(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
-    name: str = "study"
+    name: Name = "study"
     description: str = ""
     base: str
     sampling: Literal["grid", "lhs"] = "grid"
@@ -93,6 +93,11 @@ class StudySpec(BaseModel):
         for n in names:
             if names.count(n) > 1:
                 raise ValueError(f"two parameters are named '{n}'; give one a label = \"...\"")
+        paths = [path for p in self.parameters for path in p.paths]
+        for path in paths:
+            if paths.count(path) > 1:
+                raise ValueError(f"parameters: the path '{path}' is varied twice; vary each scene path in one "
+                                 "parameter (list values, or link paths with path = [...])")
         return self
 
 
@@ -160,12 +165,25 @@ def _axis(p: Parameter, spec: StudySpec):
             raise StudyError(f"parameters '{p.name}': empty range ({p.start} to {p.stop} by {p.step}); "
                              "use stop >= start and a positive step")
         n = int(math.floor((b - a) / s + 1e-9)) + 1
+        _check_count(p, n)
         return [_fmt(a + i * s, unit) for i in range(n)]
     if p.num is None:
         raise StudyError(f"parameters '{p.name}': a range needs step = ... or num = N")
     if b < a:
         raise StudyError(f"parameters '{p.name}': empty range ({p.start} to {p.stop}); use stop >= start")
+    _check_count(p, p.num)
     return [_fmt(a + (b - a) * i / (p.num - 1), unit) for i in range(p.num)]
+
+
+MAX_POINTS = 100_000          # a study beyond this is refused before it starts
+SECONDS_PER_POINT = 0.1      # the default 2D taxel (benchmarks/study_fig25.py): for the estimate
+
+
+def _check_count(p: Parameter, n: float):
+    if n > MAX_POINTS:
+        raise StudyError(f"parameters '{p.name}': {n:.3g} values, more than the {MAX_POINTS} points a study "
+                         f"may have (about {n * SECONDS_PER_POINT / 3600:.3g} h at {SECONDS_PER_POINT} s a point); "
+                         "use a larger step or fewer values")
 
 
 def _same_unit(name, *values, unit=None):
@@ -219,7 +237,7 @@ def read_spec(path, builtin_dir: Path, spec_class, error, what: str):
             raise error(f"no {what} file '{path}' and no built-in one of that name; built-in: {names}")
         path = builtin
     data = read_toml(path, error)
-    data.setdefault("name", path.stem)
+    data.setdefault("name", safe_name(path.stem))
     try:
         spec = spec_class.model_validate(data)
     except ValidationError as err:
@@ -245,6 +263,10 @@ def load_study(path) -> Study:
             if dotted and dotted.split(".")[0] not in known:
                 raise StudyError(f"parameters: unknown scene path '{dotted}'; it must start with one of "
                                  f"{', '.join(sorted(known))}")
+    n = math.prod(len(_axis(p, spec)) for p in spec.parameters) if spec.sampling == "grid" else spec.samples
+    if n > MAX_POINTS:
+        raise StudyError(f"the study has {n:.3g} points, more than {MAX_POINTS} (about "
+                         f"{n * SECONDS_PER_POINT / 3600:.3g} h at {SECONDS_PER_POINT} s a point); use fewer values")
     points = study.points()
     try:                                  # validate the first point fully: unknown keys, units
         parse(study.scene_data(points[0]))

@@ -45,19 +45,36 @@ def point_key(scene_data: dict) -> str:
     return hashlib.sha256((canonical(scene) + code_version()).encode()).hexdigest()
 
 
+class StoreError(ValueError):
+    """A store that cannot be read; one line naming the file and how to recover."""
+
+
 class Store:
-    """The study's SQLite database: one row per design point key."""
+    """The study's SQLite database: one row per design point key. A corrupt file
+    (a garbage header, a garbage or truncated page) is refused on opening, by
+    SQLite's own quick_check, with one line that says how to recover."""
 
     def __init__(self, folder: Path):
+        folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         self.path = folder / "results.sqlite"
-        self.db = sqlite3.connect(self.path, timeout=30)
-        self.db.execute("PRAGMA journal_mode=WAL")
-        self.db.execute("PRAGMA synchronous=FULL")
-        self.db.execute("""CREATE TABLE IF NOT EXISTS points (
-            key TEXT PRIMARY KEY, params TEXT NOT NULL, status TEXT NOT NULL,
-            result TEXT, error TEXT, seconds REAL, finished REAL)""")
-        self.db.commit()
+        try:
+            self.db = sqlite3.connect(self.path, timeout=30)
+            check = self.db.execute("PRAGMA quick_check").fetchone()[0]
+            if check != "ok":
+                raise sqlite3.DatabaseError(check)
+            self.db.execute("PRAGMA journal_mode=WAL")
+            self.db.execute("PRAGMA synchronous=FULL")
+            self.db.execute("""CREATE TABLE IF NOT EXISTS points (
+                key TEXT PRIMARY KEY, params TEXT NOT NULL, status TEXT NOT NULL,
+                result TEXT, error TEXT, seconds REAL, finished REAL)""")
+            self.db.commit()
+            cols = [r[1] for r in self.db.execute("PRAGMA table_info(points)")]
+            if cols[:3] != ["key", "params", "status"]:
+                raise sqlite3.DatabaseError("not a taxel results store")
+        except sqlite3.DatabaseError as exc:
+            raise StoreError(f"{self.path}: the results store is corrupt or not a taxel store ({exc}); "
+                             f"move it aside (mv {self.path} {self.path}.bad) and rerun") from None
 
     def status(self) -> dict[str, str]:
         return dict(self.db.execute("SELECT key, status FROM points"))

@@ -76,8 +76,8 @@ def read_uniaxial(path) -> tuple[np.ndarray, np.ndarray]:
     the engineering ones are used. A plain 'strain,stress_Pa' file works too (comma,
     semicolon or tab separated). The stress unit comes from the header (GPa, MPa,
     N/mm^2, kPa, psi, Pa; none given: Pa); a strain header with '%' is read as percent.
-    Rows where either value is not a finite number are skipped (the fit
-    command reports how many).
+    A data row that is not two finite numbers is an error naming its line (never
+    dropped silently); blank lines are skipped.
 
     Raises ValueError (one line naming the file) when the file cannot be read, the
     columns are not found, or fewer than 4 points remain.
@@ -120,13 +120,16 @@ def read_uniaxial(path) -> tuple[np.ndarray, np.ndarray]:
     factor = _stress_factor(cells[j])
     strain_scale = 0.01 if ("%" in cells[i] or "percent" in cells[i].lower()) else 1.0
     rows = []
-    for line in lines[k + 1:]:
+    for n, line in enumerate(lines[k + 1:], start=k + 2):
         if not line.strip():
             continue
         c = _split(line)
-        rows.append((_number(c[i]) if i < len(c) else math.nan, _number(c[j]) if j < len(c) else math.nan))
+        row = (_number(c[i]) if i < len(c) else math.nan, _number(c[j]) if j < len(c) else math.nan)
+        if not all(math.isfinite(v) and abs(v) < 1e12 for v in row):
+            raise ValueError(f"{path}: line {n} is not a strain and a stress ({line.strip()[:40]!r}); "
+                             "fix or delete that row")
+        rows.append(row)
     data = np.array(rows, float).reshape(-1, 2)
-    data = data[np.isfinite(data).all(axis=1)]
     if len(data) < 4:
         raise ValueError(f"{path}: only {len(data)} numeric rows under '{cells[i]}' and '{cells[j]}' "
                          f"(at least 4 are needed)")

@@ -14,6 +14,7 @@ The command line is a thin shell over these functions.
 
 from __future__ import annotations
 
+import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -60,19 +61,41 @@ def run_study(spec, out: str | Path | None = None, workers: int = 2, scheduler: 
     results.csv and the plots are written."""
     from taxel.reports.figures import study_plots
     from taxel.studies.execute import run
-    from taxel.studies.spec import Study, load_study
-    from taxel.studies.store import tidy_rows, write_rows
+    from taxel.studies.spec import Study, StudyError, load_study
+    from taxel.studies.store import Store, tidy_rows, write_rows
     st = spec if isinstance(spec, Study) else load_study(spec)
+    if workers < 1:
+        raise StudyError(f"--workers {workers}: use 1 (in-process) or more")
     out = Path(out) if out is not None else Path("out") / st.spec.name
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "study.json").write_text(st.spec.model_dump_json(indent=1))
-    write_scene(out, parse({**st.base_data(), "name": st.spec.name}))
-    s = run(st, out, workers=workers, scheduler=scheduler, retry_failed=retry_failed, progress=progress)
+    if out.exists() and not out.is_dir():
+        raise StudyError(f"{out}: exists and is not a folder; choose another --out")
+    created = not out.exists()
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        Store(out).close()                    # a corrupt store is refused before anything is written
+        (out / "study.json").write_text(st.spec.model_dump_json(indent=1))
+        write_scene(out, parse({**st.base_data(), "name": st.spec.name}))
+        s = run(st, out, workers=workers, scheduler=scheduler, retry_failed=retry_failed, progress=progress)
+    except BaseException:
+        if created and not tidy_rows_or_none(out):        # nothing computed: leave nothing behind
+            shutil.rmtree(out, ignore_errors=True)
+        raise
     rows = tidy_rows(out)
     write_rows(rows, out / "results.csv")
     plots = study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "crosstalk", "max_strain"],
                         out / "plots", st.spec.name)
     return StudyRun(st.spec.name, out, s.total, s.cached, s.done, s.failed, s.seconds, rows, plots)
+
+
+def tidy_rows_or_none(out: Path) -> list[dict]:
+    """The stored rows of a study folder, or [] when it has no readable store."""
+    from taxel.studies.store import StoreError, tidy_rows
+    if not (out / "results.sqlite").exists():
+        return []
+    try:
+        return tidy_rows(out)
+    except StoreError:
+        return []
 
 
 def optimize(problem, out: str | Path | None = None, workers: int = 2):

@@ -17,7 +17,10 @@ code 2 and one line naming the problem and the fix.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import os
+import sqlite3
 import sys
 from pathlib import Path
 
@@ -28,32 +31,48 @@ from taxel.units import engineering as si
 EXIT_INPUT, EXIT_FAILED = 2, 1
 
 
-def _print_output(files, summary):
+class InputError(ValueError):
+    """Bad command-line input; one line with the fix."""
+
+
+def _print_written(out: Path, files, summary):
     for line in summary:
         print(line)
     for f in files:
-        print(f"wrote {f}")
+        print(f"wrote {out / Path(f).name}")
 
 
-def _out_dir(args, scene):
-    out = Path(args.out or Path("out") / scene.name)
-    out.mkdir(parents=True, exist_ok=True)
-    return out
+def _writable_file(path: str, what: str, suffixes: tuple[str, ...] | None = None) -> Path:
+    """A file path to write later: its folder must exist; refused now, before any work."""
+    p = Path(path)
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise InputError(f"{what} {p}: unknown file type '{p.suffix}'; use one of {', '.join(suffixes)}")
+    if not p.parent.is_dir():
+        raise InputError(f"{what} {p}: the folder {p.parent} does not exist; create it first")
+    if p.is_dir():
+        raise InputError(f"{what} {p}: is a folder; give a file name")
+    return p
 
 
 def _solve(args):
+    from taxel.analyses.results import output_folder
     from taxel.meshing.build import export
     from taxel.reports import analysis
     scene = api.load(args.scene)
     if scene.analysis.type != "static":
-        _print_output(*analysis.write(api.solve(scene), _out_dir(args, scene)))
+        out = Path(args.out or Path("out") / scene.name)
+        with output_folder(out) as tmp:           # made first: a bad --out fails before the solve
+            files, summary = analysis.write(api.solve(scene), tmp)
+        _print_written(out, files, summary)
         return
-    sol = api.solve(scene, solver=args.solver)
-    if args.vtu:
-        export(sol.mesh, args.vtu, point_data={"u": sol.fields.u, "phi": sol.fields.phi},
+    vtu = _writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None
+    with output_folder(Path(args.out)) if args.out else contextlib.nullcontext() as tmp:
+        sol = api.solve(scene, solver=args.solver)
+        if tmp is not None:
+            sol.to_folder(tmp)
+    if vtu:
+        export(sol.mesh, vtu, point_data={"u": sol.fields.u, "phi": sol.fields.phi},
                cell_data={"strain": sol.fields.strain, "stress": sol.fields.stress})
-    if args.out:
-        sol.to_folder(_out_dir(args, scene))
     if args.json:
         print(json.dumps(sol.record()))
         return
@@ -79,12 +98,18 @@ def _solve(args):
 
 def _lumped(args):
     from taxel.analyses import lumped_response
+    from taxel.analyses.results import output_folder
     from taxel.reports import analysis
     scene = api.load(args.scene)
-    _print_output(*analysis.write(lumped_response(scene), _out_dir(args, scene)))
+    out = Path(args.out or Path("out") / scene.name)
+    with output_folder(out) as tmp:
+        files, summary = analysis.write(lumped_response(scene), tmp)
+    _print_written(out, files, summary)
 
 
 def _study(args):
+
+    from pydantic import ValidationError
 
     from taxel.studies.spec import Study, StudyError, StudySpec
     from taxel.studies.store import tidy_rows, write_rows
@@ -103,7 +128,11 @@ def _study(args):
     if args.action == "status":
         total = None
         if (out / "study.json").exists():
-            spec = StudySpec.model_validate_json((out / "study.json").read_text())
+            try:
+                spec = StudySpec.model_validate_json((out / "study.json").read_text())
+            except ValidationError:
+                raise StudyError(f"{out / 'study.json'}: not a study record (corrupt or edited); "
+                                 "rerun 'taxel study run' to rewrite it") from None
             total = len(Study(spec, {}, out).points())
         n_done = sum(r["status"] == "done" for r in rows)
         n_failed = sum(r["status"] == "failed" for r in rows)
@@ -175,16 +204,19 @@ def _report(args):
 
 def _demo(args):
     from taxel.reports.main_job import run
-    run(Path(args.out), small=args.small)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out}: exists and is not a folder; choose another output folder")
+    run(out, small=args.small)
 
 
 def _mesh(args):
-    from taxel.analyses.geometry import layout
-    from taxel.analyses.problem import scene_materials
+    from taxel.analyses.problem import checked_layout, scene_materials
     from taxel.meshing.build import build, export
+    import meshio
     scene = api.load(args.scene)
-    out = Path(args.output)
-    lay = layout(scene, scene_materials(scene))
+    out = _writable_file(args.output, "-o", tuple(sorted({".msh", *meshio.extension_to_filetypes})))
+    lay = checked_layout(scene, scene_materials(scene))
     if out.suffix == ".msh":
         tm = build(lay, msh_path=out)
     else:
@@ -204,9 +236,14 @@ def _material_fit_yeoh(args):
     from taxel.reports.figures import yeoh_fit as plot_fit
     from taxel.studies.uniaxial import read_uniaxial
     max_strain = parse_strain("--max-strain", args.max_strain)
+    if args.plot:
+        _writable_file(args.plot, "--plot", (".png", ".pdf", ".svg"))
     check = parse_strain("--check-strain", args.check_strain) if args.check_strain else 2.0 * max_strain
     strain, stress = read_uniaxial(args.file)
-    fit = fit_yeoh(strain, stress, max_strain)
+    try:
+        fit = fit_yeoh(strain, stress, max_strain)
+    except ValueError as exc:
+        raise InputError(f"{args.file}: {exc}") from None
     lost = stability_losses(fit, (COMPRESSION_STRETCH, 1.0 + check))
     span = f"{100 * (COMPRESSION_STRETCH - 1):+.0f} % (stretch {COMPRESSION_STRETCH:g}) to {100 * check:+.0f} % strain"
     warnings = [f"WARNING: unstable in {r['mode']} {r['direction']} beyond {100 * r['strain']:+.1f} % strain "
@@ -258,7 +295,7 @@ def parse_strain(option: str, text) -> float:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="taxel", description="Piezoelectric tactile sensor design tool")
+    ap = _Parser(prog="taxel", description="Piezoelectric tactile sensor design tool")
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("solve", help="solve a scene and print per-electrode voltage and charge")
     p.add_argument("scene", help="scene TOML file or built-in example name")
@@ -315,22 +352,53 @@ def main(argv=None):
     p.add_argument("--plot", metavar="OUT.png", help="write a plot of the data and the fit")
     p.add_argument("--json", action="store_true", help="print one JSON record")
     p.set_defaults(run=_material_fit_yeoh)
-    args = ap.parse_args(argv)
     try:
+        args = ap.parse_args(argv)
         code = args.run(args)
     except SceneError as exc:
-        print(f"taxel: error: {exc}", file=sys.stderr)
-        return EXIT_INPUT
+        return _error(str(exc))
+    except sqlite3.DatabaseError as exc:
+        return _error(f"{getattr(exc, 'path', 'results.sqlite')}: the results store is corrupt or not a "
+                      f"database ({exc}); move it aside and rerun")
+    except OSError as exc:
+        where = exc.filename or ""
+        return _error(f"{where}: {exc.strerror or exc}; check the path and its permissions" if where
+                      else f"{exc.strerror or exc}; check the paths and their permissions")
     except (ValueError, KeyError) as exc:
-        print(f"taxel: error: {exc.args[0] if exc.args else exc}", file=sys.stderr)
-        return EXIT_INPUT
+        return _error(str(exc.args[0]) if exc.args else type(exc).__name__)
     except RuntimeError as exc:          # includes fem.newton.NewtonError
-        print(f"taxel: failed: {exc}", file=sys.stderr)
+        print(f"taxel: failed: {_first_line(exc)}", file=sys.stderr)
+        return EXIT_FAILED
+    except MemoryError:
+        print("taxel: failed: out of memory; coarsen the mesh or model less (a 2D model)", file=sys.stderr)
         return EXIT_FAILED
     except KeyboardInterrupt:
         print("taxel: interrupted; finished points are kept, run again to resume", file=sys.stderr)
         return 130
+    except Exception as exc:             # a bug: one line (TAXEL_DEBUG=1 shows the traceback)
+        if os.environ.get("TAXEL_DEBUG"):
+            raise
+        print(f"taxel: internal error: {type(exc).__name__}: {_first_line(exc)} (TAXEL_DEBUG=1 for the "
+              "traceback; please report it)", file=sys.stderr)
+        return EXIT_FAILED
     return code or 0
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors and exit code 2 through main()."""
+
+    def error(self, message):
+        raise InputError(f"{message} (taxel {self.prog.partition(' ')[2] or ''} --help for usage)".replace("  ", " "))
+
+
+def _first_line(exc) -> str:
+    text = str(exc)
+    return text.splitlines()[0] if text else type(exc).__name__
+
+
+def _error(message: str) -> int:
+    print(f"taxel: error: {message.splitlines()[0] if message else 'bad input'}", file=sys.stderr)
+    return EXIT_INPUT
 
 
 if __name__ == "__main__":

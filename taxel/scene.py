@@ -13,13 +13,14 @@ from __future__ import annotations
 
 import copy
 import json
+import re
 import tomllib
 import typing
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, ValidationInfo,
-                      model_validator)
+from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, StrictInt, ValidationError,
+                      ValidationInfo, model_validator)
 
 from taxel import units
 
@@ -30,25 +31,52 @@ class SceneError(ValueError):
     """A scene that cannot be solved; the message is one line with the fix."""
 
 
-def _quantity(unit: str, what: str, positive=False, nonnegative=False):
+def _quantity(unit: str, what: str, positive=False, nonnegative=False, scale: tuple[float, float] | None = None):
     """A field read by units.to_si: a string with a unit in a file, or SI numbers
-    when the scene is built from Python (validation context {"si_numbers": True})."""
+    when the scene is built from Python (validation context {"si_numbers": True}).
+    `scale`: the range a nonzero magnitude must lie in (a tactile sensor's lengths)."""
     def parse(v, info: ValidationInfo):
         si_numbers = bool(info.context and info.context.get("si_numbers"))
-        return units.to_si(v, unit, what, si_numbers=si_numbers, positive=positive, nonnegative=nonnegative)
+        x = units.to_si(v, unit, what, si_numbers=si_numbers, positive=positive, nonnegative=nonnegative)
+        if scale and x != 0 and not scale[0] <= abs(x) <= scale[1]:
+            raise ValueError(f"{v!r} is outside {units.engineering(scale[0], unit)} to "
+                             f"{units.engineering(scale[1], unit)}, the scale of a tactile sensor")
+        return x
     parse.unit = unit
     return BeforeValidator(parse)
 
 
-Length = Annotated[float, _quantity("m", "length", positive=True)]
-Thickness = Annotated[float, _quantity("m", "length", nonnegative=True)]
+GEOMETRY = (1e-6, 1.0)      # m: every nonzero length of the geometry (a 9 um film to a 1 m skin)
+Length = Annotated[float, _quantity("m", "length", positive=True, scale=GEOMETRY)]
+MeshSize = Annotated[float, _quantity("m", "length", positive=True, scale=(1e-12, 1.0))]
+Thickness = Annotated[float, _quantity("m", "length", nonnegative=True, scale=GEOMETRY)]
 Force = Annotated[float, _quantity("N", "force")]
 Pressure = Annotated[float, _quantity("Pa", "pressure")]
-Coordinate = Annotated[float, _quantity("m", "length")]
+Coordinate = Annotated[float, _quantity("m", "length", scale=(0.0, 1.0))]
 Frequency = Annotated[float, _quantity("Hz", "frequency", positive=True)]
 Duration = Annotated[float, _quantity("s", "time", positive=True)]
 Resistance = Annotated[float, _quantity("ohm", "resistance", positive=True)]
 Capacitance = Annotated[float, _quantity("F", "capacitance", nonnegative=True)]
+
+
+MAX_TIME_STEPS = 1_000_000     # a transient beyond this is refused before it starts
+NAME = re.compile(r"[A-Za-z0-9_+-][A-Za-z0-9._+-]{0,99}")
+
+
+def _check_name(v: str) -> str:
+    if not NAME.fullmatch(v):
+        raise ValueError(f"{v!r} is not a file name: use letters, digits, '.', '_', '+' or '-' "
+                         "(at most 100, not starting with '.'); it names the output files")
+    return v
+
+
+Name = Annotated[str, AfterValidator(_check_name)]
+
+
+def safe_name(stem: str) -> str:
+    """A scene or study name from a file name: characters outside NAME become '-'."""
+    name = re.sub(r"[^A-Za-z0-9._+-]", "-", stem).lstrip(".")[:100]
+    return name or "scene"
 
 
 class Strict(BaseModel):
@@ -63,16 +91,16 @@ class Model(Strict):
 
 
 class Mesh(Strict):
-    size: Length = "0.5 mm"         # element size far from the piezo
-    piezo_size: Length | None = None  # in-plane element size on the taxels; default: size / 4
-    piezo_layers: int = Field(1, ge=1, le=8)   # elements through each piezo layer
+    size: MeshSize = "0.5 mm"       # element size far from the piezo
+    piezo_size: MeshSize | None = None  # in-plane element size on the taxels; default: size / 4
+    piezo_layers: StrictInt = Field(1, ge=1, le=8)   # elements through each piezo layer
     order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
     formulation: Literal["mixed", "displacement"] = "mixed"   # silicone: u-p mixed, or u only (locks)
 
 
 class Array(Strict):
-    rows: int = Field(1, ge=1, le=16)
-    cols: int = Field(1, ge=1, le=16)
+    rows: StrictInt = Field(1, ge=1, le=16)
+    cols: StrictInt = Field(1, ge=1, le=16)
     taxel_width: Length = "4 mm"
     piezo: str = "PSI-5H4E"
     piezo_thickness: Length = "0.127 mm"
@@ -102,8 +130,8 @@ class Load(Strict):
     kind: Literal["taxel", "between", "indenter", "pressure"] = "taxel"
     force: Force | None = "1 N"
     pressure: Pressure | None = None   # kind = "pressure" only
-    taxel: tuple[int, int] = (0, 0)    # [row, col] of the pressed taxel or indenter centre
-    neighbour: tuple[int, int] | None = None   # kind = "between": the other taxel
+    taxel: tuple[StrictInt, StrictInt] = (0, 0)    # [row, col] of the pressed taxel or indenter centre
+    neighbour: tuple[StrictInt, StrictInt] | None = None   # kind = "between": the other taxel
     profile: Literal["flat", "round"] = "flat"  # indenter pressure: uniform, or Hertzian sqrt(1-r^2/a^2)
     radius: Length | None = None       # indenter contact radius (half-width in 2D)
     offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # indenter centre from the taxel centre
@@ -128,7 +156,7 @@ class Analysis(Strict):
     type: Literal["static", "frequency", "transient"] = "static"
     f_min: Frequency = "1 Hz"
     f_max: Frequency = "1000 Hz"
-    points: int = Field(200, ge=2, le=100000)
+    points: StrictInt = Field(200, ge=2, le=100000)
     spacing: Literal["log", "linear"] = "log"
     method: Literal["reduced", "direct"] = "reduced"
     tolerance: float = Field(1e-3, gt=0, lt=1)        # reduced sweep: accepted relative error
@@ -155,7 +183,7 @@ class Readout(Strict):
 
 
 class Scene(Strict):
-    name: str = "scene"
+    name: Name = "scene"
     description: str = ""
     model: Model = Model()
     mesh: Mesh = Mesh()
@@ -167,7 +195,7 @@ class Scene(Strict):
     dynamics: Dynamics = Dynamics()
     analysis: Analysis = Analysis()
     readout: Readout = Readout()
-    materials: dict[str, dict] = {}     # user materials, see fem.materials.from_record
+    materials: dict[str, dict] = {}     # user materials (SI numbers), see fem.records
 
     def replace(self, **changes) -> Scene:
         """A new validated scene with values changed by dotted path (see `replace`)."""
@@ -177,11 +205,15 @@ class Scene(Strict):
     def _consistent(self):
         if (self.array is None) == (self.plate is None):
             raise ValueError("give exactly one of [array] or [plate]")
+        m = self.mesh
+        if m.piezo_size is not None and m.piezo_size > m.size:
+            raise ValueError(f"mesh.piezo_size ({m.piezo_size * 1e3:g} mm) is larger than mesh.size "
+                             f"({m.size * 1e3:g} mm); the piezo size is the fine one: make it smaller")
         if self.array is not None:
             a = self.array
-            if a.gap <= 0 and a.rows * a.cols > 1:
+            if a.gap < GEOMETRY[0] and a.rows * a.cols > 1:
                 raise ValueError(f"array.gap = {a.gap * 1e3:g} mm makes the taxels overlap or touch; "
-                                 "use a positive edge-to-edge gap")
+                                 "use an edge-to-edge gap of at least 1 um")
             if self.model.type == "axisymmetric" and a.rows * a.cols > 1:
                 raise ValueError("model.type = 'axisymmetric' holds one taxel; set rows = cols = 1 "
                                  "or use a plane or 3d model")
@@ -208,6 +240,10 @@ class Scene(Strict):
             raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
         if ld.kind != "pressure" and ld.force is None:
             raise ValueError(f"load.force is missing for kind = '{ld.kind}'; e.g. \"0.5 N\"")
+        if ld.kind != "pressure" and ld.force == 0:
+            raise ValueError("load.force = 0 N gives no signal; give the press's force, e.g. \"1 N\"")
+        if ld.kind == "pressure" and ld.pressure == 0:
+            raise ValueError("load.pressure = 0 Pa gives no signal; give a pressure, e.g. \"10 kPa\"")
         if ld.kind == "between":
             if ld.neighbour is None:
                 raise ValueError("load.neighbour is missing for kind = 'between'; e.g. [0, 1]")
@@ -223,6 +259,10 @@ class Scene(Strict):
             raise ValueError("analysis.f_min must be below analysis.f_max")
         if self.analysis.type == "transient" and self.analysis.dt >= self.analysis.duration:
             raise ValueError("analysis.dt must be below analysis.duration")
+        steps = self.analysis.duration / self.analysis.dt
+        if self.analysis.type == "transient" and steps > MAX_TIME_STEPS:
+            raise ValueError(f"analysis: {steps:.3g} time steps (duration / dt) is more than {MAX_TIME_STEPS:.0e}; "
+                             "shorten analysis.duration or raise analysis.dt")
         if self.analysis.input == "csv" and self.analysis.type == "transient" and not self.analysis.file:
             raise ValueError("analysis.file is missing for input = 'csv'; give a CSV of time (s), force (N)")
         if self.analysis.type != "static" and self.model.silicone == "auto":
@@ -309,7 +349,7 @@ def load(source: str | Path | dict) -> Scene:
                              f"built-in: {', '.join(examples())}")
         path = builtin
     data = read_toml(path)
-    data.setdefault("name", path.stem)
+    data.setdefault("name", safe_name(path.stem))
     analysis = data.get("analysis")
     if isinstance(analysis, dict) and isinstance(analysis.get("file"), str):
         f = Path(analysis["file"])

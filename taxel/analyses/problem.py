@@ -8,13 +8,15 @@ nothing assembles. The readout chain and the damping are translated here too.
 
 from __future__ import annotations
 
+import os
 from dataclasses import replace
 
-from taxel.fem import materials
+from taxel.fem import materials, records
 from taxel.fem.circuits import Readout
 from taxel.fem.kinematics import kinematics
 from taxel.fem.problem import Damping, Discretization, PatchLoad, Problem, Supports
 from taxel.meshing.build import TaggedMesh, build
+from taxel.meshing.estimate import estimate
 from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
 from taxel.analyses.geometry import layout
 
@@ -25,10 +27,8 @@ def scene_materials(scene: Scene) -> dict:
     user = {}
     for name, rec in scene.materials.items():
         try:
-            user[name] = materials.from_record(name, rec)
-        except KeyError as exc:
-            raise SceneError(f"materials.{name}: missing {exc.args[0]!r}; see fem.materials.from_record") from None
-        except (ValueError, TypeError) as exc:
+            user[name] = records.from_record(name, rec)
+        except ValueError as exc:
             raise SceneError(f"materials.{name}: {exc}") from None
     out = {}
     for name in scene_material_names(scene):
@@ -46,15 +46,48 @@ def scene_materials(scene: Scene) -> dict:
     return out
 
 
+# Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; issue 12's 3D
+# taxel: 6.7 GB at 182k unknowns); in 3D the fill grows about as n^(1/3) more.
+BYTES_PER_UNKNOWN_2D = 3e3
+BYTES_PER_UNKNOWN_3D = 37e3
+REFERENCE_UNKNOWNS_3D = 182e3
+
+
+def machine_memory() -> float:
+    """Physical memory of this machine, bytes."""
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+
+
+def cost(scene: Scene, lay) -> tuple[float, float]:
+    """(estimated unknowns, estimated bytes of a direct solve) of a scene's mesh."""
+    n = estimate(lay).unknowns(lay.dim, scene.mesh.order)
+    per = BYTES_PER_UNKNOWN_2D if lay.dim == 2 else \
+        BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
+    return n, n * per
+
+
+def checked_layout(scene: Scene, mats: dict):
+    """The scene's layout, refused (SceneError, with the estimate) when its mesh and
+    solve cannot fit in this machine's memory."""
+    lay = layout(scene, mats)
+    n, need = cost(scene, lay)
+    have = machine_memory()
+    if need > 0.8 * have:
+        raise SceneError(f"mesh: about {n:.3g} unknowns, needing about {need / 1e9:.3g} GB for the solve, "
+                         f"more than this machine's {have / 1e9:.3g} GB; coarsen mesh.size / mesh.piezo_size "
+                         "or model less (a 2D or axisymmetric model)")
+    return lay
+
+
 def mesh(scene: Scene) -> TaggedMesh:
     """The tagged mesh of a scene."""
-    return build(layout(scene, scene_materials(scene)))
+    return build(checked_layout(scene, scene_materials(scene)))
 
 
 def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
     """The finite-element Problem of a scene (meshing it unless `tagged_mesh` is given)."""
     mats = scene_materials(scene)
-    tm = tagged_mesh or build(layout(scene, mats))
+    tm = tagged_mesh or build(checked_layout(scene, mats))
     m, ld = scene.model, scene.load
     load = PatchLoad(pressure=ld.pressure) if ld.kind == "pressure" else \
         PatchLoad(force=ld.force, profile=ld.profile if ld.kind == "indenter" else "flat")

@@ -4,8 +4,11 @@ read these and never re-derive what a result holds."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
+import shutil
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,6 +21,44 @@ from taxel.fem.timestep import Transient
 from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene, to_data
 from taxel.units import engineering
+
+
+@contextlib.contextmanager
+def output_folder(path, replace: bool = False):
+    """A folder written whole or not at all: the work goes to a temporary sibling
+    that is renamed to `path` at the end and removed on failure, together with any
+    parent folders made for it. An existing folder is updated in place, or, with
+    `replace`, swapped for the new one only when it is complete.
+    Raises ValueError (one line) when `path` cannot be a folder."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{path}: exists and is not a folder; choose another output folder")
+    if path.is_dir() and not replace:
+        yield path
+        return
+    made = [p for p in reversed(path.parents) if not p.exists()]
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    except OSError as exc:
+        for p in reversed(made):
+            shutil.rmtree(p, ignore_errors=True)
+        raise ValueError(f"{path}: cannot create the output folder ({exc.strerror or exc}); "
+                         "choose a writable place") from None
+    try:
+        yield tmp
+        if path.is_dir():
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
+            path.rename(old / path.name)
+            tmp.rename(path)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            tmp.rename(path)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        for p in reversed(made):
+            shutil.rmtree(p, ignore_errors=True)
+        raise
 
 
 def write_csv(path: Path, header, columns) -> Path:
