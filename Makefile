@@ -22,5 +22,6 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/taxel_2d.py
+	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/default_mesh.py
 
 .PHONY: setup demo test lint bench

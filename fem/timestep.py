@@ -102,7 +102,6 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
     dt = t[1] - t[0]
     a1, a2 = 4 / dt ** 2, 2 / dt
     n = red.n
-    x_full = np.zeros(sy.A.shape[0])
     y, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
     V = np.zeros((len(t), len(red.active)))
     iters = []

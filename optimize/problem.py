@@ -51,7 +51,8 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
 from taxel import units as U
-from taxel.scene import Name, Scene, SceneError, parse
+from taxel.quantities import Name
+from taxel.scene import Scene, SceneError, parse
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.execute import local_cluster
 from taxel.studies.spec import read_spec, set_value

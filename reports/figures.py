@@ -7,6 +7,7 @@ makes the README's picture with `cross_section`.
 from __future__ import annotations
 
 import io
+import os
 
 import numpy as np
 
@@ -195,6 +196,8 @@ def scene_drawing(scene):
 def pyvista_render(sol, field="phi", window=(900, 420)) -> bytes:
     """Off-screen pyvista render of the deformed mesh coloured by a field
     (potential by default); 2D meshes are drawn in their x-z plane. PNG bytes."""
+    if not os.environ.get("DISPLAY"):      # headless: EGL directly, not X first (which warns on stderr)
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
     pv.OFF_SCREEN = True
     m = sol.mesh.mesh

@@ -40,7 +40,8 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from taxel import units
-from taxel.scene import EXAMPLES, Name, Scene, SceneError, one_line, parse, read_toml, safe_name, set_path
+from taxel.quantities import Name, safe_name
+from taxel.scene import EXAMPLES, Scene, SceneError, one_line, parse, read_toml, set_path
 
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
 BUILTIN = Path(__file__).parent / "builtin"

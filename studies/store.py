@@ -19,7 +19,7 @@ import time
 from functools import cache
 from pathlib import Path
 
-from taxel.scene import canonical, parse
+from taxel.scene import SceneError, canonical, parse
 from taxel.studies.evaluate import evaluate_safely
 
 @cache

@@ -24,15 +24,12 @@ import sqlite3
 import sys
 from pathlib import Path
 
-from taxel import api
+from taxel import api, cli_material
 from taxel.scene import SceneError, examples
+from taxel.cli_files import InputError, writable_file as _writable_file
 from taxel.units import engineering as si
 
 EXIT_INPUT, EXIT_FAILED = 2, 1
-
-
-class InputError(ValueError):
-    """Bad command-line input; one line with the fix."""
 
 
 def _print_written(out: Path, files, summary):
@@ -40,18 +37,6 @@ def _print_written(out: Path, files, summary):
         print(line)
     for f in files:
         print(f"wrote {out / Path(f).name}")
-
-
-def _writable_file(path: str, what: str, suffixes: tuple[str, ...] | None = None) -> Path:
-    """A file path to write later: its folder must exist; refused now, before any work."""
-    p = Path(path)
-    if suffixes is not None and p.suffix.lower() not in suffixes:
-        raise InputError(f"{what} {p}: unknown file type '{p.suffix}'; use one of {', '.join(suffixes)}")
-    if not p.parent.is_dir():
-        raise InputError(f"{what} {p}: the folder {p.parent} does not exist; create it first")
-    if p.is_dir():
-        raise InputError(f"{what} {p}: is a folder; give a file name")
-    return p
 
 
 def _solve(args):
@@ -231,69 +216,6 @@ def _examples(args):
         print(name)
 
 
-def _material_fit_yeoh(args):
-    from taxel.fem.yeoh_fit import COMPRESSION_STRETCH, fit_yeoh, stability_losses
-    from taxel.reports.figures import yeoh_fit as plot_fit
-    from taxel.studies.uniaxial import read_uniaxial
-    max_strain = parse_strain("--max-strain", args.max_strain)
-    if args.plot:
-        _writable_file(args.plot, "--plot", (".png", ".pdf", ".svg"))
-    check = parse_strain("--check-strain", args.check_strain) if args.check_strain else 2.0 * max_strain
-    strain, stress = read_uniaxial(args.file)
-    try:
-        fit = fit_yeoh(strain, stress, max_strain)
-    except ValueError as exc:
-        raise InputError(f"{args.file}: {exc}") from None
-    lost = stability_losses(fit, (COMPRESSION_STRETCH, 1.0 + check))
-    span = f"{100 * (COMPRESSION_STRETCH - 1):+.0f} % (stretch {COMPRESSION_STRETCH:g}) to {100 * check:+.0f} % strain"
-    warnings = [f"WARNING: unstable in {r['mode']} {r['direction']} beyond {100 * r['strain']:+.1f} % strain "
-                f"(stretch {r['stretch']:.3f}, {r['reason']}), inside the checked range {span}"
-                for r in lost]
-    if args.plot:
-        try:
-            plot_fit(strain, stress, fit, args.plot, check_strain=check,
-                     title=f"{Path(args.file).name}: Yeoh fit to {100 * max_strain:g} %")
-        except OSError as exc:
-            raise ValueError(f"cannot write plot {args.plot}: {exc.strerror or exc}") from None
-    if args.json:
-        rec = {"file": str(args.file), "C10_Pa": fit.C10, "C20_Pa": fit.C20, "C30_Pa": fit.C30,
-               "r2": fit.r2, "n_points": fit.n_points, "rms_Pa": fit.rms_Pa, "max_strain": fit.max_strain,
-               "check_strain": check, "check_stretch_min": COMPRESSION_STRETCH,
-               "stability_lost": lost, "plot": args.plot}
-        print(json.dumps(rec))
-        for w in warnings:
-            print(w, file=sys.stderr)
-        return
-    print(f"Yeoh fit to {args.file}: engineering strain vs nominal stress, "
-          f"{fit.n_points} points with 0 < strain <= {100 * max_strain:g} %")
-    print(f"C10 = {fit.C10 / 1e3:.4g} kPa, C20 = {fit.C20 / 1e3:.4g} kPa, C30 = {fit.C30 / 1e3:.4g} kPa"
-          f"  (mu = 2 C10 = {2 * fit.C10 / 1e3:.4g} kPa)")
-    print(f"R^2 = {fit.r2:.5f}, RMS error {si(fit.rms_Pa, 'Pa')} over {fit.n_points} points")
-    if not lost:
-        print(f"stable in uniaxial, equibiaxial and pure shear from {span}")
-    for w in warnings:
-        print(w)
-    if args.plot:
-        print(f"plot written to {args.plot}")
-
-
-def parse_strain(option: str, text) -> float:
-    """A strain given as a fraction ('0.5') or a percentage ('50%', '50 %'); must be finite and > 0.
-
-    Raises ValueError with one line naming `option` otherwise.
-    """
-    import math
-    t = str(text).strip()
-    pct = t.endswith("%")
-    try:
-        value = float(t.rstrip("%").strip()) / (100.0 if pct else 1.0)
-    except ValueError:
-        raise ValueError(f"{option} must be a number such as 0.5 or '50%', got '{text}'") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise ValueError(f"{option} must be a positive strain (0.5 = 50 %), got '{text}'")
-    return value
-
-
 def main(argv=None):
     ap = _Parser(prog="taxel", description="Piezoelectric tactile sensor design tool")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -340,23 +262,15 @@ def main(argv=None):
     p.set_defaults(run=_demo)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)
-    p = sub.add_parser("material", help="material tools (hyperelastic fits)")
-    msub = p.add_subparsers(dest="material_command", required=True)
-    p = msub.add_parser("fit-yeoh", help="fit an incompressible Yeoh law to a uniaxial tensile test")
-    p.add_argument("file", help="CSV with engineering strain and engineering (nominal) stress columns")
-    p.add_argument("--max-strain", default="0.5", metavar="S",
-                   help="fit points with 0 < strain <= S (fraction, or percent as '50%%'); default 0.5")
-    p.add_argument("--check-strain", metavar="S", default=None,
-                   help="check stability up to this tensile strain (default 2 x max strain) "
-                        "and down to stretch 0.5 in compression")
-    p.add_argument("--plot", metavar="OUT.png", help="write a plot of the data and the fit")
-    p.add_argument("--json", action="store_true", help="print one JSON record")
-    p.set_defaults(run=_material_fit_yeoh)
+    cli_material.register(sub)
     try:
         args = ap.parse_args(argv)
         code = args.run(args)
     except SceneError as exc:
         return _error(str(exc))
+    except BrokenPipeError:              # `taxel ... | head`: the reader left; not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except sqlite3.DatabaseError as exc:
         return _error(f"{getattr(exc, 'path', 'results.sqlite')}: the results store is corrupt or not a "
                       f"database ({exc}); move it aside and rerun")

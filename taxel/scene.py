@@ -13,16 +13,16 @@ from __future__ import annotations
 
 import copy
 import json
-import re
 import tomllib
 import typing
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Literal
 
-from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, StrictInt, ValidationError,
-                      ValidationInfo, model_validator)
+from pydantic import BaseModel, ConfigDict, Field, StrictInt, ValidationError, model_validator
 
 from taxel import units
+from taxel.quantities import (GEOMETRY, Capacitance, Coordinate, Duration, Force, Frequency, Length, MeshSize, Name,
+                              Pressure, Resistance, Thickness, safe_name)
 
 EXAMPLES = Path(__file__).parent / "examples"
 
@@ -31,52 +31,7 @@ class SceneError(ValueError):
     """A scene that cannot be solved; the message is one line with the fix."""
 
 
-def _quantity(unit: str, what: str, positive=False, nonnegative=False, scale: tuple[float, float] | None = None):
-    """A field read by units.to_si: a string with a unit in a file, or SI numbers
-    when the scene is built from Python (validation context {"si_numbers": True}).
-    `scale`: the range a nonzero magnitude must lie in (a tactile sensor's lengths)."""
-    def parse(v, info: ValidationInfo):
-        si_numbers = bool(info.context and info.context.get("si_numbers"))
-        x = units.to_si(v, unit, what, si_numbers=si_numbers, positive=positive, nonnegative=nonnegative)
-        if scale and x != 0 and not scale[0] <= abs(x) <= scale[1]:
-            raise ValueError(f"{v!r} is outside {units.engineering(scale[0], unit)} to "
-                             f"{units.engineering(scale[1], unit)}, the scale of a tactile sensor")
-        return x
-    parse.unit = unit
-    return BeforeValidator(parse)
-
-
-GEOMETRY = (1e-6, 1.0)      # m: every nonzero length of the geometry (a 9 um film to a 1 m skin)
-Length = Annotated[float, _quantity("m", "length", positive=True, scale=GEOMETRY)]
-MeshSize = Annotated[float, _quantity("m", "length", positive=True, scale=(1e-12, 1.0))]
-Thickness = Annotated[float, _quantity("m", "length", nonnegative=True, scale=GEOMETRY)]
-Force = Annotated[float, _quantity("N", "force")]
-Pressure = Annotated[float, _quantity("Pa", "pressure")]
-Coordinate = Annotated[float, _quantity("m", "length", scale=(0.0, 1.0))]
-Frequency = Annotated[float, _quantity("Hz", "frequency", positive=True)]
-Duration = Annotated[float, _quantity("s", "time", positive=True)]
-Resistance = Annotated[float, _quantity("ohm", "resistance", positive=True)]
-Capacitance = Annotated[float, _quantity("F", "capacitance", nonnegative=True)]
-
-
 MAX_TIME_STEPS = 1_000_000     # a transient beyond this is refused before it starts
-NAME = re.compile(r"[A-Za-z0-9_+-][A-Za-z0-9._+-]{0,99}")
-
-
-def _check_name(v: str) -> str:
-    if not NAME.fullmatch(v):
-        raise ValueError(f"{v!r} is not a file name: use letters, digits, '.', '_', '+' or '-' "
-                         "(at most 100, not starting with '.'); it names the output files")
-    return v
-
-
-Name = Annotated[str, AfterValidator(_check_name)]
-
-
-def safe_name(stem: str) -> str:
-    """A scene or study name from a file name: characters outside NAME become '-'."""
-    name = re.sub(r"[^A-Za-z0-9._+-]", "-", stem).lstrip(".")[:100]
-    return name or "scene"
 
 
 class Strict(BaseModel):
@@ -85,7 +40,7 @@ class Strict(BaseModel):
 
 class Model(Strict):
     type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
-    depth: Length | None = None     # out-of-plane depth of a 2D model; default: taxel width
+    depth: Length | None = None     # out-of-plane depth of a 2D model; default: the taxel or plate width
     silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
     tolerance: float = Field(0.02, gt=0, lt=1)   # "auto": largest accepted linear-model voltage error
 
@@ -93,7 +48,7 @@ class Model(Strict):
 class Mesh(Strict):
     size: MeshSize = "0.5 mm"       # element size far from the piezo
     piezo_size: MeshSize | None = None  # in-plane element size on the taxels; default: size / 4
-    piezo_layers: StrictInt = Field(1, ge=1, le=8)   # elements through each piezo layer
+    piezo_layers: StrictInt = Field(2, ge=1, le=8)   # elements through each piezo layer (2: within 0.5 %)
     order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
     formulation: Literal["mixed", "displacement"] = "mixed"   # silicone: u-p mixed, or u only (locks)
 
@@ -240,10 +195,13 @@ class Scene(Strict):
             raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
         if ld.kind != "pressure" and ld.force is None:
             raise ValueError(f"load.force is missing for kind = '{ld.kind}'; e.g. \"0.5 N\"")
-        if ld.kind != "pressure" and ld.force == 0:
-            raise ValueError("load.force = 0 N gives no signal; give the press's force, e.g. \"1 N\"")
-        if ld.kind == "pressure" and ld.pressure == 0:
-            raise ValueError("load.pressure = 0 Pa gives no signal; give a pressure, e.g. \"10 kPa\"")
+        driven = any(not isinstance(electrode_state(v), str) for v in self.electrodes.values())
+        if not driven and ld.kind != "pressure" and ld.force == 0:
+            raise ValueError("load.force = 0 N and no electrode at a voltage: nothing drives the model; "
+                             "give the press's force, e.g. \"1 N\"")
+        if not driven and ld.kind == "pressure" and ld.pressure == 0:
+            raise ValueError("load.pressure = 0 Pa and no electrode at a voltage: nothing drives the model; "
+                             "give a pressure, e.g. \"10 kPa\"")
         if ld.kind == "between":
             if ld.neighbour is None:
                 raise ValueError("load.neighbour is missing for kind = 'between'; e.g. [0, 1]")

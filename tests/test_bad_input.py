@@ -184,6 +184,9 @@ def test_user_material_as_silicone(tmp_path, capsys):
     assert v_user < 0 and v_ref < 0             # PZT pressed: negative open-circuit voltage
     assert abs(v_user - v_ref) > 1e-3 * abs(v_ref)
     assert user["applied_force_N"] == pytest.approx(1.0)
+    # a silicone given as E and nu has its strain reported too (it decides linear vs Yeoh)
+    assert user["max_silicone_strain"] > 0.01
+    assert user["max_silicone_strain"] == pytest.approx(ref["max_silicone_strain"], rel=0.8)
 
 
 def test_user_material_as_silicone_plain_output(tmp_path, capsys):

@@ -365,3 +365,34 @@ def test_hostile_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, 
         assert w.lower() in lines[0].lower(), f"{w!r} not in {lines[0]!r}"
     new = _tree(tmp_path) - before
     assert not new, f"a failed command left files behind: {sorted(map(str, new))[:5]}"
+
+
+# ------------------------------------------------------------------------- the Python API
+API_CASES = [
+    ({"array": {"rows": True}}, "array.rows"),
+    ({"array": {"taxel_width": -4e-3}}, "array.taxel_width"),
+    ({"array": {"taxel_width": float("nan")}}, "array.taxel_width"),
+    ({"array": {"piezo": "PZT-99"}}, "PZT-99"),
+    ({"array": {}, "load": {"force": "1 mm"}}, "load.force"),
+    ({"array": {}, "name": "../x"}, "name"),
+    ({"array": {}, "materials": {"g": {"kind": "solid", "E": 1e5, "nu": 0.5, "rho": 1}}}, "materials.g"),
+]
+
+
+@pytest.mark.parametrize("data, words", API_CASES)
+def test_the_python_api_refuses_bad_scenes_with_one_line(data, words):
+    import taxel
+    from taxel.scene import SceneError
+    with pytest.raises(SceneError) as err:
+        taxel.load(data)
+    assert words in str(err.value) and "\n" not in str(err.value)
+
+
+def test_replace_refuses_a_path_that_is_not_in_the_scene():
+    import taxel
+    from taxel.scene import SceneError
+    scene = taxel.load("thesis-pzt-single-2d")
+    with pytest.raises(SceneError, match="array.nope"):
+        scene.replace(**{"array.nope": 1})
+    with pytest.raises(SceneError, match="array.gap"):
+        scene.replace(**{"array.gap": "abc"})

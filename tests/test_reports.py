@@ -90,3 +90,16 @@ def test_pdf_option(demo, tmp_path):
     build([demo / "thesis-pzt-step"], tmp_path / "r", pdf=True, compare=False)
     pdf = tmp_path / "r" / "thesis-pzt-step.pdf"
     assert pdf.read_bytes()[:4] == b"%PDF" and pdf.stat().st_size > 10000
+
+
+def test_offscreen_render_is_silent_on_a_headless_machine():
+    """pyvista renders through EGL without a display and prints no X-server warning."""
+    import os
+    import subprocess
+    import sys
+    code = ("import taxel; from taxel.reports.figures import pyvista_render; "
+            "png = pyvista_render(taxel.solve('thesis-pzt-single-2d')); assert png[:4] == b'\\x89PNG'")
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "X server" not in run.stderr and "WARN" not in run.stderr, run.stderr[-2000:]

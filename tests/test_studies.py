@@ -218,3 +218,30 @@ def test_a_root_parameter_merges_tables_deeply():
     data = {"model": {"type": "plane_strain", "silicone": "linear"}, "mesh": {"size": "0.5 mm", "order": 2}}
     set_path(data, "", {"model": {"type": "3d"}, "mesh": {"size": "1 mm"}})
     assert data == {"model": {"type": "3d", "silicone": "linear"}, "mesh": {"size": "1 mm", "order": 2}}
+
+
+def test_a_second_run_on_a_busy_folder_is_refused_and_the_lock_dies_with_the_first(tmp_path, capsys):
+    """Two `taxel study run` on one folder: the second is refused at once (one line,
+    exit 2) instead of computing every point again; once the first is killed
+    (SIGKILL: no cleanup), the folder's lock is free and a rerun finishes it."""
+    study = write_study(tmp_path, extra='[[parameters]]\npath = "array.gap"\nvalues = ["1 mm", "2 mm", "3 mm", '
+                                        '"4 mm", "5 mm", "6 mm", "7 mm", "8 mm"]\n')
+    out = tmp_path / "busy"
+    cmd = [sys.executable, "-m", "taxel.cli", "study", "run", str(study), "--out", str(out), "--workers", "1",
+           "--quiet"]
+    env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.time() + 120
+        while count(out) < 2 and proc.poll() is None and time.time() < deadline:
+            time.sleep(0.05)
+        assert proc.poll() is None, "the first run ended before the second could start"
+        capsys.readouterr()
+        code = main(["study", "run", str(study), "--out", str(out), "--workers", "1", "--quiet"])
+        err = capsys.readouterr().err
+        assert code == 2 and len(err.splitlines()) == 1 and "another study run" in err, err
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+    assert main(["study", "run", str(study), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    assert count(out) == 96

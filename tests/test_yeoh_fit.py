@@ -18,7 +18,7 @@ selections do not reproduce them: true stress vs true strain (Cauchy fit) gives 
 from __future__ import annotations
 
 import json
-from pathlib import Path
+
 
 import numpy as np
 import pytest
@@ -152,9 +152,12 @@ def test_plain_two_column_csv(tmp_path):
     strain, stress = _synthetic_rows()
     f = tmp_path / "plain.csv"
     f.write_text("strain,stress_Pa\n" + "".join(f"{float(e)!r},{float(s)!r}\n" for e, s in zip(strain, stress))
-                 + "0.7,nan\n\n")
+                 + "\n\n")
     e, s = read_uniaxial(f)
     assert np.array_equal(e, strain) and np.array_equal(s, stress)
+    f.write_text(f.read_text() + "0.7,nan\n")            # a bad row is named, never dropped silently
+    with pytest.raises(ValueError, match="line"):
+        read_uniaxial(f)
 
 
 def test_units_percent_and_decimal_comma(tmp_path):
@@ -171,7 +174,7 @@ def test_units_percent_and_decimal_comma(tmp_path):
     ("Time (s);Engineering Strain;True Stress (MPa)\n" + "1;0.1;0.001\n" * 6, "no engineering (nominal) stress"),
     ("Time (s);Engineering Strain\n" + "1;0.1\n" * 6, "no stress column next to 'Engineering Strain'"),
     ("a,b\n1,2\n3,4\n", "no header row"),
-    ("strain,stress_Pa\n0.1,100\n0.2,200\n0.3,x\n", "only 2 numeric rows"),
+    ("strain,stress_Pa\n0.1,100\n0.2,200\n0.3,x\n", "line 4 is not a strain and a stress"),
 ])
 def test_bad_files_raise_one_line(tmp_path, text, words):
     f = tmp_path / "bad.csv"

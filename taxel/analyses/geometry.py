@@ -124,7 +124,7 @@ def _plate_layout(scene: Scene, common, mats) -> Layout:
     names = {lv: ("bottom" if k == 0 else "top" if k == len(interfaces) - 1 else f"interface{k}")
              for k, lv in enumerate(interfaces)}
     electrodes = tuple(Electrode(names[lv], lv) for lv in levels if lv in piezo_levels and lv in names)
-    depth = scene.model.depth or 1.0
+    depth = scene.model.depth or (p.width if p.width is not None else 2 * p.radius)
     return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
                   load=load, depth=depth,
                   piezo_size=scene.mesh.piezo_size or scene.mesh.size, midplane=midplane, **common)

@@ -1,0 +1,21 @@
+"""Command-line helpers shared by the `taxel` subcommands."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class InputError(ValueError):
+    """Bad command-line input; one line with the fix."""
+
+
+def writable_file(path: str, what: str, suffixes: tuple[str, ...] | None = None) -> Path:
+    """A file path to write later: its folder must exist; refused now, before any work."""
+    p = Path(path)
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise InputError(f"{what} {p}: unknown file type '{p.suffix}'; use one of {', '.join(suffixes)}")
+    if not p.parent.is_dir():
+        raise InputError(f"{what} {p}: the folder {p.parent} does not exist; create it first")
+    if p.is_dir():
+        raise InputError(f"{what} {p}: is a folder; give a file name")
+    return p
