@@ -9,6 +9,7 @@
     taxel report DIR... --out OUT [--pdf]
     taxel demo [--out DIR] [--small]
     taxel examples
+    taxel measure capture|import|export|rebuild|simulate ...   (taxel/cli_measure.py)
 
 SCENE is a TOML file or the name of a built-in example. Bad input exits with
 code 2 and one line naming the problem and the fix.
@@ -315,6 +316,7 @@ def main(argv=None):
     p.add_argument("--plot", metavar="OUT.png", help="write a plot of the data and the fit")
     p.add_argument("--json", action="store_true", help="print one JSON record")
     p.set_defaults(run=_material_fit_yeoh)
+    from taxel import cli_measure; cli_measure.register(sub)   # taxel measure ... (taxel/cli_measure.py)
     args = ap.parse_args(argv)
     try:
         code = args.run(args)

@@ -10,7 +10,7 @@ measurement.h5 (HDF5 through h5py): one row per accepted frame, in stream order:
     /seq     (N,)   uint16   as received
     /t_us    (N,)   uint32   as received (device microseconds, wrapping at 2^32)
     /counts  (N, n) int32    ADC counts, columns in channel-index order   (serial sources)
- or /volts   (N, n) float64  volts at the ADC input                       (analog files: TDMS, LVM, CSV)
+ or /si      (N, n) float64  channel values in SI as in the file (V, N)    (analog files: TDMS, LVM, CSV)
     attributes: format = "taxel-measurement v1", channels (names), units, volts_per_si, rig (JSON),
                 source, start_time.
 Why HDF5: resizable chunked datasets take the frames as they come (one append a
@@ -116,13 +116,12 @@ class Measurement:
     rig: Rig
     seq: np.ndarray
     t_us: np.ndarray
-    counts: np.ndarray | None
-    volts: np.ndarray
+    counts: np.ndarray | None          # ADC counts (serial sources), else None
+    values: np.ndarray                 # (N, n) SI: V out of each taxel's conditioning, N for the force
     summary: dict
 
     def si(self) -> np.ndarray:
-        """(N, n) channel values in SI: V out of each taxel's conditioning, N for the force."""
-        return self.volts / self.rig.volts_per_si()[None, :]
+        return self.values
 
     def __len__(self) -> int:
         return len(self.seq)
@@ -130,7 +129,7 @@ class Measurement:
 
 def _rig_of(folder: Path) -> Rig:
     try:
-        return parse_rig(json.loads((folder / RIG).read_text()), str(folder / RIG))
+        return parse_rig(json.loads((folder / RIG).read_text()), str(folder / RIG), si_numbers=True)
     except (OSError, json.JSONDecodeError):
         raise MeasurementError(f"{folder}: no readable {RIG}; this is not a measurement folder") from None
 
@@ -145,13 +144,14 @@ def read(folder: str | Path) -> Measurement:
         with h5py.File(folder / H5, "r") as f:
             seq, t_us = f["seq"][:], f["t_us"][:]
             counts = f["counts"][:] if "counts" in f else None
-            volts = rig.counts_to_volts(counts.astype(np.float64)) if counts is not None else f["volts"][:]
+            si = (rig.counts_to_volts(counts.astype(np.float64)) / rig.volts_per_si()[None, :]
+                  if counts is not None else f["si"][:])
     except (OSError, KeyError):
         if not (folder / RAW).exists():
             raise MeasurementError(f"{folder}: {H5} is unreadable and there is no {RAW} to rebuild it from") from None
         return rebuild(folder)
     summary = json.loads((folder / SUMMARY).read_text()) if (folder / SUMMARY).exists() else {}
-    return Measurement(folder, rig, seq, t_us, counts, volts, summary)
+    return Measurement(folder, rig, seq, t_us, counts, si, summary)
 
 
 def rebuild(folder: str | Path) -> Measurement:

@@ -37,7 +37,7 @@ import re
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, ValidationInfo, model_validator
 
 from taxel import units
 from taxel.fem.circuits import Readout
@@ -51,7 +51,11 @@ class RigError(ValueError):
 
 
 def _q(unit: str, what: str, positive=False):
-    return BeforeValidator(lambda v: units.to_si(v, unit, what, positive=positive))
+    """A quantity: a string with a unit in a file; plain SI numbers in rig.json (context si_numbers)."""
+    def parse(v, info: ValidationInfo):
+        si = bool(info.context and info.context.get("si_numbers"))
+        return units.to_si(v, unit, what, positive=positive, si_numbers=si)
+    return BeforeValidator(parse)
 
 
 Volt = Annotated[float, _q("V", "voltage")]
@@ -63,7 +67,7 @@ CHANNEL_NAME = re.compile(r"^(taxel_(\d+)_(\d+)|force)$")
 
 
 class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 
 
 class Port(Strict):
@@ -197,8 +201,10 @@ class Rig(Strict):
             if k not in taxels:
                 raise ValueError(f"conditioning.{k}: unknown channel; the taxel channels are {', '.join(taxels)}")
         try:
-            default = Conditioning.model_validate(base)
-            return {t: Conditioning.model_validate({**base, **per.get(t, {})}) for t in taxels} or {"": default}
+            ctx = {"si_numbers": True} if all(not isinstance(v, str) for v in base.values()) else None
+            default = Conditioning.model_validate(base, context=ctx)
+            return ({t: Conditioning.model_validate({**base, **per.get(t, {})}, context=ctx) for t in taxels}
+                    or {"": default})
         except ValidationError as err:
             raise ValueError("conditioning." + one_line(err)) from None
 
@@ -210,16 +216,27 @@ class Rig(Strict):
         return np.array([c.volts_per_si for c in self.ordered()])
 
 
-def parse_rig(data: dict, source: str = "rig") -> Rig:
+def parse_rig(data: dict, source: str = "rig", si_numbers: bool = False) -> Rig:
+    """A validated rig from a dict (TOML-like, units as strings; with si_numbers, SI numbers as in rig.json)."""
     try:
-        return Rig.model_validate(data)
+        return Rig.model_validate(data, context={"si_numbers": si_numbers})
     except ValidationError as err:
         raise RigError(f"{source}: {one_line(err)}") from None
 
 
+BUILTIN = Path(__file__).parent / "builtin"
+
+
+def builtin_rigs() -> list[str]:
+    return sorted(p.stem for p in BUILTIN.glob("*.toml"))
+
+
 def load_rig(path: str | Path) -> Rig:
-    """A validated rig from a TOML file; RigError (one line) otherwise."""
+    """A validated rig from a TOML file or a built-in name; RigError (one line) otherwise."""
     path = Path(path)
+    if not path.is_file() and (BUILTIN / f"{path}.toml").is_file():
+        path = BUILTIN / f"{path}.toml"
     if not path.is_file():
-        raise RigError(f"{path}: no such rig file; give the path of a rig TOML file")
+        raise RigError(f"{path}: no such rig file; give the path of a rig TOML file "
+                       f"or a built-in rig ({', '.join(builtin_rigs())})")
     return parse_rig(read_toml(path, RigError), str(path))
