@@ -69,11 +69,14 @@ def _rig(args, path):
 
 
 def _capture(args):
-    from taxel.studies.measure.capture import capture, print_progress
+    from taxel.studies.measure.capture import capture, check_out, open_port, print_progress
     rig = _rig(args, args.rig)
+    check_out(Path(args.out))
+    port = open_port(rig)
     print(f"capturing {rig.port.url} ({rig.port.protocol}, {rig.n} channels) into {args.out}; Ctrl-C stops",
           file=sys.stderr)
-    res = capture(rig, Path(args.out), seconds=args.seconds, progress=None if args.quiet else print_progress)
+    res = capture(rig, Path(args.out), seconds=args.seconds, progress=None if args.quiet else print_progress,
+                  port=port)
     if not args.quiet:
         print(file=sys.stderr)
     if res.ended == "port vanished":

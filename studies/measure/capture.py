@@ -51,6 +51,11 @@ def open_port(rig: Rig) -> serial.SerialBase:
                         "and that the instrument is connected") from None
 
 
+def check_out(out: Path) -> None:
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise MeasurementError(f"{out}: exists and is not empty; choose a new --out folder")
+
+
 def progress_line(s: dict, elapsed: float) -> str:
     rate = f"{s['rate_Hz']:.1f} Hz" if s["rate_Hz"] else "- Hz"
     return (f"{elapsed:6.1f} s  frames {s['frames']}  rate {rate}  CRC failures {s['crc_failures']}  "
@@ -63,8 +68,7 @@ def capture(rig: Rig, out: Path, seconds: float | None = None, stop: threading.E
     """Capture into the (new, empty) folder `out`. The port is opened before
     anything is written, so a port that does not exist leaves nothing behind."""
     out = Path(out)
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise MeasurementError(f"{out}: exists and is not empty; choose a new --out folder")
+    check_out(out)
     ser = port or open_port(rig)
     out.mkdir(parents=True, exist_ok=True)
     start, t0 = now_iso(), time.monotonic()

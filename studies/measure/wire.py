@@ -18,6 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 
 
+CONNECT_SETTLE = 0.3      # s between a client's connection and the first byte
+
+
 @dataclass
 class Wire:
     """A byte stream and where each frame ends in it (after corruption)."""
@@ -82,19 +85,28 @@ class Player:
 
     def __init__(self, wire: Wire, rate: float | None, linger: float = 1.0):
         self.wire, self.rate, self.linger = wire, rate, linger
+        self.url = ""
         self.stop_event, self.done = threading.Event(), threading.Event()
         self.sent, self.error = 0, None
         self._thread = None
 
     @classmethod
-    def pty(cls, wire: Wire, rate: float | None, linger: float = 1.0) -> Player:
+    def pty(cls, wire: Wire, rate: float | None, linger: float = 1.0, start: bool = True) -> Player:
+        """A pty player. pyserial empties the input buffer when it opens a port, so
+        bytes sent before the capture opened it are lost, as on a real serial line:
+        with start=False the stream begins at `start()` (open the port first)."""
         self = cls(wire, rate, linger)
         self._master, self._slave = os.openpty()
         tty.setraw(self._slave)                    # no echo, no newline translation
         self.url = os.ttyname(self._slave)
         self._thread = threading.Thread(target=self._run_pty, daemon=True)
-        self._thread.start()
+        if start:
+            self.start()
         return self
+
+    def start(self):
+        if not self._thread.is_alive() and not self.done.is_set():
+            self._thread.start()
 
     @classmethod
     def tcp(cls, wire: Wire, rate: float | None, port: int = 0, linger: float = 1.0) -> Player:
@@ -136,6 +148,8 @@ class Player:
                     continue
             if conn is not None:
                 conn.setblocking(True)
+                # pyserial's open empties the input buffer after it connects: start a moment later
+                self.stop_event.wait(CONNECT_SETTLE)
                 self.sent = play(conn.sendall, self.wire, self.rate, self.stop_event)
                 self._finish()
         except OSError as exc:
@@ -148,10 +162,12 @@ class Player:
 
     def stop(self):
         self.stop_event.set()
+        if self._thread is not None and not self._thread.is_alive() and not self.done.is_set():
+            self._thread.start()                   # never started: run it to close the pty
         self.join()
 
     def join(self, timeout: float | None = None):
-        if self._thread is not None:
+        if self._thread is not None and self._thread.is_alive():
             self._thread.join(timeout)
 
     def __enter__(self):
