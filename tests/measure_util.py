@@ -31,3 +31,31 @@ def random_frames(n_frames: int, n: int = 10, seq0: int = 0, t0: int = 0, seed: 
 
 def wire_of(frames: Frames, protocol="taxel-cobs", corrupt=0.0, seed=1) -> W.Wire:
     return W.corrupt(encode_frames(frames, protocol), corrupt, np.random.default_rng(seed))
+
+
+def write_lvm(path, names, t, values, decimal=".", sep="\t", segments=1):
+    """A LabVIEW Measurement file (LVM 2.0 layout: file header, then per segment
+    a header, the X_Value/channel heading, the rows), as LabVIEW's Write To
+    Measurement File writes it with one X column."""
+    def num(x):
+        return f"{x:.9g}".replace(".", decimal)
+    head = ["LabVIEW Measurement\t", "Writer_Version\t2", "Reader_Version\t2",
+            f"Separator\t{'Tab' if sep == chr(9) else 'Comma'}", f"Decimal_Separator\t{decimal}",
+            "Multi_Headings\tNo", "X_Columns\tOne", "Time_Pref\tRelative", "Operator\ttaxel",
+            "Date\t2026/11/22", "Time\t12:00:00.000", "***End_of_Header***", ""]
+    lines = list(head)
+    bounds = np.linspace(0, len(t), segments + 1).astype(int)
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        lines += [sep.join(["Channels", str(len(names))] + [""] * (len(names) - 1)),
+                  sep.join(["Samples"] + [str(b - a)] * len(names)),
+                  sep.join(["Date"] + ["2026/11/22"] * len(names)),
+                  sep.join(["Time"] + ["12:00:00.000"] * len(names)),
+                  sep.join(["X_Dimension"] + ["Time"] * len(names)),
+                  sep.join(["X0"] + [num(t[a])] * len(names)),
+                  sep.join(["Delta_X"] + [num(t[1] - t[0])] * len(names)),
+                  "***End_of_Header***",
+                  sep.join(["X_Value"] + list(names) + ["Comment"])]
+        lines += [sep.join([num(t[i])] + [num(v) for v in values[i]]) for i in range(a, b)]
+        lines.append("")
+    from pathlib import Path
+    Path(path).write_text("\r\n".join(lines) + "\r\n", encoding="latin-1")

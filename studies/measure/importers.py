@@ -141,7 +141,7 @@ def read_lvm(path: Path, rig: Rig) -> Table:
         while i < len(lines) and lines[i].strip() and not lines[i].startswith("***"):
             rows.append(lines[i].split(sep))
             i += 1
-        while i < len(lines) and not lines[i].startswith("***Start"):
+        while i < len(lines) and not lines[i].strip():
             i += 1
         if head and head[-1] == "Comment":
             head = head[:-1]

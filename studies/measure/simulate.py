@@ -45,6 +45,7 @@ class Settings:
     input: Input = "step"
     seconds: float = 10.0
     amplitude: float | None = None     # N; default: the scene's load.force
+    onset: float = 0.5                 # s: when the step, the first impulse or the chirp starts
     actuator_Hz: float = 150.0
     tau_spread: float = 0.3            # log-normal sigma of the time-constant factor
     gain_spread: float = 0.1
@@ -78,23 +79,23 @@ def command(s: Settings, rate: float, n_press: int, centre: int, rng) -> tuple[n
     presses = []
     if s.input == "step":
         rise = 5e-3
-        F[:, centre] = A * np.clip((t - 0.5) / rise, 0, 1)
-        presses.append({"t": 0.5, "position": centre, "force_N": A, "rise_s": rise})
+        F[:, centre] = A * np.clip((t - s.onset) / rise, 0, 1)
+        presses.append({"t": s.onset, "position": centre, "force_N": A, "rise_s": rise})
     elif s.input == "impulse":
         width = 10e-3
-        for t0 in np.arange(0.5, s.seconds - width, 2.0):
+        for t0 in np.arange(s.onset, s.seconds - width, 2.0):
             on = (t >= t0) & (t < t0 + width)
             F[on, centre] += A * np.sin(np.pi * (t[on] - t0) / width)
             presses.append({"t": float(t0), "position": centre, "force_N": A, "width_s": width})
     elif s.input == "chirp":
-        f0, f1, T, t0 = 0.0, 100.0, min(8.0, s.seconds - 0.5), 0.5
+        f0, f1, T, t0 = 0.0, 100.0, min(8.0, s.seconds - s.onset), s.onset
         tau = np.clip(t - t0, 0, T)
         phase = 2 * np.pi * (f0 * tau + (f1 - f0) * tau ** 2 / (2 * T))
         on = (t >= t0) & (t <= t0 + T)
         F[on, centre] = 0.5 * A * (1 - np.cos(phase[on]))
         presses.append({"t": t0, "position": centre, "force_N": A, "chirp_Hz": [f0, f1], "duration_s": T})
     else:
-        t0, edge = 0.3, 20e-3
+        t0, edge = s.onset, 20e-3
         while t0 < s.seconds - 0.5:
             pos, dur, amp = int(rng.integers(n_press)), float(rng.uniform(0.2, 0.4)), float(rng.uniform(0.3, 1.5) * A)
             x = np.clip(np.minimum(t - t0, t0 + dur - t) / edge, 0, 1)
