@@ -85,11 +85,33 @@ def read_csv(path: Path, rig: Rig) -> Table:
 
 
 def read_tdms(path: Path, rig: Rig) -> Table:
+    import logging
+
     from nptdms import TdmsFile
+    with open(path, "rb") as fh:
+        if fh.read(4) != b"TDSm":
+            raise InputFileError(f"{path}: not a TDMS file (no TDSm lead-in); export it from LabVIEW as .tdms")
+    warnings: list[str] = []
+
+    class Keep(logging.Handler):
+        def emit(self, record):
+            warnings.append(record.getMessage())
+    from nptdms.log import log_manager
+    keep, console = Keep(logging.WARNING), log_manager.console_handler
+    loggers = list(log_manager.loggers.values())
+    for lg in loggers:                             # npTDMS's console warnings become our one line
+        lg.removeHandler(console)
+        lg.addHandler(keep)
     try:
         f = TdmsFile.read(path)
     except Exception as exc:
         raise InputFileError(f"{path}: not a readable TDMS file ({str(exc).splitlines()[0] if str(exc) else exc})") from None
+    finally:
+        for lg in loggers:
+            lg.removeHandler(keep)
+            lg.addHandler(console)
+    if warnings and not any(all(n in [c.name for c in g.channels()] for n in rig.names) for g in f.groups()):
+        raise InputFileError(f"{path}: not a readable TDMS file ({warnings[0]})")
     for g in f.groups():
         names = [c.name for c in g.channels()]
         if all(n in names for n in rig.names):
