@@ -55,6 +55,8 @@ def register(sub) -> None:
     q.add_argument("--t0-us", type=int, default=0, help="first t_us (wrap-around tests)")
     q.add_argument("--no-crosstalk", action="store_true", help="skip the FEM crosstalk solves")
     q.add_argument("--linger", type=float, default=1.0, help="seconds the port stays open after the stream")
+    q.add_argument("--delay", type=float, default=0.0, help="--pty: seconds before the stream starts (time to "
+                   "start the capture: opening a port empties its input buffer)")
     q.add_argument("--truth", metavar="DIR", help="where truth.npz and truth.json go (default: beside --to, "
                    "else out/simulate-INPUT)")
     q.set_defaults(run=_simulate)
@@ -141,12 +143,13 @@ def _simulate(args):
           f"{int(wire.intact.sum())} intact); truth in {truth_dir}", flush=True)
     if args.to:
         try:
+            Path(args.to).parent.mkdir(parents=True, exist_ok=True)
             Path(args.to).write_bytes(wire.data)
         except OSError as exc:
             raise ValueError(f"--to {args.to}: cannot write it ({exc.strerror or exc})") from None
         print(f"wrote {args.to}")
         return 0
-    player = W.Player.pty(wire, rig.sampling.rate, args.linger) if args.pty else \
+    player = W.Player.pty(wire, rig.sampling.rate, args.linger, delay=args.delay) if args.pty else \
         W.Player.tcp(wire, rig.sampling.rate, url, args.linger)
     print(f"serving on {player.url} at {rig.sampling.rate:g} frames/s; Ctrl-C stops", flush=True)
     try:

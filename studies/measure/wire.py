@@ -83,19 +83,20 @@ class Player:
     (`Player.tcp`). `url` is what the capture opens; `stop()` ends it early;
     `join()` waits. Used as a context manager, it is always stopped."""
 
-    def __init__(self, wire: Wire, rate: float | None, linger: float = 1.0):
-        self.wire, self.rate, self.linger = wire, rate, linger
+    def __init__(self, wire: Wire, rate: float | None, linger: float = 1.0, delay: float = 0.0):
+        self.wire, self.rate, self.linger, self.delay = wire, rate, linger, delay
         self.url = ""
         self.stop_event, self.done = threading.Event(), threading.Event()
         self.sent, self.error = 0, None
         self._thread = None
 
     @classmethod
-    def pty(cls, wire: Wire, rate: float | None, linger: float = 1.0, start: bool = True) -> Player:
+    def pty(cls, wire: Wire, rate: float | None, linger: float = 1.0, start: bool = True,
+            delay: float = 0.0) -> Player:
         """A pty player. pyserial empties the input buffer when it opens a port, so
         bytes sent before the capture opened it are lost, as on a real serial line:
         with start=False the stream begins at `start()` (open the port first)."""
-        self = cls(wire, rate, linger)
+        self = cls(wire, rate, linger, delay)
         self._master, self._slave = os.openpty()
         tty.setraw(self._slave)                    # no echo, no newline translation
         self.url = os.ttyname(self._slave)
@@ -129,6 +130,7 @@ class Player:
             while view:
                 view = view[os.write(self._master, view):]
         try:
+            self.stop_event.wait(self.delay)
             self.sent = play(write, self.wire, self.rate, self.stop_event)
             self._finish()
         except OSError as exc:
