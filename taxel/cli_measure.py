@@ -54,6 +54,8 @@ def register(sub) -> None:
     q.add_argument("--seq0", type=int, default=0, help="first seq (wrap-around tests)")
     q.add_argument("--t0-us", type=int, default=0, help="first t_us (wrap-around tests)")
     q.add_argument("--no-crosstalk", action="store_true", help="skip the FEM crosstalk solves")
+    q.add_argument("--model", choices=["lumped", "fem"], default="lumped",
+                   help="the taxel's charge: the lumped model with FEM crosstalk, or an FEM transient")
     q.add_argument("--linger", type=float, default=1.0, help="seconds the port stays open after the stream")
     q.add_argument("--delay", type=float, default=0.0, help="--pty: seconds before the stream starts (time to "
                    "start the capture: opening a port empties its input buffer)")
@@ -133,7 +135,7 @@ def _simulate(args):
     truth_dir = Path(args.truth) if args.truth else (Path(args.to).with_suffix(".truth") if args.to
                                                      else Path("out") / f"simulate-{args.input}")
     s = Settings(input=args.input, seconds=args.seconds, seed=args.seed, seq0=args.seq0, t0_us=args.t0_us,
-                 crosstalk=not args.no_crosstalk)
+                 crosstalk=not args.no_crosstalk, model=args.model)
     truth = simulate(rig, scene, s)
     chunks = encode_frames(truth.frames, rig.port.protocol)
     wire = W.corrupt(chunks, args.corrupt, np.random.default_rng(args.seed + 1))

@@ -115,3 +115,26 @@ def test_simulate_cli_physics(tmp_path, monkeypatch):
     assert meta["crosstalk_W1"][1][2] == pytest.approx(0.061 / -0.809, rel=0.05)
     assert truth["force"][-1] == pytest.approx(1.0, rel=1e-3)
     assert np.abs(m.values[-200:, -1].mean() - 1.0) < 0.01                   # the load cell reads 1 N
+
+
+def test_simulator_fem_transient_settles_on_the_static_fem_charge(tmp_path, monkeypatch):
+    """--model fem: after a step, each modelled taxel's charge (over its gain factor)
+    is the static FEM short-circuit charge; the lumped model's is about 4.5 x smaller."""
+    import taxel
+    from taxel.analyses import solve_static
+    from taxel.studies.measure.rig import load_rig
+    from taxel.studies.measure.simulate import Settings, simulate
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    scene = taxel.load("thesis-pzt-3x3-2d")
+    bench = load_rig("thesis-bench")
+    fem = simulate(bench, scene, Settings(input="step", seconds=0.6, onset=0.1, model="fem"))
+    static = solve_static(scene).electrodes
+    for name in ("taxel_1_0", "taxel_1_1", "taxel_1_2"):
+        k = bench.names.index(name)
+        g = fem.params["taxels"][name]["gain_factor"]
+        assert fem.charge[-1, k] / g == pytest.approx(static[name].short_circuit_charge, rel=2e-3)
+    lumped = simulate(bench, scene, Settings(input="step", seconds=0.6, onset=0.1))
+    k = bench.names.index("taxel_1_1")
+    assert 3 < fem.charge[-1, k] / lumped.charge[-1, k] < 6
+    with pytest.raises(ValueError, match="presses"):
+        simulate(bench, scene, Settings(input="presses", seconds=1, model="fem"))

@@ -4,11 +4,17 @@ Physics, per taxel k at (r, c) and per press p (the scene's pressed taxel for
 step, impulse and chirp; random taxels for "presses"):
   force      F_p(t): the commanded force through the actuator's roll-off (a
              second-order Butterworth low-pass, corner `actuator_Hz`);
-  charge     Q_k = q_per_N * g_k * sum_p W[p, k] F_p, with q_per_N the lumped
-             model's short-circuit charge per newton at 1 Hz (`lumped_model(scene)`;
+  charge     model "lumped": Q_k = q_per_N * g_k * sum_p W[p, k] F_p, with q_per_N the
+             lumped model's short-circuit charge per newton at 1 Hz (`lumped_model(scene)`;
              its resonances are above 10 kHz, so it is quasi-static at the bench's
              rates), W the FEM's crosstalk weights (studies.measure.crosstalk) and
              g_k a per-taxel gain spread (log-normal, `gain_spread`);
+             model "fem": the FEM transient (Newmark, electrodes shorted: fem.timestep)
+             of the scene under the rolled-off force on its pressed taxel gives the
+             short-circuit charge of every modelled electrode; a 2D scene models the
+             pressed row, and the other rows get W1[pressed row, row] of it. The FEM
+             charge is about 4.5 x the lumped one for the thesis taxel (lateral flow,
+             README); step, impulse and chirp only;
   readout    the rig's conditioning of taxel k with its time constant scaled by
              a per-taxel factor s_k (log-normal, `tau_spread`; the thesis measured
              1.7 s and 3.1 s on two PZT taxels at 500 MOhm): open V = -Q / C_p;
@@ -57,6 +63,7 @@ class Settings:
     seq0: int = 0
     t0_us: int = 0
     crosstalk: bool = True             # FEM crosstalk weights (else none)
+    model: Literal["lumped", "fem"] = "lumped"
 
 
 @dataclass
@@ -66,6 +73,7 @@ class Truth:
     t: np.ndarray                      # (N,) s
     force_command: np.ndarray          # (N, P) N per press position
     force: np.ndarray                  # (N,) N total on the sensor, after the actuator roll-off
+    charge: np.ndarray                 # (N, taxels) C short-circuit charge into each taxel's chain
     clean_volts: np.ndarray            # (N, n) at the ADC, before noise and quantisation
     frames: Frames                     # as sent (before any corruption)
     params: dict = field(default_factory=dict)
@@ -105,6 +113,15 @@ def command(s: Settings, rate: float, n_press: int, centre: int, rng) -> tuple[n
     return t, F, presses
 
 
+def fem_charges(scene: Scene, t: np.ndarray, force: np.ndarray) -> tuple[np.ndarray, list[str]]:
+    """Short-circuit charges (nt, na) of the scene's electrodes under `force` (N) on its load, by FEM transient."""
+    from taxel.analyses import problem
+    from taxel.fem import dynmodel, timestep
+    dm = dynmodel.model(problem(scene), short=True)
+    tr = timestep.transient(dm, t, force)
+    return tr.Q, list(tr.names)
+
+
 def _chain(cond, C_p: float, factor: float):
     """(num, den) of V/Q for one taxel's conditioning with its time constant scaled."""
     if cond.circuit == "open":
@@ -139,7 +156,21 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     Wm = np.array([weights(W1, p, taxels) for p in positions])      # (P, taxels)
     gain = np.exp(s.gain_spread * rng.standard_normal(len(taxels)))
     tau_f = np.exp(s.tau_spread * rng.standard_normal(len(taxels)))
-    Q = q_per_N * (F @ Wm) * gain[None, :]
+    if s.model == "fem":
+        if s.input == "presses":
+            raise ValueError("the FEM transient drives the scene's pressed taxel: use --input step, impulse or "
+                             "chirp, or the lumped model for presses")
+        Qe, names = fem_charges(scene, t, F[:, centre])
+        pr = positions[centre][0]
+        Q = np.zeros((len(t), len(taxels)))
+        for k, (r, c) in enumerate(taxels):
+            if f"taxel_{r}_{c}" in names:                       # modelled (3D, or the pressed row)
+                Q[:, k] = Qe[:, names.index(f"taxel_{r}_{c}")]
+            elif f"taxel_{pr}_{c}" in names and r < len(W1) and pr < len(W1):
+                Q[:, k] = Qe[:, names.index(f"taxel_{pr}_{c}")] * W1[pr, r]
+        Q *= gain[None, :]
+    else:
+        Q = q_per_N * (F @ Wm) * gain[None, :]
     chains = rig.chains()
     clean = np.zeros((len(t), rig.n))
     per_taxel = {}
@@ -176,7 +207,8 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     params = {"settings": asdict(s), "rate_Hz": rate, "q_per_N_C": q_per_N, "C_p_F": model.C_p,
               "crosstalk_W1": W1.tolist(), "positions": [list(p) for p in positions], "presses": presses,
               "taxels": per_taxel, "channels": rig.names, "clipped_samples": int(np.sum((counts == lo) | (counts == hi)))}
-    return Truth(t, Fcmd, F.sum(axis=1), clean, Frames(seq, t_us, counts), params)
+    params["model"] = s.model
+    return Truth(t, Fcmd, F.sum(axis=1), Q, clean, Frames(seq, t_us, counts), params)
 
 
 def save_truth(truth: Truth, folder, extra: dict | None = None) -> None:
@@ -185,7 +217,7 @@ def save_truth(truth: Truth, folder, extra: dict | None = None) -> None:
     from pathlib import Path
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    arrays = {"t": truth.t, "force_command": truth.force_command, "force": truth.force,
+    arrays = {"t": truth.t, "force_command": truth.force_command, "force": truth.force, "charge": truth.charge,
               "clean_volts": truth.clean_volts, "seq": truth.frames.seq, "t_us": truth.frames.t_us,
               "counts": truth.frames.counts}
     for k, v in (extra or {}).items():
