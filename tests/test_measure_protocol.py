@@ -119,3 +119,18 @@ def test_ascii_checksum_is_blind_to_two_equal_drops():
     assert c.frames == 0 and c.crc_failures == 1    # one drop is always caught
     out, c = P.decode_all(b"1,2,+121,5" + line[line.index(b"*"):], "taxel-ascii", 2)
     assert c.frames == 0                            # strict digits only
+
+
+def test_running_sequence_stats_equal_the_whole_record():
+    frames = random_frames(5000, n=2, seq0=60000, t0=2 ** 32 - 10 ** 6)
+    keep = np.random.default_rng(9).random(5000) > 0.01
+    seq, t = frames.seq[keep], frames.t_us[keep] + np.random.default_rng(1).integers(0, 3, keep.sum()).astype(np.uint32)
+    whole = P.sequence_stats(seq, t)
+    run = P.SeqStats()
+    for a in range(0, len(seq), 777):
+        run.update(seq[a:a + 777], t[a:a + 777])
+    rec = run.record()
+    assert rec["seq_gaps"] == whole["seq_gaps"] > 0 and rec["frames_lost"] == whole["frames_lost"] == (~keep).sum()
+    assert rec["rate_Hz"] == pytest.approx(whole["rate_Hz"], rel=1e-12)
+    assert rec["jitter_us"] == pytest.approx(whole["jitter_us"], rel=1e-6)
+    assert whole["jitter_us"] > 0.3

@@ -17,12 +17,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-import numpy as np
 import serial
 
 from taxel.studies.measure.folder import (RAW, SUMMARY, MeasurementError, Writer, now_iso, summary_record,
                                           write_json)
-from taxel.studies.measure.protocol import Decoder, Frames
+from taxel.studies.measure.protocol import Decoder, Frames, SeqStats
 from taxel.studies.measure.rig import Rig
 
 READ_SIZE = 8192
@@ -75,7 +74,7 @@ def capture(rig: Rig, out: Path, seconds: float | None = None, stop: threading.E
     source = f"capture from {rig.port.url} ({rig.port.protocol})"
     dec = Decoder(rig.port.protocol, rig.n)
     writer = Writer(out, rig, source, start_time=start)
-    seqs, times, pending = [], [], []
+    stats, pending = SeqStats(), []
     raw = open(out / RAW, "ab")
     ended, message = "seconds", ""
 
@@ -83,10 +82,8 @@ def capture(rig: Rig, out: Path, seconds: float | None = None, stop: threading.E
         frames = Frames.concat(pending, rig.n)
         pending.clear()
         writer.append(frames)
-        seqs.append(frames.seq)
-        times.append(frames.t_us)
-        s = summary_record(dec.counters, np.concatenate(seqs), np.concatenate(times), start, status, source,
-                           time.monotonic() - t0)
+        stats.update(frames.seq, frames.t_us)
+        s = summary_record(dec.counters, stats.record(), start, status, source, time.monotonic() - t0)
         write_json(out / SUMMARY, s)
         return s
 

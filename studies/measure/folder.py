@@ -61,9 +61,9 @@ def write_json(path: Path, data: dict) -> None:
     os.replace(tmp, path)
 
 
-def summary_record(counters: Counters, frames_seq, frames_t, start_time: str, status: str, source: str,
+def summary_record(counters: Counters, stats: dict, start_time: str, status: str, source: str,
                    seconds: float | None = None) -> dict:
-    stats = sequence_stats(np.asarray(frames_seq), np.asarray(frames_t))
+    """The summary.json record; `stats` from protocol.SeqStats.record() (or sequence_stats)."""
     return {"frames": counters.frames, "crc_failures": counters.crc_failures,
             "cobs_failures": counters.cobs_failures, "length_failures": counters.length_failures,
             "seq_gaps": stats["seq_gaps"], "frames_lost": stats["frames_lost"], "resyncs": counters.resyncs,
@@ -177,7 +177,7 @@ def rebuild(folder: str | Path) -> Measurement:
     w.append(frames)
     w.close()
     status = old.get("status", "unknown")
-    summary = summary_record(dec.counters, frames.seq, frames.t_us, old.get("start_time") or now_iso(),
+    summary = summary_record(dec.counters, sequence_stats(frames.seq, frames.t_us), old.get("start_time") or now_iso(),
                              f"rebuilt from raw.bin (was: {status})", old.get("source", "raw.bin"),
                              old.get("seconds"))
     write_json(folder / SUMMARY, summary)

@@ -26,7 +26,7 @@ import numpy as np
 
 from taxel.studies.measure.folder import (RAW, MeasurementError, Writer, now_iso, prepare, rebuild,
                                           summary_record, write_json, SUMMARY)
-from taxel.studies.measure.protocol import Counters, Frames
+from taxel.studies.measure.protocol import Counters, Frames, sequence_stats
 from taxel.studies.measure.rig import Rig
 
 FORMATS = ("raw", "csv", "tdms", "lvm")
@@ -220,6 +220,6 @@ def import_file(path: str | Path, rig: Rig, out: str | Path, fmt: str | None = N
     w.append(frames, table.values)
     w.close()
     c = Counters(frames=n)
-    write_json(out / SUMMARY, summary_record(c, frames.seq, frames.t_us, w.start_time, "imported",
+    write_json(out / SUMMARY, summary_record(c, sequence_stats(frames.seq, frames.t_us), w.start_time, "imported",
                                              f"{fmt} file {path.name}", float(table.t_s[-1] - table.t_s[0])))
     return read(out)

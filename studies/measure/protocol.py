@@ -230,19 +230,46 @@ def decode_all(data: bytes, protocol: Protocol, n: int) -> tuple[Frames, Counter
     return frames, dec.counters
 
 
-def sequence_stats(seq: np.ndarray, t_us: np.ndarray) -> dict:
+@dataclass
+class SeqStats:
     """Sequence gaps (frames lost on the wire, from seq with wrap-around), and the
-    sample rate and its jitter from the device clock (t_us with wrap-around)."""
-    out = {"seq_gaps": 0, "frames_lost": 0, "rate_Hz": None, "jitter_us": None}
-    if len(seq) < 2:
+    sample rate and its jitter from the device clock (t_us with wrap-around), kept
+    as running sums so that a long capture costs the same every second."""
+
+    seq_gaps: int = 0
+    frames_lost: int = 0
+    _last: tuple[int, int] | None = None
+    _m: int = 0
+    _sum: float = 0.0
+    _sum2: float = 0.0
+
+    def update(self, seq: np.ndarray, t_us: np.ndarray) -> SeqStats:
+        if not len(seq):
+            return self
+        s, t = seq.astype(np.int64), t_us.astype(np.int64)
+        if self._last is not None:
+            s, t = np.concatenate([[self._last[0]], s]), np.concatenate([[self._last[1]], t])
+        self._last = (int(s[-1]), int(t[-1]))
+        dseq = np.diff(s) % (1 << 16)
+        dt = np.diff(t) % (1 << 32)
+        ok = dseq > 0
+        self.seq_gaps += int(np.count_nonzero(dseq != 1))
+        self.frames_lost += int(np.sum(dseq[ok] - 1))
+        per = dt[ok] / dseq[ok]                      # us per frame, each interval
+        self._m += len(per)
+        self._sum += float(per.sum())
+        self._sum2 += float((per ** 2).sum())
+        return self
+
+    def record(self) -> dict:
+        out = {"seq_gaps": self.seq_gaps, "frames_lost": self.frames_lost, "rate_Hz": None, "jitter_us": None}
+        if self._m and self._sum > 0:
+            mean = self._sum / self._m
+            out["rate_Hz"] = 1e6 / mean
+            out["jitter_us"] = float(np.sqrt(max(self._sum2 / self._m - mean ** 2, 0.0)))
         return out
-    dseq = np.diff(seq.astype(np.int64)) % (1 << 16)
-    dt = np.diff(t_us.astype(np.int64)) % (1 << 32)
-    ok = dseq > 0
-    out["seq_gaps"] = int(np.count_nonzero(dseq != 1))
-    out["frames_lost"] = int(np.sum(dseq[ok] - 1))
-    per = dt[ok] / dseq[ok]
-    if len(per) and per.mean() > 0:
-        out["rate_Hz"] = float(1e6 / per.mean())
-        out["jitter_us"] = float(per.std())
-    return out
+
+
+def sequence_stats(seq: np.ndarray, t_us: np.ndarray) -> dict:
+    """SeqStats of a whole record."""
+    return SeqStats().update(np.asarray(seq), np.asarray(t_us)).record()
