@@ -75,6 +75,8 @@ def _rig(args, path):
 def _capture(args):
     from taxel.studies.measure.capture import capture, check_out, open_port, print_progress
     rig = _rig(args, args.rig)
+    if args.seconds is not None and not args.seconds > 0:
+        raise ValueError(f"--seconds must be positive, got {args.seconds}")
     check_out(Path(args.out))
     port = open_port(rig)
     print(f"capturing {rig.port.url} ({rig.port.protocol}, {rig.n} channels) into {args.out}; Ctrl-C stops",

@@ -74,7 +74,6 @@ def _cli(*args, **kw):
 
 
 def _rig_file(tmp_path, url):
-    import tomllib  # noqa: F401  (the rig is written as TOML by hand below)
     d = rig_dict(url)
     lines = [f'name = "{d["name"]}"', "[port]", f'url = "{url}"', "baud = 115200", 'protocol = "taxel-cobs"',
              "[sampling]", 'rate = "2 kHz"']

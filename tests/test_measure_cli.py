@@ -137,3 +137,30 @@ def test_capture_into_a_non_empty_folder(tmp_path, capsys):
     assert main(["measure", "capture", str(BENCH), "--out", str(tmp_path / "m")]) == 2
     assert "not empty" in capsys.readouterr().err
     assert os.listdir(tmp_path / "m") == ["keep.txt"]
+
+
+def test_simulate_on_a_pty_in_ascii_then_capture(tmp_path):
+    """The CLI simulator on a pseudo-terminal, taxel-ascii, no corruption: every frame arrives."""
+    (tmp_path / "rig.toml").write_text(_toml(rig_dict(protocol="taxel-ascii")))
+    cmd = [sys.executable, "-m", "taxel.cli", "measure", "simulate", str(tmp_path / "rig.toml"), "--scene",
+           "thesis-pzt-3x3-2d", "--input", "impulse", "--seconds", "0.8", "--pty", "--no-crosstalk",
+           "--delay", "1.0", "--linger", "0.3", "--seq0", "65400", "--truth", str(tmp_path / "truth")]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        url = None
+        end = time.monotonic() + 60
+        while url is None and time.monotonic() < end:
+            line = proc.stdout.readline()
+            if line.startswith("serving on "):
+                url = line.split()[2]
+        assert url and url.startswith("/dev/")
+        res = capture(rig(url, "taxel-ascii"), tmp_path / "m", seconds=30)
+        proc.wait(timeout=30)
+    finally:
+        proc.kill()
+        proc.wait()
+    assert res.ended == "port vanished"
+    truth = np.load(tmp_path / "truth" / "truth.npz")
+    m = F.read(tmp_path / "m")
+    assert np.array_equal(m.counts, truth["counts"]) and np.array_equal(m.seq, truth["seq"])
+    assert m.summary["crc_failures"] == 0 and m.summary["frames_lost"] == 0 and m.summary["resyncs"] == 0

@@ -154,8 +154,9 @@ def read(folder: str | Path) -> Measurement:
     return Measurement(folder, rig, seq, t_us, counts, si, summary)
 
 
-def rebuild(folder: str | Path) -> Measurement:
-    """Decode raw.bin again into a fresh measurement.h5 and summary.json (after kill -9, or to check)."""
+def rebuild(folder: str | Path, status: str | None = None) -> Measurement:
+    """Decode raw.bin again into a fresh measurement.h5 and summary.json (after kill -9, or to check).
+    The summary's status says so, unless `status` is given."""
     folder = Path(folder)
     rig = _rig_of(folder)
     raw = folder / RAW
@@ -176,10 +177,9 @@ def rebuild(folder: str | Path) -> Measurement:
     w = Writer(folder, rig, old.get("source", "rebuilt from raw.bin"), start_time=old.get("start_time"))
     w.append(frames)
     w.close()
-    status = old.get("status", "unknown")
+    status = status or f"rebuilt from raw.bin (was: {old.get('status', 'unknown')})"
     summary = summary_record(dec.counters, sequence_stats(frames.seq, frames.t_us), old.get("start_time") or now_iso(),
-                             f"rebuilt from raw.bin (was: {status})", old.get("source", "raw.bin"),
-                             old.get("seconds"))
+                             status, old.get("source", "raw.bin"), old.get("seconds"))
     write_json(folder / SUMMARY, summary)
     return read(folder)
 

@@ -204,7 +204,7 @@ def import_file(path: str | Path, rig: Rig, out: str | Path, fmt: str | None = N
         shutil.copyfile(path, out / RAW)
         write_json(out / SUMMARY, {"source": f"raw dump {path.name}", "start_time": now_iso(), "status": "imported"})
         Writer(out, rig, f"raw dump {path.name}").close()
-        return rebuild(out)
+        return rebuild(out, status="imported")
     try:
         table = {"csv": read_csv, "tdms": read_tdms, "lvm": read_lvm}[fmt](path, rig)
     except UnicodeDecodeError:
