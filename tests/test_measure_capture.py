@@ -141,6 +141,8 @@ def test_ctrl_c_stops_cleanly(tmp_path):
     assert proc.returncode == 0, err
     m = F.read(tmp_path / "m")
     assert m.summary["status"] == "interrupted" and 0 < len(m) < len(frames)
+    assert m.summary["crc_failures"] == m.summary["cobs_failures"] == m.summary["resyncs"] == 0   # a cut frame
+    assert m.summary["truncated_bytes"] < 52                                                # is not a failure
     assert np.array_equal(m.counts, frames.counts[:len(m)])
     assert np.array_equal(F.rebuild(tmp_path / "m").counts, m.counts)
 

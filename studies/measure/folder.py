@@ -67,7 +67,7 @@ def summary_record(counters: Counters, stats: dict, start_time: str, status: str
     return {"frames": counters.frames, "crc_failures": counters.crc_failures,
             "cobs_failures": counters.cobs_failures, "length_failures": counters.length_failures,
             "seq_gaps": stats["seq_gaps"], "frames_lost": stats["frames_lost"], "resyncs": counters.resyncs,
-            "bytes": counters.bytes, "rate_Hz": stats["rate_Hz"], "jitter_us": stats["jitter_us"],
+            "bytes": counters.bytes, "truncated_bytes": counters.truncated_bytes, "rate_Hz": stats["rate_Hz"], "jitter_us": stats["jitter_us"],
             "start_time": start_time, "seconds": seconds, "status": status, "source": source}
 
 

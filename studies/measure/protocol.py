@@ -83,6 +83,7 @@ class Counters:
     length_failures: int = 0       # wrong length, version or channel count
     resyncs: int = 0               # times bytes were discarded up to the next delimiter
     bytes: int = 0
+    truncated_bytes: int = 0       # an incomplete last frame when the stream ended (not a failure)
 
     @property
     def dropped(self) -> int:
@@ -150,11 +151,10 @@ class Decoder:
         return self._ascii(parts)
 
     def flush(self) -> Frames:
-        """End of stream: a trailing partial frame is counted as dropped."""
-        if self._tail:
-            self.counters.cobs_failures += 1
-            self.counters.resyncs += 1
-            self._tail = b""
+        """End of stream: an incomplete last frame (the capture stopped mid-frame) is
+        counted in truncated_bytes, not as a failure."""
+        self.counters.truncated_bytes = len(self._tail)
+        self._tail = b""
         return Frames.empty(self.n)
 
     def _cobs(self, parts: list[bytes]) -> Frames:

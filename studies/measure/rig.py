@@ -200,13 +200,14 @@ class Rig(Strict):
         for k in per:
             if k not in taxels:
                 raise ValueError(f"conditioning.{k}: unknown channel; the taxel channels are {', '.join(taxels)}")
-        try:
-            ctx = {"si_numbers": True} if all(not isinstance(v, str) for v in base.values()) else None
-            default = Conditioning.model_validate(base, context=ctx)
-            return ({t: Conditioning.model_validate({**base, **per.get(t, {})}, context=ctx) for t in taxels}
-                    or {"": default})
-        except ValidationError as err:
-            raise ValueError("conditioning." + one_line(err)) from None
+        chains = {}
+        for t in taxels or [""]:
+            try:
+                chains[t] = Conditioning.model_validate({**base, **per.get(t, {})})
+            except ValidationError as err:
+                where = f"conditioning.{t}" if t in per else "conditioning"
+                raise ValueError(f"{where}: {_rig_line(err)}") from None
+        return chains
 
     def counts_to_volts(self, counts):
         return self.adc.offset + counts * self.adc.lsb
@@ -216,12 +217,16 @@ class Rig(Strict):
         return np.array([c.volts_per_si for c in self.ordered()])
 
 
+def _rig_line(err: ValidationError) -> str:
+    return one_line(err).replace("the scene reference in README.md", "the rig reference in studies/measure/rig.py")
+
+
 def parse_rig(data: dict, source: str = "rig", si_numbers: bool = False) -> Rig:
     """A validated rig from a dict (TOML-like, units as strings; with si_numbers, SI numbers as in rig.json)."""
     try:
         return Rig.model_validate(data, context={"si_numbers": si_numbers})
     except ValidationError as err:
-        raise RigError(f"{source}: {one_line(err)}") from None
+        raise RigError(f"{source}: {_rig_line(err)}") from None
 
 
 BUILTIN = Path(__file__).parent / "builtin"

@@ -152,7 +152,11 @@ class Player:
                 conn.setblocking(True)
                 # pyserial's open empties the input buffer after it connects: start a moment later
                 self.stop_event.wait(CONNECT_SETTLE)
-                self.sent = play(conn.sendall, self.wire, self.rate, self.stop_event)
+                def send(b):                       # MSG_NOSIGNAL: a reader that went away is an
+                    view = memoryview(b)           # error here, never a SIGPIPE for the whole process
+                    while view:
+                        view = view[conn.send(view, socket.MSG_NOSIGNAL):]
+                self.sent = play(send, self.wire, self.rate, self.stop_event)
                 self._finish()
         except OSError as exc:
             self.error = exc
