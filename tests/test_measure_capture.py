@@ -156,3 +156,15 @@ def test_port_that_does_not_exist_writes_nothing(tmp_path):
     assert proc.returncode == 2 and len(err.strip().splitlines()) == 1 and "cannot open" in err
     assert not (tmp_path / "m2").exists()
     assert os.listdir(tmp_path) == ["rig.toml"]
+
+
+def test_damaged_hdf5_points_to_rebuild(tmp_path):
+    frames = random_frames(300)
+    with Player.tcp(wire_of(frames), None, linger=0.1) as player:    # all at once
+        res = capture(rig(player.url), tmp_path / "m", seconds=20)
+    (tmp_path / "m" / "measurement.h5").write_bytes(b"\x89HDF\r\n\x1a\n" + b"\x00" * 100)   # a torn file
+    with pytest.raises(F.MeasurementError, match="taxel measure rebuild"):
+        F.read(tmp_path / "m")
+    assert np.array_equal(F.rebuild(tmp_path / "m").counts, frames.counts)
+    assert np.array_equal(F.read(tmp_path / "m").counts, frames.counts)
+    assert res.summary["frames"] == len(frames)

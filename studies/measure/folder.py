@@ -135,7 +135,7 @@ def _rig_of(folder: Path) -> Rig:
 
 
 def read(folder: str | Path) -> Measurement:
-    """A measurement folder; if measurement.h5 is missing or damaged and raw.bin is there, it is rebuilt."""
+    """A measurement folder; a missing or damaged measurement.h5 is one line pointing to `rebuild`."""
     folder = Path(folder)
     if not folder.is_dir():
         raise MeasurementError(f"{folder}: no such measurement folder")
@@ -147,9 +147,12 @@ def read(folder: str | Path) -> Measurement:
             si = (rig.counts_to_volts(counts.astype(np.float64)) / rig.volts_per_si()[None, :]
                   if counts is not None else f["si"][:])
     except (OSError, KeyError):
+        # never rebuilt here: a capture still running holds the file (HDF5 locks it), and
+        # rebuilding under it would fight its writer
         if not (folder / RAW).exists():
             raise MeasurementError(f"{folder}: {H5} is unreadable and there is no {RAW} to rebuild it from") from None
-        return rebuild(folder)
+        raise MeasurementError(f"{folder}: {H5} is unreadable (a capture still writing it, or one killed mid-write); "
+                               f"wait for the capture, or run 'taxel measure rebuild {folder}'") from None
     summary = json.loads((folder / SUMMARY).read_text()) if (folder / SUMMARY).exists() else {}
     return Measurement(folder, rig, seq, t_us, counts, si, summary)
 
