@@ -9,6 +9,7 @@
     taxel report DIR... --out OUT [--pdf]
     taxel demo [--out DIR] [--small]
     taxel examples
+    taxel measure capture|import|export|rebuild|simulate ...   (taxel/cli_measure.py)
 
 SCENE is a TOML file or the name of a built-in example. Bad input exits with
 code 2 and one line naming the problem and the fix.
@@ -24,7 +25,7 @@ import sqlite3
 import sys
 from pathlib import Path
 
-from taxel import api, cli_material
+from taxel import api, cli_material, cli_measure
 from taxel.scene import SceneError, examples
 from taxel.cli_files import InputError, writable_file as _writable_file
 from taxel.units import engineering as si
@@ -263,6 +264,7 @@ def main(argv=None):
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)
     cli_material.register(sub)
+    cli_measure.register(sub)        # taxel measure ... (taxel/cli_measure.py)
     try:
         args = ap.parse_args(argv)
         code = args.run(args)

@@ -1,0 +1,134 @@
+"""Capture from a serial port (pyserial: a device path or any URL it knows).
+
+Every chunk read is appended to raw.bin and flushed to the OS before it is
+decoded (fsync once a second); decoded frames go to measurement.h5 and
+summary.json once a second. The capture ends after `seconds`, on Ctrl-C, on
+`stop` (a threading.Event), or when the port vanishes (cable pulled, socket
+closed, pty master gone): then one line says so and everything received is kept.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import serial
+
+from taxel.studies.measure.folder import (RAW, SUMMARY, MeasurementError, Writer, now_iso, summary_record,
+                                          write_json)
+from taxel.studies.measure.protocol import Decoder, Frames, SeqStats
+from taxel.studies.measure.rig import Rig
+
+READ_SIZE = 8192
+TIMEOUT = 0.05
+
+
+class PortError(ValueError):
+    """The rig's port cannot be opened; one line naming it and the fix."""
+
+
+@dataclass
+class CaptureResult:
+    folder: Path
+    summary: dict
+    ended: str                 # "seconds" | "stopped" | "interrupted" | "port vanished"
+    message: str
+
+
+def open_port(rig: Rig) -> serial.SerialBase:
+    url = rig.port.url
+    try:
+        return serial.serial_for_url(url, baudrate=rig.port.baud, timeout=TIMEOUT)
+    except (serial.SerialException, OSError, ValueError) as exc:
+        why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise PortError(f"port.url = {url!r}: cannot open it ({why}); check the device path or URL "
+                        "and that the instrument is connected") from None
+
+
+def check_out(out: Path) -> None:
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise MeasurementError(f"{out}: exists and is not empty; choose a new --out folder")
+
+
+def progress_line(s: dict, elapsed: float) -> str:
+    rate = f"{s['rate_Hz']:.1f} Hz" if s["rate_Hz"] else "- Hz"
+    return (f"{elapsed:6.1f} s  frames {s['frames']}  rate {rate}  CRC failures {s['crc_failures']}  "
+            f"other drops {s['cobs_failures'] + s['length_failures']}  seq gaps {s['seq_gaps']} "
+            f"({s['frames_lost']} frames lost)")
+
+
+def capture(rig: Rig, out: Path, seconds: float | None = None, stop: threading.Event | None = None,
+            progress: Callable[[str], None] | None = None, port: serial.SerialBase | None = None) -> CaptureResult:
+    """Capture into the (new, empty) folder `out`. The port is opened before
+    anything is written, so a port that does not exist leaves nothing behind."""
+    out = Path(out)
+    check_out(out)
+    ser = port or open_port(rig)
+    out.mkdir(parents=True, exist_ok=True)
+    start, t0 = now_iso(), time.monotonic()
+    source = f"capture from {rig.port.url} ({rig.port.protocol})"
+    dec = Decoder(rig.port.protocol, rig.n)
+    writer = Writer(out, rig, source, start_time=start)
+    stats, pending = SeqStats(), []
+    raw = open(out / RAW, "ab")
+    ended, message = "seconds", ""
+
+    def checkpoint(status: str) -> dict:
+        frames = Frames.concat(pending, rig.n)
+        pending.clear()
+        writer.append(frames)
+        stats.update(frames.seq, frames.t_us)
+        s = summary_record(dec.counters, stats.record(), start, status, source, time.monotonic() - t0)
+        write_json(out / SUMMARY, s)
+        return s
+
+    summary = checkpoint("capturing")
+    last = time.monotonic()
+    try:
+        while True:
+            now = time.monotonic()
+            if seconds is not None and now - t0 >= seconds:
+                break
+            if stop is not None and stop.is_set():
+                ended = "stopped"
+                break
+            data = ser.read(READ_SIZE)
+            if data:
+                raw.write(data)
+                raw.flush()                       # to the OS before anything else: survives kill -9
+                pending.append(dec.feed(data))
+            if now - last >= 1.0:
+                os.fsync(raw.fileno())
+                summary = checkpoint("capturing")
+                last = now
+                if progress:
+                    progress(progress_line(summary, now - t0))
+    except KeyboardInterrupt:
+        ended, message = "interrupted", "stopped by Ctrl-C"
+    except (serial.SerialException, OSError) as exc:
+        ended = "port vanished"
+        message = (f"port {rig.port.url} vanished after {time.monotonic() - t0:.1f} s ({str(exc).splitlines()[0]}); "
+                   f"everything received is kept in {out}")
+    finally:
+        raw.flush()
+        os.fsync(raw.fileno())
+        raw.close()
+        try:
+            ser.close()
+        except Exception:
+            pass
+    pending.append(dec.flush())
+    summary = checkpoint({"seconds": "complete", "stopped": "complete"}.get(ended, ended))
+    writer.close()
+    if progress:
+        progress(progress_line(summary, summary["seconds"]))
+    return CaptureResult(out, summary, ended, message or f"captured {summary['frames']} frames in {out}")
+
+
+def print_progress(line: str) -> None:
+    print("\r" + line, end="", file=sys.stderr, flush=True)

@@ -1,0 +1,228 @@
+"""A simulated rig: the bench's signals, made by the models, as frames.
+
+Physics, per taxel k at (r, c) and per press p (the scene's pressed taxel for
+step, impulse and chirp; random taxels for "presses"):
+  force      F_p(t): the commanded force through the actuator's roll-off (a
+             second-order Butterworth low-pass, corner `actuator_Hz`);
+  charge     model "lumped": Q_k = q_per_N * g_k * sum_p W[p, k] F_p, with q_per_N the
+             lumped model's short-circuit charge per newton at 1 Hz (`lumped_model(scene)`;
+             its resonances are above 10 kHz, so it is quasi-static at the bench's
+             rates), W the FEM's crosstalk weights (studies.measure.crosstalk) and
+             g_k a per-taxel gain spread (log-normal, `gain_spread`);
+             model "fem": the FEM transient (Newmark, electrodes shorted: fem.timestep)
+             of the scene under the rolled-off force on its pressed taxel gives the
+             short-circuit charge of every modelled electrode; a 2D scene models the
+             pressed row, and the other rows get W1[pressed row, row] of it. The FEM
+             charge is about 4.5 x the lumped one for the thesis taxel (lateral flow,
+             README); step, impulse and chirp only;
+  readout    the rig's conditioning of taxel k with its time constant scaled by
+             a per-taxel factor s_k (log-normal, `tau_spread`; the thesis measured
+             1.7 s and 3.1 s on two PZT taxels at 500 MOhm): open V = -Q / C_p;
+             resistor V/Q = -sR/(1 + sRC_p), tau = R C_p; charge amplifier
+             V/Q = -(1/C_f) sR_fC_f/(1 + sR_fC_f) / (1 + sR_i(C_p + C_c)), tau = R_f C_f;
+             bilinear-discretised at the rig's rate; then the notch (fem.circuits.notch_in_time);
+  ADC        volts = V * gain + white noise + 50 Hz hum with its 3rd and 5th
+             harmonics + baseline drift; the load cell F * sensitivity + its noise;
+             quantised to the rig's ADC (16 bits over +-10 V in the thesis rig) and clipped.
+Frames: seq from `seq0`, t_us from `t0_us` at the nominal rate with 1 us clock jitter
+(both wrap). The truth (forces, per-taxel parameters, clean signals) is kept.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Literal
+
+import numpy as np
+from scipy import signal
+
+from taxel.fem.circuits import notch_in_time
+from taxel.scene import Scene
+from taxel.studies.measure.crosstalk import profile, weights
+from taxel.studies.measure.protocol import Frames
+from taxel.studies.measure.rig import Rig
+
+Input = Literal["step", "impulse", "chirp", "presses"]
+INPUTS = ("step", "impulse", "chirp", "presses")
+
+
+@dataclass
+class Settings:
+    input: Input = "step"
+    seconds: float = 10.0
+    amplitude: float | None = None     # N; default: the scene's load.force
+    onset: float = 0.5                 # s: when the step, the first impulse or the chirp starts
+    actuator_Hz: float = 150.0
+    tau_spread: float = 0.3            # log-normal sigma of the time-constant factor
+    gain_spread: float = 0.1
+    noise_V: float = 1e-3              # white noise at the ADC, rms
+    hum_V: tuple[float, float, float] = (5e-3, 1.5e-3, 0.5e-3)   # 50, 150, 250 Hz amplitudes at the ADC
+    drift_V: float = 20e-3             # baseline drift, rms over the record
+    force_noise_N: float = 5e-3        # load-cell noise, rms
+    seed: int = 0
+    seq0: int = 0
+    t0_us: int = 0
+    crosstalk: bool = True             # FEM crosstalk weights (else none)
+    model: Literal["lumped", "fem"] = "lumped"
+
+
+@dataclass
+class Truth:
+    """What the simulator knows and the capture does not (saved beside the stream)."""
+
+    t: np.ndarray                      # (N,) s
+    force_command: np.ndarray          # (N, P) N per press position
+    force: np.ndarray                  # (N,) N total on the sensor, after the actuator roll-off
+    charge: np.ndarray                 # (N, taxels) C short-circuit charge into each taxel's chain
+    clean_volts: np.ndarray            # (N, n) at the ADC, before noise and quantisation
+    frames: Frames                     # as sent (before any corruption)
+    params: dict = field(default_factory=dict)
+
+
+def command(s: Settings, rate: float, n_press: int, centre: int, rng) -> tuple[np.ndarray, np.ndarray, list]:
+    """(t, F (N, n_press), presses): the commanded force at each press position."""
+    t = np.arange(int(round(s.seconds * rate))) / rate
+    F = np.zeros((len(t), n_press))
+    A = s.amplitude
+    presses = []
+    if s.input == "step":
+        rise = 5e-3
+        F[:, centre] = A * np.clip((t - s.onset) / rise, 0, 1)
+        presses.append({"t": s.onset, "position": centre, "force_N": A, "rise_s": rise})
+    elif s.input == "impulse":
+        width = 10e-3
+        for t0 in np.arange(s.onset, s.seconds - width, 2.0):
+            on = (t >= t0) & (t < t0 + width)
+            F[on, centre] += A * np.sin(np.pi * (t[on] - t0) / width)
+            presses.append({"t": float(t0), "position": centre, "force_N": A, "width_s": width})
+    elif s.input == "chirp":
+        f0, f1, T, t0 = 0.0, 100.0, min(8.0, s.seconds - s.onset), s.onset
+        tau = np.clip(t - t0, 0, T)
+        phase = 2 * np.pi * (f0 * tau + (f1 - f0) * tau ** 2 / (2 * T))
+        on = (t >= t0) & (t <= t0 + T)
+        F[on, centre] = 0.5 * A * (1 - np.cos(phase[on]))
+        presses.append({"t": t0, "position": centre, "force_N": A, "chirp_Hz": [f0, f1], "duration_s": T})
+    else:
+        t0, edge = s.onset, 20e-3
+        while t0 < s.seconds - 0.5:
+            pos, dur, amp = int(rng.integers(n_press)), float(rng.uniform(0.2, 0.4)), float(rng.uniform(0.3, 1.5) * A)
+            x = np.clip(np.minimum(t - t0, t0 + dur - t) / edge, 0, 1)
+            F[:, pos] += amp * 0.5 * (1 - np.cos(np.pi * x))
+            presses.append({"t": round(t0, 6), "position": pos, "force_N": amp, "duration_s": dur})
+            t0 += dur + float(rng.uniform(0.2, 0.5))
+    return t, F, presses
+
+
+def fem_charges(scene: Scene, t: np.ndarray, force: np.ndarray) -> tuple[np.ndarray, list[str]]:
+    """Short-circuit charges (nt, na) of the scene's electrodes under `force` (N) on its load, by FEM transient."""
+    from taxel.analyses import problem
+    from taxel.fem import dynmodel, timestep
+    dm = dynmodel.model(problem(scene), short=True)
+    tr = timestep.transient(dm, t, force)
+    return tr.Q, list(tr.names)
+
+
+def _chain(cond, C_p: float, factor: float):
+    """(num, den) of V/Q for one taxel's conditioning with its time constant scaled."""
+    if cond.circuit == "open":
+        return [-1.0 / C_p], [1.0], None
+    if cond.circuit == "resistor":
+        R = cond.R * factor
+        return [-R, 0.0], [R * C_p, 1.0], R * C_p
+    tf = cond.R_f * cond.C_f * factor
+    num = [-tf / cond.C_f, 0.0]
+    den = np.polymul([tf, 1.0], [cond.R_i * (C_p + cond.C_c), 1.0])
+    return num, den, tf
+
+
+def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
+    from taxel.analyses import lumped_model
+    rng = np.random.default_rng(s.seed)
+    rate = rig.sampling.rate
+    chans = rig.ordered()
+    taxel_ch = [c for c in chans if c.kind == "taxel"]
+    taxels = [c.taxel for c in taxel_ch]
+    arr = scene.array
+    rows, cols = (arr.rows, arr.cols) if arr is not None else (1, 1)
+    positions = [(r, c) for r in range(rows) for c in range(cols)]
+    centre = positions.index(tuple(scene.load.taxel)) if tuple(scene.load.taxel) in positions else 0
+    s.amplitude = s.amplitude if s.amplitude is not None else float(scene.load.force or 1.0)
+    t, Fcmd, presses = command(s, rate, len(positions), centre, rng)
+    sos = signal.butter(2, min(s.actuator_Hz, 0.45 * rate), fs=rate, output="sos")
+    F = signal.sosfilt(sos, Fcmd, axis=0)
+    model = lumped_model(scene)
+    q_per_N = float((model.Q_sc([1.0])[0] / model.force).real)
+    W1 = profile(scene) if s.crosstalk else np.eye(cols)
+    Wm = np.array([weights(W1, p, taxels) for p in positions])      # (P, taxels)
+    gain = np.exp(s.gain_spread * rng.standard_normal(len(taxels)))
+    tau_f = np.exp(s.tau_spread * rng.standard_normal(len(taxels)))
+    if s.model == "fem":
+        if s.input == "presses":
+            raise ValueError("the FEM transient drives the scene's pressed taxel: use --input step, impulse or "
+                             "chirp, or the lumped model for presses")
+        Qe, names = fem_charges(scene, t, F[:, centre])
+        pr = positions[centre][0]
+        Q = np.zeros((len(t), len(taxels)))
+        for k, (r, c) in enumerate(taxels):
+            if f"taxel_{r}_{c}" in names:                       # modelled (3D, or the pressed row)
+                Q[:, k] = Qe[:, names.index(f"taxel_{r}_{c}")]
+            elif f"taxel_{pr}_{c}" in names and r < len(W1) and pr < len(W1):
+                Q[:, k] = Qe[:, names.index(f"taxel_{pr}_{c}")] * W1[pr, r]
+        Q *= gain[None, :]
+    else:
+        Q = q_per_N * (F @ Wm) * gain[None, :]
+    chains = rig.chains()
+    clean = np.zeros((len(t), rig.n))
+    per_taxel = {}
+    for k, ch in enumerate(taxel_ch):
+        cond = chains[ch.name]
+        num, den, tau = _chain(cond, model.C_p, tau_f[k])
+        b, a = signal.bilinear(num, den, fs=rate)
+        v = signal.lfilter(b, a, Q[:, k])
+        if cond.notch:
+            v = notch_in_time(t, v[:, None], cond.readout())[:, 0]
+        clean[:, ch.index] = v * ch.volts_per_si
+        per_taxel[ch.name] = {"taxel": list(ch.taxel), "gain_factor": float(gain[k]), "tau_factor": float(tau_f[k]),
+                              "tau_s": tau, "circuit": cond.circuit, "notch": cond.notch}
+    force_ch = [c for c in chans if c.kind == "force"]
+    for c in force_ch:
+        clean[:, c.index] = F.sum(axis=1) * c.volts_per_si
+    volts = clean.copy()
+    for c in chans:
+        if c.kind == "taxel":
+            ph = rng.uniform(0, 2 * np.pi, 3)
+            hum = sum(h * np.sin(2 * np.pi * f * t + p) for h, f, p in zip(s.hum_V, (50, 150, 250), ph))
+            walk = np.cumsum(rng.standard_normal(len(t)))
+            walk = signal.sosfilt(signal.butter(1, 0.5, fs=rate, output="sos"), walk)
+            walk = s.drift_V * (walk - walk.mean()) / (walk.std() or 1.0)
+            volts[:, c.index] += s.noise_V * rng.standard_normal(len(t)) + hum + walk
+        else:
+            volts[:, c.index] += s.force_noise_N * c.volts_per_si * rng.standard_normal(len(t))
+    lo, hi = rig.adc.code_limits
+    counts = np.clip(np.round((volts - rig.adc.offset) / rig.adc.lsb), lo, hi).astype(np.int32)
+    k = np.arange(len(t))
+    jitter = np.round(rng.standard_normal(len(t))).astype(np.int64)
+    seq = ((s.seq0 + k) % (1 << 16)).astype(np.uint16)
+    t_us = ((s.t0_us + np.round(k * 1e6 / rate).astype(np.int64) + jitter) % (1 << 32)).astype(np.uint32)
+    params = {"settings": asdict(s), "rate_Hz": rate, "q_per_N_C": q_per_N, "C_p_F": model.C_p,
+              "crosstalk_W1": W1.tolist(), "positions": [list(p) for p in positions], "presses": presses,
+              "taxels": per_taxel, "channels": rig.names, "clipped_samples": int(np.sum((counts == lo) | (counts == hi)))}
+    params["model"] = s.model
+    return Truth(t, Fcmd, F.sum(axis=1), Q, clean, Frames(seq, t_us, counts), params)
+
+
+def save_truth(truth: Truth, folder, extra: dict | None = None) -> None:
+    """truth.npz (arrays) and truth.json (parameters) in `folder`."""
+    import json
+    from pathlib import Path
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    arrays = {"t": truth.t, "force_command": truth.force_command, "force": truth.force, "charge": truth.charge,
+              "clean_volts": truth.clean_volts, "seq": truth.frames.seq, "t_us": truth.frames.t_us,
+              "counts": truth.frames.counts}
+    for k, v in (extra or {}).items():
+        if isinstance(v, np.ndarray):
+            arrays[k] = v
+    np.savez_compressed(folder / "truth.npz", **arrays)
+    meta = {**truth.params, **{k: v for k, v in (extra or {}).items() if not isinstance(v, np.ndarray)}}
+    (folder / "truth.json").write_text(json.dumps(meta, indent=1))

@@ -1,0 +1,167 @@
+"""`taxel measure ...`: capture, import, export, rebuild and simulate measurements.
+
+    taxel measure capture RIG [--seconds S] --out DIR [--quiet]
+    taxel measure import FILE --rig RIG --out DIR [--format raw|csv|tdms|lvm]
+    taxel measure export DIR --csv FILE [--raw]
+    taxel measure rebuild DIR
+    taxel measure simulate RIG --scene SCENE --input step|impulse|chirp|presses
+                           [--port URL | --pty | --to FILE] [--corrupt P] [--seconds S] [--truth DIR]
+
+RIG is a rig TOML file or a built-in rig (thesis-bench). Bad input: one line, exit 2.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def register(sub) -> None:
+    p = sub.add_parser("measure", help="measured data: capture from a serial port, import, export, simulate a rig")
+    msub = p.add_subparsers(dest="measure_command", required=True)
+    q = msub.add_parser("capture", help="capture a serial stream into a measurement folder")
+    q.add_argument("rig", help="rig TOML file or built-in rig name")
+    q.add_argument("--seconds", type=float, default=None, help="stop after S seconds (default: Ctrl-C or port end)")
+    q.add_argument("--out", required=True, metavar="DIR", help="a new measurement folder")
+    q.add_argument("--url", default=None, help="override the rig's port (a device path or pyserial URL)")
+    q.add_argument("--quiet", action="store_true", help="no live progress")
+    q.set_defaults(run=_capture)
+    q = msub.add_parser("import", help="a raw dump, CSV, TDMS or LVM file into a measurement folder")
+    q.add_argument("file")
+    q.add_argument("--rig", required=True)
+    q.add_argument("--out", required=True, metavar="DIR")
+    q.add_argument("--format", choices=["raw", "csv", "tdms", "lvm"], default=None, help="default: from the suffix")
+    q.set_defaults(run=_import)
+    q = msub.add_parser("export", help="a measurement folder to CSV (SI, or counts with --raw)")
+    q.add_argument("folder")
+    q.add_argument("--csv", required=True, metavar="FILE")
+    q.add_argument("--raw", action="store_true", help="ADC counts instead of SI values")
+    q.set_defaults(run=_export)
+    q = msub.add_parser("rebuild", help="decode raw.bin again into measurement.h5 and summary.json")
+    q.add_argument("folder")
+    q.set_defaults(run=_rebuild)
+    q = msub.add_parser("simulate", help="a virtual rig streaming the models' signals")
+    q.add_argument("rig")
+    q.add_argument("--scene", required=True, help="scene file or built-in (e.g. thesis-pzt-3x3-2d)")
+    q.add_argument("--input", required=True, choices=["step", "impulse", "chirp", "presses"])
+    where = q.add_mutually_exclusive_group(required=True)
+    where.add_argument("--port", metavar="URL", help="serve on a loopback TCP port: socket://127.0.0.1:PORT")
+    where.add_argument("--pty", action="store_true", help="serve on a new pseudo-terminal (its path is printed)")
+    where.add_argument("--to", metavar="FILE", help="write the byte stream to a file")
+    q.add_argument("--corrupt", type=float, default=0.0, metavar="P", help="flip or drop each byte with probability P")
+    q.add_argument("--seconds", type=float, default=10.0)
+    q.add_argument("--seed", type=int, default=0)
+    q.add_argument("--seq0", type=int, default=0, help="first seq (wrap-around tests)")
+    q.add_argument("--t0-us", type=int, default=0, help="first t_us (wrap-around tests)")
+    q.add_argument("--no-crosstalk", action="store_true", help="skip the FEM crosstalk solves")
+    q.add_argument("--model", choices=["lumped", "fem"], default="lumped",
+                   help="the taxel's charge: the lumped model with FEM crosstalk, or an FEM transient")
+    q.add_argument("--linger", type=float, default=1.0, help="seconds the port stays open after the stream")
+    q.add_argument("--delay", type=float, default=0.0, help="--pty: seconds before the stream starts (time to "
+                   "start the capture: opening a port empties its input buffer)")
+    q.add_argument("--truth", metavar="DIR", help="where truth.npz and truth.json go (default: beside --to, "
+                   "else out/simulate-INPUT)")
+    q.set_defaults(run=_simulate)
+
+
+def _rig(args, path):
+    from taxel.studies.measure.rig import load_rig, parse_rig
+    rig = load_rig(path)
+    if getattr(args, "url", None):
+        rig = parse_rig({**rig.model_dump(), "port": {**rig.port.model_dump(), "url": args.url}}, si_numbers=True)
+    return rig
+
+
+def _capture(args):
+    from taxel.studies.measure.capture import capture, check_out, open_port, print_progress
+    rig = _rig(args, args.rig)
+    if args.seconds is not None and not args.seconds > 0:
+        raise ValueError(f"--seconds must be positive, got {args.seconds}")
+    check_out(Path(args.out))
+    port = open_port(rig)
+    print(f"capturing {rig.port.url} ({rig.port.protocol}, {rig.n} channels) into {args.out}; Ctrl-C stops",
+          file=sys.stderr)
+    res = capture(rig, Path(args.out), seconds=args.seconds, progress=None if args.quiet else print_progress,
+                  port=port)
+    if not args.quiet:
+        print(file=sys.stderr)
+    if res.ended == "port vanished":
+        print(f"taxel: {res.message}", file=sys.stderr)
+    s = res.summary
+    print(f"{s['frames']} frames, {s['crc_failures']} CRC failures, {s['seq_gaps']} seq gaps "
+          f"({s['frames_lost']} frames lost), {s['resyncs']} resyncs, rate "
+          f"{(s['rate_Hz'] or 0):.2f} Hz, jitter {(s['jitter_us'] or 0):.1f} us; {res.folder}")
+    return 1 if res.ended == "port vanished" else 0
+
+
+def _import(args):
+    from taxel.studies.measure.importers import import_file
+    rig = _rig(args, args.rig)
+    m = import_file(args.file, rig, args.out, args.format)
+    print(f"{len(m)} frames of {rig.n} channels from {args.file} in {m.folder}")
+
+
+def _export(args):
+    from taxel.studies.measure.export import export_csv
+    n = export_csv(args.folder, args.csv, raw=args.raw)
+    print(f"{n} rows written to {args.csv}")
+
+
+def _rebuild(args):
+    from taxel.studies.measure.folder import rebuild
+    m = rebuild(args.folder)
+    s = m.summary
+    print(f"{len(m)} frames rebuilt from raw.bin; {s['crc_failures']} CRC failures, {s['seq_gaps']} seq gaps, "
+          f"{s['resyncs']} resyncs")
+
+
+def _simulate(args):
+    import numpy as np
+
+    from taxel import api
+    from taxel.studies.measure import wire as W
+    from taxel.studies.measure.protocol import encode_frames
+    from taxel.studies.measure.simulate import Settings, save_truth, simulate
+    rig = _rig(args, args.rig)
+    scene = api.load(args.scene)
+    if not 0 <= args.corrupt < 1:
+        raise ValueError(f"--corrupt must be a probability in [0, 1), got {args.corrupt}")
+    if not args.seconds > 0:
+        raise ValueError(f"--seconds must be positive, got {args.seconds}")
+    url = None
+    if args.port:
+        host, _, port = args.port.removeprefix("socket://").removeprefix("tcp://").rpartition(":")
+        if host not in ("127.0.0.1", "localhost") or not port.isdigit():
+            raise ValueError(f"--port {args.port!r}: give a loopback URL such as socket://127.0.0.1:5000")
+        url = int(port)
+    truth_dir = Path(args.truth) if args.truth else (Path(args.to).with_suffix(".truth") if args.to
+                                                     else Path("out") / f"simulate-{args.input}")
+    s = Settings(input=args.input, seconds=args.seconds, seed=args.seed, seq0=args.seq0, t0_us=args.t0_us,
+                 crosstalk=not args.no_crosstalk, model=args.model)
+    truth = simulate(rig, scene, s)
+    chunks = encode_frames(truth.frames, rig.port.protocol)
+    wire = W.corrupt(chunks, args.corrupt, np.random.default_rng(args.seed + 1))
+    save_truth(truth, truth_dir, {"intact": wire.intact, "frame_ends": wire.ends, "flips": wire.flips,
+                                  "drops": wire.drops, "corrupt": args.corrupt, "protocol": rig.port.protocol})
+    print(f"{len(chunks)} frames ({len(wire.data)} bytes, {wire.flips} flipped, {wire.drops} dropped, "
+          f"{int(wire.intact.sum())} intact); truth in {truth_dir}", flush=True)
+    if args.to:
+        try:
+            Path(args.to).parent.mkdir(parents=True, exist_ok=True)
+            Path(args.to).write_bytes(wire.data)
+        except OSError as exc:
+            raise ValueError(f"--to {args.to}: cannot write it ({exc.strerror or exc})") from None
+        print(f"wrote {args.to}")
+        return 0
+    player = W.Player.pty(wire, rig.sampling.rate, args.linger, delay=args.delay) if args.pty else \
+        W.Player.tcp(wire, rig.sampling.rate, url, args.linger)
+    print(f"serving on {player.url} at {rig.sampling.rate:g} frames/s; Ctrl-C stops", flush=True)
+    try:
+        while not player.done.wait(0.2):
+            pass
+    except KeyboardInterrupt:
+        print("stopped by Ctrl-C", file=sys.stderr)
+    finally:
+        player.stop()
+    print(f"sent {player.sent} bytes")
+    return 0
