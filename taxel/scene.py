@@ -195,7 +195,7 @@ class Scene(Strict):
             raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
         if ld.kind != "pressure" and ld.force is None:
             raise ValueError(f"load.force is missing for kind = '{ld.kind}'; e.g. \"0.5 N\"")
-        driven = any(not isinstance(electrode_state(v), str) for v in self.electrodes.values())
+        driven = any(not isinstance(electrode_state(v, f"electrodes.{k}"), str) for k, v in self.electrodes.items())
         if not driven and ld.kind != "pressure" and ld.force == 0:
             raise ValueError("load.force = 0 N and no electrode at a voltage: nothing drives the model; "
                              "give the press's force, e.g. \"1 N\"")
