@@ -157,21 +157,10 @@ def _geometry(scene) -> dict:
 
 def magnitude(v, unit=None, what=""):
     """(SI magnitude, unit) of a bound or start value; one-line OptimizeError otherwise."""
-    if isinstance(v, (int, float)) and not isinstance(v, bool):
-        return float(v), unit or ""
     try:
-        q = U.quantity(v)
-    except Exception:
-        raise OptimizeError(f"{what}: cannot read {v!r} as a quantity") from None
-    if unit is None:
-        unit = f"{q.units:~}"
-    try:
-        x = float(q.to(unit).magnitude)
-    except Exception:
-        raise OptimizeError(f"{what}: unit mismatch: {v!r} is not in {unit}") from None
-    if not math.isfinite(x):
-        raise OptimizeError(f"{what}: {v!r} is not a finite number")
-    return x, unit
+        return U.in_unit(v, unit or None)
+    except U.UnitError as exc:
+        raise OptimizeError(f"{what}: {exc}") from None
 
 
 def load_problem(path, out: Path | None = None) -> Problem:

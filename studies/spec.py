@@ -191,24 +191,11 @@ def _same_unit(name, *values, unit=None):
     """Magnitudes of quantities in one unit (that of the first, or `unit`)."""
     out = []
     for v in values:
-        if isinstance(v, (int, float)) and not isinstance(v, bool):
-            if unit not in (None, ""):
-                raise StudyError(f"parameters '{name}': {v!r} has no unit but the range is in {unit}; "
-                                 f"write e.g. \"{v} {unit}\"")
-            out.append(float(v))
-            unit = ""
-            continue
         try:
-            q = units.quantity(v)
-        except Exception:
-            raise StudyError(f"parameters '{name}': cannot read {v!r} as a quantity") from None
-        if unit is None:
-            unit = f"{q.units:~}"
-        try:
-            out.append(float(q.to(unit).magnitude) if unit else float(q))
-        except Exception:
-            raise StudyError(f"parameters '{name}': unit mismatch: {v!r} is not in {unit or 'plain numbers'}") \
-                from None
+            x, unit = units.in_unit(v, unit)
+        except units.UnitError as exc:
+            raise StudyError(f"parameters '{name}': {exc}") from None
+        out.append(x)
     return out, unit
 
 

@@ -72,6 +72,31 @@ def _check(x: float, value, positive: bool, nonnegative: bool) -> float:
     return x
 
 
+def in_unit(value, unit: str | None = None) -> tuple[float, str]:
+    """(magnitude, unit) of a value in `unit`, or in its own unit when `unit` is
+    None ("" for a plain number). Raises UnitError (one line) for text that is not
+    a quantity, a unit that does not convert, a number where a unit is expected,
+    or a value that is not finite."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if unit not in (None, ""):
+            raise UnitError(f"{value!r} has no unit but {unit} is expected; write e.g. \"{value} {unit}\"")
+        x, unit = float(value), ""
+    else:
+        try:
+            q = quantity(value)
+        except Exception:
+            raise UnitError(f"cannot read {value!r} as a quantity") from None
+        if unit is None:
+            unit = f"{q.units:~}" if hasattr(q, "units") else ""
+        try:
+            x = float(q.to(unit).magnitude) if unit else float(q)
+        except Exception:
+            raise UnitError(f"unit mismatch: {value!r} is not in {unit or 'plain numbers'}") from None
+    if not math.isfinite(x):
+        raise UnitError(f"{value!r} is not a finite number")
+    return x, unit
+
+
 def magnitude(value):
     """The SI number in a value such as "0.5 mm", a number as is, anything else unchanged."""
     if isinstance(value, (int, float)) and not isinstance(value, bool):
