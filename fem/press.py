@@ -1,0 +1,321 @@
+"""Pressing with a rigid indenter: displacement and force control of the
+contact problem (fem.contact), monolithic with the piezo and the (linear or Yeoh)
+silicone.
+
+Equilibrium at a travel d (reduced unknowns of fem.constraints.reduction, grounded
+electrodes eliminated, open electrodes one potential each with zero net charge):
+
+    r(x) = A_lin x + R_yeoh(x) + R_c(x; d, lambda) = 0
+
+solved by semi-smooth Newton (the contact active set re-evaluated at every
+iterate, tangent A_lin + K_yeoh + K_c consistent, fem.contact), backtracking line
+search on the scaled residual (and J > 0 in the Yeoh silicone). Convergence:
+|D r| / |D R_c| < tol. Around it the Uzawa loop updates lambda <- t_N until the
+largest penetration is below `gap_tol` x travel (augmented Lagrangian;
+method = "penalty" does one Newton solve with lambda = 0 and reports the
+penetration it leaves).
+
+Displacement control: travel increments from the last converged state (halved on
+failure, grown by 1.5 after an easy step). Force control: the travel that gives
+the requested force, an outer secant iteration on F(d) (regula falsi once
+bracketed), each trial warm-started from the last converged state. Every
+converged state is a point of the force-travel / voltage-force curve.
+
+Failures are raised as ContactError, naming the cause: Newton not converging,
+the active set cycling (a set seen two iterates ago comes back), the augmented
+Lagrangian not reaching the penetration tolerance, a penalty too low
+(penetration above tolerance with method = "penalty"), a penalty too high (the
+scaled linear solve loses accuracy: relative residual above 1e-6).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from taxel.fem import hyperelastic, linalg
+from taxel.fem.assembly import System
+from taxel.fem.constraints import reduction
+from taxel.fem.contact import ContactState, Indenter, Surface
+from taxel.fem.newton import yeoh_terms
+from taxel.fem.static import Solution, results
+
+
+class ContactError(RuntimeError):
+    """The press could not be solved; the message says why; `.result` has the path so far."""
+
+    def __init__(self, message, result=None):
+        super().__init__(message)
+        self.result = result
+
+
+@dataclass
+class PressPoint:
+    travel: float                 # m
+    force: float                  # N, on the indenter
+    voltages: dict                # V, open electrodes
+    area: float                   # m^2 in contact (reference)
+    penetration: float            # m, largest
+    iterations: int               # Newton iterations (all Uzawa passes)
+    uzawa: int                    # multiplier updates
+
+
+@dataclass
+class ContactResult:
+    indenter: Indenter
+    penalty: float                          # Pa/m
+    method: str
+    points: list[PressPoint] = field(default_factory=list)   # every converged state, in order
+    state: ContactState | None = field(default=None, repr=False)   # the final contact state
+    failed_trials: int = 0
+    message: str = ""
+
+    @property
+    def curve(self) -> np.ndarray:
+        """(travel, force) of the converged states, sorted by travel."""
+        a = np.array([(p.travel, p.force) for p in self.points])
+        return a[np.argsort(a[:, 0])] if len(a) else a
+
+    @property
+    def total_iterations(self) -> int:
+        return sum(p.iterations for p in self.points)
+
+
+@dataclass
+class Options:
+    penalty: float | None = None    # Pa/m; default penalty_factor x mu / h
+    penalty_factor: float = 100.0
+    method: str = "augmented"       # augmented | penalty
+    gap_tol: float = 1e-3           # largest penetration / travel
+    tol: float = 1e-9               # Newton, scaled relative residual
+    max_iter: int = 25
+    max_uzawa: int = 40
+    force_tol: float = 1e-3         # force control: |F - target| / target
+    first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
+    active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
+    intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
+
+
+class Press:
+    """One system pressed by one indenter; `travel(d)` and `force(F)` move it."""
+
+    def __init__(self, sy: System, ind: Indenter, method="auto", opts: Options | None = None):
+        self.sy, self.ind, self.method = sy, ind, method
+        self.o = opts or Options()
+        tm = sy.tm
+        p = tm.mesh.p
+        top = tm.facets["top"]
+        self.z_top = float(p[-1, np.unique(tm.mesh.facets[:, top])].max())
+        self.height = self.z_top - float(p[-1].min())
+        ub = next(iter(sy.ubases.values()))
+        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder)
+        self.red = reduction(sy, eliminate_grounded=True)
+        if self.o.penalty is None:
+            mu = max(lw.mu for r, lw in sy.laws.items() if r in sy.soft)
+            h = float(np.min(np.linalg.norm(np.diff(p[:, tm.mesh.facets[:, top]], axis=1), axis=0)))
+            self.eps = self.o.penalty_factor * mu / h
+        else:
+            self.eps = self.o.penalty
+        self.x = np.zeros(sy.A.shape[0])
+        self.lam = np.zeros(self.surf.shape)
+        self.d = 0.0
+        self.res = ContactResult(ind, self.eps, self.o.method)
+        self.solver = None
+
+    # ------------------------------------------------------------ one equilibrium
+    def _residual(self, x, d, lam, tangent=True, frozen=None):
+        sy, P = self.sy, self.red.P
+        u = x[sy.offsets["u"]]
+        r_y, K_y = yeoh_terms(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
+        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent)
+        rc = np.zeros_like(x)
+        rc[sy.offsets["u"]] = self.surf.residual(st)
+        r = P.T @ (sy.A @ x + r_y + rc)
+        ref = P.T @ rc
+        if not tangent:
+            return r, ref, st, None
+        Kc = self.surf.tangent(st, self.eps, frozen)
+        n = sy.A.shape[0]
+        Kc_full = _embed(Kc, sy.offsets["u"].start, n)
+        K = (P.T @ (sy.A + K_y + Kc_full) @ P).tocsc()
+        return r, ref, st, K
+
+    def _min_j(self, x):
+        u = x[self.sy.offsets["u"]]
+        return min((hyperelastic.min_jacobian(self.sy.ubases[r], u, self.sy.kin) for r in self.sy.yeoh),
+                   default=1.0)
+
+    def _newton(self, x, d, lam):
+        o, P = self.o, self.red.P
+        seen, frozen = [], None
+        for it in range(o.max_iter):
+            r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
+            if not o.active_set_update and frozen is None:
+                frozen = st.active.copy()
+                r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
+            self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method)
+            D = solver.D
+            nr = np.linalg.norm(D * r)
+            norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
+            if norm < o.tol:
+                return x, st, it
+            seen.append(st.active.tobytes())
+            dy, lres = solver(-r)
+            if float(np.max(lres)) > 1e-6:
+                raise ContactError(f"penalty too high: the scaled linear solve's relative residual is "
+                                   f"{float(np.max(lres)):.1e} (> 1e-6, ill-conditioned) with penalty "
+                                   f"{self.eps:.3g} Pa/m; lower it", self.res)
+            dx = P @ dy[:, 0]
+            alpha = 1.0
+            while True:
+                x_new = x + alpha * dx
+                if self._min_j(x_new) > 0:
+                    r_new, *_ = self._residual(x_new, d, lam, tangent=False)
+                    if np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r) or alpha <= 1 / 64:
+                        break
+                elif alpha <= 1 / 64:
+                    raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", self.res)
+                alpha /= 2
+            x = x_new
+        last = seen[-6:]
+        if len(set(last)) <= 2 and len(set(last)) < len(last) and last[-1] != last[-2]:
+            raise ContactError(f"the contact active set cycles between two sets at travel {d:.4g} m "
+                               f"({o.max_iter} Newton iterations, residual {norm:.2e}): keep the active-set "
+                               "update in the tangent, or take smaller travel steps", self.res)
+        raise ContactError(f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations "
+                           f"(residual {norm:.2e})", self.res)
+
+    def solve_at(self, d):
+        """Equilibrium at travel d from the last converged state; appends a PressPoint."""
+        o = self.o
+        x, lam, its = self.x.copy(), self.lam.copy(), 0
+        for k in range(o.max_uzawa + 1):
+            x, st, it = self._newton(x, d, lam)
+            its += it
+            tol = o.gap_tol * max(abs(d), 1e-12)
+            err = float(np.abs(st.tn - lam).max()) / self.eps   # m: penetration, or gap under pressure
+            if o.method == "penalty":
+                if st.penetration > tol:
+                    raise ContactError(f"penalty too low: penetration {st.penetration:.3g} m is "
+                                       f"{100 * st.penetration / max(abs(d), 1e-300):.2g} % of the travel "
+                                       f"(tolerance {100 * o.gap_tol:g} %); raise the penalty "
+                                       f"({self.eps:.3g} Pa/m) or use the augmented Lagrangian", self.res)
+                break
+            if err <= tol:
+                break
+            lam = st.tn
+        else:
+            raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
+                               f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
+                               self.res)
+        self.x, self.lam, self.d = x, st.tn.copy(), d
+        self.res.state = st
+        V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
+        pt = PressPoint(d, st.force, V, st.area, st.penetration, its, k)
+        self.res.points.append(pt)
+        return pt
+
+    def _try(self, d):
+        """solve_at, restoring the state on failure."""
+        saved = (self.x, self.lam, self.d)
+        try:
+            return self.solve_at(d)
+        except ContactError:
+            self.x, self.lam, self.d = saved
+            self.res.failed_trials += 1
+            raise
+
+    # ------------------------------------------------------------ load control
+    def travel(self, d_target, first=0.25, min_frac=1e-3):
+        """Displacement control to travel d_target."""
+        step = first * (d_target - self.d)
+        while abs(self.d - d_target) > 1e-15 * max(abs(d_target), 1e-300):
+            d = self.d + step if abs(step) < abs(d_target - self.d) else d_target
+            try:
+                pt = self._try(d)
+            except ContactError as exc:
+                if "penalty" in str(exc) or abs(step) / 2 < min_frac * abs(d_target):
+                    raise
+                step /= 2
+                continue
+            if pt.iterations <= 6:
+                step *= 1.5
+        return self.res.points[-1]
+
+    def force(self, F_target, max_trials=40):
+        """Force control: the travel whose force is F_target (secant / regula falsi on F(d))."""
+        o = self.o
+        lo = (self.d, self.res.points[-1].force) if self.res.points else (0.0, 0.0)
+        hi = None
+        d_prev, F_prev = lo
+        d = self.d if self.res.points else o.first_travel * self.height
+        if not self.res.points:
+            d_prev, F_prev = 0.0, 0.0
+        for _ in range(max_trials):
+            try:
+                pt = self._try(d)
+            except ContactError as exc:
+                if "penalty" in str(exc) or abs(d - self.d) < 1e-4 * self.height:
+                    raise
+                d = (self.d + d) / 2
+                continue
+            F = pt.force
+            if abs(F - F_target) <= o.force_tol * F_target:
+                self.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(self.res.points)} states, "
+                                    f"{self.res.total_iterations} Newton iterations")
+                return pt
+            if F < F_target:
+                lo = (d, F)
+            else:
+                hi = (d, F)
+            if hi is None:                      # secant from the last two states, at most 3x the step
+                slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / max(d, 1e-300)
+                d_new = d + (F_target - F) / max(slope, 1e-300)
+                d_new = min(d_new, d + 1.5 * max(d - d_prev, 1e-9 * self.height))
+            else:                               # regula falsi inside the bracket
+                d_new = lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+            d_prev, F_prev = d, F
+            d = d_new
+        raise ContactError(f"force control: {F_target:.4g} N not reached in {max_trials} trials "
+                           f"(last {self.res.points[-1].force:.4g} N)", self.res)
+
+    def solution(self) -> Solution:
+        """The Solution of the final state (voltages open circuit; capacitance and
+        short-circuit charge linearised at it)."""
+        sy, red = self.sy, self.red
+        x = self.x
+        r_y, _ = yeoh_terms(sy, x, with_tangent=False) if sy.yeoh else (0.0, None)
+        r = sy.A @ x + r_y
+        r[sy.offsets["u"]] += self.surf.residual(self.res.state)
+        if self.solver is None:
+            self._residual(x, self.d, self.lam)
+            self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)
+        X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
+        Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
+        sol = results(sy, red, x, r, Cinv, linalg.resolve(self.method, red.n), self.o.tol)
+        sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
+        sol.contact = self.res
+        return sol
+
+
+def _embed(K, start, n):
+    import scipy.sparse as sp
+    K = sp.coo_matrix(K)
+    return sp.csr_matrix((K.data, (K.row + start, K.col + start)), shape=(n, n))
+
+
+def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,
+          path: list[float] | None = None) -> Solution:
+    """Press to the indenter's travel or force (through the intermediate targets of
+    `path`, N or m alike), and return the final Solution with `.contact`."""
+    pr = Press(sy, ind, method, opts)
+    if ind.travel is not None:
+        for d in list(path or []) + [ind.travel]:
+            pr.travel(d)
+        pr.res.message = f"travel {1e3 * ind.travel:.4g} mm: {pr.res.points[-1].force:.4g} N"
+    else:
+        for F in list(path or []) + [ind.force]:
+            pr.force(F)
+    return pr.solution()
