@@ -127,9 +127,11 @@ class ContactState:
     x: np.ndarray          # current positions of the points
     dA: np.ndarray         # reference area weight of each point (m^2, with the model's measure)
 
+    fixed: np.ndarray | None = None     # a fixed active set (fem.press), else t_N > 0
+
     @property
     def active(self) -> np.ndarray:
-        return self.tn > 0
+        return self.tn > 0 if self.fixed is None else self.fixed
 
     @property
     def force(self) -> float:
@@ -187,10 +189,16 @@ class Surface:
             return (nn - curv) * meas(w)
         self._r, self._k = r_c, k_c
 
-    def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True) -> ContactState:
+    def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True, fixed=None) -> ContactState:
+        """The contact state; `fixed` (a boolean per point) fixes the active set: t_N = lambda - eps g
+        there (even if negative) and 0 elsewhere, a smooth problem."""
         x = self.X + np.asarray(self.fb.interpolate(u).value)
         g, n, H = gap(ind, x, self.z_top, travel, with_curvature)
-        return ContactState(g, n, H, np.maximum(lam - eps * g, 0.0), x, self.dA)
+        tn = np.maximum(lam - eps * g, 0.0) if fixed is None else np.where(fixed, lam - eps * g, 0.0)
+        st = ContactState(g, n, H, tn, x, self.dA)
+        if fixed is not None:
+            st.fixed = fixed
+        return st
 
     def residual(self, st: ContactState) -> np.ndarray:
         return asm(self._r, self.fb, tn=st.tn, n=st.n)

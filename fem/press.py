@@ -89,7 +89,7 @@ class Options:
     penalty_factor: float = 100.0
     method: str = "augmented"       # augmented | penalty
     gap_tol: float = 1e-3           # largest penetration / travel
-    tol: float = 1e-9               # Newton, scaled relative residual
+    tol: float = 1e-9               # Newton, scaled relative residual (or round-off: see _newton)
     max_iter: int = 25
     max_uzawa: int = 40
     force_tol: float = 1e-3         # force control: |F - target| / target
@@ -121,15 +121,16 @@ class Press:
         self.x = np.zeros(sy.A.shape[0])
         self.lam = np.zeros(self.surf.shape)
         self.d = 0.0
+        self.prev = None                 # (travel, x) of the state before the last converged one
         self.res = ContactResult(ind, self.eps, self.o.method)
         self.solver = None
 
     # ------------------------------------------------------------ one equilibrium
-    def _residual(self, x, d, lam, tangent=True, frozen=None):
+    def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None):
         sy, P = self.sy, self.red.P
         u = x[sy.offsets["u"]]
         r_y, K_y = yeoh_terms(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
-        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent)
+        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed)
         rc = np.zeros_like(x)
         rc[sy.offsets["u"]] = self.surf.residual(st)
         r = P.T @ (sy.A @ x + r_y + rc)
@@ -149,9 +150,13 @@ class Press:
 
     def _newton(self, x, d, lam):
         o, P = self.o, self.red.P
-        seen, frozen = [], None
+        seen, frozen, fixed, step_rel = [], None, None, 1.0
         for it in range(o.max_iter):
-            r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
+            r, ref, st, K = self._residual(x, d, lam, frozen=frozen, fixed=fixed)
+            key = st.active.tobytes()
+            if fixed is None and o.active_set_update and key in seen[:-1] and key != seen[-1]:
+                fixed = st.active.copy()          # the set came back: finish on it (smooth), Uzawa decides
+                r, ref, st, K = self._residual(x, d, lam, fixed=fixed)
             if not o.active_set_update and frozen is None:
                 frozen = st.active.copy()
                 r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
@@ -159,7 +164,10 @@ class Press:
             D = solver.D
             nr = np.linalg.norm(D * r)
             norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
-            if norm < o.tol:
+            floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
+            if norm < o.tol or floor:            # floor: a full step with the same active set changed x
+                if fixed is not None:              # report the true (non-negative) pressure
+                    st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps)
                 return x, st, it
             seen.append(st.active.tobytes())
             dy, lres = solver(-r)
@@ -172,12 +180,13 @@ class Press:
             while True:
                 x_new = x + alpha * dx
                 if self._min_j(x_new) > 0:
-                    r_new, *_ = self._residual(x_new, d, lam, tangent=False)
+                    r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
                     if np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r) or alpha <= 1 / 64:
                         break
                 elif alpha <= 1 / 64:
                     raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", self.res)
                 alpha /= 2
+            step_rel = alpha * np.linalg.norm(dx) / max(np.linalg.norm(x), 1e-300)
             x = x_new
         last = seen[-6:]
         if len(set(last)) <= 2 and len(set(last)) < len(last) and last[-1] != last[-2]:
@@ -210,6 +219,7 @@ class Press:
             raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
                                f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
                                self.res)
+        self.prev = (self.d, self.x)
         self.x, self.lam, self.d = x, st.tn.copy(), d
         self.res.state = st
         V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
@@ -219,11 +229,11 @@ class Press:
 
     def _try(self, d):
         """solve_at, restoring the state on failure."""
-        saved = (self.x, self.lam, self.d)
+        saved = (self.x, self.lam, self.d, self.prev)
         try:
             return self.solve_at(d)
         except ContactError:
-            self.x, self.lam, self.d = saved
+            self.x, self.lam, self.d, self.prev = saved
             self.res.failed_trials += 1
             raise
 
