@@ -180,12 +180,12 @@ class Surface:
 
         @LinearForm
         def r_c(v, w):
-            return -w.tn * np.einsum("i...,i...->...", w.n, v.value) * meas(w)
+            return -w.tn * np.einsum("i...,i...->...", w.n, v) * meas(w)
 
         @BilinearForm
         def k_c(du, v, w):
-            nn = w.epsH * np.einsum("i...,i...->...", w.n, v.value) * np.einsum("i...,i...->...", w.n, du.value)
-            curv = w.tn * np.einsum("i...,ij...,j...->...", v.value, w.H, du.value)
+            nn = w.epsH * np.einsum("i...,i...->...", w.n, v) * np.einsum("i...,i...->...", w.n, du)
+            curv = w.tn * np.einsum("i...,ij...,j...->...", v, w.H, du)
             return (nn - curv) * meas(w)
         self._r, self._k = r_c, k_c
 
