@@ -95,6 +95,7 @@ class Options:
     force_tol: float = 1e-3         # force control: |F - target| / target
     first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
+    fix_cycling: bool = False       # True: when an active set comes back, finish Newton on it
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
 
 
@@ -154,7 +155,7 @@ class Press:
         for it in range(o.max_iter):
             r, ref, st, K = self._residual(x, d, lam, frozen=frozen, fixed=fixed)
             key = st.active.tobytes()
-            if fixed is None and o.active_set_update and key in seen[:-1] and key != seen[-1]:
+            if o.fix_cycling and fixed is None and o.active_set_update and key in seen[:-1] and key != seen[-1]:
                 fixed = st.active.copy()          # the set came back: finish on it (smooth), Uzawa decides
                 r, ref, st, K = self._residual(x, d, lam, fixed=fixed)
             if not o.active_set_update and frozen is None:
@@ -255,41 +256,52 @@ class Press:
         return self.res.points[-1]
 
     def force(self, F_target, max_trials=40):
-        """Force control: the travel whose force is F_target (secant / regula falsi on F(d))."""
+        """Force control: the travel whose force is F_target (secant / regula falsi on F(d)),
+        from the last converged state."""
         o = self.o
-        lo = (self.d, self.res.points[-1].force) if self.res.points else (0.0, 0.0)
-        hi = None
-        d_prev, F_prev = lo
-        d = self.d if self.res.points else o.first_travel * self.height
-        if not self.res.points:
-            d_prev, F_prev = 0.0, 0.0
+        pts = self.res.points
+        if pts:                                  # the current state is the first "trial"
+            d, F = self.d, pts[-1].force
+            d_prev, F_prev = (pts[-2].travel, pts[-2].force) if len(pts) > 1 else (0.0, 0.0)
+        else:
+            d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
+        lo, hi, last_side = (d, F), None, None
         for _ in range(max_trials):
-            try:
-                pt = self._try(d)
-            except ContactError as exc:
-                if "penalty" in str(exc) or abs(d - self.d) < 1e-4 * self.height:
-                    raise
-                d = (self.d + d) / 2
-                continue
-            F = pt.force
-            if abs(F - F_target) <= o.force_tol * F_target:
-                self.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(self.res.points)} states, "
+            if pts and abs(F - F_target) <= o.force_tol * F_target:
+                self.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
                                     f"{self.res.total_iterations} Newton iterations")
-                return pt
+                return pts[-1]
+            side = F < F_target
             if F < F_target:
                 lo = (d, F)
             else:
                 hi = (d, F)
-            if hi is None:                      # secant from the last two states, at most 3x the step
-                slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / max(d, 1e-300)
-                d_new = d + (F_target - F) / max(slope, 1e-300)
-                d_new = min(d_new, d + 1.5 * max(d - d_prev, 1e-9 * self.height))
-            else:                               # regula falsi inside the bracket
+            if hi is not None and side == last_side:   # Illinois: the kept end's excess is halved
+                if side:
+                    hi = (hi[0], F_target + (hi[1] - F_target) / 2)
+                else:
+                    lo = (lo[0], F_target - (F_target - lo[1]) / 2)
+            last_side = side
+            if d == 0.0:
+                d_new = o.first_travel * self.height
+            elif hi is None:                     # secant from the last two states, at most 1.5x the step
+                slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / d
+                step = (F_target - F) / max(slope, 1e-300)
+                d_new = d + min(step, 1.5 * max(d - d_prev, 0.25 * d))
+            else:                                # regula falsi inside the bracket
                 d_new = lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+            while True:
+                try:
+                    pt = self._try(d_new)
+                    break
+                except ContactError as exc:
+                    if "penalty" in str(exc) or abs(d_new - self.d) < 1e-4 * self.height:
+                        raise
+                    d_new = (self.d + d_new) / 2
             d_prev, F_prev = d, F
-            d = d_new
+            d, F = pt.travel, pt.force
         raise ContactError(f"force control: {F_target:.4g} N not reached in {max_trials} trials "
-                           f"(last {self.res.points[-1].force:.4g} N)", self.res)
+                           f"(last {F:.4g} N)", self.res)
 
     def solution(self) -> Solution:
         """The Solution of the final state (voltages open circuit; capacitance and
