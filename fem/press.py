@@ -23,7 +23,8 @@ converged state is a point of the force-travel / voltage-force curve.
 
 Failures are raised as ContactError, naming the cause: Newton not converging,
 the active set cycling (a set seen two iterates ago comes back), the augmented
-Lagrangian not reaching the penetration tolerance, a penalty too low
+Lagrangian not reaching the penetration tolerance (the penalty is doubled, up
+to 64 x, when an update does not cut the error by 4), a penalty too low
 (penetration above tolerance with method = "penalty"), a penalty too high (the
 scaled linear solve loses accuracy: relative residual above 1e-6).
 """
@@ -201,6 +202,7 @@ class Press:
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
         o = self.o
         x, lam, its = self.x.copy(), self.lam.copy(), 0
+        eps0, err_prev = self.eps, np.inf
         for k in range(o.max_uzawa + 1):
             x, st, it = self._newton(x, d, lam)
             its += it
@@ -215,11 +217,16 @@ class Press:
                 break
             if err <= tol:
                 break
+            if err > 0.25 * err_prev and self.eps < 64 * eps0:   # slow Uzawa: a stiffer augmentation
+                self.eps *= 2
+            err_prev = err
             lam = st.tn
         else:
+            self.eps = eps0
             raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
                                f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
                                self.res)
+        self.eps = eps0
         self.prev = (self.d, self.x)
         self.x, self.lam, self.d = x, st.tn.copy(), d
         self.res.state = st

@@ -147,3 +147,15 @@ def test_penalty_too_high_is_reported_as_ill_conditioning(small_sphere):
     sy, ind, d = small_sphere
     with pytest.raises(ContactError, match="penalty too high"):
         Press(sy, ind, opts=Options(penalty_factor=1e14)).travel(d, first=1.0)
+
+
+def test_newton_without_the_active_set_update_fails_and_says_so(small_sphere):
+    """The same press in one step: with the active set re-evaluated at every iterate
+    (semi-smooth Newton) it converges (measured 10 iterations); with the tangent's
+    active set frozen at the step's start it does not (residual stays ~0.7), and the
+    failure is an error, not a result."""
+    sy, ind, d = small_sphere
+    pt = Press(sy, ind).solve_at(d)
+    assert pt.iterations <= 15 and pt.penetration <= 1e-3 * d
+    with pytest.raises(ContactError, match="did not converge|cycles"):
+        Press(sy, ind, opts=Options(active_set_update=False)).solve_at(d)
