@@ -45,7 +45,7 @@ def run(silicone, model):
             stop = f"stopped before {F} N: {exc}"
             break
         its = sum(p.iterations for p in pr.res.points[n0:])
-        rows.append((F, pt.travel, pt.voltages["taxel_0_0"], pr.res.state.half_width(), its,
+        rows.append((F, pt.travel, pt.voltages["taxel_0_0"], pt.half_width, its,
                      sum(p.uzawa for p in pr.res.points[n0:]), len(pr.res.points) - n0, time.perf_counter() - t0))
     return rows, pr.res, stop
 
@@ -64,9 +64,10 @@ def main():
         if stop:
             print(stop)
         pts = sorted(res.points, key=lambda p: p.travel)
-        arr = np.array([(p.travel, p.force, p.voltages["taxel_0_0"], p.area, p.penetration) for p in pts])
+        arr = np.array([(p.travel, p.force, p.voltages["taxel_0_0"], p.area, p.half_width, p.penetration)
+                        for p in pts])
         np.savetxt(out / f"curve-{model}-{silicone}.csv", arr, delimiter=",",
-                   header="travel_m,force_N,voltage_V,contact_area_m2,penetration_m")
+                   header="travel_m,force_N,voltage_V,contact_area_reference_m2,contact_half_width_m,penetration_m")
         curves[silicone] = (arr, rows)
     lin, yeo = curves["linear"][1], curves["yeoh"][1]
     common = min(len(lin), len(yeo))

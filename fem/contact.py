@@ -140,7 +140,9 @@ class ContactState:
 
     @property
     def area(self) -> float:
-        """m^2 (2D: m^2 over the depth), the reference area in contact."""
+        """m^2 (2D: times the depth), the reference area of the material points in contact
+        (under a frictionless punch material slides out, so this shrinks while the current
+        contact width, `half_width`, does not)."""
         return float((self.dA * self.active).sum())
 
     def half_width(self, centre=(0.0, 0.0)) -> float:

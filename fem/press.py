@@ -57,7 +57,8 @@ class PressPoint:
     travel: float                 # m
     force: float                  # N, on the indenter
     voltages: dict                # V, open electrodes
-    area: float                   # m^2 in contact (reference)
+    area: float                   # m^2, reference area of the material points in contact
+    half_width: float             # m, current contact radius (2D: half-width) about the indenter centre
     penetration: float            # m, largest
     iterations: int               # Newton iterations (all Uzawa passes)
     uzawa: int                    # multiplier updates
@@ -231,7 +232,7 @@ class Press:
         self.x, self.lam, self.d = x, st.tn.copy(), d
         self.res.state = st
         V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
-        pt = PressPoint(d, st.force, V, st.area, st.penetration, its, k)
+        pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k)
         self.res.points.append(pt)
         return pt
 

@@ -1,10 +1,16 @@
 """A scene pressed by a rigid indenter ([load] kind = "indenter", contact = true):
 bad input, and the thesis taxel pressed by a flat punch at a small force."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
+from taxel.analyses import problem
 from taxel.analyses import solve_static as solve
+from taxel.fem.assembly import assemble
+from taxel.fem.press import Press
+from taxel.fem.static import solve_linear
 from taxel.cli import EXIT_INPUT, main
 from taxel.scene import load
 
@@ -66,3 +72,19 @@ def test_small_press_voltage_is_near_the_uniform_pressure_patch(taxel_small_pres
     v_punch = taxel_small_press.voltages()["taxel_0_0"]
     v_patch = solve(load("thesis-pzt-single-2d").replace(**{"load.force": 0.1})).voltages()["taxel_0_0"]
     assert v_punch < 0 and abs(v_punch / v_patch - 1) < 0.25
+
+
+def test_small_press_equals_the_pressure_solution_with_the_punchs_pressure(taxel_small_press):
+    """The small-load limit: the present linear pressure solve (fem.static), loaded by the
+    punch's contact pressure (its nodal forces on the top), gives the press's voltage and
+    displacement: the contact solution is that pressure solution, the pressure found by
+    contact instead of prescribed."""
+    res = taxel_small_press
+    sol = res.solution
+    sy = assemble(problem(res.scene, sol.mesh))
+    pr = Press(sy, sy.problem.indenter)
+    b = np.zeros_like(sy.b)
+    b[sy.offsets["u"]] = -pr.surf.residual(sol.contact.state)       # the punch's pressure as a load
+    lin = solve_linear(replace(sy, b=b))
+    assert lin.voltages()["taxel_0_0"] == pytest.approx(res.voltages()["taxel_0_0"], rel=1e-6)
+    np.testing.assert_allclose(lin.fields.u, sol.fields.u, atol=1e-6 * np.abs(sol.fields.u).max())
