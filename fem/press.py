@@ -10,19 +10,25 @@ electrodes eliminated, open electrodes one potential each with zero net charge):
 solved by semi-smooth Newton (the contact active set re-evaluated at every
 iterate, tangent A_lin + K_yeoh + K_c consistent, fem.contact), backtracking line
 search on the scaled residual (and J > 0 in the Yeoh silicone). Convergence:
-|D r| / |D R_c| < tol. Around it the Uzawa loop updates lambda <- t_N until the
-largest penetration is below `gap_tol` x travel (augmented Lagrangian;
-method = "penalty" does one Newton solve with lambda = 0 and reports the
-penetration it leaves).
+|D r| / |D R_c| < tol, or round-off (the active set unchanged and a full step
+changing x by less than 1e-9 relative, with |D r| / |D R_c| < 1e-6: large graded
+meshes floor near 1e-8). Around it the Uzawa loop updates lambda <- t_N until
+max |t_N - lambda| / eps (the penetration, or the gap where a pressure still
+acts) is below `gap_tol` x travel (augmented Lagrangian; method = "penalty"
+does one Newton solve with lambda = 0 and reports the penetration it leaves).
+Contact points are the quadrature points of the top facets, 2 per P2 edge by
+default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
+multiplier loop (measured on the thesis taxel).
 
 Displacement control: travel increments from the last converged state (halved on
 failure, grown by 1.5 after an easy step). Force control: the travel that gives
-the requested force, an outer secant iteration on F(d) (regula falsi once
-bracketed), each trial warm-started from the last converged state. Every
+the requested force, an outer secant iteration on F(d) (regula falsi with the
+Illinois rule once bracketed; a failed trial is bisected towards the last
+converged travel), each trial warm-started from the last converged state. Every
 converged state is a point of the force-travel / voltage-force curve.
 
 Failures are raised as ContactError, naming the cause: Newton not converging,
-the active set cycling (a set seen two iterates ago comes back), the augmented
+the active set cycling (the last iterates alternate between two sets), the augmented
 Lagrangian not reaching the penetration tolerance (the penalty is doubled, up
 to 64 x, when an update does not cut the error by 4), a penalty too low
 (penetration above tolerance with method = "penalty"), a penalty too high (the
