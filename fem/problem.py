@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal, Mapping, Union
 
+from taxel.fem.contact import Indenter
 from taxel.fem.kinematics import Kinematics
 from taxel.fem.materials import Piezo, Solid
 from taxel.meshing.build import TaggedMesh
@@ -69,3 +70,4 @@ class Problem:
     discretization: Discretization = Discretization()
     hyperelastic: bool = False        # solids with Yeoh data solved as Yeoh (fem.newton)
     damping: Damping = Damping()
+    indenter: Indenter | None = None  # pressed by a rigid indenter (fem.contact, fem.press); load unused

@@ -50,6 +50,7 @@ class Solution:
     mesh: TaggedMesh
     fields: Fields = field(repr=False)
     newton: object = None         # fem.newton.NewtonResult for a hyperelastic solve
+    contact: object = None        # fem.press.ContactResult for a press by a rigid indenter
 
     def voltages(self) -> dict[str, float]:
         return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}

@@ -90,6 +90,12 @@ class Load(Strict):
     profile: Literal["flat", "round"] = "flat"  # indenter pressure: uniform, or Hertzian sqrt(1-r^2/a^2)
     radius: Length | None = None       # indenter contact radius (half-width in 2D)
     offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # indenter centre from the taxel centre
+    # kind = "indenter", contact = true: a rigid frictionless indenter pressed to `force`
+    # (or to `travel`, displacement control); radius: punch half-width/radius, or sphere radius
+    contact: bool = False
+    shape: Literal["flat", "sphere", "cylinder"] = "flat"
+    edge_radius: Length | None = None  # flat punch's rounded edge; default radius / 20
+    travel: Length | None = None       # prescribed indenter travel (instead of force)
 
 
 class Supports(Strict):
@@ -210,6 +216,17 @@ class Scene(Strict):
                 raise ValueError("load.neighbour must be next to load.taxel (one row or column apart)")
         if ld.kind == "indenter" and ld.radius is None:
             raise ValueError("load.radius is missing for kind = 'indenter'; e.g. \"1 mm\"")
+        if ld.contact:
+            if ld.kind != "indenter":
+                raise ValueError("load.contact = true needs load.kind = 'indenter'")
+            two_d = self.model.type in ("plane_strain", "plane_stress")
+            if (ld.shape == "cylinder") != two_d and ld.shape != "flat":
+                raise ValueError(f"load.shape = '{ld.shape}' does not fit model.type = '{self.model.type}'; "
+                                 "use 'cylinder' in 2D and 'sphere' axisymmetric or in 3d")
+            if ld.edge_radius is not None and not 0 <= ld.edge_radius <= ld.radius:
+                raise ValueError("load.edge_radius must be between 0 and load.radius")
+            if self.analysis.type != "static":
+                raise ValueError("load.contact = true is static only for now; set analysis.type = 'static'")
         if self.model.type == "axisymmetric" and (ld.offset != (0.0, 0.0) or ld.kind == "between"):
             raise ValueError("an axisymmetric model needs a load centred on the axis; "
                              "drop load.offset or use a 3d model")

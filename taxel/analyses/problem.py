@@ -13,6 +13,7 @@ from dataclasses import replace
 
 from taxel.fem import materials, records
 from taxel.fem.circuits import Readout
+from taxel.fem.contact import Indenter
 from taxel.fem.kinematics import kinematics
 from taxel.fem.problem import Damping, Discretization, PatchLoad, Problem, Supports
 from taxel.meshing.build import TaggedMesh, build
@@ -101,7 +102,19 @@ def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
         discretization=Discretization(scene.mesh.order, scene.mesh.formulation == "mixed"),
         hyperelastic=m.silicone == "yeoh",
         damping=damping(scene),
+        indenter=indenter(scene, tm),
     )
+
+
+def indenter(scene: Scene, tm: TaggedMesh) -> Indenter | None:
+    """The rigid indenter of a `[load] kind = "indenter"`, `contact = true` scene, centred
+    on the layout's load patch."""
+    ld = scene.load
+    if ld.kind != "indenter" or not ld.contact:
+        return None
+    edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
+    return Indenter(ld.shape, ld.radius, edge if ld.shape == "flat" else 0.0,
+                    (tm.layout.load.x, tm.layout.load.y), ld.travel, None if ld.travel is not None else ld.force)
 
 
 def with_silicone(p: Problem, silicone: str) -> Problem:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 
-from taxel.fem import assembly, newton, static
+from taxel.fem import assembly, newton, press, static
 from taxel.fem.newton import NewtonError
 from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene
@@ -34,7 +34,12 @@ def solve_static(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | N
     t1 = time.perf_counter()
     if scene.model.silicone != "auto":
         return _solve(scene, prob, solver, scale, newton_options, t0, t1)
-    lin = _solve(scene, with_silicone(prob, "linear"), solver, scale, None, t0, t1)
+    try:
+        lin = _solve(scene, with_silicone(prob, "linear"), solver, scale, newton_options, t0, t1)
+    except press.ContactError as exc:      # a linear silicone under a punch can fail where Yeoh does not
+        hyper = _solve(scene, with_silicone(prob, "yeoh"), solver, scale, newton_options, t0, t1)
+        hyper.model_note = f"auto: Yeoh silicone (the linear press failed: {exc})"
+        return hyper
     est, tol = linear_error(lin.max_silicone_strain), scene.model.tolerance
     if est <= tol:
         lin.model_note = (f"auto: linear silicone (largest strain {100 * lin.max_silicone_strain:.1f} %, "
@@ -43,7 +48,7 @@ def solve_static(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | N
     t1 = time.perf_counter()
     try:
         hyper = _solve(scene, with_silicone(prob, "yeoh"), solver, scale, newton_options, t1, t1)
-    except NewtonError as exc:
+    except (NewtonError, press.ContactError) as exc:
         lin.model_note = (f"auto: Yeoh silicone needed (linear error about {100 * est:.2g} %) but {exc}; "
                           f"returning the LINEAR result")
         return lin
@@ -59,7 +64,10 @@ def linear_error(max_silicone_strain: float) -> float:
 def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     sy = assembly.assemble(prob)
     t2 = time.perf_counter()
-    if prob.hyperelastic:
+    if prob.indenter is not None:
+        opts = {k: v for k, v in (newton_options or {}).items() if k in press.Options.__dataclass_fields__}
+        sol = press.press(sy, prob.indenter, solver, press.Options(**opts))
+    elif prob.hyperelastic:
         sol = newton.solve_yeoh(sy, solver, **(newton_options or {}))
     else:
         sol = static.solve_linear(sy, solver, scale)

@@ -1,0 +1,93 @@
+"""The thesis PZT taxel pressed by a rigid flat punch (fem.contact, fem.press).
+
+2D plane strain (and axisymmetric with --axisym), the default mesh, a 4 mm flat
+punch with a 0.2 mm edge radius centred on the taxel, frictionless, augmented
+Lagrangian. Force control along 0.1, 0.25, 0.5, 0.75, 1, 1.5, 2 N, linear and
+Yeoh silicone, each warm-started from the last. Prints per target: travel,
+voltage, contact half-width, Newton iterations, multiplier updates, time;
+where a press stops, the reason (fem.press.ContactError). Writes
+out/contact-taxel/curve-<model>.csv (every converged state) and, when both
+models reach a force, the voltage-force figure docs/contact-voltage-force-<model>.png.
+
+Run: MKL_NUM_THREADS=1 python benchmarks/contact_taxel.py [--axisym]
+"""
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from taxel.analyses import problem
+from taxel.fem.assembly import assemble
+from taxel.fem.press import ContactError, Press
+from taxel.scene import load
+
+TARGETS = (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0)
+
+
+def scene(silicone, model):
+    return load("thesis-pzt-single-2d").replace(**{
+        "model.type": model, "model.silicone": silicone, "load.kind": "indenter", "load.contact": True,
+        "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": 1.0})
+
+
+def run(silicone, model):
+    prob = problem(scene(silicone, model))
+    t0 = time.perf_counter()
+    pr = Press(assemble(prob), prob.indenter)
+    rows, stop = [], ""
+    for F in TARGETS:
+        n0 = len(pr.res.points)
+        try:
+            pt = pr.force(F)
+        except ContactError as exc:
+            stop = f"stopped before {F} N: {exc}"
+            break
+        its = sum(p.iterations for p in pr.res.points[n0:])
+        rows.append((F, pt.travel, pt.voltages["taxel_0_0"], pt.half_width, its,
+                     sum(p.uzawa for p in pr.res.points[n0:]), len(pr.res.points) - n0, time.perf_counter() - t0))
+    return rows, pr.res, stop
+
+
+def main():
+    model = "axisymmetric" if "--axisym" in sys.argv else "plane_strain"
+    out = Path("out/contact-taxel")
+    out.mkdir(parents=True, exist_ok=True)
+    curves = {}
+    for silicone in ("linear", "yeoh"):
+        rows, res, stop = run(silicone, model)
+        print(f"\n{model}, {silicone} silicone, penalty {res.penalty:.3g} Pa/m")
+        print(f"{'F N':>5} {'travel mm':>9} {'V':>8} {'a mm':>6} {'iters':>5} {'uzawa':>5} {'states':>6} {'cum s':>6}")
+        for F, d, V, a, its, uz, n, t in rows:
+            print(f"{F:5.2f} {1e3 * d:9.4f} {V:8.4f} {1e3 * a:6.3f} {its:5d} {uz:5d} {n:6d} {t:6.1f}")
+        if stop:
+            print(stop)
+        pts = sorted(res.points, key=lambda p: p.travel)
+        arr = np.array([(p.travel, p.force, p.voltages["taxel_0_0"], p.area, p.half_width, p.penetration)
+                        for p in pts])
+        np.savetxt(out / f"curve-{model}-{silicone}.csv", arr, delimiter=",",
+                   header="travel_m,force_N,voltage_V,contact_area_reference_m2,contact_half_width_m,penetration_m")
+        curves[silicone] = (arr, rows)
+    lin, yeo = curves["linear"][1], curves["yeoh"][1]
+    common = min(len(lin), len(yeo))
+    print("\nforce N, V linear, V Yeoh, Yeoh/linear - 1")
+    for k in range(common):
+        print(f"{lin[k][0]:5.2f} {lin[k][2]:8.4f} {yeo[k][2]:8.4f} {yeo[k][2] / lin[k][2] - 1:+.3f}")
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(5, 3.5))
+    for silicone, (arr, _) in curves.items():
+        ax.plot(arr[:, 1], -arr[:, 2], "o-", ms=3, label=f"{silicone} silicone")
+    ax.set_xlabel("punch force (N)")
+    ax.set_ylabel("-V open circuit (V)")
+    ax.set_title(f"thesis PZT taxel, 4 mm flat punch, {model.replace('_', ' ')}")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(f"docs/contact-voltage-force-{model}.png", dpi=120)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,211 @@
+r"""Frictionless contact of a rigid indenter on the top surface: geometry, gap,
+and the augmented-Lagrangian contact terms with their consistent tangent.
+
+Indenter geometry. Every shape is a *core* offset by a radius rho: a flat punch
+of half-width (2D) or radius (axisymmetric, 3D) `a` with edge radius rho is the
+set of points within rho of the flat core {|x_lat - c| <= a - rho, z = z_c}; a
+sphere (axisymmetric, 3D) or a cylinder (2D) of radius R is the same with
+rho = R and a core of zero width (its centre). With travel d (downward, from
+the first touch of the undeformed top at z = z_top), z_c = z_top - d + rho.
+
+Gap (signed distance from a surface point x = X + u to the indenter, >= 0 when
+apart). The core extends upwards (the punch's wall). With L = x_lat - c,
+r = |L|, q the closest core point (q_lat = L if r <= a - rho, else
+(a - rho) L / r; q_z = max(z, z_c)), d = x - q:
+
+    g = |d| - rho,   n = dg/dx = d / |d|   (outward normal of the indenter, pointing down)
+    dn/dx = (I - n n^T)(I - dq/dx) / |d|,
+    dq/dx = lateral block: I (r <= a - rho) or (a - rho)/r (I - e_r e_r^T);
+            z: 1 above z_c (beside the wall), else 0.
+
+Under the flat core (r <= a - rho), g = z_c - z - rho and n = -e_z exactly.
+Axisymmetric: x_lat = r (the radial coordinate, c = 0); the hoop direction
+carries no displacement variation, so the meridional formulas are exact.
+
+Weak form (total Lagrangian; dA the reference area times the model's measure:
+depth, 2 pi R or 1). Augmented Lagrangian energy with a multiplier estimate
+lambda >= 0 (a nominal pressure, Pa) and a penalty eps (Pa/m):
+
+    Pi_c(u) = \int 1/(2 eps) ( <lambda - eps g>_+^2 - lambda^2 ) dA
+    R_c(u; du)      = - \int t_N n . du dA,      t_N = <lambda - eps g>_+
+    K_c(u; du, Du)  =   \int eps H(lambda - eps g) (n . du)(n . Du) dA
+                      - \int t_N du . (dn/dx) Du dA
+
+t_N is the contact pressure (per reference area). The Heaviside factor is the
+generalized derivative of <.>_+: Newton with it re-evaluated at every iterate is
+the semi-smooth (active-set) Newton method, the active set being the points with
+t_N > 0. The multiplier update (Uzawa) is lambda <- t_N after each converged
+Newton solve; at its fixed point lambda = <lambda - eps g>_+, i.e. g >= 0,
+lambda >= 0, lambda g = 0 (the exact Karush-Kuhn-Tucker conditions) for any
+eps, which is why we use it rather than a pure penalty: a penalty leaves a
+penetration t_N / eps that only an ill-conditioning eps removes (both measured in
+tests/test_contact.py). Frictionless: no tangential traction. Assumptions: the
+indenter is rigid and does not rotate; contact is checked at the quadrature
+points of the top facets (Gauss-point-to-surface).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from skfem import BilinearForm, FacetBasis, LinearForm, asm
+
+
+@dataclass(frozen=True)
+class Indenter:
+    """A rigid indenter above the top surface (SI units)."""
+
+    shape: Literal["flat", "sphere", "cylinder"]
+    radius: float                  # flat: half-width (2D) or radius; sphere/cylinder: its radius
+    edge_radius: float = 0.0       # flat punch: rounded edge (0 <= edge_radius <= radius)
+    centre: tuple[float, float] = (0.0, 0.0)   # lateral centre (x, y); 2D uses x only
+    travel: float | None = None    # m, prescribed travel (displacement control); None: force control
+    force: float | None = None     # N, requested force (force control)
+
+    def __post_init__(self):
+        if self.shape not in ("flat", "sphere", "cylinder"):
+            raise ValueError(f"indenter shape {self.shape!r}: use flat, sphere or cylinder")
+        if self.radius <= 0:
+            raise ValueError("indenter radius must be positive")
+        if self.shape == "flat" and not 0 <= self.edge_radius <= self.radius:
+            raise ValueError("indenter edge_radius must be between 0 and the punch radius")
+        if (self.travel is None) == (self.force is None):
+            raise ValueError("an Indenter takes exactly one of travel (m) or force (N)")
+
+    @property
+    def rho(self) -> float:
+        return self.edge_radius if self.shape == "flat" else self.radius
+
+    @property
+    def core(self) -> float:
+        return self.radius - self.rho
+
+
+def gap(ind: Indenter, x: np.ndarray, z_top: float, travel: float, with_curvature=True):
+    """Gap g, normal n and dn/dx at current points x (dim, ...)."""
+    dim = x.shape[0]
+    nl = dim - 1
+    c = np.asarray(ind.centre[:nl], float).reshape((nl,) + (1,) * (x.ndim - 1))
+    L = x[:nl] - c
+    r = np.sqrt((L ** 2).sum(axis=0))
+    zc = z_top - travel + ind.rho
+    outside = r > ind.core
+    scale = np.where(outside, ind.core / np.maximum(r, 1e-300), 1.0)
+    above = x[nl] > zc                     # beside the punch's wall: the distance is lateral
+    d = np.concatenate([L * (1 - scale), np.where(above, 0.0, x[nl] - zc)[None]])
+    dist = np.sqrt((d ** 2).sum(axis=0))
+    n = d / np.maximum(dist, 1e-300)
+    n = np.where(outside[None], n, np.concatenate([np.zeros_like(L), -np.ones_like(r)[None]]))
+    g = np.where(outside, dist, zc - x[nl]) - ind.rho
+    if not with_curvature:
+        return g, n, None
+    eye = np.eye(dim).reshape((dim, dim) + (1,) * (x.ndim - 1))
+    dq = np.zeros((dim, dim) + r.shape)
+    if nl == 1:
+        dq[0, 0] = np.where(outside, 0.0, 1.0)
+    else:
+        e = L / np.maximum(r, 1e-300)
+        lat = scale * (np.eye(nl).reshape((nl, nl) + (1,) * r.ndim) - np.einsum("i...,j...->ij...", e, e))
+        dq[:nl, :nl] = np.where(outside, lat, np.eye(nl).reshape((nl, nl) + (1,) * r.ndim))
+    dq[nl, nl] = np.where(above, 1.0, 0.0)
+    proj = eye - np.einsum("i...,j...->ij...", n, n)
+    H = np.einsum("ik...,kj...->ij...", proj, eye - dq) / np.maximum(dist, 1e-300)
+    H = np.where(outside, H, 0.0)
+    return g, n, H
+
+
+@dataclass
+class ContactState:
+    """Contact at the quadrature points of the top facets for one state."""
+
+    g: np.ndarray          # m, gap (negative: penetration)
+    n: np.ndarray          # indenter normal
+    H: np.ndarray | None   # dn/dx
+    tn: np.ndarray         # Pa, contact pressure <lambda - eps g>_+ (nominal)
+    x: np.ndarray          # current positions of the points
+    dA: np.ndarray         # reference area weight of each point (m^2, with the model's measure)
+
+    fixed: np.ndarray | None = None     # a fixed active set (fem.press), else t_N > 0
+
+    @property
+    def active(self) -> np.ndarray:
+        return self.tn > 0 if self.fixed is None else self.fixed
+
+    @property
+    def force(self) -> float:
+        """N, the vertical force the silicone exerts on the indenter (up positive)."""
+        return float(-(self.tn * self.n[-1] * self.dA).sum())
+
+    @property
+    def area(self) -> float:
+        """m^2 (2D: times the depth), the reference area of the material points in contact
+        (under a frictionless punch material slides out, so this shrinks while the current
+        contact width, `half_width`, does not)."""
+        return float((self.dA * self.active).sum())
+
+    def half_width(self, centre=(0.0, 0.0)) -> float:
+        """m, the contact radius (2D: half-width) about the lateral `centre`: midway between
+        the outermost active point and the next inactive point beyond it (reference positions
+        plus displacement, i.e. current)."""
+        nl = self.x.shape[0] - 1
+        c = np.asarray(centre[:nl], float).reshape((nl,) + (1,) * (self.x.ndim - 1))
+        r = np.sqrt(((self.x[:nl] - c) ** 2).sum(axis=0)).ravel()
+        act = self.active.ravel()
+        if not act.any():
+            return 0.0
+        r_in = r[act].max()
+        beyond = r[~act & (r > r_in)]
+        return float((r_in + beyond.min()) / 2 if beyond.size else r_in)
+
+    @property
+    def penetration(self) -> float:
+        """m, the largest penetration (0 when none)."""
+        return float(max(0.0, -self.g.min()))
+
+
+class Surface:
+    """The top surface's quadrature and the contact forms for one mesh and kinematics."""
+
+    def __init__(self, mesh, element, facets, kin, z_top: float, intorder=4):
+        self.fb = FacetBasis(mesh, element, facets=facets, intorder=intorder)
+        self.kin = kin
+        self.z_top = z_top
+        X = np.asarray(self.fb.global_coordinates().value)
+        self.X = X
+        self.dA = np.asarray(self.fb.dx) * kin.measure(X)
+        self.shape = X.shape[1:]
+
+        def meas(w):
+            return kin.measure(w.x)
+
+        @LinearForm
+        def r_c(v, w):
+            return -w.tn * np.einsum("i...,i...->...", w.n, v) * meas(w)
+
+        @BilinearForm
+        def k_c(du, v, w):
+            nn = w.epsH * np.einsum("i...,i...->...", w.n, v) * np.einsum("i...,i...->...", w.n, du)
+            curv = w.tn * np.einsum("i...,ij...,j...->...", v, w.H, du)
+            return (nn - curv) * meas(w)
+        self._r, self._k = r_c, k_c
+
+    def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True, fixed=None) -> ContactState:
+        """The contact state; `fixed` (a boolean per point) fixes the active set: t_N = lambda - eps g
+        there (even if negative) and 0 elsewhere, a smooth problem."""
+        x = self.X + np.asarray(self.fb.interpolate(u).value)
+        g, n, H = gap(ind, x, self.z_top, travel, with_curvature)
+        tn = np.maximum(lam - eps * g, 0.0) if fixed is None else np.where(fixed, lam - eps * g, 0.0)
+        st = ContactState(g, n, H, tn, x, self.dA)
+        if fixed is not None:
+            st.fixed = fixed
+        return st
+
+    def residual(self, st: ContactState) -> np.ndarray:
+        return asm(self._r, self.fb, tn=st.tn, n=st.n)
+
+    def tangent(self, st: ContactState, eps, active=None):
+        """K_c; `active` overrides the Heaviside factor (a frozen active set)."""
+        act = st.active if active is None else active
+        return asm(self._k, self.fb, tn=st.tn, n=st.n, H=st.H, epsH=eps * act)

@@ -1,0 +1,357 @@
+"""Pressing with a rigid indenter: displacement and force control of the
+contact problem (fem.contact), monolithic with the piezo and the (linear or Yeoh)
+silicone.
+
+Equilibrium at a travel d (reduced unknowns of fem.constraints.reduction, grounded
+electrodes eliminated, open electrodes one potential each with zero net charge):
+
+    r(x) = A_lin x + R_yeoh(x) + R_c(x; d, lambda) = 0
+
+solved by semi-smooth Newton (the contact active set re-evaluated at every
+iterate, tangent A_lin + K_yeoh + K_c consistent, fem.contact), backtracking line
+search on the scaled residual (and J > 0 in the Yeoh silicone). Convergence:
+|D r| / |D R_c| < tol, or round-off (the active set unchanged and a full step
+changing x by less than 1e-9 relative, with |D r| / |D R_c| < 1e-6: large graded
+meshes floor near 1e-8). Around it the Uzawa loop updates lambda <- t_N until
+max |t_N - lambda| / eps (the penetration, or the gap where a pressure still
+acts) is below `gap_tol` x travel (augmented Lagrangian; method = "penalty"
+does one Newton solve with lambda = 0 and reports the penetration it leaves).
+Contact points are the quadrature points of the top facets, 2 per P2 edge by
+default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
+multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
+
+Displacement control: travel increments from the last converged state (halved on
+failure, grown by 1.5 after an easy step). Force control: the travel that gives
+the requested force, an outer secant iteration on F(d) (regula falsi with the
+Illinois rule once bracketed; a failed trial is bisected towards the last
+converged travel), each trial warm-started from the last converged state. Every
+converged state is a point of the force-travel / voltage-force curve.
+
+Failures are raised as ContactError, naming the cause: Newton not converging,
+the active set cycling (the last iterates alternate between two sets), the augmented
+Lagrangian not reaching the penetration tolerance (the penalty is doubled, up
+to 64 x, when an update does not cut the error by 4), a penalty too low
+(penetration above tolerance with method = "penalty"), a penalty too high (the
+scaled linear solve loses accuracy: relative residual above 1e-6).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from taxel.fem import hyperelastic, linalg
+from taxel.fem.assembly import System
+from taxel.fem.constraints import reduction
+from taxel.fem.contact import ContactState, Indenter, Surface
+from taxel.fem.newton import yeoh_terms
+from taxel.fem.static import Solution, results
+
+
+class ContactError(RuntimeError):
+    """The press could not be solved; the message says why; `.result` has the path so far."""
+
+    def __init__(self, message, result=None):
+        super().__init__(message)
+        self.result = result
+
+
+@dataclass
+class PressPoint:
+    travel: float                 # m
+    force: float                  # N, on the indenter
+    voltages: dict                # V, open electrodes
+    area: float                   # m^2, reference area of the material points in contact
+    half_width: float             # m, current contact radius (2D: half-width) about the indenter centre
+    penetration: float            # m, largest
+    iterations: int               # Newton iterations (all Uzawa passes)
+    uzawa: int                    # multiplier updates
+
+
+@dataclass
+class ContactResult:
+    indenter: Indenter
+    penalty: float                          # Pa/m
+    method: str
+    points: list[PressPoint] = field(default_factory=list)   # every converged state, in order
+    state: ContactState | None = field(default=None, repr=False)   # the final contact state
+    failed_trials: int = 0
+    message: str = ""
+
+    @property
+    def curve(self) -> np.ndarray:
+        """(travel, force) of the converged states, sorted by travel."""
+        a = np.array([(p.travel, p.force) for p in self.points])
+        return a[np.argsort(a[:, 0])] if len(a) else a
+
+    @property
+    def total_iterations(self) -> int:
+        return sum(p.iterations for p in self.points)
+
+
+@dataclass
+class Options:
+    penalty: float | None = None    # Pa/m; default penalty_factor x mu / h
+    penalty_factor: float = 100.0
+    method: str = "augmented"       # augmented | penalty
+    gap_tol: float = 1e-3           # largest penetration / travel
+    tol: float = 1e-9               # Newton, scaled relative residual (or round-off: see _newton)
+    max_iter: int = 25
+    max_uzawa: int = 40
+    force_tol: float = 1e-3         # force control: |F - target| / target
+    first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
+    active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
+    fix_cycling: bool = False       # True: when an active set comes back, finish Newton on it
+    intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
+
+
+class Press:
+    """One system pressed by one indenter; `travel(d)` and `force(F)` move it."""
+
+    def __init__(self, sy: System, ind: Indenter, method="auto", opts: Options | None = None):
+        self.sy, self.ind, self.method = sy, ind, method
+        self.o = opts or Options()
+        tm = sy.tm
+        p = tm.mesh.p
+        top = tm.facets["top"]
+        self.z_top = float(p[-1, np.unique(tm.mesh.facets[:, top])].max())
+        self.height = self.z_top - float(p[-1].min())
+        ub = next(iter(sy.ubases.values()))
+        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder)
+        self.red = reduction(sy, eliminate_grounded=True)
+        if self.o.penalty is None:
+            mu = max(lw.mu for r, lw in sy.laws.items() if r in sy.soft)
+            h = float(np.min(np.linalg.norm(np.diff(p[:, tm.mesh.facets[:, top]], axis=1), axis=0)))
+            self.eps = self.o.penalty_factor * mu / h
+        else:
+            self.eps = self.o.penalty
+        self.x = np.zeros(sy.A.shape[0])
+        self.lam = np.zeros(self.surf.shape)
+        self.d = 0.0
+        self.prev = None                 # (travel, x) of the state before the last converged one
+        self.res = ContactResult(ind, self.eps, self.o.method)
+        self.solver = None
+
+    # ------------------------------------------------------------ one equilibrium
+    def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+        sy, P = self.sy, self.red.P
+        u = x[sy.offsets["u"]]
+        r_y, K_y = yeoh_terms(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
+        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed)
+        rc = np.zeros_like(x)
+        rc[sy.offsets["u"]] = self.surf.residual(st)
+        r = P.T @ (sy.A @ x + r_y + rc)
+        ref = P.T @ rc
+        if not tangent:
+            return r, ref, st, None
+        Kc = self.surf.tangent(st, self.eps, frozen)
+        n = sy.A.shape[0]
+        Kc_full = _embed(Kc, sy.offsets["u"].start, n)
+        K = (P.T @ (sy.A + K_y + Kc_full) @ P).tocsc()
+        return r, ref, st, K
+
+    def _min_j(self, x):
+        u = x[self.sy.offsets["u"]]
+        return min((hyperelastic.min_jacobian(self.sy.ubases[r], u, self.sy.kin) for r in self.sy.yeoh),
+                   default=1.0)
+
+    def _newton(self, x, d, lam):
+        o, P = self.o, self.red.P
+        seen, frozen, fixed, step_rel = [], None, None, 1.0
+        for it in range(o.max_iter):
+            r, ref, st, K = self._residual(x, d, lam, frozen=frozen, fixed=fixed)
+            key = st.active.tobytes()
+            if o.fix_cycling and fixed is None and o.active_set_update and key in seen[:-1] and key != seen[-1]:
+                fixed = st.active.copy()          # the set came back: finish on it (smooth), Uzawa decides
+                r, ref, st, K = self._residual(x, d, lam, fixed=fixed)
+            if not o.active_set_update and frozen is None:
+                frozen = st.active.copy()
+                r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
+            self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method)
+            D = solver.D
+            nr = np.linalg.norm(D * r)
+            norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
+            floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
+            if norm < o.tol or floor:            # floor: a full step with the same active set changed x
+                if fixed is not None:              # report the true (non-negative) pressure
+                    st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps)
+                return x, st, it
+            seen.append(st.active.tobytes())
+            dy, lres = solver(-r)
+            if float(np.max(lres)) > 1e-6:
+                raise ContactError(f"penalty too high: the scaled linear solve's relative residual is "
+                                   f"{float(np.max(lres)):.1e} (> 1e-6, ill-conditioned) with penalty "
+                                   f"{self.eps:.3g} Pa/m; lower it", self.res)
+            dx = P @ dy[:, 0]
+            alpha = 1.0
+            while True:
+                x_new = x + alpha * dx
+                if self._min_j(x_new) > 0:
+                    r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
+                    if np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r) or alpha <= 1 / 64:
+                        break
+                elif alpha <= 1 / 64:
+                    raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", self.res)
+                alpha /= 2
+            step_rel = alpha * np.linalg.norm(dx) / max(np.linalg.norm(x), 1e-300)
+            x = x_new
+        last = seen[-6:]
+        if len(set(last)) <= 2 and len(set(last)) < len(last) and last[-1] != last[-2]:
+            raise ContactError(f"the contact active set cycles between two sets at travel {d:.4g} m "
+                               f"({o.max_iter} Newton iterations, residual {norm:.2e}): keep the active-set "
+                               "update in the tangent, or take smaller travel steps", self.res)
+        raise ContactError(f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations "
+                           f"(residual {norm:.2e})", self.res)
+
+    def solve_at(self, d):
+        """Equilibrium at travel d from the last converged state; appends a PressPoint."""
+        o = self.o
+        x, lam, its = self.x.copy(), self.lam.copy(), 0
+        eps0, err_prev = self.eps, np.inf
+        for k in range(o.max_uzawa + 1):
+            x, st, it = self._newton(x, d, lam)
+            its += it
+            tol = o.gap_tol * max(abs(d), 1e-12)
+            err = float(np.abs(st.tn - lam).max()) / self.eps   # m: penetration, or gap under pressure
+            if o.method == "penalty":
+                if st.penetration > tol:
+                    raise ContactError(f"penalty too low: penetration {st.penetration:.3g} m is "
+                                       f"{100 * st.penetration / max(abs(d), 1e-300):.2g} % of the travel "
+                                       f"(tolerance {100 * o.gap_tol:g} %); raise the penalty "
+                                       f"({self.eps:.3g} Pa/m) or use the augmented Lagrangian", self.res)
+                break
+            if err <= tol:
+                break
+            if err > 0.25 * err_prev and self.eps < 64 * eps0:   # slow Uzawa: a stiffer augmentation
+                self.eps *= 2
+            err_prev = err
+            lam = st.tn
+        else:
+            self.eps = eps0
+            raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
+                               f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
+                               self.res)
+        self.eps = eps0
+        self.prev = (self.d, self.x)
+        self.x, self.lam, self.d = x, st.tn.copy(), d
+        self.res.state = st
+        V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
+        pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k)
+        self.res.points.append(pt)
+        return pt
+
+    def _try(self, d):
+        """solve_at, restoring the state on failure."""
+        saved = (self.x, self.lam, self.d, self.prev)
+        try:
+            return self.solve_at(d)
+        except ContactError:
+            self.x, self.lam, self.d, self.prev = saved
+            self.res.failed_trials += 1
+            raise
+
+    # ------------------------------------------------------------ load control
+    def travel(self, d_target, first=0.25, min_frac=1e-3):
+        """Displacement control to travel d_target."""
+        step = first * (d_target - self.d)
+        while abs(self.d - d_target) > 1e-15 * max(abs(d_target), 1e-300):
+            d = self.d + step if abs(step) < abs(d_target - self.d) else d_target
+            try:
+                pt = self._try(d)
+            except ContactError as exc:
+                if "penalty" in str(exc) or abs(step) / 2 < min_frac * abs(d_target):
+                    raise
+                step /= 2
+                continue
+            if pt.iterations <= 6:
+                step *= 1.5
+        return self.res.points[-1]
+
+    def force(self, F_target, max_trials=40):
+        """Force control: the travel whose force is F_target (secant / regula falsi on F(d)),
+        from the last converged state."""
+        o = self.o
+        pts = self.res.points
+        if pts:                                  # the current state is the first "trial"
+            d, F = self.d, pts[-1].force
+            d_prev, F_prev = (pts[-2].travel, pts[-2].force) if len(pts) > 1 else (0.0, 0.0)
+        else:
+            d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
+        lo, hi, last_side = (d, F), None, None
+        for _ in range(max_trials):
+            if pts and abs(F - F_target) <= o.force_tol * F_target:
+                self.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
+                                    f"{self.res.total_iterations} Newton iterations")
+                return pts[-1]
+            side = F < F_target
+            if F < F_target:
+                lo = (d, F)
+            else:
+                hi = (d, F)
+            if hi is not None and side == last_side:   # Illinois: the kept end's excess is halved
+                if side:
+                    hi = (hi[0], F_target + (hi[1] - F_target) / 2)
+                else:
+                    lo = (lo[0], F_target - (F_target - lo[1]) / 2)
+            last_side = side
+            if d == 0.0:
+                d_new = o.first_travel * self.height
+            elif hi is None:                     # secant from the last two states, at most 1.5x the step
+                slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / d
+                step = (F_target - F) / max(slope, 1e-300)
+                d_new = d + min(step, 1.5 * max(d - d_prev, 0.25 * d))
+            else:                                # regula falsi inside the bracket
+                d_new = lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+            while True:
+                try:
+                    pt = self._try(d_new)
+                    break
+                except ContactError as exc:
+                    if "penalty" in str(exc) or abs(d_new - self.d) < 1e-4 * self.height:
+                        raise
+                    d_new = (self.d + d_new) / 2
+            d_prev, F_prev = d, F
+            d, F = pt.travel, pt.force
+        raise ContactError(f"force control: {F_target:.4g} N not reached in {max_trials} trials "
+                           f"(last {F:.4g} N)", self.res)
+
+    def solution(self) -> Solution:
+        """The Solution of the final state (voltages open circuit; capacitance and
+        short-circuit charge linearised at it)."""
+        sy, red = self.sy, self.red
+        x = self.x
+        r_y, _ = yeoh_terms(sy, x, with_tangent=False) if sy.yeoh else (0.0, None)
+        r = sy.A @ x + r_y
+        r[sy.offsets["u"]] += self.surf.residual(self.res.state)
+        if self.solver is None:
+            self._residual(x, self.d, self.lam)
+            self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)
+        X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
+        Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
+        sol = results(sy, red, x, r, Cinv, linalg.resolve(self.method, red.n), self.o.tol)
+        sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
+        sol.contact = self.res
+        return sol
+
+
+def _embed(K, start, n):
+    import scipy.sparse as sp
+    K = sp.coo_matrix(K)
+    return sp.csr_matrix((K.data, (K.row + start, K.col + start)), shape=(n, n))
+
+
+def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,
+          path: list[float] | None = None) -> Solution:
+    """Press to the indenter's travel or force (through the intermediate targets of
+    `path`, N or m alike), and return the final Solution with `.contact`."""
+    pr = Press(sy, ind, method, opts)
+    if ind.travel is not None:
+        for d in list(path or []) + [ind.travel]:
+            pr.travel(d)
+        pr.res.message = f"travel {1e3 * ind.travel:.4g} mm: {pr.res.points[-1].force:.4g} N"
+    else:
+        for F in list(path or []) + [ind.force]:
+            pr.force(F)
+    return pr.solution()

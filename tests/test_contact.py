@@ -1,0 +1,162 @@
+"""Rigid indenter contact (fem.contact, fem.press): derivatives, closed forms
+(Hertz, Boussinesq), and the failure cases that must be detected.
+
+Closed forms, linear elastic half-space, E* = E / (1 - nu^2):
+  Hertz (sphere R, travel d):      F = 4/3 E* R^1/2 d^3/2,  a = sqrt(R d)
+  Boussinesq (flat punch radius a): F = 2 a E* d
+The half-space is a bonded block of radius and height 300 a, graded from a/8
+(a/16) near the contact (tests/contact_meshes.py). Measured once during
+development with these meshes (one-off runs, not a committed benchmark; the
+tests assert the 2 % bounds on the first line of each):
+  Hertz, d/R = 0.004, h = a/8, penalty 100 mu/h: F +1.3 %, a -0.7 %;
+  the block's size: F +3.1 % (40 a), +1.9 % (100 a), +1.3 % (300 a), +1.1 % (1000 a)
+  Boussinesq, sharp punch: F +1.7 % (h = a/16), -0.45 % (h = a/32)
+"""
+
+import numpy as np
+import pytest
+
+from contact_meshes import block, problem
+from taxel.fem.assembly import assemble
+from taxel.fem.contact import Indenter, Surface, gap
+from taxel.fem.materials import Solid
+from taxel.fem.press import ContactError, Options, Press
+
+MU, NU = 10e3, 0.3
+K_BULK = 2 * MU * (1 + NU) / (3 * (1 - 2 * NU))
+E_STAR = 2 * MU * (1 + NU) / (1 - NU ** 2)
+MAT = Solid("block", MU, K_BULK, 1000.0)
+
+
+@pytest.mark.parametrize("shape,dim", [("flat", 2), ("sphere", 2), ("flat", 3), ("sphere", 3)])
+def test_gap_normal_and_curvature_are_derivatives(shape, dim):
+    rng = np.random.default_rng(0)
+    ind = Indenter(shape, 2e-3, 0.4e-3, (0.1e-3, -0.2e-3), travel=0.1e-3)
+    x = np.stack([rng.uniform(-2.5e-3, 2.5e-3, 80) for _ in range(dim - 1)] + [rng.uniform(0.5e-3, 1.1e-3, 80)])
+    g, n, H = gap(ind, x, 1e-3, 0.1e-3)
+    h = 1e-9
+    for j in range(dim):
+        e = np.zeros((dim, 1))
+        e[j] = h
+        gp, n_p, _ = gap(ind, x + e, 1e-3, 0.1e-3)
+        gm, n_m, _ = gap(ind, x - e, 1e-3, 0.1e-3)
+        np.testing.assert_allclose((gp - gm) / (2 * h), n[j], atol=1e-7)
+        np.testing.assert_allclose((n_p - n_m) / (2 * h), H[:, j], atol=1e-6 * np.abs(H).max())
+
+
+def test_gap_of_a_rounded_punch_closed_form():
+    """Under the flat: g = z_c - z - rho; beside: distance to the edge circle; wall: lateral."""
+    ind = Indenter("flat", 2.0, 0.5, travel=0.0)
+    x = np.array([[0.0, 1.5 + 0.3, 2.5], [-1.0, -0.4, 1.0]])
+    g, n, _ = gap(ind, x, 0.0, 0.0)
+    np.testing.assert_allclose(g, [1.0, np.hypot(0.3, 0.9) - 0.5, 0.5])
+    np.testing.assert_allclose(n[:, 0], [0.0, -1.0])
+
+
+def test_contact_tangent_is_the_derivative_of_the_residual():
+    tm = block(4e-3, 2e-3, 1e-3, 2.5e-4, growth=1.5)
+    ind = Indenter("sphere", 3e-3, travel=5e-5)
+    sy = assemble(problem(tm, MAT, ind))
+    ub = next(iter(sy.ubases.values()))
+    surf = Surface(tm.mesh, ub.elem, tm.facets["top"], sy.kin, 2e-3)
+    rng = np.random.default_rng(1)
+    u = 1e-5 * rng.normal(size=ub.N)
+    lam = np.abs(rng.normal(size=surf.shape)) * 1e3
+    eps = 1e9
+    st = surf.state(u, ind, 5e-5, lam, eps)
+    assert 0 < st.active.sum() < st.active.size
+    Kc = surf.tangent(st, eps).toarray()
+    h = 1e-11
+    for k in rng.choice(np.flatnonzero(np.abs(Kc).sum(axis=0) > 0), 12, replace=False):
+        e = np.zeros(ub.N)
+        e[k] = h
+        rp = surf.residual(surf.state(u + e, ind, 5e-5, lam, eps))
+        rm = surf.residual(surf.state(u - e, ind, 5e-5, lam, eps))
+        np.testing.assert_allclose((rp - rm) / (2 * h), Kc[:, k], rtol=1e-5, atol=1e-6 * np.abs(Kc).max())
+
+
+@pytest.fixture(scope="module")
+def hertz():
+    R = 10e-3
+    d = 0.004 * R
+    a = np.sqrt(R * d)
+    tm = block(300 * a, 300 * a, 1.5 * a, a / 8, growth=1.2)
+    ind = Indenter("sphere", R, travel=d)
+    pr = Press(assemble(problem(tm, MAT, ind)), ind)
+    pt = pr.travel(d, first=1.0)
+    return dict(R=R, d=d, a=a, pt=pt, pr=pr)
+
+
+def test_hertz_force_and_contact_radius(hertz):
+    R, d, a, pt = hertz["R"], hertz["d"], hertz["a"], hertz["pt"]
+    F = 4 / 3 * E_STAR * np.sqrt(R) * d ** 1.5
+    assert pt.force == pytest.approx(F, rel=0.02)                         # measured +1.3 %
+    assert hertz["pr"].res.state.half_width() == pytest.approx(a, rel=0.02)   # measured -0.7 %
+    assert pt.penetration <= 1e-3 * d                                      # augmented Lagrangian
+
+
+def test_hertz_pressure_is_the_hertz_distribution(hertz):
+    """p(r) = p0 sqrt(1 - r^2/a^2), p0 = 3F / (2 pi a^2), in the middle of the contact."""
+    st, a = hertz["pr"].res.state, hertz["a"]
+    r = st.x[0]
+    p0 = 3 * hertz["pt"].force / (2 * np.pi * a ** 2)
+    inner = r < 0.7 * a
+    np.testing.assert_allclose(st.tn[inner], p0 * np.sqrt(1 - (r[inner] / a) ** 2), rtol=0.03)
+
+
+def test_boussinesq_flat_punch():
+    a = 1e-3
+    d = 1e-3 * a
+    tm = block(300 * a, 300 * a, 1.2 * a, a / 16, growth=1.25)
+    ind = Indenter("flat", a, 0.0, travel=d)
+    pr = Press(assemble(problem(tm, MAT, ind)), ind)
+    pt = pr.travel(d, first=1.0)
+    assert pt.force == pytest.approx(2 * a * E_STAR * d, rel=0.02)        # measured +1.7 %
+    assert pr.res.state.half_width() == pytest.approx(a, rel=0.02)
+
+
+@pytest.fixture(scope="module")
+def small_sphere():
+    R = 10e-3
+    d = 0.004 * R
+    a = np.sqrt(R * d)
+    tm = block(40 * a, 40 * a, 1.5 * a, a / 6, growth=1.3)
+    ind = Indenter("sphere", R, travel=d)
+    return assemble(problem(tm, MAT, ind)), ind, d
+
+
+def test_penalty_too_low_is_reported_with_its_penetration(small_sphere):
+    sy, ind, d = small_sphere
+    with pytest.raises(ContactError, match="penalty too low: penetration .* % of the travel"):
+        Press(sy, ind, opts=Options(method="penalty", penalty_factor=1.0)).travel(d, first=1.0)
+    # the same penalty inside the augmented Lagrangian reaches the tolerance
+    pt = Press(sy, ind, opts=Options(penalty_factor=1.0)).travel(d, first=1.0)
+    assert pt.penetration <= 1e-3 * d and pt.uzawa > 1
+
+
+def test_penalty_error_falls_as_one_over_the_penalty(small_sphere):
+    """Pure penalty: penetration ~ p / eps, so x10 penalty gives /10 penetration."""
+    sy, ind, d = small_sphere
+    pen = []
+    for f in (10.0, 100.0):
+        pr = Press(sy, ind, opts=Options(method="penalty", penalty_factor=f, gap_tol=1.0))
+        pen.append(pr.travel(d, first=1.0).penetration)
+    assert 8 < pen[0] / pen[1] < 12
+
+
+def test_penalty_too_high_is_reported_as_ill_conditioning(small_sphere):
+    sy, ind, d = small_sphere
+    with pytest.raises(ContactError, match="penalty too high"):
+        Press(sy, ind, opts=Options(penalty_factor=1e14)).travel(d, first=1.0)
+
+
+def test_newton_without_the_active_set_update_fails_and_says_so(small_sphere):
+    """The same press in one step: with the active set re-evaluated at every iterate
+    (semi-smooth Newton) it converges (measured 10 iterations); with the tangent's
+    active set frozen at the step's start it does not (residual stays ~0.7), and the
+    failure is an error, not a result."""
+    sy, ind, d = small_sphere
+    pt = Press(sy, ind).solve_at(d)
+    assert pt.iterations <= 15 and pt.penetration <= 1e-3 * d
+    with pytest.raises(ContactError, match="did not converge|cycles"):
+        Press(sy, ind, opts=Options(active_set_update=False)).solve_at(d)

@@ -1,0 +1,90 @@
+"""A scene pressed by a rigid indenter ([load] kind = "indenter", contact = true):
+bad input, and the thesis taxel pressed by a flat punch at a small force."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from taxel.analyses import problem
+from taxel.analyses import solve_static as solve
+from taxel.fem.assembly import assemble
+from taxel.fem.press import Press
+from taxel.fem.static import solve_linear
+from taxel.cli import EXIT_INPUT, main
+from taxel.scene import load
+
+FAST = '''
+[model]
+type = "{model}"
+
+[mesh]
+size = "1 mm"
+piezo_size = "0.25 mm"
+
+[array]
+
+[load]
+kind = "{kind}"
+radius = "1 mm"
+contact = true
+{extra}
+'''
+
+
+@pytest.mark.parametrize("model,kind,extra,words", [
+    ("plane_strain", "taxel", "", "load.contact = true needs load.kind = 'indenter'"),
+    ("plane_strain", "indenter", 'shape = "sphere"', "load.shape = 'sphere'"),
+    ("axisymmetric", "indenter", 'shape = "cylinder"', "load.shape = 'cylinder'"),
+    ("plane_strain", "indenter", 'edge_radius = "2 mm"', "load.edge_radius"),
+])
+def test_bad_contact_input_exits_2_with_one_line(tmp_path, capsys, model, kind, extra, words):
+    path = tmp_path / "bad.toml"
+    path.write_text(FAST.format(model=model, kind=kind, extra=extra))
+    assert main(["solve", str(path)]) == EXIT_INPUT == 2
+    out, err = capsys.readouterr()
+    assert len(err.strip().splitlines()) == 1 and words in err, err
+
+
+def pressed(silicone, force, model="plane_strain"):
+    return load("thesis-pzt-single-2d").replace(**{
+        "model.type": model, "model.silicone": silicone, "load.kind": "indenter", "load.contact": True,
+        "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": force})
+
+
+@pytest.fixture(scope="module")
+def taxel_small_press():
+    return solve(pressed("linear", 0.1))
+
+
+def test_force_control_reaches_the_force_and_the_supports_carry_it(taxel_small_press):
+    sol = taxel_small_press.solution
+    c = sol.contact
+    assert sol.applied_force == pytest.approx(0.1, rel=1e-3)
+    assert c.points[-1].penetration <= 1e-3 * c.points[-1].travel
+    # the bonded bottom carries the punch force (vertical equilibrium)
+    assert sol.reaction[-1] == pytest.approx(sol.applied_force, rel=1e-6)
+
+
+def test_small_press_voltage_is_near_the_uniform_pressure_patch(taxel_small_press):
+    """A 4 mm punch on the 4 mm taxel and a uniform 4 mm patch of the same force give
+    voltages of the same sign and size (the punch concentrates pressure at its edge)."""
+    v_punch = taxel_small_press.voltages()["taxel_0_0"]
+    v_patch = solve(load("thesis-pzt-single-2d").replace(**{"load.force": 0.1})).voltages()["taxel_0_0"]
+    assert v_punch < 0 and abs(v_punch / v_patch - 1) < 0.25
+
+
+def test_small_press_equals_the_pressure_solution_with_the_punchs_pressure(taxel_small_press):
+    """The small-load limit: the present linear pressure solve (fem.static), loaded by the
+    punch's contact pressure (its nodal forces on the top), gives the press's voltage and
+    displacement: the contact solution is that pressure solution, the pressure found by
+    contact instead of prescribed."""
+    res = taxel_small_press
+    sol = res.solution
+    sy = assemble(problem(res.scene, sol.mesh))
+    pr = Press(sy, sy.problem.indenter)
+    b = np.zeros_like(sy.b)
+    b[sy.offsets["u"]] = -pr.surf.residual(sol.contact.state)       # the punch's pressure as a load
+    lin = solve_linear(replace(sy, b=b))
+    assert lin.voltages()["taxel_0_0"] == pytest.approx(res.voltages()["taxel_0_0"], rel=1e-6)
+    np.testing.assert_allclose(lin.fields.u, sol.fields.u, atol=1e-6 * np.abs(sol.fields.u).max())
