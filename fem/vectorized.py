@@ -27,7 +27,12 @@ and all element matrices of one kind go into one COO -> CSR conversion. This is
 what scikit-fem's BilinearForm computes too, but its kernel is called once per
 pair of local functions (900 calls for a P2 tetrahedron, each re-evaluating the
 strain of both functions); here the strains are evaluated 30 times and the
-pairs are a matrix product. Elements are processed in chunks to bound memory.
+pairs are a matrix product. Where the operator is linear in the scalar shape
+functions' gradients or values (every model type but the axisymmetric strain,
+which has u_r / r), the element matrices go through the scalar functions
+(`factored_matrices`): for vector P2 tetrahedra 3-6 x fewer operations, the
+last product one BLAS call for all elements. Elements are processed in chunks
+to bound memory.
 The matrices equal scikit-fem's to round-off (tests/test_vectorized.py).
 """
 
@@ -37,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from skfem import ElementVector
 from skfem.element.discrete_field import DiscreteField
 
 from taxel.fem.kinematics import Kinematics
@@ -112,6 +118,76 @@ class Coo:
         return sp.csr_matrix((v, (r, c)), shape=shape)
 
 
+def lifting(basis, op: Operator, kin: Kinematics):
+    """(Q kind, L) when `op` of this basis is linear in the gradients (or values) of
+    its scalar shape functions: op_s(function (a, c)) = sum_r L[s, c, r] Q_r(a), Q
+    the scalar gradients ("grad") or values ("value"). None where it is not (the
+    axisymmetric strain also has u_r / r): then the generic path is used."""
+    if op is VALUE:
+        return (None if isinstance(basis.elem, ElementVector) else ("value", np.ones((1, 1, 1))))
+    if op is GRAD:
+        return None if isinstance(basis.elem, ElementVector) else ("grad", np.eye(kin.dim)[:, None, :])
+    if not isinstance(basis.elem, ElementVector):
+        return None
+    d = kin.dim
+    probe = DiscreteField(value=np.ones((d, 1, 1)), grad=np.zeros((d, d, 1, 1)))
+    if np.any(kin.strain(probe, DiscreteField(value=np.ones((d, 1, 1))))):
+        return None                              # the strain depends on values too
+    L = np.zeros((kin.n_voigt, d, d))
+    for c in range(d):
+        for k in range(d):
+            g = np.zeros((d, d, 1, 1))
+            g[c, k] = 1.0
+            L[:, c, k] = kin.strain(DiscreteField(value=np.zeros((d, 1, 1)), grad=g),
+                                    DiscreteField(value=np.ones((d, 1, 1))))[:, 0, 0]
+    return "grad", L
+
+
+def scalar_quantities(basis, kind: str, sl) -> np.ndarray:
+    """(elements, points, r, scalar functions): gradients or values of the scalar shape
+    functions of a basis (component 0 of a vector basis: its functions are (a, c))."""
+    nc = basis.elem.dim if isinstance(basis.elem, ElementVector) else 1
+    fns = [basis.basis[a * nc][0] for a in range(len(basis.basis) // nc)]
+    if kind == "grad":
+        q = [f.grad[0][..., sl, :] if nc > 1 else f.grad[..., sl, :] for f in fns]
+        return np.stack(q, axis=-1).transpose(1, 2, 0, 3)
+    q = [np.asarray(f)[..., sl, :] for f in fns]
+    return np.stack(q, axis=-1)[:, :, None, :]
+
+
+def factored_matrices(term: Term, lt, lr, kin, sl, cache) -> np.ndarray:
+    """Element matrices through the scalar shape functions: with op = L Q,
+
+        K_e[(a, c), (b, d)] = sum_{r, r'} H_e[(r, a), (r', b)] C[(r, r'), (c, d)],
+        H_e = sum_q w_q Q_test,q^T Q_trial,q,   C = L_test^T D L_trial,
+
+    one small batched product per element (functions x points x functions) and
+    one BLAS product with C for all elements; 3-6 x fewer operations than the
+    generic path for vector P2 elements."""
+    def q(basis, kind):
+        key = (id(basis), "q", kind)
+        if key not in cache:
+            cache[key] = scalar_quantities(basis, kind, sl)
+        return cache[key]
+    (kt, Lt), (kr, Lr) = lt, lr
+    Qt, Qr = q(term.test, kt), q(term.trial, kr)
+    w = _weights(term.trial, kin, sl, cache)
+    ne, nq, rt, na = Qt.shape
+    rr, nb = Qr.shape[2], Qr.shape[3]
+    nc, nd = Lt.shape[1], Lr.shape[1]
+    Qtw = (Qt * w[:, :, None, None]).transpose(0, 2, 3, 1).reshape(ne, rt * na, nq)
+    H = np.matmul(Qtw, Qr.reshape(ne, nq, rr * nb)).reshape(ne, rt, na, rr, nb)
+    C = np.einsum("scr,st,tdx->rxcd", Lt, term.D, Lr).reshape(rt * rr, nc * nd)
+    K = H.transpose(0, 2, 4, 1, 3).reshape(ne * na * nb, rt * rr) @ C
+    return K.reshape(ne, na, nb, nc, nd).transpose(0, 1, 3, 2, 4).reshape(ne, na * nc, nb * nd)
+
+
+def _weights(basis, kin, sl, cache):
+    if ("w", id(basis)) not in cache:
+        cache[("w", id(basis))] = weights(basis, kin, sl)
+    return cache[("w", id(basis))]
+
+
 def element_matrices(term: Term, kin: Kinematics, sl, cache: dict) -> np.ndarray:
     """(elements, test functions, trial functions) element matrices of a term on `sl`."""
     def op(basis, o):
@@ -119,11 +195,12 @@ def element_matrices(term: Term, kin: Kinematics, sl, cache: dict) -> np.ndarray
         if key not in cache:
             cache[key] = operator(basis, o, kin, sl)
         return cache[key]
+    lt, lr = lifting(term.test, term.test_op, kin), lifting(term.trial, term.trial_op, kin)
+    if lt is not None and lr is not None:
+        return factored_matrices(term, lt, lr, kin, sl, cache)
     Bt = op(term.test, term.test_op)
     Br = op(term.trial, term.trial_op)
-    if ("w", id(term.trial)) not in cache:
-        cache[("w", id(term.trial))] = weights(term.trial, kin, sl)
-    w = cache[("w", id(term.trial))]
+    w = _weights(term.trial, kin, sl, cache)
     DB = np.matmul(term.D, Br) * w[..., None, None]          # (ne, nq, a, ntr)
     ne, nq, a, ntr = DB.shape
     nte = Bt.shape[-1]
