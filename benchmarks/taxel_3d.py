@@ -3,7 +3,8 @@ built-in 3D taxel scenes, one fresh process per row (so the peak memory is the
 row's own), solvers side by side.
 
 Each row runs `taxel.analyses.problem` (gmsh mesh), `fem.assembly.assemble`
-(vectorised, fem.vectorized) and `fem.static.solve_linear` with the solver and
+(vectorised, fem.vectorized) and `fem.static.solve_linear` (reduction, scaling,
+factorization or GMRES for the load and every unit electrode charge, fields) with the solver and
 MKL thread count of the row, and prints the pressed taxel's open-circuit voltage,
 so the solvers can be compared on the same answer.
 

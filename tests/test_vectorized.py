@@ -65,3 +65,21 @@ def test_vectorised_blocks_equal_scikit_fem_forms(name, changes):
     for kind, R in ref.items():
         d = abs(sy.parts[kind] - R).max()
         assert d <= 1e-12 * abs(R).max(), (kind, d / abs(R).max())
+
+
+def test_3d_p2_stiffness_equals_felupe_on_the_same_mesh():
+    """Independent code: FELupe's LinearElastic SolidBody on the same tetra10 mesh
+    and quadrature gives the same matrix (benchmarks/assembly_3d.py maps the DOFs)."""
+    pytest.importorskip("felupe")
+    import importlib.util
+    from pathlib import Path
+    spec = importlib.util.spec_from_file_location(
+        "assembly_3d", Path(__file__).resolve().parents[1] / "benchmarks" / "assembly_3d.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    from taxel.analyses import mesh
+    m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+    ub = bench.ours_setup(m)
+    K = bench.ours_assemble(ub, bench.isotropic_c())
+    Kfe = bench.felupe_assemble(bench.felupe_setup(*bench.felupe_points_cells(m)))
+    assert bench.matrix_difference(ub, K, Kfe, m) < 1e-12
