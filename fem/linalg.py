@@ -39,7 +39,7 @@ def available(method: str) -> bool:
 
 
 AUTO_PARDISO_ABOVE = 15_000
-AUTO_KRYLOV_ABOVE = 600_000     # static solves: a direct factorization would not fit 24 GB (fem.krylov)
+AUTO_KRYLOV_ABOVE = 400_000     # static solves: a direct factorization would not fit 24 GB (fem.krylov)
 
 
 def resolve(method: str, n: int = 0, iterative: bool = False) -> str:
