@@ -38,6 +38,13 @@ only above AUTO_KRYLOV_ABOVE unknowns (fem.linalg), where a direct
 factorization would not fit this machine's 24 GB: PARDISO's peak was 0.72 GB at
 20.5k unknowns, 2.24 GB at 70k and 6.7 GB at 182k (the issue's run); with 3D
 fill growing like n^(4/3), 400k unknowns extrapolate to about 19 GB.
+
+Tried and not adopted (the 3D taxel at mesh.size 2 mm, 10k unknowns, exact
+displacement solves to isolate the Schur part): the block preconditioner above
+took 181 GMRES iterations to 1e-11; the augmented-Lagrangian variant (u block
+K + B^T diag(W)^-1 B, pressure block W = M / kappa lumped) 117, and 554 with a
+10 x augmentation. A better pressure Schur approximation for thin bonded layers
+is the open problem.
 """
 
 from __future__ import annotations
