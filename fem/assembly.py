@@ -25,6 +25,7 @@ from taxel.fem import constraints, forms
 from taxel.fem.kinematics import Kinematics
 from taxel.fem.laws import PiezoLaw, SolidLaw, law
 from taxel.fem.problem import Problem
+from taxel.fem.vectorized import GRAD, STRAIN, VALUE, Term, assemble_terms
 from taxel.fem.yeoh import Yeoh
 from taxel.meshing.build import TaggedMesh
 
@@ -105,28 +106,30 @@ def assemble(problem: Problem) -> System:
     offsets["phi"] = slice(n, n + Nphi)
     n += Nphi
 
-    blocks: dict[str, list] = {}
-
-    def add(kind, *triples):
-        blocks.setdefault(kind, []).extend(triples)
+    terms = []                     # (kind, region, Term, sign, row offset, column offset, mirrored)
+    o_u, o_phi = offsets["u"].start, offsets["phi"].start
     for region, lw in laws.items():
         ub = ubases[region]
         if isinstance(lw, PiezoLaw):
-            add(f"elastic:{region}", ("u", "u", asm(forms.elastic(lw.c, kin), ub)))
-            Kup = asm(forms.piezo_coupling(lw.e, kin), phibases[region], ub)
-            add("coupling", ("u", "phi", Kup), ("phi", "u", Kup.T))
-            add(f"dielectric:{region}", ("phi", "phi", -asm(forms.dielectric(lw.eps, kin), phibases[region])))
+            phib = phibases[region]
+            terms += [(f"elastic:{region}", region, Term(ub, STRAIN, lw.c, ub, STRAIN), 1.0, o_u, o_u, False),
+                      ("coupling", region, Term(ub, STRAIN, lw.e.T, phib, GRAD), 1.0, o_u, o_phi, True),
+                      (f"dielectric:{region}", region, Term(phib, GRAD, lw.eps, phib, GRAD), -1.0, o_phi, o_phi,
+                       False)]
         elif region in yeoh:
             continue
         elif region in pbases:
-            pk = ("p", region)
-            B = asm(forms.pressure_divergence(kin), pbases[region], ub)
-            add(f"shear:{region}", ("u", "u", asm(forms.deviatoric_shear(lw.mu, lw.beta, kin), ub)))
-            add("constraint", ("u", pk, B), (pk, "u", B.T))
-            add(f"volumetric:{region}", (pk, pk, -asm(forms.pressure_mass(lw.kappa, kin), pbases[region])))
+            pb, o_p = pbases[region], offsets[("p", region)].start
+            normal = np.zeros((kin.n_voigt, 1))
+            normal[: kin.normal] = 1.0
+            dev = 2 * lw.mu * (np.diag(kin.shear_weights) - lw.beta * normal @ normal.T)
+            terms += [(f"shear:{region}", region, Term(ub, STRAIN, dev, ub, STRAIN), 1.0, o_u, o_u, False),
+                      ("constraint", region, Term(ub, STRAIN, normal, pb, VALUE), 1.0, o_u, o_p, True),
+                      (f"volumetric:{region}", region, Term(pb, VALUE, np.array([[1 / lw.kappa]]), pb, VALUE),
+                       -1.0, o_p, o_p, False)]
         else:
-            add(f"shear:{region}", ("u", "u", asm(forms.elastic(lw.c, kin), ub)))
-    parts = {kind: place(triples, offsets, n) for kind, triples in blocks.items()}
+            terms.append((f"shear:{region}", region, Term(ub, STRAIN, lw.c, ub, STRAIN), 1.0, o_u, o_u, False))
+    parts = assemble_terms(terms, kin, (n, n))
     A = sum(parts.values()) if parts else sp.csr_matrix((n, n))
 
     b, force = load_vector(problem, eu, n)

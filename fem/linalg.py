@@ -11,7 +11,8 @@ factorized; iterative refinement reuses the factors, and the relative residual
 |A_s y - b_s| / |b_s| is reported.
 
 Methods: "superlu" (scipy, installs everywhere: the fallback), "pardiso" (MKL
-PARDISO through pypardiso), "umfpack" (scikit-umfpack, if installed). "auto"
+PARDISO through pypardiso), "umfpack" (scikit-umfpack, if installed), "krylov"
+(GMRES with a block AMG preconditioner, fem.krylov: static linear solves only). "auto"
 picks SuperLU below 15 000 unknowns and PARDISO above (when it imports): measured
 on the 2D taxel (benchmarks/taxel_2d.py), SuperLU wins on small systems (PARDISO
 has a ~0.3 s floor here) and PARDISO on large ones (33 000 unknowns: 0.43 s vs
@@ -24,25 +25,32 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-METHODS = ("auto", "superlu", "pardiso", "umfpack")
+METHODS = ("auto", "superlu", "pardiso", "umfpack", "krylov")
 
 
 def available(method: str) -> bool:
     if method in ("auto", "superlu"):
         return True
     try:
-        __import__({"pardiso": "pypardiso", "umfpack": "scikits.umfpack"}[method])
+        __import__({"pardiso": "pypardiso", "umfpack": "scikits.umfpack", "krylov": "pyamg"}[method])
         return True
     except ImportError:
         return False
 
 
 AUTO_PARDISO_ABOVE = 15_000
+AUTO_KRYLOV_ABOVE = 400_000     # static solves: a direct factorization would not fit 24 GB (fem.krylov)
 
 
-def resolve(method: str, n: int = 0) -> str:
+def resolve(method: str, n: int = 0, iterative: bool = False) -> str:
+    """The solver a method name stands for at n unknowns; `iterative`: the caller
+    (the static linear solve) can use the Krylov solver of fem.krylov."""
     if method == "auto":
+        if iterative and n > AUTO_KRYLOV_ABOVE and available("krylov"):
+            return "krylov"
         return "pardiso" if n > AUTO_PARDISO_ABOVE and available("pardiso") else "superlu"
+    if method == "krylov" and not iterative:
+        raise ValueError("linear solver 'krylov' solves static linear problems only; use 'pardiso' or 'superlu'")
     if method not in METHODS:
         raise ValueError(f"unknown linear solver '{method}'; use one of {', '.join(METHODS)}")
     if not available(method):

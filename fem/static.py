@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from taxel.fem import linalg
+from taxel.fem import krylov, linalg
 from taxel.fem.assembly import System
 from taxel.fem.constraints import Reduction, reduction
 from taxel.fem.fields import Fields, component_dofs, fields
@@ -61,8 +61,10 @@ def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Soluti
     red = reduction(sy)
     nf, na = red.nf, len(red.active)
     A = (red.P.T @ sy.A @ red.P).tocsc()
-    X, res = linalg.scaled_solver(A, red.is_u, method, scale)(np.column_stack([red.P.T @ sy.b,
-                                                                                red.unit_charges()]))
+    method = linalg.resolve(method, red.n, iterative=True)
+    solver = krylov.scaled_solver(A, krylov.blocks(sy, red)) if method == "krylov" else \
+        linalg.scaled_solver(A, red.is_u, method, scale)
+    X, res = solver(np.column_stack([red.P.T @ sy.b, red.unit_charges()]))
     # open-circuit voltages, capacitance matrix, and the state the problem asks for
     Vf, Cinv = X[nf:, 0], X[nf:, 1:]
     states = sy.electrodes.states
@@ -73,7 +75,7 @@ def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Soluti
         Q[fixedV] = np.linalg.solve(Cinv[np.ix_(fixedV, fixedV)], Vset - Vf[fixedV])
     x = red.P @ (X[:, 0] + X[:, 1:] @ Q)
     r = sy.A @ x - sy.b
-    return results(sy, red, x, r, Cinv, linalg.resolve(method, red.n), float(res.max()))
+    return results(sy, red, x, r, Cinv, method, float(res.max()))
 
 
 def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float) -> Solution:

@@ -35,7 +35,7 @@ def load(source: str | Path | dict) -> Scene:
 
 def solve(scene: Scene | str | Path | dict, **options):
     """The scene's analysis ([analysis] type): StaticResult, FrequencyResult or
-    TransientResult. Static options: solver ("auto", "superlu", "pardiso"),
+    TransientResult. Static options: solver ("auto", "superlu", "pardiso", "krylov"),
     tagged_mesh, newton_options."""
     return analyses.solve(load(scene), **options)
 

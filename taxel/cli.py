@@ -224,7 +224,7 @@ def main(argv=None):
     p.add_argument("scene", help="scene TOML file or built-in example name")
     p.add_argument("--json", action="store_true", help="print one JSON record")
     p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
-    p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack"])
+    p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack", "krylov"])
     p.add_argument("--out", metavar="DIR", help="folder for the outputs (scene.json, result.json; CSV and PNG "
                    "of frequency/transient analyses; default for those: out/SCENE)")
     p.set_defaults(run=_solve)

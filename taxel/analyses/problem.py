@@ -11,7 +11,7 @@ from __future__ import annotations
 import os
 from dataclasses import replace
 
-from taxel.fem import materials, records
+from taxel.fem import linalg, materials, records
 from taxel.fem.circuits import Readout
 from taxel.fem.contact import Indenter
 from taxel.fem.kinematics import kinematics
@@ -52,6 +52,7 @@ def scene_materials(scene: Scene) -> dict:
 BYTES_PER_UNKNOWN_2D = 3e3
 BYTES_PER_UNKNOWN_3D = 37e3
 REFERENCE_UNKNOWNS_3D = 182e3
+BYTES_PER_UNKNOWN_KRYLOV = 20e3
 
 
 def machine_memory() -> float:
@@ -60,10 +61,16 @@ def machine_memory() -> float:
 
 
 def cost(scene: Scene, lay) -> tuple[float, float]:
-    """(estimated unknowns, estimated bytes of a direct solve) of a scene's mesh."""
+    """(estimated unknowns, estimated bytes of the solve) of a scene's mesh: a direct
+    solve, or above linalg.AUTO_KRYLOV_ABOVE unknowns (static, linear) the Krylov
+    solver, whose memory is about linear (1.37 GB at 70k unknowns, README)."""
     n = estimate(lay).unknowns(lay.dim, scene.mesh.order)
-    per = BYTES_PER_UNKNOWN_2D if lay.dim == 2 else \
-        BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
+    if lay.dim == 2:
+        per = BYTES_PER_UNKNOWN_2D
+    elif n > linalg.AUTO_KRYLOV_ABOVE and scene.analysis.type == "static" and scene.model.silicone == "linear":
+        per = BYTES_PER_UNKNOWN_KRYLOV
+    else:
+        per = BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
     return n, n * per
 
 

@@ -1,0 +1,70 @@
+"""The 3D cost table: mesh, assembly and solve time, unknowns and peak memory of the
+built-in 3D taxel scenes, one fresh process per row (so the peak memory is the
+row's own), solvers side by side.
+
+Each row runs `taxel.analyses.problem` (gmsh mesh), `fem.assembly.assemble`
+(vectorised, fem.vectorized) and `fem.static.solve_linear` (reduction, scaling,
+factorization or GMRES for the load and every unit electrode charge, fields) with the solver and
+MKL thread count of the row, and prints the pressed taxel's open-circuit voltage,
+so the solvers can be compared on the same answer.
+
+Run: python benchmarks/taxel_3d.py [--solvers pardiso superlu krylov] [--threads 1 2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+ROW = r"""
+import json, resource, sys, time
+import taxel
+from taxel.analyses import problem
+from taxel.fem.assembly import assemble
+from taxel.fem.static import solve_linear
+name, solver = sys.argv[1], sys.argv[2]
+t0 = time.perf_counter(); p = problem(taxel.load(name))
+t1 = time.perf_counter(); sy = assemble(p)
+t2 = time.perf_counter(); sol = solve_linear(sy, solver)
+t3 = time.perf_counter()
+v = sol.voltages()
+pressed = "taxel_1_1" if "taxel_1_1" in v else "taxel_0_0"
+print(json.dumps(dict(unknowns=sol.unknowns, mesh=t1 - t0, assemble=t2 - t1, solve=t3 - t2, total=t3 - t0,
+                      solver=sol.solver, residual=sol.residual, voltage=v[pressed], pressed=pressed,
+                      peak_gb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6)))
+"""
+
+
+def row(name, solver, threads):
+    env = dict(os.environ, MKL_NUM_THREADS=str(threads), OMP_NUM_THREADS=str(threads))
+    out = subprocess.run([sys.executable, "-c", ROW, name, solver], env=env, capture_output=True, text=True)
+    if out.returncode:
+        return {"error": out.stderr.strip().splitlines()[-1]}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("scenes", nargs="*", default=["thesis-pzt-single-3d", "thesis-pzt-3x3-3d"])
+    ap.add_argument("--solvers", nargs="*", default=["pardiso", "krylov"])
+    ap.add_argument("--threads", nargs="*", type=int, default=[1])
+    args = ap.parse_args()
+    print(f"{'scene':<22} {'solver':<8} {'thr':>3} {'unknowns':>8} {'mesh s':>7} {'asm s':>6} {'solve s':>8} "
+          f"{'total s':>8} {'peak GB':>8} {'residual':>9} {'V pressed':>12}")
+    for name in args.scenes:
+        for solver in args.solvers:
+            for threads in (args.threads if solver == "pardiso" else [1]):
+                r = row(name, solver, threads)
+                if "error" in r:
+                    print(f"{name:<22} {solver:<8} {threads:>3} failed: {r['error']}", flush=True)
+                    continue
+                print(f"{name:<22} {solver:<8} {threads:>3} {r['unknowns']:>8} {r['mesh']:>7.2f} {r['assemble']:>6.2f} "
+                      f"{r['solve']:>8.2f} {r['total']:>8.2f} {r['peak_gb']:>8.2f} {r['residual']:>9.1e} "
+                      f"{r['voltage']:>12.9f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,85 @@
+"""The vectorised assembly (fem.vectorized) equals scikit-fem's BilinearForms of
+fem.forms, block by block, to round-off: every model type, both element orders,
+mixed and displacement-only silicone, piezo and plate layouts."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from skfem import asm
+
+from taxel.analyses import problem
+from taxel.fem import forms
+from taxel.fem.assembly import assemble
+from taxel.fem.laws import PiezoLaw
+from taxel.scene import load
+
+
+def reference_parts(sy):
+    """Every block kind assembled by scikit-fem from the forms of fem.forms."""
+    n, kin, off = sy.A.shape[0], sy.kin, sy.offsets
+    parts = {}
+
+    def put(kind, r0, c0, M, mirrored=False):
+        M = sp.coo_matrix(M)
+        blocks = [(M.row + r0, M.col + c0, M.data)] + ([(M.col + c0, M.row + r0, M.data)] if mirrored else [])
+        for r, c, v in blocks:
+            P = sp.csr_matrix((v, (r, c)), shape=(n, n))
+            parts[kind] = parts[kind] + P if kind in parts else P
+    for region, lw in sy.laws.items():
+        ub = sy.ubases[region]
+        if isinstance(lw, PiezoLaw):
+            pb = sy.phibases[region]
+            put(f"elastic:{region}", 0, 0, asm(forms.elastic(lw.c, kin), ub))
+            put("coupling", 0, off["phi"].start, asm(forms.piezo_coupling(lw.e, kin), pb, ub), True)
+            put(f"dielectric:{region}", off["phi"].start, off["phi"].start, -asm(forms.dielectric(lw.eps, kin), pb))
+        elif region in sy.yeoh:
+            continue
+        elif region in sy.pbases:
+            pb, o = sy.pbases[region], off[("p", region)].start
+            put(f"shear:{region}", 0, 0, asm(forms.deviatoric_shear(lw.mu, lw.beta, kin), ub))
+            put("constraint", 0, o, asm(forms.pressure_divergence(kin), pb, ub), True)
+            put(f"volumetric:{region}", o, o, -asm(forms.pressure_mass(lw.kappa, kin), pb))
+        else:
+            put(f"shear:{region}", 0, 0, asm(forms.elastic(lw.c, kin), ub))
+    return parts
+
+
+CASES = [
+    ("thesis-pzt-single-2d", {}),
+    ("thesis-pzt-single-2d", {"model.type": "axisymmetric"}),
+    ("thesis-pzt-single-2d", {"model.type": "plane_stress"}),
+    ("thesis-pzt-single-2d", {"mesh.order": 1}),
+    ("thesis-pzt-single-2d", {"mesh.formulation": "displacement"}),
+    ("thesis-pvdf-single-2d", {"mesh.order": 1, "mesh.formulation": "displacement"}),
+    ("thesis-pzt-single-3d", {}),
+    ("thesis-pzt-single-3d", {"mesh.order": 1}),
+    ("thesis-pvdf-single-3d", {"mesh.formulation": "displacement", "mesh.size": "1 mm"}),
+]
+
+
+@pytest.mark.parametrize("name,changes", CASES)
+def test_vectorised_blocks_equal_scikit_fem_forms(name, changes):
+    sy = assemble(problem(load(name).replace(**changes)))
+    ref = reference_parts(sy)
+    assert set(sy.parts) == set(ref)
+    for kind, R in ref.items():
+        d = abs(sy.parts[kind] - R).max()
+        assert d <= 1e-12 * abs(R).max(), (kind, d / abs(R).max())
+
+
+def test_3d_p2_stiffness_equals_felupe_on_the_same_mesh():
+    """Independent code: FELupe's LinearElastic SolidBody on the same tetra10 mesh
+    and quadrature gives the same matrix (benchmarks/assembly_3d.py maps the DOFs)."""
+    pytest.importorskip("felupe")
+    import importlib.util
+    from pathlib import Path
+    spec = importlib.util.spec_from_file_location(
+        "assembly_3d", Path(__file__).resolve().parents[1] / "benchmarks" / "assembly_3d.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    from taxel.analyses import mesh
+    m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+    ub = bench.ours_setup(m)
+    K = bench.ours_assemble(ub, bench.isotropic_c())
+    Kfe = bench.felupe_assemble(bench.felupe_setup(*bench.felupe_points_cells(m)))
+    assert bench.matrix_difference(ub, K, Kfe, m) < 1e-12
