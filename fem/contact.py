@@ -172,7 +172,7 @@ class Surface:
         self.fb = FacetBasis(mesh, element, facets=facets, intorder=intorder)
         self.kin = kin
         self.z_top = z_top
-        X = np.asarray(self.fb.global_coordinates().value)
+        X = np.asarray(self.fb.global_coordinates())
         self.X = X
         self.dA = np.asarray(self.fb.dx) * kin.measure(X)
         self.shape = X.shape[1:]
@@ -194,7 +194,7 @@ class Surface:
     def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True, fixed=None) -> ContactState:
         """The contact state; `fixed` (a boolean per point) fixes the active set: t_N = lambda - eps g
         there (even if negative) and 0 elsewhere, a smooth problem."""
-        x = self.X + np.asarray(self.fb.interpolate(u).value)
+        x = self.X + np.asarray(self.fb.interpolate(u))
         g, n, H = gap(ind, x, self.z_top, travel, with_curvature)
         tn = np.maximum(lam - eps * g, 0.0) if fixed is None else np.where(fixed, lam - eps * g, 0.0)
         st = ContactState(g, n, H, tn, x, self.dA)
