@@ -55,6 +55,8 @@ def cell(value, fmt=None) -> str:
         return str(value)
     if fmt is not None:
         return fmt(x)
+    if x.is_integer() and abs(x) < 1e15:   # counts: unknowns, evaluations
+        return str(int(x))
     return f"{x:.4g}"                       # no unit known (a ratio, a residual): as is
 
 
