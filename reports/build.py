@@ -72,12 +72,13 @@ def templates():
                               autoescape=True, trim_blocks=True, lstrip_blocks=True)
 
 
-def _figures(paths) -> dict:
+def _figures(paths, wide=False) -> dict:
+    """A block of embedded figures; wide ones one per row (small multiples)."""
     paths = list(paths)
     for p in paths:
         if not p.read_bytes():
             raise ReportError(f"{p}: an image to embed is empty; rerun the command that wrote it")
-    return {"type": "figures", "images": [data_uri(p.read_bytes()) for p in paths]}
+    return {"type": "figures", "wide": wide, "images": [data_uri(p.read_bytes()) for p in paths]}
 
 
 def _csv_link(src: Path, out: Path, folder: Path) -> str | None:
@@ -101,7 +102,7 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
     key = [p for p in plots if p.name.startswith("voltage")] or plots
     return {"sections": [
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
-                                                _figures(plots)]},
+                                                _figures(plots, wide=True)]},
         {"title": "Results", "blocks": [{"type": "table", "table": tables.table(
             rows, shown, sort_by=params, csv=_csv_link(folder / "results.csv", out, folder))}]}],
         "numbers": findings.study_numbers(rows),

@@ -19,7 +19,8 @@ _COLUMNS = [
     (r"^charge_(.+)$", "Q {0}", lambda v: engineering(v, "C")),
     (r"^capacitance.*", "capacitance", lambda v: engineering(v, "F")),
     (r"^max_strain$", "largest silicone strain", lambda v: percent(v)),
-    (r"^crosstalk(_bound)?$", "crosstalk{0}", lambda v: percent(v)),
+    (r"^crosstalk_bound$", "crosstalk bound", lambda v: percent(v)),
+    (r"^crosstalk$", "crosstalk", lambda v: percent(v)),
     (r"^sensitivity_V_per_N$", "sensitivity", lambda v: engineering(v, "V/N")),
     (r"^seconds$", "solve time", lambda v: f"{v:.2f} s"),
 ]
@@ -36,9 +37,7 @@ def column(name: str):
     for pattern, shown, fmt in _COLUMNS:
         m = re.match(pattern, name)
         if m:
-            groups = [g for g in m.groups() if g] if m.groups() else []
-            extra = " bound" if name.endswith("_bound") else ""
-            return shown.format(*(groups or [extra])).replace("taxel_", "taxel "), fmt
+            return shown.format(*m.groups()).replace("taxel_", "taxel "), fmt
     return name.replace("_", " "), None
 
 
@@ -65,15 +64,16 @@ def table(rows: list[dict], cols: list[str] | None = None, sort_by: list[str] = 
     """A table for the page template: named columns in units, sorted by `sort_by`
     (numerically by each value's magnitude, so "0.5 mm" < "2 mm"), at most `limit` rows."""
     cols = cols or (list(rows[0]) if rows else [])
-    if sort_by:
-        rows = sorted(rows, key=lambda r: tuple(_sort_key(r.get(k)) for k in sort_by))
+    if sort_by:                   # numbers by magnitude, names (materials, models) in the order first met
+        first = {k: {v: i for i, v in reversed(list(enumerate(r.get(k) for r in rows)))} for k in sort_by}
+        rows = sorted(rows, key=lambda r: tuple(_sort_key(r.get(k), first[k]) for k in sort_by))
     shown = [column(c) for c in cols]
     body = [[cell(r.get(c), fmt) for c, (_, fmt) in zip(cols, shown)] for r in rows[:limit]]
     return {"cols": [name for name, _ in shown], "rows": body, "more": max(0, len(rows) - limit), "csv": csv}
 
 
-def _sort_key(v):
+def _sort_key(v, first):
     m = magnitude(v) if isinstance(v, str) else v
     if isinstance(m, (int, float)):
-        return (0, float(m), "")
-    return (1, 0.0, str(v))
+        return (0, float(m))
+    return (1, float(first.get(v, 0)))
