@@ -10,8 +10,12 @@ materials; the folder's curves (parameter studies, Bode and time plots,
 convergence, Pareto front); renders of the solved fields; a model comparison
 (lumped, 2D, axisymmetric, 3D; linear and Yeoh) with each model's cost and
 deviation; the solver's own figures; and the provenance (scene, code version,
-date, material sources). Images are embedded (data URIs): a page opens with no
-network and no other file. The markup is XHTML (well-formed XML).
+date, material sources), under a banner when a result is outside its model's
+range (`findings`). Images are embedded (data URIs): a page opens with no
+network and no other file (its full-precision CSVs sit beside it, linked). The
+markup is XHTML (well-formed XML), from the jinja2 templates in
+`reports/templates/` (page.html, index.html); the index is a summary of the run
+with one card per page. `PAGE_KINDS` maps a folder kind to what its page shows.
 """
 
 from __future__ import annotations

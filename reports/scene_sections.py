@@ -16,13 +16,14 @@ from __future__ import annotations
 import base64
 import io
 import json
+import tempfile
 import time
 from pathlib import Path
 
 from taxel.analyses import lumped_model, scene_materials, solve_static
 from taxel.reports import findings, tables
 from taxel.scene import parse, scene_material_names, to_data
-from taxel.studies.store import Store, point_key
+from taxel.studies.store import Store, StoreError, point_key
 from taxel.units import engineering
 
 
@@ -99,12 +100,15 @@ def _solved(folder: Path, scene) -> dict:
               "capacitance": engineering(e.capacitance, "F")} for e in sol.electrodes.values()],
             sort_by=["electrode"]),
     }
-    cache.mkdir(exist_ok=True)
-    names = []
-    for i, png in enumerate(images):
-        (cache / f"{key}-{i}.png").write_bytes(png)
-        names.append(f"{key}-{i}.png")
-    meta.write_text(json.dumps({**rec, "image_files": names}))
+    try:                              # a read-only folder: the page is built, nothing is kept
+        cache.mkdir(exist_ok=True)
+        names = []
+        for i, png in enumerate(images):
+            (cache / f"{key}-{i}.png").write_bytes(png)
+            names.append(f"{key}-{i}.png")
+        meta.write_text(json.dumps({**rec, "image_files": names}))
+    except OSError:
+        pass
     rec["images"] = images
     return rec
 
@@ -115,7 +119,10 @@ def comparison(folder: Path, scene) -> list[dict]:
     FEM points come from the folder's store (solved once, ever)."""
     F = scene.load.force
     rows = []
-    store = Store(folder / "report-cache")
+    try:
+        store = Store(folder / "report-cache")
+    except (StoreError, OSError):     # a read-only folder: a store that lasts this build
+        store = Store(Path(tempfile.mkdtemp(prefix="taxel-report-")))
     try:
         def variant(label, model, mesh=None):
             s = scene.replace(**{"model.type": model, "model.silicone": "linear"},
