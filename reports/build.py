@@ -102,8 +102,8 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
     shown = params + [c for c in cols if c in ("voltage_pressed", "max_strain") or c.startswith("charge_")]
     if any(r.get("status") != "done" for r in rows):
         shown += ["status", "error"]
-    plots = sorted((folder / "plots").glob("*.png"))
-    key = [p for p in plots if p.name.startswith("voltage")] or plots
+    plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith("voltage"), p.name))
+    key = [p for p in plots if p.name.startswith("voltage") and "silicone" in p.name] or plots
     return {"sections": [
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
                                                 _figures(plots, wide=True)]},
