@@ -108,7 +108,8 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
                                                 _figures(plots, wide=True)]},
         {"title": "Results", "blocks": [{"type": "table", "table": tables.table(
-            rows, shown, sort_by=params, csv=_csv_link(folder / "results.csv", out, folder))}]}],
+            rows, shown, sort_by=params, csv=_csv_link(folder / "results.csv", out, folder),
+            order={p.get("label"): p.get("labels") for p in spec.get("parameters", []) if p.get("labels")})}]}],
         "numbers": findings.study_numbers(rows),
         "banners": findings.study_banners(rows, scene_data or {}), "scene_banners": False,
         "thumb": key[0].read_bytes() if key else None}

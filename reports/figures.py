@@ -318,7 +318,8 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
             plotter.camera.parallel_projection = True
             plotter.camera.focal_point = (centre, 0.0, zscale * (z0 + z1) / 2)
             plotter.camera.position = (centre, -100.0, zscale * (z0 + z1) / 2)
-            plotter.camera.parallel_scale = max(0.6 * zscale * (z1 - z0), half * window[1] / window[0])
+            plotter.camera.parallel_scale = max(0.55 * zscale * (z1 - z0),
+                                                min(half, 0.5 * np.ptp(pts[:, 0])) * window[1] / window[0])
     else:
         plotter.view_isometric()
     plotter.add_text(f"{sol.scene.name}: piezo coloured by {unit}, silicone grey; deformed x1"

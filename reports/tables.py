@@ -60,12 +60,14 @@ def cell(value, fmt=None) -> str:
 
 
 def table(rows: list[dict], cols: list[str] | None = None, sort_by: list[str] = (), limit: int = 60,
-          csv: str | None = None) -> dict:
+          csv: str | None = None, order: dict[str, list] | None = None) -> dict:
     """A table for the page template: named columns in units, sorted by `sort_by`
-    (numerically by each value's magnitude, so "0.5 mm" < "2 mm"), at most `limit` rows."""
+    (numerically by each value's magnitude, so "0.5 mm" < "2 mm"; names such as
+    materials in the order `order` gives them, else as first met), at most `limit` rows."""
     cols = cols or (list(rows[0]) if rows else [])
-    if sort_by:                   # numbers by magnitude, names (materials, models) in the order first met
-        first = {k: {v: i for i, v in reversed(list(enumerate(r.get(k) for r in rows)))} for k in sort_by}
+    if sort_by:
+        first = {k: {v: i for i, v in reversed(list(enumerate(list((order or {}).get(k) or [])
+                                                            + [r.get(k) for r in rows])))} for k in sort_by}
         rows = sorted(rows, key=lambda r: tuple(_sort_key(r.get(k), first[k]) for k in sort_by))
     shown = [column(c) for c in cols]
     body = [[cell(r.get(c), fmt) for c, (_, fmt) in zip(cols, shown)] for r in rows[:limit]]
