@@ -296,8 +296,9 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
     lay = scene_layout(sol.scene)
     centre = (lay.load.x if lay.load is not None else float(np.mean(pts[:, 0])) * 1e-3) * 1e3
     half = (3 * lay.taxels[0].half + getattr(sol.scene.array, "gap", 0.0)) * 1e3 if lay.taxels else None
+    y_load = (lay.load.y * 1e3) if lay.load is not None else float(np.median(pts[:, 1]))
     if m.dim() == 3:                  # cut through the pressed row: the piezo's potential is inside
-        grid = grid.clip(normal="-y", origin=(0.0, float(np.median(pts[:, 1])), 0.0))
+        grid = grid.clip(normal="-y", origin=(0.0, y_load, 0.0))
     plotter = pv.Plotter(off_screen=True, window_size=window)
     unit = "potential (V)" if field == "phi" else field
     piezo_part = grid.threshold(0.5, scalars="piezo")
@@ -320,8 +321,14 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
             plotter.camera.position = (centre, -100.0, zscale * (z0 + z1) / 2)
             plotter.camera.parallel_scale = max(0.55 * zscale * (z1 - z0),
                                                 min(half, 0.5 * np.ptp(pts[:, 0])) * window[1] / window[0])
-    else:
+    else:                             # looking at the cut face, from the front and above, on the press
         plotter.view_isometric()
+        z0, z1 = float(pts[:, 2].min()), float(pts[:, 2].max())
+        h = half or 0.5 * float(np.ptp(pts[:, 0]))
+        focus = (centre, y_load, (z0 + z1) / 2)
+        plotter.camera.focal_point = focus
+        plotter.camera.position = (centre + 0.6 * h, y_load - 2.2 * h, z1 + 1.4 * h)
+        plotter.camera.view_up = (0.0, 0.0, 1.0)
     plotter.add_text(f"{sol.scene.name}: piezo coloured by {unit}, silicone grey; deformed x1"
                      + (f", vertical x{zscale:.2g}" if zscale != 1 else ""), font_size=11)
     img = plotter.screenshot(return_img=True)

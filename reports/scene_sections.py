@@ -119,10 +119,12 @@ def comparison(folder: Path, scene) -> list[dict]:
     FEM points come from the folder's store (solved once, ever)."""
     F = scene.load.force
     rows = []
+    scratch = None
     try:
         store = Store(folder / "report-cache")
     except (StoreError, OSError):     # a read-only folder: a store that lasts this build
-        store = Store(Path(tempfile.mkdtemp(prefix="taxel-report-")))
+        scratch = tempfile.TemporaryDirectory(prefix="taxel-report-")
+        store = Store(Path(scratch.name))
     try:
         def variant(label, model, mesh=None):
             s = scene.replace(**{"model.type": model, "model.silicone": "linear"},
@@ -144,6 +146,8 @@ def comparison(folder: Path, scene) -> list[dict]:
         ref = variant("3D", "3d", mesh={"size": 1e-3, "piezo_size": 4e-4})
     finally:
         store.close()
+        if scratch is not None:
+            scratch.cleanup()
     for r in rows:
         if ref and isinstance(r.get("voltage V/N"), float):
             r["vs 3D"] = f"{100 * (r['voltage V/N'] / ref - 1):+.1f} %"
