@@ -6,18 +6,20 @@ Nothing already solved is solved again. The model comparison's points go through
 a study store in the folder (`Store.get_or_compute`, report-cache/results.sqlite,
 apart from a study's own points),
 and the scene's own solve is kept as what the page shows of it (the renders, the
-tables, the numbers) in the folder's `report-cache/`, under the same key as a
-study point (the scene and the code version), so a second build of the same
-folder solves nothing.
+tables, the numbers) in the folder's `report-cache/`, under the key of a study
+point (the scene and the code version) and of the drawing code, so a second
+build of the same folder solves nothing.
 """
 
 from __future__ import annotations
 
 import base64
+import hashlib
 import io
 import json
 import tempfile
 import time
+from functools import cache
 from pathlib import Path
 
 from taxel.analyses import lumped_model, scene_materials, solve_static
@@ -65,7 +67,7 @@ def scene_sections(folder: Path, scene_data: dict, compare: bool):
 def _solved(folder: Path, scene) -> dict:
     """What the page shows of the scene's static solve, from report-cache/ or solved now."""
     cache = folder / "report-cache"
-    key = point_key(to_data(scene))[:24]
+    key = hashlib.sha256((point_key(to_data(scene)) + _drawing_version()).encode()).hexdigest()[:24]
     meta = cache / f"{key}.json"
     if meta.exists():
         rec = json.loads(meta.read_text())
@@ -111,6 +113,14 @@ def _solved(folder: Path, scene) -> dict:
         pass
     rec["images"] = images
     return rec
+
+
+@cache
+def _drawing_version() -> str:
+    """Hash of the code that draws and words a solve (a change redraws the cached pages)."""
+    here = Path(__file__).parent
+    return hashlib.sha256(b"".join((here / f).read_bytes() for f in (
+        "figures.py", "findings.py", "tables.py", "scene_sections.py"))).hexdigest()[:16]
 
 
 def comparison(folder: Path, scene) -> list[dict]:
