@@ -10,32 +10,28 @@ materials; the folder's curves (parameter studies, Bode and time plots,
 convergence, Pareto front); renders of the solved fields; a model comparison
 (lumped, 2D, axisymmetric, 3D; linear and Yeoh) with each model's cost and
 deviation; the solver's own figures; and the provenance (scene, code version,
-date, material sources). Images are embedded (data URIs): a page opens with no
-network and no other file. The markup is XHTML (well-formed XML).
+date, material sources), under a banner when a result is outside its model's
+range (`findings`). Images are embedded (data URIs): a page opens with no
+network and no other file (its full-precision CSVs sit beside it, linked). The
+markup is XHTML (well-formed XML), from the jinja2 templates in
+`reports/templates/` (page.html, index.html); the index is a summary of the run
+with one card per page. `PAGE_KINDS` maps a folder kind to what its page shows.
 """
 
 from __future__ import annotations
 
-import base64
 import csv
-import html
-import io
 import json
+import shutil
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from taxel.analyses import lumped_model, scene_materials, solve_static
 from taxel.analyses.results import output_folder
-from taxel.fem.newton import NewtonError
-from taxel.scene import SceneError, parse, scene_material_names
+from taxel.scene import SceneError
+from taxel.reports import findings, tables
+from taxel.reports.scene_sections import data_uri, scene_sections
 from taxel.studies.store import code_version
-
-CSS = """body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;color:#222;padding:0 1em}
-h1{font-size:1.6em}h2{font-size:1.2em;border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
-img{max-width:100%;border:1px solid #eee;margin:.4em 0}table{border-collapse:collapse;font-size:.85em}
-td,th{border:1px solid #ddd;padding:.25em .5em;text-align:right}th{background:#f4f4f4}
-.grid{display:grid;grid-template-columns:repeat(auto-fill,minmax(480px,1fr));gap:1em}
-.note{color:#555;font-size:.9em}pre{background:#f7f7f7;padding:.6em;overflow:auto;font-size:.8em}"""
 
 
 class ReportError(SceneError):
@@ -62,190 +58,137 @@ def kind_of(folder: Path) -> str:
                       "front.json or scene.json); run taxel study/optimize/solve with --out first")
 
 
-def _png(path_or_fig) -> str:
-    if isinstance(path_or_fig, (str, Path)):
-        data = Path(path_or_fig).read_bytes()
-    else:
-        buf = io.BytesIO()
-        path_or_fig.savefig(buf, format="png", dpi=110)
-        import matplotlib.pyplot as plt
-        plt.close(path_or_fig)
-        data = buf.getvalue()
-    if not data:
-        raise ReportError("an image to embed is empty")
-    return f'<img alt="figure" src="data:image/png;base64,{base64.b64encode(data).decode()}"/>'
+@dataclass
+class Page:
+    """A written page and what its index card shows."""
+    path: Path
+    kind: str
+    title: str
+    numbers: list = field(default_factory=list)      # [(label, value in units)]
+    banners: list = field(default_factory=list)      # one sentence each: the number and the fix
+    thumb: bytes | None = None                       # PNG of the key figure
 
 
-def _table(rows, cols=None, limit=40) -> str:
-    if not rows:
-        return "<p class=\"note\">(no rows)</p>"
-    cols = cols or list(rows[0])
-    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in cols)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(_fmt(r.get(c)))}</td>" for c in cols) + "</tr>"
-                   for r in rows[:limit])
-    more = f"<p class=\"note\">{len(rows) - limit} more rows in the CSV</p>" if len(rows) > limit else ""
-    return f"<table><tr>{head}</tr>{body}</table>{more}"
+def templates():
+    """The jinja2 environment of reports/templates (autoescaped XHTML)."""
+    import jinja2
+    return jinja2.Environment(loader=jinja2.PackageLoader("taxel.reports", "templates"),
+                              autoescape=True, trim_blocks=True, lstrip_blocks=True)
 
 
-def _fmt(v):
-    """A table cell: numbers (also numeric strings from CSV) to 4 significant digits."""
-    if v is None or isinstance(v, bool):
-        return "" if v is None else str(v)
-    try:
-        return f"{float(v):.4g}"
-    except (TypeError, ValueError):
-        return str(v)
+def _figures(paths, wide=False) -> dict:
+    """A block of embedded figures; wide ones one per row (small multiples)."""
+    paths = list(paths)
+    for p in paths:
+        if not p.read_bytes():
+            raise ReportError(f"{p}: an image to embed is empty; rerun the command that wrote it")
+    return {"type": "figures", "wide": wide, "images": [data_uri(p.read_bytes()) for p in paths]}
 
 
-def _page(title, sections) -> str:
-    body = "".join(f"<h2>{html.escape(h)}</h2>{content}" for h, content in sections)
-    return ("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!DOCTYPE html>\n"
-            "<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\"><head><meta charset=\"utf-8\"/>"
-            f"<title>{html.escape(title)}</title><style>{CSS}</style></head>"
-            f"<body><h1>{html.escape(title)}</h1>{body}</body></html>\n")
+def _csv_link(src: Path, out: Path, folder: Path) -> str | None:
+    """Copy a full-precision CSV beside the page; its relative link."""
+    if not src.exists():
+        return None
+    name = f"{folder.name}-{src.name}"
+    shutil.copyfile(src, out / name)
+    return name
 
 
-def _scene_sections(scene_data: dict, compare: bool):
-    from taxel.reports import figures
-    scene = parse({**scene_data, "name": scene_data.get("name", "scene")})
-    out = [("Scene", _png(figures.scene_drawing(scene)) + _scene_table(scene))]
-    sol = solve_static(scene)
-    out.append(("Fields", _render(sol)))
-    out.append(("Solver", _table([{
-        "model": scene.model.type, "silicone": scene.model.silicone, "order": scene.mesh.order,
-        "unknowns": sol.unknowns, "solver": sol.solver, "relative residual": sol.residual,
-        "Newton iterations": sol.newton.total_iterations if sol.newton else "-",
-        "mesh s": sol.times["mesh"], "assemble s": sol.times["assemble"], "solve s": sol.times["solve"]}])
-        + _table([{"electrode": e.name, "voltage V": e.voltage, "short-circuit charge C": e.short_circuit_charge,
-                   "capacitance F": e.capacitance} for e in sol.electrodes.values()])))
-    if compare and scene.array is not None and scene.array.rows * scene.array.cols == 1:
-        out.append(("Model comparison", _comparison(scene)))
-    return out, scene
+def _study(folder: Path, out: Path, scene_data) -> dict:
+    spec = read_json(folder / "study.json")
+    rows = list(csv.DictReader(open(folder / "results.csv"))) if (folder / "results.csv").exists() else []
+    cols = list(rows[0]) if rows else []
+    params = cols[:cols.index("status")] if "status" in cols else []
+    shown = params + [c for c in cols if c in ("voltage_pressed", "max_strain") or c.startswith("charge_")]
+    if any(r.get("status") != "done" for r in rows):
+        shown += ["status", "error"]
+    plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith("voltage"), p.name))
+    key = [p for p in plots if p.name.startswith("voltage") and "silicone" in p.name] or plots
+    return {"sections": [
+        {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
+                                                _figures(plots, wide=True)]},
+        {"title": "Results", "blocks": [{"type": "table", "table": tables.table(
+            rows, shown, sort_by=params, csv=_csv_link(folder / "results.csv", out, folder),
+            order={p.get("label"): p.get("labels") for p in spec.get("parameters", []) if p.get("labels")})}]}],
+        "numbers": findings.study_numbers(rows),
+        "banners": findings.study_banners(rows, scene_data or {}), "scene_banners": False,
+        "thumb": key[0].read_bytes() if key else None}
 
 
-def _scene_table(scene) -> str:
-    mats = scene_materials(scene)
-    rows = [{"material": m, "source": mats[m].source} for m in scene_material_names(scene)]
-    return _table(rows, ["material", "source"])
+def _optimization(folder: Path, out: Path, scene_data) -> dict:
+    blocks, numbers = [], []
+    if (folder / "front.json").exists():
+        rec = read_json(folder / "front.json")
+        numbers += findings.front_numbers(rec)
+        blocks.append({"type": "table", "table": tables.table(rec["front"], sort_by=["crosstalk"])})
+    if (folder / "optimum.json").exists():
+        rec = read_json(folder / "optimum.json")
+        numbers += findings.optimum_numbers(rec)
+        blocks.append({"type": "table", "table": tables.table(
+            [{**rec["x"], "objective": rec["objective"], "evaluations": rec["evaluations"],
+              "success": rec["success"], "message": rec["message"]}],
+            csv=_csv_link(folder / "optimum-history.csv", out, folder))})
+    imgs = sorted(folder.glob("*.png"))
+    key = [p for p in imgs if p.name == "pareto.png"] or imgs
+    return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
+            "banners": [], "thumb": key[0].read_bytes() if key else None}
 
 
-def _render(sol) -> str:
-    """The solved fields: a pyvista render (off-screen) of the deformed mesh
-    coloured by the potential, and the 2D cross-section with matplotlib."""
-    from taxel.reports import figures
-    parts = []
-    try:
-        parts.append(_png_bytes(figures.pyvista_render(sol)))
-    except Exception as exc:          # no off-screen OpenGL here: say so, keep the 2D figure
-        parts.append(f"<p class=\"note\">3D render unavailable ({html.escape(type(exc).__name__)}: "
-                     f"{html.escape(str(exc).splitlines()[0] if str(exc) else '')})</p>")
-    if sol.mesh.mesh.dim() == 2:
-        buf = io.BytesIO()
-        figures.cross_section(sol, buf)
-        parts.append(_png_bytes(buf.getvalue()))
-    return "<div class=\"grid\">" + "".join(parts) + "</div>"
+def _analysis(folder: Path, out: Path, scene_data) -> dict:
+    imgs = sorted(folder.glob("*.png"))
+    summary = (folder / "summary.txt").read_text() if (folder / "summary.txt").exists() else ""
+    links = [c for c in (_csv_link(p, out, folder) for p in sorted(folder.glob("*.csv"))) if c]
+    blocks = [{"type": "pre", "text": summary}] if summary else []
+    blocks += [_figures(imgs)] + [{"type": "note", "text": f"Full precision (SI units): {c}"} for c in links]
+    return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(summary),
+            "banners": findings.frequency_banners(summary, scene_data),
+            "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
+            "thumb": imgs[0].read_bytes() if imgs else None}
 
 
-def _png_bytes(data: bytes) -> str:
-    return f'<img alt="render" src="data:image/png;base64,{base64.b64encode(data).decode()}"/>'
+# the page of each folder kind: (folder, out, scene data) -> sections, numbers, banners, thumb
+PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis}
 
 
-def _comparison(scene) -> str:
-    """Lumped, 2D plane stress/strain, axisymmetric, 3D, linear and Yeoh, at the
-    scene's force (Yeoh at min(force, 0.2 N), where Newton follows it): voltage,
-    cost, and the deviation from the 3D model."""
-    rows = []
-    F = scene.load.force
-
-    def variant(label, model=None, silicone="linear", mesh=None):
-        t = time.perf_counter()
-        try:
-            s = scene.replace(**{"model.type": model or scene.model.type, "model.silicone": silicone},
-                              **{f"mesh.{k}": v for k, v in (mesh or {}).items()})
-            v = solve_static(s).voltages()
-            v = next(iter(v.values()))
-        except (NewtonError, SceneError, ValueError) as exc:
-            rows.append({"model": label, "voltage V/N": "-", "seconds": "-", "vs 3D %": str(exc)[:60]})
-            return None
-        rows.append({"model": label, "voltage V/N": abs(v) / F, "seconds": time.perf_counter() - t})
-        return abs(v) / F
-    t = time.perf_counter()
-    lm = abs(lumped_model(scene).V_oc([1e-3])[0]) / F
-    rows.append({"model": "lumped 3-DoF", "voltage V/N": lm, "seconds": time.perf_counter() - t})
-    variant("2D plane stress", "plane_stress")
-    variant("2D plane strain", "plane_strain")
-    variant("axisymmetric", "axisymmetric")      # PVDF: a row that says why not (not transversely isotropic)
-    ref = variant("3D", "3d", mesh={"size": 1e-3, "piezo_size": 4e-4})
-    for r in rows:
-        if ref and isinstance(r.get("voltage V/N"), float):
-            r["vs 3D %"] = 100 * (r["voltage V/N"] / ref - 1)
-    note = ("<p class=\"note\">Open-circuit voltage of the pressed taxel per newton, linear silicone, at "
-            f"{F:g} N. Deviation from the 3D model (1 mm mesh, 0.4 mm at the taxel; its own mesh error is "
-            "about 1 %). The Yeoh silicone changes these by the strain-dependent amount in the README "
-            "(7 % at 0.2 N). Cost: wall seconds on this machine.</p>")
-    return _table(rows, ["model", "voltage V/N", "vs 3D %", "seconds"]) + note
-
-
-def _provenance(folder: Path, scene_data: dict | None) -> str:
+def _provenance(folder: Path, scene_data: dict | None) -> list[dict]:
     rows = [{"item": "folder", "value": str(folder.resolve())}, {"item": "code version", "value": code_version()},
             {"item": "report date", "value": time.strftime("%Y-%m-%d %H:%M:%S")}]
-    scene_txt = f"<details><summary>scene</summary><pre>{html.escape(json.dumps(scene_data, indent=1))}</pre>" \
-                "</details>" if scene_data else ""
-    return _table(rows, ["item", "value"]) + scene_txt
+    blocks = [{"type": "table", "table": tables.table(rows, ["item", "value"])}]
+    if scene_data:
+        blocks.append({"type": "details", "summary": "scene", "text": json.dumps(scene_data, indent=1)})
+    return blocks
 
 
-def build_page(folder: Path, out: Path, compare=True) -> tuple[Path, str, str]:
-    """Write OUT/<folder name>.html; returns (path, kind, title)."""
+def build_page(folder: Path, out: Path, compare=True) -> Page:
+    """Write OUT/<folder name>.html (and the folder's CSVs beside it)."""
     folder = Path(folder)
     if not folder.is_dir():
         raise ReportError(f"{folder}: no such folder")
     kind = kind_of(folder)
     scene_data = read_json(folder / "scene.json") if (folder / "scene.json").exists() else None
     title = f"{folder.name} ({kind})"
-    sections = []
-    if scene_data:
-        sec, _ = _scene_sections(scene_data, compare)
-        sections += sec
-    if kind == "study":
-        spec = read_json(folder / "study.json")
-        plots = sorted((folder / "plots").glob("*.png"))
-        sections.insert(0, ("Parameter study", f"<p>{html.escape(spec.get('description', ''))}</p>"
-                            + "<div class=\"grid\">" + "".join(_png(p) for p in plots) + "</div>"))
-        rows = list(csv.DictReader(open(folder / "results.csv"))) if (folder / "results.csv").exists() else []
-        sections.insert(1, ("Results", _table(rows)))
-    elif kind == "optimization":
-        parts = []
-        for name in ("front.json", "optimum.json"):
-            if (folder / name).exists():
-                rec = read_json(folder / name)
-                if name == "front.json":
-                    parts.append(_table(rec["front"]))
-                    if rec.get("reference"):
-                        ref = rec["reference"]
-                        parts.append(f"<p>Thesis design: sensitivity {ref['sensitivity']:.4g} V/N, crosstalk "
-                                     f"{100 * ref['crosstalk']:.2f} %.</p>")
-                else:
-                    parts.append(_table([{**rec["x"], "objective": rec["objective"], "evaluations": rec["evaluations"],
-                                          "success": rec["success"], "message": rec["message"]}]))
-        imgs = sorted(folder.glob("*.png"))
-        sections.insert(0, ("Optimization", "".join(parts) + "<div class=\"grid\">"
-                            + "".join(_png(p) for p in imgs) + "</div>"))
-    else:
-        imgs = sorted(folder.glob("*.png"))
-        summary = (folder / "summary.txt").read_text() if (folder / "summary.txt").exists() else ""
-        sections.insert(0, ("Analysis", f"<pre>{html.escape(summary)}</pre><div class=\"grid\">"
-                            + "".join(_png(p) for p in imgs) + "</div>"))
-    sections.append(("Provenance", _provenance(folder, scene_data)))
     out.mkdir(parents=True, exist_ok=True)
+    part = PAGE_KINDS[kind](folder, out, scene_data)
+    sections, numbers, banners, thumb = part["sections"], part["numbers"], part["banners"], part["thumb"]
+    if scene_data:
+        sec, nums, ban, key_png = scene_sections(folder, scene_data, compare)
+        sections, numbers = sections + sec, numbers + nums
+        banners += ban if part.get("scene_banners", True) else []
+        thumb = thumb or key_png
+    sections.append({"title": "Provenance", "blocks": _provenance(folder, scene_data)})
     path = out / f"{folder.name}.html"
-    path.write_text(_page(title, sections), encoding="utf-8")
-    return path, kind, title
+    path.write_text(templates().get_template("page.html").render(
+        title=title, kind=kind, folder=folder.name, banners=banners, headline=numbers, sections=sections),
+        encoding="utf-8")
+    return Page(path, kind, title, numbers, banners, thumb)
 
 
-def build(folders, out: Path, pdf=False, compare=True) -> Path:
+def build(folders, out: Path, pdf=False, compare=True, run: dict | None = None) -> Path:
     """One page per result folder and an index, written whole into `out` (a
     failure on any folder leaves no partial report; an existing report is
-    replaced only when the new one is complete)."""
+    replaced only when the new one is complete). `run` adds to the index's run
+    summary: "what" was run, "started" (a date), "seconds" it took."""
+    t0 = time.perf_counter()
     folders = [Path(f) for f in folders]
     if not folders:
         raise ReportError("no result folders given; name at least one study, optimization or solve folder")
@@ -257,15 +200,23 @@ def build(folders, out: Path, pdf=False, compare=True) -> Path:
             if (f / name).exists():
                 read_json(f / name)
     out = Path(out)
+    run = run or {}
     with output_folder(out, replace=True) as tmp:
         pages = [build_page(f, tmp, compare) for f in folders]
-        links = "".join(f"<li><a href=\"{html.escape(p.name)}\">{html.escape(t)}</a></li>" for p, k, t in pages)
-        (tmp / "index.html").write_text(_page("taxel reports", [("Pages", f"<ul>{links}</ul>"), (
-            "About", "<p>Made by <code>taxel report</code>. Each page is self-contained (images embedded).</p>")]),
-            encoding="utf-8")
+        warnings = [{"page": p.title, "text": b} for p in pages for b in p.banners]
+        cards = [{"href": p.path.name, "title": p.title, "numbers": p.numbers, "warnings": len(p.banners),
+                  "thumb": data_uri(p.thumb) if p.thumb else None} for p in pages]
+        summary = [("what", run.get("what") or ", ".join(p.title for p in pages)),
+                   ("when", run.get("started") or time.strftime("%Y-%m-%d %H:%M:%S")),
+                   ("code version", code_version()),
+                   ("duration", (f"{run['seconds']:.0f} s to compute, " if "seconds" in run else "")
+                    + f"{time.perf_counter() - t0:.0f} s to build this report"),
+                   ("warnings", f"{len(warnings)} result(s) outside their model's range" if warnings else "none")]
+        (tmp / "index.html").write_text(templates().get_template("index.html").render(
+            title="taxel report", run=summary, warnings=warnings, cards=cards), encoding="utf-8")
         if pdf:
-            for p, _, _ in pages:
-                to_pdf(p)
+            for p in pages:
+                to_pdf(p.path)
     return out / "index.html"
 
 

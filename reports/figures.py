@@ -99,41 +99,115 @@ def time_response(t, force, y, names, label, path, title=""):
     return path
 
 
+# outputs of a study: (axis label, scale from SI, absolute value?)
+_OUTPUT_AXES = {"voltage_pressed": ("pressed taxel |V|", "V"), "max_strain": ("largest silicone strain", "%"),
+                "crosstalk": ("crosstalk", "%")}
+_PREFIX = [(1.0, ""), (1e-3, "m"), (1e-6, "u"), (1e-9, "n"), (1e-12, "p")]
+
+
+def _axis(out, values):
+    """(label with unit, scale) for an output: volts and coulombs with the SI prefix
+    that suits the largest value, strains and ratios in %."""
+    label, unit = _OUTPUT_AXES.get(out, (out.replace("_", " "), "C" if out.startswith("charge") else "V"))
+    if unit == "%":
+        return f"{label} (%)", 100.0
+    big = max([abs(v) for v in values if np.isfinite(v)] or [1.0])
+    scale, prefix = next(((s, p) for s, p in _PREFIX if big >= s), _PREFIX[-1])
+    return f"{label} ({prefix}{unit})", 1 / scale
+
+
+def _param_value(v):
+    """(number, unit) of a parameter value such as "0.5 mm"; (SI number, "SI") for a bare
+    number; None when it is not a number."""
+    if isinstance(v, str):
+        parts = v.split(maxsplit=1)
+        try:
+            return float(parts[0]), (parts[1] if len(parts) > 1 else "-")
+        except ValueError:
+            return None
+    m = magnitude(v)
+    return (m, "SI") if isinstance(m, float) else None
+
+
 def study_plots(rows, parameters, outputs, folder, title=""):
-    """Each output against each numeric varied parameter; one line per combination
-    of the other parameters (labels in the legend). Returns the files written."""
+    """Each output against each numeric parameter, as small multiples: one panel per
+    value of the categorical parameters (material, model), each with its own y
+    range; one line per value of the other numeric parameters, in one colour per
+    value on every plot of the study; the legend outside the panels. Axis labels
+    carry the unit. Returns the files written."""
     plt = pyplot()
     folder.mkdir(parents=True, exist_ok=True)
     done = [r for r in rows if r["status"] == "done"]
+    numeric = [p for p in parameters if done and all(_param_value(r.get(p)) is not None for r in done)]
+    facets = [p for p in parameters if p not in numeric]
+    panels = list(dict.fromkeys(tuple(str(r.get(q)) for q in facets) for r in done)) or [()]
     files = []
-    for p in parameters:
-        xs = [magnitude(r.get(p)) for r in done]
-        if not xs or not all(isinstance(x, float) for x in xs):
-            continue
-        others = [q for q in parameters if q != p]
+    for p in numeric:
+        unit = _param_value(done[0][p])[1]
+        others = [q for q in numeric if q != p]
+        keys = sorted({tuple(_param_value(r[q])[0] for q in others) for r in done})
+        colour = {k: f"C{i % 10}" for i, k in enumerate(keys)}
         for out in outputs:
-            if not any(out in r for r in done):
+            if not any(isinstance(r.get(out), (int, float)) for r in done):
                 continue
-            fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
-            groups = {}
-            for r in done:
-                groups.setdefault(tuple(str(r.get(q)) for q in others), []).append(r)
-            for key, grp in sorted(groups.items()):
-                grp = sorted(grp, key=lambda r: magnitude(r[p]))
-                ys = [abs(r[out]) if isinstance(r.get(out), (int, float)) else np.nan for r in grp]
-                ax.plot([magnitude(r[p]) for r in grp], ys, "o-", ms=3,
-                        label=", ".join(f"{q}={v}" for q, v in zip(others, key)) or None)
-            ax.set_xlabel(f"{p} (SI)")
-            ax.set_ylabel(f"|{out}|")
-            ax.set_title(title)
-            if len(groups) > 1:
-                ax.legend(fontsize=6, ncol=2)
-            ax.grid(True, alpha=0.3)
+            ylabel, yscale = _axis(out, [abs(r[out]) for r in done if isinstance(r.get(out), (int, float))])
+            fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels) + 1.8, 3.8), squeeze=False,
+                                     layout="constrained")
+            for ax, panel in zip(axes[0], panels):
+                sub = [r for r in done if tuple(str(r.get(q)) for q in facets) == panel]
+                for k in keys:
+                    grp = sorted((r for r in sub if tuple(_param_value(r[q])[0] for q in others) == k),
+                                 key=lambda r: _param_value(r[p])[0])
+                    ys = [abs(r[out]) * yscale if isinstance(r.get(out), (int, float)) else np.nan for r in grp]
+                    label = ", ".join(f"{q.replace('_', ' ')} {v:g} {_param_value(done[0][q])[1]}"
+                                      for q, v in zip(others, k)) or None
+                    ax.plot([_param_value(r[p])[0] for r in grp], ys, "o-", ms=3, color=colour[k], label=label)
+                ax.set_title(", ".join(f"{q}: {v}" for q, v in zip(facets, panel)) or title, fontsize=10)
+                ax.set_xlabel(f"{p.replace('_', ' ')} ({unit})")
+                ax.set_ylabel(ylabel)
+                ax.grid(True, alpha=0.3)
+            if len(keys) > 1:
+                handles, labels = axes[0][0].get_legend_handles_labels()
+                fig.legend(handles, labels, loc="outside right upper", fontsize=8, frameon=False)
+            if facets and title:
+                fig.suptitle(title, fontsize=10)
             path = folder / f"{out}-vs-{p}.png"
             fig.savefig(path, dpi=110)
             plt.close(fig)
             files.append(path)
     return files
+
+
+def taxel_heatmap(sol):
+    """The open-circuit voltage of every taxel for the press, as a rows x cols map
+    in mV (the 2D section shows its one row); None for a single taxel."""
+    import re
+    plt = pyplot()
+    cells = {}
+    for name, e in sol.electrodes.items():
+        m = re.fullmatch(r"taxel_(\d+)_(\d+)", name)
+        if m:
+            cells[int(m.group(1)), int(m.group(2))] = e.voltage * 1e3
+    if len(cells) < 2:
+        return None
+    r0, r1 = min(r for r, _ in cells), max(r for r, _ in cells)
+    c0, c1 = min(c for _, c in cells), max(c for _, c in cells)
+    grid = np.full((r1 - r0 + 1, c1 - c0 + 1), np.nan)
+    for (r, c), v in cells.items():
+        grid[r - r0, c - c0] = v
+    lim = np.nanmax(np.abs(grid))
+    fig, ax = plt.subplots(figsize=(1.3 * grid.shape[1] + 2.5, 1.3 * grid.shape[0] + 1.2), layout="constrained")
+    im = ax.imshow(grid, cmap="coolwarm", vmin=-lim, vmax=lim)
+    for (r, c), v in cells.items():
+        ax.text(c - c0, r - r0, f"{v:.0f}", ha="center", va="center", fontsize=10,
+                fontweight="bold" if f"taxel_{r}_{c}" == sol.pressed else "normal")
+    ax.set_xticks(range(grid.shape[1]), [str(c) for c in range(c0, c1 + 1)])
+    ax.set_yticks(range(grid.shape[0]), [str(r) for r in range(r0, r1 + 1)])
+    ax.set_xlabel("column (index)")
+    ax.set_ylabel("row (index)")
+    fig.colorbar(im, ax=ax, label="open-circuit voltage (mV)")
+    ax.set_title(f"{sol.applied_force:g} N on {sol.pressed or 'the array'}", fontsize=9)
+    return fig
 
 
 def scene_layout(scene):
@@ -193,9 +267,11 @@ def scene_drawing(scene):
     return fig
 
 
-def pyvista_render(sol, field="phi", window=(900, 420)) -> bytes:
-    """Off-screen pyvista render of the deformed mesh coloured by a field
-    (potential by default); 2D meshes are drawn in their x-z plane. PNG bytes."""
+def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
+    """Off-screen pyvista render of the deformed mesh coloured by a field (the
+    potential by default), framed on the pressed taxel and its neighbours; 2D
+    meshes are drawn in their x-z plane, 3D ones clipped through the pressed row.
+    PNG bytes."""
     if not os.environ.get("DISPLAY"):      # headless: EGL directly, not X first (which warns on stderr)
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
@@ -212,16 +288,49 @@ def pyvista_render(sol, field="phi", window=(900, 420)) -> bytes:
         cells = np.hstack([np.full((m.t.shape[1], 1), 4), m.t.T]).ravel()
         grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TETRA), pts + u)
     grid.point_data[field] = getattr(sol.fields, field)
-    if m.dim() == 3:                  # cut through the pressed taxel: the piezo's potential is inside
-        grid = grid.clip(normal="-y", origin=(0.0, float(np.mean(pts[:, 1])), 0.0))
+    piezo = np.zeros(m.t.shape[1], bool)
+    for region in sol.mesh.materials:
+        if region != "silicone":
+            piezo[sol.mesh.regions[region]] = True
+    grid.cell_data["piezo"] = piezo.astype(float)
+    lay = scene_layout(sol.scene)
+    centre = (lay.load.x if lay.load is not None else float(np.mean(pts[:, 0])) * 1e-3) * 1e3
+    half = (3 * lay.taxels[0].half + getattr(sol.scene.array, "gap", 0.0)) * 1e3 if lay.taxels else None
+    y_load = (lay.load.y * 1e3) if lay.load is not None else float(np.median(pts[:, 1]))
+    if m.dim() == 3:                  # cut through the pressed row: the piezo's potential is inside
+        grid = grid.clip(normal="-y", origin=(0.0, y_load, 0.0))
     plotter = pv.Plotter(off_screen=True, window_size=window)
-    plotter.add_mesh(grid, scalars=field, cmap="coolwarm", show_edges=m.dim() == 2, edge_color="lightgray",
-                     line_width=0.3, scalar_bar_args={"title": "potential (V)" if field == "phi" else field})
-    if m.dim() == 2:
+    unit = "potential (V)" if field == "phi" else field
+    piezo_part = grid.threshold(0.5, scalars="piezo")
+    silicone_part = grid.threshold(0.5, scalars="piezo", invert=True)
+    plotter.add_mesh(silicone_part, color="#d9d9d9", opacity=0.45, show_edges=m.dim() == 2,
+                     edge_color="#bbbbbb", line_width=0.3)
+    plotter.add_mesh(piezo_part, scalars=field, cmap="coolwarm",
+                     scalar_bar_args={"title": unit, "title_font_size": 20, "label_font_size": 16,
+                                      "fmt": "%.2g", "vertical": True, "position_x": 0.88,
+                                      "position_y": 0.15, "height": 0.7})
+    span = np.ptp(pts, axis=0)
+    zscale = float(np.clip(span[0] / (4 * span[2]), 1.0, 3.0)) if m.dim() == 2 else 1.0
+    if m.dim() == 2:                  # vertical x3: the 0.1 mm piezo and the 1 mm silicone readable
+        plotter.set_scale(zscale=zscale)
         plotter.view_xz()
-    else:
+        if half:                          # frame the pressed taxel and its neighbours' edges
+            z0, z1 = float(pts[:, 2].min()), float(pts[:, 2].max())
+            plotter.camera.parallel_projection = True
+            plotter.camera.focal_point = (centre, 0.0, zscale * (z0 + z1) / 2)
+            plotter.camera.position = (centre, -100.0, zscale * (z0 + z1) / 2)
+            plotter.camera.parallel_scale = max(0.55 * zscale * (z1 - z0),
+                                                min(half, 0.5 * np.ptp(pts[:, 0])) * window[1] / window[0])
+    else:                             # looking at the cut face, from the front and above, on the press
         plotter.view_isometric()
-    plotter.add_text(f"{sol.scene.name}: deformed (x1), coloured by {field}", font_size=9)
+        z0, z1 = float(pts[:, 2].min()), float(pts[:, 2].max())
+        h = half or 0.5 * float(np.ptp(pts[:, 0]))
+        focus = (centre, y_load, (z0 + z1) / 2)
+        plotter.camera.focal_point = focus
+        plotter.camera.position = (centre + 0.6 * h, y_load - 2.2 * h, z1 + 1.4 * h)
+        plotter.camera.view_up = (0.0, 0.0, 1.0)
+    plotter.add_text(f"{sol.scene.name}: piezo coloured by {unit}, silicone grey; deformed x1"
+                     + (f", vertical x{zscale:.2g}" if zscale != 1 else ""), font_size=11)
     img = plotter.screenshot(return_img=True)
     plotter.close()
     import matplotlib.image as mpimg

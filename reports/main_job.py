@@ -27,6 +27,7 @@ from taxel.studies.store import tidy_rows, write_rows
 def run(root: Path, small: bool = False) -> Path:
     """Run the main job into `root` and return the report's index page."""
     t0 = time.perf_counter()
+    started = time.strftime("%Y-%m-%d %H:%M:%S")
     root.mkdir(parents=True, exist_ok=True)
     folders = []
     print("[1/4] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
@@ -72,6 +73,9 @@ def run(root: Path, small: bool = False) -> Path:
             print(line)
         folders.append(out)
     print("[4/4] report")
-    index = build(folders, root / "report", compare=not small)
+    what = ("taxel demo" + (" --small" if small else "") + ": thesis Fig. 2.5 study, sensitivity-crosstalk "
+            "front, frequency response, step response")
+    index = build(folders, root / "report", compare=not small,
+                  run={"what": what, "started": started, "seconds": time.perf_counter() - t0})
     print(f"done in {time.perf_counter() - t0:.0f} s; open {index.resolve()}")
     return index

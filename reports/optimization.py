@@ -12,8 +12,15 @@ from taxel.optimize.driver import _g, pareto_front
 from taxel.reports.figures import pyplot
 
 
+# the metrics' axis labels, in the units the metrics are in
+METRIC_AXES = {"sensitivity": "sensitivity (V/N)", "crosstalk": "crosstalk (ratio)",
+               "max_strain": "largest silicone strain (ratio)", "total_thickness": "total thickness (m)",
+               "footprint": "footprint (m)", "gap": "gap (m)"}
+
+
 def write_run(problem, result, out: Path, tag="optimum"):
-    rec = {"x": dict(zip(problem.names, map(float, result.x))), "objective": result.fun,
+    rec = {"x": dict(zip(problem.names, map(float, result.x))), "units": dict(zip(problem.names, problem.units)),
+           "objective": result.fun,
            "metrics": result.metrics, "constraints": result.constraints, "evaluations": result.nfev,
            "success": result.success, "message": result.message}
     (out / f"{tag}.json").write_text(json.dumps(rec, indent=1))
@@ -36,8 +43,8 @@ def _convergence(problem, result, path):
     fig, ax = plt.subplots(figsize=(6.5, 3.8), constrained_layout=True)
     ax.plot(vals, ".", color="0.6", label="evaluations")
     ax.plot(best, "-", label="best so far (any feasibility)")
-    ax.set_xlabel("evaluation")
-    ax.set_ylabel(metric)
+    ax.set_xlabel("evaluation (count)")
+    ax.set_ylabel(METRIC_AXES.get(metric, f"{metric} (SI)"))
     ax.set_title(f"{problem.spec.name}: {sense} {metric}")
     ax.legend()
     fig.savefig(path, dpi=120)
@@ -65,7 +72,8 @@ def write_front(problem, runs, reference, out: Path):
     ax.set_xlabel("crosstalk (%)")
     ax.set_ylabel("sensitivity (V/N)")
     ax.set_title(problem.spec.name)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.grid(True, alpha=0.3)
     fig.savefig(out / "pareto.png", dpi=120)
     plt.close(fig)
     return rows, nd

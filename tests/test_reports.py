@@ -103,3 +103,151 @@ def test_offscreen_render_is_silent_on_a_headless_machine():
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
     assert run.returncode == 0, run.stderr[-2000:]
     assert "X server" not in run.stderr and "WARN" not in run.stderr, run.stderr[-2000:]
+
+
+# --- issue 17: reports a design engineer reads first ---------------------------------
+
+def _xml(page: Path):
+    return ET.fromstring(page.read_text(encoding="utf-8").split("\n", 2)[2])
+
+
+NS = {"h": "http://www.w3.org/1999/xhtml"}
+
+
+def _text(el) -> str:
+    return "".join(el.itertext()).strip()
+
+
+def test_index_is_a_summary_with_a_number_per_card(demo):
+    root = _xml(demo / "report" / "index.html")
+    cards = [d for d in root.iter("{http://www.w3.org/1999/xhtml}div") if d.get("class") == "card"]
+    assert len(cards) == 4
+    for card in cards:
+        values = [_text(dd) for dd in card.iter("{http://www.w3.org/1999/xhtml}dd")]
+        assert any(re.search(r"\d", v) for v in values), (_text(card)[:80], values)
+        assert card.find(".//h:img", NS) is not None                    # the key figure's thumbnail
+    text = _text(root)
+    for item in ("what", "when", "code version", "duration", "warnings"):
+        assert item in text
+    assert "V/N" in text and "pF" in text and "%" in text             # sensitivity, capacitance, crosstalk
+
+
+def _axis_labels_checked(monkeypatch):
+    """Record every matplotlib figure's axis labels when it is saved."""
+    import matplotlib.figure
+    seen = []
+    save = matplotlib.figure.Figure.savefig
+
+    def savefig(fig, *args, **kwargs):
+        for ax in fig.axes:
+            seen.extend((fig.axes[0].get_title() or "?", lbl) for lbl in (ax.get_xlabel(), ax.get_ylabel()) if lbl)
+        return save(fig, *args, **kwargs)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
+    return seen
+
+
+def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeypatch):
+    from types import SimpleNamespace
+
+    import taxel
+    from taxel.reports import analysis
+    from taxel.reports.figures import study_plots
+    from taxel.reports.optimization import _convergence, write_front
+    from taxel.studies.store import tidy_rows
+    seen = _axis_labels_checked(monkeypatch)
+    # the study plots, faceted by material (a second material with scaled values)
+    rows = tidy_rows(demo / "fig-2-5")
+    rows += [{**r, "piezo": "PVDF", "voltage_pressed": 10 * r["voltage_pressed"]} for r in rows]
+    files = study_plots(rows, ["piezo", "silicone_thickness", "force"], ["voltage_pressed", "max_strain"],
+                        tmp_path / "plots", "fig-2-5")
+    assert len(files) == 4
+    # Bode and time plots, the optimization's convergence and front
+    for name, change in (("thesis-pzt-frequency", {"analysis.points": 8}),
+                         ("thesis-pzt-step", {"analysis.duration": 0.02})):
+        analysis.write(taxel.solve(taxel.load(name).replace(**change)), tmp_path / name)
+    spec = SimpleNamespace(objective={"maximize": "sensitivity"}, name="p")
+    run = SimpleNamespace(success=True, x=[1.0, 3.0], metrics={"sensitivity": 0.8, "crosstalk": 0.07},
+                          history=[{"metrics": {"sensitivity": 0.8, "crosstalk": 0.07}}])
+    prob = SimpleNamespace(spec=spec, names=["silicone_above", "gap"], units=["mm", "mm"], constraints=[])
+    _convergence(prob, run, tmp_path / "c.png")
+    write_front(prob, [(0.1, run)], {"sensitivity": 0.7, "crosstalk": 0.08}, tmp_path)
+    # the report's own figures: scene drawing, fields, the taxel heat map of an array
+    taxel.solve("thesis-pzt-3x3-2d").to_folder(tmp_path / "array")
+    build([tmp_path / "array"], tmp_path / "r", compare=False)
+    labels = [lbl for _, lbl in seen]
+    assert len(seen) >= 25 and "open-circuit voltage (mV)" in labels and "row (index)" in labels
+    assert "force (N)" in labels and "silicone thickness (mm)" in labels
+    assert "pressed taxel |V| (V)" in labels and "largest silicone strain (%)" in labels
+    bad = [(t, lbl) for t, lbl in seen if not re.search(r"\([^()]+\)\s*$", lbl)]
+    assert not bad, bad
+
+
+def _cells(page: Path):
+    root = _xml(page)
+    for table in root.iter("{http://www.w3.org/1999/xhtml}table"):
+        trs = list(table.iter("{http://www.w3.org/1999/xhtml}tr"))
+        head = [_text(th) for th in trs[0]]
+        for tr in trs[1:]:
+            yield from zip(head, [_text(td) for td in tr])
+
+
+def test_tables_show_engineering_units_sorted_and_link_the_csv(demo):
+    exponent = re.compile(r"\d[eE][+-]?\d")
+    for page in pages(demo):
+        for col, value in _cells(page):
+            if col in ("relative residual",):                        # dimensionless: no engineering unit
+                continue
+            assert not exponent.search(value), (page.name, col, value)
+    cells = list(_cells(demo / "report" / "fig-2-5.html"))
+    charges = [v for c, v in cells if c.startswith("Q taxel")]
+    assert charges and all(re.fullmatch(r"-?[\d.]+ [pn]C", v) for v in charges), charges
+    assert any(c == "largest silicone strain" and v.endswith("%") for c, v in cells)
+    order = [(v) for c, v in cells if c in ("silicone thickness", "force")]
+    pairs = [(float(a.split()[0]), float(b.split()[0])) for a, b in zip(order[::2], order[1::2])]
+    assert pairs == sorted(pairs) and len(pairs) == 4
+    text = (demo / "report" / "fig-2-5.html").read_text()
+    assert 'href="fig-2-5-results.csv"' in text and (demo / "report" / "fig-2-5-results.csv").exists()
+
+
+def test_out_of_range_page_shows_the_banner_and_an_in_range_one_does_not(tmp_path):
+    import taxel
+    scene = taxel.load("thesis-pzt-single-2d")
+    taxel.solve(scene).to_folder(tmp_path / "press-1N")                         # 1 N: strain far above 7.8 %
+    taxel.solve(scene.replace(**{"load.force": 0.01})).to_folder(tmp_path / "press-10mN")
+    build([tmp_path / "press-1N", tmp_path / "press-10mN"], tmp_path / "r", compare=False)
+    import html
+    hot = html.unescape((tmp_path / "r" / "press-1N.html").read_text())
+    cold = (tmp_path / "r" / "press-10mN.html").read_text()
+    assert 'class="banner"' in hot and "Linear silicone outside its range" in hot
+    assert re.search(r"largest strain \d+(\.\d+)? %", hot) and 'model.silicone = "yeoh"' in hot
+    assert 'class="banner"' not in cold
+    index = (tmp_path / "r" / "index.html").read_text()
+    assert "1 result(s) outside their model" in index and "press-1N (analysis):" in index
+
+
+def test_a_study_out_of_range_shows_the_banner(demo):
+    text = (demo / "report" / "fig-2-5.html").read_text()
+    assert "Linear silicone outside its range at 2 of 4 points" in text
+
+
+def test_building_twice_solves_nothing_the_second_time(demo, tmp_path, monkeypatch):
+    import shutil
+
+    import taxel.reports.scene_sections as S
+    import taxel.studies.evaluate as E
+    folder = tmp_path / "static"
+    shutil.copytree(demo / "static", folder, ignore=shutil.ignore_patterns("report-cache"))
+    calls = []
+    for mod in (S, E):
+        real = mod.solve_static
+        monkeypatch.setattr(mod, "solve_static", lambda scene, *a, _real=real, **k: calls.append(1) or _real(
+            scene, *a, **k))
+    build([folder], tmp_path / "r1", compare=True)
+    first = len(calls)
+    assert first >= 5                           # the page's solve and the four FEM models compared
+    build([folder], tmp_path / "r2", compare=True)
+    assert len(calls) == first                  # nothing solved the second time
+    a, b = ((tmp_path / r / "static.html").read_text() for r in ("r1", "r2"))
+    strip = re.compile(r"report date</td><td>[^<]*|<td>[\d.]+ s</td>")     # the date; the lumped model's time
+    assert strip.sub("", a) == strip.sub("", b)              # the same page, the same renders
+    assert "lumped 3-DoF" in b and "V/N" in b
