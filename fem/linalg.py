@@ -21,6 +21,8 @@ has a ~0.3 s floor here) and PARDISO on large ones (33 000 unknowns: 0.43 s vs
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -58,6 +60,38 @@ def resolve(method: str, n: int = 0, iterative: bool = False) -> str:
     return method
 
 
+class MemoryLimitError(ValueError):
+    """A factorization that cannot fit in this machine's free memory (found by
+    PARDISO's symbolic analysis, before the numerical factorization starts)."""
+
+
+def available_memory() -> float:
+    """Free memory for a new allocation (MemAvailable of /proc/meminfo), bytes."""
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES"))
+
+
+def check_fits(solver, A) -> None:
+    """PARDISO's analysis phase (11) reports the memory the factorization will need
+    (iparm 15: peak of the analysis, 16 + 17: permanent + factors, in KB); refuse
+    before factorizing when that exceeds the free memory, instead of being killed
+    by the kernel halfway."""
+    solver.set_phase(11)
+    solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
+    need = 1024.0 * max(solver.get_iparm(15), solver.get_iparm(16) + solver.get_iparm(17))
+    have = available_memory()
+    if need > 0.9 * have:
+        raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB, "
+                               f"more than the {have / 1e9:.3g} GB free; coarsen mesh.size / mesh.piezo_size, "
+                               "use fewer elements through the piezo, or model less (2D, axisymmetric)")
+
+
 def factorize(A: sp.spmatrix, method: str = "auto"):
     """A solve function for A (factorized once; accepts a vector or a matrix of RHS,
     real or complex). Complex matrices use SuperLU."""
@@ -86,6 +120,7 @@ def _factorize_real(A, method):
         # the symmetric-indefinite mode (-2) perturbs pivots and stalled at 1e-10 on 3D taxels
         solver = pypardiso.PyPardisoSolver(mtype=11)
         Ar = sp.csr_matrix(A)
+        check_fits(solver, Ar)
         solver.factorize(Ar)
         return lambda B: solver.solve(Ar, np.asarray(B, dtype=float))
     from scikits.umfpack import splu

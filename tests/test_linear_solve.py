@@ -8,6 +8,7 @@ leave a residual of ~2e-6 (measured).
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from taxel.fem import linalg
 from taxel.analyses import solve_static as solve
@@ -53,3 +54,17 @@ def test_thin_stiff_plate_mixed_form_solvers_agree(nu):
         w.append(sol.fields.u[np.argmin(np.hypot(p[0], p[1])), 1])
         assert sol.residual < 1e-5
     assert max(w) - min(w) < 1e-6 * abs(w[0])
+
+
+@pytest.mark.skipif("pardiso" not in SOLVERS, reason="PARDISO is not installed here")
+def test_a_factorization_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
+    """PARDISO's analysis phase gives the memory the factors need; with (pretend)
+    almost no free memory the solve is refused with the estimate, not killed."""
+    n = 2000
+    A = sp.diags([np.full(n, 4.0), np.full(n - 1, -1.0), np.full(n - 1, -1.0)], [0, -1, 1]).tocsc()
+    monkeypatch.setattr(linalg, "available_memory", lambda: 1.0e3)
+    with pytest.raises(linalg.MemoryLimitError, match="GB"):
+        linalg.factorize(A, "pardiso")
+    monkeypatch.undo()
+    x = linalg.factorize(A, "pardiso")(np.ones(n))
+    assert np.allclose(A @ x, 1.0)
