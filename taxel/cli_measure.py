@@ -6,6 +6,8 @@
     taxel measure rebuild DIR
     taxel measure simulate RIG --scene SCENE --input step|impulse|chirp|presses
                            [--port URL | --pty | --to FILE] [--corrupt P] [--seconds S] [--truth DIR]
+    taxel measure analyze DIR [--scene SCENE] [--input KIND] [--resolution HZ]
+    taxel measure localize DIR --presses FILE [--json]
 
 RIG is a rig TOML file or a built-in rig (thesis-bench). Bad input: one line, exit 2.
 """
@@ -62,6 +64,18 @@ def register(sub) -> None:
     q.add_argument("--truth", metavar="DIR", help="where truth.npz and truth.json go (default: beside --to, "
                    "else out/simulate-INPUT)")
     q.set_defaults(run=_simulate)
+    q = msub.add_parser("analyze", help="step fit, linearity, repeatability or frequency response of a measurement")
+    q.add_argument("folder")
+    q.add_argument("--scene", default=None, help="the measured array's scene: C_p, R_eff and the lumped model's FRF")
+    q.add_argument("--input", default=None, choices=["step", "impulse", "chirp", "presses"],
+                   help="the kind of record (default: recognised from the force channel)")
+    q.add_argument("--resolution", type=float, default=1.0, metavar="HZ", help="H1 frequency resolution (chirp)")
+    q.set_defaults(run=_analyze)
+    q = msub.add_parser("localize", help="which taxel was pressed: largest-taxel confusion matrix and correct rate")
+    q.add_argument("folder")
+    q.add_argument("--presses", required=True, metavar="FILE",
+                   help="JSON with the known presses: a list of {t, position: [row, col]}, or the simulator's truth.json")
+    q.set_defaults(run=_localize)
 
 
 def _rig(args, path):
@@ -165,3 +179,21 @@ def _simulate(args):
         player.stop()
     print(f"sent {player.sent} bytes")
     return 0
+
+
+def _analyze(args):
+    from taxel import api
+    from taxel.studies.measure.analysis import analyze_folder
+    scene = api.load(args.scene) if args.scene else None
+    a = analyze_folder(args.folder, scene, args.scene, args.input, args.resolution)
+    written = a.write()
+    print("\n".join(a.summary()))
+    print("wrote " + ", ".join(str(p) for p in written))
+
+
+def _localize(args):
+    from taxel.studies.measure.localize import localize_folder
+    res = localize_folder(args.folder, args.presses)
+    path = res.write(Path(args.folder))
+    print("\n".join(res.summary()))
+    print(f"wrote {path}")
