@@ -7,7 +7,7 @@
     taxel measure simulate RIG --scene SCENE --input step|impulse|chirp|presses
                            [--port URL | --pty | --to FILE] [--corrupt P] [--seconds S] [--truth DIR]
     taxel measure analyze DIR [--scene SCENE] [--input KIND] [--resolution HZ]
-    taxel measure localize DIR --presses FILE
+    taxel measure localize DIR --presses FILE [--scene SCENE]
     taxel measure calibrate DIR --scene SCENE [--step DIR] [--resolution HZ]
 
 RIG is a rig TOML file or a built-in rig (thesis-bench). Bad input: one line, exit 2.
@@ -76,6 +76,7 @@ def register(sub) -> None:
     q.add_argument("folder")
     q.add_argument("--presses", required=True, metavar="FILE",
                    help="JSON with the known presses: a list of {t, position: [row, col]}, or the simulator's truth.json")
+    q.add_argument("--scene", default=None, help="the array's scene: adds the model-based position and force estimator")
     q.set_defaults(run=_localize)
     q = msub.add_parser("calibrate", help="fit the charge gain and the chain's time constant to a chirp's FRF")
     q.add_argument("folder", help="a chirp measurement folder")
@@ -199,10 +200,16 @@ def _analyze(args):
 
 
 def _localize(args):
+    from taxel import api
+    from taxel.studies.measure.analysis import check_scene
     from taxel.studies.measure.localize import localize_folder
-    res = localize_folder(args.folder, args.presses)
-    path = res.write(Path(args.folder))
-    print("\n".join(res.summary()))
+    scene = None
+    if args.scene:
+        scene = api.load(args.scene)
+        check_scene(scene, _read_rig(args.folder), args.scene)
+    res, mb = localize_folder(args.folder, args.presses, scene)
+    path = res.write(Path(args.folder), mb)
+    print("\n".join(res.summary() + (mb.summary() if mb else [])))
     print(f"wrote {path}")
 
 

@@ -230,3 +230,18 @@ def test_calibration_recovers_gain_and_time_constant_cross_validated(tmp_path):
     assert scene.readout.circuit == "charge_amplifier" and scene.readout.notch
     assert scene.readout.R_f == pytest.approx(10e6 * cal["tau_scale"], rel=1e-9)
     assert scene.array.rows == 3 and scene.model.type == taxel.load(SCENE).model.type
+
+
+def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
+    """At the simulator's default noise (the level assumed for the thesis bench: 1 mV white,
+    5 mV hum, 20 mV drift, 5 mN on the load cell), presses on the taxels."""
+    rig = load_rig("thesis-bench")
+    folder, truth = measure(tmp_path, rig, Settings(input="presses", seconds=60, seed=11))
+    assert main(["measure", "localize", str(folder), "--presses", str(tmp_path / "m.truth" / "truth.json"),
+                 "--scene", SCENE]) == 0
+    rec = json.loads((folder / "localization.json").read_text())
+    mb = rec["model_based"]
+    assert mb["presses"] >= 35
+    assert mb["position_error_mm"]["rms"] < 0.5
+    assert mb["force_error_pct"]["rms"] < 5.0
+    assert rec["correct_rate"] == 1.0
