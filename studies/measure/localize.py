@@ -15,7 +15,9 @@ Model-based estimator: position (x, y) and force F of a press from all the taxel
 peaks V_k, by least squares (scipy.optimize.least_squares) of
     V_(r,c) = S_(r,c) F G_r(y) G_c(x),
 G the FEM's influence functions (studies.measure.influence), S_k each taxel's
-sensitivity (peak V per N pressed at its centre), started at the largest taxel.
+sensitivity (peak V per N pressed at its centre), started at the largest taxel
+and kept within half a pitch of it (else, at low signal-to-noise, the fit
+escapes into a gap, where G is small, with a large force).
 S_k is calibrated on the even-numbered known presses (the median of V_k / F_peak
 over the presses on taxel k) and the estimator is scored on the odd-numbered
 ones: position error = |(x, y) - press position| in mm, force error =
@@ -173,9 +175,11 @@ def model_based(rec: Record, presses: list[tuple[float, tuple[int, int]]], infl,
         def resid(p):
             gx, gy = infl.at(p[0]), infl.at(p[1])
             return (S[ok] * p[2] * gy[rows[ok]] * gx[cols[ok]] - v[ok]) / np.abs(v[ok]).max()
-        p0 = [cols[k0] * infl.pitch, rows[k0] * infl.pitch, v[k0] / S[k0]]
-        lo, hi = infl.x[0], infl.x[-1]
-        res = optimize.least_squares(resid, p0, bounds=([lo, lo, 0.0], [hi, hi, np.inf]),
+        p0 = [cols[k0] * infl.pitch, rows[k0] * infl.pitch, max(v[k0] / S[k0], 1e-3 * f)]
+        h = infl.pitch / 2                     # within half a pitch of the largest taxel (on it, or between it and a neighbour)
+        lo = [max(infl.x[0], p0[0] - h), max(infl.x[0], p0[1] - h), 0.0]
+        hi = [min(infl.x[-1], p0[0] + h), min(infl.x[-1], p0[1] + h), np.inf]
+        res = optimize.least_squares(resid, p0, bounds=(lo, hi),
                                      x_scale=[infl.pitch / 4, infl.pitch / 4, abs(p0[2]) or 1.0])
         x, y, F = res.x
         tx, ty = pos[1] * infl.pitch, pos[0] * infl.pitch
