@@ -23,9 +23,11 @@ With a step record, the step's first-order fit tau (studies.measure.analyze)
 is reported beside s R_f C_f as an independent check.
 
 Not identifiable on this bench, and so not fitted: the silicone's modulus scale
-and loss factor. The lumped model's resonances are above 10 kHz, so below 100 Hz
-a stiffer silicone only scales the charge per newton, indistinguishably from g,
-and the loss factor changes |H| by less than the measurement's noise.
+and loss factor. In the lumped model the force passes through the silicone and
+the piezo in series, so the quasi-static charge does not depend on the silicone,
+and its resonances are above 10 kHz: a 1.2 x modulus changes |Q_sc / F| by
+0.0015 % at 10 Hz and 0.15 % at 100 Hz, a loss factor 0.1 -> 0.12 by 0.004 % at
+100 Hz (benchmarks/measure_identifiability.py), far below H1's 1 %.
 
 Written: DIR/calibration.json, and DIR/calibrated-scene.toml: the scene with the
 calibrated readout ([readout] from the rig's chain, R_f or R scaled by s), which
