@@ -219,7 +219,7 @@ def _calibrate(args):
     from taxel.studies.measure import calibrate as C
     from taxel.studies.measure.analysis import analyze_folder
     scene = api.load(args.scene)
-    a = analyze_folder(args.folder, scene, args.scene, "chirp", args.resolution)
+    a = analyze_folder(args.folder, scene, args.scene, "chirp", args.resolution, fem=False)
     rig_chain = _read_rig(args.folder).chains()[a.frf.taxel].readout()
     cal = C.calibrate(a.frf, lumped_model(scene), rig_chain)
     if args.step:

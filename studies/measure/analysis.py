@@ -7,7 +7,8 @@ what is computed, each defined in its module:
   impulse  repeatability (both definitions) of the pressed taxel;
   chirp    H1 with coherence and the amplitude-spectrum ratio of the pressed taxel
            (the channel with the largest response), and with a scene the lumped
-           model through the rig's readout chain with its RMS error (studies.measure.frf).
+           model and the FEM (a frequency sweep, seconds in 2D) through the rig's
+           readout chain with their RMS errors (studies.measure.frf).
 A scene must describe the rig's array: every taxel_R_C channel inside its rows x cols.
 Written: DIR/analysis.json, and DIR/analysis-frf.csv (chirp), DIR/analysis-peaks.csv
 (presses, impulses). Nothing is written when the analysis fails.
@@ -106,7 +107,7 @@ def check_scene(scene, rig, source: str = "scene") -> None:
 
 
 def analyze_folder(folder, scene=None, scene_name: str | None = None, kind: str | None = None,
-                   resolution: float = 1.0) -> Analysis:
+                   resolution: float = 1.0, fem: bool = True) -> Analysis:
     """The analysis of one measurement folder (module docstring); `scene` a taxel.scene.Scene or None."""
     m = read(folder)
     rec = events.record(m)
@@ -136,6 +137,13 @@ def analyze_folder(folder, scene=None, scene_name: str | None = None, kind: str 
         out.frf = frf.h1(rec, k, resolution)
         if lm is not None:
             out.frf.models["lumped"] = frf.lumped_frf(lm, chains[rec.names[k]].readout(), out.frf.freqs)
+            coh = out.frf.freqs[out.frf.coherence > 0.9]
+            if fem and len(coh):
+                f = out.frf.freqs
+                fem_H = np.full(len(f), np.nan, complex)
+                upto = f <= coh.max()
+                fem_H[upto] = frf.fem_frf(scene, chains[rec.names[k]].readout(), rec.taxels[k], f[upto])
+                out.frf.models["fem"] = fem_H
     return out
 
 

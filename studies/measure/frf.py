@@ -16,7 +16,8 @@ each H1 frequency's resolution band. It has no phase and no noise rejection.
 
 Model against measurement: a model's FRF H_m(f) of the pressed taxel through the
 rig's own readout chain (fem.circuits.readout: the charge amplifier or resistor,
-and the notch) against the measured H1 of the channel of the pressed taxel:
+and the notch): the lumped model, and the FEM (taxel.analyses.frequency of the
+scene pressed on that taxel, from 1 Hz to the last coherent frequency) against the measured H1 of the channel of the pressed taxel:
     RMS error = 100 % x sqrt(mean_f ((|H_m(f)| - |H1(f)|) / |H1(f)|)^2)
 over the frequencies f > 0 where the coherence exceeds 0.9 (the band is reported).
 A chirp shorter than 4 segments of the requested resolution is refused (too few
@@ -55,7 +56,8 @@ class FRF:
                 "freqs_Hz": self.freqs.tolist(), "H1_abs_V_per_N": np.abs(self.H1).tolist(),
                 "H1_phase_deg": np.degrees(np.angle(self.H1)).tolist(), "coherence": self.coherence.tolist(),
                 "ratio_V_per_N": self.ratio.tolist(),
-                "models": {k: {"abs_V_per_N": np.abs(v).tolist(), **rms_error(self, k)} for k, v in self.models.items()}}
+                "models": {k: {"abs_V_per_N": [float(x) if np.isfinite(x) else None for x in np.abs(v)],
+                               **rms_error(self, k)} for k, v in self.models.items()}}
 
     def csv_rows(self) -> list[list[float]]:
         cols = [self.freqs, np.abs(self.H1), np.degrees(np.angle(self.H1)), self.coherence, self.ratio]
@@ -105,7 +107,7 @@ def h1(rec: Record, k: int, resolution: float = 1.0) -> FRF:
 def rms_error(frf: FRF, model: str, min_coherence: float = 0.9) -> dict:
     """The RMS relative magnitude error of a model over the band where the coherence exceeds min_coherence."""
     Hm = frf.models[model]
-    sel = (frf.coherence > min_coherence) & (frf.freqs > 0) & (np.abs(frf.H1) > 0)
+    sel = (frf.coherence > min_coherence) & (frf.freqs > 0) & (np.abs(frf.H1) > 0) & np.isfinite(Hm)
     if not sel.any():
         return {"rms_error_pct": None, "band_Hz": None, "points": 0, "min_coherence": min_coherence}
     e = (np.abs(Hm[sel]) - np.abs(frf.H1[sel])) / np.abs(frf.H1[sel])
@@ -121,3 +123,23 @@ def lumped_frf(lm, readout, freqs: np.ndarray) -> np.ndarray:
     port = sweep.PortResponse(f, (lm.V_oc(f) / lm.force)[:, None], np.full((len(f), 1, 1), 1 / lm.C_p),
                               ["lumped"], "lumped", 0.0)
     return circuits.readout(port, readout)[:, 0]
+
+
+def fem_frf(scene, readout, taxel: tuple[int, int], freqs: np.ndarray) -> np.ndarray:
+    """The FEM's V/N of the pressed `taxel` through a readout chain, at freqs (Hz) from 1 Hz up
+    (taxel.analyses.frequency, the scene's method; NaN below 1 Hz). The scene is pressed on `taxel`."""
+    from dataclasses import asdict
+
+    from taxel.analyses import frequency
+    sel = freqs >= 1.0
+    f = freqs[sel]
+    ro = {f"readout.{k}": v for k, v in asdict(readout).items()}
+    s = scene.replace(**{"analysis.type": "frequency", "analysis.f_min": float(f[0]), "analysis.f_max": float(f[-1]),
+                         "analysis.points": len(f), "analysis.spacing": "linear", "load.kind": "taxel",
+                         "load.taxel": list(taxel), **ro})
+    r = frequency(s)
+    name = f"taxel_{taxel[0]}_{taxel[1]}"
+    out = np.full(len(freqs), np.nan, complex)
+    out[sel] = np.interp(f, r.freqs, r.output[:, list(r.names).index(name)].real) + \
+        1j * np.interp(f, r.freqs, r.output[:, list(r.names).index(name)].imag)
+    return out

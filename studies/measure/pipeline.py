@@ -6,6 +6,8 @@ thesis's figures.
                                 with the lumped C_p (the thesis's two PZT taxels), drift 0.5 mV
     ROOT/impulse                10 impulses, 3 % force spread, thesis bench (charge amplifier, notch)
     ROOT/chirp                  0-100 Hz over 8 s, thesis bench; analysed and calibrated
+    ROOT/chirp-fem              the same chirp with the taxel simulated by the FEM transient
+                                (--model fem): both models against an FEM "reality"
     ROOT/presses                60 s of presses on random taxels; linearity and localization
     ROOT/validation.json        the summary table (measured here) beside the thesis's figures
 Each measurement folder is captured from a pseudo-terminal fed by the simulator
@@ -94,13 +96,22 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     C.write(out, cal, C.calibrated_scene(scene_name, chain, cal.tau_scale))
     truth = json.loads((out / "truth" / "truth.json").read_text())["taxels"][a.frf.taxel]
     meas["rms_error_pct"] = {"lumped": C.rms_error(a.frf, "lumped")["rms_error_pct"],
+                             "fem": C.rms_error(a.frf, "fem")["rms_error_pct"],
                              "lumped_validation_before": cal.rms_before_pct,
                              "lumped_validation_after": cal.rms_after_pct}
     meas["calibration"] = cal.record()
     tru["gain_factor"], tru["tau_factor"] = truth["gain_factor"], truth["tau_factor"]
-    progress(f"      chirp: lumped RMS error {meas['rms_error_pct']['lumped']:.2f} %; calibrated gain "
+    progress(f"      chirp: RMS error lumped {meas['rms_error_pct']['lumped']:.2f} %, FEM "
+             f"{meas['rms_error_pct']['fem']:.1f} %; calibrated gain "
              f"{cal.gain:.4g} (truth {truth['gain_factor']:.4g}), validation RMS {cal.rms_before_pct:.2f} -> "
              f"{cal.rms_after_pct:.2f} %")
+    out = captured(rig, scene, Settings(input="chirp", seconds=10, crosstalk=False, seed=4, model="fem"),
+                   root / "chirp-fem")
+    a = analyze_folder(out, scene, scene_name)
+    a.write()
+    meas["rms_error_pct_fem_rig"] = {k: C.rms_error(a.frf, k)["rms_error_pct"] for k in ("lumped", "fem")}
+    progress(f"      chirp, FEM-simulated taxel: RMS error lumped {meas['rms_error_pct_fem_rig']['lumped']:.1f} %, "
+             f"FEM {meas['rms_error_pct_fem_rig']['fem']:.2f} %")
     out = captured(rig, scene, Settings(input="presses", seconds=60, seed=11), root / "presses")
     a = analyze_folder(out, scene, scene_name)
     a.write()
