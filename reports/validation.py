@@ -123,15 +123,21 @@ def _localization_figure(folder: Path):
     ax.set_ylabel("pressed")
     ax.set_title(f"Confusion matrix: {100 * loc['correct_rate']:.1f} % correct")
     mb = loc.get("model_based")
+    amap_path = folder / "presses" / "accuracy-map.json"
+    if amap_path.exists():
+        amap = json.loads(amap_path.read_text())
+        x, y = np.array(amap["x_mm"]), np.array(amap["y_mm"])
+        im = ay.pcolormesh(x, y, np.array(amap["position_error_mm"], float), shading="nearest", cmap="viridis")
+        fig.colorbar(im, ax=ay, label=f"predicted position error (mm) at {1e3 * amap['noise_V']:g} mV")
     if mb:
         e, t = np.array(mb["per_press"]["estimate_mm"]), np.array(mb["per_press"]["truth_mm"])
-        ay.plot(t[:, 0], t[:, 1], "ks", ms=10, mfc="none", label="pressed")
+        ay.plot(t[:, 0], t[:, 1], "ws", ms=10, mfc="none", label="pressed")
         ay.plot(e[:, 0], e[:, 1], "r.", ms=4, label="model-based estimate")
         ay.set_aspect("equal")
         ay.invert_yaxis()
         ay.set_xlabel("x (mm)")
         ay.set_ylabel("y (mm)")
-        ay.legend(fontsize=7)
+        ay.legend(fontsize=6, loc="lower left", bbox_to_anchor=(0, 1.08), ncol=2)
         ay.set_title(f"Position error {mb['position_error_mm']['rms']:.3g} mm rms")
     fig.tight_layout()
     return fig
@@ -165,6 +171,9 @@ def summary_rows(v: dict) -> list[dict]:
          "simulated rig": f"{100 * loc['correct_rate']:.0f} % of {loc['presses']} presses"},
         {"figure": "localization, model-based", "thesis": "-",
          "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"},
+        {"figure": "localization, predicted (Cramer-Rao, 1 mV)", "thesis": "-",
+         "simulated rig": f"{loc['predicted_position_error_mm_at_taxels']:.3g} mm at the taxels, "
+                          f"{loc['predicted_position_error_mm_max']:.3g} mm worst"},
     ]
 
 

@@ -245,3 +245,15 @@ def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     assert mb["position_error_mm"]["rms"] < 0.5
     assert mb["force_error_pct"]["rms"] < 5.0
     assert rec["correct_rate"] == 1.0
+    # the design-time prediction (Cramer-Rao, white noise only) at the taxel centres, for the median
+    # sensitivity and press force of this record, against the estimator's measured error
+    from taxel.studies.measure.influence import influence
+    from taxel.studies.measure.predict import accuracy_map
+    infl = influence(taxel.load(SCENE))
+    S = float(np.median(np.abs(list(mb["sensitivity_V_per_N"].values()))))
+    F = float(np.median([p["force_N"] for p in truth.params["presses"]]))
+    amap = accuracy_map(infl, 3, 3, S, 1e-3, F)
+    predicted = float(np.sqrt(np.mean(amap.at_taxels(1e3 * infl.pitch) ** 2)))
+    assert 0.7 < mb["position_error_mm"]["rms"] / predicted < 3.0
+    assert np.nanmax(amap.position_error_mm) > 1.5 * predicted       # the map is not flat (worst: on a
+    # taxel centre line inside a gap, where one direction has no slope of G)

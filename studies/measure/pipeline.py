@@ -8,7 +8,8 @@ thesis's figures.
     ROOT/chirp                  0-100 Hz over 8 s, thesis bench; analysed and calibrated
     ROOT/chirp-fem              the same chirp with the taxel simulated by the FEM transient
                                 (--model fem): both models against an FEM "reality"
-    ROOT/presses                60 s of presses on random taxels; linearity and localization
+    ROOT/presses                60 s of presses on random taxels; linearity and localization, and
+                                the predicted accuracy map (studies.measure.predict) at 1 mV white noise
     ROOT/validation.json        the summary table (measured here) beside the thesis's figures
 Each measurement folder is captured from a pseudo-terminal fed by the simulator
 (taxel-cobs, streamed as fast as the pty takes it), holds the simulator's truth in
@@ -122,6 +123,16 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     meas["localization"] = {"correct_rate": loc.correct_rate, "presses": loc.matched,
                             "model_position_error_mm_rms": mb.record()["position_error_mm"]["rms"],
                             "model_force_error_pct_rms": mb.record()["force_error_pct"]["rms"]}
+    from taxel.studies.measure.influence import influence
+    from taxel.studies.measure.predict import accuracy_map
+    infl = influence(scene)
+    S = float(np.median(np.abs(list(mb.sensitivity_V_per_N.values()))))
+    F = float(np.median([p["force_N"] for p in json.loads((out / "truth" / "truth.json").read_text())["presses"]]))
+    amap = accuracy_map(infl, scene.array.rows, scene.array.cols, S, 1e-3, F)
+    write_json(out / "accuracy-map.json", amap.record())
+    meas["localization"]["predicted_position_error_mm_at_taxels"] = float(
+        np.sqrt(np.mean(amap.at_taxels(1e3 * infl.pitch) ** 2)))
+    meas["localization"]["predicted_position_error_mm_max"] = float(np.nanmax(amap.position_error_mm))
     r = np.array(list(meas["linearity_R"].values()))
     progress(f"      presses: R {np.abs(r).min():.5f}-{np.abs(r).max():.5f}, largest taxel "
              f"{100 * loc.correct_rate:.0f} % correct, model-based {meas['localization']['model_position_error_mm_rms']:.3g}"
