@@ -230,6 +230,7 @@ def test_calibration_recovers_gain_and_time_constant_cross_validated(tmp_path):
     assert scene.readout.circuit == "charge_amplifier" and scene.readout.notch
     assert scene.readout.R_f == pytest.approx(10e6 * cal["tau_scale"], rel=1e-9)
     assert scene.array.rows == 3 and scene.model.type == taxel.load(SCENE).model.type
+    assert main(["solve", str(folder / "calibrated-scene.toml"), "--json"]) == 0        # taxel solve reads it
 
 
 def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
