@@ -47,7 +47,7 @@ def captured(rig: Rig, scene: Scene, settings: Settings, out: Path) -> Path:
         r = parse_rig({**rig.model_dump(), "port": {**rig.port.model_dump(), "url": player.url}}, si_numbers=True)
         port = open_port(r)
         player.start()
-        res = capture(r, out, seconds=120, port=port)
+        res = capture(r, out, seconds=len(truth.t) / rig.sampling.rate + 10, port=port)
     save_truth(truth, out / "truth")
     if res.summary["frames"] != len(truth.t):
         raise RuntimeError(f"{out}: captured {res.summary['frames']} of {len(truth.t)} frames")
