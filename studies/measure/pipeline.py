@@ -43,11 +43,13 @@ def captured(rig: Rig, scene: Scene, settings: Settings, out: Path) -> Path:
     """Simulate, serve the stream on a pty, capture it into `out`; the truth goes to out/truth."""
     truth = simulate(rig, scene, settings)
     wire = assemble(encode_frames(truth.frames, rig.port.protocol))
-    with Player.pty(wire, None, linger=0.3, start=False) as player:
+    with Player.pty(wire, None, linger=1.0, start=False) as player:
         r = parse_rig({**rig.model_dump(), "port": {**rig.port.model_dump(), "url": player.url}}, si_numbers=True)
         port = open_port(r)
         player.start()
-        res = capture(r, out, seconds=len(truth.t) / rig.sampling.rate + 10, port=port)
+        # ends when the port vanishes or, at the latest, when the player is done (all bytes written, then
+        # 1 s for the capture to drain the pty's few kB); the frame count is checked below
+        res = capture(r, out, seconds=len(truth.t) / rig.sampling.rate + 10, stop=player.done, port=port)
     save_truth(truth, out / "truth")
     if res.summary["frames"] != len(truth.t):
         raise RuntimeError(f"{out}: captured {res.summary['frames']} of {len(truth.t)} frames")
