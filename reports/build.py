@@ -54,6 +54,8 @@ def kind_of(folder: Path) -> str:
         return "optimization"
     if (folder / "scene.json").exists():
         return "analysis"
+    if (folder / "validation.json").exists():           # a measurement validation (reports/validation.py)
+        return "validation"
     raise ReportError(f"{folder}: not a study, optimization or solve folder (no study.json, optimum.json, "
                       "front.json or scene.json); run taxel study/optimize/solve with --out first")
 
@@ -165,6 +167,9 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
     if not folder.is_dir():
         raise ReportError(f"{folder}: no such folder")
     kind = kind_of(folder)
+    if kind == "validation":
+        from taxel.reports.validation import build_page as validation_page
+        return validation_page(folder, out)
     scene_data = read_json(folder / "scene.json") if (folder / "scene.json").exists() else None
     title = f"{folder.name} ({kind})"
     out.mkdir(parents=True, exist_ok=True)

@@ -1,11 +1,14 @@
 """The main job behind `make demo` (`taxel demo`): on the built-in example, run the
 thesis's Fig. 2.5 study, the sensitivity-crosstalk front of the thesis design,
 the frequency response through the charge amplifier and the step response
-through the 500 MOhm input, then build the report; `small` is the reduced run
+through the 500 MOhm input, the validation loop on the simulated rig (simulate,
+capture over a pty, analyze, calibrate, localize: studies.measure.pipeline),
+then build the report; `small` is the reduced run
 CI uses."""
 
 from __future__ import annotations
 
+import shutil
 import time
 from pathlib import Path
 
@@ -20,6 +23,7 @@ from taxel.reports.figures import study_plots
 from taxel.reports.optimization import write_front, write_run
 from taxel.scene import load, parse
 from taxel.studies.execute import run as run_study
+from taxel.studies.measure.pipeline import run as validate
 from taxel.studies.spec import load_study
 from taxel.studies.store import tidy_rows, write_rows
 
@@ -30,7 +34,7 @@ def run(root: Path, small: bool = False) -> Path:
     started = time.strftime("%Y-%m-%d %H:%M:%S")
     root.mkdir(parents=True, exist_ok=True)
     folders = []
-    print("[1/4] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
+    print("[1/5] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
     st = load_study("fig-2-5")
     if small:
         st.spec = st.spec.model_copy(update={"parameters": [
@@ -47,7 +51,7 @@ def run(root: Path, small: bool = False) -> Path:
                 st.spec.name)
     folders.append(out)
     print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
-    print("[2/4] optimization: the thesis design against the sensitivity-crosstalk front")
+    print("[2/5] optimization: the thesis design against the sensitivity-crosstalk front")
     out = root / "thesis-pzt-front"
     out.mkdir(exist_ok=True)
     prob = O.load_problem("thesis-pzt-front", out)
@@ -62,7 +66,7 @@ def run(root: Path, small: bool = False) -> Path:
         runs = O.front(prob, O.BUILTIN / "thesis-pzt-front.toml", workers=2)
         write_front(prob, runs, reference, out)
     folders.append(out)
-    print("[3/4] frequency response through the charge amplifier and notch; step through 500 MOhm")
+    print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = load(name)
         if small:
@@ -72,9 +76,13 @@ def run(root: Path, small: bool = False) -> Path:
         for line in summary:
             print(line)
         folders.append(out)
-    print("[4/4] report")
+    print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize")
+    shutil.rmtree(root / "validation", ignore_errors=True)
+    validate(root / "validation")
+    folders.append(root / "validation")
+    print("[5/5] report")
     what = ("taxel demo" + (" --small" if small else "") + ": thesis Fig. 2.5 study, sensitivity-crosstalk "
-            "front, frequency response, step response")
+            "front, frequency response, step response, validation on the simulated rig")
     index = build(folders, root / "report", compare=not small,
                   run={"what": what, "started": started, "seconds": time.perf_counter() - t0})
     print(f"done in {time.perf_counter() - t0:.0f} s; open {index.resolve()}")

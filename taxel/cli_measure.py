@@ -6,6 +6,9 @@
     taxel measure rebuild DIR
     taxel measure simulate RIG --scene SCENE --input step|impulse|chirp|presses
                            [--port URL | --pty | --to FILE] [--corrupt P] [--seconds S] [--truth DIR]
+    taxel measure analyze DIR [--scene SCENE] [--input KIND] [--resolution HZ]
+    taxel measure localize DIR --presses FILE [--scene SCENE]
+    taxel measure calibrate DIR --scene SCENE [--step DIR] [--resolution HZ]
 
 RIG is a rig TOML file or a built-in rig (thesis-bench). Bad input: one line, exit 2.
 """
@@ -62,6 +65,25 @@ def register(sub) -> None:
     q.add_argument("--truth", metavar="DIR", help="where truth.npz and truth.json go (default: beside --to, "
                    "else out/simulate-INPUT)")
     q.set_defaults(run=_simulate)
+    q = msub.add_parser("analyze", help="step fit, linearity, repeatability or frequency response of a measurement")
+    q.add_argument("folder")
+    q.add_argument("--scene", default=None, help="the measured array's scene: C_p, R_eff and the lumped model's FRF")
+    q.add_argument("--input", default=None, choices=["step", "impulse", "chirp", "presses"],
+                   help="the kind of record (default: recognised from the force channel)")
+    q.add_argument("--resolution", type=float, default=1.0, metavar="HZ", help="H1 frequency resolution (chirp)")
+    q.set_defaults(run=_analyze)
+    q = msub.add_parser("localize", help="which taxel was pressed: largest-taxel confusion matrix and correct rate")
+    q.add_argument("folder")
+    q.add_argument("--presses", required=True, metavar="FILE",
+                   help="JSON with the known presses: a list of {t, position: [row, col]}, or the simulator's truth.json")
+    q.add_argument("--scene", default=None, help="the array's scene: adds the model-based position and force estimator")
+    q.set_defaults(run=_localize)
+    q = msub.add_parser("calibrate", help="fit the charge gain and the chain's time constant to a chirp's FRF")
+    q.add_argument("folder", help="a chirp measurement folder")
+    q.add_argument("--scene", required=True, help="the measured array's scene (file or built-in)")
+    q.add_argument("--step", default=None, metavar="DIR", help="a step measurement of the same taxel (tau check)")
+    q.add_argument("--resolution", type=float, default=1.0, metavar="HZ")
+    q.set_defaults(run=_calibrate)
 
 
 def _rig(args, path):
@@ -165,3 +187,57 @@ def _simulate(args):
         player.stop()
     print(f"sent {player.sent} bytes")
     return 0
+
+
+def _analyze(args):
+    from taxel import api
+    from taxel.studies.measure.analysis import analyze_folder
+    scene = api.load(args.scene) if args.scene else None
+    a = analyze_folder(args.folder, scene, args.scene, args.input, args.resolution)
+    written = a.write()
+    print("\n".join(a.summary()))
+    print("wrote " + ", ".join(str(p) for p in written))
+
+
+def _localize(args):
+    from taxel import api
+    from taxel.studies.measure.analysis import check_scene
+    from taxel.studies.measure.localize import localize_folder
+    scene = None
+    if args.scene:
+        scene = api.load(args.scene)
+        check_scene(scene, _read_rig(args.folder), args.scene)
+    res, mb = localize_folder(args.folder, args.presses, scene)
+    path = res.write(Path(args.folder), mb)
+    print("\n".join(res.summary() + (mb.summary() if mb else [])))
+    print(f"wrote {path}")
+
+
+def _calibrate(args):
+    from taxel import api
+    from taxel.analyses import lumped_model
+    from taxel.studies.measure import calibrate as C
+    from taxel.studies.measure.analysis import analyze_folder
+    scene = api.load(args.scene)
+    a = analyze_folder(args.folder, scene, args.scene, "chirp", args.resolution, fem=False)
+    rig_chain = _read_rig(args.folder).chains()[a.frf.taxel].readout()
+    cal = C.calibrate(a.frf, lumped_model(scene), rig_chain)
+    if args.step:
+        s = analyze_folder(args.step, scene, args.scene, "step")
+        fits = {f.taxel: f for f in s.steps}
+        if cal.taxel not in fits:
+            raise ValueError(f"--step {args.step}: no step fit of {cal.taxel}; give a step of the same taxel")
+        cal.step_tau_s = fits[cal.taxel].tau_s
+    text = C.calibrated_scene(args.scene, rig_chain, cal.tau_scale)
+    paths = C.write(Path(args.folder), cal, text)
+    print(f"{cal.taxel}: gain {cal.gain:.4g} (95 % {cal.gain_ci95[0]:.4g}-{cal.gain_ci95[1]:.4g}), tau {cal.tau_s:.4g} s "
+          f"(scale {cal.tau_scale:.4g}, 95 % {cal.tau_scale_ci95[0]:.4g}-{cal.tau_scale_ci95[1]:.4g})"
+          + (f", step tau {cal.step_tau_s:.4g} s" if cal.step_tau_s else ""))
+    print(f"RMS error on {cal.validation_band_Hz[0]:g}-{cal.validation_band_Hz[1]:g} Hz (not fitted): "
+          f"{cal.rms_before_pct:.2f} % before, {cal.rms_after_pct:.2f} % after")
+    print("wrote " + ", ".join(str(p) for p in paths))
+
+
+def _read_rig(folder):
+    from taxel.studies.measure.folder import _rig_of
+    return _rig_of(Path(folder))

@@ -27,7 +27,12 @@ def test_main_job_writes_a_report_for_every_folder_kind(demo):
     index = demo / "report" / "index.html"
     assert index.exists()
     pages = {p.stem for p in (demo / "report").glob("*.html")} - {"index"}
-    assert pages == {"fig-2-5", "thesis-pzt-front", "thesis-pzt-frequency", "thesis-pzt-step"}
+    assert pages == {"fig-2-5", "thesis-pzt-front", "thesis-pzt-frequency", "thesis-pzt-step", "validation"}
+    text = (demo / "report" / "validation.html").read_text()
+    for section in ("Summary beside the thesis", "Step responses", "Frequency response", "Linearity and repeatability",
+                    "Localization", "Provenance"):
+        assert f"<h2>{section}</h2>" in text
+    assert "1.7" in text and "9.75" in text and "95.65 / 96.63" in text
     idx = build([demo / "static", demo / "fig-2-5"], demo / "report2", compare=True)
     text = (demo / "report2" / "static.html").read_text()
     assert "Model comparison" in text and "lumped 3-DoF" in text and "3D" in text

@@ -59,6 +59,7 @@ class Settings:
     hum_V: tuple[float, float, float] = (5e-3, 1.5e-3, 0.5e-3)   # 50, 150, 250 Hz amplitudes at the ADC
     drift_V: float = 20e-3             # baseline drift, rms over the record
     force_noise_N: float = 5e-3        # load-cell noise, rms
+    amplitude_spread: float = 0.0      # impulses: relative rms spread of each impulse's force (repeatability)
     seed: int = 0
     seq0: int = 0
     t0_us: int = 0
@@ -93,8 +94,9 @@ def command(s: Settings, rate: float, n_press: int, centre: int, rng) -> tuple[n
         width = 10e-3
         for t0 in np.arange(s.onset, s.seconds - width, 2.0):
             on = (t >= t0) & (t < t0 + width)
-            F[on, centre] += A * np.sin(np.pi * (t[on] - t0) / width)
-            presses.append({"t": float(t0), "position": centre, "force_N": A, "width_s": width})
+            a = A * (1 + s.amplitude_spread * rng.standard_normal()) if s.amplitude_spread else A
+            F[on, centre] += a * np.sin(np.pi * (t[on] - t0) / width)
+            presses.append({"t": float(t0), "position": centre, "force_N": float(a), "width_s": width})
     elif s.input == "chirp":
         f0, f1, T, t0 = 0.0, 100.0, min(8.0, s.seconds - s.onset), s.onset
         tau = np.clip(t - t0, 0, T)

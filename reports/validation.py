@@ -1,0 +1,207 @@
+"""The validation page of a measurement-validation folder (studies.measure.pipeline):
+model against measurement on the (simulated) bench.
+
+Sections: the summary table beside the thesis's figures; the step traces with
+their first-order fits; the measured FRF (H1, the amplitude-spectrum ratio) with
+its coherence against the lumped model before and after calibration; linearity
+and repeatability; the largest-taxel confusion matrix and the model-based
+position estimates; the calibration table with its 95 % intervals.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from taxel.reports.build import _page, _png, _provenance, _table
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _step_figure(folder: Path):
+    from taxel.studies.measure import analyze, events
+    from taxel.studies.measure.folder import read
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    for d in sorted(folder.glob("step-*")):
+        m = read(d)
+        rec = events.record(m)
+        a = json.loads((d / "analysis.json").read_text())
+        for s in a["step"]:
+            k = rec.names.index(s["taxel"])
+            fit = analyze.StepFit(**{**s, "tau_ci95_s": tuple(s["tau_ci95_s"])})
+            model = analyze.step_model(rec, fit, m.rig.chains()[s["taxel"]])
+            ax.plot(rec.t, rec.volts[:, k], lw=0.5, alpha=0.6, label=f"{d.name} {s['taxel']} measured")
+            ax.plot(rec.t, model, lw=1.2, label=f"fit tau = {s['tau_s']:.3g} s")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("V")
+    ax.legend(fontsize=7)
+    ax.set_title("Step responses and first-order fits")
+    fig.tight_layout()
+    return fig
+
+
+def _frf_figure(folder: Path):
+    from taxel.studies.measure import frf as FR
+    plt = _plt()
+    a = json.loads((folder / "chirp" / "analysis.json").read_text())["frf"]
+    cal = json.loads((folder / "chirp" / "calibration.json").read_text())
+    f = np.array(a["freqs_Hz"])
+    fig, (ax, axc) = plt.subplots(2, 1, figsize=(7, 5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    ax.semilogy(f, a["H1_abs_V_per_N"], label="H1 (Welch)")
+    ax.semilogy(f, a["ratio_V_per_N"], lw=0.7, label="amplitude-spectrum ratio")
+    if "lumped" in a["models"]:
+        ax.semilogy(f, a["models"]["lumped"]["abs_V_per_N"], "--", label="lumped model")
+        from taxel.analyses import lumped_model
+        from taxel.scene import load
+        from taxel.studies.measure.calibrate import _chain
+        from taxel.studies.measure.folder import _rig_of
+        chain = _rig_of(folder / "chirp").chains()[a["taxel"]].readout()
+        r, _ = _chain(chain, cal["tau_scale"])
+        scene = json.loads((folder / "validation.json").read_text())["scene"]
+        Hc = cal["gain"] * np.abs(FR.lumped_frf(lumped_model(load(scene)), r, f))
+        ax.semilogy(f, Hc, ":", lw=1.5, label="lumped, calibrated")
+    if "fem" in a["models"]:
+        fem = np.array([np.nan if x is None else x for x in a["models"]["fem"]["abs_V_per_N"]], float)
+        ax.semilogy(f, fem, "-.", label="FEM (2D)")
+    ax.set_ylabel("|V/F| (V/N)")
+    top = float(np.max(np.array(a["H1_abs_V_per_N"])[np.array(a["coherence"]) > 0.9]))
+    ax.set_ylim(top / 30, top * 10)
+    ax.set_xlim(0, f.max() / 10)
+    ax.legend(fontsize=7)
+    ax.set_title(f"Frequency response of {a['taxel']}")
+    axc.plot(f, a["coherence"])
+    axc.axhline(0.9, color="k", lw=0.5)
+    axc.set_ylabel("coherence")
+    axc.set_xlabel("f (Hz)")
+    fig.tight_layout()
+    return fig
+
+
+def _linearity_figure(folder: Path):
+    plt = _plt()
+    a = json.loads((folder / "presses" / "analysis.json").read_text())
+    r = json.loads((folder / "impulse" / "analysis.json").read_text())["repeatability"]
+    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 3.6))
+    for x in a["linearity"]:
+        ax.plot(x["forces_N"], np.abs(x["peaks_V"]), "o", ms=3, label=f"{x['taxel']} R={abs(x['r']):.5f}")
+    ax.set_xlabel("force peak (N)")
+    ax.set_ylabel("|voltage peak| (V)")
+    ax.legend(fontsize=6)
+    ax.set_title("Linearity")
+    for x in r:
+        ay.plot(np.arange(1, x["n"] + 1), x["peaks_V"], "o-", label=f"{x['taxel']}: {x['by_spread_pct']:.2f} % / "
+                f"{x['by_range_pct']:.2f} %")
+    ay.set_xlabel("impulse")
+    ay.set_ylabel("|voltage peak| (V)")
+    ay.legend(fontsize=7)
+    ay.set_title("Repeatability (spread / range)")
+    fig.tight_layout()
+    return fig
+
+
+def _localization_figure(folder: Path):
+    plt = _plt()
+    loc = json.loads((folder / "presses" / "localization.json").read_text())
+    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 4))
+    C = np.array(loc["confusion"])
+    ax.imshow(C, cmap="Blues")
+    for i in range(len(C)):
+        for j in range(len(C)):
+            if C[i, j]:
+                ax.text(j, i, str(C[i, j]), ha="center", va="center", fontsize=7)
+    ax.set_xticks(range(len(C)), [t.removeprefix("taxel_") for t in loc["taxels"]], fontsize=7)
+    ax.set_yticks(range(len(C)), [t.removeprefix("taxel_") for t in loc["taxels"]], fontsize=7)
+    ax.set_xlabel("estimated (largest taxel)")
+    ax.set_ylabel("pressed")
+    ax.set_title(f"Confusion matrix: {100 * loc['correct_rate']:.1f} % correct")
+    mb = loc.get("model_based")
+    amap_path = folder / "presses" / "accuracy-map.json"
+    if amap_path.exists():
+        amap = json.loads(amap_path.read_text())
+        x, y = np.array(amap["x_mm"]), np.array(amap["y_mm"])
+        im = ay.pcolormesh(x, y, np.array(amap["position_error_mm"], float), shading="nearest", cmap="viridis")
+        fig.colorbar(im, ax=ay, label=f"predicted position error (mm) at {1e3 * amap['noise_V']:g} mV")
+    if mb:
+        e, t = np.array(mb["per_press"]["estimate_mm"]), np.array(mb["per_press"]["truth_mm"])
+        ay.plot(t[:, 0], t[:, 1], "ws", ms=10, mfc="none", label="pressed")
+        ay.plot(e[:, 0], e[:, 1], "r.", ms=4, label="model-based estimate")
+        ay.set_aspect("equal")
+        ay.invert_yaxis()
+        ay.set_xlabel("x (mm)")
+        ay.set_ylabel("y (mm)")
+        ay.legend(fontsize=6, loc="lower left", bbox_to_anchor=(0, 1.08), ncol=2)
+        ay.set_title(f"Position error {mb['position_error_mm']['rms']:.3g} mm rms")
+    fig.tight_layout()
+    return fig
+
+
+def summary_rows(v: dict) -> list[dict]:
+    """The summary table: each figure measured here beside the thesis's."""
+    m, th = v["measured"], v["thesis"]
+    R = [abs(x) for x in m["linearity_R"].values()]
+    loc = m["localization"]
+    return [
+        {"figure": "time constant, taxel 1 (s)", "thesis": th["tau_s"][0],
+         "simulated rig": f"{m['tau'][0]['tau_s']:.4g} (truth {m['tau'][0]['truth_s']:g})"},
+        {"figure": "time constant, taxel 2 (s)", "thesis": th["tau_s"][1],
+         "simulated rig": f"{m['tau'][1]['tau_s']:.4g} (truth {m['tau'][1]['truth_s']:g})"},
+        {"figure": "linearity R (PZT)", "thesis": th["linearity_R"]["PZT"],
+         "simulated rig": f"{min(R):.5f}-{max(R):.5f} (9 taxels)"},
+        {"figure": "repeatability (%)", "thesis": f"{th['repeatability_pct'][0]} / {th['repeatability_pct'][1]}",
+         "simulated rig": f"{m['repeatability_pct']['by_spread']:.2f} (1 - std/mean), "
+                          f"{m['repeatability_pct']['by_range']:.2f} (1 - range/mean)"},
+        {"figure": "FRF RMS error, lumped (%)", "thesis": th["rms_error_pct"]["lumped"],
+         "simulated rig": f"{m['rms_error_pct']['lumped']:.2f}; after calibration "
+                          f"{m['rms_error_pct']['lumped_validation_after']:.2f} (validation half)"},
+        {"figure": "FRF RMS error, FEM (%)", "thesis": th["rms_error_pct"]["FEM"],
+         "simulated rig": (f"{m['rms_error_pct']['fem']:.1f} (the simulated taxel is the lumped model)"
+                           if m["rms_error_pct"].get("fem") is not None else "not computed")},
+        {"figure": "FRF RMS error, FEM-simulated taxel (%)", "thesis": "-",
+         "simulated rig": f"lumped {m['rms_error_pct_fem_rig']['lumped']:.1f}, FEM "
+                          f"{m['rms_error_pct_fem_rig']['fem']:.2f}"},
+        {"figure": "localization, largest taxel", "thesis": "PZT better than PVDF",
+         "simulated rig": f"{100 * loc['correct_rate']:.0f} % of {loc['presses']} presses"},
+        {"figure": "localization, model-based", "thesis": "-",
+         "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"},
+        {"figure": "localization, predicted (Cramer-Rao, 1 mV)", "thesis": "-",
+         "simulated rig": f"{loc['predicted_position_error_mm_at_taxels']:.3g} mm at the taxels, "
+                          f"{loc['predicted_position_error_mm_max']:.3g} mm worst"},
+    ]
+
+
+def build_page(folder: Path, out: Path) -> tuple[Path, str, str]:
+    """Write OUT/<folder name>.html for a validation folder; returns (path, kind, title)."""
+    folder = Path(folder)
+    v = json.loads((folder / "validation.json").read_text())
+    cal = v["measured"]["calibration"]
+    cal_rows = [{"parameter": "charge gain g", "value": cal["gain"], "95 % low": cal["gain_ci95"][0],
+                 "95 % high": cal["gain_ci95"][1], "truth": v["truth"].get("gain_factor")},
+                {"parameter": "chain tau scale s", "value": cal["tau_scale"], "95 % low": cal["tau_scale_ci95"][0],
+                 "95 % high": cal["tau_scale_ci95"][1], "truth": v["truth"].get("tau_factor")},
+                {"parameter": "RMS error before (%)", "value": cal["rms_before_pct"]},
+                {"parameter": "RMS error after (%)", "value": cal["rms_after_pct"]}]
+    sections = [
+        ("Summary beside the thesis", _table(summary_rows(v), ["figure", "thesis", "simulated rig"])
+         + "<p class=\"note\">Measured on the simulated rig (studies.measure.pipeline): each record captured "
+           "over a pseudo-terminal, analysed with taxel measure analyze/calibrate/localize.</p>"),
+        ("Step responses", _png(_step_figure(folder))),
+        ("Frequency response", _png(_frf_figure(folder))),
+        ("Linearity and repeatability", _png(_linearity_figure(folder))),
+        ("Localization", _png(_localization_figure(folder))),
+        ("Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",
+         _table(cal_rows, ["parameter", "value", "95 % low", "95 % high", "truth"])),
+        ("Provenance", _provenance(folder, None)),
+    ]
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / f"{folder.name}.html"
+    title = f"{folder.name} (validation)"
+    path.write_text(_page(title, sections), encoding="utf-8")
+    return path, "validation", title

@@ -1,0 +1,143 @@
+"""The validation loop on the simulated rig: simulate -> capture over a pty ->
+analyze -> calibrate -> localize, into one folder, with a summary beside the
+thesis's figures.
+
+    ROOT/step-1.7s, step-3.1s   a 2 N step through a resistor giving tau = 1.7 s / 3.1 s
+                                with the lumped C_p (the thesis's two PZT taxels), drift 0.5 mV
+    ROOT/impulse                10 impulses, 3 % force spread, thesis bench (charge amplifier, notch)
+    ROOT/chirp                  0-100 Hz over 8 s, thesis bench; analysed and calibrated
+    ROOT/chirp-fem              the same chirp with the taxel simulated by the FEM transient
+                                (--model fem): both models against an FEM "reality"
+    ROOT/presses                60 s of presses on random taxels; linearity and localization, and
+                                the predicted accuracy map (studies.measure.predict) at 1 mV white noise
+    ROOT/validation.json        the summary table (measured here) beside the thesis's figures
+Each measurement folder is captured from a pseudo-terminal fed by the simulator
+(taxel-cobs, streamed as fast as the pty takes it), holds the simulator's truth in
+truth/ and the analysis files. The settings are the simulator's defaults but where
+stated above (the step's drift: benchmarks/measure_step_drift.py).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from taxel.scene import Scene
+from taxel.studies.measure import calibrate as C
+from taxel.studies.measure.analysis import analyze_folder
+from taxel.studies.measure.capture import capture, open_port
+from taxel.studies.measure.folder import write_json
+from taxel.studies.measure.localize import localize_folder
+from taxel.studies.measure.protocol import encode_frames
+from taxel.studies.measure.rig import Rig, load_rig, parse_rig
+from taxel.studies.measure.simulate import Settings, save_truth, simulate
+from taxel.studies.measure.wire import Player, assemble
+
+THESIS = {"tau_s": [1.7, 3.1], "linearity_R": {"PZT": 0.9942, "PVDF": 0.9933},
+          "repeatability_pct": [95.65, 96.63], "rms_error_pct": {"lumped": 9.75, "FEM": 11.58}}
+
+
+def captured(rig: Rig, scene: Scene, settings: Settings, out: Path) -> Path:
+    """Simulate, serve the stream on a pty, capture it into `out`; the truth goes to out/truth."""
+    truth = simulate(rig, scene, settings)
+    wire = assemble(encode_frames(truth.frames, rig.port.protocol))
+    with Player.pty(wire, None, linger=1.0, start=False) as player:
+        r = parse_rig({**rig.model_dump(), "port": {**rig.port.model_dump(), "url": player.url}}, si_numbers=True)
+        port = open_port(r)
+        player.start()
+        # ends when the port vanishes or, at the latest, when the player is done (all bytes written, then
+        # 1 s for the capture to drain the pty's few kB); the frame count is checked below
+        res = capture(r, out, seconds=len(truth.t) / rig.sampling.rate + 10, stop=player.done, port=port)
+    save_truth(truth, out / "truth")
+    if res.summary["frames"] != len(truth.t):
+        raise RuntimeError(f"{out}: captured {res.summary['frames']} of {len(truth.t)} frames")
+    return out
+
+
+def resistor_rig(rig: Rig, R: float) -> Rig:
+    return parse_rig({**rig.model_dump(), "conditioning": {"circuit": "resistor", "R": f"{float(R)!r} ohm",
+                                                           "notch": True}}, si_numbers=True)
+
+
+def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thesis-bench",
+        progress=print) -> dict:
+    """The loop (module docstring); returns the summary written to ROOT/validation.json."""
+    from taxel.analyses import lumped_model
+    from taxel.scene import load
+    root = Path(root)
+    root.mkdir(parents=True, exist_ok=True)
+    scene, rig = load(scene_name), load_rig(rig_name)
+    C_p = lumped_model(scene).C_p
+    summary: dict = {"scene": scene_name, "rig": rig_name, "thesis": THESIS, "measured": {}, "truth": {}}
+    meas, tru = summary["measured"], summary["truth"]
+    taus = []
+    for tau in THESIS["tau_s"]:
+        out = captured(resistor_rig(rig, tau / C_p), scene,
+                       Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0, drift_V=0.5e-3,
+                                crosstalk=False, seed=int(10 * tau)), root / f"step-{tau:g}s")
+        a = analyze_folder(out, scene, scene_name)
+        a.write()
+        fit = {s.taxel: s for s in a.steps}["taxel_1_1"]
+        taus.append({"tau_s": fit.tau_s, "ci95_s": list(fit.tau_ci95_s), "R_eff_ohm": fit.R_eff_ohm, "truth_s": tau})
+        progress(f"      step: tau {fit.tau_s:.4g} s (truth {tau:g} s)")
+    meas["tau"] = taus
+    out = captured(rig, scene, Settings(input="impulse", seconds=20, amplitude_spread=0.03, crosstalk=False, seed=2),
+                   root / "impulse")
+    a = analyze_folder(out, scene, scene_name)
+    a.write()
+    (rep,) = a.repeatability
+    meas["repeatability_pct"] = {"by_spread": rep.by_spread_pct, "by_range": rep.by_range_pct, "impulses": rep.n}
+    tru["impulse_force_by_spread_pct"] = rep.force_by_spread_pct
+    progress(f"      impulses: repeatability {rep.by_spread_pct:.2f} % (spread), {rep.by_range_pct:.2f} % (range)")
+    out = captured(rig, scene, Settings(input="chirp", seconds=10, crosstalk=False, seed=4), root / "chirp")
+    a = analyze_folder(out, scene, scene_name)
+    a.write()
+    chain = rig.chains()[a.frf.taxel].readout()
+    cal = C.calibrate(a.frf, lumped_model(scene), chain)
+    C.write(out, cal, C.calibrated_scene(scene_name, chain, cal.tau_scale))
+    truth = json.loads((out / "truth" / "truth.json").read_text())["taxels"][a.frf.taxel]
+    meas["rms_error_pct"] = {"lumped": C.rms_error(a.frf, "lumped")["rms_error_pct"],
+                             "fem": C.rms_error(a.frf, "fem")["rms_error_pct"],
+                             "lumped_validation_before": cal.rms_before_pct,
+                             "lumped_validation_after": cal.rms_after_pct}
+    meas["calibration"] = cal.record()
+    tru["gain_factor"], tru["tau_factor"] = truth["gain_factor"], truth["tau_factor"]
+    progress(f"      chirp: RMS error lumped {meas['rms_error_pct']['lumped']:.2f} %, FEM "
+             f"{meas['rms_error_pct']['fem']:.1f} %; calibrated gain "
+             f"{cal.gain:.4g} (truth {truth['gain_factor']:.4g}), validation RMS {cal.rms_before_pct:.2f} -> "
+             f"{cal.rms_after_pct:.2f} %")
+    out = captured(rig, scene, Settings(input="chirp", seconds=10, crosstalk=False, seed=4, model="fem"),
+                   root / "chirp-fem")
+    a = analyze_folder(out, scene, scene_name)
+    a.write()
+    meas["rms_error_pct_fem_rig"] = {k: C.rms_error(a.frf, k)["rms_error_pct"] for k in ("lumped", "fem")}
+    progress(f"      chirp, FEM-simulated taxel: RMS error lumped {meas['rms_error_pct_fem_rig']['lumped']:.1f} %, "
+             f"FEM {meas['rms_error_pct_fem_rig']['fem']:.2f} %")
+    out = captured(rig, scene, Settings(input="presses", seconds=60, seed=11), root / "presses")
+    a = analyze_folder(out, scene, scene_name)
+    a.write()
+    meas["linearity_R"] = {x.taxel: x.r for x in a.linearity}
+    meas["sensitivity_V_per_N"] = {x.taxel: x.sensitivity_V_per_N for x in a.linearity}
+    loc, mb = localize_folder(out, out / "truth" / "truth.json", scene)
+    loc.write(out, mb)
+    meas["localization"] = {"correct_rate": loc.correct_rate, "presses": loc.matched,
+                            "model_position_error_mm_rms": mb.record()["position_error_mm"]["rms"],
+                            "model_force_error_pct_rms": mb.record()["force_error_pct"]["rms"]}
+    from taxel.studies.measure.influence import influence
+    from taxel.studies.measure.predict import accuracy_map
+    infl = influence(scene)
+    S = float(np.median(np.abs(list(mb.sensitivity_V_per_N.values()))))
+    F = float(np.median([p["force_N"] for p in json.loads((out / "truth" / "truth.json").read_text())["presses"]]))
+    amap = accuracy_map(infl, scene.array.rows, scene.array.cols, S, 1e-3, F)
+    write_json(out / "accuracy-map.json", amap.record())
+    meas["localization"]["predicted_position_error_mm_at_taxels"] = float(
+        np.sqrt(np.mean(amap.at_taxels(1e3 * infl.pitch) ** 2)))
+    meas["localization"]["predicted_position_error_mm_max"] = float(np.nanmax(amap.position_error_mm))
+    r = np.array(list(meas["linearity_R"].values()))
+    progress(f"      presses: R {np.abs(r).min():.5f}-{np.abs(r).max():.5f}, largest taxel "
+             f"{100 * loc.correct_rate:.0f} % correct, model-based {meas['localization']['model_position_error_mm_rms']:.3g}"
+             " mm rms")
+    write_json(root / "validation.json", summary)
+    return summary

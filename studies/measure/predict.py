@@ -1,0 +1,72 @@
+"""A predicted localization accuracy map of a design, before anything is built.
+
+For a press of force F at (x, y) the taxel peaks are modelled as in
+studies.measure.localize, V_(r,c) = S F G_r(y) G_c(x) (S one sensitivity for every
+taxel, V per N at its own centre; G the FEM's influence functions), plus white
+noise of rms sigma on every peak. The Cramer-Rao bound of an unbiased estimate of
+(x, y, F) is the inverse Fisher information, cov = sigma^2 (J^T J)^-1 with
+J = dV/d(x, y, F) (central differences, h = pitch / 1000); the map is the
+predicted position error sqrt(cov_xx + cov_yy) in mm over a grid of press
+positions (every pitch / 8 over the taxels' span) and the force error
+100 % x sqrt(cov_FF) / F. It ignores the estimator's bounds and bias (which is
+why presses far from any taxel can do worse than predicted) and any gain spread.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from taxel.studies.measure.influence import Influence
+
+
+@dataclass
+class AccuracyMap:
+    x_mm: np.ndarray
+    y_mm: np.ndarray
+    position_error_mm: np.ndarray    # (ny, nx)
+    force_error_pct: np.ndarray      # (ny, nx)
+    noise_V: float
+    sensitivity_V_per_N: float
+    force_N: float
+
+    def at_taxels(self, pitch_mm: float) -> np.ndarray:
+        """The predicted position errors at the taxel centres."""
+        ix = [int(np.argmin(np.abs(self.x_mm - c * pitch_mm))) for c in range(int(round(self.x_mm.max() / pitch_mm)) + 1)]
+        iy = [int(np.argmin(np.abs(self.y_mm - r * pitch_mm))) for r in range(int(round(self.y_mm.max() / pitch_mm)) + 1)]
+        return self.position_error_mm[np.ix_(iy, ix)]
+
+    def record(self) -> dict:
+        return {"x_mm": self.x_mm.tolist(), "y_mm": self.y_mm.tolist(),
+                "position_error_mm": self.position_error_mm.tolist(), "force_error_pct": self.force_error_pct.tolist(),
+                "noise_V": self.noise_V, "sensitivity_V_per_N": self.sensitivity_V_per_N, "force_N": self.force_N}
+
+
+def peaks_model(infl: Influence, rows: int, cols: int, S: float, p) -> np.ndarray:
+    """(rows * cols,) modelled peaks for press p = (x, y, F), taxels in row-major order."""
+    gx, gy = infl.at(p[0]), infl.at(p[1])
+    return S * p[2] * np.outer(gy[:rows], gx[:cols]).ravel()
+
+
+def accuracy_map(infl: Influence, rows: int, cols: int, sensitivity: float, noise_V: float,
+                 force: float = 1.0) -> AccuracyMap:
+    """The Cramer-Rao map (module docstring)."""
+    xs = np.arange(0, 8 * (cols - 1) + 1) * infl.pitch / 8
+    ys = np.arange(0, 8 * (rows - 1) + 1) * infl.pitch / 8
+    h = infl.pitch / 1000
+    pos = np.full((len(ys), len(xs)), np.nan)
+    frc = np.full((len(ys), len(xs)), np.nan)
+    for i, y in enumerate(ys):
+        for j, x in enumerate(xs):
+            p = np.array([x, y, force])
+            J = np.column_stack([(peaks_model(infl, rows, cols, sensitivity, p + d) -
+                                  peaks_model(infl, rows, cols, sensitivity, p - d)) / (2 * d.sum())
+                                 for d in (np.array([h, 0, 0]), np.array([0, h, 0]), np.array([0, 0, force * 1e-3]))])
+            try:
+                cov = noise_V ** 2 * np.linalg.inv(J.T @ J)
+            except np.linalg.LinAlgError:
+                continue
+            pos[i, j] = 1e3 * np.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
+            frc[i, j] = 100 * np.sqrt(max(cov[2, 2], 0.0)) / force
+    return AccuracyMap(1e3 * xs, 1e3 * ys, pos, frc, noise_V, sensitivity, force)
