@@ -15,14 +15,23 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.reports.build import _page, _png, _provenance, _table
+from taxel.reports.build import Page, _provenance, templates
+from taxel.reports.figures import pyplot as _plt
+from taxel.reports.scene_sections import data_uri
+from taxel.reports.tables import table
 
 
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+def _png_bytes(fig) -> bytes:
+    import io
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    _plt().close(fig)
+    return buf.getvalue()
+
+
+def _figure(png: bytes) -> dict:
+    """A page block with one embedded figure."""
+    return {"type": "figures", "images": [data_uri(png)], "wide": True}
 
 
 def _step_figure(folder: Path):
@@ -177,8 +186,8 @@ def summary_rows(v: dict) -> list[dict]:
     ]
 
 
-def build_page(folder: Path, out: Path) -> tuple[Path, str, str]:
-    """Write OUT/<folder name>.html for a validation folder; returns (path, kind, title)."""
+def build_page(folder: Path, out: Path) -> Page:
+    """Write OUT/<folder name>.html for a validation folder; returns its Page (index card numbers)."""
     folder = Path(folder)
     v = json.loads((folder / "validation.json").read_text())
     cal = v["measured"]["calibration"]
@@ -188,20 +197,31 @@ def build_page(folder: Path, out: Path) -> tuple[Path, str, str]:
                  "95 % high": cal["tau_scale_ci95"][1], "truth": v["truth"].get("tau_factor")},
                 {"parameter": "RMS error before (%)", "value": cal["rms_before_pct"]},
                 {"parameter": "RMS error after (%)", "value": cal["rms_after_pct"]}]
+    rows = summary_rows(v)
+    frf_png = _png_bytes(_frf_figure(folder))
     sections = [
-        ("Summary beside the thesis", _table(summary_rows(v), ["figure", "thesis", "simulated rig"])
-         + "<p class=\"note\">Measured on the simulated rig (studies.measure.pipeline): each record captured "
-           "over a pseudo-terminal, analysed with taxel measure analyze/calibrate/localize.</p>"),
-        ("Step responses", _png(_step_figure(folder))),
-        ("Frequency response", _png(_frf_figure(folder))),
-        ("Linearity and repeatability", _png(_linearity_figure(folder))),
-        ("Localization", _png(_localization_figure(folder))),
-        ("Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",
-         _table(cal_rows, ["parameter", "value", "95 % low", "95 % high", "truth"])),
-        ("Provenance", _provenance(folder, None)),
+        {"title": "Summary beside the thesis", "blocks": [
+            {"type": "table", "table": table(rows, ["figure", "thesis", "simulated rig"])},
+            {"type": "note", "text": "Measured on the simulated rig (studies.measure.pipeline): each record captured "
+                                     "over a pseudo-terminal, analysed with taxel measure analyze/calibrate/localize."}]},
+        {"title": "Step responses", "blocks": [_figure(_png_bytes(_step_figure(folder)))]},
+        {"title": "Frequency response", "blocks": [_figure(frf_png)]},
+        {"title": "Linearity and repeatability", "blocks": [_figure(_png_bytes(_linearity_figure(folder)))]},
+        {"title": "Localization", "blocks": [_figure(_png_bytes(_localization_figure(folder)))]},
+        {"title": "Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",
+         "blocks": [{"type": "table", "table": table(cal_rows, ["parameter", "value", "95 % low", "95 % high",
+                                                                "truth"])}]},
+        {"title": "Provenance", "blocks": _provenance(folder, None)},
     ]
+    m = v["measured"]
+    numbers = [("time constants", f"{m['tau'][0]['tau_s']:.3g} s, {m['tau'][1]['tau_s']:.3g} s"),
+               ("FRF RMS error, lumped", f"{m['rms_error_pct']['lumped']:.3g} %"),
+               ("after calibration", f"{m['rms_error_pct']['lumped_validation_after']:.3g} %"),
+               ("localization", f"{100 * m['localization']['correct_rate']:.0f} % correct")]
     out.mkdir(parents=True, exist_ok=True)
     path = out / f"{folder.name}.html"
     title = f"{folder.name} (validation)"
-    path.write_text(_page(title, sections), encoding="utf-8")
-    return path, "validation", title
+    path.write_text(templates().get_template("page.html").render(
+        title=title, kind="validation", folder=folder.name, banners=[], headline=numbers, sections=sections),
+        encoding="utf-8")
+    return Page(path, "validation", title, numbers, [], frf_png)
