@@ -142,7 +142,10 @@ def local_cluster(workers: int):
     the 70-point Fig. 2.5 study (2 cores): spawned workers start cold and their
     points took 35-43 % more CPU in total (speed-up 1.1x); forked ones inherit
     the loaded modules, 10 % more (speed-up 1.8-2.0x). The statistical profiler
-    is off (no measurable effect either way)."""
+    is off (no measurable effect either way). Forking copies the calling process:
+    from a long-lived process whose threads hold locks (a pty reader, a VTK render)
+    the forked workers can deadlock; run studies from a fresh process there
+    (`taxel study run`)."""
     import dask
     from dask.distributed import LocalCluster
     one = {v: "1" for v in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
