@@ -136,23 +136,46 @@ def _execute(todo, outputs, workers, scheduler):
             cluster.close()
 
 
-def local_cluster(workers: int):
+# Modules a worker needs, imported once in the fork server so every worker starts warm.
+WORKER_PRELOAD = ("taxel.studies.evaluate", "taxel.analyses.static", "taxel.analyses.dynamic")
+
+
+def start_method() -> str:
+    """How to start workers: "fork" from a single-threaded caller (a `taxel` command,
+    a plain script): they start in a fraction of a second with the FEM stack loaded.
+    "forkserver" when the caller runs other threads (a notebook kernel, a GUI, a
+    program with a reader thread): forking such a caller copies locks those threads
+    may hold, and its workers deadlocked in the test suite after the pty tests; a
+    fork server is a clean single-threaded process that preloads the FEM stack once
+    (`WORKER_PRELOAD`; a few seconds, paid once per process)."""
+    import threading
+    return "fork" if threading.active_count() == 1 else "forkserver"
+
+
+def local_cluster(workers: int, method: str | None = None):
     """A local Dask cluster for FEM work: one process per worker (gmsh is not
-    thread-safe), one thread and one BLAS thread each, fork-started. Measured on
-    the 70-point Fig. 2.5 study (2 cores): spawned workers start cold and their
-    points took 35-43 % more CPU in total (speed-up 1.1x); forked ones inherit
-    the loaded modules, 10 % more (speed-up 1.8-2.0x). The statistical profiler
-    is off (no measurable effect either way). Forking copies the calling process:
-    from a long-lived process whose threads hold locks (a pty reader, a VTK render)
-    the forked workers can deadlock; run studies from a fresh process there
-    (`taxel study run`)."""
+    thread-safe), one thread and one BLAS thread each, started by `start_method()`
+    unless `method` is given. Measured by benchmarks/study_workers.py (cluster
+    start and the 70-point Fig. 2.5 study on 2 workers, 2 cores); spawned workers
+    start cold. The statistical profiler is off (no measurable effect either way)."""
     import dask
     from dask.distributed import LocalCluster
+    method = method or start_method()
     one = {v: "1" for v in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
     with dask.config.set({"distributed.worker.profile.enabled": False,
-                          "distributed.worker.multiprocessing-method": "fork"}):
+                          "distributed.worker.multiprocessing-method": method}):
+        if method == "forkserver":
+            _preload_fork_server()
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, env=one,
                             dashboard_address=None, silence_logs=40)
+
+
+def _preload_fork_server():
+    """Preload Dask and the FEM stack in the fork server. Dask's `get_mp_context`
+    sets its own list once per process; ours replaces it after (it takes effect
+    when the server starts, at the first cluster of a process)."""
+    from distributed.utils import get_mp_context
+    get_mp_context().set_forkserver_preload(["distributed", *WORKER_PRELOAD])
 
 
 def _evaluate_chunk(chunk, outputs):

@@ -90,20 +90,33 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
 
 
 def test_dask_two_workers_equal_in_process(tmp_path):
-    """Two local Dask workers (forked) give the in-process results. The Dask run is a
-    fresh `taxel study run` process, as a user runs it: forking this long-lived test
-    process, whose earlier tests left threads (pty readers, BLAS, VTK), can deadlock
-    the forked workers on a lock held at fork time."""
+    """Two local Dask workers give the in-process results, run through the Python API
+    from this long-lived test process while another of its threads holds a lock.
+    Workers forked from such a process deadlocked in this suite (after the pty and
+    render tests); with other threads running they now come from a clean fork
+    server (studies.execute.start_method)."""
+    import threading
+
+    import taxel
+    from taxel.studies.execute import start_method
     path = write_study(tmp_path)
     study = load_study(path)
     a = run_study(study, tmp_path / "one", workers=1, progress=False)
-    cmd = [sys.executable, "-m", "taxel.cli", "study", "run", str(path), "--out", str(tmp_path / "dask"),
-           "--workers", "2", "--quiet"]
-    env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
-    run = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
-    assert run.returncode == 0, run.stderr[-2000:]
-    b = tidy_rows(tmp_path / "dask")
-    assert a.done == 12 and a.failed == 0 and len(b) == 12 and all(r["status"] == "done" for r in b)
+    held, stop = threading.Lock(), threading.Event()
+
+    def holder():                      # a caller's thread holding a lock through the run
+        with held:
+            stop.wait(600)
+    t = threading.Thread(target=holder, daemon=True)
+    t.start()
+    try:
+        assert start_method() == "forkserver"
+        b = taxel.run_study(path, tmp_path / "dask", workers=2, progress=False)
+    finally:
+        stop.set()
+        t.join()
+    assert start_method() == "fork" or threading.active_count() > 1
+    assert a.done == 12 and a.failed == 0 and b.done == 12 and b.failed == 0
     import json
 
     def physics(rows):
