@@ -159,9 +159,11 @@ def summary_rows(v: dict) -> list[dict]:
     loc = m["localization"]
     return [
         {"figure": "time constant, taxel 1 (s)", "thesis": th["tau_s"][0],
-         "simulated rig": f"{m['tau'][0]['tau_s']:.4g} (truth {m['tau'][0]['truth_s']:g})"},
+         "simulated rig": f"{m['tau'][0]['tau_s']:.4g}, 95 % {m['tau'][0]['ci95_s'][0]:.3g}-{m['tau'][0]['ci95_s'][1]:.3g} "
+                          f"(truth {m['tau'][0]['truth_s']:g}; one 2 N step, 20 mV drift)"},
         {"figure": "time constant, taxel 2 (s)", "thesis": th["tau_s"][1],
-         "simulated rig": f"{m['tau'][1]['tau_s']:.4g} (truth {m['tau'][1]['truth_s']:g})"},
+         "simulated rig": f"{m['tau'][1]['tau_s']:.4g}, 95 % {m['tau'][1]['ci95_s'][0]:.3g}-{m['tau'][1]['ci95_s'][1]:.3g} "
+                          f"(truth {m['tau'][1]['truth_s']:g}; one 2 N step, 20 mV drift)"},
         {"figure": "linearity R (PZT)", "thesis": th["linearity_R"]["PZT"],
          "simulated rig": f"{min(R):.5f}-{max(R):.5f} (9 taxels)"},
         {"figure": "repeatability (%)", "thesis": f"{th['repeatability_pct'][0]} / {th['repeatability_pct'][1]}",

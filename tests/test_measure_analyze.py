@@ -2,11 +2,11 @@
 
 Noise: the simulator's defaults (1 mV white at the ADC, 5 / 1.5 / 0.5 mV hum at
 50 / 150 / 250 Hz, 5 mN load-cell noise, 16-bit ADC over +-10 V, 10 % gain and
-30 % time-constant spread) unless a test says otherwise. The step tests lower
-the baseline drift from 20 mV to 0.5 mV rms (0.15 % of the 0.3 V step of 2 N): the
-drift is a low-passed random walk whose power sits at the frequencies of a
-seconds-long time constant, and at 20 mV it biases a 1.7-3.1 s tau by 20-50 % rms
-(benchmarks/measure_step_drift.py measures it; 0.4-0.5 % rms at 0.5 mV and 2 N)."""
+30 % time-constant spread, 20 mV rms baseline drift) unless a test says otherwise.
+The drift is a low-passed random walk whose power sits at the time scales of a
+seconds-long time constant: at 20 mV one 2 N step (0.3 V) pins a 1.7-3.1 s tau to
+about 7-12 % at best (studies.measure.step gives the bound), so the step tests check
+the drift-robust fit's interval there, and the 2 % target on a quiet bench (0.5 mV)."""
 
 import json
 from pathlib import Path
@@ -62,20 +62,56 @@ def resistor_rig(tau: float):
 
 
 @pytest.mark.parametrize("tau", [1.7, 3.1])
-def test_step_recovers_the_time_constant_within_2_percent(tmp_path, tau):
+def test_step_time_constant_within_its_interval_at_the_default_drift(tmp_path, tau):
     rig, R = resistor_rig(tau)
-    folder, truth = measure(tmp_path, rig, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0, drift_V=0.5e-3,
+    folder, truth = measure(tmp_path, rig, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
                                                     crosstalk=False, seed=int(tau * 10)))
     assert truth.params["taxels"]["taxel_1_1"]["tau_s"] == pytest.approx(tau)
+    assert truth.params["settings"]["drift_V"] == 20e-3
     assert main(["measure", "analyze", str(folder), "--scene", SCENE]) == 0
     rec = json.loads((folder / "analysis.json").read_text())
     assert rec["kind"] == "step"
     fit = {s["taxel"]: s for s in rec["step"]}["taxel_1_1"]
-    assert fit["tau_s"] == pytest.approx(tau, rel=0.02)
     lo, hi = fit["tau_ci95_s"]
-    # the Jacobian's interval assumes white residuals: drift makes it too narrow (not asserted to cover)
-    assert 0 < (hi - lo) / tau < 0.05
-    assert fit["R_eff_ohm"] == pytest.approx(R, rel=0.02)
+    assert lo < tau < hi and 0.05 < (hi - lo) / 2 / tau < 0.4      # honest: several % wide at 20 mV
+    assert fit["tau_s"] == pytest.approx(tau, rel=0.2)
+    assert fit["R_eff_ohm"] == pytest.approx(fit["tau_s"] / truth.params["C_p_F"], rel=1e-9)
+    assert fit["noise_model"] == "drift" and fit["drift_V_per_sqrt_s"] > 1e-3
+
+
+@pytest.mark.parametrize("tau", [1.7, 3.1])
+def test_step_recovers_the_time_constant_within_2_percent_on_a_quiet_bench(tmp_path, tau):
+    rig, R = resistor_rig(tau)
+    folder, truth = measure(tmp_path, rig, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
+                                                    drift_V=0.5e-3, crosstalk=False, seed=int(tau * 10)))
+    a = analyze_folder(folder, taxel.load(SCENE), SCENE)
+    fit = {s.taxel: s for s in a.steps}["taxel_1_1"]
+    assert fit.tau_s == pytest.approx(tau, rel=0.02)
+    assert fit.tau_ci95_s[0] < tau < fit.tau_ci95_s[1] and (fit.tau_ci95_s[1] - fit.tau_ci95_s[0]) / tau < 0.05
+    assert fit.R_eff_ohm == pytest.approx(R, rel=0.02)
+
+
+def test_step_interval_covers_the_truth_over_seeds_where_the_white_fit_does_not():
+    """16 seeded steps at the default 20 mV drift: the drift-robust 95 % interval contains
+    the drawn tau in at least 13 (the white-residual fit's in at most 4)."""
+    rig, _ = resistor_rig(1.7)
+    scene = taxel.load(SCENE)
+    hits = {"drift": 0, "white": 0}
+    for seed in range(16):
+        tr = simulate(rig, scene, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
+                                           crosstalk=False, seed=100 + seed))
+        v = rig.counts_to_volts(tr.frames.counts.astype(float)) / rig.volts_per_si()[None]
+        rec = events.Record(tr.t, v[:, 9], v[:, :9], rig.names[:9], [c.taxel for c in rig.ordered()[:9]],
+                            rig.sampling.rate)
+        for kind in hits:
+            f = analyze.fit_step(rec, 4, rig.chains()["taxel_1_1"], truth_C_p(), noise=kind)
+            hits[kind] += f.tau_ci95_s[0] <= 1.7 <= f.tau_ci95_s[1]
+    assert hits["drift"] >= 13 and hits["white"] <= 4, hits
+
+
+def truth_C_p():
+    from taxel.analyses import lumped_model
+    return lumped_model(taxel.load(SCENE)).C_p
 
 
 def test_linearity_sensitivity_within_1_percent(tmp_path, cache):

@@ -3,7 +3,8 @@ analyze -> calibrate -> localize, into one folder, with a summary beside the
 thesis's figures.
 
     ROOT/step-1.7s, step-3.1s   a 2 N step through a resistor giving tau = 1.7 s / 3.1 s
-                                with the lumped C_p (the thesis's two PZT taxels), drift 0.5 mV
+                                with the lumped C_p (the thesis's two PZT taxels), at the default
+                                20 mV drift: the fit's 95 % interval says how well one step pins tau
     ROOT/impulse                10 impulses, 3 % force spread, thesis bench (charge amplifier, notch)
     ROOT/chirp                  0-100 Hz over 8 s, thesis bench; analysed and calibrated
     ROOT/chirp-fem              the same chirp with the taxel simulated by the FEM transient
@@ -14,7 +15,7 @@ thesis's figures.
 Each measurement folder is captured from a pseudo-terminal fed by the simulator
 (taxel-cobs, streamed as fast as the pty takes it), holds the simulator's truth in
 truth/ and the analysis files. The settings are the simulator's defaults but where
-stated above (the step's drift: benchmarks/measure_step_drift.py).
+stated above.
 """
 
 from __future__ import annotations
@@ -75,13 +76,14 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     taus = []
     for tau in THESIS["tau_s"]:
         out = captured(resistor_rig(rig, tau / C_p), scene,
-                       Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0, drift_V=0.5e-3,
+                       Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
                                 crosstalk=False, seed=int(10 * tau)), root / f"step-{tau:g}s")
         a = analyze_folder(out, scene, scene_name)
         a.write()
         fit = {s.taxel: s for s in a.steps}["taxel_1_1"]
         taus.append({"tau_s": fit.tau_s, "ci95_s": list(fit.tau_ci95_s), "R_eff_ohm": fit.R_eff_ohm, "truth_s": tau})
-        progress(f"      step: tau {fit.tau_s:.4g} s (truth {tau:g} s)")
+        progress(f"      step: tau {fit.tau_s:.4g} s, 95 % {fit.tau_ci95_s[0]:.3g}-{fit.tau_ci95_s[1]:.3g} s "
+                 f"(truth {tau:g} s, 20 mV drift)")
     meas["tau"] = taus
     out = captured(rig, scene, Settings(input="impulse", seconds=20, amplitude_spread=0.03, crosstalk=False, seed=2),
                    root / "impulse")
