@@ -118,7 +118,7 @@ def _linearity_figure(folder: Path):
 
 def _localization_figure(folder: Path):
     plt = _plt()
-    loc = json.loads((folder / "presses" / "localization.json").read_text())
+    loc = json.loads((folder / _loc_dir(folder) / "localization.json").read_text())
     fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 4))
     C = np.array(loc["confusion"])
     ax.imshow(C, cmap="Blues")
@@ -132,24 +132,54 @@ def _localization_figure(folder: Path):
     ax.set_ylabel("pressed")
     ax.set_title(f"Confusion matrix: {100 * loc['correct_rate']:.1f} % correct")
     mb = loc.get("model_based")
-    amap_path = folder / "presses" / "accuracy-map.json"
+    amap_path = folder / _loc_dir(folder) / "accuracy-map.json"
     if amap_path.exists():
         amap = json.loads(amap_path.read_text())
         x, y = np.array(amap["x_mm"]), np.array(amap["y_mm"])
         im = ay.pcolormesh(x, y, np.array(amap["position_error_mm"], float), shading="nearest", cmap="viridis")
         fig.colorbar(im, ax=ay, label=f"predicted position error (mm) at {1e3 * amap['noise_V']:g} mV")
     if mb:
-        e, t = np.array(mb["per_press"]["estimate_mm"]), np.array(mb["per_press"]["truth_mm"])
-        ay.plot(t[:, 0], t[:, 1], "ws", ms=10, mfc="none", label="pressed")
-        ay.plot(e[:, 0], e[:, 1], "r.", ms=4, label="model-based estimate")
+        for cls, marker, colour in (("on", "s", "w"), ("between", "o", "orange"), ("edge", "^", "cyan")):
+            r = mb if cls == "on" else mb.get(cls, {})
+            if not r.get("presses"):
+                continue
+            e, t = np.array(r["per_press"]["estimate_mm"]), np.array(r["per_press"]["truth_mm"])
+            ay.plot(t[:, 0], t[:, 1], marker, color=colour, ms=7, mfc="none", label=f"pressed ({cls} taxels)")
+            ay.plot(e[:, 0], e[:, 1], "r.", ms=4, label="model-based estimate" if cls == "on" else None)
+            for a, b in zip(t, e):
+                ay.plot([a[0], b[0]], [a[1], b[1]], "r-", lw=0.5)
         ay.set_aspect("equal")
         ay.invert_yaxis()
         ay.set_xlabel("x (mm)")
         ay.set_ylabel("y (mm)")
         ay.legend(fontsize=6, loc="lower left", bbox_to_anchor=(0, 1.08), ncol=2)
-        ay.set_title(f"Position error {mb['position_error_mm']['rms']:.3g} mm rms")
+        btw = mb.get("between", {}).get("position_error_mm", {}).get("rms")
+        ay.set_title(f"Position error {mb['position_error_mm']['rms']:.3g} mm rms on taxels"
+                     + (f", {btw:.3g} mm between" if btw is not None else ""), fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def _loc_dir(folder: Path) -> str:
+    return "presses-between" if (folder / "presses-between" / "localization.json").exists() else "presses"
+
+
+def localization_rows(folder: Path) -> list[dict]:
+    """Position and force errors of both estimators, on and between taxels."""
+    loc = json.loads((folder / _loc_dir(folder) / "localization.json").read_text())
+    rows = []
+    mb = loc.get("model_based", {})
+    for method, by_class in (("largest taxel", loc.get("largest_taxel", {})),
+                             ("model-based", {"on": mb, "between": mb.get("between", {}), "edge": mb.get("edge", {})})):
+        for cls in ("on", "between", "edge"):
+            r = by_class.get(cls, {})
+            if r.get("presses"):
+                where = {"on": "on taxels", "between": "between taxels", "edge": "beyond the outer taxels"}[cls]
+                rows.append({"method": method, "presses": where, "n": r["presses"],
+                             "position error rms (mm)": r["position_error_mm"]["rms"],
+                             "position error max (mm)": r["position_error_mm"]["max"],
+                             "force error rms (%)": r["force_error_pct"]["rms"]})
+    return rows
 
 
 def summary_rows(v: dict) -> list[dict]:
@@ -181,7 +211,11 @@ def summary_rows(v: dict) -> list[dict]:
         {"figure": "localization, largest taxel", "thesis": "PZT better than PVDF",
          "simulated rig": f"{100 * loc['correct_rate']:.0f} % of {loc['presses']} presses"},
         {"figure": "localization, model-based", "thesis": "-",
-         "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"},
+         "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"
+                          + (f" on taxels; {loc['model_based']['between']['position_error_mm_rms']:.3g} mm, force "
+                             f"{loc['model_based']['between']['force_error_pct_rms']:.3g} % between them "
+                             f"(largest taxel: {loc['largest_taxel']['between']['position_error_mm_rms']:.3g} mm)"
+                             if loc.get("model_based", {}).get("between", {}).get("presses") else "")},
         {"figure": "localization, predicted (Cramer-Rao, 1 mV)", "thesis": "-",
          "simulated rig": f"{loc['predicted_position_error_mm_at_taxels']:.3g} mm at the taxels, "
                           f"{loc['predicted_position_error_mm_max']:.3g} mm worst"},
@@ -209,7 +243,11 @@ def build_page(folder: Path, out: Path) -> Page:
         {"title": "Step responses", "blocks": [_figure(_png_bytes(_step_figure(folder)))]},
         {"title": "Frequency response", "blocks": [_figure(frf_png)]},
         {"title": "Linearity and repeatability", "blocks": [_figure(_png_bytes(_linearity_figure(folder)))]},
-        {"title": "Localization", "blocks": [_figure(_png_bytes(_localization_figure(folder)))]},
+        {"title": "Localization", "blocks": [_figure(_png_bytes(_localization_figure(folder))), {
+            "type": "table", "table": table(localization_rows(folder), ["method", "presses", "n",
+                                                                       "position error rms (mm)",
+                                                                       "position error max (mm)",
+                                                                       "force error rms (%)"])}]},
         {"title": "Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",
          "blocks": [{"type": "table", "table": table(cal_rows, ["parameter", "value", "95 % low", "95 % high",
                                                                 "truth"])}]},

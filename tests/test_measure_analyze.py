@@ -294,3 +294,39 @@ def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     assert 0.7 < mb["position_error_mm"]["rms"] / predicted < 3.0
     assert np.nanmax(amap.position_error_mm) > 1.5 * predicted       # the map is not flat (worst: on a
     # taxel centre line inside a gap, where one direction has no slope of G)
+
+
+def test_presses_between_taxels_both_estimators_scored_apart(tmp_path, cache):
+    """Half the presses at random points of the array (between taxels and over the margins), at the
+    simulator's default noise: the model-based estimator places presses in the gaps about as well as
+    on the taxels, the largest-taxel method only to the nearest taxel centre."""
+    rig = load_rig("thesis-bench")
+    folder, truth = measure(tmp_path, rig, Settings(input="presses", seconds=60, seed=12, between=0.5))
+    ps = truth.params["presses"]
+    assert sum("column" in p for p in ps) >= 30 and all("xy_mm" in p for p in ps)
+    assert main(["measure", "localize", str(folder), "--presses", str(tmp_path / "m.truth" / "truth.json"),
+                 "--scene", SCENE]) == 0
+    rec = json.loads((folder / "localization.json").read_text())
+    mb, lt = rec["model_based"], rec["largest_taxel"]
+    assert rec["correct_rate"] == 1.0 and rec["matched"] >= 40          # on-taxel presses only
+    assert mb["presses"] >= 15 and mb["between"]["presses"] >= 15 and mb["edge"]["presses"] >= 5
+    assert mb["position_error_mm"]["rms"] < 0.5 and mb["force_error_pct"]["rms"] < 5
+    assert mb["between"]["position_error_mm"]["rms"] < 0.5 and mb["between"]["force_error_pct"]["rms"] < 10
+    # the largest taxel names a centre: a press in a gap is pitch / 2 (3.5 mm) or more away
+    assert lt["between"]["position_error_mm"]["rms"] > 3.0
+    assert lt["between"]["position_error_mm"]["rms"] > 10 * mb["between"]["position_error_mm"]["rms"]
+    # beyond the outer taxels the estimate stays at the edge: the error is about the distance beyond
+    beyond = [max(-x, x - 14, -y, y - 14, 0) for x, y in mb["edge"]["per_press"]["truth_mm"]]
+    assert np.all(np.array(mb["edge"]["per_press"]["error_mm"]) < np.hypot(beyond, beyond) + 0.5)
+
+
+def test_a_press_beyond_an_edge_taxel_looks_like_a_weaker_press_on_it(cache):
+    """Why the estimator keeps to the taxels' span: 1.7 mm beyond taxel_0_0 with the force that gives
+    the same peak on it, every one of the nine peaks is within 1 mV (of 0.4 V) of a press on it."""
+    from taxel.studies.measure.influence import influence
+    infl = influence(taxel.load(SCENE))
+    taxels = [(r, c) for r in range(3) for c in range(3)]
+    on = 0.4 * infl.weights((0.0, 0.0), taxels)
+    w = infl.weights((-1.7e-3, 0.0), taxels)
+    beyond = 0.4 * w / w[0]
+    assert np.abs(beyond - on).max() < 1e-3 and abs(on[1]) > 0.02       # the neighbours carry 7 %

@@ -9,8 +9,11 @@ thesis's figures.
     ROOT/chirp                  0-100 Hz over 8 s, thesis bench; analysed and calibrated
     ROOT/chirp-fem              the same chirp with the taxel simulated by the FEM transient
                                 (--model fem): both models against an FEM "reality"
-    ROOT/presses                60 s of presses on random taxels; linearity and localization, and
-                                the predicted accuracy map (studies.measure.predict) at 1 mV white noise
+    ROOT/presses                60 s of presses on random taxels; linearity
+    ROOT/presses-between        60 s of presses, half on the taxels in turn and half at random points of the
+                                array (between taxels, over the margins); localization by both methods,
+                                on and between taxels, and the predicted accuracy map
+                                (studies.measure.predict) at 1 mV white noise
     ROOT/validation.json        the summary table (measured here) beside the thesis's figures
 Each measurement folder is captured from a pseudo-terminal fed by the simulator
 (taxel-cobs, streamed as fast as the pty takes it), holds the simulator's truth in
@@ -122,15 +125,23 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     a.write()
     meas["linearity_R"] = {x.taxel: x.r for x in a.linearity}
     meas["sensitivity_V_per_N"] = {x.taxel: x.sensitivity_V_per_N for x in a.linearity}
-    loc, mb = localize_folder(out, out / "truth" / "truth.json", scene)
-    loc.write(out, mb)
+    out = captured(rig, scene, Settings(input="presses", seconds=60, seed=12, between=0.5), root / "presses-between")
+    loc = localize_folder(out, out / "truth" / "truth.json", scene)
+    loc.write(out)
+
+    def brief(scores):
+        r = scores.record()
+        return {"presses": r["presses"], "position_error_mm_rms": r["position_error_mm"]["rms"],
+                "force_error_pct_rms": r["force_error_pct"]["rms"]} if r["presses"] else {"presses": 0}
     meas["localization"] = {"correct_rate": loc.correct_rate, "presses": loc.matched,
-                            "model_position_error_mm_rms": mb.record()["position_error_mm"]["rms"],
-                            "model_force_error_pct_rms": mb.record()["force_error_pct"]["rms"]}
+                            "largest_taxel": {c: brief(v) for c, v in loc.largest.items()},
+                            "model_based": {c: brief(v) for c, v in loc.model.items()}}
+    meas["localization"]["model_position_error_mm_rms"] = meas["localization"]["model_based"]["on"]["position_error_mm_rms"]
+    meas["localization"]["model_force_error_pct_rms"] = meas["localization"]["model_based"]["on"]["force_error_pct_rms"]
     from taxel.studies.measure.influence import influence
     from taxel.studies.measure.predict import accuracy_map
     infl = influence(scene)
-    S = float(np.median(np.abs(list(mb.sensitivity_V_per_N.values()))))
+    S = float(np.median(np.abs(list(loc.sensitivity_V_per_N.values()))))
     F = float(np.median([p["force_N"] for p in json.loads((out / "truth" / "truth.json").read_text())["presses"]]))
     amap = accuracy_map(infl, scene.array.rows, scene.array.cols, S, 1e-3, F)
     write_json(out / "accuracy-map.json", amap.record())
@@ -140,6 +151,7 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     r = np.array(list(meas["linearity_R"].values()))
     progress(f"      presses: R {np.abs(r).min():.5f}-{np.abs(r).max():.5f}, largest taxel "
              f"{100 * loc.correct_rate:.0f} % correct, model-based {meas['localization']['model_position_error_mm_rms']:.3g}"
-             " mm rms")
+             f" mm rms on the taxels, {meas['localization']['model_based'].get('between', {}).get('position_error_mm_rms', float('nan')):.3g}"
+             " mm between them")
     write_json(root / "validation.json", summary)
     return summary
