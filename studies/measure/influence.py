@@ -17,8 +17,11 @@ about its middle (equal margins, identical taxels), so V_c(x) = V_(cols-1-c)(L -
 with L = (cols - 1) pitch: only the samples with x <= L / 2 are solved and the
 rest mirrored (benchmarks/measure_influence_cost.py checks the mirror against
 direct solves, and the interpolation error of per_pitch 2 and 4 against 8).
-Solves: with edges and per_pitch 4, 6 for a 3-taxel row (11 samples); without
-edges and per_pitch 2, 3 (5 samples).
+per_pitch 8 (the default): the slopes of G, which the position estimate and its
+Cramer-Rao bound live on, change fast at the taxels' edges, and a spline through
+every pitch / 4 puts the bound of studies.measure.predict 0.7-9 x off (pitch / 8
+within 0.2 % of every-position solves at pitch / 8; the benchmark). Solves for a
+3-taxel row at per_pitch 8: 12 with edges (23 samples), 9 without (17).
 
 `solve(scene) -> {electrode name: V}` does each static solve: by default
 solve_static; the optimizer passes one backed by its study store, so every press
@@ -49,6 +52,7 @@ class Influence:
     x: np.ndarray                # (m,) m sample positions
     G: np.ndarray                # (m, cols) G_c at the samples
     solves: int = 0              # static solves it took (0: read from the cache)
+    sensitivity: np.ndarray | None = None   # (cols,) V/N: each taxel's open-circuit voltage pressed at its centre
 
     def __post_init__(self):
         self._spline = CubicSpline(self.x, self.G, axis=0)
@@ -67,10 +71,11 @@ class Influence:
         return np.array([gy[r] * gx[c] if r < self.n and c < self.n else 0.0 for r, c in taxels])
 
     def record(self) -> dict:
-        return {"pitch_m": self.pitch, "x_m": self.x.tolist(), "G": self.G.tolist()}
+        return {"pitch_m": self.pitch, "x_m": self.x.tolist(), "G": self.G.tolist(),
+                "sensitivity_V_per_N": None if self.sensitivity is None else self.sensitivity.tolist()}
 
 
-def samples(scene: Scene, per_pitch: int = 4, edges: bool = True) -> np.ndarray:
+def samples(scene: Scene, per_pitch: int = 8, edges: bool = True) -> np.ndarray:
     """The sample positions (m) of the module docstring."""
     arr = scene.array
     pitch, L = arr.taxel_width + arr.gap, (arr.cols - 1) * (arr.taxel_width + arr.gap)
@@ -84,18 +89,19 @@ def _static_voltages(scene: Scene) -> dict:
     return solve_static(scene).voltages()
 
 
-def influence(scene: Scene, per_pitch: int = 4, edges: bool = True, solve: Solve | None = None) -> Influence:
+def influence(scene: Scene, per_pitch: int = 8, edges: bool = True, solve: Solve | None = None) -> Influence:
     """The scene's influence functions (module docstring), cached."""
     arr = scene.array
     if arr is None:
         raise ValueError("influence functions need a taxel-array scene ([array])")
     pitch = arr.taxel_width + arr.gap
-    tag = "influence" if (per_pitch, edges) == (4, True) else f"influence-{per_pitch}-{int(edges)}"
+    tag = f"influence-{per_pitch}-{int(edges)}"
     key = hashlib.sha256((tag + scene.model_dump_json()).encode()).hexdigest()[:16]
     path = cache_dir() / f"{tag}-{key}.json"
     try:
         d = json.loads(path.read_text())
-        return Influence(d["pitch_m"], np.array(d["x_m"]), np.array(d["G"]))
+        S = d.get("sensitivity_V_per_N")
+        return Influence(d["pitch_m"], np.array(d["x_m"]), np.array(d["G"]), 0, None if S is None else np.array(S))
     except (OSError, ValueError, KeyError):
         pass
     solve = solve or _static_voltages
@@ -117,7 +123,7 @@ def influence(scene: Scene, per_pitch: int = 4, edges: bool = True, solve: Solve
         count += 1
     centre = [int(np.argmin(np.abs(xs - c * pitch))) for c in range(n)]
     G = V / V[centre, np.arange(n)][None, :]
-    out = Influence(pitch, xs, G, count)
+    out = Influence(pitch, xs, G, count, V[centre, np.arange(n)] / float(scene.load.force or 1.0))
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps({"scene_sha256": key, **out.record()}))
