@@ -8,7 +8,7 @@
                            [--port URL | --pty | --to FILE] [--corrupt P] [--seconds S] [--truth DIR]
     taxel measure analyze DIR [--scene SCENE] [--input KIND] [--resolution HZ]
     taxel measure localize DIR --presses FILE [--scene SCENE]
-    taxel measure calibrate DIR --scene SCENE [--step DIR] [--resolution HZ]
+    taxel measure calibrate DIR --scene SCENE [--step DIR] [--travel DIR] [--resolution HZ]
 
 RIG is a rig TOML file or a built-in rig (thesis-bench). Bad input: one line, exit 2.
 """
@@ -85,6 +85,8 @@ def register(sub) -> None:
     q.add_argument("folder", help="a chirp measurement folder")
     q.add_argument("--scene", required=True, help="the measured array's scene (file or built-in)")
     q.add_argument("--step", default=None, metavar="DIR", help="a step measurement of the same taxel (tau check)")
+    q.add_argument("--travel", default=None, metavar="DIR", help="a chirp with the actuator's travel recorded: the "
+                   "silicone's modulus scale and loss factor, and the piezo coefficient scale, into the overlay")
     q.add_argument("--resolution", type=float, default=1.0, metavar="HZ")
     q.set_defaults(run=_calibrate)
 
@@ -233,11 +235,23 @@ def _calibrate(args):
         if cal.taxel not in fits:
             raise ValueError(f"--step {args.step}: no step fit of {cal.taxel}; give a step of the same taxel")
         cal.step_tau_s = fits[cal.taxel].tau_s
-    text = C.calibrated_scene(args.scene, rig_chain, cal.tau_scale)
-    paths = C.write(Path(args.folder), cal, text)
+    sil, extra = None, None
+    if args.travel:
+        from taxel.studies.measure import events, silicone as SI
+        from taxel.studies.measure.folder import read
+        rec = events.record(read(args.travel))
+        sil = SI.fit(rec, scene)
+        extra = {"silicone": sil.record(), "piezo_coefficient_scale": cal.gain,
+                 "piezo_coefficient_scale_ci95": list(cal.gain_ci95), "travel": str(args.travel)}
+    text = C.calibrated_scene(args.scene, rig_chain, cal.tau_scale, sil, cal.gain if sil is not None else None)
+    paths = C.write(Path(args.folder), cal, text, extra)
     print(f"{cal.taxel}: gain {cal.gain:.4g} (95 % {cal.gain_ci95[0]:.4g}-{cal.gain_ci95[1]:.4g}), tau {cal.tau_s:.4g} s "
           f"(scale {cal.tau_scale:.4g}, 95 % {cal.tau_scale_ci95[0]:.4g}-{cal.tau_scale_ci95[1]:.4g})"
           + (f", step tau {cal.step_tau_s:.4g} s" if cal.step_tau_s else ""))
+    if sil is not None:
+        print(f"silicone: modulus scale {sil.modulus_scale:.4g} (95 % {sil.modulus_scale_ci95[0]:.4g}-"
+              f"{sil.modulus_scale_ci95[1]:.4g}), loss factor {sil.loss_factor:.4g} (95 % {sil.loss_factor_ci95[0]:.4g}-"
+              f"{sil.loss_factor_ci95[1]:.4g}); piezo coefficient scale {cal.gain:.4g}")
     print(f"RMS error on {cal.validation_band_Hz[0]:g}-{cal.validation_band_Hz[1]:g} Hz (not fitted): "
           f"{cal.rms_before_pct:.2f} % before, {cal.rms_after_pct:.2f} % after")
     print("wrote " + ", ".join(str(p) for p in paths))

@@ -330,3 +330,55 @@ def test_a_press_beyond_an_edge_taxel_looks_like_a_weaker_press_on_it(cache):
     w = infl.weights((-1.7e-3, 0.0), taxels)
     beyond = 0.4 * w / w[0]
     assert np.abs(beyond - on).max() < 1e-3 and abs(on[1]) > 0.02       # the neighbours carry 7 %
+
+
+def test_silicone_modulus_and_loss_from_a_chirp_with_the_travel(tmp_path):
+    """The bench's chirp cannot see the silicone (benchmarks/measure_identifiability.py); a chirp with
+    the actuator's travel recorded can: a drawn modulus scale 1.2 within 5 % and loss factor 0.12
+    within 20 %, each inside its 95 % interval, written into the calibrated scene with the piezo
+    coefficient scale, which taxel solve reads."""
+    rig = load_rig("thesis-bench-travel")
+    s = Settings(input="chirp", seconds=10, crosstalk=False, seed=4, modulus_scale=1.2, silicone_loss=0.12)
+    travel, truth = measure(tmp_path, rig, s, name="travel")
+    assert truth.params["silicone"] == {"modulus_scale": 1.2, "loss_factor": pytest.approx(0.12)}
+    folder, t2 = measure(tmp_path, load_rig("thesis-bench"), Settings(input="chirp", seconds=10, crosstalk=False,
+                                                                     seed=4))
+    assert main(["measure", "calibrate", str(folder), "--scene", SCENE, "--travel", str(travel)]) == 0
+    cal = json.loads((folder / "calibration.json").read_text())
+    sil = cal["silicone"]
+    assert sil["modulus_scale"] == pytest.approx(1.2, rel=0.05)
+    assert sil["modulus_scale_ci95"][0] < 1.2 < sil["modulus_scale_ci95"][1]
+    assert sil["loss_factor"] == pytest.approx(0.12, rel=0.2)
+    assert sil["loss_factor_ci95"][0] < 0.12 < sil["loss_factor_ci95"][1]
+    g = t2.params["taxels"]["taxel_1_1"]["gain_factor"]
+    assert cal["piezo_coefficient_scale"] == pytest.approx(g, rel=0.01)
+    scene = taxel.load(str(folder / "calibrated-scene.toml"))
+    from taxel.analyses.problem import scene_materials
+    mats, base = scene_materials(scene), scene_materials(taxel.load(SCENE))
+    a0 = taxel.load(SCENE).array
+    assert mats[scene.array.silicone].mu == pytest.approx(sil["modulus_scale"] * base[a0.silicone].mu, rel=1e-9)
+    assert scene.dynamics.silicone_loss == pytest.approx(sil["loss_factor"])
+    _, d1, _ = mats[scene.array.piezo].strain_charge()
+    _, d0, _ = base[a0.piezo].strain_charge()
+    assert d1[2, 2] == pytest.approx(cal["gain"] * d0[2, 2], rel=1e-9)
+    assert main(["solve", str(folder / "calibrated-scene.toml"), "--json"]) == 0
+
+
+def test_the_bench_chirp_cannot_identify_the_silicone_the_travel_can():
+    """Cramer-Rao over 10-96 Hz at 1 % per frequency (benchmarks/measure_identifiability.py)."""
+    from taxel.studies.measure.calibrate import _chain
+    from taxel.studies.measure.silicone import compliance, identifiability, scaled_model
+    sc = taxel.load(SCENE)
+    ro = load_rig("thesis-bench").chains()["taxel_1_1"].readout()
+    f = np.arange(10.0, 97.0)
+
+    def chirp(fr, modulus_scale, loss_factor, gain):
+        return gain * frf.lumped_frf(scaled_model(sc, modulus_scale, loss_factor), _chain(ro, 1.0)[0], fr)
+
+    def travel(fr, modulus_scale, loss_factor):
+        return 1.0 / compliance(scaled_model(sc, modulus_scale, loss_factor), fr)
+    th = {"modulus_scale": 1.2, "loss_factor": 0.12}
+    bench = identifiability(chirp, {**th, "gain": 0.85}, f[np.abs(f - 50) >= 15], 0.01)     # the notch's zero out
+    trav = identifiability(travel, th, f, 0.01)
+    assert bench.sd_rel[0] > 0.3 and bench.sd_rel[1] > 1.0          # modulus > 30 %, loss > 100 %
+    assert trav.sd_rel[0] < 0.005 and trav.sd_rel[1] < 0.05

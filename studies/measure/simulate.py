@@ -25,6 +25,10 @@ over the margins):
              resistor V/Q = -sR/(1 + sRC_p), tau = R C_p; charge amplifier
              V/Q = -(1/C_f) sR_fC_f/(1 + sR_fC_f) / (1 + sR_i(C_p + C_c)), tau = R_f C_f;
              bilinear-discretised at the rig's rate; then the notch (fem.circuits.notch_in_time);
+  travel     with a travel channel in the rig, the actuator's travel: the total force
+             through the compliance of the lumped taxel (top displacement per newton) whose
+             silicone has its moduli scaled by `modulus_scale` and loss factor
+             `silicone_loss` (studies.measure.silicone), + the sensor's white noise;
   ADC        volts = V * gain + white noise + 50 Hz hum with its 3rd and 5th
              harmonics + baseline drift; the load cell F * sensitivity + its noise;
              quantised to the rig's ADC (16 bits over +-10 V in the thesis rig) and clipped.
@@ -70,6 +74,9 @@ class Settings:
     crosstalk: bool = True             # FEM crosstalk weights (else none)
     model: Literal["lumped", "fem"] = "lumped"
     between: float = 0.0               # presses: the fraction at random points of the array (else on taxel centres)
+    modulus_scale: float = 1.0         # the silicone's true moduli over the scene's (the travel channel)
+    silicone_loss: float | None = None # its true loss factor (default: the scene's)
+    travel_noise_m: float = 1e-6       # the travel sensor's noise, rms
 
 
 @dataclass
@@ -151,6 +158,15 @@ def fem_charges(scene: Scene, t: np.ndarray, force: np.ndarray) -> tuple[np.ndar
     return tr.Q, list(tr.names)
 
 
+def travel(lm, force: np.ndarray, rate: float) -> np.ndarray:
+    """The top of the stack's displacement (m) under `force` (N): the lumped model's compliance
+    X1 / F applied in the frequency domain (zero-padded FFT: no wrap-around)."""
+    from taxel.studies.measure.silicone import compliance
+    n = 2 * len(force)
+    f = np.fft.rfftfreq(n, 1 / rate)
+    return np.fft.irfft(np.fft.rfft(force, n) * compliance(lm, f), n)[:len(force)]
+
+
 def _chain(cond, C_p: float, factor: float):
     """(num, den) of V/Q for one taxel's conditioning with its time constant scaled."""
     if cond.circuit == "open":
@@ -227,6 +243,15 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     force_ch = [c for c in chans if c.kind == "force"]
     for c in force_ch:
         clean[:, c.index] = F.sum(axis=1) * c.volts_per_si
+    travel_ch = [c for c in chans if c.kind == "travel"]
+    silicone = None
+    if travel_ch:
+        from taxel.studies.measure.silicone import _loss, scaled_model
+        lm_true = scaled_model(scene, s.modulus_scale, s.silicone_loss)
+        silicone = {"modulus_scale": s.modulus_scale, "loss_factor": _loss(lm_true, scene)}
+        delta = travel(lm_true, F.sum(axis=1), rate)
+        for c in travel_ch:
+            clean[:, c.index] = delta * c.volts_per_si
     volts = clean.copy()
     for c in chans:
         if c.kind == "taxel":
@@ -236,6 +261,8 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
             walk = signal.sosfilt(signal.butter(1, 0.5, fs=rate, output="sos"), walk)
             walk = s.drift_V * (walk - walk.mean()) / (walk.std() or 1.0)
             volts[:, c.index] += s.noise_V * rng.standard_normal(len(t)) + hum + walk
+        elif c.kind == "travel":
+            volts[:, c.index] += s.travel_noise_m * c.volts_per_si * rng.standard_normal(len(t))
         else:
             volts[:, c.index] += s.force_noise_N * c.volts_per_si * rng.standard_normal(len(t))
     lo, hi = rig.adc.code_limits
@@ -248,6 +275,8 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
               "crosstalk_W1": W1.tolist(), "positions": [list(p) for p in positions], "presses": presses,
               "taxels": per_taxel, "channels": rig.names, "clipped_samples": int(np.sum((counts == lo) | (counts == hi)))}
     params["model"] = s.model
+    if silicone is not None:
+        params["silicone"] = silicone
     return Truth(t, Fcmd, F.sum(axis=1), Q, clean, Frames(seq, t_us, counts), params)
 
 
