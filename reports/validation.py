@@ -208,6 +208,13 @@ def summary_rows(v: dict) -> list[dict]:
         {"figure": "FRF RMS error, FEM-simulated taxel (%)", "thesis": "-",
          "simulated rig": f"lumped {m['rms_error_pct_fem_rig']['lumped']:.1f}, FEM "
                           f"{m['rms_error_pct_fem_rig']['fem']:.2f}"},
+        *([{"figure": "silicone modulus scale / loss factor", "thesis": "not identified",
+            "simulated rig": f"{m['silicone']['modulus_scale']:.4g} / {m['silicone']['loss_factor']:.3g} from a chirp "
+                             f"with the travel (truth {v['truth']['silicone']['modulus_scale']:g} / "
+                             f"{v['truth']['silicone']['loss_factor']:g}); the bench chirp alone: Cramer-Rao "
+                             f"{m['silicone']['identifiability']['bench_chirp']['cramer_rao_sd_pct'][0]:.0f} % / "
+                             f"{m['silicone']['identifiability']['bench_chirp']['cramer_rao_sd_pct'][1]:.0f} % at 1 %"}]
+           if m.get("silicone") else []),
         {"figure": "localization, largest taxel", "thesis": "PZT better than PVDF",
          "simulated rig": f"{100 * loc['correct_rate']:.0f} % of {loc['presses']} presses"},
         {"figure": "localization, model-based", "thesis": "-",
@@ -216,10 +223,25 @@ def summary_rows(v: dict) -> list[dict]:
                              f"{loc['model_based']['between']['force_error_pct_rms']:.3g} % between them "
                              f"(largest taxel: {loc['largest_taxel']['between']['position_error_mm_rms']:.3g} mm)"
                              if loc.get("model_based", {}).get("between", {}).get("presses") else "")},
-        {"figure": "localization, predicted (Cramer-Rao, 1 mV)", "thesis": "-",
+        {"figure": "localization, predicted (Cramer-Rao, 1 mV per sample)", "thesis": "-",
          "simulated rig": f"{loc['predicted_position_error_mm_at_taxels']:.3g} mm at the taxels, "
                           f"{loc['predicted_position_error_mm_max']:.3g} mm worst"},
     ]
+
+
+def _silicone_rows(v: dict) -> list[dict]:
+    """The silicone and piezo scales of the travel chirp (when the loop recorded one)."""
+    sil, cal, t = v["measured"].get("silicone"), v["measured"]["calibration"], v["truth"].get("silicone", {})
+    if not sil:
+        return []
+    return [{"parameter": "silicone modulus scale (travel chirp)", "value": sil["modulus_scale"],
+             "95 % low": sil["modulus_scale_ci95"][0], "95 % high": sil["modulus_scale_ci95"][1],
+             "truth": t.get("modulus_scale")},
+            {"parameter": "silicone loss factor (travel chirp)", "value": sil["loss_factor"],
+             "95 % low": sil["loss_factor_ci95"][0], "95 % high": sil["loss_factor_ci95"][1],
+             "truth": t.get("loss_factor")},
+            {"parameter": "piezo coefficient scale (= g)", "value": cal["gain"], "95 % low": cal["gain_ci95"][0],
+             "95 % high": cal["gain_ci95"][1], "truth": v["truth"].get("gain_factor")}]
 
 
 def build_page(folder: Path, out: Path) -> Page:
@@ -231,6 +253,7 @@ def build_page(folder: Path, out: Path) -> Page:
                  "95 % high": cal["gain_ci95"][1], "truth": v["truth"].get("gain_factor")},
                 {"parameter": "chain tau scale s", "value": cal["tau_scale"], "95 % low": cal["tau_scale_ci95"][0],
                  "95 % high": cal["tau_scale_ci95"][1], "truth": v["truth"].get("tau_factor")},
+                *_silicone_rows(v),
                 {"parameter": "RMS error before (%)", "value": cal["rms_before_pct"]},
                 {"parameter": "RMS error after (%)", "value": cal["rms_after_pct"]}]
     rows = summary_rows(v)

@@ -45,14 +45,22 @@ fit has distant local minima and a start at the largest taxel can end in the
 wrong gap: the fit first scans a grid every pitch / 16 over the taxels' span,
 with the best force F >= 0 in closed form at each point (V is linear in F), then
 refines the four lowest local minima of that scan by scipy.optimize.least_squares,
-each within pitch / 8 of its grid point, and keeps the lowest.
+each within pitch / 8 of its grid point, and keeps the lowest. Some points stay
+ambiguous: near a neighbour's zero of G (about 2.8 mm from a taxel centre in the
+thesis array) a press at a corner between four taxels and its mirror image across
+the array give peaks within 1 mV of each other (measured on the simulated rig), so
+at the bench's noise an occasional between-taxel press lands at its mirror image:
+the scores give the median and 90th percentile beside the rms.
 
 The search stays within the taxels' span (the outer taxels' centres): beyond an
 outer taxel every taxel's signal is nearly that of a press on it with less force
-(G_c(x) ~ a(x) G_c(0) there: for the thesis array, a press 1.7 mm beyond the edge
-taxel with twice the force differs from one on it by under 1 mV in every peak of
-~0.4 V, tests/test_measure_analyze.py), so with the force unknown the nine
-voltages cannot place it; such presses ("edge") are estimated at the edge.
+(G_c(x) ~ a(x) G_c(0) there: for the thesis array a press 0.5-1.7 mm beyond the edge
+taxel, with the force that gives the same peak on it, differs from one on it by at
+most 6 mV of a 0.4 V peak, tests/test_measure_analyze.py), and at the bench's noise a
+search over the margins too sends on-taxel presses there (on the simulated rig at
+1 mV: 1.3 mm rms on the taxels, force 93 % off, against 0.18 mm and 4 % within the
+span; benchmarks/measure_localization_noise.py uses the latter). So with the force
+unknown the nine voltages cannot place it; such presses ("edge") are estimated at the edge.
 """
 
 from __future__ import annotations
@@ -112,7 +120,7 @@ class Scores:
             return {"presses": 0}
         return {"presses": len(e),
                 "position_error_mm": {"rms": float(np.sqrt(np.mean(e ** 2))), "max": float(e.max()),
-                                      "median": float(np.median(e))},
+                                      "median": float(np.median(e)), "p90": float(np.percentile(e, 90))},
                 "force_error_pct": {"rms": float(np.sqrt(np.mean(f ** 2))), "max": float(f.max())},
                 "per_press": {"error_mm": self.position_error_mm, "force_error_pct": self.force_error_pct,
                               "estimate_mm": self.estimates_mm, "truth_mm": self.truth_mm}}
@@ -245,6 +253,12 @@ def amplitudes(rec: Record, matched, pitch_mm: float) -> list:
         v = np.array([volts[i - ms(2):i + ms(2) + 1, j].mean() for j, i in enumerate(idx)]) - b0
         out.append((p, F, v))
     return out
+
+
+def reading_noise(noise_V: float, rate: float) -> float:
+    """The white part of the noise on one V_k reading (a mean of the samples within 2 ms of its time):
+    the per-sample noise over sqrt(samples); for the Cramer-Rao map of studies.measure.predict."""
+    return noise_V / np.sqrt(2 * int(round(2e-3 * rate)) + 1)
 
 
 def _split_index(matched, pitch_mm: float) -> list[int]:
