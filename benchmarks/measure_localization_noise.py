@@ -10,7 +10,8 @@ the largest-taxel correct rate (on-taxel presses), and for both estimators
 (studies.measure.localize) the position error (mm rms) and force error (% rms) on
 the taxels, between them (inside the outer taxels' centres) and beyond the outer
 taxels, each taxel's sensitivity calibrated on its 1st, 3rd, ... on-taxel press and
-the rest scored. The pressed taxel's peak is about 0.2-0.7 V.
+the rest scored; position errors are rms, then medians (mm). The pressed taxel's
+peak is about 0.2-0.7 V.
 """
 
 from __future__ import annotations
@@ -31,7 +32,8 @@ def main():
     args = ap.parse_args()
     scene, rig = taxel.load("thesis-pzt-3x3-2d"), load_rig("thesis-bench")
     infl = influence(scene)
-    print("noise_mV  largest_%  method         on_mm  on_F_%  between_mm  between_F_%  beyond_mm  beyond_F_%")
+    print("noise_mV  largest_%  method         on_mm  on_F_%  between_mm  between_F_%  beyond_mm  beyond_F_%  "
+          "on_median  between_median  beyond_median")
     for noise in (1e-3, 3e-3, 10e-3, 30e-3, 100e-3):
         tr = simulate(rig, scene, Settings(input="presses", seconds=args.seconds, noise_V=noise, seed=12, between=0.5))
         v = rig.counts_to_volts(tr.frames.counts.astype(float)) / rig.volts_per_si()[None]
@@ -41,12 +43,14 @@ def main():
         presses = [Press(p["t"], tuple(pos[p["position"]]), tuple(p["xy_mm"])) for p in tr.params["presses"]]
         loc = model_based(rec, presses, infl, loc=largest_taxel(rec, presses, pitch_mm=1e3 * infl.pitch))
         for name, sc in (("largest taxel", loc.largest), ("model-based", loc.model)):
-            cells = []
+            cells, med = [], []
             for c in ("on", "between", "edge"):
                 r = sc[c].record() if c in sc else {"presses": 0}
                 cells += [r["position_error_mm"]["rms"], r["force_error_pct"]["rms"]] if r["presses"] else [float("nan")] * 2
+                med.append(r["position_error_mm"]["median"] if r["presses"] else float("nan"))
             print(f"{1e3 * noise:8.0f}  {100 * loc.correct_rate:9.1f}  {name:13s}  {cells[0]:5.3f}  {cells[1]:6.2f}  "
-                  f"{cells[2]:10.3f}  {cells[3]:11.2f}  {cells[4]:9.3f}  {cells[5]:10.2f}", flush=True)
+                  f"{cells[2]:10.3f}  {cells[3]:11.2f}  {cells[4]:9.3f}  {cells[5]:10.2f}  "
+                  f"{med[0]:9.3f}  {med[1]:14.3f}  {med[2]:13.3f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -177,6 +177,7 @@ def localization_rows(folder: Path) -> list[dict]:
                 where = {"on": "on taxels", "between": "between taxels", "edge": "beyond the outer taxels"}[cls]
                 rows.append({"method": method, "presses": where, "n": r["presses"],
                              "position error rms (mm)": r["position_error_mm"]["rms"],
+                             "position error median (mm)": r["position_error_mm"]["median"],
                              "position error max (mm)": r["position_error_mm"]["max"],
                              "force error rms (%)": r["force_error_pct"]["rms"]})
     return rows
@@ -219,8 +220,9 @@ def summary_rows(v: dict) -> list[dict]:
          "simulated rig": f"{100 * loc['correct_rate']:.0f} % of {loc['presses']} presses"},
         {"figure": "localization, model-based", "thesis": "-",
          "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"
-                          + (f" on taxels; {loc['model_based']['between']['position_error_mm_rms']:.3g} mm, force "
-                             f"{loc['model_based']['between']['force_error_pct_rms']:.3g} % between them "
+                          + (f" on taxels; between them {loc['model_based']['between']['position_error_mm_rms']:.3g} mm "
+                             f"rms (median {loc['model_based']['between'].get('position_error_mm_median', float('nan')):.3g}),"
+                             f" force {loc['model_based']['between']['force_error_pct_rms']:.3g} % "
                              f"(largest taxel: {loc['largest_taxel']['between']['position_error_mm_rms']:.3g} mm)"
                              if loc.get("model_based", {}).get("between", {}).get("presses") else "")},
         {"figure": "localization, predicted (Cramer-Rao, 1 mV per sample)", "thesis": "-",
@@ -269,6 +271,7 @@ def build_page(folder: Path, out: Path) -> Page:
         {"title": "Localization", "blocks": [_figure(_png_bytes(_localization_figure(folder))), {
             "type": "table", "table": table(localization_rows(folder), ["method", "presses", "n",
                                                                        "position error rms (mm)",
+                                                                       "position error median (mm)",
                                                                        "position error max (mm)",
                                                                        "force error rms (%)"])}]},
         {"title": "Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",

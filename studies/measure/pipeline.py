@@ -178,6 +178,8 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     def brief(scores):
         r = scores.record()
         return {"presses": r["presses"], "position_error_mm_rms": r["position_error_mm"]["rms"],
+                "position_error_mm_median": r["position_error_mm"]["median"],
+                "position_error_mm_max": r["position_error_mm"]["max"],
                 "force_error_pct_rms": r["force_error_pct"]["rms"]} if r["presses"] else {"presses": 0}
     meas["localization"] = {"correct_rate": loc.correct_rate, "presses": loc.matched,
                             "largest_taxel": {c: brief(v) for c, v in loc.largest.items()},
@@ -198,7 +200,7 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     r = np.array(list(meas["linearity_R"].values()))
     progress(f"      presses: R {np.abs(r).min():.5f}-{np.abs(r).max():.5f}, largest taxel "
              f"{100 * loc.correct_rate:.0f} % correct, model-based {meas['localization']['model_position_error_mm_rms']:.3g}"
-             f" mm rms on the taxels, {meas['localization']['model_based'].get('between', {}).get('position_error_mm_rms', float('nan')):.3g}"
-             " mm between them")
+             f" mm rms on the taxels, between them {meas['localization']['model_based'].get('between', {}).get('position_error_mm_rms', float('nan')):.3g}"
+             f" mm rms, median {meas['localization']['model_based'].get('between', {}).get('position_error_mm_median', float('nan')):.3g} mm")
     write_json(root / "validation.json", summary)
     return summary
