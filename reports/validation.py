@@ -119,7 +119,7 @@ def _linearity_figure(folder: Path):
 def _localization_figure(folder: Path):
     plt = _plt()
     loc = json.loads((folder / _loc_dir(folder) / "localization.json").read_text())
-    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 4))
+    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 4.8))
     C = np.array(loc["confusion"])
     ax.imshow(C, cmap="Blues")
     for i in range(len(C)):
@@ -137,14 +137,15 @@ def _localization_figure(folder: Path):
         amap = json.loads(amap_path.read_text())
         x, y = np.array(amap["x_mm"]), np.array(amap["y_mm"])
         im = ay.pcolormesh(x, y, np.array(amap["position_error_mm"], float), shading="nearest", cmap="viridis")
-        fig.colorbar(im, ax=ay, label=f"predicted position error (mm) at {1e3 * amap['noise_V']:g} mV")
+        fig.colorbar(im, ax=ay, label=f"predicted position error (mm), {1e3 * amap['noise_V']:.2g} mV per reading")
     if mb:
-        for cls, marker, colour in (("on", "s", "w"), ("between", "o", "orange"), ("edge", "^", "cyan")):
-            r = mb if cls == "on" else mb.get(cls, {})
+        for cls, marker, colour in (("on", "s", "w"), ("between", "o", "orange"), ("beyond the edge", "^", "cyan")):
+            r = mb if cls == "on" else mb.get(cls.split()[0] if cls == "between" else "edge", {})
             if not r.get("presses"):
                 continue
             e, t = np.array(r["per_press"]["estimate_mm"]), np.array(r["per_press"]["truth_mm"])
-            ay.plot(t[:, 0], t[:, 1], marker, color=colour, ms=7, mfc="none", label=f"pressed ({cls} taxels)")
+            ay.plot(t[:, 0], t[:, 1], marker, color=colour, ms=7, mfc="none",
+                    label=f"pressed ({cls}{' taxels' if cls != 'beyond the edge' else ''})")
             ay.plot(e[:, 0], e[:, 1], "r.", ms=4, label="model-based estimate" if cls == "on" else None)
             for a, b in zip(t, e):
                 ay.plot([a[0], b[0]], [a[1], b[1]], "r-", lw=0.5)
@@ -153,9 +154,10 @@ def _localization_figure(folder: Path):
         ay.set_xlabel("x (mm)")
         ay.set_ylabel("y (mm)")
         ay.legend(fontsize=6, loc="lower left", bbox_to_anchor=(0, 1.08), ncol=2)
-        btw = mb.get("between", {}).get("position_error_mm", {}).get("rms")
-        ay.set_title(f"Position error {mb['position_error_mm']['rms']:.3g} mm rms on taxels"
-                     + (f", {btw:.3g} mm between" if btw is not None else ""), fontsize=9)
+        btw = mb.get("between", {}).get("position_error_mm", {}).get("median")
+        on = mb["position_error_mm"].get("median", mb["position_error_mm"]["rms"])
+        ay.set_title(f"Position error, median: {on:.2g} mm on taxels"
+                     + (f", {btw:.2g} mm between" if btw is not None else ""), fontsize=9)
     fig.tight_layout()
     return fig
 

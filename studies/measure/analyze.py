@@ -30,7 +30,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy import stats
 
-from taxel.studies.measure.events import Record, dehum, segments, smooth
+from taxel.studies.measure.events import Record, dehum, smooth
 from taxel.studies.measure.step import StepFit, fit_step, step_model
 
 __all__ = ["StepFit", "fit_step", "step_model", "Linearity", "Repeatability", "peaks", "linearity",

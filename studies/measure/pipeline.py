@@ -198,9 +198,10 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
         np.sqrt(np.mean(amap.at_taxels(1e3 * infl.pitch) ** 2)))
     meas["localization"]["predicted_position_error_mm_max"] = float(np.nanmax(amap.position_error_mm))
     r = np.array(list(meas["linearity_R"].values()))
+    btw = meas["localization"]["model_based"].get("between", {})
     progress(f"      presses: R {np.abs(r).min():.5f}-{np.abs(r).max():.5f}, largest taxel "
              f"{100 * loc.correct_rate:.0f} % correct, model-based {meas['localization']['model_position_error_mm_rms']:.3g}"
-             f" mm rms on the taxels, between them {meas['localization']['model_based'].get('between', {}).get('position_error_mm_rms', float('nan')):.3g}"
-             f" mm rms, median {meas['localization']['model_based'].get('between', {}).get('position_error_mm_median', float('nan')):.3g} mm")
+             f" mm rms on the taxels, between them {btw.get('position_error_mm_rms', float('nan')):.3g} mm rms, "
+             f"median {btw.get('position_error_mm_median', float('nan')):.3g} mm")
     write_json(root / "validation.json", summary)
     return summary

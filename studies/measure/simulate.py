@@ -134,7 +134,8 @@ def command(s: Settings, rate: float, n_press: int, centre: int, rng, spots=None
                 xy = (positions[pos][1] * pitch, positions[pos][0] * pitch)
                 if s.between and rng.random() < s.between:
                     xy = (rng.uniform(-e, (cols - 1) * pitch + e), rng.uniform(-e, (rows - 1) * pitch + e))
-                    near = (int(np.clip(np.round(xy[1] / pitch), 0, rows - 1)), int(np.clip(np.round(xy[0] / pitch), 0, cols - 1)))
+                    near = (int(np.clip(np.round(xy[1] / pitch), 0, rows - 1)),
+                            int(np.clip(np.round(xy[0] / pitch), 0, cols - 1)))
                     press.update(position=positions.index(near), column=n_press + len(extra))
                     extra.append(amp * 0.5 * (1 - np.cos(np.pi * x)))
                 else:
