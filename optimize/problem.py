@@ -28,8 +28,12 @@ SQLite store and reused by later runs).
 
 Metrics: sensitivity (|V| of the pressed taxel per newton, open circuit, V/N),
 crosstalk (largest neighbour-to-pressed voltage ratio), max_strain (largest
-silicone strain), and geometric ones without FEM: total_thickness (silicone
-above + piezo + below, m), footprint (array width along x, m), gap (m).
+silicone strain), localization_error (the predicted rms position error of a press
+over the array, m: the Cramer-Rao bound of studies.measure.predict from the FEM
+influence functions at the rig's white noise `noise`, default 1 mV on each taxel
+peak; 9 more static solves per design for a 3-taxel row, kept in OUT/influence/),
+and geometric ones without FEM: total_thickness (silicone above + piezo + below,
+m), footprint (array width along x, m), gap (m).
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective
 jitters at the level of the discretisation error's variation with geometry.
@@ -58,7 +62,7 @@ from taxel.studies.execute import local_cluster
 from taxel.studies.spec import read_spec, set_value
 from taxel.studies.store import Store
 
-METRICS = ("sensitivity", "crosstalk", "max_strain", "total_thickness", "footprint", "gap")
+METRICS = ("sensitivity", "crosstalk", "max_strain", "total_thickness", "footprint", "gap", "localization_error")
 BUILTIN = Path(__file__).parent / "builtin"
 
 
@@ -98,6 +102,7 @@ class OptSpec(BaseModel):
     constraints: dict[Literal[METRICS], str] = {}
     pareto: Pareto | None = None
     algorithm: Algorithm = Algorithm()
+    noise: Any = "1 mV"                       # localization_error: white noise on each taxel peak
 
     @model_validator(mode="after")
     def _check(self):
@@ -142,11 +147,43 @@ class Problem:
             finally:
                 store.close()
         if status != "done":
-            return {**metrics, "sensitivity": None, "crosstalk": None, "max_strain": None}
+            return {**metrics, "sensitivity": None, "crosstalk": None, "max_strain": None, "localization_error": None}
         v = result["voltage"].get(result["pressed"])
         metrics.update(sensitivity=abs(v) / result["force"] if v is not None else None,
                        crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
+        if "localization_error" in self.used:
+            metrics["localization_error"] = _localization_error(scene, self.noise_V, self.out)
         return metrics
+
+    @property
+    def used(self) -> set[str]:
+        return set(self.spec.objective.values()) | {c[0] for c in self.constraints}
+
+    @property
+    def noise_V(self) -> float:
+        return magnitude(self.spec.noise, "V", "noise")[0]
+
+
+def _localization_error(scene, noise_V: float, out: Path | None) -> float | None:
+    """The design's localization_error (m); each press position a point of the OUT/influence store."""
+    from taxel.scene import to_data
+    from taxel.studies.measure.predict import localization_error
+    store = Store(out / "influence") if out is not None else None
+
+    def solve(s):
+        data = to_data(s)
+        status, result, error = store.get_or_compute(data, ("voltage",)) if store is not None else \
+            evaluate_safely(data, ("voltage",))
+        if status != "done":
+            raise RuntimeError(error)
+        return result["voltage"]
+    try:
+        return localization_error(scene, noise_V, solve).rms_m
+    except (RuntimeError, ValueError):
+        return None
+    finally:
+        if store is not None:
+            store.close()
 
 
 def _geometry(scene) -> dict:
@@ -178,7 +215,7 @@ def load_problem(path, out: Path | None = None) -> Problem:
             raise OptimizeError(f"variables.{name}: start {var.start} is outside [{var.min}, {var.max}]")
         lo.append(a), hi.append(b), x0.append(s), units.append(unit)
     cons = []
-    si_units = {"total_thickness": "m", "footprint": "m", "gap": "m", "sensitivity": "V/N"}
+    si_units = {"total_thickness": "m", "footprint": "m", "gap": "m", "sensitivity": "V/N", "localization_error": "m"}
     for metric, text in spec.constraints.items():
         text = text.strip()
         op = text[:2]
@@ -202,12 +239,14 @@ def load_problem(path, out: Path | None = None) -> Problem:
         scene = parse({**problem.scene_data(problem.x0), "name": "start"})
     except SceneError as exc:
         raise OptimizeError(f"the starting design is not a valid scene: {exc}") from None
-    if "crosstalk" in (list(spec.objective.values()) + [c[0] for c in cons]) or spec.pareto:
+    if not magnitude(spec.noise, "V", "noise")[0] > 0:
+        raise OptimizeError(f"noise: the rig's white noise must be positive, got {spec.noise!r}; e.g. noise = \"1 mV\"")
+    if {"crosstalk", "localization_error"} & set(list(spec.objective.values()) + [c[0] for c in cons]) or spec.pareto:
         modelled = None if scene.array is None else \
             scene.array.rows * scene.array.cols if scene.model.type == "3d" else scene.array.cols
         if not modelled or modelled < 2:      # a 2D model holds the row through the pressed taxel
-            raise OptimizeError("crosstalk needs at least two modelled taxels in the base scene "
-                                "(array.cols >= 2, or rows x cols >= 2 in 3d)")
+            raise OptimizeError("crosstalk and localization_error need at least two modelled taxels in the base "
+                                "scene (array.cols >= 2, or rows x cols >= 2 in 3d)")
     if spec.pareto and spec.objective.get("maximize") != "sensitivity":
         raise OptimizeError("[pareto] needs objective maximize = \"sensitivity\" (the front is sensitivity "
                             "vs crosstalk)")

@@ -118,8 +118,8 @@ def _linearity_figure(folder: Path):
 
 def _localization_figure(folder: Path):
     plt = _plt()
-    loc = json.loads((folder / "presses" / "localization.json").read_text())
-    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 4))
+    loc = json.loads((folder / _loc_dir(folder) / "localization.json").read_text())
+    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 4.8))
     C = np.array(loc["confusion"])
     ax.imshow(C, cmap="Blues")
     for i in range(len(C)):
@@ -132,24 +132,57 @@ def _localization_figure(folder: Path):
     ax.set_ylabel("pressed")
     ax.set_title(f"Confusion matrix: {100 * loc['correct_rate']:.1f} % correct")
     mb = loc.get("model_based")
-    amap_path = folder / "presses" / "accuracy-map.json"
+    amap_path = folder / _loc_dir(folder) / "accuracy-map.json"
     if amap_path.exists():
         amap = json.loads(amap_path.read_text())
         x, y = np.array(amap["x_mm"]), np.array(amap["y_mm"])
         im = ay.pcolormesh(x, y, np.array(amap["position_error_mm"], float), shading="nearest", cmap="viridis")
-        fig.colorbar(im, ax=ay, label=f"predicted position error (mm) at {1e3 * amap['noise_V']:g} mV")
+        fig.colorbar(im, ax=ay, label=f"predicted position error (mm), {1e3 * amap['noise_V']:.2g} mV per reading")
     if mb:
-        e, t = np.array(mb["per_press"]["estimate_mm"]), np.array(mb["per_press"]["truth_mm"])
-        ay.plot(t[:, 0], t[:, 1], "ws", ms=10, mfc="none", label="pressed")
-        ay.plot(e[:, 0], e[:, 1], "r.", ms=4, label="model-based estimate")
+        for cls, marker, colour in (("on", "s", "w"), ("between", "o", "orange"), ("beyond the edge", "^", "cyan")):
+            r = mb if cls == "on" else mb.get(cls.split()[0] if cls == "between" else "edge", {})
+            if not r.get("presses"):
+                continue
+            e, t = np.array(r["per_press"]["estimate_mm"]), np.array(r["per_press"]["truth_mm"])
+            ay.plot(t[:, 0], t[:, 1], marker, color=colour, ms=7, mfc="none",
+                    label=f"pressed ({cls}{' taxels' if cls != 'beyond the edge' else ''})")
+            ay.plot(e[:, 0], e[:, 1], "r.", ms=4, label="model-based estimate" if cls == "on" else None)
+            for a, b in zip(t, e):
+                ay.plot([a[0], b[0]], [a[1], b[1]], "r-", lw=0.5)
         ay.set_aspect("equal")
         ay.invert_yaxis()
         ay.set_xlabel("x (mm)")
         ay.set_ylabel("y (mm)")
         ay.legend(fontsize=6, loc="lower left", bbox_to_anchor=(0, 1.08), ncol=2)
-        ay.set_title(f"Position error {mb['position_error_mm']['rms']:.3g} mm rms")
+        btw = mb.get("between", {}).get("position_error_mm", {}).get("median")
+        on = mb["position_error_mm"].get("median", mb["position_error_mm"]["rms"])
+        ay.set_title(f"Position error, median: {on:.2g} mm on taxels"
+                     + (f", {btw:.2g} mm between" if btw is not None else ""), fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def _loc_dir(folder: Path) -> str:
+    return "presses-between" if (folder / "presses-between" / "localization.json").exists() else "presses"
+
+
+def localization_rows(folder: Path) -> list[dict]:
+    """Position and force errors of both estimators, on and between taxels."""
+    loc = json.loads((folder / _loc_dir(folder) / "localization.json").read_text())
+    rows = []
+    mb = loc.get("model_based", {})
+    for method, by_class in (("largest taxel", loc.get("largest_taxel", {})),
+                             ("model-based", {"on": mb, "between": mb.get("between", {}), "edge": mb.get("edge", {})})):
+        for cls in ("on", "between", "edge"):
+            r = by_class.get(cls, {})
+            if r.get("presses"):
+                where = {"on": "on taxels", "between": "between taxels", "edge": "beyond the outer taxels"}[cls]
+                rows.append({"method": method, "presses": where, "n": r["presses"],
+                             "position error rms (mm)": r["position_error_mm"]["rms"],
+                             "position error median (mm)": r["position_error_mm"]["median"],
+                             "position error max (mm)": r["position_error_mm"]["max"],
+                             "force error rms (%)": r["force_error_pct"]["rms"]})
+    return rows
 
 
 def summary_rows(v: dict) -> list[dict]:
@@ -159,9 +192,11 @@ def summary_rows(v: dict) -> list[dict]:
     loc = m["localization"]
     return [
         {"figure": "time constant, taxel 1 (s)", "thesis": th["tau_s"][0],
-         "simulated rig": f"{m['tau'][0]['tau_s']:.4g} (truth {m['tau'][0]['truth_s']:g})"},
+         "simulated rig": f"{m['tau'][0]['tau_s']:.4g}, 95 % {m['tau'][0]['ci95_s'][0]:.3g}-{m['tau'][0]['ci95_s'][1]:.3g} "
+                          f"(truth {m['tau'][0]['truth_s']:g}; one 2 N step, 20 mV drift)"},
         {"figure": "time constant, taxel 2 (s)", "thesis": th["tau_s"][1],
-         "simulated rig": f"{m['tau'][1]['tau_s']:.4g} (truth {m['tau'][1]['truth_s']:g})"},
+         "simulated rig": f"{m['tau'][1]['tau_s']:.4g}, 95 % {m['tau'][1]['ci95_s'][0]:.3g}-{m['tau'][1]['ci95_s'][1]:.3g} "
+                          f"(truth {m['tau'][1]['truth_s']:g}; one 2 N step, 20 mV drift)"},
         {"figure": "linearity R (PZT)", "thesis": th["linearity_R"]["PZT"],
          "simulated rig": f"{min(R):.5f}-{max(R):.5f} (9 taxels)"},
         {"figure": "repeatability (%)", "thesis": f"{th['repeatability_pct'][0]} / {th['repeatability_pct'][1]}",
@@ -176,14 +211,41 @@ def summary_rows(v: dict) -> list[dict]:
         {"figure": "FRF RMS error, FEM-simulated taxel (%)", "thesis": "-",
          "simulated rig": f"lumped {m['rms_error_pct_fem_rig']['lumped']:.1f}, FEM "
                           f"{m['rms_error_pct_fem_rig']['fem']:.2f}"},
+        *([{"figure": "silicone modulus scale / loss factor", "thesis": "not identified",
+            "simulated rig": f"{m['silicone']['modulus_scale']:.4g} / {m['silicone']['loss_factor']:.3g} from a chirp "
+                             f"with the travel (truth {v['truth']['silicone']['modulus_scale']:g} / "
+                             f"{v['truth']['silicone']['loss_factor']:g}); the bench chirp alone: Cramer-Rao "
+                             f"{m['silicone']['identifiability']['bench_chirp']['cramer_rao_sd_pct'][0]:.0f} % / "
+                             f"{m['silicone']['identifiability']['bench_chirp']['cramer_rao_sd_pct'][1]:.0f} % at 1 %"}]
+           if m.get("silicone") else []),
         {"figure": "localization, largest taxel", "thesis": "PZT better than PVDF",
          "simulated rig": f"{100 * loc['correct_rate']:.0f} % of {loc['presses']} presses"},
         {"figure": "localization, model-based", "thesis": "-",
-         "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"},
-        {"figure": "localization, predicted (Cramer-Rao, 1 mV)", "thesis": "-",
+         "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"
+                          + (f" on taxels; between them {loc['model_based']['between']['position_error_mm_rms']:.3g} mm "
+                             f"rms (median {loc['model_based']['between'].get('position_error_mm_median', float('nan')):.3g}),"
+                             f" force {loc['model_based']['between']['force_error_pct_rms']:.3g} % "
+                             f"(largest taxel: {loc['largest_taxel']['between']['position_error_mm_rms']:.3g} mm)"
+                             if loc.get("model_based", {}).get("between", {}).get("presses") else "")},
+        {"figure": "localization, predicted (Cramer-Rao, 1 mV per sample)", "thesis": "-",
          "simulated rig": f"{loc['predicted_position_error_mm_at_taxels']:.3g} mm at the taxels, "
                           f"{loc['predicted_position_error_mm_max']:.3g} mm worst"},
     ]
+
+
+def _silicone_rows(v: dict) -> list[dict]:
+    """The silicone and piezo scales of the travel chirp (when the loop recorded one)."""
+    sil, cal, t = v["measured"].get("silicone"), v["measured"]["calibration"], v["truth"].get("silicone", {})
+    if not sil:
+        return []
+    return [{"parameter": "silicone modulus scale (travel chirp)", "value": sil["modulus_scale"],
+             "95 % low": sil["modulus_scale_ci95"][0], "95 % high": sil["modulus_scale_ci95"][1],
+             "truth": t.get("modulus_scale")},
+            {"parameter": "silicone loss factor (travel chirp)", "value": sil["loss_factor"],
+             "95 % low": sil["loss_factor_ci95"][0], "95 % high": sil["loss_factor_ci95"][1],
+             "truth": t.get("loss_factor")},
+            {"parameter": "piezo coefficient scale (= g)", "value": cal["gain"], "95 % low": cal["gain_ci95"][0],
+             "95 % high": cal["gain_ci95"][1], "truth": v["truth"].get("gain_factor")}]
 
 
 def build_page(folder: Path, out: Path) -> Page:
@@ -195,6 +257,7 @@ def build_page(folder: Path, out: Path) -> Page:
                  "95 % high": cal["gain_ci95"][1], "truth": v["truth"].get("gain_factor")},
                 {"parameter": "chain tau scale s", "value": cal["tau_scale"], "95 % low": cal["tau_scale_ci95"][0],
                  "95 % high": cal["tau_scale_ci95"][1], "truth": v["truth"].get("tau_factor")},
+                *_silicone_rows(v),
                 {"parameter": "RMS error before (%)", "value": cal["rms_before_pct"]},
                 {"parameter": "RMS error after (%)", "value": cal["rms_after_pct"]}]
     rows = summary_rows(v)
@@ -207,7 +270,12 @@ def build_page(folder: Path, out: Path) -> Page:
         {"title": "Step responses", "blocks": [_figure(_png_bytes(_step_figure(folder)))]},
         {"title": "Frequency response", "blocks": [_figure(frf_png)]},
         {"title": "Linearity and repeatability", "blocks": [_figure(_png_bytes(_linearity_figure(folder)))]},
-        {"title": "Localization", "blocks": [_figure(_png_bytes(_localization_figure(folder)))]},
+        {"title": "Localization", "blocks": [_figure(_png_bytes(_localization_figure(folder))), {
+            "type": "table", "table": table(localization_rows(folder), ["method", "presses", "n",
+                                                                       "position error rms (mm)",
+                                                                       "position error median (mm)",
+                                                                       "position error max (mm)",
+                                                                       "force error rms (%)"])}]},
         {"title": "Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",
          "blocks": [{"type": "table", "table": table(cal_rows, ["parameter", "value", "95 % low", "95 % high",
                                                                 "truth"])}]},

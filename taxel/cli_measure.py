@@ -8,7 +8,7 @@
                            [--port URL | --pty | --to FILE] [--corrupt P] [--seconds S] [--truth DIR]
     taxel measure analyze DIR [--scene SCENE] [--input KIND] [--resolution HZ]
     taxel measure localize DIR --presses FILE [--scene SCENE]
-    taxel measure calibrate DIR --scene SCENE [--step DIR] [--resolution HZ]
+    taxel measure calibrate DIR --scene SCENE [--step DIR] [--travel DIR] [--resolution HZ]
 
 RIG is a rig TOML file or a built-in rig (thesis-bench). Bad input: one line, exit 2.
 """
@@ -57,6 +57,8 @@ def register(sub) -> None:
     q.add_argument("--seq0", type=int, default=0, help="first seq (wrap-around tests)")
     q.add_argument("--t0-us", type=int, default=0, help="first t_us (wrap-around tests)")
     q.add_argument("--no-crosstalk", action="store_true", help="skip the FEM crosstalk solves")
+    q.add_argument("--between", type=float, default=0.0, metavar="P",
+                   help="--input presses: the fraction of presses at random points (between taxels, over the edges)")
     q.add_argument("--model", choices=["lumped", "fem"], default="lumped",
                    help="the taxel's charge: the lumped model with FEM crosstalk, or an FEM transient")
     q.add_argument("--linger", type=float, default=1.0, help="seconds the port stays open after the stream")
@@ -75,13 +77,16 @@ def register(sub) -> None:
     q = msub.add_parser("localize", help="which taxel was pressed: largest-taxel confusion matrix and correct rate")
     q.add_argument("folder")
     q.add_argument("--presses", required=True, metavar="FILE",
-                   help="JSON with the known presses: a list of {t, position: [row, col]}, or the simulator's truth.json")
+                   help="JSON with the known presses: a list of {t, position: [row, col], xy_mm: [x, y] (optional: "
+                        "the point, from taxel_0_0's centre)}, or the simulator's truth.json")
     q.add_argument("--scene", default=None, help="the array's scene: adds the model-based position and force estimator")
     q.set_defaults(run=_localize)
     q = msub.add_parser("calibrate", help="fit the charge gain and the chain's time constant to a chirp's FRF")
     q.add_argument("folder", help="a chirp measurement folder")
     q.add_argument("--scene", required=True, help="the measured array's scene (file or built-in)")
     q.add_argument("--step", default=None, metavar="DIR", help="a step measurement of the same taxel (tau check)")
+    q.add_argument("--travel", default=None, metavar="DIR", help="a chirp with the actuator's travel recorded: the "
+                   "silicone's modulus scale and loss factor, and the piezo coefficient scale, into the overlay")
     q.add_argument("--resolution", type=float, default=1.0, metavar="HZ")
     q.set_defaults(run=_calibrate)
 
@@ -150,6 +155,8 @@ def _simulate(args):
         raise ValueError(f"--corrupt must be a probability in [0, 1), got {args.corrupt}")
     if not args.seconds > 0:
         raise ValueError(f"--seconds must be positive, got {args.seconds}")
+    if not 0 <= args.between <= 1:
+        raise ValueError(f"--between must be a fraction in [0, 1], got {args.between}")
     url = None
     if args.port:
         host, _, port = args.port.removeprefix("socket://").removeprefix("tcp://").rpartition(":")
@@ -159,7 +166,7 @@ def _simulate(args):
     truth_dir = Path(args.truth) if args.truth else (Path(args.to).with_suffix(".truth") if args.to
                                                      else Path("out") / f"simulate-{args.input}")
     s = Settings(input=args.input, seconds=args.seconds, seed=args.seed, seq0=args.seq0, t0_us=args.t0_us,
-                 crosstalk=not args.no_crosstalk, model=args.model)
+                 crosstalk=not args.no_crosstalk, model=args.model, between=args.between)
     truth = simulate(rig, scene, s)
     chunks = encode_frames(truth.frames, rig.port.protocol)
     wire = W.corrupt(chunks, args.corrupt, np.random.default_rng(args.seed + 1))
@@ -207,9 +214,9 @@ def _localize(args):
     if args.scene:
         scene = api.load(args.scene)
         check_scene(scene, _read_rig(args.folder), args.scene)
-    res, mb = localize_folder(args.folder, args.presses, scene)
-    path = res.write(Path(args.folder), mb)
-    print("\n".join(res.summary() + (mb.summary() if mb else [])))
+    res = localize_folder(args.folder, args.presses, scene)
+    path = res.write(Path(args.folder))
+    print("\n".join(res.summary()))
     print(f"wrote {path}")
 
 
@@ -228,11 +235,23 @@ def _calibrate(args):
         if cal.taxel not in fits:
             raise ValueError(f"--step {args.step}: no step fit of {cal.taxel}; give a step of the same taxel")
         cal.step_tau_s = fits[cal.taxel].tau_s
-    text = C.calibrated_scene(args.scene, rig_chain, cal.tau_scale)
-    paths = C.write(Path(args.folder), cal, text)
+    sil, extra = None, None
+    if args.travel:
+        from taxel.studies.measure import events, silicone as SI
+        from taxel.studies.measure.folder import read
+        rec = events.record(read(args.travel))
+        sil = SI.fit(rec, scene)
+        extra = {"silicone": sil.record(), "piezo_coefficient_scale": cal.gain,
+                 "piezo_coefficient_scale_ci95": list(cal.gain_ci95), "travel": str(args.travel)}
+    text = C.calibrated_scene(args.scene, rig_chain, cal.tau_scale, sil, cal.gain if sil is not None else None)
+    paths = C.write(Path(args.folder), cal, text, extra)
     print(f"{cal.taxel}: gain {cal.gain:.4g} (95 % {cal.gain_ci95[0]:.4g}-{cal.gain_ci95[1]:.4g}), tau {cal.tau_s:.4g} s "
           f"(scale {cal.tau_scale:.4g}, 95 % {cal.tau_scale_ci95[0]:.4g}-{cal.tau_scale_ci95[1]:.4g})"
           + (f", step tau {cal.step_tau_s:.4g} s" if cal.step_tau_s else ""))
+    if sil is not None:
+        print(f"silicone: modulus scale {sil.modulus_scale:.4g} (95 % {sil.modulus_scale_ci95[0]:.4g}-"
+              f"{sil.modulus_scale_ci95[1]:.4g}), loss factor {sil.loss_factor:.4g} (95 % {sil.loss_factor_ci95[0]:.4g}-"
+              f"{sil.loss_factor_ci95[1]:.4g}); piezo coefficient scale {cal.gain:.4g}")
     print(f"RMS error on {cal.validation_band_Hz[0]:g}-{cal.validation_band_Hz[1]:g} Hz (not fitted): "
           f"{cal.rms_before_pct:.2f} % before, {cal.rms_after_pct:.2f} % after")
     print("wrote " + ", ".join(str(p) for p in paths))

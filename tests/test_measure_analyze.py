@@ -2,11 +2,11 @@
 
 Noise: the simulator's defaults (1 mV white at the ADC, 5 / 1.5 / 0.5 mV hum at
 50 / 150 / 250 Hz, 5 mN load-cell noise, 16-bit ADC over +-10 V, 10 % gain and
-30 % time-constant spread) unless a test says otherwise. The step tests lower
-the baseline drift from 20 mV to 0.5 mV rms (0.15 % of the 0.3 V step of 2 N): the
-drift is a low-passed random walk whose power sits at the frequencies of a
-seconds-long time constant, and at 20 mV it biases a 1.7-3.1 s tau by 20-50 % rms
-(benchmarks/measure_step_drift.py measures it; 0.4-0.5 % rms at 0.5 mV and 2 N)."""
+30 % time-constant spread, 20 mV rms baseline drift) unless a test says otherwise.
+The drift is a low-passed random walk whose power sits at the time scales of a
+seconds-long time constant: at 20 mV one 2 N step (0.3 V) pins a 1.7-3.1 s tau to
+about 7-12 % at best (studies.measure.step gives the bound), so the step tests check
+the drift-robust fit's interval there, and the 2 % target on a quiet bench (0.5 mV)."""
 
 import json
 from pathlib import Path
@@ -62,20 +62,56 @@ def resistor_rig(tau: float):
 
 
 @pytest.mark.parametrize("tau", [1.7, 3.1])
-def test_step_recovers_the_time_constant_within_2_percent(tmp_path, tau):
+def test_step_time_constant_within_its_interval_at_the_default_drift(tmp_path, tau):
     rig, R = resistor_rig(tau)
-    folder, truth = measure(tmp_path, rig, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0, drift_V=0.5e-3,
+    folder, truth = measure(tmp_path, rig, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
                                                     crosstalk=False, seed=int(tau * 10)))
     assert truth.params["taxels"]["taxel_1_1"]["tau_s"] == pytest.approx(tau)
+    assert truth.params["settings"]["drift_V"] == 20e-3
     assert main(["measure", "analyze", str(folder), "--scene", SCENE]) == 0
     rec = json.loads((folder / "analysis.json").read_text())
     assert rec["kind"] == "step"
     fit = {s["taxel"]: s for s in rec["step"]}["taxel_1_1"]
-    assert fit["tau_s"] == pytest.approx(tau, rel=0.02)
     lo, hi = fit["tau_ci95_s"]
-    # the Jacobian's interval assumes white residuals: drift makes it too narrow (not asserted to cover)
-    assert 0 < (hi - lo) / tau < 0.05
-    assert fit["R_eff_ohm"] == pytest.approx(R, rel=0.02)
+    assert lo < tau < hi and 0.05 < (hi - lo) / 2 / tau < 0.4      # honest: several % wide at 20 mV
+    assert fit["tau_s"] == pytest.approx(tau, rel=0.2)
+    assert fit["R_eff_ohm"] == pytest.approx(fit["tau_s"] / truth.params["C_p_F"], rel=1e-9)
+    assert fit["noise_model"] == "drift" and fit["drift_V_per_sqrt_s"] > 1e-3
+
+
+@pytest.mark.parametrize("tau", [1.7, 3.1])
+def test_step_recovers_the_time_constant_within_2_percent_on_a_quiet_bench(tmp_path, tau):
+    rig, R = resistor_rig(tau)
+    folder, truth = measure(tmp_path, rig, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
+                                                    drift_V=0.5e-3, crosstalk=False, seed=int(tau * 10)))
+    a = analyze_folder(folder, taxel.load(SCENE), SCENE)
+    fit = {s.taxel: s for s in a.steps}["taxel_1_1"]
+    assert fit.tau_s == pytest.approx(tau, rel=0.02)
+    assert fit.tau_ci95_s[0] < tau < fit.tau_ci95_s[1] and (fit.tau_ci95_s[1] - fit.tau_ci95_s[0]) / tau < 0.05
+    assert fit.R_eff_ohm == pytest.approx(R, rel=0.02)
+
+
+def test_step_interval_covers_the_truth_over_seeds_where_the_white_fit_does_not():
+    """16 seeded steps at the default 20 mV drift: the drift-robust 95 % interval contains
+    the drawn tau in at least 13 (the white-residual fit's in at most 4)."""
+    rig, _ = resistor_rig(1.7)
+    scene = taxel.load(SCENE)
+    hits = {"drift": 0, "white": 0}
+    for seed in range(16):
+        tr = simulate(rig, scene, Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
+                                           crosstalk=False, seed=100 + seed))
+        v = rig.counts_to_volts(tr.frames.counts.astype(float)) / rig.volts_per_si()[None]
+        rec = events.Record(tr.t, v[:, 9], v[:, :9], rig.names[:9], [c.taxel for c in rig.ordered()[:9]],
+                            rig.sampling.rate)
+        for kind in hits:
+            f = analyze.fit_step(rec, 4, rig.chains()["taxel_1_1"], truth_C_p(), noise=kind)
+            hits[kind] += f.tau_ci95_s[0] <= 1.7 <= f.tau_ci95_s[1]
+    assert hits["drift"] >= 13 and hits["white"] <= 4, hits
+
+
+def truth_C_p():
+    from taxel.analyses import lumped_model
+    return lumped_model(taxel.load(SCENE)).C_p
 
 
 def test_linearity_sensitivity_within_1_percent(tmp_path, cache):
@@ -253,8 +289,49 @@ def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     infl = influence(taxel.load(SCENE))
     S = float(np.median(np.abs(list(mb["sensitivity_V_per_N"].values()))))
     F = float(np.median([p["force_N"] for p in truth.params["presses"]]))
-    amap = accuracy_map(infl, 3, 3, S, 1e-3, F)
+    from taxel.studies.measure.localize import reading_noise
+    amap = accuracy_map(infl, 3, 3, S, reading_noise(1e-3, 2000.0), F)      # 1 mV per sample, 9 samples read
     predicted = float(np.sqrt(np.mean(amap.at_taxels(1e3 * infl.pitch) ** 2)))
-    assert 0.7 < mb["position_error_mm"]["rms"] / predicted < 3.0
+    assert 0.7 < mb["position_error_mm"]["rms"] / predicted < 3.0           # hum and drift residuals add
     assert np.nanmax(amap.position_error_mm) > 1.5 * predicted       # the map is not flat (worst: on a
     # taxel centre line inside a gap, where one direction has no slope of G)
+
+
+def test_presses_between_taxels_both_estimators_scored_apart(tmp_path, cache):
+    """Half the presses at random points of the array (between taxels and over the margins), at the
+    simulator's default noise: the model-based estimator places presses in the gaps about as well as
+    on the taxels, the largest-taxel method only to the nearest taxel centre."""
+    rig = load_rig("thesis-bench")
+    folder, truth = measure(tmp_path, rig, Settings(input="presses", seconds=60, seed=12, between=0.5))
+    ps = truth.params["presses"]
+    assert sum("column" in p for p in ps) >= 30 and all("xy_mm" in p for p in ps)
+    assert main(["measure", "localize", str(folder), "--presses", str(tmp_path / "m.truth" / "truth.json"),
+                 "--scene", SCENE]) == 0
+    rec = json.loads((folder / "localization.json").read_text())
+    mb, lt = rec["model_based"], rec["largest_taxel"]
+    assert rec["correct_rate"] == 1.0 and rec["matched"] >= 40          # on-taxel presses only
+    assert mb["presses"] >= 15 and mb["between"]["presses"] >= 15 and mb["edge"]["presses"] >= 5
+    assert mb["position_error_mm"]["rms"] < 0.5 and mb["force_error_pct"]["rms"] < 5
+    # a corner press can land at its mirror image (studies.measure.localize): the median and 90th percentile
+    assert mb["between"]["position_error_mm"]["median"] < 0.3 and mb["between"]["position_error_mm"]["p90"] < 1.0
+    assert mb["between"]["force_error_pct"]["rms"] < 10
+    # the largest taxel names a centre: a press in a gap is pitch / 2 (3.5 mm) or more away
+    assert lt["between"]["position_error_mm"]["rms"] > 3.0
+    assert lt["between"]["position_error_mm"]["median"] > 10 * mb["between"]["position_error_mm"]["median"]
+    # beyond the outer taxels the estimate stays at the edge: the error is about the distance beyond
+    beyond = [max(-x, x - 14, -y, y - 14, 0) for x, y in mb["edge"]["per_press"]["truth_mm"]]
+    assert np.all(np.array(mb["edge"]["per_press"]["error_mm"]) < np.hypot(beyond, beyond) + 0.5)
+
+
+def test_a_press_beyond_an_edge_taxel_looks_like_a_weaker_press_on_it(cache):
+    """Why the estimator keeps to the taxels' span: 0.5-1.7 mm beyond taxel_0_0, with the force that
+    gives the same peak on it, every one of the nine peaks is within 6 mV (of 0.4 V) of a press on it;
+    the neighbours' 7 % crosstalk (28 mV) is what carries the position."""
+    from taxel.studies.measure.influence import influence
+    infl = influence(taxel.load(SCENE))
+    taxels = [(r, c) for r in range(3) for c in range(3)]
+    on = 0.4 * infl.weights((0.0, 0.0), taxels)
+    for x in (-0.5e-3, -1e-3, -1.7e-3):
+        w = infl.weights((x, 0.0), taxels)
+        assert np.abs(0.4 * w / w[0] - on).max() < 6e-3
+    assert abs(on[1]) > 0.02

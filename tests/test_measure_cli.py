@@ -164,3 +164,39 @@ def test_simulate_on_a_pty_in_ascii_then_capture(tmp_path):
     m = F.read(tmp_path / "m")
     assert np.array_equal(m.counts, truth["counts"]) and np.array_equal(m.seq, truth["seq"])
     assert m.summary["crc_failures"] == 0 and m.summary["frames_lost"] == 0 and m.summary["resyncs"] == 0
+
+
+def test_simulate_between_out_of_range_and_a_bad_press_point(tmp_path, capsys):
+    assert main(["measure", "simulate", str(BENCH), "--scene", "thesis-pzt-3x3-2d", "--input", "presses",
+                 "--between", "1.5", "--to", str(tmp_path / "s.bin")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--between" in err and not (tmp_path / "s.bin").exists()
+    from taxel.studies.measure.folder import MeasurementError
+    from taxel.studies.measure.localize import read_presses
+    (tmp_path / "p.json").write_text('[{"t": 1.0, "position": [0, 1], "xy_mm": [3.0, "x"]}]')
+    with pytest.raises(MeasurementError, match="press 0 needs t"):
+        read_presses(tmp_path / "p.json")
+    (tmp_path / "p.json").write_text('[{"t": 1.0, "position": [0, 1], "xy_mm": [3.5, 0.2]}]')
+    (p,) = read_presses(tmp_path / "p.json")
+    assert p.xy_mm == (3.5, 0.2) and not p.on_taxel(7.0) and p.on_taxel(None)
+
+
+def test_travel_channel_takes_a_length_sensitivity(tmp_path, capsys):
+    from taxel.studies.measure.rig import load_rig
+    d = rig_dict()
+    d["channels"].append({"index": 10, "name": "travel", "sensitivity": "1 V/mm"})
+    assert load_rig.__name__ and parse_ok(d).ordered()[10].volts_per_si == pytest.approx(1000.0)
+    for bad, words in (("0.5 V/N", "travel sensitivity"), (None, "travel channel needs its sensitivity")):
+        d["channels"][10] = {"index": 10, "name": "travel", **({"sensitivity": bad} if bad else {})}
+        (tmp_path / "rig.toml").write_text(_toml(d))
+        assert main(["measure", "capture", str(tmp_path / "rig.toml"), "--seconds", "1",
+                     "--out", str(tmp_path / "m")]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and words in err, err
+        assert not (tmp_path / "m").exists()
+    assert load_rig("thesis-bench-travel").n == 11
+
+
+def parse_ok(d):
+    from taxel.studies.measure.rig import parse_rig
+    return parse_rig(d)

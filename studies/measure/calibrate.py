@@ -22,16 +22,23 @@ is reported on the other half before and after calibration (and on all of it).
 With a step record, the step's first-order fit tau (studies.measure.analyze)
 is reported beside s R_f C_f as an independent check.
 
-Not identifiable on this bench, and so not fitted: the silicone's modulus scale
-and loss factor. In the lumped model the force passes through the silicone and
-the piezo in series, so the quasi-static charge does not depend on the silicone,
-and its resonances are above 10 kHz: a 1.2 x modulus changes |Q_sc / F| by
-0.0015 % at 10 Hz and 0.15 % at 100 Hz, a loss factor 0.1 -> 0.12 by 0.004 % at
-100 Hz (benchmarks/measure_identifiability.py), far below H1's 1 %.
+Not identifiable from this chirp: the silicone's modulus scale and loss factor.
+In the lumped model the force passes through the silicone and the piezo in
+series, so the quasi-static charge does not depend on the silicone, and its
+resonances are above 10 kHz: a 1.2 x modulus changes |Q_sc / F| by 0.0015 % at
+10 Hz and 0.15 % at 100 Hz, a loss factor 0.1 -> 0.12 by 0.004 % at 100 Hz; the
+Cramer-Rao bound over 10-96 Hz at H1's 1 % is 62 % (modulus scale) and 400 %
+(loss factor) (benchmarks/measure_identifiability.py). A chirp with the
+actuator's travel recorded identifies both (studies.measure.silicone: 0.1 % and
+1.5 % at the same 1 %): `taxel measure calibrate --travel DIR` fits them there
+and writes them into the overlay, with the charge gain g as the piezo
+coefficient scale (d scaled by g).
 
 Written: DIR/calibration.json, and DIR/calibrated-scene.toml: the scene with the
 calibrated readout ([readout] from the rig's chain, R_f or R scaled by s), which
-`taxel solve` reads; g is in calibration.json (the scene has no gain key).
+`taxel solve` reads; with --travel also the silicone (a user material
+"<name>-calibrated", moduli scaled, and [dynamics] silicone_loss) and the piezo
+(a user material with d scaled by g, the taxel's gain spread included).
 """
 
 from __future__ import annotations
@@ -144,9 +151,11 @@ def toml_text(data: dict) -> str:
     return "\n".join(lines).lstrip("\n") + "\n"
 
 
-def calibrated_scene(scene_source: str, readout, s: float) -> str:
-    """The scene's TOML with [readout] replaced by the rig's chain, R_f (or R) scaled by s."""
-    from taxel.scene import EXAMPLES, read_toml
+def calibrated_scene(scene_source: str, readout, s: float, silicone=None, piezo_scale: float | None = None) -> str:
+    """The scene's TOML with [readout] replaced by the rig's chain, R_f (or R) scaled by s; with a
+    studies.measure.silicone.SiliconeFit, the silicone as a user material with its moduli scaled and
+    [dynamics] silicone_loss; with piezo_scale, the piezo as a user material with d scaled."""
+    from taxel.scene import EXAMPLES, load, read_toml
     path = Path(scene_source)
     if not path.is_file():
         path = EXAMPLES / f"{scene_source}.toml"
@@ -156,7 +165,32 @@ def calibrated_scene(scene_source: str, readout, s: float) -> str:
           "R_i": f"{r.R_i!r} ohm", "C_c": f"{r.C_c!r} F", "notch": bool(r.notch),
           "notch_frequency": f"{r.notch_frequency!r} Hz", "notch_bandwidth": f"{r.notch_bandwidth!r} Hz"}
     data["readout"] = ro
-    data["description"] = (data.get("description", "") + " Calibrated readout (taxel measure calibrate).").strip()
+    what = ["readout"]
+    if silicone is not None or piezo_scale is not None:
+        from taxel.analyses.problem import scene_materials
+        scene = load(str(path))
+        mats, arr = scene_materials(scene), scene.array
+        user = data.setdefault("materials", {})
+        if silicone is not None:
+            sil, k = mats[arr.silicone], silicone.modulus_scale
+            rec = {"kind": "solid", "mu": sil.mu * k, "K": sil.K * k, "rho": sil.rho, "eps_r": sil.eps_r}
+            if sil.yeoh is not None:
+                rec.update(C10=sil.yeoh[0] * k, C20=sil.yeoh[1] * k, C30=sil.yeoh[2] * k)
+            user[f"{arr.silicone}-calibrated"] = rec
+            data["array"]["silicone"] = f"{arr.silicone}-calibrated"
+            data.setdefault("dynamics", {})["silicone_loss"] = float(silicone.loss_factor)
+            what += ["silicone modulus scale and loss factor"]
+        if piezo_scale is not None:
+            from taxel.fem.materials import EPS0
+            pz = mats[arr.piezo]
+            sE, d, eps_T = pz.strain_charge()
+            rec = {"kind": "piezo", "s": sE.tolist(), "d": (d * piezo_scale).tolist(), "eps_T": (eps_T / EPS0).tolist(),
+                   "rho": pz.rho}
+            rec.update({k: v for k, v in (("Qm", pz.Qm), ("tan_delta", pz.tan_delta)) if v is not None})
+            user[f"{arr.piezo}-calibrated"] = rec
+            data["array"]["piezo"] = f"{arr.piezo}-calibrated"
+            what += ["piezo coefficient scale"]
+    data["description"] = (data.get("description", "") + f" Calibrated {', '.join(what)} (taxel measure calibrate).").strip()
     return toml_text(data)
 
 

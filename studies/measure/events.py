@@ -35,6 +35,7 @@ class Record:
     names: list[str]              # the k taxel channel names
     taxels: list[tuple[int, int]]
     rate: float
+    travel: np.ndarray | None = None   # (N,) m, the actuator's travel, when the rig records it
 
     @property
     def smooth_force(self) -> np.ndarray:
@@ -62,7 +63,7 @@ def dehum(x: np.ndarray, rate: float, mains: float = 50.0, q: float = 10.0) -> n
 
 
 def record(m: Measurement) -> Record:
-    """The taxel channels and the force channel of a measurement folder."""
+    """The taxel channels, the force channel and the travel channel (if any) of a measurement folder."""
     chans = m.rig.ordered()
     force = [c for c in chans if c.kind == "force"]
     if not force:
@@ -74,9 +75,10 @@ def record(m: Measurement) -> Record:
     if len(m) < 10:
         raise MeasurementError(f"{m.folder}: only {len(m)} frames; capture a longer record")
     rate = m.rig.sampling.rate
+    travel = [c for c in chans if c.kind == "travel"]
     return Record(np.arange(len(m)) / rate, m.values[:, force[0].index].astype(float),
                   m.values[:, [c.index for c in tax]].astype(float), [c.name for c in tax],
-                  [c.taxel for c in tax], rate)
+                  [c.taxel for c in tax], rate, m.values[:, travel[0].index].astype(float) if travel else None)
 
 
 def segments(rec: Record, level: float = 0.1, merge_s: float = 5e-3) -> list[tuple[int, int]]:

@@ -3,18 +3,28 @@ analyze -> calibrate -> localize, into one folder, with a summary beside the
 thesis's figures.
 
     ROOT/step-1.7s, step-3.1s   a 2 N step through a resistor giving tau = 1.7 s / 3.1 s
-                                with the lumped C_p (the thesis's two PZT taxels), drift 0.5 mV
+                                with the lumped C_p (the thesis's two PZT taxels), at the default
+                                20 mV drift: the fit's 95 % interval says how well one step pins tau
     ROOT/impulse                10 impulses, 3 % force spread, thesis bench (charge amplifier, notch)
     ROOT/chirp                  0-100 Hz over 8 s, thesis bench; analysed and calibrated
+    ROOT/chirp-travel           a chirp on the rig with the actuator's travel recorded (one more channel),
+                                the silicone drawn 1.2 x stiffer with loss factor 0.12: the modulus
+                                scale and loss factor fitted (studies.measure.silicone) into chirp/'s
+                                calibrated scene, with the piezo coefficient scale; the Cramer-Rao
+                                figures of both chirps for them
     ROOT/chirp-fem              the same chirp with the taxel simulated by the FEM transient
                                 (--model fem): both models against an FEM "reality"
-    ROOT/presses                60 s of presses on random taxels; linearity and localization, and
-                                the predicted accuracy map (studies.measure.predict) at 1 mV white noise
+    ROOT/presses                60 s of presses on random taxels; linearity
+    ROOT/presses-between        60 s of presses, half on the taxels in turn and half at random points of the
+                                array (between taxels, over the margins); localization by both methods,
+                                on and between taxels, and the predicted accuracy map
+                                (studies.measure.predict) at the white noise of one reading
+                                (1 mV per sample over the 9 samples it averages)
     ROOT/validation.json        the summary table (measured here) beside the thesis's figures
 Each measurement folder is captured from a pseudo-terminal fed by the simulator
 (taxel-cobs, streamed as fast as the pty takes it), holds the simulator's truth in
 truth/ and the analysis files. The settings are the simulator's defaults but where
-stated above (the step's drift: benchmarks/measure_step_drift.py).
+stated above.
 """
 
 from __future__ import annotations
@@ -61,6 +71,32 @@ def resistor_rig(rig: Rig, R: float) -> Rig:
                                                            "notch": True}}, si_numbers=True)
 
 
+def travel_rig(rig: Rig) -> Rig:
+    """The rig with the actuator's travel recorded on one more channel (an LVDT, 1 V/mm)."""
+    d = rig.model_dump()
+    d["channels"] = d["channels"] + [{"index": rig.n, "name": "travel", "sensitivity": 1000.0}]
+    return parse_rig(d, si_numbers=True)
+
+
+def identifiability_pair(scene, chain, sil, cal, sigma: float = 0.01) -> dict:
+    """Cramer-Rao figures of the silicone from the bench chirp and from the travel chirp, at the
+    fitted values, over 10-96 Hz (the bench's without 35-65 Hz, the notch), sigma relative per frequency."""
+    from taxel.studies.measure.frf import lumped_frf
+    from taxel.studies.measure.silicone import compliance, identifiability, scaled_model
+    f = np.arange(10.0, 97.0)
+    th = {"modulus_scale": sil.modulus_scale, "loss_factor": sil.loss_factor}
+
+    def chirp(fr, modulus_scale, loss_factor, gain, tau_scale):
+        return gain * lumped_frf(scaled_model(scene, modulus_scale, loss_factor), C._chain(chain, tau_scale)[0], fr)
+
+    def travel(fr, modulus_scale, loss_factor):
+        return 1.0 / compliance(scaled_model(scene, modulus_scale, loss_factor), fr)
+    return {"sigma_pct": 100 * sigma,
+            "bench_chirp": identifiability(chirp, {**th, "gain": cal.gain, "tau_scale": cal.tau_scale},
+                                           f[np.abs(f - 50) >= 15], sigma).record(),
+            "travel_chirp": identifiability(travel, th, f, sigma).record()}
+
+
 def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thesis-bench",
         progress=print) -> dict:
     """The loop (module docstring); returns the summary written to ROOT/validation.json."""
@@ -75,13 +111,14 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     taus = []
     for tau in THESIS["tau_s"]:
         out = captured(resistor_rig(rig, tau / C_p), scene,
-                       Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0, drift_V=0.5e-3,
+                       Settings(input="step", seconds=12, amplitude=2.0, tau_spread=0.0,
                                 crosstalk=False, seed=int(10 * tau)), root / f"step-{tau:g}s")
         a = analyze_folder(out, scene, scene_name)
         a.write()
         fit = {s.taxel: s for s in a.steps}["taxel_1_1"]
         taus.append({"tau_s": fit.tau_s, "ci95_s": list(fit.tau_ci95_s), "R_eff_ohm": fit.R_eff_ohm, "truth_s": tau})
-        progress(f"      step: tau {fit.tau_s:.4g} s (truth {tau:g} s)")
+        progress(f"      step: tau {fit.tau_s:.4g} s, 95 % {fit.tau_ci95_s[0]:.3g}-{fit.tau_ci95_s[1]:.3g} s "
+                 f"(truth {tau:g} s, 20 mV drift)")
     meas["tau"] = taus
     out = captured(rig, scene, Settings(input="impulse", seconds=20, amplitude_spread=0.03, crosstalk=False, seed=2),
                    root / "impulse")
@@ -96,7 +133,21 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     a.write()
     chain = rig.chains()[a.frf.taxel].readout()
     cal = C.calibrate(a.frf, lumped_model(scene), chain)
-    C.write(out, cal, C.calibrated_scene(scene_name, chain, cal.tau_scale))
+    sil_truth = {"modulus_scale": 1.2, "silicone_loss": 0.12}
+    tout = captured(travel_rig(rig), scene, Settings(input="chirp", seconds=10, crosstalk=False, seed=5, **sil_truth),
+                    root / "chirp-travel")
+    from taxel.studies.measure import events, silicone as SI
+    from taxel.studies.measure.folder import read
+    sil = SI.fit(events.record(read(tout)), scene)
+    ident = identifiability_pair(scene, chain, sil, cal)
+    C.write(out, cal, C.calibrated_scene(scene_name, chain, cal.tau_scale, sil, cal.gain),
+            {"silicone": sil.record(), "piezo_coefficient_scale": cal.gain,
+             "piezo_coefficient_scale_ci95": list(cal.gain_ci95), "travel": "../chirp-travel", "identifiability": ident})
+    meas["silicone"] = {**sil.record(), "identifiability": ident}
+    tru["silicone"] = json.loads((tout / "truth" / "truth.json").read_text())["silicone"]
+    progress(f"      chirp with the travel: silicone modulus scale {sil.modulus_scale:.4g} (truth 1.2), loss factor "
+             f"{sil.loss_factor:.3g} (truth 0.12); from the bench chirp alone the Cramer-Rao bound is "
+             f"{ident['bench_chirp']['cramer_rao_sd_pct'][0]:.0f} % / {ident['bench_chirp']['cramer_rao_sd_pct'][1]:.0f} %")
     truth = json.loads((out / "truth" / "truth.json").read_text())["taxels"][a.frf.taxel]
     meas["rms_error_pct"] = {"lumped": C.rms_error(a.frf, "lumped")["rms_error_pct"],
                              "fem": C.rms_error(a.frf, "fem")["rms_error_pct"],
@@ -120,24 +171,37 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     a.write()
     meas["linearity_R"] = {x.taxel: x.r for x in a.linearity}
     meas["sensitivity_V_per_N"] = {x.taxel: x.sensitivity_V_per_N for x in a.linearity}
-    loc, mb = localize_folder(out, out / "truth" / "truth.json", scene)
-    loc.write(out, mb)
+    out = captured(rig, scene, Settings(input="presses", seconds=60, seed=12, between=0.5), root / "presses-between")
+    loc = localize_folder(out, out / "truth" / "truth.json", scene)
+    loc.write(out)
+
+    def brief(scores):
+        r = scores.record()
+        return {"presses": r["presses"], "position_error_mm_rms": r["position_error_mm"]["rms"],
+                "position_error_mm_median": r["position_error_mm"]["median"],
+                "position_error_mm_max": r["position_error_mm"]["max"],
+                "force_error_pct_rms": r["force_error_pct"]["rms"]} if r["presses"] else {"presses": 0}
     meas["localization"] = {"correct_rate": loc.correct_rate, "presses": loc.matched,
-                            "model_position_error_mm_rms": mb.record()["position_error_mm"]["rms"],
-                            "model_force_error_pct_rms": mb.record()["force_error_pct"]["rms"]}
+                            "largest_taxel": {c: brief(v) for c, v in loc.largest.items()},
+                            "model_based": {c: brief(v) for c, v in loc.model.items()}}
+    meas["localization"]["model_position_error_mm_rms"] = meas["localization"]["model_based"]["on"]["position_error_mm_rms"]
+    meas["localization"]["model_force_error_pct_rms"] = meas["localization"]["model_based"]["on"]["force_error_pct_rms"]
     from taxel.studies.measure.influence import influence
     from taxel.studies.measure.predict import accuracy_map
     infl = influence(scene)
-    S = float(np.median(np.abs(list(mb.sensitivity_V_per_N.values()))))
+    S = float(np.median(np.abs(list(loc.sensitivity_V_per_N.values()))))
     F = float(np.median([p["force_N"] for p in json.loads((out / "truth" / "truth.json").read_text())["presses"]]))
-    amap = accuracy_map(infl, scene.array.rows, scene.array.cols, S, 1e-3, F)
+    from taxel.studies.measure.localize import reading_noise
+    amap = accuracy_map(infl, scene.array.rows, scene.array.cols, S, reading_noise(1e-3, rig.sampling.rate), F)
     write_json(out / "accuracy-map.json", amap.record())
     meas["localization"]["predicted_position_error_mm_at_taxels"] = float(
         np.sqrt(np.mean(amap.at_taxels(1e3 * infl.pitch) ** 2)))
     meas["localization"]["predicted_position_error_mm_max"] = float(np.nanmax(amap.position_error_mm))
     r = np.array(list(meas["linearity_R"].values()))
+    btw = meas["localization"]["model_based"].get("between", {})
     progress(f"      presses: R {np.abs(r).min():.5f}-{np.abs(r).max():.5f}, largest taxel "
              f"{100 * loc.correct_rate:.0f} % correct, model-based {meas['localization']['model_position_error_mm_rms']:.3g}"
-             " mm rms")
+             f" mm rms on the taxels, between them {btw.get('position_error_mm_rms', float('nan')):.3g} mm rms, "
+             f"median {btw.get('position_error_mm_median', float('nan')):.3g} mm")
     write_json(root / "validation.json", summary)
     return summary

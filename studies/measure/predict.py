@@ -70,3 +70,44 @@ def accuracy_map(infl: Influence, rows: int, cols: int, sensitivity: float, nois
             pos[i, j] = 1e3 * np.sqrt(max(cov[0, 0] + cov[1, 1], 0.0))
             frc[i, j] = 100 * np.sqrt(max(cov[2, 2], 0.0)) / force
     return AccuracyMap(1e3 * xs, 1e3 * ys, pos, frc, noise_V, sensitivity, force)
+
+
+NOISE_V = 1e-3      # the simulated thesis bench's white noise at the ADC (studies.measure.simulate.Settings)
+
+
+@dataclass
+class LocalizationError:
+    """The design metric localization_error (localization_error below)."""
+    rms_m: float                 # rms over the map of the predicted position error
+    max_m: float
+    sensitivity_V_per_N: float
+    solves: int                  # static FEM solves it took (0: all cached)
+
+
+def localization_error(scene, noise_V: float = NOISE_V, solve=None, per_pitch: int = 8) -> LocalizationError:
+    """The predicted position error of a design, a metric for the optimizer.
+
+    The influence functions over the taxels' span (studies.measure.influence, every
+    pitch / per_pitch, no margins, mirror symmetry: 9 static solves for a 3-taxel
+    row at per_pitch 8, against 17 without the mirror; coarser sampling is cheaper but
+    puts the bound 0.7-9 x off), the Cramer-Rao map above (every pitch / 8
+    over the taxels, force the scene's load.force, white noise noise_V on every peak,
+    S the mean open-circuit sensitivity of the row's taxels pressed at their centres),
+    and its rms over the map in m. It compares designs on the peaks' open-circuit
+    voltage, as the sensitivity metric does: a readout chain's gain scales signal and
+    the noise referred to its input alike only if the noise is the chain's own.
+    benchmarks/measure_influence_cost.py measures the solves and the error of per_pitch
+    2 and 4 against 8. `solve` (scene -> {electrode: V}) lets the optimizer keep every
+    press position in a study store."""
+    from taxel.studies.measure.influence import influence
+    arr = scene.array
+    if arr is None or arr.cols < 2:
+        raise ValueError("localization_error needs a taxel array with at least two columns")
+    infl = influence(scene, per_pitch=per_pitch, edges=False, solve=solve)
+    S = float(np.mean(np.abs(infl.sensitivity)))
+    F = float(scene.load.force or 1.0)
+    amap = accuracy_map(infl, min(arr.rows, arr.cols), arr.cols, S, noise_V, F)    # separable: rows take G of the row
+    e = amap.position_error_mm[np.isfinite(amap.position_error_mm)]
+    if not len(e):
+        raise ValueError("the Cramer-Rao map is singular everywhere: the taxels' voltages do not depend on position")
+    return LocalizationError(float(1e-3 * np.sqrt(np.mean(e ** 2))), float(1e-3 * e.max()), S, infl.solves)

@@ -19,6 +19,10 @@
     index = 9
     name = "force"
     sensitivity = "0.5 V/N"         # the load cell (with its amplifier), V at the ADC per N
+    [[channels]]                    # optional: the actuator's travel (an LVDT or encoder), V at the ADC per m
+    index = 10
+    name = "travel"
+    sensitivity = "1 V/mm"
     [conditioning]                  # in front of every taxel; [conditioning.taxel_R_C] overrides one
     circuit = "charge_amplifier"    # open | resistor (R) | charge_amplifier (C_f, R_f, R_i, C_c)
     C_f = "820 pF"
@@ -27,7 +31,8 @@
 
 Conversions: volts at the ADC = offset + counts * (hi - lo) / 2^bits (two's-
 complement counts, so code 0 is the offset); a taxel channel's SI value is the
-conditioning output in V = volts / gain; the force channel's is N = volts / sensitivity.
+conditioning output in V = volts / gain; the force channel's is N = volts / sensitivity,
+the travel channel's m = volts / sensitivity.
 Every error is one line naming the key and the fix (RigError, a ValueError).
 """
 
@@ -62,8 +67,17 @@ Volt = Annotated[float, _q("V", "voltage")]
 Rate = Annotated[float, _q("Hz", "frequency", positive=True)]
 Resistance = Annotated[float, _q("ohm", "resistance", positive=True)]
 Capacitance = Annotated[float, _q("F", "capacitance")]
-Sensitivity = Annotated[float, _q("V/N", "load-cell sensitivity", positive=True)]
-CHANNEL_NAME = re.compile(r"^(taxel_(\d+)_(\d+)|force)$")
+CHANNEL_NAME = re.compile(r"^(taxel_(\d+)_(\d+)|force|travel)$")
+
+
+def _sensitivity(v, info: ValidationInfo):
+    """V/N for the load cell, V/m for the actuator's travel (the channel's name says which)."""
+    if v is None:
+        return None
+    travel = (info.data or {}).get("name") == "travel"
+    si = bool(info.context and info.context.get("si_numbers"))
+    return units.to_si(v, "V/m" if travel else "V/N", "travel sensitivity" if travel else "load-cell sensitivity",
+                       positive=True, si_numbers=si)
 
 
 class Strict(BaseModel):
@@ -104,25 +118,26 @@ class Channel(Strict):
     index: int = Field(ge=0, lt=MAX_CHANNELS)
     name: str
     gain: float | None = Field(None, gt=0)
-    sensitivity: Sensitivity | None = None
+    sensitivity: Annotated[float | None, BeforeValidator(_sensitivity)] = None
 
     @model_validator(mode="after")
     def _kind(self):
         if not CHANNEL_NAME.match(self.name):
-            raise ValueError(f"unknown channel {self.name!r}; name it taxel_ROW_COL (e.g. taxel_1_2) or force")
-        if self.kind == "force":
+            raise ValueError(f"unknown channel {self.name!r}; name it taxel_ROW_COL (e.g. taxel_1_2), force or travel")
+        if self.kind in ("force", "travel"):
             if self.sensitivity is None:
-                raise ValueError("the force channel needs its load-cell sensitivity, e.g. sensitivity = \"0.5 V/N\"")
+                raise ValueError(f"the {self.name} channel needs its sensitivity, e.g. sensitivity = "
+                                 + ('"0.5 V/N" (the load cell)' if self.kind == "force" else '"1 V/mm" (the travel sensor)'))
             if self.gain is not None:
-                raise ValueError("the force channel takes sensitivity, not gain")
+                raise ValueError(f"the {self.name} channel takes sensitivity, not gain")
         else:
             if self.sensitivity is not None:
                 raise ValueError(f"{self.name}: a taxel channel takes gain (V/V), not sensitivity")
         return self
 
     @property
-    def kind(self) -> Literal["taxel", "force"]:
-        return "force" if self.name == "force" else "taxel"
+    def kind(self) -> Literal["taxel", "force", "travel"]:
+        return self.name if self.name in ("force", "travel") else "taxel"
 
     @property
     def taxel(self) -> tuple[int, int] | None:
@@ -131,12 +146,12 @@ class Channel(Strict):
 
     @property
     def volts_per_si(self) -> float:
-        """ADC volts per SI unit of the channel (V/V or V/N)."""
-        return self.sensitivity if self.kind == "force" else (1.0 if self.gain is None else self.gain)
+        """ADC volts per SI unit of the channel (V/V, V/N or V/m)."""
+        return self.sensitivity if self.kind in ("force", "travel") else (1.0 if self.gain is None else self.gain)
 
     @property
     def unit(self) -> str:
-        return "N" if self.kind == "force" else "V"
+        return {"force": "N", "travel": "m"}.get(self.kind, "V")
 
 
 class Conditioning(Strict):

@@ -1,13 +1,17 @@
 """A simulated rig: the bench's signals, made by the models, as frames.
 
 Physics, per taxel k at (r, c) and per press p (the scene's pressed taxel for
-step, impulse and chirp; random taxels for "presses"):
+step, impulse and chirp; random taxels for "presses", and with `between` > 0
+that fraction of the presses at random points of the array, between taxels and
+over the margins):
   force      F_p(t): the commanded force through the actuator's roll-off (a
              second-order Butterworth low-pass, corner `actuator_Hz`);
   charge     model "lumped": Q_k = q_per_N * g_k * sum_p W[p, k] F_p, with q_per_N the
              lumped model's short-circuit charge per newton at 1 Hz (`lumped_model(scene)`;
              its resonances are above 10 kHz, so it is quasi-static at the bench's
-             rates), W the FEM's crosstalk weights (studies.measure.crosstalk) and
+             rates), W the FEM's crosstalk weights (studies.measure.crosstalk; with
+             `between` > 0 the influence functions of position, W[p, (r, c)] =
+             G_r(y_p) G_c(x_p), studies.measure.influence, for every press) and
              g_k a per-taxel gain spread (log-normal, `gain_spread`);
              model "fem": the FEM transient (Newmark, electrodes shorted: fem.timestep)
              of the scene under the rolled-off force on its pressed taxel gives the
@@ -21,6 +25,10 @@ step, impulse and chirp; random taxels for "presses"):
              resistor V/Q = -sR/(1 + sRC_p), tau = R C_p; charge amplifier
              V/Q = -(1/C_f) sR_fC_f/(1 + sR_fC_f) / (1 + sR_i(C_p + C_c)), tau = R_f C_f;
              bilinear-discretised at the rig's rate; then the notch (fem.circuits.notch_in_time);
+  travel     with a travel channel in the rig, the actuator's travel: the total force
+             through the compliance of the lumped taxel (top displacement per newton) whose
+             silicone has its moduli scaled by `modulus_scale` and loss factor
+             `silicone_loss` (studies.measure.silicone), + the sensor's white noise;
   ADC        volts = V * gain + white noise + 50 Hz hum with its 3rd and 5th
              harmonics + baseline drift; the load cell F * sensitivity + its noise;
              quantised to the rig's ADC (16 bits over +-10 V in the thesis rig) and clipped.
@@ -65,6 +73,10 @@ class Settings:
     t0_us: int = 0
     crosstalk: bool = True             # FEM crosstalk weights (else none)
     model: Literal["lumped", "fem"] = "lumped"
+    between: float = 0.0               # presses: the fraction at random points of the array (else on taxel centres)
+    modulus_scale: float = 1.0         # the silicone's true moduli over the scene's (the travel channel)
+    silicone_loss: float | None = None # its true loss factor (default: the scene's)
+    travel_noise_m: float = 1e-6       # the travel sensor's noise, rms
 
 
 @dataclass
@@ -72,7 +84,7 @@ class Truth:
     """What the simulator knows and the capture does not (saved beside the stream)."""
 
     t: np.ndarray                      # (N,) s
-    force_command: np.ndarray          # (N, P) N per press position
+    force_command: np.ndarray          # (N, P) N per press position (the taxels, then one per off-centre press)
     force: np.ndarray                  # (N,) N total on the sensor, after the actuator roll-off
     charge: np.ndarray                 # (N, taxels) C short-circuit charge into each taxel's chain
     clean_volts: np.ndarray            # (N, n) at the ADC, before noise and quantisation
@@ -80,8 +92,12 @@ class Truth:
     params: dict = field(default_factory=dict)
 
 
-def command(s: Settings, rate: float, n_press: int, centre: int, rng) -> tuple[np.ndarray, np.ndarray, list]:
-    """(t, F (N, n_press), presses): the commanded force at each press position."""
+def command(s: Settings, rate: float, n_press: int, centre: int, rng, spots=None) -> tuple[np.ndarray, np.ndarray, list]:
+    """(t, F (N, n_press + extra), presses): the commanded force at each press position; with
+    spots = (positions, pitch, edge) a "presses" record puts the fraction s.between of its presses
+    at a uniform random point (x, y) in [-edge, (cols - 1) pitch + edge] x [-edge, (rows - 1) pitch + edge],
+    each in an extra column of F, and the others on the taxels in turn (each taxel is pressed, and so
+    can be calibrated); every press carries its xy_mm."""
     t = np.arange(int(round(s.seconds * rate))) / rate
     F = np.zeros((len(t), n_press))
     A = s.amplitude
@@ -105,13 +121,32 @@ def command(s: Settings, rate: float, n_press: int, centre: int, rng) -> tuple[n
         F[on, centre] = 0.5 * A * (1 - np.cos(phase[on]))
         presses.append({"t": t0, "position": centre, "force_N": A, "chirp_Hz": [f0, f1], "duration_s": T})
     else:
-        t0, edge = s.onset, 20e-3
+        t0, edge, extra, n_on = s.onset, 20e-3, [], 0
         while t0 < s.seconds - 0.5:
             pos, dur, amp = int(rng.integers(n_press)), float(rng.uniform(0.2, 0.4)), float(rng.uniform(0.3, 1.5) * A)
             x = np.clip(np.minimum(t - t0, t0 + dur - t) / edge, 0, 1)
-            F[:, pos] += amp * 0.5 * (1 - np.cos(np.pi * x))
-            presses.append({"t": round(t0, 6), "position": pos, "force_N": amp, "duration_s": dur})
+            press = {"t": round(t0, 6), "position": pos, "force_N": amp, "duration_s": dur}
+            if spots is not None:
+                positions, pitch, e = spots
+                rows, cols = max(r for r, _ in positions) + 1, max(c for _, c in positions) + 1
+                if s.between:                          # the on-taxel presses go round the taxels in turn
+                    pos = press["position"] = n_on % n_press
+                xy = (positions[pos][1] * pitch, positions[pos][0] * pitch)
+                if s.between and rng.random() < s.between:
+                    xy = (rng.uniform(-e, (cols - 1) * pitch + e), rng.uniform(-e, (rows - 1) * pitch + e))
+                    near = (int(np.clip(np.round(xy[1] / pitch), 0, rows - 1)),
+                            int(np.clip(np.round(xy[0] / pitch), 0, cols - 1)))
+                    press.update(position=positions.index(near), column=n_press + len(extra))
+                    extra.append(amp * 0.5 * (1 - np.cos(np.pi * x)))
+                else:
+                    n_on += 1
+                press["xy_mm"] = [float(1e3 * xy[0]), float(1e3 * xy[1])]
+            if "column" not in press:
+                F[:, pos] += amp * 0.5 * (1 - np.cos(np.pi * x))
+            presses.append(press)
             t0 += dur + float(rng.uniform(0.2, 0.5))
+        if extra:
+            F = np.column_stack([F] + extra)
     return t, F, presses
 
 
@@ -122,6 +157,15 @@ def fem_charges(scene: Scene, t: np.ndarray, force: np.ndarray) -> tuple[np.ndar
     dm = dynmodel.model(problem(scene), short=True)
     tr = timestep.transient(dm, t, force)
     return tr.Q, list(tr.names)
+
+
+def travel(lm, force: np.ndarray, rate: float) -> np.ndarray:
+    """The top of the stack's displacement (m) under `force` (N): the lumped model's compliance
+    X1 / F applied in the frequency domain (zero-padded FFT: no wrap-around)."""
+    from taxel.studies.measure.silicone import compliance
+    n = 2 * len(force)
+    f = np.fft.rfftfreq(n, 1 / rate)
+    return np.fft.irfft(np.fft.rfft(force, n) * compliance(lm, f), n)[:len(force)]
 
 
 def _chain(cond, C_p: float, factor: float):
@@ -149,13 +193,24 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     positions = [(r, c) for r in range(rows) for c in range(cols)]
     centre = positions.index(tuple(scene.load.taxel)) if tuple(scene.load.taxel) in positions else 0
     s.amplitude = s.amplitude if s.amplitude is not None else float(scene.load.force or 1.0)
-    t, Fcmd, presses = command(s, rate, len(positions), centre, rng)
+    infl = None
+    if s.input == "presses" and s.between and arr is not None:
+        from taxel.studies.measure.influence import influence
+        infl = influence(scene)
+    spots = (positions, infl.pitch, -float(infl.x[0])) if infl is not None else \
+        (positions, arr.taxel_width + arr.gap, 0.0) if arr is not None else None
+    t, Fcmd, presses = command(s, rate, len(positions), centre, rng, spots)
     sos = signal.butter(2, min(s.actuator_Hz, 0.45 * rate), fs=rate, output="sos")
     F = signal.sosfilt(sos, Fcmd, axis=0)
     model = lumped_model(scene)
     q_per_N = float((model.Q_sc([1.0])[0] / model.force).real)
     W1 = profile(scene) if s.crosstalk else np.eye(cols)
-    Wm = np.array([weights(W1, p, taxels) for p in positions])      # (P, taxels)
+    if infl is None:
+        Wm = np.array([weights(W1, p, taxels) for p in positions])      # (P, taxels)
+    else:                                                               # influence functions of position
+        xy = [(c * infl.pitch, r * infl.pitch) for r, c in positions]
+        xy += [(1e-3 * p["xy_mm"][0], 1e-3 * p["xy_mm"][1]) for p in presses if "column" in p]
+        Wm = np.array([infl.weights(q, taxels) for q in xy])
     gain = np.exp(s.gain_spread * rng.standard_normal(len(taxels)))
     tau_f = np.exp(s.tau_spread * rng.standard_normal(len(taxels)))
     if s.model == "fem":
@@ -189,6 +244,15 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     force_ch = [c for c in chans if c.kind == "force"]
     for c in force_ch:
         clean[:, c.index] = F.sum(axis=1) * c.volts_per_si
+    travel_ch = [c for c in chans if c.kind == "travel"]
+    silicone = None
+    if travel_ch:
+        from taxel.studies.measure.silicone import _loss, scaled_model
+        lm_true = scaled_model(scene, s.modulus_scale, s.silicone_loss)
+        silicone = {"modulus_scale": s.modulus_scale, "loss_factor": _loss(lm_true, scene)}
+        delta = travel(lm_true, F.sum(axis=1), rate)
+        for c in travel_ch:
+            clean[:, c.index] = delta * c.volts_per_si
     volts = clean.copy()
     for c in chans:
         if c.kind == "taxel":
@@ -198,6 +262,8 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
             walk = signal.sosfilt(signal.butter(1, 0.5, fs=rate, output="sos"), walk)
             walk = s.drift_V * (walk - walk.mean()) / (walk.std() or 1.0)
             volts[:, c.index] += s.noise_V * rng.standard_normal(len(t)) + hum + walk
+        elif c.kind == "travel":
+            volts[:, c.index] += s.travel_noise_m * c.volts_per_si * rng.standard_normal(len(t))
         else:
             volts[:, c.index] += s.force_noise_N * c.volts_per_si * rng.standard_normal(len(t))
     lo, hi = rig.adc.code_limits
@@ -210,6 +276,8 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
               "crosstalk_W1": W1.tolist(), "positions": [list(p) for p in positions], "presses": presses,
               "taxels": per_taxel, "channels": rig.names, "clipped_samples": int(np.sum((counts == lo) | (counts == hi)))}
     params["model"] = s.model
+    if silicone is not None:
+        params["silicone"] = silicone
     return Truth(t, Fcmd, F.sum(axis=1), Q, clean, Frames(seq, t_us, counts), params)
 
 
