@@ -14,8 +14,10 @@ singular), growing to `size` over a distance of 2 `size`, and at most
 Physical groups (names), classified by the first element of each entity:
 regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
 per layer ("layer0", ...) in plates;
-facets "bottom", "top", "load", "edges" (the outline), "axis" (r = 0) and one
-per electrode ("taxel_0_0", "ground"; "bottom", "interface1", "top" on plates).
+facets "bottom", "top", "load", "edges" (the outline), "axis" (r = 0), the
+symmetry planes "mirror_x" (x = 0) and "mirror_y" (y = 0) of a cut layout
+(meshing.layout.cut: the plan is fragmented by the kept quadrant or half and the
+rest removed before extrusion), and one per electrode ("taxel_0_0", "ground"; "bottom", "interface1", "top" on plates).
 """
 
 from __future__ import annotations
@@ -102,12 +104,22 @@ def _plan(occ, lay: Layout):
         return (2, occ.addRectangle(p.x - p.half, p.y - hy, 0, 2 * p.half, 2 * hy))
 
     outline = face(lay.plan, lay.plan_half_y if lay.plan.shape != "disk" else None)
-    if not patches:
+    tools = [face(p) for p in patches]
+    if lay.planes:                       # the kept half or quadrant, as one more fragment tool
+        (x0, x1), (y0, y1) = lay.x_range, lay.y_range
+        tools.append((2, occ.addRectangle(x0, y0, 0, x1 - x0, y1 - y0)))
+    if not tools:
         return [outline]
-    out, _ = occ.fragment([outline], [face(p) for p in patches])
+    out, _ = occ.fragment([outline], tools)
     occ.synchronize()
-    # drop parts of patches outside the outline (validation forbids it; be safe)
-    return [e for e in out if e[0] == 2]
+    faces = [e for e in out if e[0] == 2]
+    if lay.planes:
+        tol = 1e-9 * max(lay.plan.half, lay.plan_half_y)
+        drop = [e for e in faces if any(occ.getCenterOfMass(*e)[k] < -tol for k in lay.planes)]
+        occ.remove(drop, recursive=True)
+        occ.synchronize()
+        faces = [e for e in faces if e not in drop]
+    return faces
 
 
 def is_graded(lay: Layout, layer) -> bool:
@@ -244,6 +256,10 @@ def _classify(gmsh, lay: Layout):
                 add(D - 1, "edges", tag)
             elif lay.model == "axisymmetric" and (np.abs(x) < tol).all():
                 add(D - 1, "axis", tag)
+            else:
+                for k in lay.planes:
+                    if (np.abs((x, y)[k]) < tol).all():
+                        add(D - 1, "mirror_" + "xy"[k], tag)
     return groups
 
 
