@@ -1,8 +1,8 @@
 """Supports, electrodes, and the reduction to the unknowns that are solved for.
 
 Supports fix displacement DOFs (all homogeneous). Electrodes: one is the
-reference (phi = 0: the common bottom "ground" of an array, the first grounded
-electrode of a plate). Every other electrode is *active*: its potential DOFs
+reference (phi = 0: the common bottom "ground" of an array when it is grounded,
+else the first grounded electrode, as on a plate). Every other electrode is *active*: its potential DOFs
 collapse into one unknown V_k whose equation is the electrode's charge balance
 (the sum of its rows), right-hand side -Q_k. The reduction x_full = P y drops
 fixed displacements, unused pressure/potential DOFs and the reference electrode
@@ -128,7 +128,8 @@ def electrodes(problem: Problem, phibases, offset) -> Electrodes:
         raise ConstraintError("electrodes: none is grounded, so the potential has no reference; "
                               "set one electrode to 'ground'")
     if names:
-        states[next(k for k, s in states.items() if s == "ground")] = "reference"
+        grounded = [k for k, s in states.items() if s == "ground"]
+        states["ground" if "ground" in grounded else grounded[0]] = "reference"   # the common ground first
     dofs = {}
     for name in names:
         d = [pb.get_dofs(tm.facets[name]).all() for pb in phibases.values() if name in tm.facets]

@@ -282,6 +282,8 @@ def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
     if scene.analysis.type != "static" or m.silicone != "linear" or ld.contact:
         return (), "symmetric models solve the linear static press (no contact, linear silicone)"
     states = scene.electrodes
+    if electrode_state(states.get("ground", "ground")) != "ground":
+        return (), "the common ground is not grounded (electrodes.ground), so the reference is off the planes"
 
     def state(r, c):
         s = states.get(f"taxel_{r}_{c}", states.get("taxels", "open"))
