@@ -45,9 +45,16 @@ class TaggedMesh:
 
     def refined(self, times: int = 1) -> "TaggedMesh":
         """Uniformly refined (each triangle in 4, tetrahedron in 8), names kept: nested
-        meshes for convergence studies."""
-        m = self.mesh.refined(times)
-        return TaggedMesh(m, self.layout, dict(m.subdomains), dict(m.boundaries), self.materials)
+        meshes for convergence studies. scikit-fem keeps the regions; the facet sets of
+        a tetrahedral mesh are carried here (each facet's 4 children, from the new
+        edge-midpoint nodes: node n + e for edge e, as scikit-fem numbers them)."""
+        tm = self
+        for _ in range(times):
+            m0 = tm.mesh
+            m = m0.refined()
+            facets = dict(m.boundaries) if m0.dim() == 2 else _refined_facets(m0, m, tm.facets)
+            tm = TaggedMesh(m, tm.layout, dict(m.subdomains), facets, tm.materials)
+        return tm
 
 
 @contextlib.contextmanager
@@ -321,6 +328,31 @@ def _to_skfem(gmsh, lay: Layout, groups) -> TaggedMesh:
         mats[L.name if not lay.taxels else "silicone"] = (L.material, L.poling)
         mats.update({region_name(patch): (L.patch_material, L.poling) for patch in L.patches})
     return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions})
+
+
+def _refined_facets(m0, m, named):
+    """The facet sets of a once uniformly refined tetrahedral mesh."""
+    n0, n = m0.p.shape[1], m.p.shape[1]
+    ekeys = _keys(m0.edges, n0)
+    eorder = np.argsort(ekeys)
+
+    def mid(a, b):            # the new node at the midpoint of edge (a, b)
+        k = _keys(np.vstack([a, b]), n0)
+        return n0 + eorder[np.searchsorted(ekeys, k, sorter=eorder)]
+
+    fkeys = _keys(m.facets, n)
+    forder = np.argsort(fkeys)
+    out = {}
+    for name, ix in named.items():
+        a, b, c = m0.facets[:, ix]
+        ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+        kids = np.hstack([np.vstack(v) for v in ((a, ab, ca), (b, ab, bc), (c, bc, ca), (ab, bc, ca))])
+        keys = _keys(np.sort(kids, axis=0), n)
+        pos = forder[np.searchsorted(fkeys, keys, sorter=forder)]
+        if not np.array_equal(fkeys[pos], keys):
+            raise RuntimeError(f"refinement: children of facet set '{name}' not found")
+        out[name] = np.unique(pos)
+    return out
 
 
 def _keys(f, n):
