@@ -293,10 +293,12 @@ def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
     for k in ((0, 1) if m.type == "3d" else (0,)):
         n, i = (a.cols, 1) if k == 0 else (a.rows, 0)      # x runs along columns, y along rows
         pos = ld.taxel[i] + (ld.neighbour[i] if ld.kind == "between" else ld.taxel[i])
+        centre = (pos - (n - 1)) / 2 * (a.taxel_width + a.gap) * (1 if k == 0 else -1) + (
+            ld.offset[k] if ld.kind == "indenter" else 0)              # the press's x or y
         rows = range(a.rows) if m.type == "3d" else (ld.taxel[0],)
         mirrored = all(state(r, c) == (state(r, a.cols - 1 - c) if k == 0 else state(a.rows - 1 - r, c))
                        for r in rows for c in range(a.cols))
-        if ld.kind != "pressure" and (pos != n - 1 or (ld.kind == "indenter" and ld.offset[k] != 0)):
+        if ld.kind != "pressure" and abs(centre) > 1e-9 * a.taxel_width:
             why = f"the press is not centred on {'xy'[k]} = 0 (load.taxel, load.offset)"
         elif not mirrored:
             why = f"the electrode states are not mirror images across {'xy'[k]} = 0 ([electrodes])"

@@ -96,3 +96,11 @@ def test_auto_solves_a_quarter_and_reports_every_taxel():
     v = {k: e.voltage for k, e in sol.electrodes.items()}
     assert v["taxel_0_0"] == v["taxel_2_2"] and v["taxel_0_1"] == v["taxel_2_1"]
     assert v["taxel_1_1"] < 0 < v["taxel_0_1"]
+
+
+def test_an_indenter_centred_between_four_taxels_is_a_quarter():
+    four = load("thesis-pzt-3x3-3d").replace(**{"array.rows": 2, "array.cols": 2, "load.kind": "indenter",
+                                                "load.radius": "2 mm", "load.taxel": [1, 0]})
+    assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "3.5 mm"]})) == (0, 1)
+    assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "-3.5 mm"]})) == (0,)
+    assert symmetry_planes(four.replace(**{"load.offset": ["3 mm", "3.5 mm"]})) == (1,)
