@@ -51,6 +51,9 @@ class Solution:
     fields: Fields = field(repr=False)
     newton: object = None         # fem.newton.NewtonResult for a hyperelastic solve
     contact: object = None        # fem.press.ContactResult for a press by a rigid indenter
+    # the Maxwell capacitance matrix (F) of the non-reference electrodes, in this order
+    capacitance_names: list[str] = field(default_factory=list)
+    capacitance_matrix: np.ndarray | None = field(default=None, repr=False)
 
     def voltages(self) -> dict[str, float]:
         return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
@@ -95,6 +98,7 @@ def _unfold(sy: System, sol: Solution, red: Reduction, Cinv, method, scale) -> S
         residual = max(residual, float(res.max()))
     names, C = symmetry.capacitance(sy, blocks)
     return replace(sol, electrodes=symmetry.unfold(sy, sol.electrodes, C, names),
+                   capacitance_names=names, capacitance_matrix=C,
                    applied_force=symmetry.order(sy) * sol.applied_force,
                    reaction=symmetry.unfold_reaction(sy, sol.reaction), residual=residual)
 
@@ -130,4 +134,4 @@ def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float
         reaction[0] = 0.0           # radial support forces cancel around the circle
     f = fields(sy, x)
     return Solution(electrodes, sy.applied_force, reaction, f.max_solid_strain, red.n, solver, residual,
-                    sy.tm, f)
+                    sy.tm, f, capacitance_names=list(red.active), capacitance_matrix=C)

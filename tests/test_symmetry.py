@@ -42,6 +42,14 @@ def _compare(sym_sol, full_sol):
         assert abs(s.short_circuit_charge - f.short_circuit_charge) <= 1e-8 * qmax, k
         if f.capacitance is not None:
             _close(s.capacitance, f.capacitance)
+    # the whole Maxwell capacitance matrix, mutual terms included
+    cs, cf = sym_sol.capacitance_matrix, full_sol.capacitance_matrix
+    assert sorted(sym_sol.capacitance_names) == sorted(full_sol.capacitance_names)
+    at = [sym_sol.capacitance_names.index(k) for k in full_sol.capacitance_names]
+    assert np.abs(cs[np.ix_(at, at)] - cf).max() <= 1e-8 * np.abs(cf).max()
+    off = ~np.eye(len(cf), dtype=bool)
+    if off.any() and np.abs(cf[off]).max() > 0:       # the mutual terms on their own scale
+        assert np.abs(cs[np.ix_(at, at)] - cf)[off].max() <= 1e-6 * np.abs(cf[off]).max()
     _close(sym_sol.applied_force, full_sol.applied_force, 1e-12)
     _close(sym_sol.reaction[-1], full_sol.reaction[-1])
     # displacements at every node of the cut mesh (the same node in the mirrored mesh)
