@@ -28,7 +28,7 @@ from taxel.scene import load
 OUT = Path(__file__).resolve().parents[1] / "docs" / "reference_3d.json"
 CASES = {
     "single": ("thesis-pzt-single-3d", "taxel_0_0", [("2 mm", "1 mm"), ("1.5 mm", "0.6 mm")]),
-    "3x3": ("thesis-pzt-3x3-3d", "taxel_1_1", [("3 mm", "1.5 mm"), ("2.5 mm", "1.2 mm")]),
+    "3x3": ("thesis-pzt-3x3-3d", "taxel_1_1", [("4 mm", "2 mm"), ("3.5 mm", "1.75 mm")]),
 }
 
 
