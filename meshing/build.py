@@ -6,8 +6,8 @@ layer with a fixed number of elements through each layer. The result is
 conformal at every interface, keeps thin layers (a 52 um PVDF film) at a
 controlled element count through the thickness, and has nodes on every patch
 edge. In-plane size: `piezo_size` at taxel and load edges (where stresses are
-singular), growing to `size` over a distance of 2 `size`, and at most
-2 `piezo_size` inside taxels. Vertically: `piezo_layers` elements per piezo
+singular), growing to `size` over a distance of `growth` x `size` (2), and at most
+`taxel_cap` x `piezo_size` (2) inside taxels. Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
 `size`, ratio 1.5.
 
@@ -187,11 +187,11 @@ def _size_field(gmsh, lay: Layout):
     f.setNumber(thr, "SizeMin", lay.piezo_size)
     f.setNumber(thr, "SizeMax", lay.size)
     f.setNumber(thr, "DistMin", 0.0)
-    f.setNumber(thr, "DistMax", 2 * lay.size)
+    f.setNumber(thr, "DistMax", lay.growth * lay.size)
     fields = [thr]
     for p in lay.taxels:                          # cap inside taxels
         box = f.add("Box")
-        f.setNumber(box, "VIn", 2 * lay.piezo_size)
+        f.setNumber(box, "VIn", min(lay.taxel_cap * lay.piezo_size, lay.size))
         f.setNumber(box, "VOut", lay.size)
         f.setNumber(box, "XMin", p.x - p.half)
         f.setNumber(box, "XMax", p.x + p.half)

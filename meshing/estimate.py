@@ -46,12 +46,12 @@ def _size(lay: Layout, x, y):
             dx, dy = np.abs(x - p.x), np.abs(y - p.y)
             outside = np.hypot(np.maximum(dx - p.half, 0), np.maximum(dy - p.half, 0))
             d = np.where((dx <= p.half) & (dy <= p.half), np.minimum(p.half - dx, p.half - dy), outside)
-        h = np.minimum(h, lay.piezo_size + (lay.size - lay.piezo_size) * np.clip(d / (2 * lay.size), 0, 1))
+        h = np.minimum(h, lay.piezo_size + (lay.size - lay.piezo_size) * np.clip(d / (lay.growth * lay.size), 0, 1))
     for p in lay.taxels:
         inside = np.abs(x - p.x) <= p.half
         if lay.dim == 3:
             inside &= np.abs(y - p.y) <= p.half
-        h = np.where(inside, np.minimum(h, 2 * lay.piezo_size), h)
+        h = np.where(inside, np.minimum(h, lay.taxel_cap * lay.piezo_size), h)
     return h
 
 

@@ -75,6 +75,8 @@ class Layout:
     size: float = 5e-4
     piezo_size: float = 1.25e-4
     piezo_layers: int = 1
+    growth: float = 2.0                 # in-plane size grows from piezo_size at patch edges to size over growth x size
+    taxel_cap: float = 2.0              # largest in-plane size inside a taxel, in piezo_size
     midplane: float | None = None       # z of a simply supported mid-plane line
     planes: tuple[int, ...] = ()        # symmetry: cut at x = 0 (0) and/or y = 0 (1), keeping x, y >= 0
     # symmetry: every electrode of the full layout as (its name, the modelled electrode it
