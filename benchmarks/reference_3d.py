@@ -9,13 +9,15 @@ v2 + (v2 - v1) / (2^p - 1). Two coarse meshes per case, so the spread of the two
 extrapolations shows how far the reference itself can be trusted. Writes
 docs/reference_3d.json (read by benchmarks/taxel_3d.py and default_mesh.py --3d).
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/reference_3d.py   (~10 min, < 8 GB)
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/reference_3d.py [single] [3x3]
+(~10 min; the finest single-taxel level, 242k unknowns, peaks at 10 GB)
 """
 
 from __future__ import annotations
 
 import json
 import resource
+import sys
 import time
 from pathlib import Path
 
@@ -47,8 +49,10 @@ def nested(scene, pressed, levels=3):
 
 
 def main():
-    out = {}
+    out = json.loads(OUT.read_text()) if OUT.exists() else {}
     for case, (name, pressed, bases) in CASES.items():
+        if len(sys.argv) > 1 and case not in sys.argv[1:]:
+            continue
         fits = []
         for size, piezo in bases:
             scene = load(name).replace(**{"model.symmetry": "quarter", "mesh.size": size, "mesh.piezo_size": piezo,
@@ -63,8 +67,8 @@ def main():
                          spread=float(abs(refs[0] - refs[1]) / abs(np.mean(refs))), fits=fits)
         print(f"{case}: reference {out[case]['reference']:.7f} V, the two extrapolations "
               f"{100 * out[case]['spread']:.3f} % apart", flush=True)
-    OUT.write_text(json.dumps(out, indent=1) + "\n")
-    print(f"wrote {OUT}")
+        OUT.write_text(json.dumps(out, indent=1) + "\n")
+        print(f"wrote {OUT}")
 
 
 if __name__ == "__main__":
