@@ -71,7 +71,7 @@ def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Soluti
     layout: the full sensor's electrodes, see fem.symmetry)."""
     red = reduction(sy)
     nf, na = red.nf, len(red.active)
-    method = linalg.resolve(method, red.n, iterative=True)
+    method = linalg.resolve(method, red.n, iterative=True, dim=sy.tm.mesh.dim())
     X, res = _solve(sy, red, method, scale, np.column_stack([red.P.T @ sy.b, red.unit_charges()]))
     # open-circuit voltages, capacitance matrix, and the state the problem asks for
     Vf, Cinv = X[nf:, 0], X[nf:, 1:]
