@@ -1,8 +1,8 @@
 """Supports, electrodes, and the reduction to the unknowns that are solved for.
 
 Supports fix displacement DOFs (all homogeneous). Electrodes: one is the
-reference (phi = 0: the common bottom "ground" of an array, the first grounded
-electrode of a plate). Every other electrode is *active*: its potential DOFs
+reference (phi = 0: the common bottom "ground" of an array when it is grounded,
+else the first grounded electrode, as on a plate). Every other electrode is *active*: its potential DOFs
 collapse into one unknown V_k whose equation is the electrode's charge balance
 (the sum of its rows), right-hand side -Q_k. The reduction x_full = P y drops
 fixed displacements, unused pressure/potential DOFs and the reference electrode
@@ -34,8 +34,12 @@ class Electrodes:
         return list(self.states)
 
 
-def supports(problem: Problem, ub) -> np.ndarray:
-    """Constrained displacement DOFs (all homogeneous) of the problem's supports."""
+def supports(problem: Problem, ub, signs: tuple[int, ...] | None = None) -> np.ndarray:
+    """Constrained displacement DOFs (all homogeneous) of the problem's supports.
+
+    On the symmetry planes of a cut layout (facets "mirror_x", "mirror_y"): with
+    sign +1 (a symmetric field, the default) the normal component u.n = 0; with
+    sign -1 (antisymmetric, fem.symmetry) the tangential components."""
     tm, sup, kin = problem.mesh, problem.supports, problem.kinematics
     lay, dim = tm.layout, tm.mesh.dim()
     vertical = f"u^{dim}"
@@ -53,7 +57,13 @@ def supports(problem: Problem, ub) -> np.ndarray:
         out.append(dofs("bottom", [vertical]))
         bottom_nodes = np.unique(tm.mesh.facets[:, tm.facets["bottom"]])
         centre = np.array([lay.plan.x, lay.plan.y][: dim - 1])
-        if not isinstance(kin, Axisymmetric):      # pin the in-plane rigid motion
+        in_plane = set(range(dim - 1))
+        if isinstance(kin, Axisymmetric) or in_plane <= set(lay.planes):
+            pass                                   # no in-plane rigid motion is left
+        elif lay.planes:                           # a 3D half cut at x = 0: only the y translation
+            k = bottom_nodes[np.argmin(np.linalg.norm(tm.mesh.p[:2, bottom_nodes], axis=0))]
+            out.append(np.array([ub.nodal_dofs[1, k]]))
+        else:                                      # pin the in-plane rigid motion
             out.append(_pins(tm, ub, bottom_nodes, centre))
     if sup.edges == "clamped":
         out.append(dofs("edges"))
@@ -73,6 +83,9 @@ def supports(problem: Problem, ub) -> np.ndarray:
         out.append(d[np.abs(ub.doflocs[dim - 1, d] - lay.midplane) < 1e-9 * lay.height])
     if isinstance(kin, Axisymmetric):
         out.append(dofs("axis", ["u^1"]))
+    for k, sign in zip(lay.planes, signs or (1,) * len(lay.planes)):
+        comps = [f"u^{k + 1}"] if sign > 0 else [f"u^{c + 1}" for c in range(dim) if c != k]
+        out.append(dofs("mirror_" + "xy"[k], comps))
     return np.unique(np.concatenate(out or [np.zeros(0, int)])).astype(int)
 
 
@@ -115,7 +128,8 @@ def electrodes(problem: Problem, phibases, offset) -> Electrodes:
         raise ConstraintError("electrodes: none is grounded, so the potential has no reference; "
                               "set one electrode to 'ground'")
     if names:
-        states[next(k for k, s in states.items() if s == "ground")] = "reference"
+        grounded = [k for k, s in states.items() if s == "ground"]
+        states["ground" if "ground" in grounded else grounded[0]] = "reference"   # the common ground first
     dofs = {}
     for name in names:
         d = [pb.get_dofs(tm.facets[name]).all() for pb in phibases.values() if name in tm.facets]
@@ -145,8 +159,12 @@ class Reduction:
         return B
 
 
-def reduction(sy, eliminate_grounded: bool = False) -> Reduction:
-    """The Reduction of an assembled fem.assembly.System."""
+def reduction(sy, eliminate_grounded: bool = False, fixed: np.ndarray | None = None,
+              grounded: tuple[str, ...] = ()) -> Reduction:
+    """The Reduction of an assembled fem.assembly.System.
+
+    `fixed`: full DOFs held at zero instead of sy.fixed_u (any block); `grounded`:
+    electrodes held at 0 V and eliminated (fem.symmetry's antisymmetric classes)."""
     n = sy.A.shape[0]
     used = np.zeros(n, bool)
     used[sy.offsets["u"]] = True
@@ -155,11 +173,11 @@ def reduction(sy, eliminate_grounded: bool = False) -> Reduction:
     phi0 = sy.offsets["phi"].start
     for pb in sy.phibases.values():
         used[phi0 + np.unique(pb.element_dofs)] = True
-    used[sy.fixed_u] = False
+    used[sy.fixed_u if fixed is None else fixed] = False
     states, edofs = sy.electrodes.states, sy.electrodes.dofs
-    grounded = ("reference", "ground") if eliminate_grounded else ("reference",)
-    ref = [k for k, s in states.items() if s in grounded]
-    active = [k for k, s in states.items() if s not in grounded]
+    held = ("reference", "ground") if eliminate_grounded else ("reference",)
+    ref = [k for k, s in states.items() if s in held or k in grounded]
+    active = [k for k, s in states.items() if not (s in held or k in grounded)]
     for k in ref + active:
         used[edofs[k]] = False
     free = np.flatnonzero(used)

@@ -16,12 +16,14 @@ PARDISO through pypardiso), "umfpack" (scikit-umfpack, if installed), "krylov"
 picks SuperLU below 15 000 unknowns and PARDISO above (when it imports): measured
 on the 2D taxel (benchmarks/taxel_2d.py), SuperLU wins on small systems (PARDISO
 has a ~0.3 s floor here) and PARDISO on large ones (33 000 unknowns: 0.43 s vs
-2.9 s).
+2.9 s). In 3D the fill makes PARDISO pay from about 3 000 unknowns (4 000: 1.7 s
+vs 2.1 s; 8 400: 1.2 s vs 2.8 s, quarter taxel models), so 3D uses PARDISO above that.
 """
 
 from __future__ import annotations
 
 import os
+import weakref
 
 import numpy as np
 import scipy.sparse as sp
@@ -41,16 +43,18 @@ def available(method: str) -> bool:
 
 
 AUTO_PARDISO_ABOVE = 15_000
+AUTO_PARDISO_ABOVE_3D = 3_000   # 3D fill: PARDISO 1.2 s vs SuperLU 2.8 s at 8.4k unknowns, even at 4k (taxel_3d)
 AUTO_KRYLOV_ABOVE = 400_000     # static solves: a direct factorization would not fit 24 GB (fem.krylov)
 
 
-def resolve(method: str, n: int = 0, iterative: bool = False) -> str:
-    """The solver a method name stands for at n unknowns; `iterative`: the caller
-    (the static linear solve) can use the Krylov solver of fem.krylov."""
+def resolve(method: str, n: int = 0, iterative: bool = False, dim: int = 2) -> str:
+    """The solver a method name stands for at n unknowns of a `dim`-dimensional mesh;
+    `iterative`: the caller (the static linear solve) can use the Krylov solver of fem.krylov."""
     if method == "auto":
         if iterative and n > AUTO_KRYLOV_ABOVE and available("krylov"):
             return "krylov"
-        return "pardiso" if n > AUTO_PARDISO_ABOVE and available("pardiso") else "superlu"
+        above = AUTO_PARDISO_ABOVE_3D if dim == 3 else AUTO_PARDISO_ABOVE
+        return "pardiso" if n > above and available("pardiso") else "superlu"
     if method == "krylov" and not iterative:
         raise ValueError("linear solver 'krylov' solves static linear problems only; use 'pardiso' or 'superlu'")
     if method not in METHODS:
@@ -119,10 +123,18 @@ def _factorize_real(A, method):
         # real nonsymmetric mode: its pivoting keeps the backward error at round-off here;
         # the symmetric-indefinite mode (-2) perturbs pivots and stalled at 1e-10 on 3D taxels
         solver = pypardiso.PyPardisoSolver(mtype=11)
+        # pypardiso globs sys.prefix for mkl_rt on every solver (0.4 s); name the library it found
+        os.environ.setdefault("PYPARDISO_MKL_RT", solver.libmkl._name)
         Ar = sp.csr_matrix(A)
         check_fits(solver, Ar)
         solver.factorize(Ar)
-        return lambda B: solver.solve(Ar, np.asarray(B, dtype=float))
+
+        def solve(B):
+            return solver.solve(Ar, np.asarray(B, dtype=float))
+        # pypardiso has no finalizer: MKL keeps the factors until phase -1, so a process that
+        # factorizes many times (a study worker, the classes of a symmetric model) would grow
+        weakref.finalize(solve, solver.free_memory, True)
+        return solve
     from scikits.umfpack import splu
     lu = splu(A)
     return lambda B: lu.solve(np.asarray(B, dtype=float))

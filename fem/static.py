@@ -16,11 +16,11 @@ between solvers.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from taxel.fem import krylov, linalg
+from taxel.fem import krylov, linalg, symmetry
 from taxel.fem.assembly import System
 from taxel.fem.constraints import Reduction, reduction
 from taxel.fem.fields import Fields, component_dofs, fields
@@ -51,20 +51,28 @@ class Solution:
     fields: Fields = field(repr=False)
     newton: object = None         # fem.newton.NewtonResult for a hyperelastic solve
     contact: object = None        # fem.press.ContactResult for a press by a rigid indenter
+    # the Maxwell capacitance matrix (F) of the non-reference electrodes, in this order
+    capacitance_names: list[str] = field(default_factory=list)
+    capacitance_matrix: np.ndarray | None = field(default=None, repr=False)
 
     def voltages(self) -> dict[str, float]:
         return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
 
 
-def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Solution:
-    """The linear static Solution of an assembled system."""
-    red = reduction(sy)
-    nf, na = red.nf, len(red.active)
+def _solve(sy: System, red: Reduction, method: str, scale: bool, rhs):
     A = (red.P.T @ sy.A @ red.P).tocsc()
-    method = linalg.resolve(method, red.n, iterative=True)
     solver = krylov.scaled_solver(A, krylov.blocks(sy, red)) if method == "krylov" else \
         linalg.scaled_solver(A, red.is_u, method, scale)
-    X, res = solver(np.column_stack([red.P.T @ sy.b, red.unit_charges()]))
+    return solver(rhs)
+
+
+def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Solution:
+    """The linear static Solution of an assembled system (of a cut, mirror-symmetric
+    layout: the full sensor's electrodes, see fem.symmetry)."""
+    red = reduction(sy)
+    nf, na = red.nf, len(red.active)
+    method = linalg.resolve(method, red.n, iterative=True, dim=sy.tm.mesh.dim())
+    X, res = _solve(sy, red, method, scale, np.column_stack([red.P.T @ sy.b, red.unit_charges()]))
     # open-circuit voltages, capacitance matrix, and the state the problem asks for
     Vf, Cinv = X[nf:, 0], X[nf:, 1:]
     states = sy.electrodes.states
@@ -75,7 +83,24 @@ def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Soluti
         Q[fixedV] = np.linalg.solve(Cinv[np.ix_(fixedV, fixedV)], Vset - Vf[fixedV])
     x = red.P @ (X[:, 0] + X[:, 1:] @ Q)
     r = sy.A @ x - sy.b
-    return results(sy, red, x, r, Cinv, method, float(res.max()))
+    sol = results(sy, red, x, r, Cinv, method, float(res.max()))
+    return _unfold(sy, sol, red, Cinv, method, scale) if sy.tm.layout.planes else sol
+
+
+def _unfold(sy: System, sol: Solution, red: Reduction, Cinv, method, scale) -> Solution:
+    """The full sensor's Solution from a symmetric (half or quarter) model's."""
+    blocks = {symmetry.group(sy.tm.layout.planes)[0]: (red.active, np.linalg.inv(Cinv))}
+    residual = sol.residual
+    for cls in symmetry.classes(sy):
+        rc = reduction(sy, fixed=cls.fixed, grounded=cls.grounded)
+        X, res = _solve(sy, rc, method, scale, rc.unit_charges())
+        blocks[cls.signs] = (rc.active, np.linalg.inv(X[rc.nf:, :]))
+        residual = max(residual, float(res.max()))
+    names, C = symmetry.capacitance(sy, blocks)
+    return replace(sol, electrodes=symmetry.unfold(sy, sol.electrodes, C, names),
+                   capacitance_names=names, capacitance_matrix=C,
+                   applied_force=symmetry.order(sy) * sol.applied_force,
+                   reaction=symmetry.unfold_reaction(sy, sol.reaction), residual=residual)
 
 
 def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float) -> Solution:
@@ -109,4 +134,4 @@ def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float
         reaction[0] = 0.0           # radial support forces cancel around the circle
     f = fields(sy, x)
     return Solution(electrodes, sy.applied_force, reaction, f.max_solid_strain, red.n, solver, residual,
-                    sy.tm, f)
+                    sy.tm, f, capacitance_names=list(red.active), capacitance_matrix=C)

@@ -6,16 +6,18 @@ layer with a fixed number of elements through each layer. The result is
 conformal at every interface, keeps thin layers (a 52 um PVDF film) at a
 controlled element count through the thickness, and has nodes on every patch
 edge. In-plane size: `piezo_size` at taxel and load edges (where stresses are
-singular), growing to `size` over a distance of 2 `size`, and at most
-2 `piezo_size` inside taxels. Vertically: `piezo_layers` elements per piezo
+singular), growing to `size` over a distance of `growth` x `size` (2), and at most
+`taxel_cap` x `piezo_size` (2) inside taxels. Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
 `size`, ratio 1.5.
 
 Physical groups (names), classified by the first element of each entity:
 regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
 per layer ("layer0", ...) in plates;
-facets "bottom", "top", "load", "edges" (the outline), "axis" (r = 0) and one
-per electrode ("taxel_0_0", "ground"; "bottom", "interface1", "top" on plates).
+facets "bottom", "top", "load", "edges" (the outline), "axis" (r = 0), the
+symmetry planes "mirror_x" (x = 0) and "mirror_y" (y = 0) of a cut layout
+(meshing.layout.cut: the plan is fragmented by the kept quadrant or half and the
+rest removed before extrusion), and one per electrode ("taxel_0_0", "ground"; "bottom", "interface1", "top" on plates).
 """
 
 from __future__ import annotations
@@ -43,9 +45,16 @@ class TaggedMesh:
 
     def refined(self, times: int = 1) -> "TaggedMesh":
         """Uniformly refined (each triangle in 4, tetrahedron in 8), names kept: nested
-        meshes for convergence studies."""
-        m = self.mesh.refined(times)
-        return TaggedMesh(m, self.layout, dict(m.subdomains), dict(m.boundaries), self.materials)
+        meshes for convergence studies. scikit-fem keeps the regions; the facet sets of
+        a tetrahedral mesh are carried here (each facet's 4 children, from the new
+        edge-midpoint nodes: node n + e for edge e, as scikit-fem numbers them)."""
+        tm = self
+        for _ in range(times):
+            m0 = tm.mesh
+            m = m0.refined()
+            facets = dict(m.boundaries) if m0.dim() == 2 else _refined_facets(m0, m, tm.facets)
+            tm = TaggedMesh(m, tm.layout, dict(m.subdomains), facets, tm.materials)
+        return tm
 
 
 @contextlib.contextmanager
@@ -102,12 +111,22 @@ def _plan(occ, lay: Layout):
         return (2, occ.addRectangle(p.x - p.half, p.y - hy, 0, 2 * p.half, 2 * hy))
 
     outline = face(lay.plan, lay.plan_half_y if lay.plan.shape != "disk" else None)
-    if not patches:
+    tools = [face(p) for p in patches]
+    if lay.planes:                       # the kept half or quadrant, as one more fragment tool
+        (x0, x1), (y0, y1) = lay.x_range, lay.y_range
+        tools.append((2, occ.addRectangle(x0, y0, 0, x1 - x0, y1 - y0)))
+    if not tools:
         return [outline]
-    out, _ = occ.fragment([outline], [face(p) for p in patches])
+    out, _ = occ.fragment([outline], tools)
     occ.synchronize()
-    # drop parts of patches outside the outline (validation forbids it; be safe)
-    return [e for e in out if e[0] == 2]
+    faces = [e for e in out if e[0] == 2]
+    if lay.planes:
+        tol = 1e-9 * max(lay.plan.half, lay.plan_half_y)
+        drop = [e for e in faces if any(occ.getCenterOfMass(*e)[k] < -tol for k in lay.planes)]
+        occ.remove(drop, recursive=True)
+        occ.synchronize()
+        faces = [e for e in faces if e not in drop]
+    return faces
 
 
 def is_graded(lay: Layout, layer) -> bool:
@@ -168,11 +187,11 @@ def _size_field(gmsh, lay: Layout):
     f.setNumber(thr, "SizeMin", lay.piezo_size)
     f.setNumber(thr, "SizeMax", lay.size)
     f.setNumber(thr, "DistMin", 0.0)
-    f.setNumber(thr, "DistMax", 2 * lay.size)
+    f.setNumber(thr, "DistMax", lay.growth * lay.size)
     fields = [thr]
     for p in lay.taxels:                          # cap inside taxels
         box = f.add("Box")
-        f.setNumber(box, "VIn", 2 * lay.piezo_size)
+        f.setNumber(box, "VIn", min(lay.taxel_cap * lay.piezo_size, lay.size))
         f.setNumber(box, "VOut", lay.size)
         f.setNumber(box, "XMin", p.x - p.half)
         f.setNumber(box, "XMax", p.x + p.half)
@@ -244,6 +263,10 @@ def _classify(gmsh, lay: Layout):
                 add(D - 1, "edges", tag)
             elif lay.model == "axisymmetric" and (np.abs(x) < tol).all():
                 add(D - 1, "axis", tag)
+            else:
+                for k in lay.planes:
+                    if (np.abs((x, y)[k]) < tol).all():
+                        add(D - 1, "mirror_" + "xy"[k], tag)
     return groups
 
 
@@ -305,6 +328,31 @@ def _to_skfem(gmsh, lay: Layout, groups) -> TaggedMesh:
         mats[L.name if not lay.taxels else "silicone"] = (L.material, L.poling)
         mats.update({region_name(patch): (L.patch_material, L.poling) for patch in L.patches})
     return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions})
+
+
+def _refined_facets(m0, m, named):
+    """The facet sets of a once uniformly refined tetrahedral mesh."""
+    n0, n = m0.p.shape[1], m.p.shape[1]
+    ekeys = _keys(m0.edges, n0)
+    eorder = np.argsort(ekeys)
+
+    def mid(a, b):            # the new node at the midpoint of edge (a, b)
+        k = _keys(np.vstack([a, b]), n0)
+        return n0 + eorder[np.searchsorted(ekeys, k, sorter=eorder)]
+
+    fkeys = _keys(m.facets, n)
+    forder = np.argsort(fkeys)
+    out = {}
+    for name, ix in named.items():
+        a, b, c = m0.facets[:, ix]
+        ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+        kids = np.hstack([np.vstack(v) for v in ((a, ab, ca), (b, ab, bc), (c, bc, ca), (ab, bc, ca))])
+        keys = _keys(np.sort(kids, axis=0), n)
+        pos = forder[np.searchsorted(fkeys, keys, sorter=forder)]
+        if not np.array_equal(fkeys[pos], keys):
+            raise RuntimeError(f"refinement: children of facet set '{name}' not found")
+        out[name] = np.unique(pos)
+    return out
 
 
 def _keys(f, n):

@@ -46,12 +46,12 @@ def _size(lay: Layout, x, y):
             dx, dy = np.abs(x - p.x), np.abs(y - p.y)
             outside = np.hypot(np.maximum(dx - p.half, 0), np.maximum(dy - p.half, 0))
             d = np.where((dx <= p.half) & (dy <= p.half), np.minimum(p.half - dx, p.half - dy), outside)
-        h = np.minimum(h, lay.piezo_size + (lay.size - lay.piezo_size) * np.clip(d / (2 * lay.size), 0, 1))
+        h = np.minimum(h, lay.piezo_size + (lay.size - lay.piezo_size) * np.clip(d / (lay.growth * lay.size), 0, 1))
     for p in lay.taxels:
         inside = np.abs(x - p.x) <= p.half
         if lay.dim == 3:
             inside &= np.abs(y - p.y) <= p.half
-        h = np.where(inside, np.minimum(h, 2 * lay.piezo_size), h)
+        h = np.where(inside, np.minimum(h, lay.taxel_cap * lay.piezo_size), h)
     return h
 
 
@@ -75,9 +75,9 @@ def estimate(lay: Layout) -> MeshEstimate:
         x = np.linspace(x0, x1, SAMPLES)
         segments = float(np.trapezoid(1.0 / _size(lay, x, 0.0), x))
         return MeshEstimate((segments + 1) * (layers + 1), 2 * segments * layers)
-    y0, y1 = lay.plan.y - lay.plan_half_y, lay.plan.y + lay.plan_half_y
+    y0, y1 = lay.y_range
     x, y = np.meshgrid(np.linspace(x0, x1, SAMPLES // 4), np.linspace(y0, y1, SAMPLES // 4), indexing="ij")
     density = 4.0 / (np.sqrt(3.0) * _size(lay, x, y) ** 2)
-    area_factor = np.pi / 4 if lay.plan.shape == "disk" else 1.0
+    area_factor = np.pi / 4 if lay.plan.shape == "disk" else 1.0       # (symmetry cuts: rectangles only)
     triangles = float(density.mean() * (x1 - x0) * (y1 - y0) * area_factor)
     return MeshEstimate(triangles / 2 * (layers + 1), 3 * triangles * layers)

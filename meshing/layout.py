@@ -12,7 +12,8 @@ makes the layout of a scene.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import itertools
+from dataclasses import dataclass, replace
 
 
 
@@ -74,7 +75,13 @@ class Layout:
     size: float = 5e-4
     piezo_size: float = 1.25e-4
     piezo_layers: int = 1
+    growth: float = 2.0                 # in-plane size grows from piezo_size at patch edges to size over growth x size
+    taxel_cap: float = 2.0              # largest in-plane size inside a taxel, in piezo_size
     midplane: float | None = None       # z of a simply supported mid-plane line
+    planes: tuple[int, ...] = ()        # symmetry: cut at x = 0 (0) and/or y = 0 (1), keeping x, y >= 0
+    # symmetry: every electrode of the full layout as (its name, the modelled electrode it
+    # mirrors, the group element, one sign per plane, that maps the modelled one onto it)
+    images: tuple[tuple[str, str, tuple[int, ...]], ...] = ()
 
     @property
     def dim(self):
@@ -88,7 +95,14 @@ class Layout:
     def x_range(self):
         if self.model == "axisymmetric":
             return 0.0, self.plan.half
-        return self.plan.x - self.plan.half, self.plan.x + self.plan.half
+        x0 = 0.0 if 0 in self.planes else self.plan.x - self.plan.half
+        return x0, self.plan.x + self.plan.half
+
+    @property
+    def y_range(self):
+        """Plan y extent (3D)."""
+        y0 = 0.0 if 1 in self.planes else self.plan.y - self.plan_half_y
+        return y0, self.plan.y + self.plan_half_y
 
     def breakpoints(self) -> list[float]:
         """x of every patch edge in a 1D plan, sorted, inside the outline."""
@@ -97,3 +111,47 @@ class Layout:
         for p in self.taxels + ((self.load,) if self.load else ()):
             xs.update((p.x - p.half, p.x + p.half))
         return sorted(x for x in xs if x0 - 1e-12 <= x <= x1 + 1e-12)
+
+
+def group(planes: tuple[int, ...]) -> list[tuple[int, ...]]:
+    """The mirror group of symmetry planes: one sign per plane (-1: mirrored across
+    it), the identity first. Also its characters (a class's sign per plane)."""
+    return list(itertools.product((1, -1), repeat=len(planes)))
+
+
+def cut(lay: Layout, planes: tuple[int, ...]) -> Layout:
+    """The part x >= 0 (plane 0) and/or y >= 0 (plane 1) of a layout that is mirror
+    symmetric about those planes (the caller checks it is): the taxels with a part
+    there, their electrodes, and `images`: which modelled electrode each electrode
+    of the full layout mirrors (taxel names are the patch names)."""
+    if not planes:
+        return lay
+    tol = 1e-9 * max(lay.plan.half, lay.plan_half_y)
+
+    def kept(p):
+        return all((p.x, p.y)[k] > -tol for k in planes)
+
+    def image(p, g):
+        x, y = p.x, p.y
+        for k, s in zip(planes, g):
+            if k == 0:
+                x *= s
+            else:
+                y *= s
+        return next(q for q in lay.taxels if abs(q.x - x) < tol and abs(q.y - y) < tol)
+
+    taxels = tuple(p for p in lay.taxels if kept(p))
+    identity = group(planes)[0]
+    electrodes, images = [], []
+    for el in lay.electrodes:
+        if el.name == "ground" or not el.patches:      # the common ground: its own image
+            electrodes.append(replace(el, patches=tuple(p for p in el.patches if kept(p))))
+            images.append((el.name, el.name, identity))
+            continue
+        if kept(el.patches[0]):
+            electrodes.append(el)
+        g = next(g for g in group(planes) if kept(image(el.patches[0], g)))
+        images.append((el.name, image(el.patches[0], g).name, g))
+    layers = tuple(replace(L, patches=tuple(p for p in L.patches if kept(p))) for L in lay.layers)
+    return replace(lay, taxels=taxels, electrodes=tuple(electrodes), layers=layers, planes=tuple(planes),
+                   images=tuple(images))

@@ -119,6 +119,14 @@ CASES = [
     case("zero-piezo-thickness-bare-number", ARRAY + "piezo_thickness = 0\n", "array.piezo_thickness"),
     case("nan-force", ARRAY + '[load]\nforce = "nan N"\n', "load.force"),
     case("solid-as-piezo", ARRAY + 'piezo = "Ecoflex-00-30"\n', "array.piezo"),
+    case("symmetry-typo", ARRAY.replace("[model]\n", '[model]\nsymmetry = "quater"\n'), "model.symmetry"),
+    case("symmetry-quarter-in-2d", ARRAY.replace("[model]\n", '[model]\nsymmetry = "quarter"\n'),
+         "model.symmetry", "3d"),
+    case("symmetry-quarter-off-centre", ARRAY.replace('"plane_strain"', '"3d"').replace(
+        "[model]\n", '[model]\nsymmetry = "quarter"\n') + "cols = 2\n", "model.symmetry", "not centred"),
+    case("symmetry-half-asymmetric-electrodes", ARRAY.replace("[model]\n", '[model]\nsymmetry = "half"\n')
+         + 'cols = 3\n[load]\ntaxel = [0, 1]\n[electrodes]\ntaxel_0_0 = "ground"\n', "model.symmetry",
+         "electrodes"),
     case("scene-path-is-a-directory", DIRECTORY, "scene-dir"),
     case("scene-file-not-utf8", b'[array]\ntaxel_width = "4 mm"\n# \xff\xfe\n', "bad-input.toml"),
 ]

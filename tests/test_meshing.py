@@ -29,6 +29,9 @@ def test_named_groups_and_volumes(model):
                 "3d": 16e-6 * 0.127e-3}[model]
     if model == "axisymmetric":       # area of the meridian section: radius x thickness
         expected = 4e-3 / np.sqrt(np.pi) * 0.127e-3
+    if model == "3d":                 # a centred press: the quarter (model.symmetry = "auto")
+        assert tm.layout.planes == (0, 1) and {"mirror_x", "mirror_y"} <= set(tm.facets)
+        expected /= 4
     assert piezo == pytest.approx(expected, rel=1e-9)
     assert vol.sum() == pytest.approx(np.ptp(m.p, axis=1).prod(), rel=1e-9) or model == "3d"
 
@@ -90,3 +93,23 @@ def test_the_cost_estimate_is_within_a_factor_two_of_the_real_mesh(name):
     est, real = estimate(lay), mesh(scene).mesh
     assert 0.5 < est.vertices / real.nvertices < 2
     assert 0.5 < est.elements / real.nelements < 2
+
+
+def test_refined_3d_mesh_keeps_its_facet_sets():
+    """TaggedMesh.refined carries every facet set of a tetrahedral mesh to the 4 children
+    of each facet: the same areas, and the refined model still balances its load."""
+    scene = parse(array_scene("3d", cols=1) | {"mesh": {"size": "2 mm", "piezo_size": "1 mm", "piezo_layers": 1}})
+    tm = mesh(scene)
+    fine = tm.refined()
+
+    def area(t, name):
+        m = t.mesh
+        a, b, c = (m.p[:, m.facets[i, t.facets[name]]] for i in range(3))
+        return 0.5 * np.linalg.norm(np.cross((b - a).T, (c - a).T), axis=1).sum()
+
+    assert set(fine.facets) == set(tm.facets)
+    for name in tm.facets:
+        assert len(fine.facets[name]) == 4 * len(tm.facets[name])
+        assert area(fine, name) == pytest.approx(area(tm, name), rel=1e-12)
+    sol = solve(scene, tagged_mesh=fine)
+    assert sol.reaction[-1] == pytest.approx(0.5, rel=1e-8)

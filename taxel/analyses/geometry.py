@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 from taxel.fem import materials
-from taxel.meshing.layout import Electrode, Layer, Layout, Patch
-from taxel.scene import Scene, SceneError
+from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
+from taxel.scene import Scene, SceneError, symmetry_planes
 
 
 def layout(scene: Scene, mats: dict) -> Layout:
@@ -24,8 +24,8 @@ def layout(scene: Scene, mats: dict) -> Layout:
     (raises SceneError for geometry that cannot be built)."""
     m, mesh = scene.model, scene.mesh
     common = dict(model=m.type, size=mesh.size, piezo_layers=mesh.piezo_layers)
-    if scene.array is not None:
-        return _array_layout(scene, common)
+    if scene.array is not None:            # a half or quarter of a symmetric array (model.symmetry)
+        return cut(_array_layout(scene, common), symmetry_planes(scene))
     return _plate_layout(scene, common, mats)
 
 

@@ -97,8 +97,9 @@ def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
     mats = scene_materials(scene)
     tm = tagged_mesh or build(checked_layout(scene, mats))
     m, ld = scene.model, scene.load
+    share = 2 ** len(tm.layout.planes)       # a half or quarter model carries its share of the force
     load = PatchLoad(pressure=ld.pressure) if ld.kind == "pressure" else \
-        PatchLoad(force=ld.force, profile=ld.profile if ld.kind == "indenter" else "flat")
+        PatchLoad(force=ld.force / share, profile=ld.profile if ld.kind == "indenter" else "flat")
     return Problem(
         mesh=tm,
         kinematics=kinematics(m.type, tm.layout.depth),
@@ -133,9 +134,10 @@ def electrode_states(scene: Scene, tm: TaggedMesh) -> dict:
     """Each electrode's state: "taxels" sets every taxel electrode, a name sets one;
     unset electrodes keep the FEM's default (common ground grounded, others open)."""
     names = [e.name for e in tm.layout.electrodes]
+    every = [full for full, _, _ in tm.layout.images] or names    # a symmetric model: every taxel's name
     for key in scene.electrodes:
-        if key not in names and key != "taxels":
-            raise SceneError(f"electrodes.{key}: no such electrode; this scene has: {', '.join(names)}")
+        if key not in every and key != "taxels":
+            raise SceneError(f"electrodes.{key}: no such electrode; this scene has: {', '.join(every)}")
     states = {}
     for name in names:
         if name.startswith("taxel_") and "taxels" in scene.electrodes:

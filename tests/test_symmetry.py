@@ -1,0 +1,114 @@
+"""Symmetric (half, quarter) models against the full model on exactly mirrored meshes.
+
+The full mesh is the cut mesh mirrored across its planes with the plane nodes
+merged (meshing.mirror), so both discretizations are the same: voltages,
+charges, capacitances and displacements must agree to round-off (1e-8)."""
+
+import numpy as np
+import pytest
+
+from taxel.analyses.geometry import layout
+from taxel.analyses.problem import mesh, problem, scene_materials
+from taxel.analyses.static import solve_static
+from taxel.fem import assembly, static
+from taxel.meshing.mirror import unfold
+from taxel.scene import SceneError, load, symmetry_planes
+
+
+def _pair(scene, sym):
+    """(symmetric solution, full solution on the mirrored mesh)."""
+    cut_scene = scene.replace(**{"model.symmetry": sym})
+    full_scene = scene.replace(**{"model.symmetry": "full"})
+    tm = mesh(cut_scene)
+    assert tm.layout.planes
+    full_tm = unfold(tm, layout(full_scene, scene_materials(full_scene)))
+    sym_sol = static.solve_linear(assembly.assemble(problem(cut_scene, tm)), "superlu")
+    full_sol = static.solve_linear(assembly.assemble(problem(full_scene, full_tm)), "superlu")
+    return sym_sol, full_sol
+
+
+def _close(a, b, rel=1e-8):
+    assert abs(a - b) <= rel * max(abs(b), 1e-300), (a, b)
+
+
+def _compare(sym_sol, full_sol):
+    assert set(sym_sol.electrodes) == set(full_sol.electrodes)
+    vmax = max(abs(e.voltage) for e in full_sol.electrodes.values())
+    qmax = max(abs(e.short_circuit_charge) for e in full_sol.electrodes.values())
+    for k, f in full_sol.electrodes.items():
+        s = sym_sol.electrodes[k]
+        assert abs(s.voltage - f.voltage) <= 1e-8 * vmax, (k, s.voltage, f.voltage)
+        assert abs(s.charge - f.charge) <= 1e-8 * qmax
+        assert abs(s.short_circuit_charge - f.short_circuit_charge) <= 1e-8 * qmax, k
+        if f.capacitance is not None:
+            _close(s.capacitance, f.capacitance)
+    # the whole Maxwell capacitance matrix, mutual terms included
+    cs, cf = sym_sol.capacitance_matrix, full_sol.capacitance_matrix
+    assert sorted(sym_sol.capacitance_names) == sorted(full_sol.capacitance_names)
+    at = [sym_sol.capacitance_names.index(k) for k in full_sol.capacitance_names]
+    assert np.abs(cs[np.ix_(at, at)] - cf).max() <= 1e-8 * np.abs(cf).max()
+    off = ~np.eye(len(cf), dtype=bool)
+    if off.any() and np.abs(cf[off]).max() > 0:       # the mutual terms on their own scale
+        assert np.abs(cs[np.ix_(at, at)] - cf)[off].max() <= 1e-6 * np.abs(cf[off]).max()
+    _close(sym_sol.applied_force, full_sol.applied_force, 1e-12)
+    _close(sym_sol.reaction[-1], full_sol.reaction[-1])
+    # displacements at every node of the cut mesh (the same node in the mirrored mesh)
+    ps, pf = sym_sol.mesh.mesh.p, full_sol.mesh.mesh.p
+    scale = 1e-9 * np.abs(pf).max()
+    index = {tuple(k): i for i, k in enumerate(np.round(pf.T / scale).astype(np.int64))}
+    at = np.array([index[tuple(k)] for k in np.round(ps.T / scale).astype(np.int64)])
+    us, uf = sym_sol.fields.u, full_sol.fields.u[at]
+    assert np.abs(us - uf).max() <= 1e-8 * np.abs(uf).max()
+    assert np.abs(uf).max() > 0
+
+
+@pytest.mark.parametrize("name,sym,edit", [
+    ("thesis-pzt-single-3d", "quarter", {"mesh.size": "2 mm", "mesh.piezo_size": "1 mm", "mesh.piezo_layers": 1}),
+    ("thesis-pzt-3x3-3d", "quarter", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm", "mesh.piezo_layers": 1}),
+    ("thesis-pzt-3x3-3d", "half", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm", "mesh.piezo_layers": 1,
+                                   "load.taxel": [0, 1], "electrodes.taxel_2_0": "ground",
+                                   "electrodes.taxel_2_2": "ground"}),
+    ("thesis-pzt-3x3-2d", "half", {"electrodes.taxel_1_0": "ground", "electrodes.taxel_1_2": "ground"}),
+])
+def test_symmetric_model_equals_the_mirrored_full_model(name, sym, edit):
+    sym_sol, full_sol = _pair(load(name).replace(**edit), sym)
+    _compare(sym_sol, full_sol)
+
+
+def test_auto_picks_the_largest_symmetry_the_scene_allows():
+    assert symmetry_planes(load("thesis-pzt-single-3d")) == (0, 1)
+    assert symmetry_planes(load("thesis-pzt-3x3-3d")) == (0, 1)
+    three = load("thesis-pzt-3x3-3d")
+    assert symmetry_planes(three.replace(**{"load.taxel": [0, 1]})) == (0,)            # centred in x only
+    assert symmetry_planes(three.replace(**{"load.taxel": [0, 0]})) == ()              # off centre: full
+    assert symmetry_planes(three.replace(**{"model.symmetry": "full"})) == ()
+    assert symmetry_planes(three.replace(**{"load.kind": "between", "load.taxel": [1, 0],
+                                            "load.neighbour": [1, 1]})) == (1,)      # between columns 0 and 1
+    assert symmetry_planes(three.replace(**{"electrodes.taxel_0_0": "ground"})) == ()
+    assert symmetry_planes(three.replace(**{"analysis.type": "frequency"})) == ()
+    assert symmetry_planes(load("thesis-pzt-single-2d")) == ()                        # 2D: full unless asked
+    assert symmetry_planes(load("thesis-pzt-single-2d").replace(**{"model.symmetry": "half"})) == (0,)
+    with pytest.raises(SceneError, match="model.symmetry"):
+        three.replace(**{"model.symmetry": "quarter", "load.taxel": [0, 1]})
+
+
+def test_auto_solves_a_quarter_and_reports_every_taxel():
+    res = solve_static(load("thesis-pzt-3x3-3d").replace(**{"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm",
+                                                            "mesh.piezo_layers": 1}))
+    sol = res.solution
+    assert sol.mesh.layout.planes == (0, 1)
+    assert len(sol.mesh.layout.taxels) == 4
+    assert sorted(sol.electrodes) == sorted([f"taxel_{r}_{c}" for r in range(3) for c in range(3)] + ["ground"])
+    assert sol.applied_force == pytest.approx(1.0)
+    assert sol.reaction[-1] == pytest.approx(1.0, rel=1e-6)
+    v = {k: e.voltage for k, e in sol.electrodes.items()}
+    assert v["taxel_0_0"] == v["taxel_2_2"] and v["taxel_0_1"] == v["taxel_2_1"]
+    assert v["taxel_1_1"] < 0 < v["taxel_0_1"]
+
+
+def test_an_indenter_centred_between_four_taxels_is_a_quarter():
+    four = load("thesis-pzt-3x3-3d").replace(**{"array.rows": 2, "array.cols": 2, "load.kind": "indenter",
+                                                "load.radius": "2 mm", "load.taxel": [1, 0]})
+    assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "3.5 mm"]})) == (0, 1)
+    assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "-3.5 mm"]})) == (0,)
+    assert symmetry_planes(four.replace(**{"load.offset": ["3 mm", "3.5 mm"]})) == (1,)
