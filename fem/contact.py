@@ -190,11 +190,15 @@ class Surface:
             curv = w.tn * np.einsum("i...,ij...,j...->...", v, w.H, du)
             return (nn - curv) * meas(w)
         self._r, self._k = r_c, k_c
+        # the vectorised terms (element arrays, scattered by fem.pattern): basis values
+        # phi[f, q, i, c] of the local vector functions i at the points, their dofs
+        self.phi = np.stack([np.asarray(b[0].value) for b in self.fb.basis]).transpose(2, 3, 0, 1)
+        self.dofs = np.ascontiguousarray(self.fb.element_dofs.T)          # (facets, local)
 
     def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True, fixed=None) -> ContactState:
         """The contact state; `fixed` (a boolean per point) fixes the active set: t_N = lambda - eps g
         there (even if negative) and 0 elsewhere, a smooth problem."""
-        x = self.X + np.asarray(self.fb.interpolate(u))
+        x = self.X + np.einsum("fqic,fi->cfq", self.phi, u[self.dofs])
         g, n, H = gap(ind, x, self.z_top, travel, with_curvature)
         tn = np.maximum(lam - eps * g, 0.0) if fixed is None else np.where(fixed, lam - eps * g, 0.0)
         st = ContactState(g, n, H, tn, x, self.dA)
@@ -209,3 +213,36 @@ class Surface:
         """K_c; `active` overrides the Heaviside factor (a frozen active set)."""
         act = st.active if active is None else active
         return asm(self._k, self.fb, tn=st.tn, n=st.n, H=st.H, epsH=eps * act)
+
+    # ---------------------------------------------------------------- vectorised terms
+    def element_residual(self, st: ContactState) -> np.ndarray:
+        """(facets, local) element residuals of R_c (= `residual`, before assembly)."""
+        return -np.einsum("fq,cfq,fqic->fi", st.tn * self.dA, st.n, self.phi)
+
+    def element_tangent(self, st: ContactState, eps, active=None) -> np.ndarray:
+        """(facets, local, local) element matrices of K_c (= `tangent`, before assembly)."""
+        act = st.active if active is None else active
+        a = np.einsum("cfq,fqic->fqi", st.n, self.phi)                   # n . phi_i
+        K = np.einsum("fqi,fq,fqj->fij", a, eps * act * self.dA, a)
+        if st.H is not None:
+            Hphi = np.einsum("cdfq,fqjd->fqcj", st.H, self.phi)
+            K -= np.einsum("fqic,fq,fqcj->fij", self.phi, st.tn * self.dA, Hphi)
+        return K
+
+    def travel_derivatives(self, st: ContactState, eps):
+        """d/d(travel) of the element residuals (facets, local) and of the force, and the
+        force's element gradient dF/du (facets, local). Moving the indenter down by dd
+        is moving the point up by dd: dg/dd = n_z, dn/dd = H[:, z]."""
+        act = st.active.astype(float)
+        z = self.X.shape[0] - 1
+        dtn_dd = -eps * act * st.n[z]                                  # d t_N / dd at fixed u
+        dn_dd = st.H[:, z]
+        dr = -np.einsum("fq,cfq,fqic->fi", dtn_dd * self.dA, st.n, self.phi) \
+            - np.einsum("fq,cfq,fqic->fi", st.tn * self.dA, dn_dd, self.phi)
+        dF_dd = float(-((dtn_dd * st.n[z] + st.tn * dn_dd[z]) * self.dA).sum())
+        # F = -sum tn n_z dA; dtn/du_j = -eps act n . phi_j; dn_z/du_j = H[z, :] phi_j
+        a = np.einsum("cfq,fqic->fqi", st.n, self.phi)
+        Hz = np.einsum("dfq,fqjd->fqj", st.H[z], self.phi)
+        dF_du = -np.einsum("fq,fqj->fj", -eps * act * st.n[z] * self.dA, a) \
+            - np.einsum("fq,fqj->fj", st.tn * self.dA, Hz)
+        return dr, dF_dd, dF_du

@@ -46,7 +46,8 @@ from taxel.fem import hyperelastic, linalg
 from taxel.fem.assembly import System
 from taxel.fem.constraints import reduction
 from taxel.fem.contact import ContactState, Indenter, Surface
-from taxel.fem.newton import yeoh_terms
+from taxel.fem.newton import yeoh_regions, yeoh_terms, yeoh_terms_skfem
+from taxel.fem.pattern import Pattern
 from taxel.fem.static import Solution, results
 
 
@@ -105,6 +106,7 @@ class Options:
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
     fix_cycling: bool = False       # True: when an active set comes back, finish Newton on it
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
+    assembly: str = "vectorised"    # vectorised (fem.yeohasm, fem.pattern) | skfem (the reference path)
 
 
 class Press:
@@ -133,12 +135,58 @@ class Press:
         self.prev = None                 # (travel, x) of the state before the last converged one
         self.res = ContactResult(ind, self.eps, self.o.method)
         self.solver = None
+        self._pat, self._min_J = None, 1.0
 
     # ------------------------------------------------------------ one equilibrium
+    def _pattern(self) -> Pattern:
+        """The reduced matrix's pattern: the linear part, every Yeoh element block, every
+        contact facet block (fem.pattern), built on first use."""
+        if self._pat is None:
+            blocks = {}
+            for k, reg in yeoh_regions(self.sy).items():
+                U, Q = reg.udofs, reg.pdofs
+                blocks[f"uu:{k}"] = (U[:, :, None] + 0 * U[:, None, :], U[:, None, :] + 0 * U[:, :, None])
+                blocks[f"up:{k}"] = (U[:, :, None] + 0 * Q[:, None, :], Q[:, None, :] + 0 * U[:, :, None])
+                blocks[f"pu:{k}"] = (Q[:, None, :] + 0 * U[:, :, None], U[:, :, None] + 0 * Q[:, None, :])
+                blocks[f"pp:{k}"] = (Q[:, :, None] + 0 * Q[:, None, :], Q[:, None, :] + 0 * Q[:, :, None])
+            S = self.surf.dofs + self.sy.offsets["u"].start
+            blocks["contact"] = (S[:, :, None] + 0 * S[:, None, :], S[:, None, :] + 0 * S[:, :, None])
+            self._pat = Pattern(self.red.P, self.sy.A, blocks)
+        return self._pat
+
     def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+        """(reduced residual, reduced contact residual, contact state, reduced tangent or None);
+        the smallest J of the Yeoh silicone in self._min_J."""
+        if self.o.assembly == "skfem":
+            return self._residual_skfem(x, d, lam, tangent, frozen, fixed)
+        sy, pat = self.sy, self._pattern()
+        n = len(x)
+        r_full = sy.A @ x
+        vals, self._min_J = {}, 1.0
+        for k, reg in yeoh_regions(sy).items():
+            t = reg.terms(x, tangent)
+            self._min_J = min(self._min_J, t.min_J)
+            r_full += np.bincount(reg.udofs.ravel(), t.r_u.ravel(), minlength=n)
+            r_full += np.bincount(reg.pdofs.ravel(), t.r_p.ravel(), minlength=n)
+            if tangent:
+                vals.update({f"uu:{k}": t.K_uu, f"up:{k}": t.K_up, f"pu:{k}": t.K_up, f"pp:{k}": t.K_pp})
+        u = x[sy.offsets["u"]]
+        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed)
+        S = self.surf.dofs.ravel() + sy.offsets["u"].start
+        rc_full = np.bincount(S, self.surf.element_residual(st).ravel(), minlength=n)
+        r, ref = pat.reduce(r_full + rc_full), pat.reduce(rc_full)
+        if not tangent:
+            return r, ref, st, None
+        vals["contact"] = self.surf.element_tangent(st, self.eps, frozen)
+        return r, ref, st, pat.matrix(vals).tocsc()
+
+    def _residual_skfem(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+        """`_residual` through scikit-fem's forms and sparse products (the path before the
+        vectorisation; benchmarks/contact_speed.py compares the two)."""
         sy, P = self.sy, self.red.P
         u = x[sy.offsets["u"]]
-        r_y, K_y = yeoh_terms(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
+        r_y, K_y = yeoh_terms_skfem(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
+        self._min_J = min((hyperelastic.min_jacobian(sy.ubases[r], u, sy.kin) for r in sy.yeoh), default=1.0)
         st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed)
         rc = np.zeros_like(x)
         rc[sy.offsets["u"]] = self.surf.residual(st)
@@ -151,11 +199,6 @@ class Press:
         Kc_full = _embed(Kc, sy.offsets["u"].start, n)
         K = (P.T @ (sy.A + K_y + Kc_full) @ P).tocsc()
         return r, ref, st, K
-
-    def _min_j(self, x):
-        u = x[self.sy.offsets["u"]]
-        return min((hyperelastic.min_jacobian(self.sy.ubases[r], u, self.sy.kin) for r in self.sy.yeoh),
-                   default=1.0)
 
     def _newton(self, x, d, lam):
         o, P = self.o, self.red.P
@@ -188,8 +231,8 @@ class Press:
             alpha = 1.0
             while True:
                 x_new = x + alpha * dx
-                if self._min_j(x_new) > 0:
-                    r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
+                r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
+                if self._min_J > 0:
                     if np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r) or alpha <= 1 / 64:
                         break
                 elif alpha <= 1 / 64:
