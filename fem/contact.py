@@ -168,8 +168,15 @@ class ContactState:
 class Surface:
     """The top surface's quadrature and the contact forms for one mesh and kinematics."""
 
-    def __init__(self, mesh, element, facets, kin, z_top: float, intorder=4):
-        self.fb = FacetBasis(mesh, element, facets=facets, intorder=intorder)
+    def __init__(self, mesh, element, facets, kin, z_top: float, intorder=4, rule="gauss"):
+        if rule == "nodal" and mesh.dim() == 2:      # Simpson: the P2 nodes, their lumped weights
+            quad = (np.array([[0.0, 0.5, 1.0]]), np.array([1.0, 4.0, 1.0]) / 6.0)
+            self.fb = FacetBasis(mesh, element, facets=facets, quadrature=quad)
+        elif rule == "nodal":                         # P2 triangle facets: the edge midpoints (exact to degree 2)
+            quad = (np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5]]), np.full(3, 1.0 / 6.0))
+            self.fb = FacetBasis(mesh, element, facets=facets, quadrature=quad)
+        else:
+            self.fb = FacetBasis(mesh, element, facets=facets, intorder=intorder)
         self.kin = kin
         self.z_top = z_top
         X = np.asarray(self.fb.global_coordinates())

@@ -106,6 +106,9 @@ class Options:
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
     fix_cycling: bool = False       # True: when an active set comes back, finish Newton on it
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
+    rule: str = "gauss"             # contact points: gauss (intorder) | nodal (at the P2 nodes, lumped weights)
+    line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
+    predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
     assembly: str = "vectorised"    # vectorised (fem.yeohasm, fem.pattern) | skfem (the reference path)
 
 
@@ -121,7 +124,7 @@ class Press:
         self.z_top = float(p[-1, np.unique(tm.mesh.facets[:, top])].max())
         self.height = self.z_top - float(p[-1].min())
         ub = next(iter(sy.ubases.values()))
-        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder)
+        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder, self.o.rule)
         self.red = reduction(sy, eliminate_grounded=True)
         if self.o.penalty is None:
             mu = max(lw.mu for r, lw in sy.laws.items() if r in sy.soft)
@@ -136,6 +139,8 @@ class Press:
         self.res = ContactResult(ind, self.eps, self.o.method)
         self.solver = None
         self._pat, self._min_J = None, 1.0
+        self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
+        self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
 
     # ------------------------------------------------------------ one equilibrium
     def _pattern(self) -> Pattern:
@@ -212,6 +217,8 @@ class Press:
             if not o.active_set_update and frozen is None:
                 frozen = st.active.copy()
                 r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
+            if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
+                raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", self.res)
             self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method)
             D = solver.D
             nr = np.linalg.norm(D * r)
@@ -222,6 +229,7 @@ class Press:
                     st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps)
                 return x, st, it
             seen.append(st.active.tobytes())
+            self.trace.append((d, it, norm, int(st.active.sum())))
             dy, lres = solver(-r)
             if float(np.max(lres)) > 1e-6:
                 raise ContactError(f"penalty too high: the scaled linear solve's relative residual is "
@@ -233,11 +241,13 @@ class Press:
                 x_new = x + alpha * dx
                 r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
                 if self._min_J > 0:
-                    if np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r) or alpha <= 1 / 64:
+                    if (not o.line_search or alpha <= 1 / 64
+                            or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
                         break
                 elif alpha <= 1 / 64:
                     raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", self.res)
                 alpha /= 2
+            self.trace[-1] += (alpha,)
             step_rel = alpha * np.linalg.norm(dx) / max(np.linalg.norm(x), 1e-300)
             x = x_new
         last = seen[-6:]
@@ -252,6 +262,12 @@ class Press:
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
         o = self.o
         x, lam, its = self.x.copy(), self.lam.copy(), 0
+        if o.predictor and self.v is not None:     # the tangent prediction, shortened while it inverts elements
+            for frac in (1.0, 0.5, 0.25, 0.0):
+                if frac == 0.0 or self._residual(x + frac * (d - self.d) * self.v, d, lam, tangent=False) \
+                        and self._min_J > 0:
+                    break
+            x = x + frac * (d - self.d) * self.v
         eps0, err_prev = self.eps, np.inf
         for k in range(o.max_uzawa + 1):
             x, st, it = self._newton(x, d, lam)
@@ -276,6 +292,8 @@ class Press:
             raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
                                f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
                                self.res)
+        if o.predictor:                     # with the tangent's own penalty (before restoring it)
+            self.v, self.slope = self._rates(x, st)
         self.eps = eps0
         self.prev = (self.d, self.x)
         self.x, self.lam, self.d = x, st.tn.copy(), d
@@ -285,13 +303,25 @@ class Press:
         self.res.points.append(pt)
         return pt
 
+    def _rates(self, x, st):
+        """(dx/dd, dF/dd) along the equilibrium path at a converged state, with the
+        tangent factorized at it (self.solver): K dx/dd = -dr/dd, and dF/dd =
+        dF/dd|_x + dF/dx . dx/dd (the force-travel stiffness; fem.contact.travel_derivatives)."""
+        n, u0 = len(x), self.sy.offsets["u"].start
+        S = self.surf.dofs.ravel() + u0
+        dr, dF_dd, dF_du = self.surf.travel_derivatives(st, self.eps)
+        rhs = self.red.P.T @ np.bincount(S, dr.ravel(), minlength=n)
+        dy, _ = self.solver(-rhs)
+        v = self.red.P @ dy[:, 0]
+        return v, dF_dd + float(dF_du.ravel() @ v[S])
+
     def _try(self, d):
         """solve_at, restoring the state on failure."""
-        saved = (self.x, self.lam, self.d, self.prev)
+        saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope)
         try:
             return self.solve_at(d)
         except ContactError:
-            self.x, self.lam, self.d, self.prev = saved
+            self.x, self.lam, self.d, self.prev, self.v, self.slope = saved
             self.res.failed_trials += 1
             raise
 
@@ -341,6 +371,13 @@ class Press:
             last_side = side
             if d == 0.0:
                 d_new = o.first_travel * self.height
+            elif o.predictor and self.slope is not None and self.slope > 0:
+                # Newton on F(d) with the path's own stiffness; at most twice the last step,
+                # and inside the bracket once there is one
+                step = (F_target - F) / self.slope
+                d_new = d + float(np.clip(step, -2 * abs(d - d_prev) - 1e-9, 2 * max(abs(d - d_prev), 0.25 * d)))
+                if hi is not None and not min(lo[0], hi[0]) < d_new < max(lo[0], hi[0]):
+                    d_new = lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
             elif hi is None:                     # secant from the last two states, at most 1.5x the step
                 slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / d
                 step = (F_target - F) / max(slope, 1e-300)

@@ -160,3 +160,39 @@ def test_newton_without_the_active_set_update_fails_and_says_so(small_sphere):
     assert pt.iterations <= 15 and pt.penetration <= 1e-3 * d
     with pytest.raises(ContactError, match="did not converge|cycles"):
         Press(sy, ind, opts=Options(active_set_update=False)).solve_at(d)
+
+
+def test_vectorised_contact_terms_equal_the_forms_and_travel_derivatives_are_derivatives():
+    """Surface.element_residual/element_tangent (scattered) equal the scikit-fem forms;
+    travel_derivatives against central differences in the travel."""
+    tm = block(4e-3, 2e-3, 1e-3, 2.5e-4, growth=1.5)
+    ind = Indenter("flat", 1e-3, edge_radius=3e-4, travel=5e-5)
+    sy = assemble(problem(tm, MAT, ind))
+    ub = next(iter(sy.ubases.values()))
+    surf = Surface(tm.mesh, ub.elem, tm.facets["top"], sy.kin, 2e-3)
+    rng = np.random.default_rng(4)
+    u = 1e-5 * rng.normal(size=ub.N)
+    lam = np.abs(rng.normal(size=surf.shape)) * 1e3
+    eps, d = 1e9, 5e-5
+    st = surf.state(u, ind, d, lam, eps)
+    assert 0 < st.active.sum() < st.active.size
+    S = surf.dofs
+    r = np.bincount(S.ravel(), surf.element_residual(st).ravel(), minlength=ub.N)
+    np.testing.assert_allclose(r, surf.residual(st), rtol=0, atol=1e-12 * np.abs(r).max())
+    Ke = surf.element_tangent(st, eps)
+    import scipy.sparse as sp
+    K = sp.coo_matrix((Ke.ravel(), (np.repeat(S, S.shape[1], axis=1).ravel(), np.tile(S, S.shape[1]).ravel())),
+                      shape=(ub.N, ub.N)).toarray()
+    Kf = surf.tangent(st, eps).toarray()
+    assert np.abs(K - Kf).max() < 1e-12 * np.abs(Kf).max()
+    dr, dF_dd, dF_du = surf.travel_derivatives(st, eps)
+    h = 1e-10
+    sp_, sm = surf.state(u, ind, d + h, lam, eps), surf.state(u, ind, d - h, lam, eps)
+    fd = (surf.element_residual(sp_) - surf.element_residual(sm)) / (2 * h)
+    np.testing.assert_allclose(dr, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+    assert dF_dd == pytest.approx((sp_.force - sm.force) / (2 * h), rel=1e-5)
+    k = np.argmax(np.abs(np.bincount(S.ravel(), dF_du.ravel(), minlength=ub.N)))
+    e = np.zeros(ub.N)
+    e[k] = 1e-11
+    fdu = (surf.state(u + e, ind, d, lam, eps).force - surf.state(u - e, ind, d, lam, eps).force) / 2e-11
+    assert np.bincount(S.ravel(), dF_du.ravel(), minlength=ub.N)[k] == pytest.approx(fdu, rel=1e-5)
