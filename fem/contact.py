@@ -160,6 +160,11 @@ class ContactState:
         return float((r_in + beyond.min()) / 2 if beyond.size else r_in)
 
     @property
+    def max_pressure(self) -> float:
+        """Pa, the largest contact pressure (nominal: per reference area)."""
+        return float(self.tn.max(initial=0.0))
+
+    @property
     def penetration(self) -> float:
         """m, the largest penetration (0 when none)."""
         return float(max(0.0, -self.g.min()))

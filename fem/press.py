@@ -38,6 +38,7 @@ scaled linear solve loses accuracy: relative residual above 1e-6).
 from __future__ import annotations
 
 import dataclasses
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -69,6 +70,7 @@ class PressPoint:
     penetration: float            # m, largest
     iterations: int               # Newton iterations (all Uzawa passes)
     uzawa: int                    # multiplier updates
+    max_pressure: float = 0.0     # Pa, largest contact pressure (nominal)
 
 
 @dataclass
@@ -140,6 +142,7 @@ class Press:
         self.solver = None
         self._pat, self._min_J = None, 1.0
         self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
+        self.stats = dict(factorizations=0, residuals=0, tangents=0, factorize_s=0.0, assemble_s=0.0)
         self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
 
     # ------------------------------------------------------------ one equilibrium
@@ -162,6 +165,15 @@ class Press:
     def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None):
         """(reduced residual, reduced contact residual, contact state, reduced tangent or None);
         the smallest J of the Yeoh silicone in self._min_J."""
+        t0 = time.perf_counter()
+        try:
+            return self._residual_any(x, d, lam, tangent, frozen, fixed)
+        finally:
+            self.stats["residuals"] += 1
+            self.stats["tangents"] += bool(tangent)
+            self.stats["assemble_s"] += time.perf_counter() - t0
+
+    def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None):
         if self.o.assembly == "skfem":
             return self._residual_skfem(x, d, lam, tangent, frozen, fixed)
         sy, pat = self.sy, self._pattern()
@@ -219,7 +231,10 @@ class Press:
                 r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
             if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
                 raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", self.res)
+            t0 = time.perf_counter()
             self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method)
+            self.stats["factorizations"] += 1
+            self.stats["factorize_s"] += time.perf_counter() - t0
             D = solver.D
             nr = np.linalg.norm(D * r)
             norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
@@ -299,7 +314,8 @@ class Press:
         self.x, self.lam, self.d = x, st.tn.copy(), d
         self.res.state = st
         V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
-        pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k)
+        pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k,
+                        st.max_pressure)
         self.res.points.append(pt)
         return pt
 

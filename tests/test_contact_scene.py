@@ -88,3 +88,25 @@ def test_small_press_equals_the_pressure_solution_with_the_punchs_pressure(taxel
     lin = solve_linear(replace(sy, b=b))
     assert lin.voltages()["taxel_0_0"] == pytest.approx(res.voltages()["taxel_0_0"], rel=1e-6)
     np.testing.assert_allclose(lin.fields.u, sol.fields.u, atol=1e-6 * np.abs(sol.fields.u).max())
+
+
+def test_cli_prints_and_records_the_press(tmp_path, capsys):
+    """`taxel solve --json` records the press (force, travel, area, max pressure,
+    penetration, iterations, load steps, the curve); the text print shows it; --out
+    writes contact-curve.csv."""
+    import json
+    path = tmp_path / "press.toml"
+    path.write_text(FAST.format(model="plane_strain", kind="indenter", extra='force = "0.05 N"\nedge_radius = "0.2 mm"'))
+    assert main(["solve", str(path), "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)["contact"]
+    assert rec["force_N"] == pytest.approx(0.05, rel=2e-3)
+    assert rec["travel_m"] > 0 and rec["contact_area_m2"] > 0 and rec["max_pressure_Pa"] > 0
+    assert 0 <= rec["penetration_m"] <= 1e-3 * rec["travel_m"]
+    assert rec["load_steps"] == len(rec["curve"]["force_N"]) >= 2 and rec["newton_iterations"] > 0
+    assert np.all(np.diff(rec["curve"]["travel_m"]) > 0)
+    assert len(rec["curve"]["voltages_V"]["taxel_0_0"]) == rec["load_steps"]
+    assert main(["solve", str(path), "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "indenter (flat): force" in out and "Newton iterations" in out
+    rows = (tmp_path / "out" / "contact-curve.csv").read_text().splitlines()
+    assert rows[0].startswith("travel_m,force_N") and len(rows) == rec["load_steps"] + 1
