@@ -218,7 +218,7 @@ class StaticResult:
         c = self.contact_record()
         if c is not None:
             lines.append(f"indenter ({c['indenter']['shape']}): force {engineering(c['force_N'], 'N')} at travel "
-                         f"{engineering(c['travel_m'], 'm')}, contact area {engineering(c['contact_area_m2'], 'm2')}, "
+                         f"{engineering(c['travel_m'], 'm')}, contact area {1e6 * c['contact_area_m2']:.4g} mm2, "
                          f"max pressure {engineering(c['max_pressure_Pa'], 'Pa')}, penetration "
                          f"{engineering(c['penetration_m'], 'm')}; {c['load_steps']} load steps, "
                          f"{c['newton_iterations']} Newton iterations")
