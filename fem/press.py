@@ -46,7 +46,7 @@ import numpy as np
 from taxel.fem import hyperelastic, linalg
 from taxel.fem.assembly import System
 from taxel.fem.constraints import reduction
-from taxel.fem.contact import ContactState, Indenter, Surface
+from taxel.fem.contact import ContactState, Indenter, Stick, Surface
 from taxel.fem.newton import yeoh_regions, yeoh_terms, yeoh_terms_skfem
 from taxel.fem.pattern import Pattern
 from taxel.fem.static import Solution, results
@@ -106,7 +106,7 @@ class Options:
     force_tol: float = 1e-3         # force control: |F - target| / target
     first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
-    fix_cycling: bool = False       # True: when an active set comes back, finish Newton on it
+    fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
     rule: str = "gauss"             # contact points: gauss (intorder) | nodal (at the P2 nodes, lumped weights)
     line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
@@ -141,6 +141,8 @@ class Press:
         self.res = ContactResult(ind, self.eps, self.o.method)
         self.solver = None
         self._pat, self._min_J = None, 1.0
+        self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
+        self._stick: Stick | None = None    # the one in use by the solve under way
         self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
         self.stats = dict(factorizations=0, residuals=0, tangents=0, factorize_s=0.0, assemble_s=0.0)
         self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
@@ -175,6 +177,8 @@ class Press:
 
     def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None):
         if self.o.assembly == "skfem":
+            if self._stick is not None:
+                raise ValueError("sticking contact is assembled by the vectorised path only")
             return self._residual_skfem(x, d, lam, tangent, frozen, fixed)
         sy, pat = self.sy, self._pattern()
         n = len(x)
@@ -188,7 +192,7 @@ class Press:
             if tangent:
                 vals.update({f"uu:{k}": t.K_uu, f"up:{k}": t.K_up, f"pu:{k}": t.K_up, f"pp:{k}": t.K_pp})
         u = x[sy.offsets["u"]]
-        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed)
+        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed, stick=self._stick)
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
         rc_full = np.bincount(S, self.surf.element_residual(st).ravel(), minlength=n)
         r, ref = pat.reduce(r_full + rc_full), pat.reduce(rc_full)
@@ -241,7 +245,7 @@ class Press:
             floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
             if norm < o.tol or floor:            # floor: a full step with the same active set changed x
                 if fixed is not None:              # report the true (non-negative) pressure
-                    st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps)
+                    st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps, stick=self._stick)
                 return x, st, it
             seen.append(st.active.tobytes())
             self.trace.append((d, it, norm, int(st.active.sum())))
@@ -277,6 +281,7 @@ class Press:
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
         o = self.o
         x, lam, its = self.x.copy(), self.lam.copy(), 0
+        self._stick = self._sticking()
         if o.predictor and self.v is not None:     # the tangent prediction, shortened while it inverts elements
             for frac in (1.0, 0.5, 0.25, 0.0):
                 if frac == 0.0 or self._residual(x + frac * (d - self.d) * self.v, d, lam, tangent=False) \
@@ -289,6 +294,8 @@ class Press:
             its += it
             tol = o.gap_tol * max(abs(d), 1e-12)
             err = float(np.abs(st.tn - lam).max()) / self.eps   # m: penetration, or gap under pressure
+            if st.stuck is not None:                            # m: the stuck points' distance to their anchors
+                err = max(err, float(np.abs(st.ts - self._stick.lam).max()) / self.eps)
             if o.method == "penalty":
                 if st.penetration > tol:
                     raise ContactError(f"penalty too low: penetration {st.penetration:.3g} m is "
@@ -302,6 +309,8 @@ class Press:
                 self.eps *= 2
             err_prev = err
             lam = st.tn
+            if st.stuck is not None:
+                self._stick = Stick(self._stick.mask, self._stick.a0, st.ts.copy())
         else:
             self.eps = eps0
             raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
@@ -312,6 +321,15 @@ class Press:
         self.eps = eps0
         self.prev = (self.d, self.x)
         self.x, self.lam, self.d = x, st.tn.copy(), d
+        if self._stick is not None:          # points that came into contact in this step stick where they are
+            new = st.normal_active & ~self._stick.mask
+            a0, lam_s = self._stick.a0.copy(), (self._stick.lam if st.ts is None else st.ts).copy()
+            a0[:, new] = st.x[:, new]
+            a0[-1, new] += d
+            lam_s[:, new] = (st.tn * st.n)[:, new]
+            self.lam = np.where(new, 0.0, self.lam)
+            self.stick = Stick(self._stick.mask | new, a0, lam_s)
+        self._stick = None
         self.res.state = st
         V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
         pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k,
@@ -331,13 +349,27 @@ class Press:
         v = self.red.P @ dy[:, 0]
         return v, dF_dd + float(dF_du.ravel() @ v[S])
 
+    def _sticking(self) -> Stick | None:
+        """The stick set for the next solve: with a sticking indenter, at the first solve
+        the points touching it at the current travel (the flat of a punch at zero travel)."""
+        if self.ind.friction != "sticking":
+            return None
+        if self.stick is None:
+            st = self.surf.state(self.x[self.sy.offsets["u"]], self.ind, self.d, self.lam, self.eps, False)
+            mask = st.g <= 1e-9 * self.height
+            a0 = st.x.copy()
+            a0[-1] += self.d
+            self.stick = Stick(mask, a0, np.zeros_like(st.x))
+        return Stick(self.stick.mask.copy(), self.stick.a0, self.stick.lam.copy())
+
     def _try(self, d):
         """solve_at, restoring the state on failure."""
-        saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope)
+        saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick)
         try:
             return self.solve_at(d)
         except ContactError:
-            self.x, self.lam, self.d, self.prev, self.v, self.slope = saved
+            self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick = saved
+            self._stick = None
             self.res.failed_trials += 1
             raise
 
@@ -420,7 +452,8 @@ class Press:
         x = self.x
         r_y, _ = yeoh_terms(sy, x, with_tangent=False) if sy.yeoh else (0.0, None)
         r = sy.A @ x + r_y
-        r[sy.offsets["u"]] += self.surf.residual(self.res.state)
+        S = self.surf.dofs.ravel() + sy.offsets["u"].start
+        r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
         if self.solver is None:
             self._residual(x, self.d, self.lam)
             self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)

@@ -37,6 +37,7 @@ contact = true
     ("plane_strain", "indenter", 'shape = "sphere"', "load.shape = 'sphere'"),
     ("axisymmetric", "indenter", 'shape = "cylinder"', "load.shape = 'cylinder'"),
     ("plane_strain", "indenter", 'edge_radius = "2 mm"', "load.edge_radius"),
+    ("plane_strain", "indenter", 'friction = "coulomb"', "load.friction"),
 ])
 def test_bad_contact_input_exits_2_with_one_line(tmp_path, capsys, model, kind, extra, words):
     path = tmp_path / "bad.toml"
