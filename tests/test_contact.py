@@ -196,3 +196,30 @@ def test_vectorised_contact_terms_equal_the_forms_and_travel_derivatives_are_der
     e[k] = 1e-11
     fdu = (surf.state(u + e, ind, d, lam, eps).force - surf.state(u - e, ind, d, lam, eps).force) / 2e-11
     assert np.bincount(S.ravel(), dF_du.ravel(), minlength=ub.N)[k] == pytest.approx(fdu, rel=1e-5)
+
+
+@pytest.mark.parametrize("nu", [0.3, 0.4999])
+def test_sticking_flat_punch_ties_the_surface_and_equals_frictionless_when_incompressible(nu):
+    """Sticking contact (Indenter(friction="sticking")): the points under the punch stay
+    where they touched (no lateral slip, to the augmented Lagrangian's tolerance). On an
+    incompressible half-space a normal load moves the surface only normally (the
+    tangential surface displacement of a point load carries the factor (1 - 2 nu):
+    Johnson, Contact Mechanics, 1985, eq. 3.19b), so a bonded and a frictionless
+    punch give the same force (Spence 1968); at nu = 0.3 the bonded punch is stiffer."""
+    a = 1e-3
+    d = 1e-3 * a
+    mat = Solid("block", MU, 2 * MU * (1 + nu) / (3 * (1 - 2 * nu)), 1000.0)
+    tm = block(60 * a, 60 * a, 1.2 * a, a / 8, growth=1.3)
+    F = {}
+    for friction in ("frictionless", "sticking"):
+        ind = Indenter("flat", a, 0.0, travel=d, friction=friction)
+        pr = Press(assemble(problem(tm, mat, ind)), ind)
+        F[friction] = pr.travel(d, first=1.0).force
+    st = pr.res.state
+    assert st.stuck.sum() > 0
+    slip = np.abs(st.x[0] - pr.surf.X[0])[st.stuck].max()
+    assert slip < 2e-3 * d
+    if nu > 0.49:
+        assert F["sticking"] == pytest.approx(F["frictionless"], rel=5e-3)
+    else:
+        assert F["sticking"] > 1.01 * F["frictionless"]
