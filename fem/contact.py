@@ -189,7 +189,7 @@ class ContactState:
 
 @dataclass
 class Stick:
-    """Sticking contact: points tied to the indenter where they touched it.
+    r"""Sticking contact: points tied to the indenter where they touched it.
 
     A stuck point's anchor moves with the indenter, a(d) = a0 - d e_z (a0: its
     position at zero travel); its traction on the silicone is the augmented

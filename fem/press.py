@@ -400,7 +400,8 @@ class Press:
             d_prev, F_prev = (pts[-2].travel, pts[-2].force) if len(pts) > 1 else (0.0, 0.0)
         else:
             d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
-        lo, hi, last_side = (d, F), None, None
+        below = [(p.travel, p.force) for p in pts if p.force < F_target]
+        lo, hi, last_side = max(below, default=(0.0, 0.0)), None, None
         for _ in range(max_trials):
             if pts and abs(F - F_target) <= o.force_tol * F_target:
                 self.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
@@ -425,13 +426,13 @@ class Press:
                 step = (F_target - F) / self.slope
                 d_new = d + float(np.clip(step, -2 * abs(d - d_prev) - 1e-9, 2 * max(abs(d - d_prev), 0.25 * d)))
                 if hi is not None and not min(lo[0], hi[0]) < d_new < max(lo[0], hi[0]):
-                    d_new = lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+                    d_new = _falsi(lo, hi, F_target)
             elif hi is None:                     # secant from the last two states, at most 1.5x the step
                 slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / d
                 step = (F_target - F) / max(slope, 1e-300)
                 d_new = d + min(step, 1.5 * max(d - d_prev, 0.25 * d))
             else:                                # regula falsi inside the bracket
-                d_new = lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+                d_new = _falsi(lo, hi, F_target)
             while True:
                 try:
                     pt = self._try(d_new)
@@ -463,6 +464,13 @@ class Press:
         sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
         sol.contact = self.res
         return sol
+
+
+def _falsi(lo, hi, F_target):
+    """Regula falsi inside the bracket (bisection if its ends carry the same force)."""
+    if hi[1] == lo[1]:
+        return (lo[0] + hi[0]) / 2
+    return lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
 
 
 def _embed(K, start, n):
