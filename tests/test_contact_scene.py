@@ -149,3 +149,11 @@ def test_dynamics_about_the_pressed_state_tends_to_the_static_curves_slope():
     v_oc, _ = direct(dm, 1e-3)
     assert abs(v_oc[0].imag) < 1e-6 * abs(v_oc[0].real)
     assert v_oc[0].real == pytest.approx(slope, rel=5e-3)     # measured 0.2 % (the press's 1e-3 gap tolerance)
+
+
+def test_solve_page_has_the_contact_curve(tmp_path, taxel_small_press):
+    from taxel.reports import analysis
+    files, summary = analysis.write(taxel_small_press, tmp_path)
+    png = [f for f in files if f.name.endswith("-contact.png")]
+    assert len(png) == 1 and png[0].stat().st_size > 10_000
+    assert any(line.startswith("indenter (flat)") for line in summary)
