@@ -52,7 +52,7 @@ class Pattern:
         self.indptr = np.searchsorted(rows, np.arange(n + 1)).astype(np.int32)
         self.indices = cols.astype(np.int32)
         self.nnz = len(uniq)
-        self.base = np.bincount(np.searchsorted(uniq, keys[0]), weights=Ar.data, minlength=self.nnz)
+        self.base = np.bincount(np.searchsorted(uniq, keys[0]), weights=Ar.data, minlength=self.nnz).astype(float)
         self.pos = {name: (keep, np.searchsorted(uniq, k)) for name, (keep, k) in self._keep.items()}
 
     def matrix(self, values: dict[str, np.ndarray]) -> sp.csr_matrix:
