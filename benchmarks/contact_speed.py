@@ -11,9 +11,9 @@ one run, side by side.
   now         the default: vectorised, tangent predictor dx/dd, Newton on F(d) with the
               path stiffness, and Newton finishing on a recurring active set (fix_cycling)
 
-Prints per variant: wall time, converged states, Newton iterations of the converged
-states, factorizations, residual evaluations, and the time in factorization and in
-assembly; the voltage at 1 N. One run each (they take tens of seconds on this shared
+Prints per variant: wall and CPU time, converged states, Newton iterations of the
+converged states, factorizations, residual evaluations, and the CPU time in
+factorization and in assembly (Press.stats); the voltage at 1 N. One run each (they take tens of seconds on this shared
 2-core machine): the ratios of CPU time (process_time, less sensitive to the other
 sessions' load than wall time), not the absolute times, are the result.
 
@@ -64,18 +64,18 @@ def main():
         rows[name] = run(force, VARIANTS[name], model)
     print(f"thesis taxel, Yeoh, 4 mm punch r_e 0.2 mm, {model}, to {force} N")
     print(f"{'variant':>11} {'wall s':>7} {'CPU s':>7} {'states':>6} {'iters':>5} {'factor.':>7} {'resid.':>6} "
-          f"{'factor s':>8} {'assem s':>7} {'V':>9}")
+          f"{'factor CPU s':>12} {'assem CPU s':>11} {'V':>9}")
     for name, (t, pr, V, stop, cpu) in rows.items():
         s = pr.stats
         print(f"{name:>11} {t:7.2f} {cpu:7.2f} {len(pr.res.points):6d} {pr.res.total_iterations:5d} {s['factorizations']:7d} "
-              f"{s['residuals']:6d} {s['factorize_s']:8.2f} {s['assemble_s']:7.2f} {V:9.5f}")
+              f"{s['residuals']:6d} {s['factorize_s']:12.2f} {s['assemble_s']:11.2f} {V:9.5f}")
         if stop:
             print(f"{'':>11} stopped: {stop}")
     base = rows[names[0]][4]
     print("CPU-time speed-up over", names[0] + ":", ", ".join(f"{n} {base / r[4]:.2f}x" for n, r in rows.items()))
     if "vectorised" in rows and "before" in rows:
         a0, a1 = rows["before"][1].stats, rows["vectorised"][1].stats
-        print(f"assembly per residual evaluation: before {1e3 * a0['assemble_s'] / a0['residuals']:.1f} ms, "
+        print(f"assembly CPU time per residual evaluation: before {1e3 * a0['assemble_s'] / a0['residuals']:.1f} ms, "
               f"vectorised {1e3 * a1['assemble_s'] / a1['residuals']:.1f} ms "
               f"({a0['assemble_s'] / a0['residuals'] / (a1['assemble_s'] / a1['residuals']):.1f}x)")
 
