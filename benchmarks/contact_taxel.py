@@ -2,8 +2,8 @@
 
 2D plane strain (axisymmetric with --axisym, 3D with --3d and a coarse mesh), the
 default mesh, a 4 mm flat punch with a 0.2 mm edge radius centred on the taxel,
-frictionless or sticking (--sticking), augmented Lagrangian. Force control along 0.1, 0.25, 0.5, 0.75, 1, 1.5, 2 N, linear and
-Yeoh silicone, each warm-started from the last. Prints per target: travel,
+frictionless or sticking (--sticking), augmented Lagrangian. Force control along
+0.1, 0.25, 0.5, 0.75, 1, 1.5, 2 N, linear and Yeoh silicone, each warm-started from the last. Prints per target: travel,
 voltage, contact half-width, Newton iterations, multiplier updates, time;
 where a press stops, the reason (fem.press.ContactError). Writes
 out/contact-taxel/curve-<model>-<friction>-<silicone>.csv (every converged state) and
