@@ -20,12 +20,23 @@ Contact points are the quadrature points of the top facets, 2 per P2 edge by
 default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
 multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
 
-Displacement control: travel increments from the last converged state (halved on
-failure, grown by 1.5 after an easy step). Force control: the travel that gives
-the requested force, an outer secant iteration on F(d) (regula falsi with the
-Illinois rule once bracketed; a failed trial is bisected towards the last
-converged travel), each trial warm-started from the last converged state. Every
-converged state is a point of the force-travel / voltage-force curve.
+When an active set comes back within one Newton solve (`fix_cycling`, default),
+Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
+contact (Indenter.friction): points that came into contact in a converged step
+are tied to the indenter there (fem.contact.Stick), their vector multipliers
+updated by the same Uzawa loop.
+
+Each new travel starts from the tangent prediction x + (d - d0) dx/dd, with
+K dx/dd = -dr/dd from the factorized tangent of the last converged state
+(shortened while it would invert elements). Displacement control: travel
+increments from the last converged state (halved on failure, grown by 1.5 after
+an easy step). Force control: Newton on F(d) = F_target with the path's own
+stiffness dF/dd = dF/dd|_x + dF/dx . dx/dd (at most twice the last step), regula
+falsi with the Illinois rule once bracketed, a failed trial bisected towards the
+last converged travel. Every converged state is a point of the force-travel /
+voltage-force curve. The Yeoh and contact terms are vectorised element arrays
+(fem.yeohasm, Surface.element_*) scattered into a reduced CSR pattern built once
+(fem.pattern); Options(assembly="skfem") keeps the scikit-fem path for comparison.
 
 Failures are raised as ContactError, naming the cause: Newton not converging,
 the active set cycling (the last iterates alternate between two sets), the augmented
@@ -39,79 +50,19 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from taxel.fem import hyperelastic, linalg
 from taxel.fem.assembly import System
 from taxel.fem.constraints import reduction
-from taxel.fem.contact import ContactState, Indenter, Stick, Surface
+from taxel.fem.contact import Indenter, Stick, Surface
 from taxel.fem.newton import yeoh_regions, yeoh_terms, yeoh_terms_skfem
 from taxel.fem.pattern import Pattern
+from taxel.fem.pressrecords import ContactError, ContactResult, Options, PressPoint
 from taxel.fem.static import Solution, results
 
-
-class ContactError(RuntimeError):
-    """The press could not be solved; the message says why; `.result` has the path so far."""
-
-    def __init__(self, message, result=None):
-        super().__init__(message)
-        self.result = result
-
-
-@dataclass
-class PressPoint:
-    travel: float                 # m
-    force: float                  # N, on the indenter
-    voltages: dict                # V, open electrodes
-    area: float                   # m^2, reference area of the material points in contact
-    half_width: float             # m, current contact radius (2D: half-width) about the indenter centre
-    penetration: float            # m, largest
-    iterations: int               # Newton iterations (all Uzawa passes)
-    uzawa: int                    # multiplier updates
-    max_pressure: float = 0.0     # Pa, largest contact pressure (nominal)
-
-
-@dataclass
-class ContactResult:
-    indenter: Indenter
-    penalty: float                          # Pa/m
-    method: str
-    points: list[PressPoint] = field(default_factory=list)   # every converged state, in order
-    state: ContactState | None = field(default=None, repr=False)   # the final contact state
-    failed_trials: int = 0
-    message: str = ""
-
-    @property
-    def curve(self) -> np.ndarray:
-        """(travel, force) of the converged states, sorted by travel."""
-        a = np.array([(p.travel, p.force) for p in self.points])
-        return a[np.argsort(a[:, 0])] if len(a) else a
-
-    @property
-    def total_iterations(self) -> int:
-        return sum(p.iterations for p in self.points)
-
-
-@dataclass
-class Options:
-    penalty: float | None = None    # Pa/m; default penalty_factor x mu / h
-    penalty_factor: float = 100.0
-    method: str = "augmented"       # augmented | penalty
-    gap_tol: float = 1e-3           # largest penetration / travel
-    tol: float = 1e-9               # Newton, scaled relative residual (or round-off: see _newton)
-    max_iter: int = 25
-    max_uzawa: int = 40
-    force_tol: float = 1e-3         # force control: |F - target| / target
-    first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
-    active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
-    fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
-    intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
-    rule: str = "gauss"             # contact points: gauss (intorder) | nodal (at the P2 nodes, lumped weights)
-    line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
-    predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
-    assembly: str = "vectorised"    # vectorised (fem.yeohasm, fem.pattern) | skfem (the reference path)
+__all__ = ["ContactError", "ContactResult", "Options", "Press", "PressPoint", "press"]
 
 
 class Press:
