@@ -196,7 +196,8 @@ class Stick:
     Lagrangian t_S = lambda_S - eps (x - a(d)) (a vector: normal and tangential),
     with residual -\int t_S . du dA and tangent eps \int du . Du dA. A point sticks
     at the converged state of the load step in which it first came into contact
-    (fem.press), at the indenter point closest to it; it stays stuck (a tensile
+    (fem.press), where it is then (on the indenter's surface to the augmented
+    Lagrangian's penetration tolerance, so its traction carries over); it stays stuck (a tensile
     normal traction is an adhesive one, allowed)."""
 
     mask: np.ndarray          # bool per contact point
