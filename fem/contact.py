@@ -63,6 +63,7 @@ class Indenter:
     centre: tuple[float, float] = (0.0, 0.0)   # lateral centre (x, y); 2D uses x only
     travel: float | None = None    # m, prescribed travel (displacement control); None: force control
     force: float | None = None     # N, requested force (force control)
+    friction: Literal["frictionless", "sticking"] = "frictionless"   # sticking: no slip once in contact
 
     def __post_init__(self):
         if self.shape not in ("flat", "sphere", "cylinder"):
@@ -71,6 +72,8 @@ class Indenter:
             raise ValueError("indenter radius must be positive")
         if self.shape == "flat" and not 0 <= self.edge_radius <= self.radius:
             raise ValueError("indenter edge_radius must be between 0 and the punch radius")
+        if self.friction not in ("frictionless", "sticking"):
+            raise ValueError(f"indenter friction {self.friction!r}: use frictionless or sticking")
         if (self.travel is None) == (self.force is None):
             raise ValueError("an Indenter takes exactly one of travel (m) or force (N)")
 
@@ -128,15 +131,28 @@ class ContactState:
     dA: np.ndarray         # reference area weight of each point (m^2, with the model's measure)
 
     fixed: np.ndarray | None = None     # a fixed active set (fem.press), else t_N > 0
+    stuck: np.ndarray | None = None     # sticking points (tied to the indenter), if any
+    ts: np.ndarray | None = None        # Pa, their traction on the silicone (vector; 0 elsewhere)
+
+    @property
+    def normal_active(self) -> np.ndarray:
+        """Points in frictionless (normal) contact."""
+        a = self.tn > 0 if self.fixed is None else self.fixed
+        return a if self.stuck is None else a & ~self.stuck
 
     @property
     def active(self) -> np.ndarray:
-        return self.tn > 0 if self.fixed is None else self.fixed
+        return self.normal_active if self.stuck is None else self.normal_active | self.stuck
+
+    def traction(self) -> np.ndarray:
+        """Pa, the indenter's traction on the silicone (dim, ...): t_N n, or t_S where stuck."""
+        t = self.tn * self.n
+        return t if self.ts is None else t + self.ts
 
     @property
     def force(self) -> float:
         """N, the vertical force the silicone exerts on the indenter (up positive)."""
-        return float(-(self.tn * self.n[-1] * self.dA).sum())
+        return float(-(self.traction()[-1] * self.dA).sum())
 
     @property
     def area(self) -> float:
@@ -160,16 +176,52 @@ class ContactState:
         return float((r_in + beyond.min()) / 2 if beyond.size else r_in)
 
     @property
+    def max_pressure(self) -> float:
+        """Pa, the largest contact pressure (nominal: per reference area)."""
+        p = self.tn if self.ts is None else np.where(self.stuck, (self.ts * self.n).sum(axis=0), self.tn)
+        return float(p.max(initial=0.0))
+
+    @property
     def penetration(self) -> float:
         """m, the largest penetration (0 when none)."""
         return float(max(0.0, -self.g.min()))
 
 
+@dataclass
+class Stick:
+    r"""Sticking contact: points tied to the indenter where they touched it.
+
+    A stuck point's anchor moves with the indenter, a(d) = a0 - d e_z (a0: its
+    position at zero travel); its traction on the silicone is the augmented
+    Lagrangian t_S = lambda_S - eps (x - a(d)) (a vector: normal and tangential),
+    with residual -\int t_S . du dA and tangent eps \int du . Du dA. A point sticks
+    at the converged state of the load step in which it first came into contact
+    (fem.press), where it is then (on the indenter's surface to the augmented
+    Lagrangian's penetration tolerance, so its traction carries over); it stays stuck (a tensile
+    normal traction is an adhesive one, allowed)."""
+
+    mask: np.ndarray          # bool per contact point
+    a0: np.ndarray            # (dim, ...) anchor at zero travel
+    lam: np.ndarray           # (dim, ...) multiplier (Pa)
+
+    def anchor(self, travel: float) -> np.ndarray:
+        a = self.a0.copy()
+        a[-1] = a[-1] - travel
+        return a
+
+
 class Surface:
     """The top surface's quadrature and the contact forms for one mesh and kinematics."""
 
-    def __init__(self, mesh, element, facets, kin, z_top: float, intorder=4):
-        self.fb = FacetBasis(mesh, element, facets=facets, intorder=intorder)
+    def __init__(self, mesh, element, facets, kin, z_top: float, intorder=4, rule="gauss"):
+        if rule == "nodal" and mesh.dim() == 2:      # Simpson: the P2 nodes, their lumped weights
+            quad = (np.array([[0.0, 0.5, 1.0]]), np.array([1.0, 4.0, 1.0]) / 6.0)
+            self.fb = FacetBasis(mesh, element, facets=facets, quadrature=quad)
+        elif rule == "nodal":                         # P2 triangle facets: the edge midpoints (exact to degree 2)
+            quad = (np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5]]), np.full(3, 1.0 / 6.0))
+            self.fb = FacetBasis(mesh, element, facets=facets, quadrature=quad)
+        else:
+            self.fb = FacetBasis(mesh, element, facets=facets, intorder=intorder)
         self.kin = kin
         self.z_top = z_top
         X = np.asarray(self.fb.global_coordinates())
@@ -190,16 +242,25 @@ class Surface:
             curv = w.tn * np.einsum("i...,ij...,j...->...", v, w.H, du)
             return (nn - curv) * meas(w)
         self._r, self._k = r_c, k_c
+        # the vectorised terms (element arrays, scattered by fem.pattern): basis values
+        # phi[f, q, i, c] of the local vector functions i at the points, their dofs
+        self.phi = np.stack([np.asarray(b[0].value) for b in self.fb.basis]).transpose(2, 3, 0, 1)
+        self.dofs = np.ascontiguousarray(self.fb.element_dofs.T)          # (facets, local)
 
-    def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True, fixed=None) -> ContactState:
+    def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True, fixed=None,
+              stick: Stick | None = None) -> ContactState:
         """The contact state; `fixed` (a boolean per point) fixes the active set: t_N = lambda - eps g
         there (even if negative) and 0 elsewhere, a smooth problem."""
-        x = self.X + np.asarray(self.fb.interpolate(u))
+        x = self.X + np.einsum("fqic,fi->cfq", self.phi, u[self.dofs])
         g, n, H = gap(ind, x, self.z_top, travel, with_curvature)
         tn = np.maximum(lam - eps * g, 0.0) if fixed is None else np.where(fixed, lam - eps * g, 0.0)
         st = ContactState(g, n, H, tn, x, self.dA)
         if fixed is not None:
             st.fixed = fixed
+        if stick is not None and stick.mask.any():
+            st.stuck = stick.mask
+            st.tn = np.where(stick.mask, 0.0, tn)
+            st.ts = np.where(stick.mask, stick.lam - eps * (x - stick.anchor(travel)), 0.0)
         return st
 
     def residual(self, st: ContactState) -> np.ndarray:
@@ -209,3 +270,43 @@ class Surface:
         """K_c; `active` overrides the Heaviside factor (a frozen active set)."""
         act = st.active if active is None else active
         return asm(self._k, self.fb, tn=st.tn, n=st.n, H=st.H, epsH=eps * act)
+
+    # ---------------------------------------------------------------- vectorised terms
+    def element_residual(self, st: ContactState) -> np.ndarray:
+        """(facets, local) element residuals of R_c (= `residual`, before assembly)."""
+        return -np.einsum("fq,cfq,fqic->fi", self.dA, st.traction(), self.phi)
+
+    def element_tangent(self, st: ContactState, eps, active=None) -> np.ndarray:
+        """(facets, local, local) element matrices of K_c (= `tangent`, before assembly)."""
+        act = st.normal_active if active is None else active
+        a = np.einsum("cfq,fqic->fqi", st.n, self.phi)                   # n . phi_i
+        K = np.einsum("fqi,fq,fqj->fij", a, eps * act * self.dA, a)
+        if st.stuck is not None:                                         # tied: eps phi_i . phi_j
+            K += np.einsum("fqic,fq,fqjc->fij", self.phi, eps * st.stuck * self.dA, self.phi)
+        if st.H is not None:
+            Hphi = np.einsum("cdfq,fqjd->fqcj", st.H, self.phi)
+            K -= np.einsum("fqic,fq,fqcj->fij", self.phi, st.tn * self.dA, Hphi)
+        return K
+
+    def travel_derivatives(self, st: ContactState, eps):
+        """d/d(travel) of the element residuals (facets, local) and of the force, and the
+        force's element gradient dF/du (facets, local). Moving the indenter down by dd
+        is moving the point up by dd: dg/dd = n_z, dn/dd = H[:, z]."""
+        act = st.normal_active.astype(float)
+        z = self.X.shape[0] - 1
+        dtn_dd = -eps * act * st.n[z]                                  # d t_N / dd at fixed u
+        dn_dd = st.H[:, z]
+        dr = -np.einsum("fq,cfq,fqic->fi", dtn_dd * self.dA, st.n, self.phi) \
+            - np.einsum("fq,cfq,fqic->fi", st.tn * self.dA, dn_dd, self.phi)
+        dF_dd = float(-((dtn_dd * st.n[z] + st.tn * dn_dd[z]) * self.dA).sum())
+        # F = -sum tn n_z dA; dtn/du_j = -eps act n . phi_j; dn_z/du_j = H[z, :] phi_j
+        a = np.einsum("cfq,fqic->fqi", st.n, self.phi)
+        Hz = np.einsum("dfq,fqjd->fqj", st.H[z], self.phi)
+        dF_du = -np.einsum("fq,fqj->fj", -eps * act * st.n[z] * self.dA, a) \
+            - np.einsum("fq,fqj->fj", st.tn * self.dA, Hz)
+        if st.stuck is not None:        # t_S = lambda_S - eps (x - anchor(d)), d anchor / dd = -e_z
+            w = eps * st.stuck * self.dA
+            dr = dr + np.einsum("fq,fqi->fi", w, self.phi[..., z])
+            dF_dd += float(w.sum())
+            dF_du = dF_du + np.einsum("fq,fqj->fj", w, self.phi[..., z])
+        return dr, dF_dd, dF_du

@@ -22,6 +22,15 @@ problem's load (the preload): K_part are then the consistent tangents at that
 state (fem.newton.yeoh_terms), and responses are per newton of a small force
 added on the same footprint.
 
+Pressed by a rigid indenter (problem.indenter), the model is linearised about the
+pressed state with the indenter holding it (fem.press): the Yeoh tangents (if any)
+at that state plus the contact tangent K_c (kind "contact", no loss), and the
+excitation is the indenter's own motion: a travel oscillation dd enters as the load
+-dr/dd dd (fem.contact.Surface.travel_derivatives), scaled per newton of the static
+force-travel stiffness dF/dd of the pressed state. So at zero frequency the
+response is the slope of the static voltage-force curve, dV/dF
+(tests/test_contact_scene.py checks it against two static presses).
+
 Frequency responses: fem.sweep; transients: fem.timestep.
 """
 
@@ -33,10 +42,11 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import asm
 
-from taxel.fem import forms
+from taxel.fem import forms, linalg
 from taxel.fem.assembly import System, assemble
 from taxel.fem.constraints import Reduction, reduction
 from taxel.fem.newton import newton, yeoh_terms
+from taxel.fem.press import Press
 from taxel.fem.problem import Problem
 
 
@@ -84,7 +94,10 @@ def model(problem: Problem, short: bool = False) -> DynamicModel:
     (massless, undamped) potential rows: Q_k = -sum of row k of K x. A
     hyperelastic problem is linearised about its static state under its load."""
     sy = assemble(problem)
-    if problem.hyperelastic:        # linearise about the static Yeoh state under the load
+    travel_force = None
+    if problem.indenter is not None:     # linearise about the pressed state, the indenter holding it
+        travel_force = _pressed(sy)
+    elif problem.hyperelastic:        # linearise about the static Yeoh state under the load
         x0 = newton(sy)[0]
         for kind, Kt in yeoh_terms(sy, x0, by_kind=True)[1].items():
             sy.parts[kind] = sy.parts.get(kind, 0) + Kt
@@ -125,9 +138,37 @@ def model(problem: Problem, short: bool = False) -> DynamicModel:
                            (np.repeat(np.arange(len(names)), [len(edofs[k]) for k in names]),
                             np.concatenate([edofs[k] for k in names]))), shape=(len(names), sy.A.shape[0]))
         charge_rows = -(S @ sy.A @ P).tocsr()
+    F = P.T @ sy.b / sy.applied_force
+    if travel_force is not None:         # per newton of static indenter force: / dF/dd of this tangent
+        dF_dd, dF_du = travel_force
+        v = P @ linalg.scaled_solver(sum(parts.values()).tocsc(), red.is_u, "auto")(F)[0][:, 0]
+        F = F / (dF_dd + float(dF_du @ v))
     return DynamicModel(sy, red, parts, kappa, viscous, (P.T @ M @ P).tocsr(), dyn.rayleigh_alpha,
-                        dyn.rayleigh_beta, P.T @ sy.b / sy.applied_force, red.unit_charges(), names if short else list(red.active),
+                        dyn.rayleigh_beta, F, red.unit_charges(), names if short else list(red.active),
                         charge_rows)
+
+
+def _pressed(sy: System):
+    """Press to the indenter's travel or force; put the tangents at the pressed state
+    into sy.parts and the indenter-motion load per unit travel into sy.b; return the
+    force's derivatives (dF/dd at fixed u, dF/du full-size) for the per-newton scaling."""
+    ind = sy.problem.indenter
+    pr = Press(sy, ind)
+    pr.travel(ind.travel) if ind.travel is not None else pr.force(ind.force)
+    x0, n = pr.x, sy.A.shape[0]
+    if sy.yeoh:
+        for kind, Kt in yeoh_terms(sy, x0, by_kind=True)[1].items():
+            sy.parts[kind] = sy.parts.get(kind, 0) + Kt
+    st = pr.res.state
+    S = pr.surf.dofs + sy.offsets["u"].start
+    Ke = pr.surf.element_tangent(st, pr.eps)
+    rows, cols = np.broadcast_to(S[:, :, None], Ke.shape), np.broadcast_to(S[:, None, :], Ke.shape)
+    sy.parts["contact"] = sp.csr_matrix((Ke.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
+    dr, dF_dd, dF_du = pr.surf.travel_derivatives(st, pr.eps)
+    sy.b = -np.bincount(S.ravel(), dr.ravel(), minlength=n)      # per unit travel
+    sy.applied_force = 1.0
+    sy.preload = x0
+    return dF_dd, np.bincount(S.ravel(), dF_du.ravel(), minlength=n)
 
 
 def _embed(M, offset, n):

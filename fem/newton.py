@@ -22,11 +22,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
 
 from taxel.fem import hyperelastic, linalg
 from taxel.fem.assembly import System, place
 from taxel.fem.constraints import Reduction, reduction
 from taxel.fem.static import Solution, results
+from taxel.fem.yeohasm import YeohRegion
 
 
 class NewtonError(RuntimeError):
@@ -52,14 +54,51 @@ class NewtonResult:
         return sum(self.iterations)
 
 
+def yeoh_regions(sy: System) -> dict:
+    """The vectorised Yeoh regions of a system (fem.yeohasm), built once and kept on it."""
+    if getattr(sy, "_yeoh_regions", None) is None:
+        sy._yeoh_regions = {r: YeohRegion(sy.ubases[r], sy.pbases[r], law, sy.kin, sy.offsets[("p", r)].start)
+                            for r, law in sy.yeoh.items()}
+    return sy._yeoh_regions
+
+
 def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True, by_kind=False):
     """Full-size residual R_yeoh(x) and tangent K_yeoh(x) of every hyperelastic region
     (with `by_kind`, the tangent as {"shear:<region>", "constraint", "volumetric:<region>"},
-    the kinds of fem.assembly, so that loss factors apply to it)."""
+    the kinds of fem.assembly, so that loss factors apply to it). Vectorised
+    (fem.yeohasm); `yeoh_terms_skfem` is the same through scikit-fem's forms."""
+    n = sy.A.shape[0]
+    r = np.zeros(n)
+    parts: dict[str, sp.csr_matrix] = {}
+    for region, reg in yeoh_regions(sy).items():
+        t = reg.terms(x, with_tangent)
+        r += np.bincount(reg.udofs.ravel(), t.r_u.ravel(), minlength=n)
+        r += np.bincount(reg.pdofs.ravel(), t.r_p.ravel(), minlength=n)
+        if not with_tangent:
+            continue
+        U, Q = reg.udofs, reg.pdofs
+        parts[f"shear:{region}"] = _coo(U, U, t.K_uu, n)
+        Kup = _coo(U, Q, t.K_up, n)
+        parts["constraint"] = parts.get("constraint", 0) + Kup + Kup.T
+        parts[f"volumetric:{region}"] = _coo(Q, Q, t.K_pp, n)
+    if not with_tangent:
+        return r, None
+    return r, (parts if by_kind else sum(parts.values()))
+
+
+def _coo(rows, cols, K, n):
+    R = np.broadcast_to(rows[:, :, None], K.shape)
+    C = np.broadcast_to(cols[:, None, :], K.shape)
+    return sp.csr_matrix((K.ravel(), (R.ravel(), C.ravel())), shape=(n, n))
+
+
+def yeoh_terms_skfem(sy: System, x: np.ndarray, with_tangent=True):
+    """`yeoh_terms` through scikit-fem's forms (fem.hyperelastic): the reference the
+    vectorised path is checked against (tests/test_hyperelastic.py)."""
     n = sy.A.shape[0]
     kin = sy.kin
     r = np.zeros(n)
-    blocks: dict[str, list] = {}
+    blocks = []
     u = x[sy.offsets["u"]]
     for region, law in sy.yeoh.items():
         ub, pb, pk = sy.ubases[region], sy.pbases[region], ("p", region)
@@ -69,18 +108,12 @@ def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True, by_kind=False):
         r[sy.offsets[pk]] += r_p
         if with_tangent:
             Kuu, Kup, Kpp = hyperelastic.tangent_blocks(ub, pb, st, law, kin)
-            blocks.setdefault(f"shear:{region}", []).append(("u", "u", Kuu))
-            blocks.setdefault("constraint", []).extend([("u", pk, Kup), (pk, "u", Kup.T)])
-            blocks.setdefault(f"volumetric:{region}", []).append((pk, pk, Kpp))
-    if not with_tangent:
-        return r, None
-    parts = {k: place(v, sy.offsets, n) for k, v in blocks.items()}
-    return r, (parts if by_kind else sum(parts.values()))
+            blocks += [("u", "u", Kuu), ("u", pk, Kup), (pk, "u", Kup.T), (pk, pk, Kpp)]
+    return r, (place(blocks, sy.offsets, n) if with_tangent else None)
 
 
 def _min_jacobian(sy: System, x):
-    u = x[sy.offsets["u"]]
-    return min(hyperelastic.min_jacobian(sy.ubases[r], u, sy.kin) for r in sy.yeoh)
+    return min(reg.terms(x, with_tangent=False).min_J for reg in yeoh_regions(sy).values())
 
 
 def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0, min_step=1e-2,

@@ -20,12 +20,23 @@ Contact points are the quadrature points of the top facets, 2 per P2 edge by
 default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
 multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
 
-Displacement control: travel increments from the last converged state (halved on
-failure, grown by 1.5 after an easy step). Force control: the travel that gives
-the requested force, an outer secant iteration on F(d) (regula falsi with the
-Illinois rule once bracketed; a failed trial is bisected towards the last
-converged travel), each trial warm-started from the last converged state. Every
-converged state is a point of the force-travel / voltage-force curve.
+When an active set comes back within one Newton solve (`fix_cycling`, default),
+Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
+contact (Indenter.friction): points that came into contact in a converged step
+are tied to the indenter there (fem.contact.Stick), their vector multipliers
+updated by the same Uzawa loop.
+
+Each new travel starts from the tangent prediction x + (d - d0) dx/dd, with
+K dx/dd = -dr/dd from the factorized tangent of the last converged state
+(shortened while it would invert elements). Displacement control: travel
+increments from the last converged state (halved on failure, grown by 1.5 after
+an easy step). Force control: Newton on F(d) = F_target with the path's own
+stiffness dF/dd = dF/dd|_x + dF/dx . dx/dd (at most twice the last step), regula
+falsi with the Illinois rule once bracketed, a failed trial bisected towards the
+last converged travel. Every converged state is a point of the force-travel /
+voltage-force curve. The Yeoh and contact terms are vectorised element arrays
+(fem.yeohasm, Surface.element_*) scattered into a reduced CSR pattern built once
+(fem.pattern); Options(assembly="skfem") keeps the scikit-fem path for comparison.
 
 Failures are raised as ContactError, naming the cause: Newton not converging,
 the active set cycling (the last iterates alternate between two sets), the augmented
@@ -38,73 +49,20 @@ scaled linear solve loses accuracy: relative residual above 1e-6).
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
+import time
 
 import numpy as np
 
 from taxel.fem import hyperelastic, linalg
 from taxel.fem.assembly import System
 from taxel.fem.constraints import reduction
-from taxel.fem.contact import ContactState, Indenter, Surface
-from taxel.fem.newton import yeoh_terms
+from taxel.fem.contact import Indenter, Stick, Surface
+from taxel.fem.newton import yeoh_regions, yeoh_terms, yeoh_terms_skfem
+from taxel.fem.pattern import Pattern
+from taxel.fem.pressrecords import ContactError, ContactResult, Options, PressPoint
 from taxel.fem.static import Solution, results
 
-
-class ContactError(RuntimeError):
-    """The press could not be solved; the message says why; `.result` has the path so far."""
-
-    def __init__(self, message, result=None):
-        super().__init__(message)
-        self.result = result
-
-
-@dataclass
-class PressPoint:
-    travel: float                 # m
-    force: float                  # N, on the indenter
-    voltages: dict                # V, open electrodes
-    area: float                   # m^2, reference area of the material points in contact
-    half_width: float             # m, current contact radius (2D: half-width) about the indenter centre
-    penetration: float            # m, largest
-    iterations: int               # Newton iterations (all Uzawa passes)
-    uzawa: int                    # multiplier updates
-
-
-@dataclass
-class ContactResult:
-    indenter: Indenter
-    penalty: float                          # Pa/m
-    method: str
-    points: list[PressPoint] = field(default_factory=list)   # every converged state, in order
-    state: ContactState | None = field(default=None, repr=False)   # the final contact state
-    failed_trials: int = 0
-    message: str = ""
-
-    @property
-    def curve(self) -> np.ndarray:
-        """(travel, force) of the converged states, sorted by travel."""
-        a = np.array([(p.travel, p.force) for p in self.points])
-        return a[np.argsort(a[:, 0])] if len(a) else a
-
-    @property
-    def total_iterations(self) -> int:
-        return sum(p.iterations for p in self.points)
-
-
-@dataclass
-class Options:
-    penalty: float | None = None    # Pa/m; default penalty_factor x mu / h
-    penalty_factor: float = 100.0
-    method: str = "augmented"       # augmented | penalty
-    gap_tol: float = 1e-3           # largest penetration / travel
-    tol: float = 1e-9               # Newton, scaled relative residual (or round-off: see _newton)
-    max_iter: int = 25
-    max_uzawa: int = 40
-    force_tol: float = 1e-3         # force control: |F - target| / target
-    first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
-    active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
-    fix_cycling: bool = False       # True: when an active set comes back, finish Newton on it
-    intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
+__all__ = ["ContactError", "ContactResult", "Options", "Press", "PressPoint", "press"]
 
 
 class Press:
@@ -119,7 +77,7 @@ class Press:
         self.z_top = float(p[-1, np.unique(tm.mesh.facets[:, top])].max())
         self.height = self.z_top - float(p[-1].min())
         ub = next(iter(sy.ubases.values()))
-        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder)
+        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder, self.o.rule)
         self.red = reduction(sy, eliminate_grounded=True)
         if self.o.penalty is None:
             mu = max(lw.mu for r, lw in sy.laws.items() if r in sy.soft)
@@ -133,12 +91,74 @@ class Press:
         self.prev = None                 # (travel, x) of the state before the last converged one
         self.res = ContactResult(ind, self.eps, self.o.method)
         self.solver = None
+        self._pat, self._min_J = None, 1.0
+        self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
+        self._stick: Stick | None = None    # the one in use by the solve under way
+        self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
+        self.stats = dict(factorizations=0, residuals=0, tangents=0, factorize_s=0.0, assemble_s=0.0)
+        self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
 
     # ------------------------------------------------------------ one equilibrium
+    def _pattern(self) -> Pattern:
+        """The reduced matrix's pattern: the linear part, every Yeoh element block, every
+        contact facet block (fem.pattern), built on first use."""
+        if self._pat is None:
+            blocks = {}
+            for k, reg in yeoh_regions(self.sy).items():
+                U, Q = reg.udofs, reg.pdofs
+                blocks[f"uu:{k}"] = (U[:, :, None] + 0 * U[:, None, :], U[:, None, :] + 0 * U[:, :, None])
+                blocks[f"up:{k}"] = (U[:, :, None] + 0 * Q[:, None, :], Q[:, None, :] + 0 * U[:, :, None])
+                blocks[f"pu:{k}"] = (Q[:, None, :] + 0 * U[:, :, None], U[:, :, None] + 0 * Q[:, None, :])
+                blocks[f"pp:{k}"] = (Q[:, :, None] + 0 * Q[:, None, :], Q[:, None, :] + 0 * Q[:, :, None])
+            S = self.surf.dofs + self.sy.offsets["u"].start
+            blocks["contact"] = (S[:, :, None] + 0 * S[:, None, :], S[:, None, :] + 0 * S[:, :, None])
+            self._pat = Pattern(self.red.P, self.sy.A, blocks)
+        return self._pat
+
     def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+        """(reduced residual, reduced contact residual, contact state, reduced tangent or None);
+        the smallest J of the Yeoh silicone in self._min_J."""
+        t0 = time.process_time()          # CPU time: the machine is shared
+        try:
+            return self._residual_any(x, d, lam, tangent, frozen, fixed)
+        finally:
+            self.stats["residuals"] += 1
+            self.stats["tangents"] += bool(tangent)
+            self.stats["assemble_s"] += time.process_time() - t0
+
+    def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+        if self.o.assembly == "skfem":
+            if self._stick is not None:
+                raise ValueError("sticking contact is assembled by the vectorised path only")
+            return self._residual_skfem(x, d, lam, tangent, frozen, fixed)
+        sy, pat = self.sy, self._pattern()
+        n = len(x)
+        r_full = sy.A @ x
+        vals, self._min_J = {}, 1.0
+        for k, reg in yeoh_regions(sy).items():
+            t = reg.terms(x, tangent)
+            self._min_J = min(self._min_J, t.min_J)
+            r_full += np.bincount(reg.udofs.ravel(), t.r_u.ravel(), minlength=n)
+            r_full += np.bincount(reg.pdofs.ravel(), t.r_p.ravel(), minlength=n)
+            if tangent:
+                vals.update({f"uu:{k}": t.K_uu, f"up:{k}": t.K_up, f"pu:{k}": t.K_up, f"pp:{k}": t.K_pp})
+        u = x[sy.offsets["u"]]
+        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed, stick=self._stick)
+        S = self.surf.dofs.ravel() + sy.offsets["u"].start
+        rc_full = np.bincount(S, self.surf.element_residual(st).ravel(), minlength=n)
+        r, ref = pat.reduce(r_full + rc_full), pat.reduce(rc_full)
+        if not tangent:
+            return r, ref, st, None
+        vals["contact"] = self.surf.element_tangent(st, self.eps, frozen)
+        return r, ref, st, pat.matrix(vals).tocsc()
+
+    def _residual_skfem(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+        """`_residual` through scikit-fem's forms and sparse products (the path before the
+        vectorisation; benchmarks/contact_speed.py compares the two)."""
         sy, P = self.sy, self.red.P
         u = x[sy.offsets["u"]]
-        r_y, K_y = yeoh_terms(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
+        r_y, K_y = yeoh_terms_skfem(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
+        self._min_J = min((hyperelastic.min_jacobian(sy.ubases[r], u, sy.kin) for r in sy.yeoh), default=1.0)
         st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed)
         rc = np.zeros_like(x)
         rc[sy.offsets["u"]] = self.surf.residual(st)
@@ -152,11 +172,6 @@ class Press:
         K = (P.T @ (sy.A + K_y + Kc_full) @ P).tocsc()
         return r, ref, st, K
 
-    def _min_j(self, x):
-        u = x[self.sy.offsets["u"]]
-        return min((hyperelastic.min_jacobian(self.sy.ubases[r], u, self.sy.kin) for r in self.sy.yeoh),
-                   default=1.0)
-
     def _newton(self, x, d, lam):
         o, P = self.o, self.red.P
         seen, frozen, fixed, step_rel = [], None, None, 1.0
@@ -169,16 +184,22 @@ class Press:
             if not o.active_set_update and frozen is None:
                 frozen = st.active.copy()
                 r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
+            if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
+                raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", self.res)
+            t0 = time.process_time()
             self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method)
+            self.stats["factorizations"] += 1
+            self.stats["factorize_s"] += time.process_time() - t0
             D = solver.D
             nr = np.linalg.norm(D * r)
             norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
             floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
             if norm < o.tol or floor:            # floor: a full step with the same active set changed x
                 if fixed is not None:              # report the true (non-negative) pressure
-                    st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps)
+                    st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps, stick=self._stick)
                 return x, st, it
             seen.append(st.active.tobytes())
+            self.trace.append((d, it, norm, int(st.active.sum())))
             dy, lres = solver(-r)
             if float(np.max(lres)) > 1e-6:
                 raise ContactError(f"penalty too high: the scaled linear solve's relative residual is "
@@ -188,13 +209,15 @@ class Press:
             alpha = 1.0
             while True:
                 x_new = x + alpha * dx
-                if self._min_j(x_new) > 0:
-                    r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
-                    if np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r) or alpha <= 1 / 64:
+                r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
+                if self._min_J > 0:
+                    if (not o.line_search or alpha <= 1 / 64
+                            or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
                         break
                 elif alpha <= 1 / 64:
                     raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", self.res)
                 alpha /= 2
+            self.trace[-1] += (alpha,)
             step_rel = alpha * np.linalg.norm(dx) / max(np.linalg.norm(x), 1e-300)
             x = x_new
         last = seen[-6:]
@@ -209,12 +232,21 @@ class Press:
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
         o = self.o
         x, lam, its = self.x.copy(), self.lam.copy(), 0
+        self._stick = self._sticking()
+        if o.predictor and self.v is not None:     # the tangent prediction, shortened while it inverts elements
+            for frac in (1.0, 0.5, 0.25, 0.0):
+                if frac == 0.0 or self._residual(x + frac * (d - self.d) * self.v, d, lam, tangent=False) \
+                        and self._min_J > 0:
+                    break
+            x = x + frac * (d - self.d) * self.v
         eps0, err_prev = self.eps, np.inf
         for k in range(o.max_uzawa + 1):
             x, st, it = self._newton(x, d, lam)
             its += it
             tol = o.gap_tol * max(abs(d), 1e-12)
             err = float(np.abs(st.tn - lam).max()) / self.eps   # m: penetration, or gap under pressure
+            if st.stuck is not None:                            # m: the stuck points' distance to their anchors
+                err = max(err, float(np.abs(st.ts - self._stick.lam).max()) / self.eps)
             if o.method == "penalty":
                 if st.penetration > tol:
                     raise ContactError(f"penalty too low: penetration {st.penetration:.3g} m is "
@@ -228,27 +260,67 @@ class Press:
                 self.eps *= 2
             err_prev = err
             lam = st.tn
+            if st.stuck is not None:
+                self._stick = Stick(self._stick.mask, self._stick.a0, st.ts.copy())
         else:
             self.eps = eps0
             raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
                                f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
                                self.res)
+        if o.predictor:                     # with the tangent's own penalty (before restoring it)
+            self.v, self.slope = self._rates(x, st)
         self.eps = eps0
         self.prev = (self.d, self.x)
         self.x, self.lam, self.d = x, st.tn.copy(), d
+        if self._stick is not None:          # points that came into contact in this step stick where they are
+            new = st.normal_active & ~self._stick.mask
+            a0, lam_s = self._stick.a0.copy(), (self._stick.lam if st.ts is None else st.ts).copy()
+            a0[:, new] = st.x[:, new]
+            a0[-1, new] += d
+            lam_s[:, new] = (st.tn * st.n)[:, new]
+            self.lam = np.where(new, 0.0, self.lam)
+            self.stick = Stick(self._stick.mask | new, a0, lam_s)
+        self._stick = None
         self.res.state = st
         V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
-        pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k)
+        pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k,
+                        st.max_pressure)
         self.res.points.append(pt)
         return pt
 
+    def _rates(self, x, st):
+        """(dx/dd, dF/dd) along the equilibrium path at a converged state, with the
+        tangent factorized at it (self.solver): K dx/dd = -dr/dd, and dF/dd =
+        dF/dd|_x + dF/dx . dx/dd (the force-travel stiffness; fem.contact.travel_derivatives)."""
+        n, u0 = len(x), self.sy.offsets["u"].start
+        S = self.surf.dofs.ravel() + u0
+        dr, dF_dd, dF_du = self.surf.travel_derivatives(st, self.eps)
+        rhs = self.red.P.T @ np.bincount(S, dr.ravel(), minlength=n)
+        dy, _ = self.solver(-rhs)
+        v = self.red.P @ dy[:, 0]
+        return v, dF_dd + float(dF_du.ravel() @ v[S])
+
+    def _sticking(self) -> Stick | None:
+        """The stick set for the next solve: with a sticking indenter, at the first solve
+        the points touching it at the current travel (the flat of a punch at zero travel)."""
+        if self.ind.friction != "sticking":
+            return None
+        if self.stick is None:
+            st = self.surf.state(self.x[self.sy.offsets["u"]], self.ind, self.d, self.lam, self.eps, False)
+            mask = st.g <= 1e-9 * self.height
+            a0 = st.x.copy()
+            a0[-1] += self.d
+            self.stick = Stick(mask, a0, np.zeros_like(st.x))
+        return Stick(self.stick.mask.copy(), self.stick.a0, self.stick.lam.copy())
+
     def _try(self, d):
         """solve_at, restoring the state on failure."""
-        saved = (self.x, self.lam, self.d, self.prev)
+        saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick)
         try:
             return self.solve_at(d)
         except ContactError:
-            self.x, self.lam, self.d, self.prev = saved
+            self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick = saved
+            self._stick = None
             self.res.failed_trials += 1
             raise
 
@@ -279,7 +351,8 @@ class Press:
             d_prev, F_prev = (pts[-2].travel, pts[-2].force) if len(pts) > 1 else (0.0, 0.0)
         else:
             d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
-        lo, hi, last_side = (d, F), None, None
+        below = [(p.travel, p.force) for p in pts if p.force < F_target]
+        lo, hi, last_side = max(below, default=(0.0, 0.0)), None, None
         for _ in range(max_trials):
             if pts and abs(F - F_target) <= o.force_tol * F_target:
                 self.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
@@ -298,12 +371,19 @@ class Press:
             last_side = side
             if d == 0.0:
                 d_new = o.first_travel * self.height
+            elif o.predictor and self.slope is not None and self.slope > 0:
+                # Newton on F(d) with the path's own stiffness; at most twice the last step,
+                # and inside the bracket once there is one
+                step = (F_target - F) / self.slope
+                d_new = d + float(np.clip(step, -2 * abs(d - d_prev) - 1e-9, 2 * max(abs(d - d_prev), 0.25 * d)))
+                if hi is not None and not min(lo[0], hi[0]) < d_new < max(lo[0], hi[0]):
+                    d_new = _falsi(lo, hi, F_target)
             elif hi is None:                     # secant from the last two states, at most 1.5x the step
                 slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / d
                 step = (F_target - F) / max(slope, 1e-300)
                 d_new = d + min(step, 1.5 * max(d - d_prev, 0.25 * d))
             else:                                # regula falsi inside the bracket
-                d_new = lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+                d_new = _falsi(lo, hi, F_target)
             while True:
                 try:
                     pt = self._try(d_new)
@@ -324,7 +404,8 @@ class Press:
         x = self.x
         r_y, _ = yeoh_terms(sy, x, with_tangent=False) if sy.yeoh else (0.0, None)
         r = sy.A @ x + r_y
-        r[sy.offsets["u"]] += self.surf.residual(self.res.state)
+        S = self.surf.dofs.ravel() + sy.offsets["u"].start
+        r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
         if self.solver is None:
             self._residual(x, self.d, self.lam)
             self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)
@@ -334,6 +415,13 @@ class Press:
         sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
         sol.contact = self.res
         return sol
+
+
+def _falsi(lo, hi, F_target):
+    """Regula falsi inside the bracket (bisection if its ends carry the same force)."""
+    if hi[1] == lo[1]:
+        return (lo[0] + hi[0]) / 2
+    return lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
 
 
 def _embed(K, start, n):

@@ -163,3 +163,45 @@ def instability_reason(mode: str, lam, C10, C20, C30) -> str:
     if nominal_tangent(mode, lam, C10, C20, C30) <= 0:
         return "dP/dlam <= 0"
     return ""
+
+
+# --------------------------------------------------------------------------------------
+# batched form (leading batch axis, N x 3 x 3): the vectorised assembly (fem.yeohasm)
+# --------------------------------------------------------------------------------------
+
+def inv_det_batched(F):
+    """(J, F^-1) of F (N, 3, 3) by the adjugate (no LAPACK call per matrix)."""
+    a, b, c = F[:, 0, 0], F[:, 0, 1], F[:, 0, 2]
+    d, e, f = F[:, 1, 0], F[:, 1, 1], F[:, 1, 2]
+    g, h, i = F[:, 2, 0], F[:, 2, 1], F[:, 2, 2]
+    adj = np.empty_like(F)
+    adj[:, 0, 0], adj[:, 0, 1], adj[:, 0, 2] = e * i - f * h, c * h - b * i, b * f - c * e
+    adj[:, 1, 0], adj[:, 1, 1], adj[:, 1, 2] = f * g - d * i, a * i - c * g, c * d - a * f
+    adj[:, 2, 0], adj[:, 2, 1], adj[:, 2, 2] = d * h - e * g, b * g - a * h, a * e - b * d
+    J = a * adj[:, 0, 0] + b * adj[:, 1, 0] + c * adj[:, 2, 0]
+    return J, adj / J[:, None, None]
+
+
+def stress_tangent_batched(F, p, C, with_tangent=True):
+    """(P, A, J, J F^-T) for F (N, 3, 3), p (N,): the same quantities as `stress` and
+    `tangent` (A as (N, 9, 9), rows iJ, columns kL), batch axis first."""
+    J, Finv = inv_det_batched(F)
+    FiT = Finv.transpose(0, 2, 1)
+    I1 = np.einsum("nij,nij->n", F, F)
+    a = J ** (-2.0 / 3.0)
+    G = 2 * F - (2.0 / 3.0) * I1[:, None, None] * FiT
+    d1, d2 = dpsi(a * I1, C)
+    JFiT = J[:, None, None] * FiT
+    P = d1[:, None, None] * a[:, None, None] * G + p[:, None, None] * JFiT
+    if not with_tangent:
+        return P, None, J, JFiT
+    N = len(J)
+    f, Gf, Ff = FiT.reshape(N, 9), G.reshape(N, 9), F.reshape(N, 9)
+    X = np.einsum("nJk,nLi->niJkL", Finv, Finv).reshape(N, 9, 9)
+    ff = f[:, :, None] * f[:, None, :]
+    A = (d2 * a * a)[:, None, None] * (Gf[:, :, None] * Gf[:, None, :])
+    A += (d1 * a)[:, None, None] * (2 * np.eye(9) - (4.0 / 3.0) * f[:, :, None] * Ff[:, None, :]
+                                    + (2.0 / 3.0) * I1[:, None, None] * X
+                                    - (2.0 / 3.0) * Gf[:, :, None] * f[:, None, :])
+    A += (p * J)[:, None, None] * (ff - X)
+    return P, A, J, JFiT

@@ -98,6 +98,7 @@ class Load(Strict):
     contact: bool = False
     shape: Literal["flat", "sphere", "cylinder"] = "flat"
     edge_radius: Length | None = None  # flat punch's rounded edge; default radius / 20
+    friction: Literal["frictionless", "sticking"] = "frictionless"   # sticking: no slip once in contact
     travel: Length | None = None       # prescribed indenter travel (instead of force)
 
 
@@ -219,6 +220,8 @@ class Scene(Strict):
                 raise ValueError("load.neighbour must be next to load.taxel (one row or column apart)")
         if ld.kind == "indenter" and ld.radius is None:
             raise ValueError("load.radius is missing for kind = 'indenter'; e.g. \"1 mm\"")
+        if ld.friction != "frictionless" and not ld.contact:
+            raise ValueError("load.friction needs load.contact = true (a rigid indenter)")
         if ld.contact:
             if ld.kind != "indenter":
                 raise ValueError("load.contact = true needs load.kind = 'indenter'")

@@ -57,6 +57,8 @@ CASES = [
     case("missing-unit-string", ARRAY + 'taxel_width = "4"\n', "array.taxel_width", "missing unit"),
     case("unit-mismatch-force-in-mm", ARRAY + '[load]\nforce = "1 mm"\n', "load.force", "unit mismatch"),
     case("unit-mismatch-force-in-kPa", ARRAY + '[load]\nforce = "10 kPa"\n', "load.force", "unit mismatch"),
+    case("friction-without-contact", ARRAY + '[load]\nkind = "indenter"\nradius = "1 mm"\nfriction = "sticking"\n',
+         "load.friction", "load.contact = true"),
     case("unreadable-quantity", ARRAY + 'taxel_width = "abc mm"\n', "array.taxel_width", "abc mm"),
     # ---- geometry
     case("overlapping-taxels", ARRAY + 'cols = 2\ngap = "-1 mm"\n', "array.gap", "overlap"),

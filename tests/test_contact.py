@@ -160,3 +160,96 @@ def test_newton_without_the_active_set_update_fails_and_says_so(small_sphere):
     assert pt.iterations <= 15 and pt.penetration <= 1e-3 * d
     with pytest.raises(ContactError, match="did not converge|cycles"):
         Press(sy, ind, opts=Options(active_set_update=False)).solve_at(d)
+
+
+def test_vectorised_contact_terms_equal_the_forms_and_travel_derivatives_are_derivatives():
+    """Surface.element_residual/element_tangent (scattered) equal the scikit-fem forms;
+    travel_derivatives against central differences in the travel."""
+    tm = block(4e-3, 2e-3, 1e-3, 2.5e-4, growth=1.5)
+    ind = Indenter("flat", 1e-3, edge_radius=3e-4, travel=5e-5)
+    sy = assemble(problem(tm, MAT, ind))
+    ub = next(iter(sy.ubases.values()))
+    surf = Surface(tm.mesh, ub.elem, tm.facets["top"], sy.kin, 2e-3)
+    rng = np.random.default_rng(4)
+    u = 1e-5 * rng.normal(size=ub.N)
+    lam = np.abs(rng.normal(size=surf.shape)) * 1e3
+    eps, d = 1e9, 5e-5
+    st = surf.state(u, ind, d, lam, eps)
+    assert 0 < st.active.sum() < st.active.size
+    S = surf.dofs
+    r = np.bincount(S.ravel(), surf.element_residual(st).ravel(), minlength=ub.N)
+    np.testing.assert_allclose(r, surf.residual(st), rtol=0, atol=1e-12 * np.abs(r).max())
+    Ke = surf.element_tangent(st, eps)
+    import scipy.sparse as sp
+    K = sp.coo_matrix((Ke.ravel(), (np.repeat(S, S.shape[1], axis=1).ravel(), np.tile(S, S.shape[1]).ravel())),
+                      shape=(ub.N, ub.N)).toarray()
+    Kf = surf.tangent(st, eps).toarray()
+    assert np.abs(K - Kf).max() < 1e-12 * np.abs(Kf).max()
+    dr, dF_dd, dF_du = surf.travel_derivatives(st, eps)
+    h = 1e-10
+    sp_, sm = surf.state(u, ind, d + h, lam, eps), surf.state(u, ind, d - h, lam, eps)
+    fd = (surf.element_residual(sp_) - surf.element_residual(sm)) / (2 * h)
+    np.testing.assert_allclose(dr, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+    assert dF_dd == pytest.approx((sp_.force - sm.force) / (2 * h), rel=1e-5)
+    k = np.argmax(np.abs(np.bincount(S.ravel(), dF_du.ravel(), minlength=ub.N)))
+    e = np.zeros(ub.N)
+    e[k] = 1e-11
+    fdu = (surf.state(u + e, ind, d, lam, eps).force - surf.state(u - e, ind, d, lam, eps).force) / 2e-11
+    assert np.bincount(S.ravel(), dF_du.ravel(), minlength=ub.N)[k] == pytest.approx(fdu, rel=1e-5)
+
+
+@pytest.mark.parametrize("nu", [0.3, 0.4999])
+def test_sticking_flat_punch_ties_the_surface_and_equals_frictionless_when_incompressible(nu):
+    """Sticking contact (Indenter(friction="sticking")): the points under the punch stay
+    where they touched (no lateral slip, to the augmented Lagrangian's tolerance). On an
+    incompressible half-space a normal load moves the surface only normally (the
+    tangential surface displacement of a point load carries the factor (1 - 2 nu):
+    Johnson, Contact Mechanics, 1985, eq. 3.19b), so a bonded and a frictionless
+    punch give the same force (Spence 1968); at nu = 0.3 the bonded punch is stiffer."""
+    a = 1e-3
+    d = 1e-3 * a
+    mat = Solid("block", MU, 2 * MU * (1 + nu) / (3 * (1 - 2 * nu)), 1000.0)
+    tm = block(60 * a, 60 * a, 1.2 * a, a / 8, growth=1.3)
+    F = {}
+    for friction in ("frictionless", "sticking"):
+        ind = Indenter("flat", a, 0.0, travel=d, friction=friction)
+        pr = Press(assemble(problem(tm, mat, ind)), ind)
+        F[friction] = pr.travel(d, first=1.0).force
+    st = pr.res.state
+    assert st.stuck.sum() > 0
+    slip = np.abs(st.x[0] - pr.surf.X[0])[st.stuck].max()
+    assert slip < 2e-3 * d
+    if nu > 0.49:
+        assert F["sticking"] == pytest.approx(F["frictionless"], rel=5e-3)
+    else:
+        assert F["sticking"] > 1.01 * F["frictionless"]
+
+
+def test_bonded_thin_incompressible_layer_under_a_flat_punch():
+    r"""A rigid flat punch (half-width a, plane strain) on an incompressible layer of
+    thickness h << a bonded to a rigid base. Thin-layer (lubrication) limit: the
+    layer squeezes out sideways, mu d2u/dz2 = dp/dx, u(0) = 0, and the flux
+    Q = \int_0^h u dz balances the punch's travel d, dQ/dx = d:
+
+      sticking punch (u(h) = 0):       p = 6 mu d (a^2 - x^2) / h^3,   F = 8 mu d a^3 / h^3
+      frictionless punch (du/dz(h) = 0): p = 3/2 mu d (a^2 - x^2) / h^3, F = 2 mu d a^3 / h^3
+
+    (per unit depth; the bonded case is the long bonded rubber block of Gent and
+    Lindley, Proc. Inst. Mech. Eng. 173 (1959) 111, in the limit of a large shape
+    factor; thin-layer contact of soft solids: Shull, Mater. Sci. Eng. R 36 (2002) 1).
+    The limit neglects an edge zone of width ~h, so F / F_thin - 1 falls as a/h
+    grows: measured, sticking +30, +13, +4.5 % and frictionless +114, +50, +23 % at
+    a/h = 5, 10, 20 (h/4 elements)."""
+    mu, h = 10e3, 1e-3
+    mat = Solid("layer", mu, 1e5 * mu, 1000.0)
+    excess = {}
+    for friction, c in (("sticking", 8.0), ("frictionless", 2.0)):
+        for ah in (10, 20):
+            a, d = ah * h, 1e-4 * h
+            tm = block(a + 4 * h, h, h, h / 4, model="plane_strain", growth=1.0)
+            ind = Indenter("flat", a, 0.0, travel=d, friction=friction)
+            pt = Press(assemble(problem(tm, mat, ind)), ind).travel(d, first=1.0)
+            excess[friction, ah] = pt.force / (c * mu * d * a ** 3 / h ** 3) - 1
+    assert 0 < excess["sticking", 20] < 0.06
+    assert 0 < excess["sticking", 20] < 0.5 * excess["sticking", 10]
+    assert 0 < excess["frictionless", 20] < 0.6 * excess["frictionless", 10]

@@ -239,3 +239,36 @@ def test_auto_picks_the_cheapest_model_that_is_accurate_enough(force, expect):
     v_yeoh = solve(with_(base, "yeoh", force)).voltages()["taxel_0_0"]
     # the answer returned is within the scene's tolerance of the Yeoh answer
     assert abs(sol.voltages()["taxel_0_0"] / v_yeoh - 1) <= scene.model.tolerance
+
+
+# ---------------------------------------------------------------- vectorised assembly (fem.yeohasm)
+
+def test_batched_law_equals_the_pointwise_law():
+    rng = np.random.default_rng(5)
+    F = np.eye(3) + 0.2 * rng.normal(size=(7, 3, 3))
+    p = rng.normal(size=7) * 1e3
+    P, A, J, JFiT = H.stress_tangent_batched(F, p, C_YEOH)
+    Fq = np.moveaxis(F, 0, -1)[..., None]                 # (3, 3, 7, 1): trailing point axes
+    P0, J0, FiT0 = H.stress(Fq, p[:, None], C_YEOH)
+    A0 = H.tangent(Fq, p[:, None], C_YEOH)
+    np.testing.assert_allclose(P, np.moveaxis(P0[..., 0], -1, 0), rtol=1e-12, atol=1e-12 * np.abs(P).max())
+    np.testing.assert_allclose(A, np.moveaxis(A0[..., 0], -1, 0).reshape(7, 9, 9), rtol=1e-12,
+                               atol=1e-12 * np.abs(A).max())
+    np.testing.assert_allclose(J, J0[:, 0], rtol=1e-13)
+
+
+@pytest.mark.parametrize("model", ["plane_strain", "axisymmetric"])
+def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
+    """fem.yeohasm (batched over elements) against the scikit-fem forms of
+    fem.hyperelastic at a deformed state, to 1e-12 relative."""
+    from taxel.fem.newton import yeoh_terms_skfem
+    scene = with_(load("thesis-pzt-single-2d").replace(**{"model.type": model}), "yeoh", 0.2,
+                  size=1e-3, piezo_size=2e-4)
+    sy = assemble(problem(scene))
+    x, _, _, _ = newton(sy)
+    u = sy.offsets["u"]
+    x[u] += 0.002 * np.abs(x[u]).max() * np.random.default_rng(2).normal(size=x[u].shape)
+    r1, K1 = yeoh_terms(sy, x)
+    r2, K2 = yeoh_terms_skfem(sy, x)
+    assert np.abs(r1 - r2).max() < 1e-12 * np.abs(r2).max()
+    assert abs(K1 - K2).max() < 1e-12 * abs(K2).max()

@@ -148,10 +148,34 @@ class StaticResult:
             return None
         return max(abs(x) for k, x in v.items() if k != p) / abs(v[p])
 
+    @property
+    def contact(self):
+        """The press (fem.press.ContactResult) of an indenter scene, else None."""
+        return getattr(self.solution, "contact", None)
+
+    def contact_record(self) -> dict | None:
+        """The press in SI units: the final state and every converged state of the path
+        (force-travel and voltage-force curves), sorted by travel."""
+        c = self.contact
+        if c is None or not c.points:
+            return None
+        last = c.points[-1]
+        pts = sorted(c.points, key=lambda p: p.travel)
+        return {"indenter": {"shape": c.indenter.shape, "radius_m": c.indenter.radius,
+                             "edge_radius_m": c.indenter.edge_radius},
+                "force_N": last.force, "travel_m": last.travel, "contact_area_m2": last.area,
+                "contact_half_width_m": last.half_width, "max_pressure_Pa": last.max_pressure,
+                "penetration_m": last.penetration, "newton_iterations": c.total_iterations,
+                "load_steps": len(c.points), "failed_trials": c.failed_trials, "penalty_Pa_per_m": c.penalty,
+                "curve": {"travel_m": [p.travel for p in pts], "force_N": [p.force for p in pts],
+                          "voltages_V": {k: [p.voltages[k] for p in pts] for k in last.voltages},
+                          "contact_area_m2": [p.area for p in pts],
+                          "max_pressure_Pa": [p.max_pressure for p in pts]}}
+
     def record(self) -> dict:
         """One JSON-ready record of the numbers a user asks for (SI units)."""
         n = self.newton
-        return {
+        return {"contact": self.contact_record(),
             "scene": self.scene.name, "model": self.scene.model.type,
             "electrodes": {k: {"state": e.state, "voltage_V": e.voltage, "charge_C": e.charge,
                                "short_circuit_charge_C": e.short_circuit_charge,
@@ -169,7 +193,16 @@ class StaticResult:
         out.mkdir(parents=True, exist_ok=True)
         path = out / "result.json"
         path.write_text(json.dumps(self.record(), indent=1))
-        return [write_scene(out, self.scene), path]
+        paths = [write_scene(out, self.scene), path]
+        c = self.contact_record()
+        if c is not None:               # the force-travel / voltage-force curve
+            cv = c["curve"]
+            paths.append(write_csv(out / "contact-curve.csv",
+                                   ["travel_m", "force_N", "contact_area_m2", "max_pressure_Pa"]
+                                   + [f"{k}_V" for k in cv["voltages_V"]],
+                                   [cv["travel_m"], cv["force_N"], cv["contact_area_m2"], cv["max_pressure_Pa"]]
+                                   + list(cv["voltages_V"].values())))
+        return paths
 
     def __str__(self) -> str:
         s, m = self.scene, self.scene.mesh
@@ -182,6 +215,18 @@ class StaticResult:
             lines.append(f"{e.name:<12}{e.state:<10}{engineering(e.voltage, 'V'):>12}"
                          f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
                          f"{engineering(e.capacitance, 'F'):>14}")
+        c = self.contact_record()
+        if c is not None:
+            lines.append(f"indenter ({c['indenter']['shape']}): force {engineering(c['force_N'], 'N')} at travel "
+                         f"{engineering(c['travel_m'], 'm')}, contact area {1e6 * c['contact_area_m2']:.4g} mm2, "
+                         f"max pressure {engineering(c['max_pressure_Pa'], 'Pa')}, penetration "
+                         f"{engineering(c['penetration_m'], 'm')}; {c['load_steps']} load steps, "
+                         f"{c['newton_iterations']} Newton iterations")
+            lines.append(f"{'travel':>12}{'force':>12}" + "".join(f"{k:>14}" for k in c["curve"]["voltages_V"]))
+            cv = c["curve"]
+            for i, d in enumerate(cv["travel_m"]):
+                lines.append(f"{engineering(d, 'm'):>12}{engineering(cv['force_N'][i], 'N'):>12}"
+                             + "".join(f"{engineering(v[i], 'V'):>14}" for v in cv["voltages_V"].values()))
         return "\n".join(lines)
 
 

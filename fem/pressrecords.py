@@ -1,0 +1,72 @@
+"""The records of a press (fem.press): its options, every converged state of the
+load path, the result, and the error that names why a press stopped."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from taxel.fem.contact import ContactState, Indenter
+
+
+class ContactError(RuntimeError):
+    """The press could not be solved; the message says why; `.result` has the path so far."""
+
+    def __init__(self, message, result=None):
+        super().__init__(message)
+        self.result = result
+
+
+@dataclass
+class PressPoint:
+    travel: float                 # m
+    force: float                  # N, on the indenter
+    voltages: dict                # V, open electrodes
+    area: float                   # m^2, reference area of the material points in contact
+    half_width: float             # m, current contact radius (2D: half-width) about the indenter centre
+    penetration: float            # m, largest
+    iterations: int               # Newton iterations (all Uzawa passes)
+    uzawa: int                    # multiplier updates
+    max_pressure: float = 0.0     # Pa, largest contact pressure (nominal)
+
+
+@dataclass
+class ContactResult:
+    indenter: Indenter
+    penalty: float                          # Pa/m
+    method: str
+    points: list[PressPoint] = field(default_factory=list)   # every converged state, in order
+    state: ContactState | None = field(default=None, repr=False)   # the final contact state
+    failed_trials: int = 0
+    message: str = ""
+
+    @property
+    def curve(self) -> np.ndarray:
+        """(travel, force) of the converged states, sorted by travel."""
+        a = np.array([(p.travel, p.force) for p in self.points])
+        return a[np.argsort(a[:, 0])] if len(a) else a
+
+    @property
+    def total_iterations(self) -> int:
+        return sum(p.iterations for p in self.points)
+
+
+@dataclass
+class Options:
+    penalty: float | None = None    # Pa/m; default penalty_factor x mu / h
+    penalty_factor: float = 100.0
+    method: str = "augmented"       # augmented | penalty
+    gap_tol: float = 1e-3           # largest penetration / travel
+    tol: float = 1e-9               # Newton, scaled relative residual (or round-off: see _newton)
+    max_iter: int = 25
+    max_uzawa: int = 40
+    force_tol: float = 1e-3         # force control: |F - target| / target
+    first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
+    active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
+    fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
+    intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
+    rule: str = "gauss"             # contact points: gauss (intorder) | nodal (at the P2 nodes, lumped weights)
+    line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
+    predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
+    assembly: str = "vectorised"    # vectorised (fem.yeohasm, fem.pattern) | skfem (the reference path)
