@@ -53,7 +53,7 @@ def _solve(args):
         return
     vtu = _writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None
     with output_folder(Path(args.out)) if args.out else contextlib.nullcontext() as tmp:
-        sol = api.solve(scene, solver=args.solver)
+        sol = api.solve(scene, solver=args.solver, estimate=args.estimate)
         if tmp is not None:
             sol.to_folder(tmp)
     if vtu:
@@ -223,6 +223,8 @@ def main(argv=None):
     p = sub.add_parser("solve", help="solve a scene and print per-electrode voltage and charge")
     p.add_argument("scene", help="scene TOML file or built-in example name")
     p.add_argument("--json", action="store_true", help="print one JSON record")
+    p.add_argument("--estimate", action="store_true", help="estimate the error of each output (discretisation, "
+                   "model form, material law; one coarse solve and, for 2D, the cheapest 3D model)")
     p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
     p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack", "krylov"])
     p.add_argument("--out", metavar="DIR", help="folder for the outputs (scene.json, result.json; CSV and PNG "

@@ -43,6 +43,10 @@ class Model(Strict):
     depth: Length | None = None     # out-of-plane depth of a 2D model; default: the taxel or plate width
     silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
     tolerance: float = Field(0.02, gt=0, lt=1)   # "auto": largest accepted linear-model voltage error
+    # "auto": the cheapest model, mesh and law whose estimated error on `outputs` is within tolerance
+    fidelity: Literal["fixed", "auto"] = "fixed"
+    outputs: tuple[Literal["voltage_per_newton", "crosstalk", "short_circuit_charge"], ...] = \
+        ("voltage_per_newton",)
 
 
 class Mesh(Strict):
@@ -240,6 +244,12 @@ class Scene(Strict):
                              "shorten analysis.duration or raise analysis.dt")
         if self.analysis.input == "csv" and self.analysis.type == "transient" and not self.analysis.file:
             raise ValueError("analysis.file is missing for input = 'csv'; give a CSV of time (s), force (N)")
+        if self.model.fidelity == "auto" and (self.analysis.type != "static" or self.array is None):
+            raise ValueError("model.fidelity = 'auto' needs a static analysis of an [array]; "
+                             "set model.fidelity = 'fixed'")
+        if "crosstalk" in self.model.outputs and self.array is not None and self.array.rows * self.array.cols < 2:
+            raise ValueError("model.outputs: 'crosstalk' needs at least two taxels; add array.rows or "
+                             "array.cols, or drop it")
         if self.analysis.type != "static" and self.model.silicone == "auto":
             raise ValueError("dynamic analyses need model.silicone = 'linear' or 'yeoh' (not 'auto')")
         if self.analysis.type == "transient" and self.model.silicone == "yeoh" and self.readout.circuit != "open":

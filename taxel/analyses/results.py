@@ -77,6 +77,56 @@ def write_scene(out: Path, scene: Scene) -> Path:
     return path
 
 
+OUTPUT_NAMES = {"voltage_per_newton": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
+                "short_circuit_charge": "pressed-taxel short-circuit charge per newton"}
+
+
+@dataclass
+class OutputError:
+    """The estimated relative error of one output, split into its parts (each a
+    relative error >= 0, or None when that part was not estimated)."""
+
+    value: float                          # the output itself (SI: V/N, ratio, C/N)
+    discretisation: float | None = None   # against the same model on a converged mesh
+    model_form: float | None = None       # 2D / axisymmetric against 3D
+    material: float | None = None         # linear silicone against Yeoh
+
+    @property
+    def total(self) -> float:
+        """The parts added (a bound: they may partly cancel)."""
+        return sum(x for x in (self.discretisation, self.model_form, self.material) if x is not None)
+
+    def record(self) -> dict:
+        return {"value": self.value, "discretisation": self.discretisation, "model_form": self.model_form,
+                "material": self.material, "total": self.total}
+
+
+@dataclass
+class ErrorEstimate:
+    """A result's estimated error on each output (taxel.analyses.estimate), how
+    each part was found, and what the estimate cost."""
+
+    outputs: dict[str, OutputError]
+    how: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def within(self, tolerance: float, names=None) -> bool:
+        return all(self.outputs[k].total <= tolerance for k in (names or self.outputs) if k in self.outputs)
+
+    def record(self) -> dict:
+        return {"outputs": {k: e.record() for k, e in self.outputs.items()}, "how": self.how,
+                "seconds": self.seconds}
+
+    def lines(self) -> list[str]:
+        def pct(x):
+            return "-" if x is None else f"{100 * x:.2g} %"
+        out = [f"{'estimated error':<46}{'discretisation':>15}{'model form':>12}{'material':>10}{'total':>10}"]
+        for k, e in self.outputs.items():
+            out.append(f"{OUTPUT_NAMES.get(k, k):<46}{pct(e.discretisation):>15}{pct(e.model_form):>12}"
+                       f"{pct(e.material):>10}{pct(e.total):>10}")
+        return out + [f"  {h}" for h in self.how] + [f"  (the estimate took {self.seconds:.2f} s)"]
+
+
 @dataclass
 class StaticResult:
     """A static solve of a scene: per-electrode voltage, charge, short-circuit charge
@@ -86,6 +136,7 @@ class StaticResult:
     solution: Solution
     times: dict[str, float] = field(default_factory=dict)     # s: mesh, assemble, solve, total
     model_note: str = ""       # which silicone model was used and why (model.silicone = "auto")
+    error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.estimate)
 
     @property
     def electrodes(self) -> dict[str, ElectrodeResult]:
@@ -160,6 +211,7 @@ class StaticResult:
             "max_silicone_strain": self.max_silicone_strain, "unknowns": self.unknowns,
             "solver": self.solver, "relative_residual": self.residual,
             "times_s": self.times, "silicone": self.scene.model.silicone, "model_note": self.model_note,
+            "error_estimate": None if self.error is None else self.error.record(),
             "newton": None if n is None else {"load_factors": n.load_factors, "iterations": n.iterations,
                                               "cutbacks": n.cutbacks, "message": n.message},
         }
@@ -182,6 +234,8 @@ class StaticResult:
             lines.append(f"{e.name:<12}{e.state:<10}{engineering(e.voltage, 'V'):>12}"
                          f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
                          f"{engineering(e.capacitance, 'F'):>14}")
+        if self.error is not None:
+            lines += self.error.lines()
         return "\n".join(lines)
 
 

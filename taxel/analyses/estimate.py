@@ -1,0 +1,134 @@
+"""How wrong a static result may be: its estimated relative error on each output,
+split into discretisation, model form and material law.
+
+Outputs (`output_values`): the pressed taxel's open-circuit voltage per newton
+(V/N), the crosstalk (largest neighbour |V| / pressed |V|), and the pressed
+taxel's short-circuit charge per newton (C/N). Every part is a relative error
+|q_h - q| / |q| of the output q, and the total is their sum (a bound: signed
+parts may cancel, the sum never undercounts them).
+
+- **Discretisation**: two meshes of the same model. The scene's mesh (size h)
+  and the same scene at every size doubled (`refined(scene, 0.5)`: 2h, half as
+  many elements through the piezo). Richardson: with q_h = q + C h^p,
+  e_h = |q_h - q_2h| / (2^p - 1). The order p is RICHARDSON_ORDER, the observed
+  order of the voltage in 2D (benchmarks/default_mesh.py: 2.2 for P2; we take 2).
+  The extra solve costs a fraction of the scene's own (about 4x fewer unknowns in
+  2D, 8x in 3D). In 3D gmsh's meshes at h and 2h are similar, not nested, so the
+  estimate is noisier; a 3D mesh as coarse as CHEAP_3D is given the error of
+  that mesh measured against the 3D reference instead (CHEAP_3D_ERROR).
+- **Model form** (2D plane strain/stress and axisymmetric against 3D): the same
+  scene solved on the cheapest 3D model (CHEAP_3D: 3 mm elements, 1.2 mm at the
+  taxels, two through the piezo; 0.7 s for a single taxel, 6 s for the 3x3
+  array). The estimate is |q_2D / q_3D,cheap - 1| + CHEAP_3D_ERROR[output]: the
+  measured difference on this very geometry, widened by how far the cheapest 3D
+  mesh itself may be from the converged 3D value (measured by
+  benchmarks/estimator_coverage.py over its scenes). Both solves use the linear
+  silicone (a Yeoh 3D solve would cost minutes): the model-form ratio is taken
+  as independent of the law.
+- **Material law** (linear silicone against Yeoh): the existing strain rule,
+  LINEAR_ERROR_PER_STRAIN x the largest silicone strain
+  (benchmarks/silicone_model_error.py), on every output; zero for a Yeoh result.
+"""
+
+from __future__ import annotations
+
+import time
+
+from taxel.scene import Scene, refined
+from taxel.analyses.results import ErrorEstimate, OutputError, StaticResult
+from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_static
+
+OUTPUTS = ("voltage_per_newton", "crosstalk", "short_circuit_charge")
+
+# Richardson order per element order (the voltage's observed order in 2D is 2.2 for P2,
+# benchmarks/default_mesh.py; P1/MINI measured by benchmarks/estimator_coverage.py).
+RICHARDSON_ORDER = {1: 2.0, 2: 2.0}
+
+# The cheapest 3D model: its mesh sizes, and its relative error per output against the
+# 3D reference, the worst over the scenes of benchmarks/estimator_coverage.py (x 1.2).
+CHEAP_3D = {"mesh.size": 3e-3, "mesh.piezo_size": 1.2e-3, "mesh.piezo_layers": 2}
+CHEAP_3D_ERROR = {"voltage_per_newton": 0.035, "crosstalk": 0.10, "short_circuit_charge": 0.035}
+
+
+def output_values(result: StaticResult) -> dict[str, float]:
+    """The outputs an estimate covers, of one static result (SI: V/N, ratio, C/N)."""
+    taxels = {k: e for k, e in result.electrodes.items() if e.state != "reference"}
+    if not taxels:
+        return {}
+    name = result.pressed or next(iter(taxels))
+    force = abs(result.applied_force) or 1.0
+    e = taxels[name]
+    out = {"voltage_per_newton": e.voltage / force, "short_circuit_charge": e.short_circuit_charge / force}
+    if result.crosstalk is not None:
+        out["crosstalk"] = result.crosstalk
+    return out
+
+
+def cheapest_3d(scene: Scene) -> Scene:
+    """The scene on the cheapest 3D model (CHEAP_3D mesh, linear silicone, fixed fidelity)."""
+    return scene.replace(**{"model.type": "3d", "model.depth": None, "model.silicone": "linear",
+                            "model.fidelity": "fixed", **CHEAP_3D})
+
+
+def is_cheap_3d(scene: Scene) -> bool:
+    m = scene.mesh
+    return scene.model.type == "3d" and m.size >= CHEAP_3D["mesh.size"] * 0.999 and \
+        (m.piezo_size or m.size / 4) >= CHEAP_3D["mesh.piezo_size"] * 0.999
+
+
+def relative(a: float, b: float) -> float:
+    """|a / b - 1| (b the better value); 0 when both are 0."""
+    return abs(a - b) / abs(b) if b != 0 else (0.0 if a == 0 else float("inf"))
+
+
+def richardson(fine: dict, coarse: dict, order: float, ratio: float = 2.0) -> dict[str, float]:
+    """Relative error of each fine value: |q_h - q_rh| / (r^p - 1) / |q_h|."""
+    return {k: abs(fine[k] - coarse[k]) / (ratio ** order - 1) / abs(fine[k]) if fine[k] else 0.0
+            for k in fine if k in coarse}
+
+
+def law_used(result: StaticResult) -> str:
+    return "yeoh" if result.newton is not None else "linear"
+
+
+def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d: StaticResult | None = None,
+             model_form: bool = True) -> ErrorEstimate:
+    """The error estimate of `result` (a static solve of `scene`); `cheap_3d` reuses
+    a solve of `cheapest_3d(scene)`. Costs one coarse solve, plus one cheapest-3D
+    solve for a 2D or axisymmetric result (unless given)."""
+    t0 = time.perf_counter()
+    vals = output_values(result)
+    law = law_used(result)
+    base = scene.replace(**{"model.silicone": law, "model.fidelity": "fixed"})
+    how = []
+    if is_cheap_3d(scene):
+        disc = {k: CHEAP_3D_ERROR[k] for k in vals}
+        how.append("discretisation: the cheapest 3D mesh's measured error (CHEAP_3D_ERROR)")
+    else:
+        p = RICHARDSON_ORDER[scene.mesh.order]
+        coarse = output_values(solve_static(refined(base, 0.5), solver))
+        disc = richardson(vals, coarse, p)
+        how.append(f"discretisation: Richardson, this mesh and one at twice every size, order {p:g}")
+    form: dict[str, float | None] = {k: None for k in vals}
+    if scene.model.type == "3d":
+        form = {k: 0.0 for k in vals}
+    elif model_form and scene.array is not None:
+        r3 = cheap_3d or solve_static(cheapest_3d(scene), solver)
+        v3 = output_values(r3)
+        form = {k: relative(vals[k], v3[k]) + CHEAP_3D_ERROR[k] if k in v3 else None for k in vals}
+        how.append(f"model form: {scene.model.type} against the cheapest 3D model of this scene "
+                   f"({r3.unknowns} unknowns), widened by that mesh's measured error")
+    else:
+        how.append("model form: not estimated" + ("" if model_form else " (not asked)"))
+    mat = linear_error(result.max_silicone_strain) if law == "linear" else 0.0
+    how.append(f"material: linear silicone, {LINEAR_ERROR_PER_STRAIN} x largest strain "
+               f"{100 * result.max_silicone_strain:.2g} %" if law == "linear" else "material: Yeoh (the reference law)")
+    outs = {k: OutputError(v, disc.get(k), form.get(k), mat) for k, v in vals.items()}
+    return ErrorEstimate(outs, how, time.perf_counter() - t0)
+
+
+def with_estimate(scene: Scene, solver: str = "auto", **options) -> StaticResult:
+    """A static solve with its error estimate attached (`result.error`)."""
+    res = solve_static(scene, solver, **options)
+    res.error = estimate(scene, res, solver)
+    return res
