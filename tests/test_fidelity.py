@@ -1,0 +1,98 @@
+"""Error estimates on results and `[model] fidelity = "auto"`.
+
+The estimator is checked against references it does not use: the 2D
+discretisation part against a three-level Richardson value, and (in
+benchmarks/estimator_coverage.py, a fast subset here) every part against the
+3D reference.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+import taxel
+from taxel.analyses import estimate as est
+from taxel.analyses import solve_static
+from taxel.cli import main
+from taxel.scene import SceneError, load, refined
+
+ROW = {"array.cols": 3, "load.taxel": (0, 1)}
+
+
+def small(name="thesis-pzt-single-2d", **changes):
+    return load(name).replace(**{"load.force": 0.05, **changes})
+
+
+def test_estimate_parts_add_up_and_show():
+    sc = small()
+    res = taxel.solve(sc, estimate=True)
+    e = res.error
+    assert set(e.outputs) == {"voltage_per_newton", "short_circuit_charge"}
+    for oe in e.outputs.values():
+        assert oe.discretisation > 0 and oe.model_form > 0 and oe.material > 0
+        assert oe.total == pytest.approx(oe.discretisation + oe.model_form + oe.material)
+    v = e.outputs["voltage_per_newton"].value
+    assert v == pytest.approx(res.voltages()["taxel_0_0"] / 0.05)
+    assert "estimated error" in str(res) and "model form" in str(res)
+    rec = json.loads(json.dumps(res.record()))
+    assert rec["error_estimate"]["outputs"]["voltage_per_newton"]["total"] == pytest.approx(
+        e.outputs["voltage_per_newton"].total)
+
+
+def test_discretisation_part_against_three_level_richardson():
+    """The two-mesh estimate against the error measured from a finer level (observed order)."""
+    sc = small()
+    q = [est.output_values(solve_static(refined(sc, f)))["voltage_per_newton"] for f in (0.5, 1, 2)]
+    p = __import__("math").log2(abs(q[1] - q[0]) / abs(q[2] - q[1]))
+    q_inf = q[2] + (q[2] - q[1]) / (2 ** p - 1)
+    true = abs(q[1] / q_inf - 1)
+    estimated = est.richardson({"v": q[1]}, {"v": q[0]}, est.RICHARDSON_ORDER[2])["v"]
+    assert true <= estimated <= 3 * true
+
+
+def test_cli_json_carries_the_estimate(capsys):
+    assert main(["solve", "thesis-pzt-single-2d", "--estimate", "--json"]) in (None, 0)
+    rec = json.loads(capsys.readouterr().out)
+    assert set(rec["error_estimate"]["outputs"]["voltage_per_newton"]) == {
+        "value", "discretisation", "model_form", "material", "total"}
+
+
+def test_auto_chooses_2d_when_it_is_within_tolerance():
+    sc = small(**{"model.fidelity": "auto", "model.tolerance": 0.1})
+    res = solve_static(sc)
+    assert res.scene.model.type == "plane_strain"
+    assert res.error.within(0.1, ["voltage_per_newton"])
+    assert res.model_note.startswith("fidelity auto: plane strain")
+
+
+def test_auto_leaves_2d_for_a_crosstalk_it_cannot_meet():
+    """2D overstates crosstalk 2-4x: a 20 % crosstalk tolerance needs 3D."""
+    sc = small(**ROW, **{"model.fidelity": "auto", "model.tolerance": 0.2,
+                         "model.outputs": ("voltage_per_newton", "crosstalk")})
+    res = solve_static(sc)
+    assert res.scene.model.type in ("axisymmetric", "3d")
+    assert "plane strain (linear)" in res.model_note
+    assert res.error.outputs["crosstalk"].total <= 0.2
+
+
+def test_auto_is_validated():
+    with pytest.raises(SceneError, match="model.fidelity"):
+        load("thesis-pzt-frequency").replace(**{"model.fidelity": "auto"})
+    with pytest.raises(SceneError, match="crosstalk"):
+        small(**{"model.outputs": ("crosstalk",)})
+
+
+@pytest.mark.slow
+def test_estimator_coverage_fast_subset(tmp_path):
+    """Four scenes of benchmarks/estimator_coverage.py: every pair bounded."""
+    import importlib.util
+    import pathlib
+    path = pathlib.Path(__file__).parent.parent / "benchmarks" / "estimator_coverage.py"
+    spec = importlib.util.spec_from_file_location("estimator_coverage", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    r = mod.coverage(fast=True, store_dir=str(tmp_path), verbose=False)
+    assert r["scenes"] == 4
+    assert r["coverage"] >= 0.9
