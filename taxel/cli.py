@@ -2,6 +2,7 @@
 
     taxel solve SCENE [--json] [--vtu FILE] [--solver NAME] [--out DIR]
     taxel lumped SCENE [--out DIR]
+    taxel fidelity SCENE... [--force N]... [--out DIR] [--store DIR]   (the work-precision chart)
     taxel mesh SCENE -o FILE          (.msh with physical groups, or .vtu/.xdmf via meshio)
     taxel study run STUDY [--out DIR] [--workers N] [--scheduler ADDR] [--retry-failed]
     taxel study status DIR | taxel study export DIR --csv FILE
@@ -38,6 +39,24 @@ def _print_written(out: Path, files, summary):
         print(line)
     for f in files:
         print(f"wrote {out / Path(f).name}")
+
+
+def _fidelity(args):
+    from taxel.reports.fidelity import lines
+    forces = args.force or [0.2, 1.0]
+    for f in forces:
+        if not (0 < f <= 100):
+            raise SceneError(f"--force {f:g}: give a force in newtons between 0 and 100")
+    out = Path(args.out or "out/fidelity")
+    for s in args.scenes:
+        api.load(s)                           # a bad scene fails before any solve
+
+    def progress(p):
+        print(f"  {p.level.label:<36} {p.seconds:7.2f} s  {p.unknowns:>7} unknowns", flush=True)
+    api.fidelity(args.scenes, out, forces, args.store, progress)
+    for line in lines(json.loads((out / "fidelity.json").read_text())):
+        print(line)
+    print(f"wrote {out.resolve()}")
 
 
 def _solve(args):
@@ -230,6 +249,13 @@ def main(argv=None):
     p.add_argument("--out", metavar="DIR", help="folder for the outputs (scene.json, result.json; CSV and PNG "
                    "of frequency/transient analyses; default for those: out/SCENE)")
     p.set_defaults(run=_solve)
+    p = sub.add_parser("fidelity", help="the work-precision chart: wall time against error of every model and mesh")
+    p.add_argument("scenes", nargs="+", help="scene TOML files or built-in example names")
+    p.add_argument("--force", type=float, action="append", metavar="N", help="force in newtons (repeat; "
+                   "default 0.2 and 1)")
+    p.add_argument("--out", metavar="DIR", default=None, help="output folder (default out/fidelity)")
+    p.add_argument("--store", metavar="DIR", help="the solve cache (default DIR/store)")
+    p.set_defaults(run=_fidelity)
     p = sub.add_parser("lumped", help="the 3-DoF lumped model's answer to a scene (frequency response)")
     p.add_argument("scene")
     p.add_argument("--out", metavar="DIR")

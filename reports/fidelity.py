@@ -1,0 +1,112 @@
+"""The work-precision folder and its report page: wall time against error, log-log,
+one point per model and mesh (studies.fidelity), the Pareto set of the cheapest
+for each accuracy marked, and the cheapest model for 1 %, 5 % and 10 % error.
+
+Folder: fidelity.json (every point: model, time, unknowns, values, errors; the
+reference; the cheapest per tolerance), fidelity.csv, and one chart per scene
+and force (`<scene>-<force>N.png`, a panel per output).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+from taxel.reports.figures import pyplot
+from taxel.studies.fidelity import LABELS, OUTPUTS, WorkPrecision, cost
+
+TOLERANCES = (0.01, 0.05, 0.10)
+COLOURS = {"lumped": "tab:gray", "plane_stress": "tab:orange", "plane_strain": "tab:blue",
+           "axisymmetric": "tab:green", "3d": "tab:red"}
+
+
+def summary(wp: WorkPrecision) -> dict:
+    """The cheapest model within each tolerance, per output, and the Pareto sets."""
+    out = {}
+    for k in OUTPUTS:
+        if k not in wp.reference:
+            continue
+        ch = {f"{100 * t:g} %": (lambda p: None if p is None else {"model": p.level.label, "seconds": cost(p, k),
+                                                                  "error": p.errors[k]})(wp.cheapest(k, t))
+              for t in TOLERANCES}
+        out[k] = {"cheapest": ch, "pareto": [p.level.label for p in wp.pareto(k)]}
+    return out
+
+
+def chart(wp: WorkPrecision, path: Path) -> Path:
+    """Log-log wall time against error, a panel per output, the Pareto set joined."""
+    plt = pyplot()
+    outs = [k for k in OUTPUTS if k in wp.reference]
+    fig, axes = plt.subplots(1, len(outs), figsize=(3.4 * len(outs), 3.6), constrained_layout=True)
+    for ax, k in zip(np.atleast_1d(axes), outs):
+        for p in wp.points:
+            if k not in p.errors:
+                continue
+            ax.loglog(cost(p, k), max(p.errors[k], 1e-5), "o" if p.level.law == "linear" else "s",
+                      color=COLOURS[p.level.model], ms=4 + p.level.order, alpha=0.75,
+                      mfc="none" if p.level.order == 1 else COLOURS[p.level.model])
+        front = wp.pareto(k)
+        ax.loglog([cost(p, k) for p in front], [max(p.errors[k], 1e-5) for p in front], "k-", lw=0.8)
+        ax.loglog([cost(p, k) for p in front], [max(p.errors[k], 1e-5) for p in front], "o", mfc="none",
+                  mec="k", ms=10)
+        for t in TOLERANCES:
+            ax.axhline(t, color="0.8", lw=0.6, ls="--")
+        ax.set_title(LABELS[k], fontsize=9)
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("error against the 3D reference (ratio)")
+    handles = [plt.Line2D([], [], marker="o", ls="", color=c, label=m.replace("_", " ")) for m, c in COLOURS.items()]
+    handles += [plt.Line2D([], [], marker="s", ls="", color="k", label="Yeoh silicone"),
+                plt.Line2D([], [], marker="o", ls="", mfc="none", color="k", label="order 1 (hollow)"),
+                plt.Line2D([], [], marker="o", ls="-", mfc="none", ms=10, color="k", label="Pareto set")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=8, fontsize=8)
+    fig.suptitle(f"{wp.scene} at {wp.force:g} N: work against precision", fontsize=10)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def write(wps: list[WorkPrecision], out: Path) -> list[Path]:
+    """fidelity.json, fidelity.csv and the charts into `out`."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    recs, files = [], []
+    with open(out / "fidelity.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["scene", "force_N", "model", "order", "mesh", "law", "seconds", "sweep_seconds", "unknowns",
+                    *[f"{k}_value" for k in OUTPUTS], *[f"{k}_error" for k in OUTPUTS]])
+        for wp in wps:
+            for p in wp.points:
+                lv = p.level
+                w.writerow([wp.scene, wp.force, lv.model, lv.order, lv.mesh, lv.law, f"{p.seconds:.4g}",
+                            "" if p.sweep_seconds is None else f"{p.sweep_seconds:.4g}", p.unknowns,
+                            *[f"{p.values[k]:.9g}" if k in p.values else "" for k in OUTPUTS],
+                            *[f"{p.errors[k]:.6g}" if k in p.errors else "" for k in OUTPUTS]])
+            png = chart(wp, out / f"{wp.scene}-{wp.force:g}N.png")
+            files.append(png)
+            recs.append({"scene": wp.scene, "force_N": wp.force, "reference": wp.reference, "how": wp.how,
+                         "summary": summary(wp)})
+    (out / "fidelity.json").write_text(json.dumps({"work_precision": recs}, indent=1))
+    return [out / "fidelity.json", out / "fidelity.csv", *files]
+
+
+def cheapest_rows(rec: dict) -> list[dict]:
+    """One row per scene, force and output: the cheapest model for 1, 5 and 10 %."""
+    rows = []
+    for wp in rec["work_precision"]:
+        for k, s in wp["summary"].items():
+            row = {"scene": wp["scene"], "force (N)": wp["force_N"], "output": LABELS[k]}
+            for t, c in s["cheapest"].items():
+                row[f"cheapest within {t}"] = "none" if c is None else f"{c['model']} ({c['seconds']:.2g} s)"
+            rows.append(row)
+    return rows
+
+
+def lines(rec: dict) -> list[str]:
+    out = []
+    for r in cheapest_rows(rec):
+        out.append(f"{r['scene']} {r['force (N)']:g} N, {r['output']}: " + "; ".join(
+            f"{k.removeprefix('cheapest within ')}: {v}" for k, v in r.items() if k.startswith("cheapest")))
+    return out
