@@ -134,6 +134,13 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
             csv=_csv_link(folder / "optimum-history.csv", out, folder))})
     imgs = sorted(folder.glob("*.png"))
     key = [p for p in imgs if p.name == "pareto.png"] or imgs
+    if (folder / "front-3d.json").exists():          # the 3D-verified front (reports/multifidelity.py)
+        rec = read_json(folder / "front-3d.json")
+        numbers += [("in 3D", rec["sentence"])]
+        blocks += [{"type": "text", "text": rec["sentence"]},
+                   {"type": "table", "table": tables.table(rec["front_3d"] + [rec["reference"]])},
+                   {"type": "note", "text": f"3D model: {rec['verify_3d']}; rounds: {rec['rounds']}; "
+                                            f"plan: {rec['plan']}; spent: {rec['spent']}"}]
     return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
             "banners": [], "thumb": key[0].read_bytes() if key else None}
 

@@ -108,13 +108,20 @@ def finest_3d(scene: Scene) -> tuple[Level, Level]:
 
 
 def _cached(store: Store, scene: Scene, compute) -> dict:
+    """The stored result of `compute(scene)`, or None when it failed (stored too:
+    a Newton stop at 1 N stays a stop on a rerun)."""
     data = to_data(scene)
     key = point_key(data)
     row = store.get(key)
-    if row is not None and row["status"] == "done":
-        return row["result"]
+    if row is not None:
+        return row["result"] if row["status"] == "done" else None
     t0 = time.perf_counter()
-    result = compute(parse({**data, "name": "point"}))
+    try:
+        result = compute(parse({**data, "name": "point"}))
+    except Exception as exc:            # recorded; the chart goes on without this point
+        store.put(key, {"label": scene.name}, "failed", None, f"{type(exc).__name__}: {exc}"[:300],
+                  time.perf_counter() - t0)
+        return None
     result["seconds"] = time.perf_counter() - t0
     store.put(key, {"label": scene.name}, "done", result, seconds=result["seconds"])
     return result
@@ -148,21 +155,25 @@ def lumped_values(scene: Scene) -> dict:
                        "charge_amp_10Hz": float(mag[0]), "charge_amp_300Hz": float(mag[-1])}, "unknowns": 3}
 
 
-def point(store: Store, base: Scene, level: Level, sweep: bool = True) -> Point:
-    """One model's values and wall time (cached). Linear models are solved at 1 N:
-    their values per newton do not depend on the force."""
+def point(store: Store, base: Scene, level: Level, sweep: bool = True) -> Point | None:
+    """One model's values and wall time (cached; None when the solve failed, e.g.
+    Newton stopping where the pressed surface creases). Linear models are solved
+    at 1 N: their values per newton do not depend on the force."""
     one = base.replace(**{"load.force": 1.0}) if level.law == "linear" else base
     if level.model == "lumped":
         r = _cached(store, one.replace(**{"analysis.type": "frequency", "model.depth": None,
                                           "model.type": "axisymmetric"}), lumped_values)
-        return Point(level, r["seconds"], 3, r["values"])
+        return None if r is None else Point(level, r["seconds"], 3, r["values"])
     sc = level.scene(one)
     r = _cached(store, sc, static_values)
+    if r is None:
+        return None
     pt = Point(level, r["seconds"], r["unknowns"], dict(r["values"]))
     if sweep and level.law == "linear":
         s = _cached(store, sc.replace(**SWEEP), sweep_values)
-        pt.values.update(s["values"])
-        pt.sweep_seconds = s["seconds"]
+        if s is not None:
+            pt.values.update(s["values"])
+            pt.sweep_seconds = s["seconds"]
     return pt
 
 
@@ -198,18 +209,25 @@ def work_precision(scene: Scene, force: float, store_dir, progress=None) -> Work
     store = Store(store_dir)
     base = scene.replace(**{"load.force": force, "analysis.type": "static"})
     try:
-        pts = []
+        pts, failed = [], []
         for lev in levels(base):
-            pts.append(point(store, base, lev))
+            pt = point(store, base, lev)
+            (pts.append(pt) if pt is not None else failed.append(lev.label))
             if progress:
-                progress(pts[-1])
+                progress(lev, pt)
         fine_a, fine_b = finest_3d(base)
         a, b = point(store, base, fine_a), point(store, base, fine_b, sweep=False)
         ratio = MESH_3D[fine_a.mesh][0] / MESH_3D[fine_b.mesh][0]
         ref = {k: b.values[k] + (b.values[k] - a.values[k]) / (ratio ** 2 - 1) for k in b.values}
         law_model = "axisymmetric" if axisymmetric_ok(base) else "plane_strain"
-        lin, yeoh = (point(store, base, Level(law_model, 2, "x1/2", law), sweep=False) for law in ("linear", "yeoh"))
-        law = {k: yeoh.values[k] / lin.values[k] for k in yeoh.values if k in lin.values and lin.values[k]}
+        law, law_mesh = {}, None
+        for mesh in ("x1/2", "x1", "x2"):         # the finest mesh on which Yeoh converges
+            lin, yeoh = (point(store, base, Level(law_model, 2, mesh, law), sweep=False)
+                         for law in ("linear", "yeoh"))
+            if yeoh is not None:
+                law = {k: yeoh.values[k] / lin.values[k] for k in yeoh.values if k in lin.values and lin.values[k]}
+                law_mesh = mesh
+                break
         ref = {k: v * law.get(k, 1.0) for k, v in ref.items()}
         ref.update({k: a.values[k] for k in ("charge_amp_10Hz", "charge_amp_300Hz") if k in a.values})
         if b.level not in {p.level for p in pts}:
@@ -218,6 +236,9 @@ def work_precision(scene: Scene, force: float, store_dir, progress=None) -> Work
         store.close()
     for p in pts:
         p.errors = {k: relative(v, ref[k]) for k, v in p.values.items() if k in ref}
-    how = (f"reference: 3D {fine_a.mesh} and {fine_b.mesh} extrapolated (order 2), times the Yeoh/linear ratio "
-           f"of {law_model.replace('_', ' ')} P2 x1/2; charge-amplifier outputs: 3D {fine_a.mesh}, linear")
+    how = (f"reference: 3D {fine_a.mesh} and {fine_b.mesh} extrapolated (order 2), "
+           + (f"times the Yeoh/linear ratio of {law_model.replace('_', ' ')} P2 {law_mesh}" if law_mesh else
+              "linear (Yeoh converged on no mesh at this force: a pressure patch creases the surface)")
+           + f"; charge-amplifier outputs: 3D {fine_a.mesh}, linear"
+           + (f"; failed, not shown: {', '.join(failed)}" if failed else ""))
     return WorkPrecision(scene.name, force, pts, ref, how)

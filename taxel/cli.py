@@ -51,8 +51,9 @@ def _fidelity(args):
     for s in args.scenes:
         api.load(s)                           # a bad scene fails before any solve
 
-    def progress(p):
-        print(f"  {p.level.label:<36} {p.seconds:7.2f} s  {p.unknowns:>7} unknowns", flush=True)
+    def progress(level, p):
+        print(f"  {level.label:<36} " + ("failed (stored)" if p is None else
+                                         f"{p.seconds:7.2f} s  {p.unknowns:>7} unknowns"), flush=True)
     api.fidelity(args.scenes, out, forces, args.store, progress)
     for line in lines(json.loads((out / "fidelity.json").read_text())):
         print(line)

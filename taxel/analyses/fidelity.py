@@ -59,7 +59,10 @@ def choose(scene: Scene, solver: str = "auto") -> StaticResult:
         for law in ("linear", "yeoh"):
             sc = fixed.replace(**dict(rung.changes), **{"model.silicone": law})
             try:
-                res = solve_static(sc, solver)
+                if cheap3d is not None and sc == est.cheapest_3d(fixed):
+                    res = cheap3d           # solved already for the model-form estimate
+                else:
+                    res = solve_static(sc, solver)
             except ValueError as exc:       # e.g. PVDF has no axisymmetric model
                 tried.append(f"{rung.label}: not possible ({exc})")
                 break
