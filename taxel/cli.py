@@ -68,7 +68,7 @@ def _solve(args):
     if scene.analysis.type != "static":
         out = Path(args.out or Path("out") / scene.name)
         with output_folder(out) as tmp:           # made first: a bad --out fails before the solve
-            files, summary = analysis.write(api.solve(scene), tmp)
+            files, summary = analysis.write(api.solve(scene, estimate=args.estimate), tmp)
         _print_written(out, files, summary)
         return
     vtu = _writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None

@@ -17,7 +17,8 @@ import taxel
 from taxel.analyses import estimate as est
 from taxel.analyses import solve_static
 from taxel.cli import main
-from taxel.scene import SceneError, load, refined
+from taxel.scene import SceneError, load, refined, to_data
+from taxel.studies.evaluate import evaluate
 
 ROW = {"array.cols": 3, "load.taxel": (0, 1)}
 
@@ -70,6 +71,10 @@ def test_auto_chooses_2d_when_it_is_within_tolerance():
     assert res.scene.model.type == "plane_strain"
     assert res.error.within(0.1, ["voltage_per_newton"])
     assert res.model_note.startswith("fidelity auto: plane strain")
+    # a study point (and so an optimization's design) takes the same path
+    point = evaluate(to_data(sc), ("voltage",))
+    assert point["model_note"].startswith("fidelity auto: plane strain")
+    assert point["voltage"]["taxel_0_0"] == pytest.approx(res.voltages()["taxel_0_0"], rel=1e-9)
 
 
 def test_auto_leaves_2d_for_a_crosstalk_it_cannot_meet():

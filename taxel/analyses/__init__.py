@@ -21,7 +21,11 @@ def solve(scene: Scene, estimate: bool = False, **options) -> StaticResult | Fre
     a frequency sweep, or a transient."""
     kind = scene.analysis.type
     if kind == "frequency":
-        return frequency(scene)
+        res = frequency(scene)
+        if estimate:
+            from taxel.analyses.estimate import estimate_frequency
+            res.error = estimate_frequency(scene, res)
+        return res
     if kind == "transient":
         return transient(scene)
     res = solve_static(scene, **options)

@@ -36,8 +36,11 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
+
 from taxel.scene import Scene, refined
-from taxel.analyses.results import ErrorEstimate, OutputError, StaticResult
+from taxel.analyses.dynamic import frequency
+from taxel.analyses.results import ErrorEstimate, FrequencyResult, OutputError, StaticResult
 from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_static
 
 OUTPUTS = ("voltage_per_newton", "crosstalk", "short_circuit_charge")
@@ -134,3 +137,34 @@ def with_estimate(scene: Scene, solver: str = "auto", **options) -> StaticResult
     res = solve_static(scene, solver, **options)
     res.error = estimate(scene, res, solver)
     return res
+
+
+def sweep_values(result: FrequencyResult) -> np.ndarray:
+    """|readout output| per newton of the pressed (or first) taxel at each frequency."""
+    p = result.scene.load.taxel
+    name = f"taxel_{p[0]}_{p[1]}"
+    k = result.names.index(name) if name in result.names else 0
+    return np.abs(result.output[:, k])
+
+
+def estimate_frequency(scene: Scene, result: FrequencyResult) -> ErrorEstimate:
+    """The error of a frequency sweep's readout output (the largest relative error
+    over its frequencies): discretisation by Richardson against the sweep on a mesh
+    at twice every size, model form against the cheapest 3D model's sweep (a 2D or
+    axisymmetric result), plus the sweep's own measured reduction error. The
+    silicone is linear in a sweep (small signal about the unloaded state): no
+    material-law part."""
+    t0 = time.perf_counter()
+    y = sweep_values(result)
+    yc = sweep_values(frequency(refined(scene, 0.5)))
+    p = RICHARDSON_ORDER[scene.mesh.order]
+    disc = float(np.max(np.abs(y - yc) / (2 ** p - 1) / np.abs(y))) + result.port.error
+    how = [f"discretisation: Richardson on a mesh at twice every size, order {p:g}, the largest over "
+           f"{len(y)} frequencies, plus the reduced sweep's measured error {result.port.error:.1e}"]
+    form = 0.0 if scene.model.type == "3d" else None
+    if scene.model.type != "3d" and scene.array is not None:
+        y3 = sweep_values(frequency(cheapest_3d(scene).replace(**{"model.silicone": scene.model.silicone})))
+        form = float(np.max(np.abs(y / y3 - 1))) + CHEAP_3D_ERROR["voltage_per_newton"]
+        how.append("model form: against the cheapest 3D model's sweep, widened by that mesh's measured error")
+    out = {"readout_output": OutputError(float(y.max()), disc, form, 0.0)}
+    return ErrorEstimate(out, how, time.perf_counter() - t0)

@@ -78,7 +78,8 @@ def write_scene(out: Path, scene: Scene) -> Path:
 
 
 OUTPUT_NAMES = {"voltage_per_newton": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
-                "short_circuit_charge": "pressed-taxel short-circuit charge per newton"}
+                "short_circuit_charge": "pressed-taxel short-circuit charge per newton",
+                "readout_output": "readout output, largest over the sweep"}
 
 
 @dataclass
@@ -247,6 +248,7 @@ class FrequencyResult:
     port: PortResponse          # open-circuit voltages and capacitances per newton
     output: np.ndarray          # (nf, na) complex readout output per newton (V/N)
     label: str                  # what the output is ("charge-amplifier output + 50 Hz notch")
+    error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.estimate)
 
     @property
     def freqs(self) -> np.ndarray:
@@ -262,7 +264,8 @@ class FrequencyResult:
                 "seconds": self.port.seconds, "frequency_Hz": self.freqs.tolist(),
                 "magnitude_V_per_N": {k: np.abs(self.output[:, i]).tolist() for i, k in enumerate(self.names)},
                 "phase_deg": {k: np.degrees(np.angle(self.output[:, i])).tolist()
-                              for i, k in enumerate(self.names)}}
+                              for i, k in enumerate(self.names)},
+                "error_estimate": None if self.error is None else self.error.record()}
 
     def summary(self) -> list[str]:
         f, V, p = self.freqs, self.output, self.port
@@ -272,6 +275,8 @@ class FrequencyResult:
             mag = np.abs(V[:, k])
             out.append(f"{name}: |{self.label}| {mag[0]:.4g} V/N at {f[0]:g} Hz, {mag[-1]:.4g} V/N at {f[-1]:g} Hz, "
                        f"peak {mag.max():.4g} V/N at {f[np.argmax(mag)]:.4g} Hz")
+        if self.error is not None:
+            out += self.error.lines()
         return out
 
     def to_folder(self, out) -> list[Path]:
