@@ -36,7 +36,7 @@ def sentence(problem, a: dict) -> str:
             f"crosstalk; it is {'on' if a['thesis_on_3d_front'] else 'not on'} the 3D-verified front.")
     b = a.get("best_at_or_below_thesis_crosstalk")
     if b and not a["thesis_on_3d_front"]:
-        x = ", ".join(f"{n} {1e3 * v:.2f} mm" for n, v in zip(problem.names, b["x"]))
+        x = ", ".join(f"{n.replace('_', ' ')} {v:.2f} {u}" for n, v, u in zip(problem.names, b["x"], problem.units))
         head += (f" The 3D front offers {b['sensitivity_V_per_N']:.3f} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
                  f"at {100 * b['crosstalk']:.2f} % crosstalk ({x}).")
     return head
@@ -44,7 +44,7 @@ def sentence(problem, a: dict) -> str:
 
 def write(problem, mf: MultiFidelity, out: Path) -> dict:
     def row(d):
-        return {**{f"{n} (mm)": 1e3 * v for n, v in zip(problem.names, d.x)},
+        return {**{f"{n} ({u})": v for n, v, u in zip(problem.names, d.x, problem.units)},
                 "sensitivity 2D (V/N)": d.cheap[0], "crosstalk 2D": d.cheap[1],
                 "sensitivity 3D (V/N)": d.fine[0] if d.fine else None, "crosstalk 3D": d.fine[1] if d.fine else None,
                 "predicted sensitivity": d.predicted[0] if d.predicted else None,

@@ -120,7 +120,8 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
     elif model_form and scene.array is not None:
         r3 = cheap_3d or solve_static(cheapest_3d(scene), solver)
         v3 = output_values(r3)
-        form = {k: relative(vals[k], v3[k]) + CHEAP_3D_ERROR[k] if k in v3 else None for k in vals}
+        form = {k: relative(vals[k], v3[k]) + abs(vals[k] / v3[k]) * CHEAP_3D_ERROR[k] if k in v3 else None
+                for k in vals}
         how.append(f"model form: {scene.model.type} against the cheapest 3D model of this scene "
                    f"({r3.unknowns} unknowns), widened by that mesh's measured error")
     else:
