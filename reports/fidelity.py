@@ -36,34 +36,64 @@ def summary(wp: WorkPrecision) -> dict:
     return out
 
 
+def _panel(ax, wp: WorkPrecision, k: str):
+    for p in wp.points:
+        if k not in p.errors:
+            continue
+        ax.loglog(cost(p, k), max(p.errors[k], 1e-5), "o" if p.level.law == "linear" else "s",
+                  color=COLOURS[p.level.model], ms=4 + p.level.order, alpha=0.75,
+                  mfc="none" if p.level.order == 1 else COLOURS[p.level.model])
+    front = wp.pareto(k)
+    xs, ys = [cost(p, k) for p in front], [max(p.errors[k], 1e-5) for p in front]
+    ax.loglog(xs, ys, "k-", lw=0.8)
+    ax.loglog(xs, ys, "o", mfc="none", mec="k", ms=10)
+    for t in TOLERANCES:
+        ax.axhline(t, color="0.8", lw=0.6, ls="--")
+
+
+def _legend(fig):
+    plt = pyplot()
+    handles = [plt.Line2D([], [], marker="o", ls="", color=c, label=m.replace("_", " ")) for m, c in COLOURS.items()]
+    handles += [plt.Line2D([], [], marker="s", ls="", color="k", label="Yeoh silicone"),
+                plt.Line2D([], [], marker="o", ls="", mfc="none", color="k", label="order 1 (hollow)"),
+                plt.Line2D([], [], marker="o", ls="-", mfc="none", ms=10, color="k", label="Pareto set")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=8, fontsize=8)
+
+
 def chart(wp: WorkPrecision, path: Path) -> Path:
     """Log-log wall time against error, a panel per output, the Pareto set joined."""
     plt = pyplot()
     outs = [k for k in OUTPUTS if k in wp.reference]
     fig, axes = plt.subplots(1, len(outs), figsize=(3.4 * len(outs), 3.6), constrained_layout=True)
     for ax, k in zip(np.atleast_1d(axes), outs):
-        for p in wp.points:
-            if k not in p.errors:
-                continue
-            ax.loglog(cost(p, k), max(p.errors[k], 1e-5), "o" if p.level.law == "linear" else "s",
-                      color=COLOURS[p.level.model], ms=4 + p.level.order, alpha=0.75,
-                      mfc="none" if p.level.order == 1 else COLOURS[p.level.model])
-        front = wp.pareto(k)
-        ax.loglog([cost(p, k) for p in front], [max(p.errors[k], 1e-5) for p in front], "k-", lw=0.8)
-        ax.loglog([cost(p, k) for p in front], [max(p.errors[k], 1e-5) for p in front], "o", mfc="none",
-                  mec="k", ms=10)
-        for t in TOLERANCES:
-            ax.axhline(t, color="0.8", lw=0.6, ls="--")
+        _panel(ax, wp, k)
         ax.set_title(LABELS[k], fontsize=9)
         ax.set_xlabel("wall time (s)")
         ax.set_ylabel("error against the 3D reference (ratio)")
-    handles = [plt.Line2D([], [], marker="o", ls="", color=c, label=m.replace("_", " ")) for m, c in COLOURS.items()]
-    handles += [plt.Line2D([], [], marker="s", ls="", color="k", label="Yeoh silicone"),
-                plt.Line2D([], [], marker="o", ls="", mfc="none", color="k", label="order 1 (hollow)"),
-                plt.Line2D([], [], marker="o", ls="-", mfc="none", ms=10, color="k", label="Pareto set")]
-    fig.legend(handles=handles, loc="outside lower center", ncol=8, fontsize=8)
+    _legend(fig)
     fig.suptitle(f"{wp.scene} at {wp.force:g} N: work against precision", fontsize=10)
     fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def grid(wps: list[WorkPrecision], path: Path) -> Path:
+    """Every scene and force in one figure: a row each, a column per output."""
+    plt = pyplot()
+    fig, axes = plt.subplots(len(wps), len(OUTPUTS), figsize=(2.9 * len(OUTPUTS), 2.3 * len(wps)),
+                             constrained_layout=True, squeeze=False)
+    for row, wp in zip(axes, wps):
+        for ax, k in zip(row, OUTPUTS):
+            if k in wp.reference:
+                _panel(ax, wp, k)
+            else:
+                ax.set_axis_off()
+            ax.set_xlabel("wall time (s)", fontsize=7)
+            ax.set_ylabel("error (ratio)", fontsize=7)
+            ax.tick_params(labelsize=6)
+            ax.set_title(f"{wp.scene} {wp.force:g} N: {LABELS[k]}", fontsize=7)
+    _legend(fig)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
     return path
 

@@ -106,3 +106,38 @@ def test_estimator_coverage_fast_subset(tmp_path):
     r = mod.coverage(fast=True, store_dir=str(tmp_path), verbose=False)
     assert r["scenes"] == 4
     assert r["coverage"] >= 0.9
+
+
+def test_multifidelity_correction_is_exact_at_verified_designs_and_recovers_a_log_linear_ratio():
+    """The correction (optimize.multifidelity.interpolant) on designs whose 3D/2D
+    ratios are exp(a + b.x): exact there, and the same law in between."""
+    import numpy as np
+    from types import SimpleNamespace
+    from taxel.optimize.multifidelity import Design, interpolant, nondominated
+    prob = SimpleNamespace(lo=np.array([0.0, 1.0]), hi=np.array([1.0, 5.0]))
+    rng = np.random.default_rng(1)
+
+    def law(x):
+        u = (np.asarray(x) - prob.lo) / (prob.hi - prob.lo)
+        return np.exp([0.1 + 0.2 * u[0], -1.0 - 0.8 * u[1]])
+    designs = []
+    for x in rng.uniform(prob.lo, prob.hi, (6, 2)):
+        r = law(x)
+        designs.append(Design(list(x), (1.0, 0.1), (r[0], 0.1 * r[1])))
+    ratio = interpolant(prob, designs)
+    for d in designs:
+        assert np.allclose(ratio(d.x) * [1.0, 0.1], d.fine)
+    x = [0.5, 3.0]
+    assert np.allclose(ratio(x), law(x), rtol=1e-9)
+    front = nondominated(designs + [Design([0, 1], (0.5, 0.5), (0.1, 0.9))], lambda d: d.fine)
+    assert all(d.fine != (0.1, 0.9) for d in front)
+
+
+def test_multifidelity_verifies_on_a_3d_scene():
+    from taxel.optimize import problem as O
+    from taxel.optimize.multifidelity import VERIFY_3D, fine_data
+    from taxel.scene import parse
+    prob = O.load_problem("thesis-pzt-front")
+    sc = parse({**fine_data(prob, prob.x0), "name": "x"})
+    assert sc.model.type == "3d" and sc.mesh.size == pytest.approx(3e-3) and sc.array.rows == 3
+    assert VERIFY_3D["mesh.piezo_layers"] == sc.mesh.piezo_layers

@@ -1,0 +1,39 @@
+"""The README's work-precision figure (docs/work-precision.png) and table: the four
+thesis scenes at 0.2 N and 1 N, from the caches `taxel fidelity` filled
+(out/fidelity-store; a first run solves everything: about 10-20 minutes, the
+3x3 3D references most of it).
+
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python docs/work_precision_figure.py [--store DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import taxel
+from taxel.reports.fidelity import cheapest_rows, grid, write
+
+SCENES = ("thesis-pzt-single-2d", "thesis-pvdf-single-2d", "thesis-pzt-3x3-2d", "thesis-pvdf-3x3-2d")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--store", default="out/fidelity-store")
+    ap.add_argument("--out", default="out/fidelity")
+    args = ap.parse_args()
+    wps = taxel.fidelity(SCENES, args.out, (0.2, 1.0), store=args.store)
+    write(wps, Path(args.out))
+    grid(wps, Path(__file__).parent / "work-precision.png")
+    rec = json.loads((Path(args.out) / "fidelity.json").read_text())
+    print("| scene | force (N) | output | within 1 % | within 5 % | within 10 % |\n|---|---|---|---|---|---|")
+    for r in cheapest_rows(rec):
+        print(f"| {r['scene']} | {r['force (N)']:g} | {r['output']} | {r['cheapest within 1 %']} | "
+              f"{r['cheapest within 5 %']} | {r['cheapest within 10 %']} |")
+    for w in rec["work_precision"]:
+        print(f"- {w['scene']} at {w['force_N']:g} N: {w['how']}")
+
+
+if __name__ == "__main__":
+    main()
