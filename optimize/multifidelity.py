@@ -157,9 +157,15 @@ def _history(runs, problem) -> list[Design]:
 
 
 def nondominated(designs: list[Design], score) -> list[Design]:
-    keep = pareto_front([score(d) for d in designs])
-    keep = {(round(s, 12), round(c, 12)) for s, c in keep}
-    return [d for d in designs if (round(score(d)[0], 12), round(score(d)[1], 12)) in keep]
+    """The non-dominated designs (sensitivity up, crosstalk down), one per score."""
+    keep = {(round(s, 12), round(c, 12)) for s, c in pareto_front([score(d) for d in designs])}
+    out = []
+    for d in designs:
+        key = (round(score(d)[0], 12), round(score(d)[1], 12))
+        if key in keep:
+            keep.discard(key)
+            out.append(d)
+    return sorted(out, key=lambda d: score(d)[1])
 
 
 def plan(problem) -> dict:
@@ -175,7 +181,9 @@ def verify(problem, runs, x_reference, tolerance=0.05, max_rounds=3, workers=2) 
     """The multi-fidelity loop over a cheap front `runs` (problem.front's output)."""
     t0 = time.perf_counter()
     pool = _history(runs, problem)
-    cheap_front = [Design(list(map(float, r.x)), (r.metrics["sensitivity"], r.metrics["crosstalk"]))
+    by_x = {tuple(np.round(d.x, 9)): d for d in pool}
+    cheap_front = [by_x.setdefault(tuple(np.round(r.x, 9)), Design(list(map(float, r.x)),
+                                                                     (r.metrics["sensitivity"], r.metrics["crosstalk"])))
                    for _, r in runs if r.success and r.metrics.get("sensitivity") is not None]
     cheap_front = nondominated(cheap_front, lambda d: d.cheap)
     cap = max(len(cheap_front), 2)
