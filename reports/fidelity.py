@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.reports.figures import pyplot
-from taxel.studies.fidelity import LABELS, OUTPUTS, WorkPrecision, cost
+from taxel.studies.fidelity import LABELS, OUTPUTS, Level, Point, WorkPrecision, cost
 
 TOLERANCES = (0.01, 0.05, 0.10)
 COLOURS = {"lumped": "tab:gray", "plane_stress": "tab:orange", "plane_strain": "tab:blue",
@@ -139,4 +139,25 @@ def lines(rec: dict) -> list[str]:
     for r in cheapest_rows(rec):
         out.append(f"{r['scene']} {r['force (N)']:g} N, {r['output']}: " + "; ".join(
             f"{k.removeprefix('cheapest within ')}: {v}" for k, v in r.items() if k.startswith("cheapest")))
+    return out
+
+
+def read(folder: Path) -> list[WorkPrecision]:
+    """The WorkPrecision of each scene and force, back from a written folder
+    (fidelity.json and fidelity.csv): redraws without solving."""
+    folder = Path(folder)
+    rec = json.loads((folder / "fidelity.json").read_text())
+    rows = list(csv.DictReader(open(folder / "fidelity.csv")))
+    out = []
+    for w in rec["work_precision"]:
+        pts = []
+        for r in rows:
+            if r["scene"] != w["scene"] or float(r["force_N"]) != w["force_N"]:
+                continue
+            pt = Point(Level(r["model"], int(r["order"]), r["mesh"], r["law"]), float(r["seconds"]),
+                       int(r["unknowns"]), {k: float(r[f"{k}_value"]) for k in OUTPUTS if r[f"{k}_value"]},
+                       float(r["sweep_seconds"]) if r["sweep_seconds"] else None)
+            pt.errors = {k: float(r[f"{k}_error"]) for k in OUTPUTS if r[f"{k}_error"]}
+            pts.append(pt)
+        out.append(WorkPrecision(w["scene"], w["force_N"], pts, w["reference"], w["how"]))
     return out

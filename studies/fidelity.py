@@ -31,15 +31,18 @@ once, and a rerun only draws.
 
 from __future__ import annotations
 
+import hashlib
 import time
 from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
 
 import numpy as np
 
 from taxel.analyses import frequency, lumped_model, lumped_response, solve_static
 from taxel.analyses.estimate import relative
-from taxel.scene import Scene, parse, refined, to_data
-from taxel.studies.store import Store, point_key
+from taxel.scene import Scene, canonical, parse, refined, to_data
+from taxel.studies.store import Store
 
 OUTPUTS = ("voltage_per_newton", "crosstalk", "short_circuit_charge", "charge_amp_10Hz", "charge_amp_300Hz")
 LABELS = {"voltage_per_newton": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
@@ -110,11 +113,29 @@ def finest_3d(scene: Scene) -> tuple[Level, Level]:
     return Level("3d", 2, "2 mm", "linear"), Level("3d", 2, "1.5 mm", "linear")
 
 
+@cache
+def solver_version() -> str:
+    """Hash of what a solve depends on: the FEM, the meshing, the analyses (but not
+    the error estimator and the fidelity ladder, which solve nothing themselves) and
+    the scene schema; an estimator change keeps the cached work-precision solves."""
+    import taxel.analyses
+    import taxel.fem
+    import taxel.meshing
+    import taxel.scene
+    h = hashlib.sha256()
+    for mod in (taxel.fem, taxel.meshing, taxel.analyses):
+        for f in sorted(Path(mod.__path__[0]).glob("*.py")):
+            if f.name not in ("estimate.py", "fidelity.py"):
+                h.update(f.read_bytes())
+    h.update(Path(taxel.scene.__file__).read_bytes())
+    return h.hexdigest()[:16]
+
+
 def _cached(store: Store, scene: Scene, compute) -> dict:
     """The stored result of `compute(scene)`, or None when it failed (stored too:
     a Newton stop at 1 N stays a stop on a rerun)."""
     data = to_data(scene)
-    key = point_key(data)
+    key = "wp-" + hashlib.sha256((canonical(parse({**data, "name": "point"})) + solver_version()).encode()).hexdigest()
     row = store.get(key)
     if row is not None:
         return row["result"] if row["status"] == "done" else None
