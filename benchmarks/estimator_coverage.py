@@ -1,7 +1,9 @@
 """Does the error estimate bound the true error, and how sharply?
 
-23 scenes spanning the parameter ranges: PZT and PVDF; single taxels and 1x3
-rows (crosstalk) with gaps of 1, 3 and 5 mm (PVDF: 1 mm); silicone above 0.5, 1 and 2 mm;
+22 scenes spanning the parameter ranges: PZT and PVDF; single taxels with 0.5,
+1, 1.5 and 2 mm of silicone above; 1x3 PZT rows (crosstalk) with gaps of 1 and
+3 mm (a 1x3 reference at 1 mm needs more than 6 GB beyond these: killed by the
+kernel at 6.1 GB on the 5 mm gap);
 plane strain, plane stress and axisymmetric, orders 1 and 2; and the cheapest
 3D model itself. For each, `taxel.analyses.estimate.estimate` (discretisation
 + model form; linear silicone on both sides, so the material part, which is
@@ -41,28 +43,25 @@ def scenes(fast: bool = False) -> list[tuple[str, Scene]]:
     row = {"array.cols": 3, "load.taxel": (0, 1)}
     out = []
     for name, base in (("PZT", pzt), ("PVDF", pvdf)):
-        above = (0.5e-3, 1e-3, 2e-3) if name == "PZT" else (1e-3, 2e-3)
-        for a in above:
+        for a in (0.5e-3, 1e-3, 1.5e-3, 2e-3):
             out.append((f"{name} single, {a * 1e3:g} mm above, plane strain",
                         base.replace(**{"array.silicone_above": a})))
             if name == "PZT":           # PVDF is not transversely isotropic: no axisymmetric model
                 out.append((f"{name} single, {a * 1e3:g} mm above, axisymmetric",
                             base.replace(**{"array.silicone_above": a, "model.type": "axisymmetric"})))
-        # PVDF rows: gap 1 mm only (a 1x3 PVDF reference at 1 mm takes 8.4 GB: the 52 um film)
-        for gap in (1e-3, 3e-3, 5e-3) if name == "PZT" else (1e-3,):
-            out.append((f"{name} 1x3, gap {gap * 1e3:g} mm, plane strain", base.replace(**row, **{"array.gap": gap})))
+    # rows of three (crosstalk): a 1x3 reference at 1 mm takes more than 6 GB beyond the
+    # thesis's own 1 mm + 1 mm PZT row (gap 1 and 3 mm), so the rows stop there
+    for gap in (1e-3, 3e-3):
+        out.append((f"PZT 1x3, gap {gap * 1e3:g} mm, plane strain", pzt.replace(**row, **{"array.gap": gap})))
     out += [("PZT single, plane stress", pzt.replace(**{"model.type": "plane_stress"})),
             ("PVDF single, plane stress", pvdf.replace(**{"model.type": "plane_stress"})),
-            ("PVDF single, 0.5 mm above, plane strain", pvdf.replace(**{"array.silicone_above": 0.5e-3})),
-            ("PVDF single, order 1", pvdf.replace(**{"mesh.order": 1})),
             ("PZT single, order 1", pzt.replace(**{"mesh.order": 1})),
+            ("PVDF single, order 1", pvdf.replace(**{"mesh.order": 1})),
             ("PZT 1x3, gap 3 mm, order 1", pzt.replace(**row, **{"mesh.order": 1})),
-            ("PZT 1x3, gap 3 mm, 0.5 mm above", pzt.replace(**row, **{"array.silicone_above": 0.5e-3})),
-            ("PZT 1x3, gap 3 mm, 2 mm above", pzt.replace(**row, **{"array.silicone_above": 2e-3})),
             ("PZT single, cheapest 3D", est.cheapest_3d(pzt)),
-            ("PZT 1x3, gap 3 mm, cheapest 3D", est.cheapest_3d(pzt.replace(**row))),
-            ("PVDF 1x3, gap 1 mm, cheapest 3D", est.cheapest_3d(pvdf.replace(**row, **{"array.gap": 1e-3})))]
-    return [out[0], out[3], out[-4], out[-3]] if fast else out
+            ("PVDF single, cheapest 3D", est.cheapest_3d(pvdf)),
+            ("PZT 1x3, gap 3 mm, cheapest 3D", est.cheapest_3d(pzt.replace(**row)))]
+    return [out[0], out[1], out[-8], out[-3]] if fast else out
 
 
 def reference(scene: Scene, store: Store) -> dict[str, float]:
