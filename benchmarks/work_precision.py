@@ -3,7 +3,7 @@ thesis scenes at 0.2 N and 1 N, from the caches `taxel fidelity` filled
 (out/fidelity-store; a first run solves everything: about 10-20 minutes, the
 3x3 3D references most of it).
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python docs/work_precision_figure.py [--store DIR] [SCENE...]
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/work_precision.py [--store DIR] [SCENE...]
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ def main():
     else:
         wps = taxel.fidelity(args.scenes, args.out, (0.2, 1.0), store=args.store)
     write(wps, Path(args.out))
-    grid(wps, Path(__file__).parent / "work-precision.png")
+    grid(wps, Path(__file__).parent.parent / "docs" / "work-precision.png")
     rec = json.loads((Path(args.out) / "fidelity.json").read_text())
     print("| scene | force (N) | output | within 1 % | within 5 % | within 10 % |\n|---|---|---|---|---|---|")
     for r in cheapest_rows(rec):
