@@ -144,3 +144,27 @@ def test_multifidelity_verifies_on_a_3d_scene():
     sc = parse({**fine_data(prob, prob.x0), "name": "x"})
     assert sc.model.type == "3d" and sc.mesh.size == pytest.approx(3e-3) and sc.array.rows == 3
     assert VERIFY_3D["mesh.piezo_layers"] == sc.mesh.piezo_layers
+
+
+def test_work_precision_pareto_cheapest_and_page(tmp_path):
+    """The chart's bookkeeping on given points: the Pareto set, the cheapest per
+    tolerance, the folder, reading it back, and its report page."""
+    from taxel.reports.build import build
+    from taxel.reports.fidelity import read, write
+    from taxel.studies.fidelity import Level, Point, WorkPrecision
+    pts = []
+    for model, sec, err in (("plane_strain", 0.1, 0.2), ("axisymmetric", 0.2, 0.03), ("plane_stress", 0.3, 0.5),
+                            ("3d", 5.0, 0.004)):
+        p = Point(Level(model, 2, "x1", "linear"), sec, 100, {"voltage_per_newton": 1 + err})
+        p.errors = {"voltage_per_newton": err}
+        pts.append(p)
+    wp = WorkPrecision("thesis-pzt-single-2d", 0.2, pts, {"voltage_per_newton": 1.0}, "given points")
+    assert [p.level.model for p in wp.pareto("voltage_per_newton")] == ["plane_strain", "axisymmetric", "3d"]
+    assert wp.cheapest("voltage_per_newton", 0.05).level.model == "axisymmetric"
+    assert wp.cheapest("voltage_per_newton", 0.001) is None
+    write([wp], tmp_path / "fid")
+    back = read(tmp_path / "fid")[0]
+    assert back.cheapest("voltage_per_newton", 0.01).level.model == "3d"
+    index = build([tmp_path / "fid"], tmp_path / "report", compare=False)
+    page = (tmp_path / "report" / "fid.html").read_text()
+    assert index.exists() and "3d P2 x1 linear" in page and "Work against precision" in page
