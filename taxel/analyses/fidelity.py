@@ -12,6 +12,8 @@ with Yeoh (not offered in plane stress). Each rung's error is estimated by
 `estimate.estimate` (the cheapest-3D solve is made once and shared). The first
 rung within tolerance is returned with its estimate and a note of what was
 tried; when none is, the most accurate one is returned and the note says so.
+Every rung is order 2: P1's two-mesh estimate is not reliable on these taxels
+(pre-asymptotic, estimate.RICHARDSON_ORDER).
 """
 
 from __future__ import annotations
@@ -57,7 +59,7 @@ def choose(scene: Scene, solver: str = "auto") -> StaticResult:
     tried, best = [], None
     for rung in ladder(scene):
         for law in ("linear", "yeoh"):
-            sc = fixed.replace(**dict(rung.changes), **{"model.silicone": law})
+            sc = fixed.replace(**dict(rung.changes), **{"model.silicone": law, "mesh.order": 2})
             try:
                 if cheap3d is not None and sc == est.cheapest_3d(fixed):
                     res = cheap3d           # solved already for the model-form estimate
