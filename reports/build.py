@@ -52,6 +52,8 @@ def kind_of(folder: Path) -> str:
         return "study"
     if (folder / "optimum.json").exists() or (folder / "front.json").exists():
         return "optimization"
+    if (folder / "fidelity.json").exists():             # a work-precision chart (reports/fidelity.py)
+        return "fidelity"
     if (folder / "scene.json").exists():
         return "analysis"
     if (folder / "validation.json").exists():           # a measurement validation (reports/validation.py)
@@ -132,6 +134,13 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
             csv=_csv_link(folder / "optimum-history.csv", out, folder))})
     imgs = sorted(folder.glob("*.png"))
     key = [p for p in imgs if p.name == "pareto.png"] or imgs
+    if (folder / "front-3d.json").exists():          # the 3D-verified front (reports/multifidelity.py)
+        rec = read_json(folder / "front-3d.json")
+        numbers += [("in 3D", rec["sentence"])]
+        blocks += [{"type": "text", "text": rec["sentence"]},
+                   {"type": "table", "table": tables.table(rec["front_3d"] + [rec["reference"]])},
+                   {"type": "note", "text": f"3D model: {rec['verify_3d']}; rounds: {rec['rounds']}; "
+                                            f"plan: {rec['plan']}; spent: {rec['spent']}"}]
     return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
             "banners": [], "thumb": key[0].read_bytes() if key else None}
 
@@ -148,8 +157,26 @@ def _analysis(folder: Path, out: Path, scene_data) -> dict:
             "thumb": imgs[0].read_bytes() if imgs else None}
 
 
+def _fidelity(folder: Path, out: Path, scene_data) -> dict:
+    from taxel.reports.fidelity import cheapest_rows
+    rec = read_json(folder / "fidelity.json")
+    imgs = sorted(folder.glob("*.png"))
+    rows = cheapest_rows(rec)
+    notes = [{"type": "note", "text": f"{w['scene']} at {w['force_N']:g} N: {w['how']}"} for w in rec["work_precision"]]
+    pzt = [r for r in rows if r["output"].startswith("pressed-taxel voltage")][:1]
+    numbers = [(f"cheapest for 1 % ({r['scene']}, {r['force (N)']:g} N)", r["cheapest within 1 %"]) for r in pzt]
+    return {"sections": [
+        {"title": "Work against precision", "blocks": [
+            {"type": "text", "text": "Wall time against error (log-log), one point per model, element order, mesh "
+                                     "and silicone law; the Pareto set (cheapest for its accuracy) is ringed."},
+            _figures(imgs, wide=True)] + notes},
+        {"title": "Cheapest model for 1 %, 5 % and 10 % error", "blocks": [
+            {"type": "table", "table": tables.table(rows, csv=_csv_link(folder / "fidelity.csv", out, folder))}]}],
+        "numbers": numbers, "banners": [], "thumb": imgs[0].read_bytes() if imgs else None}
+
+
 # the page of each folder kind: (folder, out, scene data) -> sections, numbers, banners, thumb
-PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis}
+PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis, "fidelity": _fidelity}
 
 
 def _provenance(folder: Path, scene_data: dict | None) -> list[dict]:

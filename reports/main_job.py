@@ -1,5 +1,6 @@
 """The main job behind `make demo` (`taxel demo`): on the built-in example, run the
-thesis's Fig. 2.5 study, the sensitivity-crosstalk front of the thesis design,
+thesis's Fig. 2.5 study, the sensitivity-crosstalk fronts of the thesis PZT and
+PVDF designs (2D, then verified in 3D: optimize.multifidelity),
 the frequency response through the charge amplifier and the step response
 through the 500 MOhm input, the validation loop on the simulated rig (simulate,
 capture over a pty, analyze, calibrate, localize: studies.measure.pipeline),
@@ -16,16 +17,46 @@ import numpy as np
 
 from taxel.analyses import solve
 from taxel.analyses.results import write_scene
+from taxel.optimize import multifidelity as MF
 from taxel.optimize import problem as O
 from taxel.reports import analysis
 from taxel.reports.build import build
 from taxel.reports.figures import study_plots
+from taxel.reports.multifidelity import write as write_mf
 from taxel.reports.optimization import write_front, write_run
 from taxel.scene import load, parse
 from taxel.studies.execute import run as run_study
 from taxel.studies.measure.pipeline import run as validate
 from taxel.studies.spec import load_study
 from taxel.studies.store import tidy_rows, write_rows
+
+
+def _front(out: Path, name: str, small: bool) -> Path:
+    """The cheap (2D) front of a built-in problem, then its 3D verification
+    (optimize.multifidelity); `small`: one short run, no front."""
+    out.mkdir(exist_ok=True)
+    prob = O.load_problem(name, out)
+    write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
+    x_ref = np.array([O.magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
+    reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
+    if small:
+        prob.spec = prob.spec.model_copy(update={"algorithm": prob.spec.algorithm.model_copy(
+            update={"max_evaluations": 6, "global_": "none"})})
+        write_run(prob, O.optimize(prob), out)
+        return out
+    plan = MF.plan(prob)
+    print(f"      {name}: plan {plan['cheap solves (at most)']} cheap solves at most, "
+          f"{plan['3D solves (first round)']} 3D solves, about {plan['estimated seconds']:.0f} s")
+    t0 = time.perf_counter()
+    runs = O.front(prob, O.BUILTIN / f"{name}.toml", workers=2)
+    write_front(prob, runs, reference, out)
+    t1 = time.perf_counter()
+    mf = MF.verify(prob, runs, x_ref, max_rounds=2, workers=2)
+    rec = write_mf(prob, mf, out)
+    print(f"      cheap front {t1 - t0:.0f} s; 3D verification {mf.spent['3D solves']} solves in "
+          f"{len(mf.rounds)} rounds, {mf.spent['seconds']:.0f} s")
+    print(f"      {rec['sentence']}")
+    return out
 
 
 def run(root: Path, small: bool = False) -> Path:
@@ -51,21 +82,9 @@ def run(root: Path, small: bool = False) -> Path:
                 st.spec.name)
     folders.append(out)
     print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
-    print("[2/5] optimization: the thesis design against the sensitivity-crosstalk front")
-    out = root / "thesis-pzt-front"
-    out.mkdir(exist_ok=True)
-    prob = O.load_problem("thesis-pzt-front", out)
-    write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
-    x_ref = np.array([O.magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
-    reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
-    if small:
-        prob.spec = prob.spec.model_copy(update={"algorithm": prob.spec.algorithm.model_copy(
-            update={"max_evaluations": 6, "global_": "none"})})
-        write_run(prob, O.optimize(prob), out)
-    else:
-        runs = O.front(prob, O.BUILTIN / "thesis-pzt-front.toml", workers=2)
-        write_front(prob, runs, reference, out)
-    folders.append(out)
+    print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
+    for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
+        folders.append(_front(root / name, name, small))
     print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = load(name)

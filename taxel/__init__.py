@@ -1,12 +1,12 @@
 """taxel: the open design tool for piezoelectric tactile sensors.
 
-The Python API (taxel.api): `load`, `solve`, `run_study`, `optimize`, `report`.
+The Python API (taxel.api): `load`, `solve`, `run_study`, `optimize`, `report`, `fidelity`.
 They are imported on first use, so `import taxel.units` stays light.
 """
 
 from __future__ import annotations
 
-__all__ = ["load", "solve", "run_study", "optimize", "report"]
+__all__ = ["load", "solve", "run_study", "optimize", "report", "fidelity"]
 
 
 def __getattr__(name):

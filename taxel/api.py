@@ -123,3 +123,16 @@ def report(folders, out: str | Path, pdf: bool = False, compare: bool = True) ->
     """Self-contained HTML pages of result folders and an index; returns the index."""
     from taxel.reports.build import build
     return build([Path(f) for f in folders], Path(out), pdf=pdf, compare=compare)
+
+
+def fidelity(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path | None = None, progress=None):
+    """The work-precision chart of scenes (names, files or Scenes) at each force (N)
+    into `out` (reports/fidelity.py); every solve is cached in the store (default
+    out/store), so a rerun only draws. Returns the WorkPrecision list."""
+    from taxel.reports.fidelity import write
+    from taxel.studies.fidelity import work_precision
+    out = Path(out)
+    scenes = [load(s) for s in ([scenes] if isinstance(scenes, (str, Path, Scene)) else scenes)]
+    wps = [work_precision(sc, f, Path(store) if store else out / "store", progress) for sc in scenes for f in forces]
+    write(wps, out)
+    return wps

@@ -2,6 +2,7 @@
 
     taxel solve SCENE [--json] [--vtu FILE] [--solver NAME] [--out DIR]
     taxel lumped SCENE [--out DIR]
+    taxel fidelity SCENE... [--force N]... [--out DIR] [--store DIR]   (the work-precision chart)
     taxel mesh SCENE -o FILE          (.msh with physical groups, or .vtu/.xdmf via meshio)
     taxel study run STUDY [--out DIR] [--workers N] [--scheduler ADDR] [--retry-failed]
     taxel study status DIR | taxel study export DIR --csv FILE
@@ -40,6 +41,25 @@ def _print_written(out: Path, files, summary):
         print(f"wrote {out / Path(f).name}")
 
 
+def _fidelity(args):
+    from taxel.reports.fidelity import lines
+    forces = args.force or [0.2, 1.0]
+    for f in forces:
+        if not (0 < f <= 100):
+            raise SceneError(f"--force {f:g}: give a force in newtons between 0 and 100")
+    out = Path(args.out or "out/fidelity")
+    for s in args.scenes:
+        api.load(s)                           # a bad scene fails before any solve
+
+    def progress(level, p):
+        print(f"  {level.label:<36} " + ("failed (stored)" if p is None else
+                                         f"{p.seconds:7.2f} s  {p.unknowns:>7} unknowns"), flush=True)
+    api.fidelity(args.scenes, out, forces, args.store, progress)
+    for line in lines(json.loads((out / "fidelity.json").read_text())):
+        print(line)
+    print(f"wrote {out.resolve()}")
+
+
 def _solve(args):
     from taxel.analyses.results import output_folder
     from taxel.meshing.build import export
@@ -48,12 +68,12 @@ def _solve(args):
     if scene.analysis.type != "static":
         out = Path(args.out or Path("out") / scene.name)
         with output_folder(out) as tmp:           # made first: a bad --out fails before the solve
-            files, summary = analysis.write(api.solve(scene), tmp)
+            files, summary = analysis.write(api.solve(scene, estimate=args.estimate), tmp)
         _print_written(out, files, summary)
         return
     vtu = _writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None
     with output_folder(Path(args.out)) if args.out else contextlib.nullcontext() as tmp:
-        sol = api.solve(scene, solver=args.solver)
+        sol = api.solve(scene, solver=args.solver, estimate=args.estimate)
         if tmp is not None:
             sol.to_folder(tmp)
     if vtu:
@@ -223,11 +243,20 @@ def main(argv=None):
     p = sub.add_parser("solve", help="solve a scene and print per-electrode voltage and charge")
     p.add_argument("scene", help="scene TOML file or built-in example name")
     p.add_argument("--json", action="store_true", help="print one JSON record")
+    p.add_argument("--estimate", action="store_true", help="estimate the error of each output (discretisation, "
+                   "model form, material law; one coarse solve and, for 2D, the cheapest 3D model)")
     p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
     p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack", "krylov"])
     p.add_argument("--out", metavar="DIR", help="folder for the outputs (scene.json, result.json; CSV and PNG "
                    "of frequency/transient analyses; default for those: out/SCENE)")
     p.set_defaults(run=_solve)
+    p = sub.add_parser("fidelity", help="the work-precision chart: wall time against error of every model and mesh")
+    p.add_argument("scenes", nargs="+", help="scene TOML files or built-in example names")
+    p.add_argument("--force", type=float, action="append", metavar="N", help="force in newtons (repeat; "
+                   "default 0.2 and 1)")
+    p.add_argument("--out", metavar="DIR", default=None, help="output folder (default out/fidelity)")
+    p.add_argument("--store", metavar="DIR", help="the solve cache (default DIR/store)")
+    p.set_defaults(run=_fidelity)
     p = sub.add_parser("lumped", help="the 3-DoF lumped model's answer to a scene (frequency response)")
     p.add_argument("scene")
     p.add_argument("--out", metavar="DIR")

@@ -46,6 +46,10 @@ class Model(Strict):
     # solve a half (cut at x = 0) or quarter (and y = 0) of a mirror-symmetric array: see
     # symmetry_planes; "auto": the largest the scene allows, in 3d (a 2D section is cheap: full)
     symmetry: Literal["auto", "full", "half", "quarter"] = "auto"
+    # "auto": the cheapest model, mesh and law whose estimated error on `outputs` is within tolerance
+    fidelity: Literal["fixed", "auto"] = "fixed"
+    outputs: tuple[Literal["voltage_per_newton", "crosstalk", "short_circuit_charge"], ...] = \
+        ("voltage_per_newton",)
 
 
 class Mesh(Strict):
@@ -246,6 +250,12 @@ class Scene(Strict):
                              "shorten analysis.duration or raise analysis.dt")
         if self.analysis.input == "csv" and self.analysis.type == "transient" and not self.analysis.file:
             raise ValueError("analysis.file is missing for input = 'csv'; give a CSV of time (s), force (N)")
+        if self.model.fidelity == "auto" and (self.analysis.type != "static" or self.array is None):
+            raise ValueError("model.fidelity = 'auto' needs a static analysis of an [array]; "
+                             "set model.fidelity = 'fixed'")
+        if "crosstalk" in self.model.outputs and self.array is not None and self.array.rows * self.array.cols < 2:
+            raise ValueError("model.outputs: 'crosstalk' needs at least two taxels; add array.rows or "
+                             "array.cols, or drop it")
         if self.analysis.type != "static" and self.model.silicone == "auto":
             raise ValueError("dynamic analyses need model.silicone = 'linear' or 'yeoh' (not 'auto')")
         if self.analysis.type == "transient" and self.model.silicone == "yeoh" and self.readout.circuit != "open":

@@ -94,6 +94,12 @@ SCENES = [
     scene("yeoh-plane-stress", ARRAY.replace('"plane_strain"', '"plane_stress"\nsilicone = "yeoh"'),
           "plane stress"),
     scene("tolerance-2", ARRAY.replace('"plane_strain"', '"plane_strain"\ntolerance = 2'), "model.tolerance"),
+    scene("fidelity-typo", ARRAY.replace('"plane_strain"', '"plane_strain"\nfidelity = "best"'), "model.fidelity"),
+    scene("fidelity-auto-frequency", ARRAY.replace('"plane_strain"', '"plane_strain"\nfidelity = "auto"')
+          + '[analysis]\ntype = "frequency"\n', "model.fidelity"),
+    scene("outputs-crosstalk-one-taxel", ARRAY.replace('"plane_strain"', '"plane_strain"\noutputs = ["crosstalk"]'),
+          "crosstalk"),
+    scene("outputs-typo", ARRAY.replace('"plane_strain"', '"plane_strain"\noutputs = ["voltage"]'), "model.outputs"),
     scene("free-free", ARRAY + '[supports]\nbottom = "free"\nedges = "free"\n', "supports"),
     scene("support-typo", ARRAY + '[supports]\nbottom = "glued"\n', "supports.bottom", "glued"),
     scene("electrode-unknown", ARRAY + '[electrodes]\ntaxel_9_9 = "open"\n', "electrodes.taxel_9_9"),
@@ -323,6 +329,9 @@ REPORTS = [
     Case("report-out-is-a-file", ["report", "ok", "--out", "f", "--no-compare"], ("f",), {"f": "x"},
          setup=lambda p: _solved_folder(p / "ok")),
     Case("report-no-folders", ["report", "--out", "r"], ("folders",)),
+    Case("fidelity-negative-force", ["fidelity", "thesis-pzt-single-2d", "--force", "-1", "--out", "f"],
+         ("--force",), out="f"),
+    Case("fidelity-unknown-scene", ["fidelity", "nope-scene", "--out", "f"], ("nope-scene",), out="f"),
 ]
 
 

@@ -15,12 +15,21 @@ __all__ = ["solve", "solve_static", "frequency", "transient", "lumped_model", "l
            "LINEAR_ERROR_PER_STRAIN", "StaticResult", "FrequencyResult", "TransientResult", "LumpedResult"]
 
 
-def solve(scene: Scene, **options) -> StaticResult | FrequencyResult | TransientResult:
+def solve(scene: Scene, estimate: bool = False, **options) -> StaticResult | FrequencyResult | TransientResult:
     """The scene's [analysis]: a static solve (options: solver, tagged_mesh, scale,
-    newton_options), a frequency sweep, or a transient."""
+    newton_options; `estimate`: attach the error estimate, taxel.analyses.estimate),
+    a frequency sweep, or a transient."""
     kind = scene.analysis.type
     if kind == "frequency":
-        return frequency(scene)
+        res = frequency(scene)
+        if estimate:
+            from taxel.analyses.estimate import estimate_frequency
+            res.error = estimate_frequency(scene, res)
+        return res
     if kind == "transient":
         return transient(scene)
-    return solve_static(scene, **options)
+    res = solve_static(scene, **options)
+    if estimate and res.error is None:
+        from taxel.analyses.estimate import estimate as error_estimate
+        res.error = error_estimate(res.scene, res, options.get("solver", "auto"))
+    return res

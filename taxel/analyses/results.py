@@ -77,6 +77,57 @@ def write_scene(out: Path, scene: Scene) -> Path:
     return path
 
 
+OUTPUT_NAMES = {"voltage_per_newton": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
+                "short_circuit_charge": "pressed-taxel short-circuit charge per newton",
+                "readout_output": "readout output, largest over the sweep"}
+
+
+@dataclass
+class OutputError:
+    """The estimated relative error of one output, split into its parts (each a
+    relative error >= 0, or None when that part was not estimated)."""
+
+    value: float                          # the output itself (SI: V/N, ratio, C/N)
+    discretisation: float | None = None   # against the same model on a converged mesh
+    model_form: float | None = None       # 2D / axisymmetric against 3D
+    material: float | None = None         # linear silicone against Yeoh
+
+    @property
+    def total(self) -> float:
+        """The parts added (a bound: they may partly cancel)."""
+        return sum(x for x in (self.discretisation, self.model_form, self.material) if x is not None)
+
+    def record(self) -> dict:
+        return {"value": self.value, "discretisation": self.discretisation, "model_form": self.model_form,
+                "material": self.material, "total": self.total}
+
+
+@dataclass
+class ErrorEstimate:
+    """A result's estimated error on each output (taxel.analyses.estimate), how
+    each part was found, and what the estimate cost."""
+
+    outputs: dict[str, OutputError]
+    how: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def within(self, tolerance: float, names=None) -> bool:
+        return all(self.outputs[k].total <= tolerance for k in (names or self.outputs) if k in self.outputs)
+
+    def record(self) -> dict:
+        return {"outputs": {k: e.record() for k, e in self.outputs.items()}, "how": self.how,
+                "seconds": self.seconds}
+
+    def lines(self) -> list[str]:
+        def pct(x):
+            return "-" if x is None else f"{100 * x:.2g} %"
+        out = [f"{'estimated error':<46}{'discretisation':>15}{'model form':>12}{'material':>10}{'total':>10}"]
+        for k, e in self.outputs.items():
+            out.append(f"{OUTPUT_NAMES.get(k, k):<46}{pct(e.discretisation):>15}{pct(e.model_form):>12}"
+                       f"{pct(e.material):>10}{pct(e.total):>10}")
+        return out + [f"  {h}" for h in self.how] + [f"  (the estimate took {self.seconds:.2f} s)"]
+
+
 @dataclass
 class StaticResult:
     """A static solve of a scene: per-electrode voltage, charge, short-circuit charge
@@ -86,6 +137,7 @@ class StaticResult:
     solution: Solution
     times: dict[str, float] = field(default_factory=dict)     # s: mesh, assemble, solve, total
     model_note: str = ""       # which silicone model was used and why (model.silicone = "auto")
+    error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.estimate)
 
     @property
     def electrodes(self) -> dict[str, ElectrodeResult]:
@@ -184,6 +236,7 @@ class StaticResult:
             "max_silicone_strain": self.max_silicone_strain, "unknowns": self.unknowns,
             "solver": self.solver, "relative_residual": self.residual,
             "times_s": self.times, "silicone": self.scene.model.silicone, "model_note": self.model_note,
+            "error_estimate": None if self.error is None else self.error.record(),
             "newton": None if n is None else {"load_factors": n.load_factors, "iterations": n.iterations,
                                               "cutbacks": n.cutbacks, "message": n.message},
         }
@@ -227,6 +280,8 @@ class StaticResult:
             for i, d in enumerate(cv["travel_m"]):
                 lines.append(f"{engineering(d, 'm'):>12}{engineering(cv['force_N'][i], 'N'):>12}"
                              + "".join(f"{engineering(v[i], 'V'):>14}" for v in cv["voltages_V"].values()))
+        if self.error is not None:
+            lines += self.error.lines()
         return "\n".join(lines)
 
 
@@ -238,6 +293,7 @@ class FrequencyResult:
     port: PortResponse          # open-circuit voltages and capacitances per newton
     output: np.ndarray          # (nf, na) complex readout output per newton (V/N)
     label: str                  # what the output is ("charge-amplifier output + 50 Hz notch")
+    error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.estimate)
 
     @property
     def freqs(self) -> np.ndarray:
@@ -253,7 +309,8 @@ class FrequencyResult:
                 "seconds": self.port.seconds, "frequency_Hz": self.freqs.tolist(),
                 "magnitude_V_per_N": {k: np.abs(self.output[:, i]).tolist() for i, k in enumerate(self.names)},
                 "phase_deg": {k: np.degrees(np.angle(self.output[:, i])).tolist()
-                              for i, k in enumerate(self.names)}}
+                              for i, k in enumerate(self.names)},
+                "error_estimate": None if self.error is None else self.error.record()}
 
     def summary(self) -> list[str]:
         f, V, p = self.freqs, self.output, self.port
@@ -263,6 +320,8 @@ class FrequencyResult:
             mag = np.abs(V[:, k])
             out.append(f"{name}: |{self.label}| {mag[0]:.4g} V/N at {f[0]:g} Hz, {mag[-1]:.4g} V/N at {f[-1]:g} Hz, "
                        f"peak {mag.max():.4g} V/N at {f[np.argmax(mag)]:.4g} Hz")
+        if self.error is not None:
+            out += self.error.lines()
         return out
 
     def to_folder(self, out) -> list[Path]:

@@ -29,6 +29,9 @@ def solve_static(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | N
     """Solve a scene's static load case (meshing it unless `tagged_mesh` is given).
     With a Yeoh silicone, `newton_options` go to fem.newton.newton (tol, max_iter,
     first_step, stepping, line_search)."""
+    if scene.model.fidelity == "auto" and tagged_mesh is None:
+        from taxel.analyses.fidelity import choose      # fidelity builds on this module
+        return choose(scene, solver)
     t0 = time.perf_counter()
     prob = problem(scene, tagged_mesh)
     t1 = time.perf_counter()

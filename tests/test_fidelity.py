@@ -1,0 +1,170 @@
+"""Error estimates on results and `[model] fidelity = "auto"`.
+
+The estimator is checked against references it does not use: the 2D
+discretisation part against a three-level Richardson value, and (in
+benchmarks/estimator_coverage.py, a fast subset here) every part against the
+3D reference.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+import taxel
+from taxel.analyses import estimate as est
+from taxel.analyses import solve_static
+from taxel.cli import main
+from taxel.scene import SceneError, load, refined, to_data
+from taxel.studies.evaluate import evaluate
+
+ROW = {"array.cols": 3, "load.taxel": (0, 1)}
+
+
+def small(name="thesis-pzt-single-2d", **changes):
+    """The thesis taxel at 50 mN with 1 mm of silicone around it (a cheaper 3D model)."""
+    return load(name).replace(**{"load.force": 0.05, "array.margin": "1 mm", **changes})
+
+
+def test_estimate_parts_add_up_and_show():
+    sc = small()
+    res = taxel.solve(sc, estimate=True)
+    e = res.error
+    assert set(e.outputs) == {"voltage_per_newton", "short_circuit_charge"}
+    for oe in e.outputs.values():
+        assert oe.discretisation > 0 and oe.model_form > 0 and oe.material > 0
+        assert oe.total == pytest.approx(oe.discretisation + oe.model_form + oe.material)
+    v = e.outputs["voltage_per_newton"].value
+    assert v == pytest.approx(res.voltages()["taxel_0_0"] / 0.05)
+    assert "estimated error" in str(res) and "model form" in str(res)
+    rec = json.loads(json.dumps(res.record()))
+    assert rec["error_estimate"]["outputs"]["voltage_per_newton"]["total"] == pytest.approx(
+        e.outputs["voltage_per_newton"].total)
+
+
+def test_discretisation_part_against_three_level_richardson():
+    """The two-mesh estimate against the error measured from a finer level (observed
+    order), on the thesis taxel (with a 1 mm margin instead the observed order is
+    lower and order 2 undershoots: 0.27 % against 0.40 %; benchmarks/estimator_coverage.py
+    measures such misses)."""
+    sc = load("thesis-pzt-single-2d").replace(**{"load.force": 0.05})
+    q = [est.output_values(solve_static(refined(sc, f)))["voltage_per_newton"] for f in (0.5, 1, 2)]
+    p = __import__("math").log2(abs(q[1] - q[0]) / abs(q[2] - q[1]))
+    q_inf = q[2] + (q[2] - q[1]) / (2 ** p - 1)
+    true = abs(q[1] / q_inf - 1)
+    estimated = est.richardson({"v": q[1]}, {"v": q[0]}, est.RICHARDSON_ORDER[2])["v"]
+    assert true <= estimated <= 3 * true
+
+
+def test_cli_json_carries_the_estimate(capsys, tmp_path):
+    path = tmp_path / "small.toml"
+    path.write_text(Path(taxel.scene.EXAMPLES / "thesis-pzt-single-2d.toml").read_text()
+                    .replace('margin = "3 mm"', 'margin = "1 mm"'))
+    assert main(["solve", str(path), "--estimate", "--json"]) in (None, 0)
+    rec = json.loads(capsys.readouterr().out)
+    assert set(rec["error_estimate"]["outputs"]["voltage_per_newton"]) == {
+        "value", "discretisation", "model_form", "material", "total"}
+
+
+def test_auto_chooses_2d_when_it_is_within_tolerance():
+    sc = small(**{"model.fidelity": "auto", "model.tolerance": 0.1})
+    res = solve_static(sc)
+    assert res.scene.model.type == "plane_strain"
+    assert res.error.within(0.1, ["voltage_per_newton"])
+    assert res.model_note.startswith("fidelity auto: plane strain")
+    # a study point (and so an optimization's design) takes the same path
+    point = evaluate(to_data(sc), ("voltage",))
+    assert point["model_note"].startswith("fidelity auto: plane strain")
+    assert point["voltage"]["taxel_0_0"] == pytest.approx(res.voltages()["taxel_0_0"], rel=1e-9)
+
+
+def test_auto_leaves_2d_for_a_crosstalk_it_cannot_meet():
+    """2D overstates crosstalk 2-4x: a 20 % crosstalk tolerance needs 3D."""
+    sc = small(**ROW, **{"model.fidelity": "auto", "model.tolerance": 0.2,
+                         "model.outputs": ("voltage_per_newton", "crosstalk")})
+    res = solve_static(sc)
+    assert res.scene.model.type in ("axisymmetric", "3d")
+    assert "plane strain (linear)" in res.model_note and res.model_note.startswith("fidelity auto: 3D")
+    assert res.error.outputs["crosstalk"].total <= 0.2
+
+
+def test_auto_is_validated():
+    with pytest.raises(SceneError, match="model.fidelity"):
+        load("thesis-pzt-frequency").replace(**{"model.fidelity": "auto"})
+    with pytest.raises(SceneError, match="crosstalk"):
+        small(**{"model.outputs": ("crosstalk",)})
+
+
+@pytest.mark.slow
+def test_estimator_coverage_fast_subset(tmp_path):
+    """Four scenes of benchmarks/estimator_coverage.py: every pair bounded."""
+    import importlib.util
+    import pathlib
+    path = pathlib.Path(__file__).parent.parent / "benchmarks" / "estimator_coverage.py"
+    spec = importlib.util.spec_from_file_location("estimator_coverage", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    r = mod.coverage(fast=True, store_dir=str(tmp_path), verbose=False)
+    assert r["scenes"] == 4
+    assert r["coverage"] >= 0.9
+
+
+def test_multifidelity_correction_is_exact_at_verified_designs_and_recovers_a_log_linear_ratio():
+    """The correction (optimize.multifidelity.interpolant) on designs whose 3D/2D
+    ratios are exp(a + b.x): exact there, and the same law in between."""
+    import numpy as np
+    from types import SimpleNamespace
+    from taxel.optimize.multifidelity import Design, interpolant, nondominated
+    prob = SimpleNamespace(lo=np.array([0.0, 1.0]), hi=np.array([1.0, 5.0]))
+    rng = np.random.default_rng(1)
+
+    def law(x):
+        u = (np.asarray(x) - prob.lo) / (prob.hi - prob.lo)
+        return np.exp([0.1 + 0.2 * u[0], -1.0 - 0.8 * u[1]])
+    designs = []
+    for x in rng.uniform(prob.lo, prob.hi, (6, 2)):
+        r = law(x)
+        designs.append(Design(list(x), (1.0, 0.1), (r[0], 0.1 * r[1])))
+    ratio = interpolant(prob, designs)
+    for d in designs:
+        assert np.allclose(ratio(d.x) * [1.0, 0.1], d.fine)
+    x = [0.5, 3.0]
+    assert np.allclose(ratio(x), law(x), rtol=1e-9)
+    front = nondominated(designs + [Design([0, 1], (0.5, 0.5), (0.1, 0.9))], lambda d: d.fine)
+    assert all(d.fine != (0.1, 0.9) for d in front)
+
+
+def test_multifidelity_verifies_on_a_3d_scene():
+    from taxel.optimize import problem as O
+    from taxel.optimize.multifidelity import VERIFY_3D, fine_data
+    from taxel.scene import parse
+    prob = O.load_problem("thesis-pzt-front")
+    sc = parse({**fine_data(prob, prob.x0), "name": "x"})
+    assert sc.model.type == "3d" and sc.mesh.size == pytest.approx(3e-3) and sc.array.rows == 3
+    assert VERIFY_3D["mesh.piezo_layers"] == sc.mesh.piezo_layers
+
+
+def test_work_precision_pareto_cheapest_and_page(tmp_path):
+    """The chart's bookkeeping on given points: the Pareto set, the cheapest per
+    tolerance, the folder, reading it back, and its report page."""
+    from taxel.reports.build import build
+    from taxel.reports.fidelity import read, write
+    from taxel.studies.fidelity import Level, Point, WorkPrecision
+    pts = []
+    for model, sec, err in (("plane_strain", 0.1, 0.2), ("axisymmetric", 0.2, 0.03), ("plane_stress", 0.3, 0.5),
+                            ("3d", 5.0, 0.004)):
+        p = Point(Level(model, 2, "x1", "linear"), sec, 100, {"voltage_per_newton": 1 + err})
+        p.errors = {"voltage_per_newton": err}
+        pts.append(p)
+    wp = WorkPrecision("thesis-pzt-single-2d", 0.2, pts, {"voltage_per_newton": 1.0}, "given points")
+    assert [p.level.model for p in wp.pareto("voltage_per_newton")] == ["plane_strain", "axisymmetric", "3d"]
+    assert wp.cheapest("voltage_per_newton", 0.05).level.model == "axisymmetric"
+    assert wp.cheapest("voltage_per_newton", 0.001) is None
+    write([wp], tmp_path / "fid")
+    back = read(tmp_path / "fid")[0]
+    assert back.cheapest("voltage_per_newton", 0.01).level.model == "3d"
+    index = build([tmp_path / "fid"], tmp_path / "report", compare=False)
+    page = (tmp_path / "report" / "fid.html").read_text()
+    assert index.exists() and "3d P2 x1 linear" in page and "Work against precision" in page
