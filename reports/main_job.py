@@ -51,10 +51,11 @@ def _front(out: Path, name: str, small: bool) -> Path:
     runs = O.front(prob, O.BUILTIN / f"{name}.toml", workers=2)
     write_front(prob, runs, reference, out)
     t1 = time.perf_counter()
-    mf = MF.verify(prob, runs, x_ref, max_rounds=2, workers=2)
+    mf = MF.confirm(prob, MF.verify(prob, runs, x_ref, max_rounds=2, workers=2), workers=2)
     rec = write_mf(prob, mf, out)
     print(f"      cheap front {t1 - t0:.0f} s; 3D verification {mf.spent['3D solves']} solves in "
-          f"{len(mf.rounds)} rounds, {mf.spent['seconds']:.0f} s")
+          f"{len(mf.rounds)} rounds, {mf.spent['seconds']:.0f} s; confirmation on the finer 3D mesh "
+          f"{mf.spent.get('confirmation solves', 0)} solves, {mf.spent.get('confirmation seconds', 0):.0f} s")
     print(f"      {rec['sentence']}")
     return out
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from taxel.optimize.multifidelity import VERIFY_3D, MultiFidelity
+from taxel.optimize.multifidelity import CONFIRM_3D, VERIFY_3D, MultiFidelity, best_below
 from taxel.reports.figures import pyplot
 
 
@@ -22,6 +22,14 @@ def answer(mf: MultiFidelity) -> dict:
         b = max(below, key=lambda d: d.fine[0])
         out["best_at_or_below_thesis_crosstalk"] = {"x": b.x, "sensitivity_V_per_N": b.fine[0], "crosstalk": b.fine[1],
                                                    "sensitivity_gain": b.fine[0] / s0 - 1}
+    conf = mf.confirmed
+    if "reference" in conf:
+        out["confirmed"] = {"model": {k: str(v) for k, v in CONFIRM_3D.items()},
+                            "thesis": {"sensitivity_V_per_N": conf["reference"][0], "crosstalk": conf["reference"][1]}}
+        if "best" in conf:
+            b = best_below(mf)
+            out["confirmed"]["best"] = {"x": b.x, "sensitivity_V_per_N": conf["best"][0], "crosstalk": conf["best"][1],
+                                        "sensitivity_gain": conf["best"][0] / conf["reference"][0] - 1}
     same = [d for d in mf.front_3d if d.fine[0] >= s0]
     if same:
         b = min(same, key=lambda d: d.fine[1])
@@ -39,6 +47,16 @@ def sentence(problem, a: dict) -> str:
         x = ", ".join(f"{n.replace('_', ' ')} {v:.2f} {u}" for n, v, u in zip(problem.names, b["x"], problem.units))
         head += (f" The 3D front offers {b['sensitivity_V_per_N']:.3f} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
                  f"at {100 * b['crosstalk']:.2f} % crosstalk ({x}).")
+    c = a.get("confirmed")
+    if c:
+        t = c["thesis"]
+        head += (f" On the finer 3D mesh (1.5 mm, 0.6 mm at the taxels): the thesis design "
+                 f"{t['sensitivity_V_per_N']:.3f} V/N at {100 * t['crosstalk']:.2f} %")
+        if "best" in c:
+            b = c["best"]
+            head += (f", the front's design {b['sensitivity_V_per_N']:.3f} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
+                     f"at {100 * b['crosstalk']:.2f} %")
+        head += "."
     return head
 
 
@@ -50,7 +68,7 @@ def write(problem, mf: MultiFidelity, out: Path) -> dict:
                 "predicted sensitivity": d.predicted[0] if d.predicted else None,
                 "predicted crosstalk": d.predicted[1] if d.predicted else None}
     a = answer(mf)
-    rec = {"verify_3d": VERIFY_3D, "cheap_front": [row(d) for d in mf.cheap_front],
+    rec = {"verify_3d": VERIFY_3D, "confirm_3d": {k: str(v) for k, v in CONFIRM_3D.items()}, "cheap_front": [row(d) for d in mf.cheap_front],
            "verified": [row(d) for d in mf.verified], "front_3d": [row(d) for d in mf.front_3d],
            "reference": row(mf.reference), "rounds": mf.rounds, "plan": mf.plan, "spent": mf.spent,
            "answer": a, "sentence": sentence(problem, a)}

@@ -146,6 +146,34 @@ def test_multifidelity_verifies_on_a_3d_scene():
     assert VERIFY_3D["mesh.piezo_layers"] == sc.mesh.piezo_layers
 
 
+@pytest.mark.slow
+def test_multifidelity_confirms_the_answer_on_the_finer_3d_mesh(tmp_path):
+    """confirm() re-solves the reference and the best front design at or below its
+    crosstalk on CONFIRM_3D; the values equal a direct solve of that scene, and the
+    answer and its sentence carry them."""
+    import numpy as np
+    from taxel.analyses.static import solve_static
+    from taxel.optimize import problem as O
+    from taxel.optimize.multifidelity import CONFIRM_3D, Design, MultiFidelity, confirm, fine_data
+    from taxel.reports.multifidelity import answer, sentence
+    from taxel.scene import parse
+    prob = O.load_problem("thesis-pzt-front")
+    prob.out = tmp_path
+    x_ref = np.array([1.0, 1.0, 3.0])
+    ref = Design(list(x_ref), (0.81, 0.075), (0.87, 0.024))
+    worse = Design([1.0, 1.0, 1.5], (0.9, 0.2), (0.95, 0.06))                # more crosstalk: not chosen
+    best = Design([0.9, 1.1, 4.5], (0.8, 0.03), (0.88, 0.012))
+    mf = confirm(prob, MultiFidelity([], [ref, worse, best], [ref, worse, best], ref), workers=1)
+    assert set(mf.confirmed) == {"reference", "best"}
+    direct = solve_static(parse({**fine_data(prob, x_ref, CONFIRM_3D), "name": "direct"}))
+    v = abs(direct.electrodes[direct.pressed].voltage) / abs(direct.applied_force)
+    assert mf.confirmed["reference"][0] == pytest.approx(v, rel=1e-10)
+    assert mf.confirmed["reference"][1] == pytest.approx(direct.crosstalk, rel=1e-10)
+    a = answer(mf)
+    assert a["confirmed"]["best"]["x"] == best.x
+    assert "finer 3D mesh" in sentence(prob, a)
+
+
 def test_work_precision_pareto_cheapest_and_page(tmp_path):
     """The chart's bookkeeping on given points: the Pareto set, the cheapest per
     tolerance, the folder, reading it back, and its report page."""
