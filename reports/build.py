@@ -136,7 +136,7 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
     key = [p for p in imgs if p.name == "pareto.png"] or imgs
     if (folder / "front-3d.json").exists():          # the 3D-verified front (reports/multifidelity.py)
         rec = read_json(folder / "front-3d.json")
-        numbers += [("in 3D", rec["sentence"])]
+        numbers += findings.front_3d_numbers(rec)
         blocks += [{"type": "text", "text": rec["sentence"]},
                    {"type": "table", "table": tables.table(rec["front_3d"] + [rec["reference"]])},
                    {"type": "note", "text": f"3D model: {rec['verify_3d']}; rounds: {rec['rounds']}; "

@@ -133,6 +133,22 @@ def front_numbers(front: dict) -> list[tuple[str, str]]:
     return out
 
 
+def front_3d_numbers(rec: dict) -> list[tuple[str, str]]:
+    """A 3D-verified front's card lines (front-3d.json): the confirmed (finer-mesh)
+    pair when there is one, else the coarse verification's."""
+    a = rec["answer"]
+    c = a.get("confirmed")
+    t, b = (c["thesis"], c.get("best")) if c else (a["thesis_3d"], a.get("best_at_or_below_thesis_crosstalk"))
+    label = "in 3D (1.5 mm)" if c else "in 3D (coarse)"
+    out = [(f"thesis {label}", f"{engineering(t['sensitivity_V_per_N'], 'V/N', 3)}, "
+                               f"{100 * t['crosstalk']:.2f} % crosstalk")]
+    if b:
+        gain = b.get("sensitivity_gain")
+        out.append((f"3D front {label}", engineering(b["sensitivity_V_per_N"], "V/N", 3)
+                    + (f" ({100 * gain:+.1f} %)" if gain is not None else "") + f", {100 * b['crosstalk']:.2f} %"))
+    return out
+
+
 def optimum_numbers(rec: dict) -> list[tuple[str, str]]:
     units = rec.get("units", {})
     x = ", ".join(f"{k.replace('_', ' ')} {v:.3g} {units.get(k, '')}".strip() for k, v in rec["x"].items())
