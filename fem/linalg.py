@@ -140,11 +140,12 @@ def _factorize_real(A, method):
     return lambda B: lu.solve(np.asarray(B, dtype=float))
 
 
-def scaled_solver(A: sp.spmatrix, is_u: np.ndarray, method: str, scale: bool = True):
+def scaled_solver(A: sp.spmatrix, is_u: np.ndarray, method: str, scale: bool = True, D=None):
     """Factorize D A D once; return solve(B) -> (X, relative residuals), with
-    iterative refinement reusing the factors."""
+    iterative refinement reusing the factors. `D`: the scaling, if already computed."""
     n = A.shape[0]
-    D = scaling(A, is_u) if scale else np.ones(n)
+    if D is None:
+        D = scaling(A, is_u) if scale else np.ones(n)
     As = (sp.diags(D) @ A @ sp.diags(D)).tocsc()
     factor = factorize(As, method)
 

@@ -124,6 +124,7 @@ def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0,
     first failure).
     """
     red = red or reduction(sy, eliminate_grounded=True)
+    method = linalg.resolve(method, red.n, dim=sy.tm.mesh.dim())     # PARDISO for 3D sizes
     P = red.P
     b = P.T @ sy.b
     A_lin = sy.A

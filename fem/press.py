@@ -19,6 +19,11 @@ does one Newton solve with lambda = 0 and reports the penetration it leaves).
 Contact points are the quadrature points of the top facets, 2 per P2 edge by
 default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
 multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
+In 3D the points are the edge midpoints of the P2 triangles (rule "nodal", shared
+by neighbouring facets): Gauss points over-constrain the about two nodes per
+facet and lock the contact zone (measured, thesis taxel quarter, sticking punch,
+first 0.1 N: 6 Gauss points per facet, over 240 Newton iterations without getting
+there; 3 points, 54 iterations; the midpoints, 5).
 
 When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
@@ -53,14 +58,14 @@ import time
 
 import numpy as np
 
-from taxel.fem import hyperelastic, linalg
+from taxel.fem import hyperelastic, linalg, symmetry
 from taxel.fem.assembly import System
 from taxel.fem.constraints import reduction
 from taxel.fem.contact import Indenter, Stick, Surface
 from taxel.fem.newton import yeoh_regions, yeoh_terms, yeoh_terms_skfem
 from taxel.fem.pattern import Pattern
 from taxel.fem.pressrecords import ContactError, ContactResult, Options, PressPoint
-from taxel.fem.static import Solution, results
+from taxel.fem.static import Solution, results, unfold
 
 __all__ = ["ContactError", "ContactResult", "Options", "Press", "PressPoint", "press"]
 
@@ -69,16 +74,18 @@ class Press:
     """One system pressed by one indenter; `travel(d)` and `force(F)` move it."""
 
     def __init__(self, sy: System, ind: Indenter, method="auto", opts: Options | None = None):
-        self.sy, self.ind, self.method = sy, ind, method
+        self.sy, self.ind = sy, ind
         self.o = opts or Options()
         tm = sy.tm
+        self.red = reduction(sy, eliminate_grounded=True)
+        self.method = linalg.resolve(method, self.red.n, dim=tm.mesh.dim())   # PARDISO for 3D sizes
         p = tm.mesh.p
         top = tm.facets["top"]
         self.z_top = float(p[-1, np.unique(tm.mesh.facets[:, top])].max())
         self.height = self.z_top - float(p[-1].min())
         ub = next(iter(sy.ubases.values()))
-        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder, self.o.rule)
-        self.red = reduction(sy, eliminate_grounded=True)
+        rule = self.o.rule if self.o.rule != "auto" else "nodal" if tm.mesh.dim() == 3 else "gauss"
+        self.surf = Surface(tm.mesh, ub.elem, top, sy.kin, self.z_top, self.o.intorder, rule)
         if self.o.penalty is None:
             mu = max(lw.mu for r, lw in sy.laws.items() if r in sy.soft)
             h = float(np.min(np.linalg.norm(np.diff(p[:, tm.mesh.facets[:, top]], axis=1), axis=0)))
@@ -90,6 +97,7 @@ class Press:
         self.d = 0.0
         self.prev = None                 # (travel, x) of the state before the last converged one
         self.res = ContactResult(ind, self.eps, self.o.method)
+        self.G = symmetry.order(sy)      # a half or quarter model (fem.symmetry): forces and areas x G
         self.solver = None
         self._pat, self._min_J = None, 1.0
         self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
@@ -186,11 +194,7 @@ class Press:
                 r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
             if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
                 raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", self.res)
-            t0 = time.process_time()
-            self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method)
-            self.stats["factorizations"] += 1
-            self.stats["factorize_s"] += time.process_time() - t0
-            D = solver.D
+            D = linalg.scaling(K, self.red.is_u)    # the scaled norm first: a converged iterate is not factorized
             nr = np.linalg.norm(D * r)
             norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
             floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
@@ -198,6 +202,10 @@ class Press:
                 if fixed is not None:              # report the true (non-negative) pressure
                     st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps, stick=self._stick)
                 return x, st, it
+            t0 = time.process_time()
+            self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method, D=D)
+            self.stats["factorizations"] += 1
+            self.stats["factorize_s"] += time.process_time() - t0
             seen.append(st.active.tobytes())
             self.trace.append((d, it, norm, int(st.active.sum())))
             dy, lres = solver(-r)
@@ -268,7 +276,7 @@ class Press:
                                f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
                                self.res)
         if o.predictor:                     # with the tangent's own penalty (before restoring it)
-            self.v, self.slope = self._rates(x, st)
+            self.v, self.slope = self._rates(x, st, d, lam)
         self.eps = eps0
         self.prev = (self.d, self.x)
         self.x, self.lam, self.d = x, st.tn.copy(), d
@@ -283,22 +291,24 @@ class Press:
         self._stick = None
         self.res.state = st
         V = {k: float(x[self.sy.electrodes.dofs[k][0]]) for k in self.red.active}
-        pt = PressPoint(d, st.force, V, st.area, st.half_width(self.ind.centre), st.penetration, its, k,
-                        st.max_pressure)
+        pt = PressPoint(d, self.G * st.force, V, self.G * st.area, st.half_width(self.ind.centre),
+                        st.penetration, its, k, st.max_pressure)
         self.res.points.append(pt)
         return pt
 
-    def _rates(self, x, st):
+    def _rates(self, x, st, d, lam):
         """(dx/dd, dF/dd) along the equilibrium path at a converged state, with the
-        tangent factorized at it (self.solver): K dx/dd = -dr/dd, and dF/dd =
+        tangent factorized at Newton's last step (self.solver; within a step of it): K dx/dd = -dr/dd, and dF/dd =
         dF/dd|_x + dF/dx . dx/dd (the force-travel stiffness; fem.contact.travel_derivatives)."""
         n, u0 = len(x), self.sy.offsets["u"].start
         S = self.surf.dofs.ravel() + u0
         dr, dF_dd, dF_du = self.surf.travel_derivatives(st, self.eps)
+        if self.solver is None:                  # converged without a Newton step: factorize here
+            self.solver = linalg.scaled_solver(self._residual(x, d, lam)[3], self.red.is_u, self.method)
         rhs = self.red.P.T @ np.bincount(S, dr.ravel(), minlength=n)
         dy, _ = self.solver(-rhs)
         v = self.red.P @ dy[:, 0]
-        return v, dF_dd + float(dF_du.ravel() @ v[S])
+        return v, self.G * (dF_dd + float(dF_du.ravel() @ v[S]))
 
     def _sticking(self) -> Stick | None:
         """The stick set for the next solve: with a sticking indenter, at the first solve
@@ -406,15 +416,29 @@ class Press:
         r = sy.A @ x + r_y
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
         r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
-        if self.solver is None:
-            self._residual(x, self.d, self.lam)
-            self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)
+        self._stick = self._sticking()           # the tangent at the final state (Newton stops unfactorized)
+        self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)
+        self._stick = None
         X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
         Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
-        sol = results(sy, red, x, r, Cinv, linalg.resolve(self.method, red.n), self.o.tol)
+        method = linalg.resolve(self.method, red.n)
+        sol = results(sy, red, x, r, Cinv, method, self.o.tol)
+        if sy.tm.layout.planes:            # the full sensor's electrodes, linearised at the pressed state
+            sol = unfold(sy, sol, red, Cinv, method, K=self._full_tangent())
         sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
         sol.contact = self.res
         return sol
+
+
+    def _full_tangent(self):
+        """The full (unreduced) tangent at the current state: sy.A + K_yeoh + K_c."""
+        import scipy.sparse as sp
+        sy, n = self.sy, self.sy.A.shape[0]
+        K = sy.A + (yeoh_terms(sy, self.x)[1] if sy.yeoh else 0)
+        S = self.surf.dofs + sy.offsets["u"].start
+        Kc = self.surf.element_tangent(self.res.state, self.eps)
+        R, C = np.broadcast_to(S[:, :, None], Kc.shape), np.broadcast_to(S[:, None, :], Kc.shape)
+        return (K + sp.csr_matrix((Kc.ravel(), (R.ravel(), C.ravel())), shape=(n, n))).tocsr()
 
 
 def _falsi(lo, hi, F_target):

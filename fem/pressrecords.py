@@ -66,7 +66,7 @@ class Options:
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
     fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
-    rule: str = "gauss"             # contact points: gauss (intorder) | nodal (at the P2 nodes, lumped weights)
+    rule: str = "auto"              # contact points: gauss (intorder) | nodal (P2 nodes, lumped) | auto (3D nodal)
     line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
     predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
     assembly: str = "vectorised"    # vectorised (fem.yeohasm, fem.pattern) | skfem (the reference path)

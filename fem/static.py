@@ -59,8 +59,8 @@ class Solution:
         return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
 
 
-def _solve(sy: System, red: Reduction, method: str, scale: bool, rhs):
-    A = (red.P.T @ sy.A @ red.P).tocsc()
+def _solve(sy: System, red: Reduction, method: str, scale: bool, rhs, K=None):
+    A = (red.P.T @ (sy.A if K is None else K) @ red.P).tocsc()
     solver = krylov.scaled_solver(A, krylov.blocks(sy, red)) if method == "krylov" else \
         linalg.scaled_solver(A, red.is_u, method, scale)
     return solver(rhs)
@@ -84,16 +84,18 @@ def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Soluti
     x = red.P @ (X[:, 0] + X[:, 1:] @ Q)
     r = sy.A @ x - sy.b
     sol = results(sy, red, x, r, Cinv, method, float(res.max()))
-    return _unfold(sy, sol, red, Cinv, method, scale) if sy.tm.layout.planes else sol
+    return unfold(sy, sol, red, Cinv, method, scale) if sy.tm.layout.planes else sol
 
 
-def _unfold(sy: System, sol: Solution, red: Reduction, Cinv, method, scale) -> Solution:
-    """The full sensor's Solution from a symmetric (half or quarter) model's."""
+def unfold(sy: System, sol: Solution, red: Reduction, Cinv, method, scale=True, K=None) -> Solution:
+    """The full sensor's Solution from a symmetric (half or quarter) model's. `K`: the
+    full (unreduced) matrix the capacitance is linearised with (default the linear
+    sy.A; a pressed state's tangent, fem.press)."""
     blocks = {symmetry.group(sy.tm.layout.planes)[0]: (red.active, np.linalg.inv(Cinv))}
     residual = sol.residual
     for cls in symmetry.classes(sy):
         rc = reduction(sy, fixed=cls.fixed, grounded=cls.grounded)
-        X, res = _solve(sy, rc, method, scale, rc.unit_charges())
+        X, res = _solve(sy, rc, method, scale, rc.unit_charges(), K)
         blocks[cls.signs] = (rc.active, np.linalg.inv(X[rc.nf:, :]))
         residual = max(residual, float(res.max()))
     names, C = symmetry.capacitance(sy, blocks)

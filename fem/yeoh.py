@@ -97,7 +97,8 @@ def tangent(F, p, C):
     J, Finv = inv_det(F)
     FiT = np.swapaxes(Finv, 0, 1)
     I1 = np.einsum("ij...,ij...->...", F, F)
-    a = J ** (-2.0 / 3.0)
+    with np.errstate(invalid="ignore"):        # J <= 0 in a line-search trial: NaN, rejected by the caller's J check
+        a = J ** (-2.0 / 3.0)
     G = 2 * F - (2.0 / 3.0) * I1 * FiT                    # dI1b/dF = a G
     d1, d2 = dpsi(a * I1, C)
     X = np.einsum("Jk...,Li...->iJkL...", Finv, Finv)     # -d(F^-T)/dF
@@ -188,7 +189,8 @@ def stress_tangent_batched(F, p, C, with_tangent=True):
     J, Finv = inv_det_batched(F)
     FiT = Finv.transpose(0, 2, 1)
     I1 = np.einsum("nij,nij->n", F, F)
-    a = J ** (-2.0 / 3.0)
+    with np.errstate(invalid="ignore"):        # J <= 0 in a line-search trial: NaN, rejected by the caller's J check
+        a = J ** (-2.0 / 3.0)
     G = 2 * F - (2.0 / 3.0) * I1[:, None, None] * FiT
     d1, d2 = dpsi(a * I1, C)
     JFiT = J[:, None, None] * FiT

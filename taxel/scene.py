@@ -286,14 +286,15 @@ class Scene(Strict):
 
 
 def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
-    """The mirror planes (0: x = 0, 1: y = 0) of a scene's linear static press, and
+    """The mirror planes (0: x = 0, 1: y = 0) of a scene's static press, and
     why it has no other: the array, its outline and supports are symmetric about
     both; the press must be centred on the plane and the electrode states mirrored."""
     m, a, ld = scene.model, scene.array, scene.load
     if a is None or m.type == "axisymmetric":
         return (), "symmetric models are built for arrays in plane or 3d models"
-    if scene.analysis.type != "static" or m.silicone != "linear" or ld.contact:
-        return (), "symmetric models solve the linear static press (no contact, linear silicone)"
+    if scene.analysis.type != "static" or (m.silicone != "linear" and not ld.contact):
+        return (), ("symmetric models solve the static press: linear silicone, or any silicone "
+                    "under a rigid indenter (load.contact)")
     states = scene.electrodes
     if electrode_state(states.get("ground", "ground")) != "ground":
         return (), "the common ground is not grounded (electrodes.ground), so the reference is off the planes"
