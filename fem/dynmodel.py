@@ -94,6 +94,8 @@ def model(problem: Problem, short: bool = False) -> DynamicModel:
     (massless, undamped) potential rows: Q_k = -sum of row k of K x. A
     hyperelastic problem is linearised about its static state under its load."""
     sy = assemble(problem)
+    if sy.tm.layout.planes:
+        raise ValueError("dynamic models are solved on the full mesh; set model.symmetry = \"full\"")
     travel_force = None
     if problem.indenter is not None:     # linearise about the pressed state, the indenter holding it
         travel_force = _pressed(sy)

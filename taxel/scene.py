@@ -97,12 +97,14 @@ class Load(Strict):
     profile: Literal["flat", "round"] = "flat"  # indenter pressure: uniform, or Hertzian sqrt(1-r^2/a^2)
     radius: Length | None = None       # indenter contact radius (half-width in 2D)
     offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # indenter centre from the taxel centre
-    # kind = "indenter", contact = true: a rigid frictionless indenter pressed to `force`
-    # (or to `travel`, displacement control); radius: punch half-width/radius, or sphere radius
+    # kind = "indenter", contact = true: a rigid indenter pressed to `force` (or to
+    # `travel`, displacement control); radius: punch half-width/radius, or sphere radius
     contact: bool = False
     shape: Literal["flat", "sphere", "cylinder"] = "flat"
     edge_radius: Length | None = None  # flat punch's rounded edge; default radius / 20
-    friction: Literal["frictionless", "sticking"] = "frictionless"   # sticking: no slip once in contact
+    # sticking (the default under contact): no slip once in contact, as a dry probe on tacky
+    # silicone; frictionless: the closed-form cases (Hertz, Boussinesq); see README "Contact"
+    friction: Literal["frictionless", "sticking"] | None = None
     travel: Length | None = None       # prescribed indenter travel (instead of force)
 
 
@@ -224,7 +226,7 @@ class Scene(Strict):
                 raise ValueError("load.neighbour must be next to load.taxel (one row or column apart)")
         if ld.kind == "indenter" and ld.radius is None:
             raise ValueError("load.radius is missing for kind = 'indenter'; e.g. \"1 mm\"")
-        if ld.friction != "frictionless" and not ld.contact:
+        if ld.friction is not None and not ld.contact:
             raise ValueError("load.friction needs load.contact = true (a rigid indenter)")
         if ld.contact:
             if ld.kind != "indenter":
@@ -324,10 +326,11 @@ def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
 def symmetry_planes(scene: Scene) -> tuple[int, ...]:
     """The planes the model is cut at (fem.symmetry): model.symmetry = "full" none;
     "half" x = 0 (or y = 0); "quarter" both; "auto" all the scene allows in 3d and
-    none in 2D (a 2D solve takes a second, and plots show the whole section)."""
+    under a rigid indenter, none for other 2D presses (a linear 2D solve takes a
+    second, and plots show the whole section; a press takes a few: half is 3x faster)."""
     planes, _ = mirror_planes(scene)
     sym = scene.model.symmetry
-    if sym == "full" or (sym == "auto" and scene.model.type != "3d"):
+    if sym == "full" or (sym == "auto" and scene.model.type != "3d" and not scene.load.contact):
         return ()
     return planes[:1] if sym == "half" else planes
 

@@ -112,3 +112,49 @@ def test_an_indenter_centred_between_four_taxels_is_a_quarter():
     assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "3.5 mm"]})) == (0, 1)
     assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "-3.5 mm"]})) == (0,)
     assert symmetry_planes(four.replace(**{"load.offset": ["3 mm", "3.5 mm"]})) == (1,)
+
+
+def _press_pair(scene, sym, travel):
+    """(symmetric press, full press on the mirrored mesh), both to the same travel."""
+    from dataclasses import replace
+
+    from taxel.fem.press import press
+    out = []
+    for s in (sym, "full"):
+        sc = scene.replace(**{"model.symmetry": s})
+        tm = mesh(scene.replace(**{"model.symmetry": sym}))
+        if s == "full":
+            tm = unfold(tm, layout(sc, scene_materials(sc)))
+        prob = problem(sc, tm)
+        prob = replace(prob, indenter=replace(prob.indenter, force=None, travel=travel))
+        out.append(press(assembly.assemble(prob), prob.indenter, "superlu"))
+    return out
+
+
+@pytest.mark.parametrize("name,sym,edit,travel", [
+    ("thesis-pzt-single-3d", "quarter", {"mesh.size": "2 mm", "mesh.piezo_size": "1 mm", "mesh.piezo_layers": 1,
+                                         "model.silicone": "yeoh", "load.friction": "sticking"}, 0.3e-3),
+    ("thesis-pzt-3x3-3d", "quarter", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm", "mesh.piezo_layers": 1,
+                                      "load.friction": "sticking"}, 0.1e-3),
+    ("thesis-pzt-single-2d", "half", {"model.silicone": "yeoh"}, 0.2e-3),
+])
+def test_symmetric_press_equals_the_mirrored_full_press(name, sym, edit, travel):
+    """A rigid flat punch (4 mm, 0.2 mm edge) centred on the pressed taxel, by travel: the
+    half or quarter press (force and contact area x |G|, the capacitance matrix from the
+    antisymmetric classes linearised with the pressed state's tangent) equals the full
+    press on the mirrored mesh, to the Newton and multiplier tolerances."""
+    scene = load(name).replace(**{"load.kind": "indenter", "load.contact": True, "load.radius": "2 mm",
+                                  "load.edge_radius": "0.2 mm"}, **edit)
+    s, f = _press_pair(scene, sym, travel)
+    vmax = max(abs(e.voltage) for e in f.electrodes.values())
+    for k, e in f.electrodes.items():
+        assert abs(s.electrodes[k].voltage - e.voltage) <= 1e-6 * vmax, (k, s.electrodes[k].voltage, e.voltage)
+        if e.capacitance is not None:
+            _close(s.electrodes[k].capacitance, e.capacitance, 1e-6)
+    _close(s.applied_force, f.applied_force, 1e-6)
+    _close(s.contact.points[-1].area, f.contact.points[-1].area, 1e-9)
+    _close(s.reaction[-1], f.reaction[-1], 1e-6)
+    cs, cf = s.capacitance_matrix, f.capacitance_matrix
+    at = [s.capacitance_names.index(k) for k in f.capacitance_names]
+    assert np.abs(cs[np.ix_(at, at)] - cf).max() <= 1e-6 * np.abs(cf).max()
+    assert f.applied_force > 0.05
