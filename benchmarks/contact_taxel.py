@@ -1,8 +1,9 @@
 """The thesis PZT taxel pressed by a rigid flat punch (fem.contact, fem.press).
 
-2D plane strain (axisymmetric with --axisym, 3D with --3d and a coarse mesh), the
-default mesh, a 4 mm flat punch with a 0.2 mm edge radius centred on the taxel,
-frictionless or sticking (--sticking), augmented Lagrangian. Force control along
+2D plane strain (a half section: model.symmetry auto), axisymmetric with --axisym,
+3D with --3d (the 3D taxel's default mesh, a quarter model), each model's default
+mesh, a 4 mm flat punch with a 0.2 mm edge radius centred on the taxel, sticking
+(the scene default) or frictionless (--frictionless), augmented Lagrangian. Force control along
 0.1, 0.25, 0.5, 0.75, 1, 1.5, 2 N, linear and Yeoh silicone, each warm-started from the last. Prints per target: travel,
 voltage, contact half-width, Newton iterations, multiplier updates, time;
 where a press stops, the reason (fem.press.ContactError). Writes
@@ -12,7 +13,7 @@ nonlinearity printed is V_Yeoh(F) / V_linear(F) - 1 at each force, and
 the voltage's own departure from a straight line through the origin fitted at the
 smallest force, V(F) / (F V(F0)/F0) - 1, for each silicone.
 
-Run: MKL_NUM_THREADS=1 python benchmarks/contact_taxel.py [--axisym | --3d] [--sticking]
+Run: MKL_NUM_THREADS=1 python benchmarks/contact_taxel.py [--axisym | --3d] [--frictionless]
 """
 
 import sys
@@ -29,15 +30,14 @@ from taxel.scene import load
 TARGETS = (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0)
 
 
-def scene(silicone, model, friction="frictionless"):
+def scene(silicone, model, friction="sticking"):
     up = {"model.type": model, "model.silicone": silicone, "load.kind": "indenter", "load.contact": True,
           "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction}
-    if model == "3d":      # coarse: the 2D default mesh's error is not known in 3D; see the README
-        up.update({"mesh.size": 1e-3, "mesh.piezo_size": 0.5e-3, "mesh.piezo_layers": 1})
-    return load("thesis-pzt-single-2d").replace(**up)
+    # 3D: the 3D taxel's default mesh (thesis-pzt-single-3d), a quarter model (model.symmetry auto)
+    return load("thesis-pzt-single-3d" if model == "3d" else "thesis-pzt-single-2d").replace(**up)
 
 
-def run(silicone, model, friction="frictionless"):
+def run(silicone, model, friction="sticking"):
     prob = problem(scene(silicone, model, friction))
     t0 = time.perf_counter()
     pr = Press(assemble(prob), prob.indenter)
@@ -57,7 +57,7 @@ def run(silicone, model, friction="frictionless"):
 
 def main():
     model = "axisymmetric" if "--axisym" in sys.argv else "3d" if "--3d" in sys.argv else "plane_strain"
-    friction = "sticking" if "--sticking" in sys.argv else "frictionless"
+    friction = "frictionless" if "--frictionless" in sys.argv else "sticking"
     out = Path("out/contact-taxel")
     out.mkdir(parents=True, exist_ok=True)
     curves = {}
