@@ -33,7 +33,7 @@ updated by the same Uzawa loop.
 
 Each new travel starts from the tangent prediction x + (d - d0) dx/dd, with
 K dx/dd = -dr/dd from the factorized tangent of the last converged state
-(shortened while it would invert elements). Displacement control: travel
+(shortened while it would invert elements). Load control (fem.loadpath): displacement control: travel
 increments from the last converged state (halved on failure, grown by 1.5 after
 an easy step). Force control: Newton on F(d) = F_target with the path's own
 stiffness dF/dd = dF/dd|_x + dF/dx . dx/dd (at most twice the last step), regula
@@ -58,7 +58,7 @@ import time
 
 import numpy as np
 
-from taxel.fem import hyperelastic, linalg, symmetry
+from taxel.fem import hyperelastic, linalg, loadpath, symmetry
 from taxel.fem.assembly import System
 from taxel.fem.constraints import reduction
 from taxel.fem.contact import Indenter, Stick, Surface
@@ -323,7 +323,7 @@ class Press:
             self.stick = Stick(mask, a0, np.zeros_like(st.x))
         return Stick(self.stick.mask.copy(), self.stick.a0, self.stick.lam.copy())
 
-    def _try(self, d):
+    def attempt(self, d):
         """solve_at, restoring the state on failure."""
         saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick)
         try:
@@ -334,78 +334,14 @@ class Press:
             self.res.failed_trials += 1
             raise
 
-    # ------------------------------------------------------------ load control
+    # ------------------------------------------------------------ load control (fem.loadpath)
     def travel(self, d_target, first=0.25, min_frac=1e-3):
-        """Displacement control to travel d_target."""
-        step = first * (d_target - self.d)
-        while abs(self.d - d_target) > 1e-15 * max(abs(d_target), 1e-300):
-            d = self.d + step if abs(step) < abs(d_target - self.d) else d_target
-            try:
-                pt = self._try(d)
-            except ContactError as exc:
-                if "penalty" in str(exc) or abs(step) / 2 < min_frac * abs(d_target):
-                    raise
-                step /= 2
-                continue
-            if pt.iterations <= 6:
-                step *= 1.5
-        return self.res.points[-1]
+        """Displacement control to travel d_target (fem.loadpath.travel)."""
+        return loadpath.travel(self, d_target, first, min_frac)
 
     def force(self, F_target, max_trials=40):
-        """Force control: the travel whose force is F_target (secant / regula falsi on F(d)),
-        from the last converged state."""
-        o = self.o
-        pts = self.res.points
-        if pts:                                  # the current state is the first "trial"
-            d, F = self.d, pts[-1].force
-            d_prev, F_prev = (pts[-2].travel, pts[-2].force) if len(pts) > 1 else (0.0, 0.0)
-        else:
-            d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
-        below = [(p.travel, p.force) for p in pts if p.force < F_target]
-        lo, hi, last_side = max(below, default=(0.0, 0.0)), None, None
-        for _ in range(max_trials):
-            if pts and abs(F - F_target) <= o.force_tol * F_target:
-                self.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
-                                    f"{self.res.total_iterations} Newton iterations")
-                return pts[-1]
-            side = F < F_target
-            if F < F_target:
-                lo = (d, F)
-            else:
-                hi = (d, F)
-            if hi is not None and side == last_side:   # Illinois: the kept end's excess is halved
-                if side:
-                    hi = (hi[0], F_target + (hi[1] - F_target) / 2)
-                else:
-                    lo = (lo[0], F_target - (F_target - lo[1]) / 2)
-            last_side = side
-            if d == 0.0:
-                d_new = o.first_travel * self.height
-            elif o.predictor and self.slope is not None and self.slope > 0:
-                # Newton on F(d) with the path's own stiffness; at most twice the last step,
-                # and inside the bracket once there is one
-                step = (F_target - F) / self.slope
-                d_new = d + float(np.clip(step, -2 * abs(d - d_prev) - 1e-9, 2 * max(abs(d - d_prev), 0.25 * d)))
-                if hi is not None and not min(lo[0], hi[0]) < d_new < max(lo[0], hi[0]):
-                    d_new = _falsi(lo, hi, F_target)
-            elif hi is None:                     # secant from the last two states, at most 1.5x the step
-                slope = (F - F_prev) / (d - d_prev) if d != d_prev else F / d
-                step = (F_target - F) / max(slope, 1e-300)
-                d_new = d + min(step, 1.5 * max(d - d_prev, 0.25 * d))
-            else:                                # regula falsi inside the bracket
-                d_new = _falsi(lo, hi, F_target)
-            while True:
-                try:
-                    pt = self._try(d_new)
-                    break
-                except ContactError as exc:
-                    if "penalty" in str(exc) or abs(d_new - self.d) < 1e-4 * self.height:
-                        raise
-                    d_new = (self.d + d_new) / 2
-            d_prev, F_prev = d, F
-            d, F = pt.travel, pt.force
-        raise ContactError(f"force control: {F_target:.4g} N not reached in {max_trials} trials "
-                           f"(last {F:.4g} N)", self.res)
+        """Force control to F_target from the last converged state (fem.loadpath.force)."""
+        return loadpath.force(self, F_target, max_trials)
 
     def solution(self) -> Solution:
         """The Solution of the final state (voltages open circuit; capacitance and
@@ -439,13 +375,6 @@ class Press:
         Kc = self.surf.element_tangent(self.res.state, self.eps)
         R, C = np.broadcast_to(S[:, :, None], Kc.shape), np.broadcast_to(S[:, None, :], Kc.shape)
         return (K + sp.csr_matrix((Kc.ravel(), (R.ravel(), C.ravel())), shape=(n, n))).tocsr()
-
-
-def _falsi(lo, hi, F_target):
-    """Regula falsi inside the bracket (bisection if its ends carry the same force)."""
-    if hi[1] == lo[1]:
-        return (lo[0] + hi[0]) / 2
-    return lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
 
 
 def _embed(K, start, n):

@@ -94,7 +94,7 @@ def _solve(args):
     if sol.mesh.layout.taxels:
         from taxel.analyses import linear_error
         est = linear_error(sol.max_silicone_strain)
-        linear = sol.newton is None
+        linear = not sol.yeoh
         print(f"largest silicone strain {100 * sol.max_silicone_strain:.1f} %"
               + (f" (a linear silicone errs by about {100 * est:.2g} % here; model.silicone = 'auto' or "
                  "'yeoh' to do better)" if linear and est > 0.02 else ""))

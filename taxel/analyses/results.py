@@ -138,6 +138,7 @@ class StaticResult:
     times: dict[str, float] = field(default_factory=dict)     # s: mesh, assemble, solve, total
     model_note: str = ""       # which silicone model was used and why (model.silicone = "auto")
     error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.estimate)
+    yeoh: bool = False         # the silicone was solved as Yeoh (model.silicone = "yeoh", or "auto" chose it)
 
     @property
     def electrodes(self) -> dict[str, ElectrodeResult]:

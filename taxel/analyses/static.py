@@ -75,4 +75,5 @@ def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     else:
         sol = static.solve_linear(sy, solver, scale)
     t3 = time.perf_counter()
-    return StaticResult(scene, sol, {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0})
+    return StaticResult(scene, sol, {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0},
+                        yeoh=prob.hyperelastic)

@@ -1,0 +1,63 @@
+"""The 3D thesis taxel pressed to 1 N by the 4 mm flat punch (0.2 mm edge radius), Yeoh
+silicone, sticking, a quarter model: the default 3D mesh (thesis-pzt-single-3d) against a
+finer one, for the press's own discretisation error in 3D; with --frictionless, where a
+frictionless punch stops on the default mesh (displacement control).
+
+Prints per mesh: unknowns of the quarter, voltage and travel at 1 N, load steps, Newton
+iterations, factorizations, wall and CPU time, and the default mesh's voltage against the
+finer one. One run each (minutes on a shared 2-core machine).
+
+Run: MKL_NUM_THREADS=1 python benchmarks/contact_3d.py [--frictionless]
+"""
+
+import sys
+import time
+
+from taxel.analyses import problem
+from taxel.fem.assembly import assemble
+from taxel.fem.press import ContactError, Press
+from taxel.scene import load
+
+MESHES = {"default (1 mm, 0.4 mm on the taxel, 2 through the PZT)": {},
+          "finer (0.7 mm, 0.25 mm on the taxel, 2 through)": {"mesh.size": 0.7e-3, "mesh.piezo_size": 0.25e-3}}
+
+
+def scene(friction="sticking", **mesh):
+    return load("thesis-pzt-single-3d").replace(**{
+        "model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3,
+        "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction, **mesh})
+
+
+def main():
+    if "--frictionless" in sys.argv:
+        prob = problem(scene("frictionless"))
+        pr = Press(assemble(prob), prob.indenter)
+        try:
+            pr.travel(0.45e-3, first=0.1, min_frac=0.02)
+            print("frictionless: reached 0.45 mm")
+        except ContactError as exc:
+            pt = pr.res.points[-1] if pr.res.points else None
+            print(f"frictionless, default 3D mesh: stopped ({exc}); last converged state "
+                  f"{1e3 * pt.travel:.3f} mm, {pt.force:.3f} N, {pt.voltages['taxel_0_0']:.4f} V"
+                  if pt else f"frictionless: no converged state ({exc})")
+        return
+    rows = []
+    for name, edit in MESHES.items():
+        prob = problem(scene(**edit))
+        sy = assemble(prob)
+        w, c = time.perf_counter(), time.process_time()
+        pr = Press(sy, prob.indenter)
+        pt = pr.force(1.0)
+        rows.append((name, pr.red.n, pt, pr, time.perf_counter() - w, time.process_time() - c))
+    print("3D thesis taxel (quarter), Yeoh, sticking 4 mm punch, 1 N")
+    print(f"{'mesh':<52} {'unknowns':>8} {'V':>8} {'travel mm':>9} {'states':>6} {'iters':>5} {'factor.':>7} "
+          f"{'wall s':>6} {'CPU s':>6}")
+    for name, n, pt, pr, wall, cpu in rows:
+        print(f"{name:<52} {n:8d} {pt.voltages['taxel_0_0']:8.4f} {1e3 * pt.travel:9.4f} {len(pr.res.points):6d} "
+              f"{pr.res.total_iterations:5d} {pr.stats['factorizations']:7d} {wall:6.1f} {cpu:6.1f}")
+    v0, v1 = (r[2].voltages["taxel_0_0"] / r[2].force for r in rows)
+    print(f"default mesh against the finer one, V/F: {100 * (v0 / v1 - 1):+.2f} %")
+
+
+if __name__ == "__main__":
+    main()
