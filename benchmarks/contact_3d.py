@@ -1,13 +1,14 @@
 """The 3D thesis taxel pressed to 1 N by the 4 mm flat punch (0.2 mm edge radius), Yeoh
 silicone, sticking, a quarter model: the default 3D mesh (thesis-pzt-single-3d) against a
 finer one, for the press's own discretisation error in 3D; with --frictionless, where a
-frictionless punch stops on the default mesh (displacement control).
+frictionless punch stops (displacement control to 0.45 mm) on the default mesh or
+with a finer surface over the taxel (--piezo-size).
 
 Prints per mesh: unknowns of the quarter, voltage and travel at 1 N, load steps, Newton
 iterations, factorizations, wall and CPU time, and the default mesh's voltage against the
 finer one. One run each (minutes on a shared 2-core machine).
 
-Run: MKL_NUM_THREADS=1 python benchmarks/contact_3d.py [--frictionless]
+Run: MKL_NUM_THREADS=1 python benchmarks/contact_3d.py [--frictionless [--piezo-size 0.2e-3]]
 """
 
 import sys
@@ -30,14 +31,17 @@ def scene(friction="sticking", **mesh):
 
 def main():
     if "--frictionless" in sys.argv:
-        prob = problem(scene("frictionless"))
+        edit = {}
+        if "--piezo-size" in sys.argv:           # a finer surface over the taxel, e.g. 0.2e-3 (m)
+            edit["mesh.piezo_size"] = float(sys.argv[sys.argv.index("--piezo-size") + 1])
+        prob = problem(scene("frictionless", **edit))
         pr = Press(assemble(prob), prob.indenter)
         try:
             pr.travel(0.45e-3, first=0.1, min_frac=0.02)
             print("frictionless: reached 0.45 mm")
         except ContactError as exc:
             pt = pr.res.points[-1] if pr.res.points else None
-            print(f"frictionless, default 3D mesh: stopped ({exc}); last converged state "
+            print(f"frictionless, 3D mesh {edit or 'default'}, {pr.red.n} unknowns: stopped ({exc}); last converged state "
                   f"{1e3 * pt.travel:.3f} mm, {pt.force:.3f} N, {pt.voltages['taxel_0_0']:.4f} V"
                   if pt else f"frictionless: no converged state ({exc})")
         return
