@@ -1,10 +1,11 @@
 """The 3D thesis taxel pressed to 1 N by the 4 mm flat punch (0.2 mm edge radius), Yeoh
-silicone, sticking, a quarter model: the default 3D mesh (thesis-pzt-single-3d) against a
-finer one, for the press's own discretisation error in 3D; with --frictionless, where a
+silicone, sticking, a quarter model: the default 3D mesh (thesis-pzt-single-3d) and two
+finer ones (sizes / 1.6, / 1.6^2), the press's own discretisation error in 3D (the
+observed order and a Richardson extrapolation when the three are monotone); with --frictionless, where a
 frictionless punch stops (displacement control to 0.45 mm) on the default mesh or
 with a finer surface over the taxel (--piezo-size).
 
-Prints per mesh: unknowns of the quarter, voltage and travel at 1 N, load steps, Newton
+Prints per mesh: unknowns of the quarter (after the constraints), voltage and travel at 1 N, load steps, Newton
 iterations, factorizations, wall and CPU time, and the default mesh's voltage against the
 finer one. One run each (minutes on a shared 2-core machine).
 
@@ -14,13 +15,19 @@ Run: MKL_NUM_THREADS=1 python benchmarks/contact_3d.py [--frictionless [--piezo-
 import sys
 import time
 
+import numpy as np
+
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
 from taxel.fem.press import ContactError, Press
 from taxel.scene import load
 
+RATIO = 1.6        # each mesh's sizes over the next one's
 MESHES = {"default (1 mm, 0.4 mm on the taxel, 2 through the PZT)": {},
-          "finer (0.7 mm, 0.25 mm on the taxel, 2 through)": {"mesh.size": 0.7e-3, "mesh.piezo_size": 0.25e-3}}
+          "/1.6 (0.625 mm, 0.25 mm on the taxel, 2 through)": {"mesh.size": 1e-3 / RATIO,
+                                                              "mesh.piezo_size": 0.4e-3 / RATIO},
+          "/1.6^2 (0.39 mm, 0.156 mm on the taxel, 2 through)": {"mesh.size": 1e-3 / RATIO ** 2,
+                                                                "mesh.piezo_size": 0.4e-3 / RATIO ** 2}}
 
 
 def scene(friction="sticking", **mesh):
@@ -59,8 +66,14 @@ def main():
     for name, n, pt, pr, wall, cpu in rows:
         print(f"{name:<52} {n:8d} {pt.voltages['taxel_0_0']:8.4f} {1e3 * pt.travel:9.4f} {len(pr.res.points):6d} "
               f"{pr.res.total_iterations:5d} {pr.stats['factorizations']:7d} {wall:6.1f} {cpu:6.1f}")
-    v0, v1 = (r[2].voltages["taxel_0_0"] / r[2].force for r in rows)
-    print(f"default mesh against the finer one, V/F: {100 * (v0 / v1 - 1):+.2f} %")
+    v = [r[2].voltages["taxel_0_0"] / r[2].force for r in rows]
+    for k in range(1, len(v)):
+        print(f"V/F of the default mesh against mesh {k}: {100 * (v[0] / v[k] - 1):+.2f} %")
+    if len(v) == 3 and (v[1] - v[0]) * (v[2] - v[1]) > 0:      # Richardson on the three nested sizes
+        p = np.log(abs(v[1] - v[0]) / abs(v[2] - v[1])) / np.log(RATIO)
+        ref = v[2] + (v[2] - v[1]) / (RATIO ** p - 1)
+        print(f"observed order {p:.2f}; extrapolated V/F {ref:.4f}; errors " +
+              ", ".join(f"{100 * (x / ref - 1):+.2f} %" for x in v))
 
 
 if __name__ == "__main__":
