@@ -7,7 +7,9 @@ conformal at every interface, keeps thin layers (a 52 um PVDF film) at a
 controlled element count through the thickness, and has nodes on every patch
 edge. In-plane size: `piezo_size` at taxel and load edges (where stresses are
 singular), growing to `size` over a distance of `growth` x `size` (2), and at most
-`taxel_cap` x `piezo_size` (2) inside taxels. Vertically: `piezo_layers` elements per piezo
+`taxel_cap` x `piezo_size` (2) inside taxels. (In 3D the edge refinement matches no
+curve, since gmsh pads bounding boxes by 1e-7 m; a known issue, see README "mesh
+grading": 3D meshes are sized by the taxel cap and `size` only.) Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
 `size`, ratio 1.5.
 
