@@ -13,7 +13,8 @@ nonlinearity printed is V_Yeoh(F) / V_linear(F) - 1 at each force, and
 the voltage's own departure from a straight line through the origin fitted at the
 smallest force, V(F) / (F V(F0)/F0) - 1, for each silicone.
 
-Run: MKL_NUM_THREADS=1 python benchmarks/contact_taxel.py [--axisym | --3d] [--frictionless]
+Run: MKL_NUM_THREADS=1 python benchmarks/contact_taxel.py [--axisym | --3d] [--frictionless] [--full]
+(--full: the whole 2D section instead of the half; the figure is then not rewritten)
 """
 
 import sys
@@ -30,15 +31,16 @@ from taxel.scene import load
 TARGETS = (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0)
 
 
-def scene(silicone, model, friction="sticking"):
+def scene(silicone, model, friction="sticking", symmetry="auto"):
     up = {"model.type": model, "model.silicone": silicone, "load.kind": "indenter", "load.contact": True,
-          "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction}
+          "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction,
+          "model.symmetry": symmetry}
     # 3D: the 3D taxel's default mesh (thesis-pzt-single-3d), a quarter model (model.symmetry auto)
     return load("thesis-pzt-single-3d" if model == "3d" else "thesis-pzt-single-2d").replace(**up)
 
 
-def run(silicone, model, friction="sticking"):
-    prob = problem(scene(silicone, model, friction))
+def run(silicone, model, friction="sticking", symmetry="auto"):
+    prob = problem(scene(silicone, model, friction, symmetry))
     t0 = time.perf_counter()
     pr = Press(assemble(prob), prob.indenter)
     rows, stop = [], ""
@@ -58,11 +60,12 @@ def run(silicone, model, friction="sticking"):
 def main():
     model = "axisymmetric" if "--axisym" in sys.argv else "3d" if "--3d" in sys.argv else "plane_strain"
     friction = "frictionless" if "--frictionless" in sys.argv else "sticking"
+    symmetry = "full" if "--full" in sys.argv else "auto"     # --full: the whole section, not the half
     out = Path("out/contact-taxel")
     out.mkdir(parents=True, exist_ok=True)
     curves = {}
     for silicone in ("linear", "yeoh"):
-        rows, res, stop = run(silicone, model, friction)
+        rows, res, stop = run(silicone, model, friction, symmetry)
         print(f"\n{model}, {friction}, {silicone} silicone, penalty {res.penalty:.3g} Pa/m")
         print(f"{'F N':>5} {'travel mm':>9} {'V':>8} {'a mm':>6} {'iters':>5} {'uzawa':>5} {'states':>6} {'cum s':>6}")
         for F, d, V, a, its, uz, n, t in rows:
@@ -95,6 +98,8 @@ def main():
     ax.grid(alpha=0.3)
     ax.legend()
     fig.tight_layout()
+    if symmetry == "full":
+        return
     fig.savefig(f"docs/contact-voltage-force-{model}-{friction}.png", dpi=120)
 
 

@@ -28,9 +28,9 @@ def main():
     args = ap.parse_args()
     if args.folders:
         wps = [w for f in args.folders for w in read(Path(f))]
-    else:
+        write(wps, Path(args.out))
+    else:                                # taxel.fidelity writes the charts itself
         wps = taxel.fidelity(args.scenes, args.out, (0.2, 1.0), store=args.store)
-    write(wps, Path(args.out))
     grid(wps, Path(__file__).parent.parent / "docs" / "work-precision.png")
     rec = json.loads((Path(args.out) / "fidelity.json").read_text())
     print("| scene | force (N) | output | within 1 % | within 5 % | within 10 % |\n|---|---|---|---|---|---|")

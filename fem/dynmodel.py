@@ -143,7 +143,8 @@ def model(problem: Problem, short: bool = False) -> DynamicModel:
     F = P.T @ sy.b / sy.applied_force
     if travel_force is not None:         # per newton of static indenter force: / dF/dd of this tangent
         dF_dd, dF_du = travel_force
-        v = P @ linalg.scaled_solver(sum(parts.values()).tocsc(), red.is_u, "auto")(F)[0][:, 0]
+        v = P @ linalg.scaled_solver(sum(parts.values()).tocsc(), red.is_u,
+                                     linalg.resolve("auto", red.n, dim=sy.tm.mesh.dim()))(F)[0][:, 0]
         F = F / (dF_dd + float(dF_du @ v))
     return DynamicModel(sy, red, parts, kappa, viscous, (P.T @ M @ P).tocsr(), dyn.rayleigh_alpha,
                         dyn.rayleigh_beta, F, red.unit_charges(), names if short else list(red.active),
@@ -163,9 +164,7 @@ def _pressed(sy: System):
             sy.parts[kind] = sy.parts.get(kind, 0) + Kt
     st = pr.res.state
     S = pr.surf.dofs + sy.offsets["u"].start
-    Ke = pr.surf.element_tangent(st, pr.eps)
-    rows, cols = np.broadcast_to(S[:, :, None], Ke.shape), np.broadcast_to(S[:, None, :], Ke.shape)
-    sy.parts["contact"] = sp.csr_matrix((Ke.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
+    sy.parts["contact"] = pr.contact_tangent()
     dr, dF_dd, dF_du = pr.surf.travel_derivatives(st, pr.eps)
     sy.b = -np.bincount(S.ravel(), dr.ravel(), minlength=n)      # per unit travel
     sy.applied_force = 1.0

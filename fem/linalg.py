@@ -47,10 +47,15 @@ AUTO_PARDISO_ABOVE_3D = 3_000   # 3D fill: PARDISO 1.2 s vs SuperLU 2.8 s at 8.4
 AUTO_KRYLOV_ABOVE = 400_000     # static solves: a direct factorization would not fit 24 GB (fem.krylov)
 
 
-def resolve(method: str, n: int = 0, iterative: bool = False, dim: int = 2) -> str:
+def resolve(method: str, n: int = 0, iterative: bool = False, dim: int | None = None) -> str:
     """The solver a method name stands for at n unknowns of a `dim`-dimensional mesh;
-    `iterative`: the caller (the static linear solve) can use the Krylov solver of fem.krylov."""
+    `iterative`: the caller (the static linear solve) can use the Krylov solver of fem.krylov.
+    "auto" needs `dim` (3D fill makes PARDISO pay at a fifth of the 2D size), so a
+    factorization is handed a resolved name, never "auto"."""
     if method == "auto":
+        if dim is None:
+            raise ValueError("linear solver 'auto' depends on the mesh's dimension: resolve it with "
+                             "linalg.resolve(method, n, dim=...) before factorizing")
         if iterative and n > AUTO_KRYLOV_ABOVE and available("krylov"):
             return "krylov"
         above = AUTO_PARDISO_ABOVE_3D if dim == 3 else AUTO_PARDISO_ABOVE

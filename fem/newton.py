@@ -77,16 +77,18 @@ def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True, by_kind=False):
         if not with_tangent:
             continue
         U, Q = reg.udofs, reg.pdofs
-        parts[f"shear:{region}"] = _coo(U, U, t.K_uu, n)
-        Kup = _coo(U, Q, t.K_up, n)
+        parts[f"shear:{region}"] = scatter(U, U, t.K_uu, n)
+        Kup = scatter(U, Q, t.K_up, n)
         parts["constraint"] = parts.get("constraint", 0) + Kup + Kup.T
-        parts[f"volumetric:{region}"] = _coo(Q, Q, t.K_pp, n)
+        parts[f"volumetric:{region}"] = scatter(Q, Q, t.K_pp, n)
     if not with_tangent:
         return r, None
     return r, (parts if by_kind else sum(parts.values()))
 
 
-def _coo(rows, cols, K, n):
+def scatter(rows, cols, K, n):
+    """An n x n CSR matrix from element matrices K (elements, local, local) at full rows
+    and columns (elements, local); duplicates summed."""
     R = np.broadcast_to(rows[:, :, None], K.shape)
     C = np.broadcast_to(cols[:, None, :], K.shape)
     return sp.csr_matrix((K.ravel(), (R.ravel(), C.ravel())), shape=(n, n))
@@ -203,6 +205,6 @@ def solve_yeoh(sy: System, method="auto", **kw) -> Solution:
     r = sy.A @ x + r_y - sy.b
     X, resid = solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), np.zeros(1))
     Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
-    sol = results(sy, red, x, r, Cinv, linalg.resolve(method, red.n), nres.residuals[-1][-1])
+    sol = results(sy, red, x, r, Cinv, linalg.resolve(method, red.n, dim=sy.tm.mesh.dim()), nres.residuals[-1][-1])
     sol.newton = nres
     return sol

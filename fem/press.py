@@ -21,9 +21,9 @@ default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
 multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
 In 3D the points are the edge midpoints of the P2 triangles (rule "nodal", shared
 by neighbouring facets): Gauss points over-constrain the about two nodes per
-facet and lock the contact zone (measured, thesis taxel quarter, sticking punch,
-first 0.1 N: 6 Gauss points per facet, over 240 Newton iterations without getting
-there; 3 points, 54 iterations; the midpoints, 5).
+facet and lock the contact zone (benchmarks/contact_3d.py --rules: a coarse thesis
+taxel quarter, sticking punch, first 0.1 N: 6 Gauss points per facet never get there,
+the multiplier loop stalling; 3 points, 54 Newton iterations; the midpoints, 5).
 
 When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
@@ -59,10 +59,10 @@ import time
 import numpy as np
 
 from taxel.fem import hyperelastic, linalg, loadpath, symmetry
-from taxel.fem.assembly import System
+from taxel.fem.assembly import System, place
 from taxel.fem.constraints import reduction
 from taxel.fem.contact import Indenter, Stick, Surface
-from taxel.fem.newton import yeoh_regions, yeoh_terms, yeoh_terms_skfem
+from taxel.fem.newton import scatter, yeoh_regions, yeoh_terms, yeoh_terms_skfem
 from taxel.fem.pattern import Pattern
 from taxel.fem.pressrecords import ContactError, ContactResult, Options, PressPoint
 from taxel.fem.static import Solution, results, unfold
@@ -174,9 +174,7 @@ class Press:
         ref = P.T @ rc
         if not tangent:
             return r, ref, st, None
-        Kc = self.surf.tangent(st, self.eps, frozen)
-        n = sy.A.shape[0]
-        Kc_full = _embed(Kc, sy.offsets["u"].start, n)
+        Kc_full = place([("u", "u", self.surf.tangent(st, self.eps, frozen))], sy.offsets, sy.A.shape[0])
         K = (P.T @ (sy.A + K_y + Kc_full) @ P).tocsc()
         return r, ref, st, K
 
@@ -357,30 +355,23 @@ class Press:
         self._stick = None
         X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
         Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
-        method = linalg.resolve(self.method, red.n)
-        sol = results(sy, red, x, r, Cinv, method, self.o.tol)
+        sol = results(sy, red, x, r, Cinv, self.method, self.o.tol)
         if sy.tm.layout.planes:            # the full sensor's electrodes, linearised at the pressed state
-            sol = unfold(sy, sol, red, Cinv, method, K=self._full_tangent())
+            sol = unfold(sy, sol, red, Cinv, self.method, K=self._full_tangent())
         sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
         sol.contact = self.res
         return sol
 
 
+    def contact_tangent(self):
+        """K_c of the final state as a full-size CSR matrix."""
+        S = self.surf.dofs + self.sy.offsets["u"].start
+        return scatter(S, S, self.surf.element_tangent(self.res.state, self.eps), self.sy.A.shape[0])
+
     def _full_tangent(self):
         """The full (unreduced) tangent at the current state: sy.A + K_yeoh + K_c."""
-        import scipy.sparse as sp
-        sy, n = self.sy, self.sy.A.shape[0]
-        K = sy.A + (yeoh_terms(sy, self.x)[1] if sy.yeoh else 0)
-        S = self.surf.dofs + sy.offsets["u"].start
-        Kc = self.surf.element_tangent(self.res.state, self.eps)
-        R, C = np.broadcast_to(S[:, :, None], Kc.shape), np.broadcast_to(S[:, None, :], Kc.shape)
-        return (K + sp.csr_matrix((Kc.ravel(), (R.ravel(), C.ravel())), shape=(n, n))).tocsr()
-
-
-def _embed(K, start, n):
-    import scipy.sparse as sp
-    K = sp.coo_matrix(K)
-    return sp.csr_matrix((K.data, (K.row + start, K.col + start)), shape=(n, n))
+        sy = self.sy
+        return (sy.A + (yeoh_terms(sy, self.x)[1] if sy.yeoh else 0) + self.contact_tangent()).tocsr()
 
 
 def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,

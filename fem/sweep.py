@@ -124,7 +124,7 @@ def krylov(dm: DynamicModel, shifts, moments, previous=None):
     cols = [] if previous is None else [previous / D[:, None]]
     new_shifts = shifts if previous is None else shifts[-1:]
     for s in new_shifts:
-        solve = linalg.scaled_solver((K0 - s ** 2 * M).tocsc(), dm.red.is_u, linalg.resolve("auto", K0.shape[0]))
+        solve = linalg.scaled_solver((K0 - s ** 2 * M).tocsc(), dm.red.is_u, linalg.resolve("auto", K0.shape[0], dim=dm.sy.tm.mesh.dim()))
         W = solve(B)[0]
         for _ in range(moments):
             for Z in (W, solve(Kim @ W)[0]):

@@ -114,7 +114,7 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
             vel = a2 * (y_new - y) - v
             G = M @ acc + C @ vel + P.T @ (A_lin @ xf + r_y) - load[k] * b
             J = (a1 * M + a2 * C + P.T @ (A_lin + K_y) @ P).tocsc()
-            solve = linalg.scaled_solver(J, red.is_u, linalg.resolve("auto", n))
+            solve = linalg.scaled_solver(J, red.is_u, linalg.resolve("auto", n, dim=sy.tm.mesh.dim()))
             norm = np.linalg.norm(solve.D * G) / max(np.linalg.norm(solve.D * b), 1e-300)
             if norm < tol:
                 break

@@ -17,9 +17,8 @@ def answer(mf: MultiFidelity) -> dict:
     better = [d for d in mf.front_3d if d is not mf.reference and d.fine[0] >= s0 and d.fine[1] <= c0]
     out = {"thesis_3d": {"sensitivity_V_per_N": s0, "crosstalk": c0},
            "thesis_on_3d_front": not better and any(d is mf.reference for d in mf.front_3d)}
-    below = [d for d in mf.front_3d if d.fine[1] <= c0]
-    if below:
-        b = max(below, key=lambda d: d.fine[0])
+    b = best_below(mf)
+    if b is not None:
         out["best_at_or_below_thesis_crosstalk"] = {"x": b.x, "sensitivity_V_per_N": b.fine[0], "crosstalk": b.fine[1],
                                                    "sensitivity_gain": b.fine[0] / s0 - 1}
     conf = mf.confirmed

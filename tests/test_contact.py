@@ -53,18 +53,26 @@ def test_gap_of_a_rounded_punch_closed_form():
     np.testing.assert_allclose(n[:, 0], [0.0, -1.0])
 
 
-def test_contact_tangent_is_the_derivative_of_the_residual():
+def _partly_active(ind, seed):
+    """(surface, displacement basis, u, lambda, eps, state) of a small block under `ind`
+    at travel 0.05 mm, random u and multipliers, with some points in contact and some not."""
     tm = block(4e-3, 2e-3, 1e-3, 2.5e-4, growth=1.5)
-    ind = Indenter("sphere", 3e-3, travel=5e-5)
     sy = assemble(problem(tm, MAT, ind))
     ub = next(iter(sy.ubases.values()))
     surf = Surface(tm.mesh, ub.elem, tm.facets["top"], sy.kin, 2e-3)
-    rng = np.random.default_rng(1)
+    rng = np.random.default_rng(seed)
     u = 1e-5 * rng.normal(size=ub.N)
     lam = np.abs(rng.normal(size=surf.shape)) * 1e3
     eps = 1e9
     st = surf.state(u, ind, 5e-5, lam, eps)
     assert 0 < st.active.sum() < st.active.size
+    return surf, ub, u, lam, eps, st
+
+
+def test_contact_tangent_is_the_derivative_of_the_residual():
+    ind = Indenter("sphere", 3e-3, travel=5e-5)
+    surf, ub, u, lam, eps, st = _partly_active(ind, 1)
+    rng = np.random.default_rng(1)
     Kc = surf.tangent(st, eps).toarray()
     h = 1e-11
     for k in rng.choice(np.flatnonzero(np.abs(Kc).sum(axis=0) > 0), 12, replace=False):
@@ -165,24 +173,14 @@ def test_newton_without_the_active_set_update_fails_and_says_so(small_sphere):
 def test_vectorised_contact_terms_equal_the_forms_and_travel_derivatives_are_derivatives():
     """Surface.element_residual/element_tangent (scattered) equal the scikit-fem forms;
     travel_derivatives against central differences in the travel."""
-    tm = block(4e-3, 2e-3, 1e-3, 2.5e-4, growth=1.5)
     ind = Indenter("flat", 1e-3, edge_radius=3e-4, travel=5e-5)
-    sy = assemble(problem(tm, MAT, ind))
-    ub = next(iter(sy.ubases.values()))
-    surf = Surface(tm.mesh, ub.elem, tm.facets["top"], sy.kin, 2e-3)
-    rng = np.random.default_rng(4)
-    u = 1e-5 * rng.normal(size=ub.N)
-    lam = np.abs(rng.normal(size=surf.shape)) * 1e3
-    eps, d = 1e9, 5e-5
-    st = surf.state(u, ind, d, lam, eps)
-    assert 0 < st.active.sum() < st.active.size
+    surf, ub, u, lam, eps, st = _partly_active(ind, 4)
+    d = 5e-5
     S = surf.dofs
     r = np.bincount(S.ravel(), surf.element_residual(st).ravel(), minlength=ub.N)
     np.testing.assert_allclose(r, surf.residual(st), rtol=0, atol=1e-12 * np.abs(r).max())
-    Ke = surf.element_tangent(st, eps)
-    import scipy.sparse as sp
-    K = sp.coo_matrix((Ke.ravel(), (np.repeat(S, S.shape[1], axis=1).ravel(), np.tile(S, S.shape[1]).ravel())),
-                      shape=(ub.N, ub.N)).toarray()
+    from taxel.fem.newton import scatter
+    K = scatter(S, S, surf.element_tangent(st, eps), ub.N).toarray()
     Kf = surf.tangent(st, eps).toarray()
     assert np.abs(K - Kf).max() < 1e-12 * np.abs(Kf).max()
     dr, dF_dd, dF_du = surf.travel_derivatives(st, eps)

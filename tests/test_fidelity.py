@@ -136,14 +136,14 @@ def test_multifidelity_correction_is_exact_at_verified_designs_and_recovers_a_lo
     assert all(d.fine != (0.1, 0.9) for d in front)
 
 
-def test_multifidelity_verifies_on_a_3d_scene():
+def test_the_verification_scene_is_the_3d_array_on_the_verify_mesh():
     from taxel.optimize import problem as O
     from taxel.optimize.multifidelity import VERIFY_3D, fine_data
     from taxel.scene import parse
     prob = O.load_problem("thesis-pzt-front")
     sc = parse({**fine_data(prob, prob.x0), "name": "x"})
     assert sc.model.type == "3d" and sc.mesh.size == pytest.approx(3e-3) and sc.array.rows == 3
-    assert VERIFY_3D["mesh.piezo_layers"] == sc.mesh.piezo_layers
+    assert sc.mesh.piezo_size == pytest.approx(1.2e-3) and VERIFY_3D["mesh.piezo_size"] == "1.2 mm"
 
 
 @pytest.mark.slow

@@ -45,8 +45,8 @@ def test_a_failing_preconditioner_is_reported(system, options):
 
 
 def test_auto_picks_krylov_only_for_static_solves_above_the_threshold():
-    assert linalg.resolve("auto", linalg.AUTO_KRYLOV_ABOVE + 1, iterative=True) == "krylov"
-    assert linalg.resolve("auto", linalg.AUTO_KRYLOV_ABOVE + 1) != "krylov"
-    assert linalg.resolve("auto", 1000, iterative=True) == "superlu"
+    assert linalg.resolve("auto", linalg.AUTO_KRYLOV_ABOVE + 1, iterative=True, dim=3) == "krylov"
+    assert linalg.resolve("auto", linalg.AUTO_KRYLOV_ABOVE + 1, dim=3) != "krylov"
+    assert linalg.resolve("auto", 1000, iterative=True, dim=2) == "superlu"
     with pytest.raises(ValueError, match="static linear problems only"):
         linalg.factorize(np.eye(3), "krylov")

@@ -185,7 +185,7 @@ def test_travel_channel_takes_a_length_sensitivity(tmp_path, capsys):
     from taxel.studies.measure.rig import load_rig
     d = rig_dict()
     d["channels"].append({"index": 10, "name": "travel", "sensitivity": "1 V/mm"})
-    assert load_rig.__name__ and parse_ok(d).ordered()[10].volts_per_si == pytest.approx(1000.0)
+    assert parse_ok(d).ordered()[10].volts_per_si == pytest.approx(1000.0)
     for bad, words in (("0.5 V/N", "travel sensitivity"), (None, "travel channel needs its sensitivity")):
         d["channels"][10] = {"index": 10, "name": "travel", **({"sensitivity": bad} if bad else {})}
         (tmp_path / "rig.toml").write_text(_toml(d))

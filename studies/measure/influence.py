@@ -78,10 +78,10 @@ class Influence:
 def samples(scene: Scene, per_pitch: int = 8, edges: bool = True) -> np.ndarray:
     """The sample positions (m) of the module docstring."""
     arr = scene.array
-    pitch, L = arr.taxel_width + arr.gap, (arr.cols - 1) * (arr.taxel_width + arr.gap)
+    pitch = arr.taxel_width + arr.gap
     h = pitch / per_pitch
     k = int(np.floor(arr.margin / h + 1e-9)) if edges else 0       # the indenter's centre stays over the margin
-    return np.arange(-k, per_pitch * (arr.cols - 1) + k + 1) * h if L > 0 or k else np.zeros(1)
+    return np.arange(-k, per_pitch * (arr.cols - 1) + k + 1) * h
 
 
 def _static_voltages(scene: Scene) -> dict:

@@ -46,7 +46,6 @@ def ladder(scene: Scene) -> list[Rung]:
         rungs.append(Rung("axisymmetric", (("model.type", "axisymmetric"),)))
     rungs.append(Rung("3D cheapest", (("model.type", "3d"),) + tuple(est.CHEAP_3D.items())))
     rungs.append(Rung("3D", (("model.type", "3d"),) + STANDARD_3D))
-    # with [model] symmetry: Rung("3D quarter", (("model.type", "3d"), ("model.symmetry", "quarter")) + STANDARD_3D)
     return rungs
 
 
