@@ -1,4 +1,4 @@
-"""3D assembly rate: our vectorised assembly (fem.vectorized) against FELupe, side by
+"""3D assembly rate: our vectorised assembly (fem.bilinear) against FELupe, side by
 side in one run, on the same P2 tetrahedral mesh with the same law and quadrature.
 
 Mesh: the gmsh mesh of a built-in 3D scene (all its elements, one material).
@@ -40,7 +40,7 @@ from taxel.analyses import mesh as scene_mesh
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
 from taxel.fem.kinematics import Solid3D
-from taxel.fem.vectorized import STRAIN, Term, assemble_terms
+from taxel.fem.bilinear import STRAIN, Term, assemble_terms
 
 E, NU = 1e6, 0.3
 REPEAT = 3

@@ -13,14 +13,14 @@ import numpy as np
 
 from taxel.analyses import lumped_model, problem
 from taxel.analyses import solve_static as solve
-from taxel.fem import dynmodel, lumped, sweep, timestep
+from taxel.fem import dynamics, lumped, sweep, timestep
 from taxel.scene import load, parse
 from taxel_2d import median_time     # benchmarks/ is on sys.path when run as a script
 
 
 def critical_step():
     """A laterally clamped 0.127 mm PSI-5H4E column, one P2 element through it (as in the taxel mesh)."""
-    return timestep.critical_time_step(dynmodel.model(problem(PZT_COLUMN)))
+    return timestep.critical_time_step(dynamics.model(problem(PZT_COLUMN)))
 
 
 PZT_COLUMN = parse({"model": {"type": "plane_strain", "depth": "0.1 mm"}, "mesh": {"size": "0.1 mm"},
@@ -34,7 +34,7 @@ def main():
     scene = load("thesis-pzt-single-2d")
     solve(scene)
     t_static, _ = median_time(lambda: solve(scene))
-    dm = dynmodel.model(problem(scene))
+    dm = dynamics.model(problem(scene))
     freqs = np.geomspace(1, 1000, 200)
     t_direct, direct = median_time(lambda: sweep.sweep(dm, freqs, method="direct"), 1)
     t_red, red = median_time(lambda: sweep.sweep(dm, freqs), 3)

@@ -5,7 +5,7 @@
 3 mm (a 1x3 reference at 1 mm needs more than 6 GB beyond these: killed by the
 kernel at 6.1 GB on the 5 mm gap);
 plane strain, plane stress and axisymmetric, orders 1 and 2; and the cheapest
-3D model itself. For each, `taxel.analyses.estimate.estimate` (discretisation
+3D model itself. For each, `taxel.analyses.error_estimate.estimate` (discretisation
 + model form; linear silicone on both sides, so the material part, which is
 benchmarks/silicone_model_error.py's rule, is left out) against the true error:
 the relative difference to the 3D reference (1 mm elements, 0.4 mm at the
@@ -28,7 +28,7 @@ import argparse
 import statistics
 import time
 
-from taxel.analyses import estimate as est
+from taxel.analyses import error_estimate as est
 from taxel.analyses import solve_static
 from taxel.scene import Scene, load, to_data
 from taxel.studies.store import Store

@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import solve_static as solve
-from taxel.analyses.geometry import layout
-from taxel.analyses.problem import scene_materials
+from taxel.analyses.adapter import layout
+from taxel.analyses.adapter import scene_materials
 from taxel.meshing.build import build
 from taxel.scene import load
 

@@ -11,14 +11,14 @@ import tempfile
 import time
 from pathlib import Path
 
-from taxel.optimize.problem import BUILTIN, front, load_problem, noise, optimize
+from taxel.optimize.spec import BUILTIN, front, load_optimization, noise, optimize
 from taxel.studies.store import Store
 
 
 def main():
     tmp = Path(tempfile.mkdtemp())
     try:
-        p = load_problem("thesis-pzt-front", tmp / "single")
+        p = load_optimization("thesis-pzt-front", tmp / "single")
         print("noise of the sensitivity (second difference / value) along the gap:")
         for h, v in noise(p, "gap").items():
             print(f"  step {h:g} of the range: {v:.1e}")
@@ -27,7 +27,7 @@ def main():
         ts = time.perf_counter() - t
         print(f"single objective: {r.nfev} evaluations, {ts:.1f} s, sensitivity {r.metrics['sensitivity']:.4g} V/N "
               f"at {', '.join(f'{n} {x:.3g} {u}' for n, x, u in zip(p.names, r.x, p.units))} ({r.message})")
-        pf = load_problem("thesis-pzt-front", tmp / "front")
+        pf = load_optimization("thesis-pzt-front", tmp / "front")
         t = time.perf_counter()
         runs = front(pf, BUILTIN / "thesis-pzt-front.toml", workers=2)
         tf = time.perf_counter() - t

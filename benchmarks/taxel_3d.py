@@ -2,8 +2,8 @@
 built-in 3D taxel scenes, one fresh process per row (so the peak memory is the
 row's own), solvers side by side.
 
-Each row runs `taxel.analyses.problem` (gmsh mesh), `fem.assembly.assemble`
-(vectorised, fem.vectorized) and `fem.static.solve_linear` (reduction, scaling,
+Each row runs `taxel.analyses.adapter` (gmsh mesh), `fem.assembly.assemble`
+(vectorised, fem.bilinear) and `fem.linear.solve_linear` (reduction, scaling,
 factorization or GMRES for the load and every unit electrode charge, fields) with the solver and
 MKL thread count of the row, and prints the pressed taxel's open-circuit voltage,
 so the solvers can be compared on the same answer.
@@ -31,7 +31,7 @@ import json, resource, sys, time
 import taxel
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.static import solve_linear
+from taxel.fem.linear import solve_linear
 name, solver, symmetry = sys.argv[1], sys.argv[2], sys.argv[3]
 t0 = time.perf_counter(); p = problem(taxel.load(name).replace(**{"model.symmetry": symmetry}))
 t1 = time.perf_counter(); sy = assemble(p)

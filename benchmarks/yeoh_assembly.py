@@ -1,4 +1,4 @@
-"""The Yeoh residual and consistent tangent: vectorised (fem.yeohasm, through
+"""The Yeoh residual and consistent tangent: vectorised (fem.yeoh_terms, through
 fem.newton.yeoh_terms) against scikit-fem's forms (fem.newton.yeoh_terms_skfem),
 side by side in one run, at the same deformed state, median CPU time of 3 repeats
 (1 in 3D).

@@ -25,7 +25,7 @@ from taxel.fem import constraints, forms
 from taxel.fem.kinematics import Kinematics
 from taxel.fem.laws import PiezoLaw, SolidLaw, law
 from taxel.fem.problem import Problem
-from taxel.fem.vectorized import GRAD, STRAIN, VALUE, Term, assemble_terms
+from taxel.fem.bilinear import GRAD, STRAIN, VALUE, Term, assemble_terms
 from taxel.fem.yeoh import Yeoh
 from taxel.meshing.build import TaggedMesh
 

@@ -242,7 +242,7 @@ class Surface:
             curv = w.tn * np.einsum("i...,ij...,j...->...", v, w.H, du)
             return (nn - curv) * meas(w)
         self._r, self._k = r_c, k_c
-        # the vectorised terms (element arrays, scattered by fem.pattern): basis values
+        # the vectorised terms (element arrays, scattered by fem.sparsity): basis values
         # phi[f, q, i, c] of the local vector functions i at the points, their dofs
         self.phi = np.stack([np.asarray(b[0].value) for b in self.fb.basis]).transpose(2, 3, 0, 1)
         self.dofs = np.ascontiguousarray(self.fb.element_dofs.T)          # (facets, local)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.fem.pressrecords import ContactError
+from taxel.fem.press_result import ContactError
 
 
 def travel(pr, d_target, first=0.25, min_frac=1e-3):

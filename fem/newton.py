@@ -27,8 +27,8 @@ import scipy.sparse as sp
 from taxel.fem import hyperelastic, linalg
 from taxel.fem.assembly import System, place
 from taxel.fem.constraints import Reduction, reduction
-from taxel.fem.static import Solution, results
-from taxel.fem.yeohasm import YeohRegion
+from taxel.fem.linear import Solution, results
+from taxel.fem.yeoh_terms import YeohRegion
 
 
 class NewtonError(RuntimeError):
@@ -55,7 +55,7 @@ class NewtonResult:
 
 
 def yeoh_regions(sy: System) -> dict:
-    """The vectorised Yeoh regions of a system (fem.yeohasm), built once and kept on it."""
+    """The vectorised Yeoh regions of a system (fem.yeoh_terms), built once and kept on it."""
     if getattr(sy, "_yeoh_regions", None) is None:
         sy._yeoh_regions = {r: YeohRegion(sy.ubases[r], sy.pbases[r], law, sy.kin, sy.offsets[("p", r)].start)
                             for r, law in sy.yeoh.items()}
@@ -66,7 +66,7 @@ def yeoh_terms(sy: System, x: np.ndarray, with_tangent=True, by_kind=False):
     """Full-size residual R_yeoh(x) and tangent K_yeoh(x) of every hyperelastic region
     (with `by_kind`, the tangent as {"shear:<region>", "constraint", "volumetric:<region>"},
     the kinds of fem.assembly, so that loss factors apply to it). Vectorised
-    (fem.yeohasm); `yeoh_terms_skfem` is the same through scikit-fem's forms."""
+    (fem.yeoh_terms); `yeoh_terms_skfem` is the same through scikit-fem's forms."""
     n = sy.A.shape[0]
     r = np.zeros(n)
     parts: dict[str, sp.csr_matrix] = {}

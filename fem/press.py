@@ -40,8 +40,8 @@ stiffness dF/dd = dF/dd|_x + dF/dx . dx/dd (at most twice the last step), regula
 falsi with the Illinois rule once bracketed, a failed trial bisected towards the
 last converged travel. Every converged state is a point of the force-travel /
 voltage-force curve. The Yeoh and contact terms are vectorised element arrays
-(fem.yeohasm, Surface.element_*) scattered into a reduced CSR pattern built once
-(fem.pattern); Options(assembly="skfem") keeps the scikit-fem path for comparison.
+(fem.yeoh_terms, Surface.element_*) scattered into a reduced CSR pattern built once
+(fem.sparsity); Options(assembly="skfem") keeps the scikit-fem path for comparison.
 
 Failures are raised as ContactError, naming the cause: Newton not converging,
 the active set cycling (the last iterates alternate between two sets), the augmented
@@ -63,9 +63,9 @@ from taxel.fem.assembly import System, place
 from taxel.fem.constraints import reduction
 from taxel.fem.contact import Indenter, Stick, Surface
 from taxel.fem.newton import scatter, yeoh_regions, yeoh_terms, yeoh_terms_skfem
-from taxel.fem.pattern import Pattern
-from taxel.fem.pressrecords import ContactError, ContactResult, Options, PressPoint
-from taxel.fem.static import Solution, results, unfold
+from taxel.fem.sparsity import Pattern
+from taxel.fem.press_result import ContactError, ContactResult, Options, PressPoint
+from taxel.fem.linear import Solution, results, unfold
 
 __all__ = ["ContactError", "ContactResult", "Options", "Press", "PressPoint", "press"]
 
@@ -109,7 +109,7 @@ class Press:
     # ------------------------------------------------------------ one equilibrium
     def _pattern(self) -> Pattern:
         """The reduced matrix's pattern: the linear part, every Yeoh element block, every
-        contact facet block (fem.pattern), built on first use."""
+        contact facet block (fem.sparsity), built on first use."""
         if self._pat is None:
             blocks = {}
             for k, reg in yeoh_regions(self.sy).items():

@@ -49,7 +49,7 @@ class Supports:
 
 @dataclass(frozen=True)
 class Damping:
-    """Loss factors and Rayleigh damping (fem.dynmodel)."""
+    """Loss factors and Rayleigh damping (fem.dynamics)."""
 
     silicone_loss: float = 0.1              # structural loss factor of the solids
     piezo_loss: float | None = None         # default 1/Qm of the material

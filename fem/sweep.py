@@ -25,7 +25,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 
 from taxel.fem import linalg
-from taxel.fem.dynmodel import DynamicModel, mechanical
+from taxel.fem.dynamics import DynamicModel, mechanical
 
 
 

@@ -132,7 +132,7 @@ def capacitance(sy: System, blocks: dict) -> tuple[list[str], np.ndarray]:
 
 def unfold(sy: System, electrodes: dict, C: np.ndarray, names: list[str]) -> dict:
     """Every electrode of the full array from the modelled ones (ElectrodeResult
-    objects of fem.static): mirror images get the voltage, s_a times the charges,
+    objects of fem.linear): mirror images get the voltage, s_a times the charges,
     and their own diagonal of the full capacitance matrix."""
     lay = sy.tm.layout
     G = order(sy)

@@ -18,7 +18,7 @@ import scipy.linalg as la
 from taxel.fem import linalg
 from taxel.fem.assembly import assemble
 from taxel.fem.constraints import reduction
-from taxel.fem.dynmodel import DynamicModel, model
+from taxel.fem.dynamics import DynamicModel, model
 from taxel.fem.problem import Problem
 from taxel.fem.sweep import krylov, project
 

@@ -167,7 +167,7 @@ def instability_reason(mode: str, lam, C10, C20, C30) -> str:
 
 
 # --------------------------------------------------------------------------------------
-# batched form (leading batch axis, N x 3 x 3): the vectorised assembly (fem.yeohasm)
+# batched form (leading batch axis, N x 3 x 3): the vectorised assembly (fem.yeoh_terms)
 # --------------------------------------------------------------------------------------
 
 def inv_det_batched(F):

@@ -138,7 +138,7 @@ def is_graded(lay: Layout, layer) -> bool:
 
 
 def vertical_divisions(lay: Layout, layer):
-    """(numElements, heights) for one layer's extrusion (meshing.estimate checks the
+    """(numElements, heights) for one layer's extrusion (meshing.cost checks the
     count before this runs)."""
     if not is_graded(lay, layer):
         return [lay.piezo_layers], [1.0]

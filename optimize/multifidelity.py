@@ -4,7 +4,7 @@
    2D plane strain, problem.front).
 2. Every front point and the reference (thesis) design are re-solved in 3D
    (VERIFY_3D, a coarse 3D mesh whose error is measured by the work-precision
-   chart, studies.fidelity), on the Dask workers, cached in the run's store.
+   chart, studies.work_precision), on the Dask workers, cached in the run's store.
 3. Correction, multiplicative: at each verified design the ratios
    r_s = s_3D / s_2D and r_c = c_3D / c_2D of sensitivity and crosstalk;
    between them log r is fitted linear in the normalised design variables plus
@@ -30,7 +30,7 @@
    which is as large as the differences the front shows. So the two designs the
    answer compares, the reference (thesis) design and the most sensitive 3D-front
    design at or below its crosstalk, are solved again on CONFIRM_3D, the
-   estimator's cheapest 3D model (taxel.analyses.estimate.CHEAP_3D: at most
+   estimator's cheapest 3D model (taxel.analyses.error_estimate.CHEAP_3D: at most
    0.42 % off in voltage and 3.5 % in crosstalk over the estimator's 22 scenes). The corrected search is restricted to the designs the cheap
    search visited: no new 2D solves, so the loop costs only 3D solves.
 
@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from taxel.analyses.estimate import CHEAP_3D
+from taxel.analyses.error_estimate import CHEAP_3D
 from taxel.optimize.driver import _g, pareto_front
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.execute import local_cluster
@@ -53,7 +53,7 @@ from taxel.studies.store import Store, point_key
 
 # The 3D model the front is verified on: 3 mm elements, 1.2 mm at the taxels, two through
 # the piezo (3x3 array: 2e4 unknowns, about 6 s, 0.8 GB). Its error against the finest 3D
-# is measured by the work-precision chart (taxel fidelity thesis-pzt-3x3-2d).
+# is measured by the work-precision chart (taxel work-precision thesis-pzt-3x3-2d).
 VERIFY_3D = {"model.type": "3d", "mesh.size": "3 mm", "mesh.piezo_size": "1.2 mm", "mesh.piezo_layers": 2}
 SECONDS_PER_SOLVE = {"cheap": 0.5, "3d": 1.4}      # measured: 2D 3x3 plane strain; 3D 3x3 quarter at VERIFY_3D (1.4 s, benchmarks/work_precision.py)
 # The 3D model the answer's two designs are confirmed on (see 6. above).

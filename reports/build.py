@@ -52,8 +52,8 @@ def kind_of(folder: Path) -> str:
         return "study"
     if (folder / "optimum.json").exists() or (folder / "front.json").exists():
         return "optimization"
-    if (folder / "fidelity.json").exists():             # a work-precision chart (reports/fidelity.py)
-        return "fidelity"
+    if (folder / "work-precision.json").exists():             # a work-precision chart (reports/work_precision.py)
+        return "work-precision"
     if (folder / "scene.json").exists():
         return "analysis"
     if (folder / "validation.json").exists():           # a measurement validation (reports/validation.py)
@@ -157,9 +157,9 @@ def _analysis(folder: Path, out: Path, scene_data) -> dict:
             "thumb": imgs[0].read_bytes() if imgs else None}
 
 
-def _fidelity(folder: Path, out: Path, scene_data) -> dict:
-    from taxel.reports.fidelity import cheapest_rows
-    rec = read_json(folder / "fidelity.json")
+def _work_precision(folder: Path, out: Path, scene_data) -> dict:
+    from taxel.reports.work_precision import cheapest_rows
+    rec = read_json(folder / "work-precision.json")
     imgs = sorted(folder.glob("*.png"))
     rows = cheapest_rows(rec)
     notes = [{"type": "note", "text": f"{w['scene']} at {w['force_N']:g} N: {w['how']}"} for w in rec["work_precision"]]
@@ -171,12 +171,12 @@ def _fidelity(folder: Path, out: Path, scene_data) -> dict:
                                      "and silicone law; the Pareto set (cheapest for its accuracy) is ringed."},
             _figures(imgs, wide=True)] + notes},
         {"title": "Cheapest model for 1 %, 5 % and 10 % error", "blocks": [
-            {"type": "table", "table": tables.table(rows, csv=_csv_link(folder / "fidelity.csv", out, folder))}]}],
+            {"type": "table", "table": tables.table(rows, csv=_csv_link(folder / "work-precision.csv", out, folder))}]}],
         "numbers": numbers, "banners": [], "thumb": imgs[0].read_bytes() if imgs else None}
 
 
 # the page of each folder kind: (folder, out, scene data) -> sections, numbers, banners, thumb
-PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis, "fidelity": _fidelity}
+PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis, "work-precision": _work_precision}
 
 
 def _provenance(folder: Path, scene_data: dict | None) -> list[dict]:

@@ -11,8 +11,8 @@ import os
 
 import numpy as np
 
-from taxel.analyses.geometry import layout
-from taxel.analyses.problem import scene_materials
+from taxel.analyses.adapter import layout
+from taxel.analyses.adapter import scene_materials
 from taxel.fem.yeoh_fit import stability_limit
 from taxel.units import magnitude
 

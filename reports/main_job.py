@@ -18,7 +18,7 @@ import numpy as np
 from taxel.analyses import solve
 from taxel.analyses.results import write_scene
 from taxel.optimize import multifidelity as MF
-from taxel.optimize import problem as O
+from taxel.optimize import spec as O
 from taxel.reports import analysis
 from taxel.reports.build import build
 from taxel.reports.figures import study_plots
@@ -35,7 +35,7 @@ def _front(out: Path, name: str, small: bool) -> Path:
     """The cheap (2D) front of a built-in problem, then its 3D verification
     (optimize.multifidelity); `small`: one short run, no front."""
     out.mkdir(exist_ok=True)
-    prob = O.load_problem(name, out)
+    prob = O.load_optimization(name, out)
     write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
     x_ref = np.array([O.magnitude(prob.spec.reference[n], u)[0] for n, u in zip(prob.names, prob.units)])
     reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import force_history, lumped_model, problem, readout
-from taxel.fem import circuits, dynmodel, sweep, timestep
+from taxel.fem import circuits, dynamics, sweep, timestep
 from taxel.reports.figures import pyplot
 from taxel.scene import load
 
@@ -33,13 +33,13 @@ def main(out="out/thesis-ch4"):
 
     # 1, 2: step and impulse through the resistor
     prob = problem(base)
-    dm = dynmodel.model(prob)
+    dm = dynamics.model(prob)
     C_p = abs(sweep.sweep(dm, [0.1], method="direct").C[0, 0, 0])
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
     for ax, name in zip(axes, ("thesis-pzt-step", "thesis-pzt-impulse")):
         s = load(name)
         t, f = force_history(s.analysis, s.load.force)
-        tr = timestep.transient(dynmodel.model(problem(s, prob.mesh)), t, f, R=s.readout.R)
+        tr = timestep.transient(dynamics.model(problem(s, prob.mesh)), t, f, R=s.readout.R)
         ax.plot(t, tr.V[:, 0])
         ax.set_title(f"{s.analysis.input}, {s.load.force:g} N, 500 MOhm input")
         ax.set_xlabel("time (s)")
@@ -57,7 +57,7 @@ def main(out="out/thesis-ch4"):
     # 3: chirp through the charge amplifier, with and without the notch
     chirp = load("thesis-pzt-chirp")
     t, f = force_history(chirp.analysis, chirp.load.force)
-    short = dynmodel.model(problem(chirp, prob.mesh), short=True)
+    short = dynamics.model(problem(chirp, prob.mesh), short=True)
     Q = timestep.transient(short, t, f).Q
     fig, axes = plt.subplots(2, 1, figsize=(8, 6), constrained_layout=True)
     freqs = np.fft.rfftfreq(len(t), t[1] - t[0])
@@ -89,7 +89,7 @@ def main(out="out/thesis-ch4"):
     gains = {}
     for k in (0.0, 0.5e-3, 1e-3):
         s = base.replace(**{"array.silicone_above": k, "array.silicone_below": k})
-        H = np.abs(circuits.readout(sweep.sweep(dynmodel.model(problem(s)), fq), readout(s))[:, 0])
+        H = np.abs(circuits.readout(sweep.sweep(dynamics.model(problem(s)), fq), readout(s))[:, 0])
         gains[2 * k] = H[np.argmin(abs(fq - 30))]
         ax.loglog(fq, H, label=f"silicone {2e3 * k:g} mm in total")
     ax.set_xlabel("frequency (Hz)")

@@ -1,14 +1,14 @@
 """Declarative parameter studies: one TOML file, cached, resumable, parallel.
 
 A study names a base scene, the parameters to vary and how (grid, explicit
-list, Latin hypercube), fixed overrides ("fidelity"), and the outputs to keep:
+list, Latin hypercube), fixed overrides (`[overrides]`), and the outputs to keep:
 
     name = "fig-2-5"
     base = "thesis-pzt-single-2d"            # built-in example or a path (relative to this file)
     sampling = "grid"                        # grid (all combinations) | lhs
     outputs = ["voltage", "charge", "crosstalk", "max_strain"]
 
-    [fidelity]                               # fixed overrides, by dotted scene path
+    [overrides]                              # fixed values, by dotted scene path
     "model.type" = "plane_stress"
 
     [[parameters]]
@@ -37,10 +37,10 @@ from itertools import product
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, ValidationError, model_validator
 
 from taxel import units
-from taxel.quantities import Name, safe_name
+from taxel.schema import Name, Strict, safe_name
 from taxel.scene import EXAMPLES, Scene, SceneError, one_line, parse, read_toml, set_path
 
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
@@ -51,8 +51,7 @@ class StudyError(SceneError):
     """A study file that cannot be run; one line with the fix."""
 
 
-class Parameter(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class Parameter(Strict):
     path: str | list[str]
     label: str | None = None          # display name (default: the last path key)
     values: list[Any] | None = None
@@ -74,15 +73,15 @@ class Parameter(BaseModel):
             "+".join(p.split(".")[-1] for p in self.paths)
 
 
-class StudySpec(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class StudySpec(Strict):
+    renamed = {"fidelity": "overrides"}
     name: Name = "study"
     description: str = ""
     base: str
     sampling: Literal["grid", "lhs"] = "grid"
     samples: int | None = Field(None, ge=1)
     seed: int = 0
-    fidelity: dict[str, Any] = {}
+    overrides: dict[str, Any] = {}       # fixed values, by dotted scene path
     parameters: list[Parameter] = Field(min_length=1)
     outputs: list[Literal[OUTPUTS]] = ["voltage", "charge", "crosstalk", "max_strain"]
 
@@ -125,7 +124,7 @@ class Study:
     def base_data(self) -> dict:
         """The base scene with the study's fixed overrides (no parameter applied)."""
         data = json.loads(json.dumps(self.base))
-        for path, value in self.spec.fidelity.items():
+        for path, value in self.spec.overrides.items():
             set_value(data, path, value)
         return data
 

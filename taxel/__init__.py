@@ -1,12 +1,12 @@
 """taxel: the open design tool for piezoelectric tactile sensors.
 
-The Python API (taxel.api): `load`, `solve`, `run_study`, `optimize`, `report`, `fidelity`.
+The Python API (taxel.api): `load`, `solve`, `run_study`, `optimize`, `report`, `work_precision`.
 They are imported on first use, so `import taxel.units` stays light.
 """
 
 from __future__ import annotations
 
-__all__ = ["load", "solve", "run_study", "optimize", "report", "fidelity"]
+__all__ = ["load", "solve", "run_study", "optimize", "report", "work_precision"]
 
 
 def __getattr__(name):

@@ -29,7 +29,7 @@ def load(source: str | Path | dict) -> Scene:
     (Python numbers in SI); its materials are checked too. Raises SceneError
     with a one-line message."""
     scene = source if isinstance(source, Scene) else _load_scene(source)
-    analyses.scene_materials(scene)
+    analyses.check(scene)
     return scene
 
 
@@ -37,7 +37,7 @@ def solve(scene: Scene | str | Path | dict, **options):
     """The scene's analysis ([analysis] type): StaticResult, FrequencyResult or
     TransientResult. Static options: solver ("auto", "superlu", "pardiso", "krylov"),
     tagged_mesh, newton_options."""
-    return analyses.solve(load(scene), **options)
+    return analyses.solve(scene if isinstance(scene, Scene) else _load_scene(scene), **options)
 
 
 @dataclass
@@ -102,12 +102,12 @@ def optimize(problem, out: str | Path | None = None, workers: int = 2):
     """Optimize a design (an optimization TOML file or a built-in name) into `out`:
     the optimum (driver.Result), or with [pareto] the list of (bound, Result) of
     the sensitivity-crosstalk front; every design is cached in out's store."""
-    from taxel.optimize import problem as O
+    from taxel.optimize import spec as O
     from taxel.reports.optimization import write_front, write_run
-    name = O.load_problem(problem).spec.name
+    name = O.load_optimization(problem).spec.name
     out = Path(out) if out is not None else Path("out") / name
     out.mkdir(parents=True, exist_ok=True)
-    prob = O.load_problem(problem, out)
+    prob = O.load_optimization(problem, out)
     write_scene(out, parse({**prob.scene_data(prob.x0), "name": name}))
     if prob.spec.pareto:
         path = problem if Path(problem).is_file() else O.BUILTIN / f"{problem}.toml"
@@ -125,12 +125,12 @@ def report(folders, out: str | Path, pdf: bool = False, compare: bool = True) ->
     return build([Path(f) for f in folders], Path(out), pdf=pdf, compare=compare)
 
 
-def fidelity(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path | None = None, progress=None):
+def work_precision(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path | None = None, progress=None):
     """The work-precision chart of scenes (names, files or Scenes) at each force (N)
-    into `out` (reports/fidelity.py); every solve is cached in the store (default
+    into `out` (reports/work_precision.py); every solve is cached in the store (default
     out/store), so a rerun only draws. Returns the WorkPrecision list."""
-    from taxel.reports.fidelity import write
-    from taxel.studies.fidelity import work_precision
+    from taxel.reports.work_precision import write
+    from taxel.studies.work_precision import work_precision
     out = Path(out)
     scenes = [load(s) for s in ([scenes] if isinstance(scenes, (str, Path, Scene)) else scenes)]
     wps = [work_precision(sc, f, Path(store) if store else out / "store", progress) for sc in scenes for f in forces]

@@ -2,7 +2,7 @@
 
     taxel solve SCENE [--json] [--vtu FILE] [--solver NAME] [--out DIR]
     taxel lumped SCENE [--out DIR]
-    taxel fidelity SCENE... [--force N]... [--out DIR] [--store DIR]   (the work-precision chart)
+    taxel work-precision SCENE... [--force N]... [--out DIR] [--store DIR]   (the work-precision chart)
     taxel mesh SCENE -o FILE          (.msh with physical groups, or .vtu/.xdmf via meshio)
     taxel study run STUDY [--out DIR] [--workers N] [--scheduler ADDR] [--retry-failed]
     taxel study status DIR | taxel study export DIR --csv FILE
@@ -41,21 +41,21 @@ def _print_written(out: Path, files, summary):
         print(f"wrote {out / Path(f).name}")
 
 
-def _fidelity(args):
-    from taxel.reports.fidelity import lines
+def _work_precision(args):
+    from taxel.reports.work_precision import lines
     forces = args.force or [0.2, 1.0]
     for f in forces:
         if not (0 < f <= 100):
             raise SceneError(f"--force {f:g}: give a force in newtons between 0 and 100")
-    out = Path(args.out or "out/fidelity")
+    out = Path(args.out or "out/work-precision")
     for s in args.scenes:
         api.load(s)                           # a bad scene fails before any solve
 
     def progress(level, p):
         print(f"  {level.label:<36} " + ("failed (stored)" if p is None else
                                          f"{p.seconds:7.2f} s  {p.unknowns:>7} unknowns"), flush=True)
-    api.fidelity(args.scenes, out, forces, args.store, progress)
-    for line in lines(json.loads((out / "fidelity.json").read_text())):
+    api.work_precision(args.scenes, out, forces, args.store, progress)
+    for line in lines(json.loads((out / "work-precision.json").read_text())):
         print(line)
     print(f"wrote {out.resolve()}")
 
@@ -159,15 +159,15 @@ def _optimize(args):
     import numpy as np
 
     from taxel.analyses.results import write_scene
-    from taxel.optimize import problem as O
+    from taxel.optimize import spec as O
     from taxel.reports.optimization import write_front, write_run
     from taxel.scene import parse
     from taxel.studies.store import Store
     path = args.file
-    probe = O.load_problem(path)
+    probe = O.load_optimization(path)
     out = Path(args.out or Path("out") / probe.spec.name)
     out.mkdir(parents=True, exist_ok=True)
-    prob = O.load_problem(path, out)
+    prob = O.load_optimization(path, out)
     write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
     resolved = path if Path(path).is_file() else O.BUILTIN / f"{path}.toml"
     reference = None
@@ -217,12 +217,12 @@ def _demo(args):
 
 
 def _mesh(args):
-    from taxel.analyses.problem import checked_layout, scene_materials
+    from taxel.analyses.adapter import check, checked_layout
     from taxel.meshing.build import build, export
     import meshio
     scene = api.load(args.scene)
     out = _writable_file(args.output, "-o", tuple(sorted({".msh", *meshio.extension_to_filetypes})))
-    lay = checked_layout(scene, scene_materials(scene))
+    lay = checked_layout(scene, check(scene))
     if out.suffix == ".msh":
         tm = build(lay, msh_path=out)
     else:
@@ -250,13 +250,13 @@ def main(argv=None):
     p.add_argument("--out", metavar="DIR", help="folder for the outputs (scene.json, result.json; CSV and PNG "
                    "of frequency/transient analyses; default for those: out/SCENE)")
     p.set_defaults(run=_solve)
-    p = sub.add_parser("fidelity", help="the work-precision chart: wall time against error of every model and mesh")
+    p = sub.add_parser("work-precision", aliases=["fidelity"], help="the work-precision chart: wall time against error of every model and mesh")
     p.add_argument("scenes", nargs="+", help="scene TOML files or built-in example names")
     p.add_argument("--force", type=float, action="append", metavar="N", help="force in newtons (repeat; "
                    "default 0.2 and 1)")
-    p.add_argument("--out", metavar="DIR", default=None, help="output folder (default out/fidelity)")
+    p.add_argument("--out", metavar="DIR", default=None, help="output folder (default out/work-precision)")
     p.add_argument("--store", metavar="DIR", help="the solve cache (default DIR/store)")
-    p.set_defaults(run=_fidelity)
+    p.set_defaults(run=_work_precision)
     p = sub.add_parser("lumped", help="the 3-DoF lumped model's answer to a scene (frequency response)")
     p.add_argument("scene")
     p.add_argument("--out", metavar="DIR")

@@ -18,10 +18,10 @@ import typing
 from pathlib import Path
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, StrictInt, ValidationError, model_validator
+from pydantic import BaseModel, Field, StrictInt, ValidationError, model_validator
 
 from taxel import units
-from taxel.quantities import (GEOMETRY, Capacitance, Coordinate, Duration, Force, Frequency, Length, MeshSize, Name,
+from taxel.schema import (Strict, GEOMETRY, Capacitance, Coordinate, Duration, Force, Frequency, Length, MeshSize, Name,
                               Pressure, Resistance, Thickness, safe_name)
 
 EXAMPLES = Path(__file__).parent / "examples"
@@ -32,10 +32,6 @@ class SceneError(ValueError):
 
 
 MAX_TIME_STEPS = 1_000_000     # a transient beyond this is refused before it starts
-
-
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 
 
 class Model(Strict):
@@ -166,7 +162,7 @@ class Scene(Strict):
     dynamics: Dynamics = Dynamics()
     analysis: Analysis = Analysis()
     readout: Readout = Readout()
-    materials: dict[str, dict] = {}     # user materials (SI numbers), see fem.records
+    materials: dict[str, dict] = {}     # user materials (SI numbers), see fem.user_materials
 
     def replace(self, **changes) -> Scene:
         """A new validated scene with values changed by dotted path (see `replace`)."""
@@ -268,14 +264,6 @@ class Scene(Strict):
                              "set supports.bottom = 'bonded' or 'rollers', or fix the edges")
         for name, state in self.electrodes.items():
             electrode_state(state, f"electrodes.{name}")
-        sym = self.model.symmetry
-        if sym in ("half", "quarter"):
-            planes, why = mirror_planes(self)
-            if sym == "quarter" and self.model.type != "3d":
-                raise ValueError("model.symmetry = 'quarter' needs a 3d model (a 2D section has one mirror "
-                                 "plane); use 'half' or 'auto'")
-            if len(planes) < (2 if sym == "quarter" else 1):
-                raise ValueError(f"model.symmetry = '{sym}': {why}; use 'auto' or 'full'")
         if self.model.silicone != "linear":
             if self.model.type == "plane_stress":
                 raise ValueError("model.silicone = 'yeoh' is not offered in plane stress (an incompressible "
@@ -285,54 +273,6 @@ class Scene(Strict):
             if any(not isinstance(electrode_state(v), str) for v in self.electrodes.values()):
                 raise ValueError("electrodes at a set voltage are linear-model only; use 'open' or 'ground'")
         return self
-
-
-def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
-    """The mirror planes (0: x = 0, 1: y = 0) of a scene's static press, and
-    why it has no other: the array, its outline and supports are symmetric about
-    both; the press must be centred on the plane and the electrode states mirrored."""
-    m, a, ld = scene.model, scene.array, scene.load
-    if a is None or m.type == "axisymmetric":
-        return (), "symmetric models are built for arrays in plane or 3d models"
-    if scene.analysis.type != "static" or (m.silicone != "linear" and not ld.contact):
-        return (), ("symmetric models solve the static press: linear silicone, or any silicone "
-                    "under a rigid indenter (load.contact)")
-    states = scene.electrodes
-    if electrode_state(states.get("ground", "ground")) != "ground":
-        return (), "the common ground is not grounded (electrodes.ground), so the reference is off the planes"
-
-    def state(r, c):
-        s = states.get(f"taxel_{r}_{c}", states.get("taxels", "open"))
-        return electrode_state(s)
-
-    planes, why = [], ""
-    for k in ((0, 1) if m.type == "3d" else (0,)):
-        n, i = (a.cols, 1) if k == 0 else (a.rows, 0)      # x runs along columns, y along rows
-        pos = ld.taxel[i] + (ld.neighbour[i] if ld.kind == "between" else ld.taxel[i])
-        centre = (pos - (n - 1)) / 2 * (a.taxel_width + a.gap) * (1 if k == 0 else -1) + (
-            ld.offset[k] if ld.kind == "indenter" else 0)              # the press's x or y
-        rows = range(a.rows) if m.type == "3d" else (ld.taxel[0],)
-        mirrored = all(state(r, c) == (state(r, a.cols - 1 - c) if k == 0 else state(a.rows - 1 - r, c))
-                       for r in rows for c in range(a.cols))
-        if ld.kind != "pressure" and abs(centre) > 1e-9 * a.taxel_width:
-            why = f"the press is not centred on {'xy'[k]} = 0 (load.taxel, load.offset)"
-        elif not mirrored:
-            why = f"the electrode states are not mirror images across {'xy'[k]} = 0 ([electrodes])"
-        else:
-            planes.append(k)
-    return tuple(planes), why
-
-
-def symmetry_planes(scene: Scene) -> tuple[int, ...]:
-    """The planes the model is cut at (fem.symmetry): model.symmetry = "full" none;
-    "half" x = 0 (or y = 0); "quarter" both; "auto" all the scene allows in 3d and
-    under a rigid indenter, none for other 2D presses (a linear 2D solve takes a
-    second, and plots show the whole section; a press takes a few: half is 3x faster)."""
-    planes, _ = mirror_planes(scene)
-    sym = scene.model.symmetry
-    if sym == "full" or (sym == "auto" and scene.model.type != "3d" and not scene.load.contact):
-        return ()
-    return planes[:1] if sym == "half" else planes
 
 
 def electrode_state(state: str, key="electrode"):

@@ -10,7 +10,7 @@ from taxel.analyses import problem
 from taxel.analyses import solve_static as solve
 from taxel.fem.assembly import assemble
 from taxel.fem.press import Options, Press
-from taxel.fem.static import solve_linear
+from taxel.fem.linear import solve_linear
 from taxel.cli import EXIT_INPUT, main
 from taxel.scene import load
 
@@ -76,7 +76,7 @@ def test_small_press_voltage_is_near_the_uniform_pressure_patch(taxel_small_pres
 
 
 def test_small_press_equals_the_pressure_solution_with_the_punchs_pressure(taxel_small_press):
-    """The small-load limit: the present linear pressure solve (fem.static), loaded by the
+    """The small-load limit: the present linear pressure solve (fem.linear), loaded by the
     punch's contact traction (its nodal forces on the top; sticking, the default, adds the
     tangential part), gives the press's voltage and
     displacement: the contact solution is that pressure solution, the pressure found by
@@ -128,11 +128,11 @@ def test_auto_reaches_yeoh_at_1_newton_through_contact():
 
 
 def test_dynamics_about_the_pressed_state_tends_to_the_static_curves_slope():
-    """The frequency response linearised about the pressed state (fem.dynmodel, the
+    """The frequency response linearised about the pressed state (fem.dynamics, the
     indenter holding it and driving it) at a low frequency equals dV/dF of the static
     voltage-force curve, taken from two static presses (central difference). Losses set
     to zero: structural loss factors do not vanish at zero frequency."""
-    from taxel.fem.dynmodel import model
+    from taxel.fem.dynamics import model
     from taxel.fem.sweep import direct
     sc = pressed("linear", 0.3).replace(**{"load.friction": "sticking", "mesh.size": 1e-3, "dynamics.silicone_loss": 0.0,
                                            "dynamics.piezo_loss": 0.0, "dynamics.dielectric_loss": 0.0,

@@ -5,13 +5,13 @@ import pytest
 from scipy.optimize import brentq, minimize_scalar
 
 from taxel.analyses import lumped_model, problem, readout
-from taxel.fem import circuits, dynmodel, lumped, materials, sweep, timestep
+from taxel.fem import circuits, dynamics, lumped, materials, sweep, timestep
 from taxel.scene import load, parse
 
 
 def model(scene, tm=None, short=False):
     """The dynamic model of a scene (on the mesh `tm` if given)."""
-    return dynmodel.model(problem(scene, tm), short=short)
+    return dynamics.model(problem(scene, tm), short=short)
 
 
 # ---------------------------------------------------------------- integrator, 1 DoF

@@ -190,7 +190,7 @@ SOLVE = [
 ]
 
 # ------------------------------------------------------------------------- studies
-STUDY = ('base = "thesis-pzt-single-2d"\noutputs = ["voltage"]\n[fidelity]\n"mesh.size" = "1 mm"\n'
+STUDY = ('base = "thesis-pzt-single-2d"\noutputs = ["voltage"]\n[overrides]\n"mesh.size" = "1 mm"\n'
          '[[parameters]]\npath = "load.force"\nvalues = ["0.2 N", "0.4 N"]\n')
 
 

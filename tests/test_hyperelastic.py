@@ -241,7 +241,7 @@ def test_auto_picks_the_cheapest_model_that_is_accurate_enough(force, expect):
     assert abs(sol.voltages()["taxel_0_0"] / v_yeoh - 1) <= scene.model.tolerance
 
 
-# ---------------------------------------------------------------- vectorised assembly (fem.yeohasm)
+# ---------------------------------------------------------------- vectorised assembly (fem.yeoh_terms)
 
 def test_batched_law_equals_the_pointwise_law():
     rng = np.random.default_rng(5)
@@ -259,7 +259,7 @@ def test_batched_law_equals_the_pointwise_law():
 
 @pytest.mark.parametrize("model", ["plane_strain", "axisymmetric"])
 def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
-    """fem.yeohasm (batched over elements) against the scikit-fem forms of
+    """fem.yeoh_terms (batched over elements) against the scikit-fem forms of
     fem.hyperelastic at a deformed state, to 1e-12 relative."""
     from taxel.fem.newton import yeoh_terms_skfem
     scene = with_(load("thesis-pzt-single-2d").replace(**{"model.type": model}), "yeoh", 0.2,

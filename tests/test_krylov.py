@@ -8,7 +8,7 @@ from taxel.analyses import problem
 from taxel.fem import krylov, linalg
 from taxel.fem.assembly import assemble
 from taxel.fem.constraints import reduction
-from taxel.fem.static import solve_linear
+from taxel.fem.linear import solve_linear
 from taxel.scene import load
 
 

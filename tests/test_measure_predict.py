@@ -7,7 +7,7 @@ import pytest
 
 import taxel
 from taxel.cli import main
-from taxel.optimize.problem import load_problem, optimize
+from taxel.optimize.spec import load_optimization, optimize
 from taxel.studies.store import Store
 
 PROBLEM = """
@@ -44,7 +44,7 @@ def test_localization_error_optimization_and_its_store(tmp_path, fresh_cache):
     path = tmp_path / "opt.toml"
     path.write_text(PROBLEM)
     out = tmp_path / "out"
-    p = load_problem(path, out)
+    p = load_optimization(path, out)
     r = optimize(p)
     start = next(h for h in r.history if np.allclose(h["x"], p.x0))
     assert r.metrics["localization_error"] < 0.5 * start["metrics"]["localization_error"]
@@ -52,7 +52,7 @@ def test_localization_error_optimization_and_its_store(tmp_path, fresh_cache):
     n = len(Store(out / "influence").rows())
     assert n >= 9 * (r.nfev - 1)                       # 9 press positions per design (mirror symmetry)
     fresh_cache("cache-1")
-    again = optimize(load_problem(path, out))
+    again = optimize(load_optimization(path, out))
     assert len(Store(out / "influence").rows()) == n
     np.testing.assert_allclose(again.x, r.x)
     # the metric of the optimum, recomputed without the store or any cache by plain static solves

@@ -5,7 +5,7 @@ import pytest
 
 from taxel.analyses import solve_static as solve
 from taxel.analyses import mesh, scene_materials
-from taxel.analyses.geometry import layout as scene_layout
+from taxel.analyses.adapter import layout as scene_layout
 from taxel.scene import load, parse
 
 
@@ -84,13 +84,13 @@ def test_round_indenter_has_the_hertz_resultant_in_axisymmetry():
 
 @pytest.mark.parametrize("name", ["thesis-pzt-single-2d", "thesis-pzt-3x3-2d", "thesis-pzt-single-3d"])
 def test_the_cost_estimate_is_within_a_factor_two_of_the_real_mesh(name):
-    """meshing.estimate counts a layout's mesh before gmsh makes it (it decides what
+    """meshing.cost counts a layout's mesh before gmsh makes it (it decides what
     is refused as too large): vertices and elements within a factor 2."""
-    from taxel.analyses.problem import scene_materials
-    from taxel.meshing.estimate import estimate
+    from taxel.analyses.adapter import scene_materials
+    from taxel.meshing.cost import mesh_cost
     scene = load(name)
     lay = scene_layout(scene, scene_materials(scene))
-    est, real = estimate(lay), mesh(scene).mesh
+    est, real = mesh_cost(lay), mesh(scene).mesh
     assert 0.5 < est.vertices / real.nvertices < 2
     assert 0.5 < est.elements / real.nelements < 2
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from taxel.optimize import driver
-from taxel.optimize.problem import load_problem, optimize
+from taxel.optimize.spec import load_optimization, optimize
 from taxel.cli import main
 from taxel.studies.store import Store
 
@@ -75,11 +75,11 @@ def test_coarse_fem_optimization_converges_and_reruns_from_the_cache(tmp_path):
     nothing new."""
     path = coarse_problem(tmp_path)
     out = tmp_path / "out"
-    r = optimize(load_problem(path, out))
+    r = optimize(load_optimization(path, out))
     assert r.success and r.nfev <= 15
     assert r.x[0] == pytest.approx(1.0, abs=0.02)
     n_solved = len(Store(out).rows())
-    again = optimize(load_problem(path, out))
+    again = optimize(load_optimization(path, out))
     assert len(Store(out).rows()) == n_solved                      # every design from the store
     np.testing.assert_allclose(again.x, r.x)
 

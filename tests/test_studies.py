@@ -23,7 +23,7 @@ name = "small"
 base = "{base}"
 outputs = ["voltage", "charge", "max_strain"]
 
-[fidelity]
+[overrides]
 "mesh.size" = "1 mm"
 
 [[parameters]]

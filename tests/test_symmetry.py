@@ -7,12 +7,13 @@ charges, capacitances and displacements must agree to round-off (1e-8)."""
 import numpy as np
 import pytest
 
-from taxel.analyses.geometry import layout
-from taxel.analyses.problem import mesh, problem, scene_materials
+from taxel.analyses.adapter import layout
+from taxel.analyses.adapter import mesh, problem, scene_materials
 from taxel.analyses.static import solve_static
-from taxel.fem import assembly, static
+from taxel.fem import assembly, linear
 from taxel.meshing.mirror import unfold
-from taxel.scene import SceneError, load, symmetry_planes
+from taxel.analyses.adapter import check, symmetry_planes
+from taxel.scene import SceneError, load
 
 
 def _pair(scene, sym):
@@ -22,8 +23,8 @@ def _pair(scene, sym):
     tm = mesh(cut_scene)
     assert tm.layout.planes
     full_tm = unfold(tm, layout(full_scene, scene_materials(full_scene)))
-    sym_sol = static.solve_linear(assembly.assemble(problem(cut_scene, tm)), "superlu")
-    full_sol = static.solve_linear(assembly.assemble(problem(full_scene, full_tm)), "superlu")
+    sym_sol = linear.solve_linear(assembly.assemble(problem(cut_scene, tm)), "superlu")
+    full_sol = linear.solve_linear(assembly.assemble(problem(full_scene, full_tm)), "superlu")
     return sym_sol, full_sol
 
 
@@ -89,7 +90,7 @@ def test_auto_picks_the_largest_symmetry_the_scene_allows():
     assert symmetry_planes(load("thesis-pzt-single-2d")) == ()                        # 2D: full unless asked
     assert symmetry_planes(load("thesis-pzt-single-2d").replace(**{"model.symmetry": "half"})) == (0,)
     with pytest.raises(SceneError, match="model.symmetry"):
-        three.replace(**{"model.symmetry": "quarter", "load.taxel": [0, 1]})
+        check(three.replace(**{"model.symmetry": "quarter", "load.taxel": [0, 1]}))
 
 
 def test_auto_solves_a_quarter_and_reports_every_taxel():

@@ -42,10 +42,11 @@ import re
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, ValidationInfo, model_validator
+from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, model_validator
 
 from taxel import units
 from taxel.fem.circuits import Readout
+from taxel.schema import Strict
 from taxel.scene import one_line, read_toml
 
 from taxel.studies.measure.protocol import MAX_CHANNELS, Protocol
@@ -78,10 +79,6 @@ def _sensitivity(v, info: ValidationInfo):
     si = bool(info.context and info.context.get("si_numbers"))
     return units.to_si(v, "V/m" if travel else "V/N", "travel sensitivity" if travel else "load-cell sensitivity",
                        positive=True, si_numbers=si)
-
-
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
 
 
 class Port(Strict):

@@ -76,7 +76,7 @@ class SiliconeFit:
 def scaled_model(scene, modulus_scale: float = 1.0, loss: float | None = None):
     """The scene's lumped taxel with the silicone's moduli scaled and its loss factor set."""
     from taxel.analyses.dynamic import damping
-    from taxel.analyses.problem import scene_materials
+    from taxel.analyses.adapter import scene_materials
     from taxel.fem import lumped
     a, mats = scene.array, scene_materials(scene)
     sil = mats[a.silicone]

@@ -153,8 +153,8 @@ def command(s: Settings, rate: float, n_press: int, centre: int, rng, spots=None
 def fem_charges(scene: Scene, t: np.ndarray, force: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Short-circuit charges (nt, na) of the scene's electrodes under `force` (N) on its load, by FEM transient."""
     from taxel.analyses import problem
-    from taxel.fem import dynmodel, timestep
-    dm = dynmodel.model(problem(scene), short=True)
+    from taxel.fem import dynamics, timestep
+    dm = dynamics.model(problem(scene), short=True)
     tr = timestep.transient(dm, t, force)
     return tr.Q, list(tr.names)
 

@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.fem import circuits, dynmodel, lumped, sweep, timestep
+from taxel.fem import circuits, dynamics, lumped, sweep, timestep
 from taxel.fem.assembly import assemble
 from taxel.scene import Analysis, Scene, SceneError
-from taxel.analyses.problem import damping, problem, readout, scene_materials, with_silicone
+from taxel.analyses.adapter import damping, problem, readout, scene_materials, with_silicone
 from taxel.analyses.results import FrequencyResult, LumpedResult, TransientResult
 
 
@@ -51,9 +51,9 @@ def force_history(a: Analysis, amplitude: float) -> tuple[np.ndarray, np.ndarray
     return t, amplitude * shape
 
 
-def frequency(scene: Scene, dm: dynmodel.DynamicModel | None = None) -> FrequencyResult:
+def frequency(scene: Scene, dm: dynamics.DynamicModel | None = None) -> FrequencyResult:
     """The scene's frequency sweep through its readout chain (per newton)."""
-    dm = dm or dynmodel.model(problem(scene))
+    dm = dm or dynamics.model(problem(scene))
     a = scene.analysis
     port = sweep.sweep(dm, frequencies(a), a.method, a.tolerance)
     r = readout(scene)
@@ -71,12 +71,12 @@ def transient(scene: Scene) -> TransientResult:
         y = tr.V
     else:
         short = r.circuit == "charge_amplifier"
-        dm = dynmodel.model(prob, short=short)
+        dm = dynamics.model(prob, short=short)
         t, force = force_history(scene.analysis, dm.sy.applied_force)
         iters = None
         if short:
             tr = timestep.transient(dm, t, force)
-            C_p = np.diag(sweep.direct(dynmodel.model(prob), 1.0)[1].real)
+            C_p = np.diag(sweep.direct(dynamics.model(prob), 1.0)[1].real)
             y = circuits.amplifier_in_time(t, tr.Q, 1 / C_p, r)
         else:
             tr = timestep.transient(dm, t, force, R=r.R if r.circuit == "resistor" else None)

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.fem.lumped import Lumped
-from taxel.fem.static import ElectrodeResult, Solution
+from taxel.fem.linear import ElectrodeResult, Solution
 from taxel.fem.sweep import PortResponse
 from taxel.fem.timestep import Transient
 from taxel.meshing.build import TaggedMesh
@@ -104,7 +104,7 @@ class OutputError:
 
 @dataclass
 class ErrorEstimate:
-    """A result's estimated error on each output (taxel.analyses.estimate), how
+    """A result's estimated error on each output (taxel.analyses.error_estimate), how
     each part was found, and what the estimate cost."""
 
     outputs: dict[str, OutputError]
@@ -137,7 +137,7 @@ class StaticResult:
     solution: Solution
     times: dict[str, float] = field(default_factory=dict)     # s: mesh, assemble, solve, total
     model_note: str = ""       # which silicone model was used and why (model.silicone = "auto")
-    error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.estimate)
+    error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.error_estimate)
     yeoh: bool = False         # the silicone was solved as Yeoh (model.silicone = "yeoh", or "auto" chose it)
 
     @property
@@ -294,7 +294,7 @@ class FrequencyResult:
     port: PortResponse          # open-circuit voltages and capacitances per newton
     output: np.ndarray          # (nf, na) complex readout output per newton (V/N)
     label: str                  # what the output is ("charge-amplifier output + 50 Hz notch")
-    error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.estimate)
+    error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.error_estimate)
 
     @property
     def freqs(self) -> np.ndarray:

@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import time
 
-from taxel.fem import assembly, newton, press, static
+from taxel.fem import assembly, linear, newton, press
 from taxel.fem.newton import NewtonError
 from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene
-from taxel.analyses.problem import problem, with_silicone
+from taxel.analyses.adapter import problem, with_silicone
 from taxel.analyses.results import StaticResult
 
 # Linear silicone's taxel-voltage error per unit of its own largest silicone strain:
@@ -30,7 +30,7 @@ def solve_static(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | N
     With a Yeoh silicone, `newton_options` go to fem.newton.newton (tol, max_iter,
     first_step, stepping, line_search)."""
     if scene.model.fidelity == "auto" and tagged_mesh is None:
-        from taxel.analyses.fidelity import choose      # fidelity builds on this module
+        from taxel.analyses.model_choice import choose      # fidelity builds on this module
         return choose(scene, solver)
     t0 = time.perf_counter()
     prob = problem(scene, tagged_mesh)
@@ -73,7 +73,7 @@ def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     elif prob.hyperelastic:
         sol = newton.solve_yeoh(sy, solver, **(newton_options or {}))
     else:
-        sol = static.solve_linear(sy, solver, scale)
+        sol = linear.solve_linear(sy, solver, scale)
     t3 = time.perf_counter()
     return StaticResult(scene, sol, {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0},
                         yeoh=prob.hyperelastic)

@@ -22,7 +22,7 @@ import time
 from dataclasses import dataclass
 
 from taxel.scene import Scene
-from taxel.analyses import estimate as est
+from taxel.analyses import error_estimate as est
 from taxel.analyses.results import StaticResult
 from taxel.analyses.static import solve_static
 

@@ -33,7 +33,7 @@ which has u_r / r), the element matrices go through the scalar functions
 (`factored_matrices`): for vector P2 tetrahedra 3-6 x fewer operations, the
 last product one BLAS call for all elements. Elements are processed in chunks
 to bound memory.
-The matrices equal scikit-fem's to round-off (tests/test_vectorized.py).
+The matrices equal scikit-fem's to round-off (tests/test_bilinear.py).
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ SAMPLES = 2000           # grid points per plan direction (1D: per line)
 
 
 @dataclass(frozen=True)
-class MeshEstimate:
+class MeshCost:
     vertices: float          # mesh vertices
     elements: float          # triangles (2D) or tetrahedra (3D)
 
@@ -67,17 +67,17 @@ def _divisions(lay: Layout, layer) -> float:
     return k + (layer.thickness - graded) / lay.size
 
 
-def estimate(lay: Layout) -> MeshEstimate:
+def mesh_cost(lay: Layout) -> MeshCost:
     """Estimated vertices and elements of the layout's mesh."""
     layers = sum(_divisions(lay, layer) for layer in lay.layers)
     x0, x1 = lay.x_range
     if lay.dim == 2:
         x = np.linspace(x0, x1, SAMPLES)
         segments = float(np.trapezoid(1.0 / _size(lay, x, 0.0), x))
-        return MeshEstimate((segments + 1) * (layers + 1), 2 * segments * layers)
+        return MeshCost((segments + 1) * (layers + 1), 2 * segments * layers)
     y0, y1 = lay.y_range
     x, y = np.meshgrid(np.linspace(x0, x1, SAMPLES // 4), np.linspace(y0, y1, SAMPLES // 4), indexing="ij")
     density = 4.0 / (np.sqrt(3.0) * _size(lay, x, y) ** 2)
     area_factor = np.pi / 4 if lay.plan.shape == "disk" else 1.0       # (symmetry cuts: rectangles only)
     triangles = float(density.mean() * (x1 - x0) * (y1 - y0) * area_factor)
-    return MeshEstimate(triangles / 2 * (layers + 1), 3 * triangles * layers)
+    return MeshCost(triangles / 2 * (layers + 1), 3 * triangles * layers)

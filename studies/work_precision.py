@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import frequency, lumped_model, lumped_response, solve_static
-from taxel.analyses.estimate import relative
+from taxel.analyses.error_estimate import relative
 from taxel.scene import Scene, canonical, parse, refined, to_data
 from taxel.studies.store import Store
 

@@ -69,4 +69,4 @@ class Options:
     rule: str = "auto"              # contact points: gauss (intorder) | nodal (P2 nodes, lumped) | auto (3D nodal)
     line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
     predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
-    assembly: str = "vectorised"    # vectorised (fem.yeohasm, fem.pattern) | skfem (the reference path)
+    assembly: str = "vectorised"    # vectorised (fem.yeoh_terms, fem.sparsity) | skfem (the reference path)

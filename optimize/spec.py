@@ -51,11 +51,11 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
 from taxel import units as U
-from taxel.quantities import Name
+from taxel.schema import Name, Strict
 from taxel.scene import Scene, SceneError, parse
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.execute import local_cluster
@@ -70,29 +70,26 @@ class OptimizeError(SceneError):
     """An optimization file that cannot be run; one line with the fix."""
 
 
-class Variable(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class Variable(Strict):
     path: str
     min: Any
     max: Any
     start: Any = None
 
 
-class Algorithm(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class Algorithm(Strict):
     global_: Literal["DIRECT", "ISRES", "none"] = Field("DIRECT", alias="global")
     local: Literal["COBYLA", "BOBYQA", "SBPLX"] = "COBYLA"
     max_evaluations: int = Field(40, ge=2, le=10000)
     xtol: float = Field(0.02, gt=0, lt=1)
 
 
-class Pareto(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class Pareto(Strict):
     points: int = Field(7, ge=2, le=50)
 
 
-class OptSpec(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+class OptimizationSpec(Strict):
+    model_config = ConfigDict(populate_by_name=True)
     name: Name = "optimization"
     description: str = ""
     base: str
@@ -112,8 +109,8 @@ class OptSpec(BaseModel):
 
 
 @dataclass
-class Problem:
-    spec: OptSpec
+class Optimization:
+    spec: OptimizationSpec
     base: dict
     lo: np.ndarray
     hi: np.ndarray
@@ -200,8 +197,8 @@ def magnitude(v, unit=None, what=""):
         raise OptimizeError(f"{what}: {exc}") from None
 
 
-def load_problem(path, out: Path | None = None) -> Problem:
-    spec, base, path = read_spec(path, BUILTIN, OptSpec, OptimizeError, "optimization")
+def load_optimization(path, out: Path | None = None) -> Optimization:
+    spec, base, path = read_spec(path, BUILTIN, OptimizationSpec, OptimizeError, "optimization")
     lo, hi, x0, units = [], [], [], []
     for name, var in spec.variables.items():
         if var.path.split(".")[0] not in Scene.model_fields:
@@ -234,7 +231,7 @@ def load_problem(path, out: Path | None = None) -> Problem:
         if not math.isfinite(bound):
             raise OptimizeError(f"constraints.{metric}: the bound {value!r} is not a finite number")
         cons.append((metric, op, bound))
-    problem = Problem(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
+    problem = Optimization(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
     try:
         scene = parse({**problem.scene_data(problem.x0), "name": "start"})
     except SceneError as exc:
@@ -254,7 +251,7 @@ def load_problem(path, out: Path | None = None) -> Problem:
     return problem
 
 
-def _check_feasible(problem: Problem):
+def _check_feasible(problem: Optimization):
     """Geometric constraints that no design within the bounds can meet: say so now."""
     corners = [problem.lo + (problem.hi - problem.lo) * np.array(c)
                for c in np.ndindex(*(2,) * len(problem.lo))]
@@ -268,7 +265,7 @@ def _check_feasible(problem: Problem):
                                 f"(best possible {best:g}); widen the bounds or relax the constraint")
 
 
-def optimize(problem: Problem, constraints=None, max_evals=None) -> driver.Result:
+def optimize(problem: Optimization, constraints=None, max_evals=None) -> driver.Result:
     """One run: the spec's objective under its constraints (plus `constraints`)."""
     (sense, metric), = problem.spec.objective.items()
     alg = problem.spec.algorithm
@@ -280,12 +277,12 @@ def optimize(problem: Problem, constraints=None, max_evals=None) -> driver.Resul
 
 def _front_run(problem_path, out, eps, max_evals):
     """One epsilon-constraint run (on a Dask worker): maximize sensitivity s.t. crosstalk <= eps."""
-    p = load_problem(problem_path, Path(out))
+    p = load_optimization(problem_path, Path(out))
     cons = [("crosstalk", "<=", eps)] if eps is not None else []
     return eps, optimize(p, cons, max_evals)
 
 
-def front(problem: Problem, problem_path, workers=2) -> list[tuple[float, driver.Result]]:
+def front(problem: Optimization, problem_path, workers=2) -> list[tuple[float, driver.Result]]:
     """Sensitivity vs crosstalk front by epsilon-constraint: first the unconstrained
     maximum of sensitivity (its crosstalk c_max) and the minimum of crosstalk
     (c_min), then maximize sensitivity with crosstalk <= eps_k for eps_k evenly
@@ -317,7 +314,7 @@ def _spread(problem_path, out, eps, max_evals, workers):
         cluster.close()
 
 
-def noise(problem: Problem, variable: str, x=None, rel_steps=(1e-4, 3e-4, 1e-3, 3e-3)):
+def noise(problem: Optimization, variable: str, x=None, rel_steps=(1e-4, 3e-4, 1e-3, 3e-3)):
     """Discretisation noise of the metrics along one variable: the scatter of
     f(x + h e_i) about the straight line through the neighbours, relative."""
     x = problem.x0.copy() if x is None else np.asarray(x, float)

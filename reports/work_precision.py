@@ -1,9 +1,9 @@
 """The work-precision folder and its report page: wall time against error, log-log,
-one point per model and mesh (studies.fidelity), the Pareto set of the cheapest
+one point per model and mesh (studies.work_precision), the Pareto set of the cheapest
 for each accuracy marked, and the cheapest model for 1 %, 5 % and 10 % error.
 
-Folder: fidelity.json (every point: model, time, unknowns, values, errors; the
-reference; the cheapest per tolerance), fidelity.csv, and one chart per scene
+Folder: work-precision.json (every point: model, time, unknowns, values, errors; the
+reference; the cheapest per tolerance), work-precision.csv, and one chart per scene
 and force (`<scene>-<force>N.png`, a panel per output).
 """
 
@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.reports.figures import pyplot
-from taxel.studies.fidelity import LABELS, OUTPUTS, Level, Point, WorkPrecision, cost
+from taxel.studies.work_precision import LABELS, OUTPUTS, Level, Point, WorkPrecision, cost
 
 TOLERANCES = (0.01, 0.05, 0.10)
 COLOURS = {"lumped": "tab:gray", "plane_stress": "tab:orange", "plane_strain": "tab:blue",
@@ -99,11 +99,11 @@ def grid(wps: list[WorkPrecision], path: Path) -> Path:
 
 
 def write(wps: list[WorkPrecision], out: Path) -> list[Path]:
-    """fidelity.json, fidelity.csv and the charts into `out`."""
+    """work-precision.json, work-precision.csv and the charts into `out`."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     recs, files = [], []
-    with open(out / "fidelity.csv", "w", newline="") as fh:
+    with open(out / "work-precision.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scene", "force_N", "model", "order", "mesh", "law", "seconds", "sweep_seconds", "unknowns",
                     *[f"{k}_value" for k in OUTPUTS], *[f"{k}_error" for k in OUTPUTS]])
@@ -118,8 +118,8 @@ def write(wps: list[WorkPrecision], out: Path) -> list[Path]:
             files.append(png)
             recs.append({"scene": wp.scene, "force_N": wp.force, "reference": wp.reference, "how": wp.how,
                          "summary": summary(wp)})
-    (out / "fidelity.json").write_text(json.dumps({"work_precision": recs}, indent=1))
-    return [out / "fidelity.json", out / "fidelity.csv", *files]
+    (out / "work-precision.json").write_text(json.dumps({"work_precision": recs}, indent=1))
+    return [out / "work-precision.json", out / "work-precision.csv", *files]
 
 
 def cheapest_rows(rec: dict) -> list[dict]:
@@ -144,10 +144,10 @@ def lines(rec: dict) -> list[str]:
 
 def read(folder: Path) -> list[WorkPrecision]:
     """The WorkPrecision of each scene and force, back from a written folder
-    (fidelity.json and fidelity.csv): redraws without solving."""
+    (work-precision.json and work-precision.csv): redraws without solving."""
     folder = Path(folder)
-    rec = json.loads((folder / "fidelity.json").read_text())
-    rows = list(csv.DictReader(open(folder / "fidelity.csv")))
+    rec = json.loads((folder / "work-precision.json").read_text())
+    rows = list(csv.DictReader(open(folder / "work-precision.csv")))
     out = []
     for w in rec["work_precision"]:
         pts = []

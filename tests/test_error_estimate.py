@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 import taxel
-from taxel.analyses import estimate as est
+from taxel.analyses import error_estimate as est
 from taxel.analyses import solve_static
 from taxel.cli import main
 from taxel.scene import SceneError, load, refined, to_data
@@ -137,10 +137,10 @@ def test_multifidelity_correction_is_exact_at_verified_designs_and_recovers_a_lo
 
 
 def test_the_verification_scene_is_the_3d_array_on_the_verify_mesh():
-    from taxel.optimize import problem as O
+    from taxel.optimize import spec as O
     from taxel.optimize.multifidelity import VERIFY_3D, fine_data
     from taxel.scene import parse
-    prob = O.load_problem("thesis-pzt-front")
+    prob = O.load_optimization("thesis-pzt-front")
     sc = parse({**fine_data(prob, prob.x0), "name": "x"})
     assert sc.model.type == "3d" and sc.mesh.size == pytest.approx(3e-3) and sc.array.rows == 3
     assert sc.mesh.piezo_size == pytest.approx(1.2e-3) and VERIFY_3D["mesh.piezo_size"] == "1.2 mm"
@@ -153,11 +153,11 @@ def test_multifidelity_confirms_the_answer_on_the_finer_3d_mesh(tmp_path):
     answer and its sentence carry them."""
     import numpy as np
     from taxel.analyses.static import solve_static
-    from taxel.optimize import problem as O
+    from taxel.optimize import spec as O
     from taxel.optimize.multifidelity import CONFIRM_3D, Design, MultiFidelity, confirm, fine_data
     from taxel.reports.multifidelity import answer, sentence
     from taxel.scene import parse
-    prob = O.load_problem("thesis-pzt-front")
+    prob = O.load_optimization("thesis-pzt-front")
     prob.out = tmp_path
     x_ref = np.array([1.0, 1.0, 3.0])
     ref = Design(list(x_ref), (0.81, 0.075), (0.87, 0.024))
@@ -178,8 +178,8 @@ def test_work_precision_pareto_cheapest_and_page(tmp_path):
     """The chart's bookkeeping on given points: the Pareto set, the cheapest per
     tolerance, the folder, reading it back, and its report page."""
     from taxel.reports.build import build
-    from taxel.reports.fidelity import read, write
-    from taxel.studies.fidelity import Level, Point, WorkPrecision
+    from taxel.reports.work_precision import read, write
+    from taxel.studies.work_precision import Level, Point, WorkPrecision
     pts = []
     for model, sec, err in (("plane_strain", 0.1, 0.2), ("axisymmetric", 0.2, 0.03), ("plane_stress", 0.3, 0.5),
                             ("3d", 5.0, 0.004)):

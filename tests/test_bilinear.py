@@ -1,4 +1,4 @@
-"""The vectorised assembly (fem.vectorized) equals scikit-fem's BilinearForms of
+"""The vectorised assembly (fem.bilinear) equals scikit-fem's BilinearForms of
 fem.forms, block by block, to round-off: every model type, both element orders,
 mixed and displacement-only silicone, piezo and plate layouts."""
 

@@ -1,0 +1,93 @@
+"""The walk of one design point through the package, module by module, as it runs.
+
+    python benchmarks/walk.py [ARGS...]     (default: solve thesis-pzt-single-2d --json --out DIR)
+
+Runs the `taxel` command in this process under a profile hook and records every call
+from one module of the package into another (calls inside a module, and calls into
+third-party code, are not steps). Prints the modules in the order they are first
+entered, how many distinct modules the walk passes through, and how many times it
+comes back into a module it had already left (a call into a module that is not the
+caller and was entered before). Scene validation (pydantic validators in
+taxel.scene and taxel.schema calling taxel.units) is counted like any other call.
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+from pathlib import Path
+
+
+def trace(argv: list[str]) -> list[tuple[str, str]]:
+    import taxel
+    from taxel import cli
+    root = Path(taxel.__file__).resolve().parent.parent
+    roots = {}
+    import importlib
+    for sub in ("taxel", "taxel.fem", "taxel.meshing", "taxel.optimize", "taxel.studies", "taxel.reports"):
+        roots[Path(importlib.import_module(sub).__file__).resolve().parent] = sub
+
+    def module_of(filename: str) -> str | None:
+        p = Path(filename).resolve()
+        best = None
+        for r, name in roots.items():
+            if p.is_relative_to(r) and (best is None or len(r.parts) > len(best[0].parts)):
+                best = (r, name)
+        if best is None:
+            return None
+        rel = p.relative_to(best[0]).with_suffix("")
+        return ".".join([best[1], *rel.parts]).removesuffix(".__init__")
+
+    steps: list[tuple[str, str]] = []
+    cache: dict[str, str | None] = {}
+
+    def hook(frame, event, arg):
+        if event != "call":
+            return
+        callee = cache.setdefault(frame.f_code.co_filename, module_of(frame.f_code.co_filename))
+        if callee is None or callee == "taxel.cli" and not steps:
+            return
+        back = frame.f_back
+        while back is not None and cache.setdefault(back.f_code.co_filename, module_of(back.f_code.co_filename)) is None:
+            back = back.f_back
+        caller = None if back is None else cache[back.f_code.co_filename]
+        if caller is not None and caller != callee:
+            steps.append((caller, callee))
+
+    sys.setprofile(hook)
+    try:
+        cli.main(argv)
+    finally:
+        sys.setprofile(None)
+    return steps
+
+
+def main() -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        argv = sys.argv[1:] or ["solve", "thesis-pzt-single-2d", "--json", "--out", str(Path(tmp) / "x")]
+        import contextlib
+        import io
+        with contextlib.redirect_stdout(io.StringIO()):
+            steps = trace(argv)
+    edges = list(dict.fromkeys(steps))            # each caller -> callee pair once, in first-call order
+    seen, order, back = {"taxel.cli"}, ["taxel.cli"], []
+    for caller, callee in edges:
+        if callee in seen:
+            back.append((caller, callee))
+        else:
+            seen.add(callee)
+            order.append(callee)
+    print(f"taxel {' '.join(argv)}")
+    print(f"{len(order)} modules; {len(edges)} distinct calls between modules ({len(steps)} in all); "
+          f"{len(back)} come back into a module already entered")
+    for i, m in enumerate(order, 1):
+        frm = sorted({c for c, k in edges if k == m})
+        print(f"  {i:2d}. {m:<34} from {', '.join(frm)}")
+    if back:
+        print("back into a module already entered:")
+        for c, k in back:
+            print(f"      {c} -> {k}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,376 @@
+"""The adapter: a scene becomes the finite-element model's Problem, once.
+
+scene (taxel.scene) -> materials by name (`scene_materials`) -> mirror planes
+(`symmetry_planes`) -> layered layout (`layout`, meshing.layout) -> its cost,
+refused when it cannot fit (`checked_layout`, meshing.cost) -> tagged mesh
+(meshing.build) -> kinematics, laws, load, supports, electrodes (fem.problem).
+Below this module nothing reads the scene schema; above it nothing assembles.
+The readout chain and the damping are translated here too.
+
+Geometry.From a scene to its layered layout (meshing.layout): the geometry half of the
+adapter from the scene schema to the finite-element model.
+
+A 2D model is the x-z cross-section through the loaded taxel's row. An
+axisymmetric model turns a square taxel of width w into a disk of equal area
+(radius w / sqrt(pi)) and the square outline (w + 2 margin) into the disk of
+equal area, radius (w + 2 margin) / sqrt(pi). Measured against the 3D taxel
+(benchmarks/axisymmetric_radius.py, 297k unknowns): the pressed-taxel voltage is
++0.91 % off with this outline, +1.74 % with the former radius w / sqrt(pi) +
+margin; the capacitance is the same to 1e-5 with either.
+
+Symmetry. A half or quarter model (fem.symmetry) answers for the full one when
+the array, its outline and supports are symmetric about the planes, the press
+is centred on them and the electrode states are mirror images (`mirror_planes`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import replace
+
+from taxel.fem import linalg, materials, user_materials
+from taxel.fem.circuits import Readout
+from taxel.fem.contact import Indenter
+from taxel.fem.kinematics import kinematics
+from taxel.fem.problem import Damping, Discretization, PatchLoad, Problem, Supports
+from taxel.meshing.build import TaggedMesh, build
+from taxel.meshing.cost import mesh_cost
+from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
+from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
+
+
+def check(scene: Scene) -> dict:
+    """Everything about a scene that the schema alone cannot check: its materials
+    (returned by name) and the mirror planes its model.symmetry asks for. Raises
+    SceneError with one line."""
+    mats = scene_materials(scene)
+    sym = scene.model.symmetry
+    if sym in ("half", "quarter"):
+        if sym == "quarter" and scene.model.type != "3d":
+            raise SceneError("model.symmetry = 'quarter' needs a 3d model (a 2D section has one mirror "
+                             "plane); use 'half' or 'auto'")
+        planes, why = mirror_planes(scene)
+        if len(planes) < (2 if sym == "quarter" else 1):
+            raise SceneError(f"model.symmetry = '{sym}': {why}; use 'auto' or 'full'")
+    return mats
+
+def scene_materials(scene: Scene) -> dict:
+    """Every material the scene names (its own [materials] first, then the library),
+    checked: raises SceneError (one line) for an unknown or unphysical material."""
+    user = {}
+    for name, rec in scene.materials.items():
+        try:
+            user[name] = user_materials.from_record(name, rec)
+        except ValueError as exc:
+            raise SceneError(f"materials.{name}: {exc}") from None
+    out = {}
+    for name in scene_material_names(scene):
+        try:
+            out[name] = materials.get(name, user)
+        except KeyError as exc:
+            raise SceneError(exc.args[0]) from None
+    if scene.array is not None:
+        for key, kind in (("piezo", materials.Piezo), ("silicone", materials.Solid)):
+            name = getattr(scene.array, key)
+            if not isinstance(out[name], kind):
+                raise SceneError(f"array.{key} = '{name}' is not a "
+                                 f"{'piezoelectric' if key == 'piezo' else 'passive solid'} material; pick one "
+                                 f"that is (e.g. '{'PSI-5H4E' if key == 'piezo' else 'Ecoflex-00-30'}')")
+    return out
+
+
+def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
+    """The mirror planes (0: x = 0, 1: y = 0) of a scene's static press, and
+    why it has no other: the array, its outline and supports are symmetric about
+    both; the press must be centred on the plane and the electrode states mirrored."""
+    m, a, ld = scene.model, scene.array, scene.load
+    if a is None or m.type == "axisymmetric":
+        return (), "symmetric models are built for arrays in plane or 3d models"
+    if scene.analysis.type != "static" or (m.silicone != "linear" and not ld.contact):
+        return (), ("symmetric models solve the static press: linear silicone, or any silicone "
+                    "under a rigid indenter (load.contact)")
+    states = scene.electrodes
+    if electrode_state(states.get("ground", "ground")) != "ground":
+        return (), "the common ground is not grounded (electrodes.ground), so the reference is off the planes"
+
+    def state(r, c):
+        s = states.get(f"taxel_{r}_{c}", states.get("taxels", "open"))
+        return electrode_state(s)
+
+    planes, why = [], ""
+    for k in ((0, 1) if m.type == "3d" else (0,)):
+        n, i = (a.cols, 1) if k == 0 else (a.rows, 0)      # x runs along columns, y along rows
+        pos = ld.taxel[i] + (ld.neighbour[i] if ld.kind == "between" else ld.taxel[i])
+        centre = (pos - (n - 1)) / 2 * (a.taxel_width + a.gap) * (1 if k == 0 else -1) + (
+            ld.offset[k] if ld.kind == "indenter" else 0)              # the press's x or y
+        rows = range(a.rows) if m.type == "3d" else (ld.taxel[0],)
+        mirrored = all(state(r, c) == (state(r, a.cols - 1 - c) if k == 0 else state(a.rows - 1 - r, c))
+                       for r in rows for c in range(a.cols))
+        if ld.kind != "pressure" and abs(centre) > 1e-9 * a.taxel_width:
+            why = f"the press is not centred on {'xy'[k]} = 0 (load.taxel, load.offset)"
+        elif not mirrored:
+            why = f"the electrode states are not mirror images across {'xy'[k]} = 0 ([electrodes])"
+        else:
+            planes.append(k)
+    return tuple(planes), why
+
+
+def symmetry_planes(scene: Scene) -> tuple[int, ...]:
+    """The planes the model is cut at (fem.symmetry): model.symmetry = "full" none;
+    "half" x = 0 (or y = 0); "quarter" both; "auto" all the scene allows in 3d and
+    under a rigid indenter, none for other 2D presses (a linear 2D solve takes a
+    second, and plots show the whole section; a press takes a few: half is 3x faster)."""
+    planes, _ = mirror_planes(scene)
+    sym = scene.model.symmetry
+    if sym == "full" or (sym == "auto" and scene.model.type != "3d" and not scene.load.contact):
+        return ()
+    return planes[:1] if sym == "half" else planes
+
+
+def layout(scene: Scene, mats: dict) -> Layout:
+    """The layered layout of a scene; `mats` maps material names to materials
+    (raises SceneError for geometry that cannot be built)."""
+    m, mesh = scene.model, scene.mesh
+    common = dict(model=m.type, size=mesh.size, piezo_layers=mesh.piezo_layers)
+    if scene.array is not None:            # a half or quarter of a symmetric array (model.symmetry)
+        return cut(_array_layout(scene, common), symmetry_planes(scene))
+    return _plate_layout(scene, common, mats)
+
+
+def _array_layout(scene: Scene, common) -> Layout:
+    a, ld, model = scene.array, scene.load, scene.model.type
+    w, pitch = a.taxel_width, a.taxel_width + a.gap
+    axisym = model == "axisymmetric"
+    half = w / math.sqrt(math.pi) if axisym else w / 2
+    shape = "disk" if axisym else "square"
+
+    def centre(r, c):
+        return (c - (a.cols - 1) / 2) * pitch, ((a.rows - 1) / 2 - r) * pitch
+
+    cells = [(r, c) for r in range(a.rows) for c in range(a.cols)]
+    if model != "3d":                       # 2D: the row through the loaded taxel
+        cells = [(r, c) for r, c in cells if r == ld.taxel[0]]
+    taxels = tuple(Patch(f"taxel_{r}_{c}", *(centre(r, c) if model == "3d" else (centre(r, c)[0], 0.0)),
+                         half, shape) for r, c in cells)
+    if axisym:                              # the outline's equal-area disk (closer to 3D, see the docstring)
+        plan = Patch("plan", 0.0, 0.0, (w + 2 * a.margin) / math.sqrt(math.pi), "disk")
+        half_y = plan.half
+    else:
+        plan = Patch("plan", 0.0, 0.0, (a.cols * w + (a.cols - 1) * a.gap) / 2 + a.margin)
+        half_y = (a.rows * w + (a.rows - 1) * a.gap) / 2 + a.margin
+
+    load = _load_patch(scene, centre, half, model)
+    if load is not None:
+        inside = (abs(load.x) + load.half <= plan.half * (1 + 1e-9)
+                  and (model != "3d" or abs(load.y) + load.half <= half_y * (1 + 1e-9)))
+        if not inside:
+            raise SceneError("load: the load footprint lies (partly) outside the sensor; "
+                             "move it (load.offset) or make it smaller")
+
+    z, layers = 0.0, []
+    if a.silicone_below > 0:
+        layers.append(Layer("silicone_below", 0.0, a.silicone_below, a.silicone))
+        z = a.silicone_below
+    piezo = Layer("piezo", z, a.piezo_thickness, a.silicone, 1 if a.poling == "up" else -1,
+                  a.piezo, taxels)
+    layers.append(piezo)
+    if a.silicone_above > 0:
+        layers.append(Layer("silicone_above", piezo.z1, a.silicone_above, a.silicone))
+    electrodes = tuple(Electrode(t.name, piezo.z1, (t,)) for t in taxels) + (
+        Electrode("ground", piezo.z0, taxels),)
+    depth = scene.model.depth or w
+    return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
+                  load=load, taxels=taxels, depth=depth,
+                  piezo_size=scene.mesh.piezo_size or scene.mesh.size / 4, **common)
+
+
+def _load_patch(scene: Scene, centre, half, model) -> Patch | None:
+    ld = scene.load
+    if ld.kind == "pressure":
+        return None
+    shape = "disk" if model == "axisymmetric" else "square"
+    x, y = centre(*ld.taxel)
+    if ld.kind == "between":
+        if model != "3d" and ld.neighbour[0] != ld.taxel[0]:
+            raise SceneError("load.neighbour: a 2D model is the cross-section of one row; "
+                             "press between taxels of the same row or use a 3d model")
+        x2, y2 = centre(*ld.neighbour)
+        x, y = (x + x2) / 2, (y + y2) / 2
+    if model != "3d":
+        y = 0.0
+    if ld.kind == "indenter":
+        return Patch("load", x + ld.offset[0], y + (ld.offset[1] if model == "3d" else 0.0),
+                     ld.radius, "disk" if model in ("3d", "axisymmetric") else "square")
+    return Patch("load", x, y, half, shape)
+
+
+def _plate_layout(scene: Scene, common, mats) -> Layout:
+    p, model = scene.plate, scene.model.type
+    if p.shape == "disk":
+        plan = Patch("plan", 0.0, 0.0, p.radius, "disk")
+        half_y = p.radius
+    else:
+        plan = Patch("plan", 0.0, 0.0, p.width / 2)
+        half_y = (p.length or p.width) / 2
+    layers, z = [], 0.0
+    for i, L in enumerate(p.layers):
+        layers.append(Layer(f"layer{i}", z, L.thickness, L.material, 1 if L.poling == "up" else -1,
+                            piezo=isinstance(mats[L.material], materials.Piezo)))
+        z += L.thickness
+    midplane = None
+    if scene.supports.edges == "simply_supported":
+        midplane = z / 2
+        layers = _split_at(layers, midplane)
+    load = None
+    if scene.load.kind == "indenter":
+        ld = scene.load
+        load = Patch("load", ld.offset[0], ld.offset[1] if model == "3d" else 0.0, ld.radius,
+                     "disk" if model in ("3d", "axisymmetric") else "square")
+    # electrodes on every interface that touches a piezo layer (named bottom, interface<k>, top)
+    levels = sorted({round(L.z0, 15) for L in layers} | {round(z, 15)})
+    piezo_levels = set()
+    for L in layers:
+        if L.piezo:
+            piezo_levels.update((round(L.z0, 15), round(L.z1, 15)))
+    interfaces = sorted({round(L.z0, 15) for L in _unsplit(p)} | {round(z, 15)})
+    names = {lv: ("bottom" if k == 0 else "top" if k == len(interfaces) - 1 else f"interface{k}")
+             for k, lv in enumerate(interfaces)}
+    electrodes = tuple(Electrode(names[lv], lv) for lv in levels if lv in piezo_levels and lv in names)
+    depth = scene.model.depth or (p.width if p.width is not None else 2 * p.radius)
+    return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
+                  load=load, depth=depth,
+                  piezo_size=scene.mesh.piezo_size or scene.mesh.size, midplane=midplane, **common)
+
+
+def _unsplit(plate):
+    z, out = 0.0, []
+    for i, L in enumerate(plate.layers):
+        out.append(Layer(f"layer{i}", z, L.thickness, L.material))
+        z += L.thickness
+    return out
+
+
+def _split_at(layers, zc):
+    """Split the layer that contains height zc in two (same material), so that a
+    node line exists at zc."""
+    out = []
+    for L in layers:
+        if L.z0 + 1e-12 < zc < L.z1 - 1e-12:
+            out.append(Layer(L.name, L.z0, zc - L.z0, L.material, L.poling, piezo=L.piezo))
+            out.append(Layer(L.name, zc, L.z1 - zc, L.material, L.poling, piezo=L.piezo))
+        else:
+            out.append(L)
+    return out
+
+
+# Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; issue 12's 3D
+# taxel: 6.7 GB at 182k unknowns); in 3D the fill grows about as n^(1/3) more.
+BYTES_PER_UNKNOWN_2D = 3e3
+BYTES_PER_UNKNOWN_3D = 37e3
+REFERENCE_UNKNOWNS_3D = 182e3
+BYTES_PER_UNKNOWN_KRYLOV = 20e3
+
+
+def machine_memory() -> float:
+    """Physical memory of this machine, bytes."""
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+
+
+def cost(scene: Scene, lay) -> tuple[float, float]:
+    """(estimated unknowns, estimated bytes of the solve) of a scene's mesh: a direct
+    solve, or above linalg.AUTO_KRYLOV_ABOVE unknowns (static, linear) the Krylov
+    solver, whose memory is about linear (1.37 GB at 70k unknowns, README)."""
+    n = mesh_cost(lay).unknowns(lay.dim, scene.mesh.order)
+    if lay.dim == 2:
+        per = BYTES_PER_UNKNOWN_2D
+    elif n > linalg.AUTO_KRYLOV_ABOVE and scene.analysis.type == "static" and scene.model.silicone == "linear":
+        per = BYTES_PER_UNKNOWN_KRYLOV
+    else:
+        per = BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
+    return n, n * per
+
+
+def checked_layout(scene: Scene, mats: dict):
+    """The scene's layout, refused (SceneError, with the estimate) when its mesh and
+    solve cannot fit in this machine's memory."""
+    lay = layout(scene, mats)
+    n, need = cost(scene, lay)
+    have = machine_memory()
+    if need > 0.8 * have:
+        raise SceneError(f"mesh: about {n:.3g} unknowns, needing about {need / 1e9:.3g} GB for the solve, "
+                         f"more than this machine's {have / 1e9:.3g} GB; coarsen mesh.size / mesh.piezo_size "
+                         "or model less (a 2D or axisymmetric model)")
+    return lay
+
+
+def mesh(scene: Scene) -> TaggedMesh:
+    """The tagged mesh of a scene."""
+    return build(checked_layout(scene, check(scene)))
+
+
+def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
+    """The finite-element Problem of a scene (meshing it unless `tagged_mesh` is given)."""
+    mats = check(scene)
+    tm = tagged_mesh or build(checked_layout(scene, mats))
+    m, ld = scene.model, scene.load
+    share = 2 ** len(tm.layout.planes)       # a half or quarter model carries its share of the force
+    load = PatchLoad(pressure=ld.pressure) if ld.kind == "pressure" else \
+        PatchLoad(force=ld.force / share, profile=ld.profile if ld.kind == "indenter" else "flat")
+    return Problem(
+        mesh=tm,
+        kinematics=kinematics(m.type, tm.layout.depth),
+        materials=mats,
+        load=load,
+        supports=Supports(scene.supports.bottom, scene.supports.edges),
+        electrodes=electrode_states(scene, tm),
+        discretization=Discretization(scene.mesh.order, scene.mesh.formulation == "mixed"),
+        hyperelastic=m.silicone == "yeoh",
+        damping=damping(scene),
+        indenter=indenter(scene, tm),
+    )
+
+
+def indenter(scene: Scene, tm: TaggedMesh) -> Indenter | None:
+    """The rigid indenter of a `[load] kind = "indenter"`, `contact = true` scene, centred
+    on the layout's load patch."""
+    ld = scene.load
+    if ld.kind != "indenter" or not ld.contact:
+        return None
+    edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
+    return Indenter(ld.shape, ld.radius, edge if ld.shape == "flat" else 0.0,
+                    (tm.layout.load.x, tm.layout.load.y), ld.travel, None if ld.travel is not None else ld.force,
+                    ld.friction or "sticking")
+
+
+def with_silicone(p: Problem, silicone: str) -> Problem:
+    """The same problem (same mesh) with a linear or a Yeoh silicone."""
+    return replace(p, hyperelastic=silicone == "yeoh")
+
+
+def electrode_states(scene: Scene, tm: TaggedMesh) -> dict:
+    """Each electrode's state: "taxels" sets every taxel electrode, a name sets one;
+    unset electrodes keep the FEM's default (common ground grounded, others open)."""
+    names = [e.name for e in tm.layout.electrodes]
+    every = [full for full, _, _ in tm.layout.images] or names    # a symmetric model: every taxel's name
+    for key in scene.electrodes:
+        if key not in every and key != "taxels":
+            raise SceneError(f"electrodes.{key}: no such electrode; this scene has: {', '.join(every)}")
+    states = {}
+    for name in names:
+        if name.startswith("taxel_") and "taxels" in scene.electrodes:
+            states[name] = electrode_state(scene.electrodes["taxels"])
+        if name in scene.electrodes:
+            states[name] = electrode_state(scene.electrodes[name])
+    return states
+
+
+def damping(scene: Scene) -> Damping:
+    d = scene.dynamics
+    return Damping(d.silicone_loss, d.piezo_loss, d.dielectric_loss, d.rayleigh_alpha, d.rayleigh_beta,
+                   d.reference_frequency)
+
+
+def readout(scene: Scene) -> Readout:
+    r = scene.readout
+    return Readout(r.circuit, r.R, r.C_f, r.R_f, r.R_i, r.C_c, r.notch, r.notch_frequency, r.notch_bandwidth)
