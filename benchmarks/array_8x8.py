@@ -27,6 +27,7 @@ import numpy as np
 
 from taxel.analyses import solve_static
 from taxel.scene import load
+from taxel.schema import electrode_name
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "capacitance_8x8.csv"
 
@@ -50,7 +51,7 @@ def main():
     print(f"unknowns {sol.unknowns}, solver {sol.solver}, residual {sol.residual:.1e}")
     print("time: " + ", ".join(f"{k} {v:.1f} s" for k, v in res.times.items()) + f" (total {total:.1f} s)")
     print(f"peak memory (RSS) {peak:.2f} GB")
-    v = np.array([[sol.electrodes[f"taxel_{r}_{c}"].voltage for c in range(8)] for r in range(8)])
+    v = np.array([[sol.electrodes[electrode_name(r, c)].voltage for c in range(8)] for r in range(8)])
     print("open-circuit voltages (mV), rows 0-7:")
     for r in range(8):
         print("  " + " ".join(f"{1e3 * x:8.2f}" for x in v[r]))

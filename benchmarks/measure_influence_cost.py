@@ -23,6 +23,7 @@ import numpy as np
 
 import taxel
 from taxel.analyses import solve_static
+from taxel.schema import electrode_name
 
 
 def main():
@@ -67,7 +68,7 @@ def _no_mirror(I, sc, solve):
         s = sc.replace(**{"load.kind": "indenter", "load.taxel": [arr.rows // 2, c], "load.radius": arr.taxel_width / 2,
                           "load.offset": [float(x - c * pitch), 0.0], "load.profile": "flat"})
         v = solve(s)
-        V.append([v[f"taxel_{arr.rows // 2}_{k}"] for k in range(arr.cols)])
+        V.append([v[electrode_name(arr.rows // 2, k)] for k in range(arr.cols)])
     V = np.array(V)
     centre = [int(np.argmin(np.abs(xs - c * pitch))) for c in range(arr.cols)]
     return I.Influence(pitch, xs, V / V[centre, np.arange(arr.cols)][None, :], len(xs),

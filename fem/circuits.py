@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy import signal
 
 
 @dataclass(frozen=True)
@@ -94,6 +93,7 @@ def readout(port, r: Readout) -> np.ndarray:
 def amplifier_in_time(t, Q_sc, C_p, r):
     """Charge-amplifier output over time for short-circuit charges Q_sc (nt, na):
     the same transfer function, simulated (scipy.signal.lsim)."""
+    from scipy import signal         # imported where used: scipy.signal costs 0.5 s at start-up
     out = np.zeros_like(Q_sc)
     for k in range(Q_sc.shape[1]):
         Ct = C_p[k] + r.C_c
@@ -105,6 +105,7 @@ def amplifier_in_time(t, Q_sc, C_p, r):
 
 def notch_in_time(t, x, r):
     """The band-stop applied to sampled signals (nt, na), as a digital filter."""
+    from scipy import signal
     fs = 1.0 / (t[1] - t[0])
     lo, hi = r.notch_frequency - r.notch_bandwidth / 2, r.notch_frequency + r.notch_bandwidth / 2
     if hi >= fs / 2:

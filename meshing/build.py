@@ -311,7 +311,7 @@ def _to_skfem(gmsh, lay: Layout, groups) -> TaggedMesh:
     mesh = MeshType(np.ascontiguousarray(p[:, used]), np.ascontiguousarray(renum[t]))
 
     n = mesh.p.shape[1]
-    fkeys = _keys(mesh.facets, n)
+    fkeys = facet_keys(mesh.facets, n)
     order = np.argsort(fkeys)
     facets = {}
     for (dim, name), ents in groups.items():
@@ -319,7 +319,7 @@ def _to_skfem(gmsh, lay: Layout, groups) -> TaggedMesh:
             continue
         fs = [renum[index[gmsh.model.mesh.getElementsByType(ftype, ent)[1].astype(np.int64)]]
               .reshape(-1, fper).T for ent in ents]
-        keys = _keys(np.sort(np.hstack(fs), axis=0), n)
+        keys = facet_keys(np.sort(np.hstack(fs), axis=0), n)
         pos = order[np.searchsorted(fkeys, keys, sorter=order)]
         if not np.array_equal(fkeys[pos], keys):
             raise RuntimeError(f"mesh conversion: facets of group '{name}' not found in the mesh")
@@ -335,21 +335,21 @@ def _to_skfem(gmsh, lay: Layout, groups) -> TaggedMesh:
 def _refined_facets(m0, m, named):
     """The facet sets of a once uniformly refined tetrahedral mesh."""
     n0, n = m0.p.shape[1], m.p.shape[1]
-    ekeys = _keys(m0.edges, n0)
+    ekeys = facet_keys(m0.edges, n0)
     eorder = np.argsort(ekeys)
 
     def mid(a, b):            # the new node at the midpoint of edge (a, b)
-        k = _keys(np.vstack([a, b]), n0)
+        k = facet_keys(np.vstack([a, b]), n0)
         return n0 + eorder[np.searchsorted(ekeys, k, sorter=eorder)]
 
-    fkeys = _keys(m.facets, n)
+    fkeys = facet_keys(m.facets, n)
     forder = np.argsort(fkeys)
     out = {}
     for name, ix in named.items():
         a, b, c = m0.facets[:, ix]
         ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
         kids = np.hstack([np.vstack(v) for v in ((a, ab, ca), (b, ab, bc), (c, bc, ca), (ab, bc, ca))])
-        keys = _keys(np.sort(kids, axis=0), n)
+        keys = facet_keys(np.sort(kids, axis=0), n)
         pos = forder[np.searchsorted(fkeys, keys, sorter=forder)]
         if not np.array_equal(fkeys[pos], keys):
             raise RuntimeError(f"refinement: children of facet set '{name}' not found")
@@ -357,7 +357,8 @@ def _refined_facets(m0, m, named):
     return out
 
 
-def _keys(f, n):
+def facet_keys(f, n):
+    """One integer key per facet (its sorted vertex indices, n the number of vertices)."""
     f = np.sort(f, axis=0).astype(np.int64)
     k = f[0]
     for row in f[1:]:

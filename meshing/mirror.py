@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from taxel.meshing.build import TaggedMesh, _keys
+from taxel.meshing.build import TaggedMesh, facet_keys
 from taxel.meshing.layout import Layout, group
 
 
@@ -56,7 +56,7 @@ def unfold(tm: TaggedMesh, full: Layout) -> TaggedMesh:
     mesh = (skfem.MeshTri if D == 2 else skfem.MeshTet)(np.ascontiguousarray(P[:, first]),
                                                         np.ascontiguousarray(merge[T]))
     N = mesh.p.shape[1]
-    fkeys = _keys(mesh.facets, N)
+    fkeys = facet_keys(mesh.facets, N)
     order = np.argsort(fkeys)
     regions, facets = {}, {}
     for c, g in enumerate(copies):
@@ -66,7 +66,7 @@ def unfold(tm: TaggedMesh, full: Layout) -> TaggedMesh:
         for name, ix in tm.facets.items():
             if name.startswith("mirror_"):
                 continue
-            keys = _keys(np.sort(merge[m.facets[:, ix] + c * n], axis=0), N)
+            keys = facet_keys(np.sort(merge[m.facets[:, ix] + c * n], axis=0), N)
             pos = order[np.searchsorted(fkeys, keys, sorter=order)]
             if not np.array_equal(fkeys[pos], keys):
                 raise RuntimeError(f"mirror: facets of '{name}' not found in the full mesh")

@@ -43,6 +43,7 @@ from taxel.analyses import frequency, lumped_model, lumped_response, solve_stati
 from taxel.analyses.error_estimate import relative
 from taxel.scene import Scene, canonical, parse, refined, to_data
 from taxel.studies.store import Store
+from taxel.schema import electrode_name
 
 OUTPUTS = ("voltage_per_newton", "crosstalk", "short_circuit_charge", "charge_amp_10Hz", "charge_amp_300Hz")
 LABELS = {"voltage_per_newton": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
@@ -165,7 +166,7 @@ def static_values(scene: Scene) -> dict:
 def sweep_values(scene: Scene) -> dict:
     res = frequency(scene.replace(**SWEEP))
     p = scene.load.taxel
-    k = res.names.index(f"taxel_{p[0]}_{p[1]}")
+    k = res.names.index(electrode_name(p[0], p[1]))
     mag = np.abs(res.output[:, k])
     return {"values": {"charge_amp_10Hz": float(mag[0]), "charge_amp_300Hz": float(mag[1])}}
 

@@ -1,20 +1,59 @@
 """taxel: the open design tool for piezoelectric tactile sensors.
 
-The Python API (taxel.api): `load`, `solve`, `run_study`, `optimize`, `report`, `work_precision`.
-They are imported on first use, so `import taxel.units` stays light.
+The public API, whatever subpackages have been imported:
+
+- functions: `load`, `solve`, `read`, `run_study`, `optimize`, `report`,
+  `work_precision` (taxel.api) and the measurement API `taxel.measure`;
+- types: `Scene`, the result types (`StaticResult`, `FrequencyResult`,
+  `TransientResult`, `LumpedResult`) and the error types (`SceneError`,
+  `StudyError`, `OptimizeError`).
+
+Everything is imported on first use, so `import taxel` (and `taxel --help`) stays
+light. The subpackage `taxel.optimize` and the function `taxel.optimize` share a
+name: importing the subpackage does not replace the function here (the module's
+attribute is guarded), so `taxel.optimize(...)` works after any import.
 """
 
 from __future__ import annotations
 
-__all__ = ["load", "solve", "run_study", "optimize", "report", "work_precision"]
+import importlib
+import sys
+import types
+
+# name -> the module that defines it
+_PUBLIC = {
+    "load": "taxel.api", "solve": "taxel.api", "read": "taxel.api", "run_study": "taxel.api",
+    "optimize": "taxel.api", "report": "taxel.api", "work_precision": "taxel.api",
+    "Scene": "taxel.scene", "SceneError": "taxel.scene",
+    "StaticResult": "taxel.analyses", "FrequencyResult": "taxel.analyses",
+    "TransientResult": "taxel.analyses", "LumpedResult": "taxel.analyses",
+    "StudyError": "taxel.studies.spec", "OptimizeError": "taxel.optimize.spec",
+}
+
+__all__ = sorted(_PUBLIC) + ["measure"]
 
 
-def __getattr__(name):
-    if name in __all__:
-        from taxel import api
-        return getattr(api, name)
-    raise AttributeError(f"module 'taxel' has no attribute {name!r}")
+class _Package(types.ModuleType):
+    """The `taxel` module: public names resolve lazily and cannot be shadowed by a
+    subpackage of the same name (the import system sets `taxel.optimize` to the
+    subpackage when it loads it; that assignment is ignored here)."""
+
+    def __setattr__(self, name, value):
+        if name in _PUBLIC and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+    def __getattr__(self, name):
+        if name in _PUBLIC:
+            value = getattr(importlib.import_module(_PUBLIC[name]), name)
+            super().__setattr__(name, value)
+            return value
+        if name == "measure":
+            return importlib.import_module("taxel.measure")
+        raise AttributeError(f"module 'taxel' has no attribute {name!r}")
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(__all__))
 
 
-def __dir__():
-    return sorted(list(globals()) + __all__)
+sys.modules[__name__].__class__ = _Package

@@ -26,10 +26,19 @@ import sqlite3
 import sys
 from pathlib import Path
 
-from taxel import api, cli_material, cli_measure
-from taxel.scene import SceneError, examples
+from taxel import cli_material, cli_measure
 from taxel.cli_files import InputError, writable_file as _writable_file
 from taxel.units import engineering as si
+
+# Imported after the command line is parsed (main): the API pulls in the scene schema,
+# the analyses and the FEM, which `taxel --help` and a bad argument never need.
+api = SceneError = examples = None
+
+
+def _import_api() -> None:
+    global api, SceneError, examples
+    from taxel import api
+    from taxel.scene import SceneError, examples
 
 EXIT_INPUT, EXIT_FAILED = 2, 1
 
@@ -296,6 +305,10 @@ def main(argv=None):
     cli_measure.register(sub)        # taxel measure ... (taxel/cli_measure.py)
     try:
         args = ap.parse_args(argv)
+    except InputError as exc:
+        return _error(str(exc))
+    _import_api()
+    try:
         code = args.run(args)
     except SceneError as exc:
         return _error(str(exc))

@@ -81,6 +81,18 @@ Resistance = Annotated[float, _quantity("ohm", "resistance", positive=True)]
 Capacitance = Annotated[float, _quantity("F", "capacitance", nonnegative=True)]
 
 
+def electrode_name(row: int, col: int) -> str:
+    """The electrode of the taxel at (row, col) of an array: "taxel_ROW_COL" (the
+    key of a scene's [electrodes] table, of result records and of study columns)."""
+    return f"taxel_{row}_{col}"
+
+
+def electrode_position(name: str) -> tuple[int, int] | None:
+    """(row, col) of a taxel electrode's name, or None for another electrode."""
+    m = re.fullmatch(r"taxel_(\d+)_(\d+)", name)
+    return (int(m.group(1)), int(m.group(2))) if m else None
+
+
 NAME = re.compile(r"[A-Za-z0-9_+-][A-Za-z0-9._+-]{0,99}")
 
 

@@ -152,7 +152,7 @@ def test_multifidelity_confirms_the_answer_on_the_finer_3d_mesh(tmp_path):
     crosstalk on CONFIRM_3D; the values equal a direct solve of that scene, and the
     answer and its sentence carry them."""
     import numpy as np
-    from taxel.analyses.static import solve_static
+    from taxel.analyses import solve_static
     from taxel.optimize import spec as O
     from taxel.optimize.multifidelity import CONFIRM_3D, Design, MultiFidelity, confirm, fine_data
     from taxel.reports.multifidelity import answer, sentence

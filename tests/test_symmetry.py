@@ -9,7 +9,7 @@ import pytest
 
 from taxel.analyses.adapter import layout
 from taxel.analyses.adapter import mesh, problem, scene_materials
-from taxel.analyses.static import solve_static
+from taxel.analyses import solve_static
 from taxel.fem import assembly, linear
 from taxel.meshing.mirror import unfold
 from taxel.analyses.adapter import check, symmetry_planes

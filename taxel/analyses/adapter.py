@@ -38,6 +38,7 @@ from taxel.meshing.build import TaggedMesh, build
 from taxel.meshing.cost import mesh_cost
 from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
 from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
+from taxel.schema import electrode_name
 
 
 def check(scene: Scene) -> dict:
@@ -95,7 +96,7 @@ def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
         return (), "the common ground is not grounded (electrodes.ground), so the reference is off the planes"
 
     def state(r, c):
-        s = states.get(f"taxel_{r}_{c}", states.get("taxels", "open"))
+        s = states.get(electrode_name(r, c), states.get("taxels", "open"))
         return electrode_state(s)
 
     planes, why = [], ""
@@ -151,7 +152,7 @@ def _array_layout(scene: Scene, common) -> Layout:
     cells = [(r, c) for r in range(a.rows) for c in range(a.cols)]
     if model != "3d":                       # 2D: the row through the loaded taxel
         cells = [(r, c) for r, c in cells if r == ld.taxel[0]]
-    taxels = tuple(Patch(f"taxel_{r}_{c}", *(centre(r, c) if model == "3d" else (centre(r, c)[0], 0.0)),
+    taxels = tuple(Patch(electrode_name(r, c), *(centre(r, c) if model == "3d" else (centre(r, c)[0], 0.0)),
                          half, shape) for r, c in cells)
     if axisym:                              # the outline's equal-area disk (closer to 3D, see the docstring)
         plan = Patch("plan", 0.0, 0.0, (w + 2 * a.margin) / math.sqrt(math.pi), "disk")

@@ -40,9 +40,9 @@ import time
 import numpy as np
 
 from taxel.scene import Scene, refined
-from taxel.analyses.dynamic import frequency
 from taxel.analyses.results import ErrorEstimate, FrequencyResult, OutputError, StaticResult
-from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_static
+from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_model
+from taxel.schema import electrode_name
 
 OUTPUTS = ("voltage_per_newton", "crosstalk", "short_circuit_charge")
 
@@ -127,7 +127,7 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
                    + (", at least PRESS_3D_ERROR under a punch)" if scene.load.contact else ")"))
     else:
         p = RICHARDSON_ORDER[scene.mesh.order]
-        coarse = output_values(solve_static(refined(base, 0.5), solver))
+        coarse = output_values(solve_model(refined(base, 0.5), solver))
         disc = richardson(vals, coarse, p)
         how.append(f"discretisation: Richardson, this mesh and one at twice every size, order {p:g}"
                    + ("; P1 is pre-asymptotic on the thesis taxels (the differences grow under refinement), so "
@@ -136,7 +136,7 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
     if scene.model.type == "3d":
         form = {k: 0.0 for k in vals}
     elif model_form and scene.array is not None:
-        r3 = cheap_3d or solve_static(cheapest_3d(scene), solver)
+        r3 = cheap_3d or solve_model(cheapest_3d(scene), solver)
         v3 = output_values(r3)
         err3 = cheap_3d_error(scene)
         form = {k: relative(vals[k], v3[k]) + abs(vals[k] / v3[k]) * err3[k] if k in v3 else None
@@ -156,7 +156,7 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
 def sweep_values(result: FrequencyResult) -> np.ndarray:
     """|readout output| per newton of the pressed (or first) taxel at each frequency."""
     p = result.scene.load.taxel
-    name = f"taxel_{p[0]}_{p[1]}"
+    name = electrode_name(p[0], p[1])
     k = result.names.index(name) if name in result.names else 0
     return np.abs(result.output[:, k])
 
@@ -168,6 +168,7 @@ def estimate_frequency(scene: Scene, result: FrequencyResult) -> ErrorEstimate:
     axisymmetric result), plus the sweep's own measured reduction error. The
     silicone is linear in a sweep (small signal about the unloaded state): no
     material-law part."""
+    from taxel.analyses.dynamic import frequency      # the sweep solvers, loaded when a sweep is estimated
     t0 = time.perf_counter()
     y = sweep_values(result)
     yc = sweep_values(frequency(refined(scene, 0.5)))

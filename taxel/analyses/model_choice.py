@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from taxel.scene import Scene
 from taxel.analyses import error_estimate as est
 from taxel.analyses.results import StaticResult
-from taxel.analyses.static import solve_static
+from taxel.analyses.static import solve_model
 
 
 @dataclass(frozen=True)
@@ -63,12 +63,12 @@ def choose(scene: Scene, solver: str = "auto") -> StaticResult:
                 if cheap3d is not None and sc == est.cheapest_3d(fixed):
                     res = cheap3d           # solved already for the model-form estimate
                 else:
-                    res = solve_static(sc, solver)
+                    res = solve_model(sc, solver)
             except ValueError as exc:       # e.g. PVDF has no axisymmetric model
                 tried.append(f"{rung.label}: not possible ({exc})")
                 break
             if sc.model.type != "3d" and cheap3d is None:
-                cheap3d = solve_static(est.cheapest_3d(fixed), solver)
+                cheap3d = solve_model(est.cheapest_3d(fixed), solver)
             res.error = est.estimate(sc, res, solver, cheap_3d=cheap3d)
             worst = max(res.error.outputs[k].total for k in wanted if k in res.error.outputs)
             tried.append(f"{rung.label} ({law}): {100 * worst:.2g} %")

@@ -24,14 +24,12 @@ from taxel.analyses.results import StaticResult
 LINEAR_ERROR_PER_STRAIN = 0.257
 
 
-def solve_static(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | None = None,
-                 scale: bool = True, newton_options: dict | None = None) -> StaticResult:
-    """Solve a scene's static load case (meshing it unless `tagged_mesh` is given).
-    With a Yeoh silicone, `newton_options` go to fem.newton.newton (tol, max_iter,
-    first_step, stepping, line_search)."""
-    if scene.model.fidelity == "auto" and tagged_mesh is None:
-        from taxel.analyses.model_choice import choose      # fidelity builds on this module
-        return choose(scene, solver)
+def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | None = None,
+                scale: bool = True, newton_options: dict | None = None) -> StaticResult:
+    """Solve a scene's static load case on the model it gives (model.fidelity is not
+    read here: `taxel.analyses.solve_static` resolves "auto" by the model choice),
+    meshing it unless `tagged_mesh` is given. With a Yeoh silicone, `newton_options`
+    go to fem.newton.newton (tol, max_iter, first_step, stepping, line_search)."""
     t0 = time.perf_counter()
     prob = problem(scene, tagged_mesh)
     t1 = time.perf_counter()

@@ -1,0 +1,198 @@
+"""The package's structure: no import cycles, no cross-module imports of underscore
+names, and a public API that no subpackage can shadow.
+
+The import graph is read from the sources with `ast`, every import counted (at the
+top of a module or inside a function: a cycle held by a lazy import is still a
+cycle), with the folder -> package mapping of pyproject.toml.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def package_dirs() -> dict[str, Path]:
+    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    return {pkg: ROOT / cfg["package-dir"].get(pkg, pkg.replace(".", "/")) for pkg in cfg["packages"]}
+
+
+def modules() -> dict[str, Path]:
+    """Every module of the installed package: dotted name -> source file."""
+    out = {}
+    for pkg, folder in package_dirs().items():
+        for f in folder.glob("*.py"):
+            out[pkg if f.stem == "__init__" else f"{pkg}.{f.stem}"] = f
+    return out
+
+
+def resolve(name: str, mods: dict) -> str | None:
+    """The package module an imported dotted name lives in."""
+    while name and name not in mods:
+        name = name.rpartition(".")[0]
+    return name or None
+
+
+def imports(mod: str, path: Path, mods: dict) -> list[tuple[str, int, str | None]]:
+    """(imported module, line, imported name or None) of every import in a module."""
+    tree = ast.parse(path.read_text(), str(path))
+    pkg = mod if path.stem == "__init__" else mod.rpartition(".")[0]
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(resolve(a.name, mods), node.lineno, None) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = pkg.split(".")
+                base = ".".join(parts[:len(parts) - node.level + 1] + ([base] if base else []))
+            for a in node.names:
+                full = f"{base}.{a.name}"
+                target = full if full in mods else resolve(base, mods)
+                out.append((target, node.lineno, None if full in mods else a.name))
+    return [(t, n, a) for t, n, a in out if t is not None]
+
+
+def graph() -> dict[str, set[str]]:
+    mods = modules()
+    return {m: {t for t, _, _ in imports(m, p, mods) if t != m} for m, p in mods.items()}
+
+
+def cycles(g: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan)."""
+    index, low, stack, on, out, counter = {}, {}, [], set(), [], [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in g.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    sys.setrecursionlimit(10000)
+    for v in sorted(g):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_the_graph_sees_the_layers():
+    g = graph()
+    assert "taxel.fem.linear" in g and "taxel.analyses.adapter" in g
+    assert "taxel.fem.problem" in g["taxel.analyses.adapter"]       # a real edge is found
+
+
+def test_no_import_cycles():
+    found = cycles(graph())
+    assert not found, "import cycles: " + "; ".join(" <-> ".join(c) for c in found)
+
+
+def test_no_underscore_names_across_modules():
+    """`from taxel.x import _name` and `module._name` on an imported package module are
+    private reach-ins; a name used by another module is public (no underscore)."""
+    mods = modules()
+    bad = []
+    for mod, path in mods.items():
+        tree = ast.parse(path.read_text(), str(path))
+        aliases = {}
+        for t, line, name in imports(mod, path, mods):
+            if name is not None and name.startswith("_") and t != mod:
+                bad.append(f"{path.relative_to(ROOT)}:{line} imports {t}.{name}")
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                for a in node.names:
+                    full = f"{node.module}.{a.name}"
+                    if full in mods:
+                        aliases[a.asname or a.name] = full
+            elif isinstance(node, ast.Import):
+                for a in node.names:
+                    if a.asname and a.name in mods:
+                        aliases[a.asname] = a.name
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                    and node.value.id in aliases and node.attr.startswith("_") and not node.attr.startswith("__")
+                    and aliases[node.value.id] != mod):
+                bad.append(f"{path.relative_to(ROOT)}:{node.lineno} uses {aliases[node.value.id]}.{node.attr}")
+    assert not bad, "\n".join(bad)
+
+
+def test_electrode_names_come_from_one_helper():
+    """'taxel_{r}_{c}' is spelled once (taxel.schema.electrode_name)."""
+    hits = [f"{p.relative_to(ROOT)}" for p in modules().values()
+            if 'f"taxel_{' in p.read_text() and p.name != "schema.py"]
+    assert not hits, hits
+
+
+def test_the_public_api_cannot_be_shadowed():
+    """`taxel.optimize` stays the function after importing every subpackage, and after
+    a first call (it had become the subpackage `taxel.optimize`)."""
+    code = """
+import importlib, taxel
+for name in NAMES:
+    importlib.import_module(name)
+import taxel.optimize.driver
+assert callable(taxel.optimize), taxel.optimize
+for name in taxel.__all__:
+    assert getattr(taxel, name) is not None, name
+from taxel import Scene, StaticResult, FrequencyResult, TransientResult, LumpedResult, SceneError
+assert isinstance(taxel.load("thesis-pzt-single-2d"), Scene)
+print("ok")
+"""
+    code = f"NAMES = {sorted(modules())!r}\n" + code
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr[-2000:]
+
+
+def test_optimize_twice(tmp_path):
+    """The API bug this guards: a second `taxel.optimize(...)` raised "'module' object is
+    not callable". A small optimization (3 evaluations of a coarse 2D taxel), twice,
+    after importing the subpackage, in a fresh process."""
+    (tmp_path / "opt.toml").write_text("""
+base = "thesis-pzt-single-2d"
+[variables]
+silicone_above = {path = "array.silicone_above", min = "0.5 mm", max = "1.5 mm", start = "1 mm"}
+[objective]
+maximize = "sensitivity"
+[algorithm]
+global = "none"
+max_evaluations = 3
+""")
+    code = f"""
+import taxel, taxel.optimize.driver
+a = taxel.optimize({str(tmp_path / 'opt.toml')!r}, {str(tmp_path / 'a')!r}, workers=1)
+b = taxel.optimize({str(tmp_path / 'opt.toml')!r}, {str(tmp_path / 'b')!r}, workers=1)
+assert type(a) is type(b)
+print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path)
+    assert out.returncode == 0 and out.stdout.strip().endswith("ok"), out.stderr[-2000:]
+
+
+def test_every_module_imports():
+    names = sorted(modules())
+    assert len(names) > 60
+    for n in names:
+        importlib.import_module(n)
