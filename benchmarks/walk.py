@@ -1,6 +1,7 @@
 """The walk of one design point through the package, module by module, as it runs.
 
-    python benchmarks/walk.py [ARGS...]     (default: solve thesis-pzt-single-2d --json --out DIR)
+    python benchmarks/walk.py [--inside-layers] [ARGS...]
+                                        (default: solve thesis-pzt-single-2d --json --out DIR)
 
 Runs the `taxel` command in this process under a profile hook and records every call
 from one module of the package into another (calls inside a module, and calls into
@@ -8,7 +9,10 @@ third-party code, are not steps). Prints the modules in the order they are first
 entered, how many distinct modules the walk passes through, and how many times it
 comes back into a module it had already left (a call into a module that is not the
 caller and was entered before). Scene validation (pydantic validators in
-taxel.scene and taxel.schema calling taxel.units) is counted like any other call.
+taxel.scene and taxel.schema calling taxel.units) is counted like any other call. Calls from one module of
+the FEM (taxel.fem) or the meshing (taxel.meshing) into another of the same folder
+are the solver's own machinery, where the design point is no longer a scene but a
+Problem or a layout: they are left out unless --inside-layers is given.
 """
 
 from __future__ import annotations
@@ -39,10 +43,19 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
         return ".".join([best[1], *rel.parts]).removesuffix(".__init__")
 
     steps: list[tuple[str, str]] = []
+
+    def at_import(frame) -> bool:
+        """Inside a module body being imported (import-time work is not the walk)."""
+        f = frame.f_back
+        while f is not None:
+            if f.f_code.co_name == "<module>" and f.f_code.co_filename != __file__:
+                return True
+            f = f.f_back
+        return False
     cache: dict[str, str | None] = {}
 
     def hook(frame, event, arg):
-        if event != "call":
+        if event != "call" or frame.f_code.co_name == "<module>" or at_import(frame):
             return
         callee = cache.setdefault(frame.f_code.co_filename, module_of(frame.f_code.co_filename))
         if callee is None or callee == "taxel.cli" and not steps:
@@ -62,13 +75,27 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
     return steps
 
 
+def package(module: str) -> str:
+    """The layer folder a module is in (taxel.fem, taxel.meshing, ...; taxel's own modules apart)."""
+    parts = module.split(".")
+    return ".".join(parts[:2]) if len(parts) > 2 and parts[1] in LAYER_PACKAGES else module
+
+
+LAYER_PACKAGES = ("fem", "meshing")
+
+
 def main() -> None:
+    args = sys.argv[1:]
+    inside = "--inside-layers" in args          # also count calls inside the fem and meshing folders
+    args = [a for a in args if a != "--inside-layers"]
     with tempfile.TemporaryDirectory() as tmp:
-        argv = sys.argv[1:] or ["solve", "thesis-pzt-single-2d", "--json", "--out", str(Path(tmp) / "x")]
+        argv = args or ["solve", "thesis-pzt-single-2d", "--json", "--out", str(Path(tmp) / "x")]
         import contextlib
         import io
         with contextlib.redirect_stdout(io.StringIO()):
             steps = trace(argv)
+    if not inside:     # the design point's walk: within the FEM and the meshing (which never see the scene)
+        steps = [(a, b) for a, b in steps if not (package(a) == package(b) != a)]
     edges = list(dict.fromkeys(steps))            # each caller -> callee pair once, in first-call order
     seen, order, back = {"taxel.cli"}, ["taxel.cli"], []
     for caller, callee in edges:

@@ -33,15 +33,24 @@ _PUBLIC = {
 __all__ = sorted(_PUBLIC) + ["measure"]
 
 
-class _Package(types.ModuleType):
-    """The `taxel` module: public names resolve lazily and cannot be shadowed by a
-    subpackage of the same name (the import system sets `taxel.optimize` to the
-    subpackage when it loads it; that assignment is ignored here)."""
+def _guarded(name: str) -> property:
+    """A public name that a subpackage of the same name cannot replace: the import
+    system sets `taxel.optimize` to the subpackage when it loads it; that
+    assignment is ignored."""
+    def get(module):
+        return getattr(importlib.import_module(_PUBLIC[name]), name)
 
-    def __setattr__(self, name, value):
-        if name in _PUBLIC and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
+    def set_(module, value):
+        if not isinstance(value, types.ModuleType):
+            raise AttributeError(f"taxel.{name} is part of the public API; it cannot be replaced")
+    return property(get, set_)
+
+
+class _Package(types.ModuleType):
+    """The `taxel` module: public names resolve lazily; the one that a subpackage
+    shares (`optimize`) is a guarded property."""
+
+    optimize = _guarded("optimize")
 
     def __getattr__(self, name):
         if name in _PUBLIC:
