@@ -32,7 +32,7 @@ def main():
         runs = front(pf, BUILTIN / "thesis-pzt-front.toml", workers=2)
         tf = time.perf_counter() - t
         solves = len(Store(tmp / "front").rows())
-        print(f"7-point front on 2 workers: {tf:.1f} s, {sum(r.nfev for _, r in runs)} optimizer evaluations, "
+        print(f"7-point front on 2 workers: {tf:.1f} s, {sum(r.result.nfev for r in runs)} optimizer evaluations, "
               f"{solves} distinct FEM solves")
     finally:
         shutil.rmtree(tmp)

@@ -60,7 +60,9 @@ class _Memo:
         return self.cache[key]
 
 
-def _g(metrics, con):
+def violation(metrics, con) -> float:
+    """The relative violation g of constraint `con` = (metric, "<=" | ">=", bound) at
+    `metrics`: g <= 0 is satisfied; inf when the metric is missing."""
     name, op, bound = con
     v = metrics[name]
     if v is None or not np.isfinite(v):
@@ -94,7 +96,7 @@ def minimize(evaluate, x0, bounds, objective: str, constraints=(), maximize=Fals
         opt.set_upper_bounds(np.ones(n))
         opt.set_min_objective(f)
         for c in cons:
-            opt.add_inequality_constraint(lambda u, grad, c=c: _g(memo(u), c), 0.0)
+            opt.add_inequality_constraint(lambda u, grad, c=c: violation(memo(u), c), 0.0)
         opt.set_maxeval(max(budget, 1))
         opt.set_xtol_rel(xtol)
         opt.set_xtol_abs(xtol)
@@ -125,7 +127,7 @@ def minimize(evaluate, x0, bounds, objective: str, constraints=(), maximize=Fals
         messages.append(f"{local_alg}: {msg}")
     best_u = _best(memo, objective, cons, sign)
     m = memo(best_u)
-    g = {f"{c[0]} {c[1]} {c[2]:g}": _g(m, c) for c in cons}
+    g = {f"{c[0]} {c[1]} {c[2]:g}": violation(m, c) for c in cons}
     ok = all(v <= 1e-9 for v in g.values())
     return Result(memo.x(best_u), sign * m[objective], m, g, len(memo.history), ok,
                   "; ".join(messages) + ("" if ok else "; no feasible design found"), memo.history)
@@ -135,7 +137,7 @@ def _best(memo, objective, cons, sign):
     """The best feasible evaluated point, or the least infeasible one."""
     best, best_key = None, None
     for key, m in memo.cache.items():
-        viol = sum(max(_g(m, c), 0.0) for c in cons)
+        viol = sum(max(violation(m, c), 0.0) for c in cons)
         v = m[objective]
         val = sign * v if v is not None and np.isfinite(v) else np.inf
         k = (viol > 1e-9, viol if viol > 1e-9 else val)

@@ -40,13 +40,16 @@ times) is stated before the start and what was spent at the end.
 
 from __future__ import annotations
 
+import json
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from taxel.analyses.error_estimate import CHEAP_3D
-from taxel.optimize.driver import _g, pareto_front
+from taxel.optimize.driver import pareto_front, violation
+from taxel.optimize.result import FrontRun
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.execute import local_cluster
 from taxel.studies.store import Store, point_key
@@ -80,6 +83,37 @@ class MultiFidelity:
     plan: dict = field(default_factory=dict)
     spent: dict = field(default_factory=dict)
     confirmed: dict = field(default_factory=dict)    # "reference", "best": (sensitivity, crosstalk) on CONFIRM_3D
+
+    def record(self, problem) -> dict:
+        """front-3d.json: the cheap front, every 3D-verified design, the 3D front, the
+        reference (thesis) design in 2D and 3D, the rounds, the plan and what was
+        spent, and the answer to the thesis's question (`answer`, `sentence`)."""
+        def row(d):
+            return {**{f"{n} ({u})": v for n, v, u in zip(problem.names, d.x, problem.units)},
+                    "sensitivity 2D (V/N)": d.cheap[0], "crosstalk 2D": d.cheap[1],
+                    "sensitivity 3D (V/N)": d.fine[0] if d.fine else None,
+                    "crosstalk 3D": d.fine[1] if d.fine else None,
+                    "predicted sensitivity": d.predicted[0] if d.predicted else None,
+                    "predicted crosstalk": d.predicted[1] if d.predicted else None}
+        a = answer(self)
+        return {"verify_3d": VERIFY_3D, "confirm_3d": {k: str(v) for k, v in CONFIRM_3D.items()},
+                "cheap_front": [row(d) for d in self.cheap_front], "verified": [row(d) for d in self.verified],
+                "front_3d": [row(d) for d in self.front_3d], "reference": row(self.reference),
+                "rounds": self.rounds, "plan": self.plan, "spent": self.spent, "answer": a,
+                "sentence": sentence(problem, a)}
+
+    def summary(self) -> list[str]:
+        """What the verification spent, for a person."""
+        s = self.spent
+        return [f"3D verification {s['3D solves']} solves in {len(self.rounds)} rounds, {s['seconds']:.0f} s; "
+                f"confirmation on the finer 3D mesh {s.get('confirmation solves', 0)} solves, "
+                f"{s.get('confirmation seconds', 0):.0f} s"]
+
+    def to_folder(self, out, problem) -> dict:
+        """Write front-3d.json into `out` (the plot: taxel.reports.multifidelity); returns the record."""
+        rec = self.record(problem)
+        (Path(out) / "front-3d.json").write_text(json.dumps(rec, indent=1))
+        return rec
 
 
 def fine_data(problem, x, model: dict = VERIFY_3D) -> dict:
@@ -157,13 +191,13 @@ def interpolant(problem, designs: list[Design]):
 
 def _history(runs, problem) -> list[Design]:
     seen, out = set(), []
-    for _, r in runs:
-        for h in r.history:
+    for run in runs:
+        for h in run.result.history:
             m = h["metrics"]
             key = tuple(np.round(h["x"], 12))
             if key in seen or m.get("sensitivity") is None or m.get("crosstalk") is None:
                 continue
-            if all(_g(m, c) <= 1e-9 for c in problem.constraints):
+            if all(violation(m, c) <= 1e-9 for c in problem.constraints):
                 seen.add(key)
                 out.append(Design(list(map(float, h["x"])), (m["sensitivity"], m["crosstalk"])))
     return out
@@ -190,14 +224,15 @@ def plan(problem) -> dict:
             "estimated seconds": cheap * SECONDS_PER_SOLVE["cheap"] + fine * SECONDS_PER_SOLVE["3d"]}
 
 
-def verify(problem, runs, x_reference, tolerance=0.05, max_rounds=3, workers=2) -> MultiFidelity:
-    """The multi-fidelity loop over a cheap front `runs` (problem.front's output)."""
+def verify(problem, runs: list[FrontRun], x_reference, tolerance=0.05, max_rounds=3, workers=2) -> MultiFidelity:
+    """The multi-fidelity loop over a cheap front `runs` (problem.front's output,
+    OptimizationResult.runs)."""
     t0 = time.perf_counter()
     pool = _history(runs, problem)
     by_x = {tuple(np.round(d.x, 9)): d for d in pool}
     cheap_front = [by_x.setdefault(tuple(np.round(r.x, 9)), Design(list(map(float, r.x)),
                                                                      (r.metrics["sensitivity"], r.metrics["crosstalk"])))
-                   for _, r in runs if r.success and r.metrics.get("sensitivity") is not None]
+                   for r in (run.result for run in runs) if r.success and r.metrics.get("sensitivity") is not None]
     cheap_front = nondominated(cheap_front, lambda d: d.cheap)
     cap = max(len(cheap_front), 2)
     ref_cheap = problem.evaluate(np.asarray(x_reference))
@@ -255,3 +290,51 @@ def confirm(problem, mf: MultiFidelity, workers=2) -> MultiFidelity:
     mf.spent["confirmation solves"] = len(designs)
     mf.spent["confirmation seconds"] = time.perf_counter() - t
     return mf
+
+
+def answer(mf: MultiFidelity) -> dict:
+    """Is the reference design on the 3D front, and what does the 3D front offer?"""
+    s0, c0 = mf.reference.fine
+    better = [d for d in mf.front_3d if d is not mf.reference and d.fine[0] >= s0 and d.fine[1] <= c0]
+    out = {"thesis_3d": {"sensitivity_V_per_N": s0, "crosstalk": c0},
+           "thesis_on_3d_front": not better and any(d is mf.reference for d in mf.front_3d)}
+    b = best_below(mf)
+    if b is not None:
+        out["best_at_or_below_thesis_crosstalk"] = {"x": b.x, "sensitivity_V_per_N": b.fine[0], "crosstalk": b.fine[1],
+                                                   "sensitivity_gain": b.fine[0] / s0 - 1}
+    conf = mf.confirmed
+    if "reference" in conf:
+        out["confirmed"] = {"model": {k: str(v) for k, v in CONFIRM_3D.items()},
+                            "thesis": {"sensitivity_V_per_N": conf["reference"][0], "crosstalk": conf["reference"][1]}}
+        if "best" in conf:
+            b = best_below(mf)
+            out["confirmed"]["best"] = {"x": b.x, "sensitivity_V_per_N": conf["best"][0], "crosstalk": conf["best"][1],
+                                        "sensitivity_gain": conf["best"][0] / conf["reference"][0] - 1}
+    same = [d for d in mf.front_3d if d.fine[0] >= s0]
+    if same:
+        b = min(same, key=lambda d: d.fine[1])
+        out["least_crosstalk_at_thesis_sensitivity"] = {"x": b.x, "sensitivity_V_per_N": b.fine[0],
+                                                        "crosstalk": b.fine[1]}
+    return out
+
+
+def sentence(problem, a: dict) -> str:
+    t = a["thesis_3d"]
+    head = (f"In 3D the thesis design gives {t['sensitivity_V_per_N']:.3f} V/N at {100 * t['crosstalk']:.2f} % "
+            f"crosstalk; it is {'on' if a['thesis_on_3d_front'] else 'not on'} the 3D-verified front.")
+    b = a.get("best_at_or_below_thesis_crosstalk")
+    if b and not a["thesis_on_3d_front"]:
+        x = ", ".join(f"{n.replace('_', ' ')} {v:.2f} {u}" for n, v, u in zip(problem.names, b["x"], problem.units))
+        head += (f" The 3D front offers {b['sensitivity_V_per_N']:.3f} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
+                 f"at {100 * b['crosstalk']:.2f} % crosstalk ({x}).")
+    c = a.get("confirmed")
+    if c:
+        t = c["thesis"]
+        head += (f" On the finer 3D mesh (1.5 mm, 0.6 mm at the taxels): the thesis design "
+                 f"{t['sensitivity_V_per_N']:.3f} V/N at {100 * t['crosstalk']:.2f} %")
+        if "best" in c:
+            b = c["best"]
+            head += (f", the front's design {b['sensitivity_V_per_N']:.3f} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
+                     f"at {100 * b['crosstalk']:.2f} %")
+        head += "."
+    return head

@@ -54,6 +54,8 @@ import numpy as np
 from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
+from taxel.optimize.metrics import METRIC_TABLE, METRICS
+from taxel.optimize.result import FrontRun
 from taxel import units as U
 from taxel.schema import Name, Strict
 from taxel.scene import Scene, SceneError, parse
@@ -62,7 +64,6 @@ from taxel.studies.execute import local_cluster
 from taxel.studies.spec import read_spec, set_value
 from taxel.studies.store import Store
 
-METRICS = ("sensitivity", "crosstalk", "max_strain", "total_thickness", "footprint", "gap", "localization_error")
 BUILTIN = Path(__file__).parent / "builtin"
 
 
@@ -212,13 +213,12 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
             raise OptimizeError(f"variables.{name}: start {var.start} is outside [{var.min}, {var.max}]")
         lo.append(a), hi.append(b), x0.append(s), units.append(unit)
     cons = []
-    si_units = {"total_thickness": "m", "footprint": "m", "gap": "m", "sensitivity": "V/N", "localization_error": "m"}
     for metric, text in spec.constraints.items():
         text = text.strip()
         op = text[:2]
         if op not in ("<=", ">="):
             raise OptimizeError(f"constraints.{metric}: write \"<= value\" or \">= value\", got {text!r}")
-        unit = si_units.get(metric, "")
+        unit = "" if METRIC_TABLE[metric].unit == "ratio" else METRIC_TABLE[metric].unit
         value = text[2:].strip()
         if unit:
             bound = magnitude(value, unit, f"constraints.{metric}")[0]
@@ -279,10 +279,10 @@ def _front_run(problem_path, out, eps, max_evals):
     """One epsilon-constraint run (on a Dask worker): maximize sensitivity s.t. crosstalk <= eps."""
     p = load_optimization(problem_path, Path(out))
     cons = [("crosstalk", "<=", eps)] if eps is not None else []
-    return eps, optimize(p, cons, max_evals)
+    return FrontRun(eps, optimize(p, cons, max_evals))
 
 
-def front(problem: Optimization, problem_path, workers=2) -> list[tuple[float, driver.Result]]:
+def front(problem: Optimization, problem_path, workers=2) -> list[FrontRun]:
     """Sensitivity vs crosstalk front by epsilon-constraint: first the unconstrained
     maximum of sensitivity (its crosstalk c_max) and the minimum of crosstalk
     (c_min), then maximize sensitivity with crosstalk <= eps_k for eps_k evenly
@@ -296,8 +296,8 @@ def front(problem: Optimization, problem_path, workers=2) -> list[tuple[float, d
                              local_alg=alg.local, max_evals=alg.max_evaluations, xtol=alg.xtol)
     c_hi, c_lo = best.metrics["crosstalk"], lowest.metrics["crosstalk"]
     eps = list(np.linspace(c_lo, c_hi, n)[1:-1])
-    runs = [(c_lo, lowest)] + _spread(problem_path, problem.out, eps, alg.max_evaluations, workers) + [(c_hi, best)]
-    return runs
+    return [FrontRun(c_lo, lowest)] + _spread(problem_path, problem.out, eps, alg.max_evaluations, workers) + \
+        [FrontRun(c_hi, best)]
 
 
 def _spread(problem_path, out, eps, max_evals, workers):

@@ -24,13 +24,14 @@ import csv
 import json
 import shutil
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from taxel.analyses.results import output_folder
 from taxel.scene import SceneError
 from taxel.reports import findings, tables
+from taxel.reports.page import Page, provenance, templates
 from taxel.reports.scene_sections import data_uri, scene_sections
+from taxel.reports.validation import build_page as validation_page
 from taxel.studies.store import code_version
 
 
@@ -60,24 +61,6 @@ def kind_of(folder: Path) -> str:
         return "validation"
     raise ReportError(f"{folder}: not a study, optimization or solve folder (no study.json, optimum.json, "
                       "front.json or scene.json); run taxel study/optimize/solve with --out first")
-
-
-@dataclass
-class Page:
-    """A written page and what its index card shows."""
-    path: Path
-    kind: str
-    title: str
-    numbers: list = field(default_factory=list)      # [(label, value in units)]
-    banners: list = field(default_factory=list)      # one sentence each: the number and the fix
-    thumb: bytes | None = None                       # PNG of the key figure
-
-
-def templates():
-    """The jinja2 environment of reports/templates (autoescaped XHTML)."""
-    import jinja2
-    return jinja2.Environment(loader=jinja2.PackageLoader("taxel.reports", "templates"),
-                              autoescape=True, trim_blocks=True, lstrip_blocks=True)
 
 
 def _figures(paths, wide=False) -> dict:
@@ -134,7 +117,7 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
             csv=_csv_link(folder / "optimum-history.csv", out, folder))})
     imgs = sorted(folder.glob("*.png"))
     key = [p for p in imgs if p.name == "pareto.png"] or imgs
-    if (folder / "front-3d.json").exists():          # the 3D-verified front (reports/multifidelity.py)
+    if (folder / "front-3d.json").exists():          # the 3D-verified front (MultiFidelity.to_folder)
         rec = read_json(folder / "front-3d.json")
         numbers += findings.front_3d_numbers(rec)
         blocks += [{"type": "text", "text": rec["sentence"]},
@@ -179,15 +162,6 @@ def _work_precision(folder: Path, out: Path, scene_data) -> dict:
 PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis, "work-precision": _work_precision}
 
 
-def _provenance(folder: Path, scene_data: dict | None) -> list[dict]:
-    rows = [{"item": "folder", "value": str(folder.resolve())}, {"item": "code version", "value": code_version()},
-            {"item": "report date", "value": time.strftime("%Y-%m-%d %H:%M:%S")}]
-    blocks = [{"type": "table", "table": tables.table(rows, ["item", "value"])}]
-    if scene_data:
-        blocks.append({"type": "details", "summary": "scene", "text": json.dumps(scene_data, indent=1)})
-    return blocks
-
-
 def build_page(folder: Path, out: Path, compare=True) -> Page:
     """Write OUT/<folder name>.html (and the folder's CSVs beside it)."""
     folder = Path(folder)
@@ -195,7 +169,6 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
         raise ReportError(f"{folder}: no such folder")
     kind = kind_of(folder)
     if kind == "validation":
-        from taxel.reports.validation import build_page as validation_page
         return validation_page(folder, out)
     scene_data = read_json(folder / "scene.json") if (folder / "scene.json").exists() else None
     title = f"{folder.name} ({kind})"
@@ -207,7 +180,7 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
         sections, numbers = sections + sec, numbers + nums
         banners += ban if part.get("scene_banners", True) else []
         thumb = thumb or key_png
-    sections.append({"title": "Provenance", "blocks": _provenance(folder, scene_data)})
+    sections.append({"title": "Provenance", "blocks": provenance(folder, scene_data)})
     path = out / f"{folder.name}.html"
     path.write_text(templates().get_template("page.html").render(
         title=title, kind=kind, folder=folder.name, banners=banners, headline=numbers, sections=sections),

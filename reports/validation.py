@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.reports.build import Page, _provenance, templates
+from taxel.reports.page import Page, provenance, templates
 from taxel.reports.figures import pyplot as _plt
 from taxel.reports.scene_sections import data_uri
 from taxel.reports.tables import table
@@ -279,7 +279,7 @@ def build_page(folder: Path, out: Path) -> Page:
         {"title": "Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",
          "blocks": [{"type": "table", "table": table(cal_rows, ["parameter", "value", "95 % low", "95 % high",
                                                                 "truth"])}]},
-        {"title": "Provenance", "blocks": _provenance(folder, None)},
+        {"title": "Provenance", "blocks": provenance(folder, None)},
     ]
     m = v["measured"]
     numbers = [("time constants", f"{m['tau'][0]['tau_s']:.3g} s, {m['tau'][1]['tau_s']:.3g} s"),

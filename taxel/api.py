@@ -6,7 +6,7 @@
     result = taxel.solve(thicker)                           # StaticResult | FrequencyResult | TransientResult
     result.voltages(), result.record(), result.to_folder("out/thicker")
     taxel.run_study("fig-2-5", "out/fig-2-5", workers=2)
-    taxel.optimize("thesis-pzt-front", "out/front")
+    front = taxel.optimize("thesis-pzt-front", "out/front")  # OptimizationResult: front.summary(), .runs
     taxel.report(["out/fig-2-5", "out/front"], "out/report")
 
 The command line is a thin shell over these functions.
@@ -15,7 +15,7 @@ The command line is a thin shell over these functions.
 from __future__ import annotations
 
 import shutil
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from taxel import analyses
@@ -54,11 +54,12 @@ class StudyRun:
 
 
 def run_study(spec, out: str | Path | None = None, workers: int = 2, scheduler: str | None = None,
-              retry_failed: bool = False, progress: bool = True) -> StudyRun:
+              retry_failed: bool = False, progress: bool = True,
+              plots=("voltage_pressed", "crosstalk", "max_strain")) -> StudyRun:
     """Run a parameter study (a TOML file, a built-in name, or a studies.spec.Study)
     into `out` (default out/NAME): every point not already stored is solved
     (on `workers` local Dask workers, or the cluster at `scheduler`), then
-    results.csv and the plots are written."""
+    results.csv and the plots of the outputs `plots` are written."""
     from taxel.reports.figures import study_plots
     from taxel.studies.execute import run
     from taxel.studies.spec import Study, StudyError, load_study
@@ -82,9 +83,8 @@ def run_study(spec, out: str | Path | None = None, workers: int = 2, scheduler: 
         raise
     rows = tidy_rows(out)
     write_rows(rows, out / "results.csv")
-    plots = study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "crosstalk", "max_strain"],
-                        out / "plots", st.spec.name)
-    return StudyRun(st.spec.name, out, s.total, s.cached, s.done, s.failed, s.seconds, rows, plots)
+    files = study_plots(rows, [p.name for p in st.spec.parameters], list(plots), out / "plots", st.spec.name)
+    return StudyRun(st.spec.name, out, s.total, s.cached, s.done, s.failed, s.seconds, rows, files)
 
 
 def tidy_rows_or_none(out: Path) -> list[dict]:
@@ -99,30 +99,36 @@ def tidy_rows_or_none(out: Path) -> list[dict]:
 
 
 def optimize(problem, out: str | Path | None = None, workers: int = 2):
-    """Optimize a design (an optimization TOML file or a built-in name) into `out`:
-    the optimum (driver.Result), or with [pareto] the list of (bound, Result) of
-    the sensitivity-crosstalk front; every design is cached in out's store."""
+    """Optimize a design (an optimization TOML file, a built-in name, or a loaded
+    optimize.spec.Optimization) into `out` (default out/NAME): an OptimizationResult
+    holding the optimum, or with [pareto] the sensitivity-crosstalk front, and the
+    reference design's evaluation; its files (result.json, optimum.json or
+    front.json, the history CSV) and plots are written to `out`; every design is
+    cached in out's store."""
     from taxel.optimize import spec as O
-    from taxel.reports.optimization import write_front, write_run
-    name = O.load_optimization(problem).spec.name
+    from taxel.optimize.run import run
+    from taxel.reports.optimization import draw
+    loaded = problem if isinstance(problem, O.Optimization) else O.load_optimization(problem)
+    name = loaded.spec.name
     out = Path(out) if out is not None else Path("out") / name
     out.mkdir(parents=True, exist_ok=True)
-    prob = O.load_optimization(problem, out)
-    write_scene(out, parse({**prob.scene_data(prob.x0), "name": name}))
-    if prob.spec.pareto:
+    if isinstance(problem, O.Optimization):
+        prob, path = replace(problem, out=out), None
+    else:
+        prob = O.load_optimization(problem, out)
         path = problem if Path(problem).is_file() else O.BUILTIN / f"{problem}.toml"
-        runs = O.front(prob, path, workers=workers)
-        write_front(prob, runs, None, out)
-        return runs
-    result = O.optimize(prob)
-    write_run(prob, result, out)
+    write_scene(out, parse({**prob.scene_data(prob.x0), "name": name}))
+    result = run(prob, path, workers=workers)
+    result.to_folder(out)
+    draw(result, out)
     return result
 
 
-def report(folders, out: str | Path, pdf: bool = False, compare: bool = True) -> Path:
-    """Self-contained HTML pages of result folders and an index; returns the index."""
+def report(folders, out: str | Path, pdf: bool = False, compare: bool = True, run: dict | None = None) -> Path:
+    """Self-contained HTML pages of result folders and an index; returns the index.
+    `run` adds to the index's run summary: "what" was run, "started", "seconds"."""
     from taxel.reports.build import build
-    return build([Path(f) for f in folders], Path(out), pdf=pdf, compare=compare)
+    return build([Path(f) for f in folders], Path(out), pdf=pdf, compare=compare, run=run)
 
 
 def work_precision(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path | None = None, progress=None):

@@ -165,51 +165,11 @@ def _study(args):
 
 
 def _optimize(args):
-    import numpy as np
-
-    from taxel.analyses.results import write_scene
-    from taxel.optimize import spec as O
-    from taxel.reports.optimization import write_front, write_run
-    from taxel.scene import parse
-    from taxel.studies.store import Store
-    path = args.file
-    probe = O.load_optimization(path)
-    out = Path(args.out or Path("out") / probe.spec.name)
-    out.mkdir(parents=True, exist_ok=True)
-    prob = O.load_optimization(path, out)
-    write_scene(out, parse({**prob.scene_data(prob.x0), "name": prob.spec.name}))
-    resolved = path if Path(path).is_file() else O.BUILTIN / f"{path}.toml"
-    reference = None
-    if prob.spec.reference:
-        x_ref = np.array([O.magnitude(prob.spec.reference[n], u, f"reference.{n}")[0]
-                          for n, u in zip(prob.names, prob.units)])
-        reference = {"x": dict(zip(prob.names, x_ref.tolist())), **prob.evaluate(x_ref)}
-        print(f"reference design {reference['x']}: sensitivity {reference['sensitivity']:.4g} V/N, "
-              f"crosstalk {100 * reference['crosstalk']:.2f} %")
-    if prob.spec.pareto:
-        runs = O.front(prob, resolved, workers=args.workers)
-        rows, nd = write_front(prob, runs, reference, out)
-        for r in rows:
-            print(f"  crosstalk <= {100 * r['crosstalk_bound']:.2f} %: sensitivity {r['sensitivity_V_per_N']:.4g} V/N, "
-                  f"crosstalk {100 * r['crosstalk']:.2f} %, "
-                  + ", ".join(f"{n} {r[f'{n} ({u})']:.3g} {u}" for n, u in zip(prob.names, prob.units)))
-        if reference:
-            dominated = any(s >= reference["sensitivity"] * (1 + 1e-3) and c <= reference["crosstalk"] * (1 - 1e-3)
-                            for s, c in nd)
-            print(f"the reference design is {'DOMINATED (not on the front)' if dominated else 'on the front'}")
-        store = Store(out)
-        solves = len(store.rows())
-        store.close()
-        print(f"front: {len(rows)} runs, {sum(r.nfev for _, r in runs)} optimizer evaluations, "
-              f"{solves} distinct FEM solves in the store; {out / 'pareto.png'}")
-        return 0
-    result = O.optimize(prob)
-    rec = write_run(prob, result, out)
-    print(f"{'optimum' if result.success else 'best found (constraints violated)'}: "
-          + ", ".join(f"{n} = {v:.4g}" for n, v in rec["x"].items())
-          + f"; {result.nfev} evaluations; {result.message}")
-    print("metrics: " + ", ".join(f"{k} {v:.4g}" for k, v in result.metrics.items() if v is not None))
-    return 0 if result.success else EXIT_FAILED
+    result = api.optimize(args.file, args.out, workers=args.workers)
+    for line in result.summary():
+        print(line)
+    print(f"written to {Path(args.out or Path('out') / result.name)}")
+    return 0 if result.kind == "front" or result.success else EXIT_FAILED
 
 
 def _report(args):
@@ -218,7 +178,7 @@ def _report(args):
 
 
 def _demo(args):
-    from taxel.reports.main_job import run
+    from taxel.jobs.main_job import run
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}: exists and is not a folder; choose another output folder")

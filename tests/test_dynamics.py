@@ -319,7 +319,7 @@ def test_hyperelastic_transient_small_load_equals_linear():
 
 @pytest.mark.slow
 def test_thesis_chapter4_study_runs_and_states_its_findings(tmp_path):
-    from taxel.reports import thesis_ch4
+    from taxel.jobs import thesis_ch4
     thesis_ch4.main(tmp_path)
     text = (tmp_path / "statements.txt").read_text()
     assert "first order" in text and "silicone 0 / 1 / 2 mm" in text

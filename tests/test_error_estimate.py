@@ -155,7 +155,7 @@ def test_multifidelity_confirms_the_answer_on_the_finer_3d_mesh(tmp_path):
     from taxel.analyses import solve_static
     from taxel.optimize import spec as O
     from taxel.optimize.multifidelity import CONFIRM_3D, Design, MultiFidelity, confirm, fine_data
-    from taxel.reports.multifidelity import answer, sentence
+    from taxel.optimize.multifidelity import answer, sentence
     from taxel.scene import parse
     prob = O.load_optimization("thesis-pzt-front")
     prob.out = tmp_path

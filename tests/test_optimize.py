@@ -114,3 +114,59 @@ def test_bad_optimization_files_exit_2(tmp_path, capsys, change, words):
     assert main(["optimize", str(path), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("taxel: error:") and words in err[0]
+
+
+def test_api_optimize_returns_one_result_type_for_an_optimum(tmp_path):
+    """An optimum: the result holds it, writes result.json beside optimum.json and
+    the history, reads back equal, and its summary names the optimum."""
+    from taxel import api
+    from taxel.optimize.result import OptimizationResult
+    out = tmp_path / "o"
+    r = api.optimize(coarse_problem(tmp_path), out, workers=1)
+    assert isinstance(r, OptimizationResult) and r.kind == "optimum" and r.runs == []
+    assert r.optimum.success and r.optimum.x[0] == pytest.approx(1.0, abs=0.02)
+    assert r.reference is None and r.reference_dominated is None
+    assert 0 < r.fem_solves <= r.optimum.nfev
+    assert r.summary()[0].startswith("optimum: silicone_above = ")
+    for name in ("result.json", "optimum.json", "optimum-history.csv", "optimum-convergence.png"):
+        assert (out / name).stat().st_size > 0
+    back = OptimizationResult.from_folder(out)
+    assert back.record() == json.loads(json.dumps(r.record()))
+
+
+def test_api_optimize_returns_one_result_type_for_a_front(tmp_path):
+    """A two-point front on the 2D 3x3 array (3 evaluations a run): the same type,
+    its runs and bounds, the reference design evaluated and placed against it."""
+    from taxel import api
+    from taxel.optimize.result import FrontRun, OptimizationResult
+    text = """
+base = "thesis-pzt-3x3-2d"
+reference = {gap = "3 mm"}
+[variables]
+gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
+[objective]
+maximize = "sensitivity"
+[pareto]
+points = 2
+[algorithm]
+global = "none"
+local = "COBYLA"
+max_evaluations = 3
+"""
+    path = tmp_path / "front.toml"
+    path.write_text(text)
+    out = tmp_path / "f"
+    r = api.optimize(path, out, workers=1)
+    assert isinstance(r, OptimizationResult) and r.kind == "front" and r.optimum is None
+    assert len(r.runs) == 2 and all(isinstance(run, FrontRun) for run in r.runs)
+    assert r.runs[0].bound <= r.runs[1].bound
+    assert r.reference["x"] == {"gap": pytest.approx(3.0)} and r.reference["sensitivity"] > 0
+    assert r.reference_dominated in (True, False) and r.nondominated
+    assert r.evaluations == sum(run.result.nfev for run in r.runs) and r.fem_solves > 0
+    assert r.summary()[-1].startswith(f"front: {len(r.front_rows)} runs")
+    front = json.loads((out / "front.json").read_text())
+    assert len(front["front"]) == len(r.front_rows) and front["reference"]["sensitivity"] == r.reference["sensitivity"]
+    assert (out / "pareto.png").stat().st_size > 1000
+    back = OptimizationResult.from_folder(out)
+    assert back.kind == "front" and back.reference_dominated == r.reference_dominated
+    assert [run.bound for run in back.runs] == [run.bound for run in r.runs]

@@ -152,12 +152,13 @@ def _axis_labels_checked(monkeypatch):
 
 
 def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeypatch):
-    from types import SimpleNamespace
 
     import taxel
     from taxel.reports import analysis
     from taxel.reports.figures import study_plots
-    from taxel.reports.optimization import _convergence, write_front
+    from taxel.optimize.driver import Result
+    from taxel.optimize.result import FrontRun, OptimizationResult
+    from taxel.reports import optimization
     from taxel.studies.store import tidy_rows
     seen = _axis_labels_checked(monkeypatch)
     # the study plots, faceted by material (a second material with scaled values)
@@ -170,12 +171,13 @@ def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeyp
     for name, change in (("thesis-pzt-frequency", {"analysis.points": 8}),
                          ("thesis-pzt-step", {"analysis.duration": 0.02})):
         analysis.write(taxel.solve(taxel.load(name).replace(**change)), tmp_path / name)
-    spec = SimpleNamespace(objective={"maximize": "sensitivity"}, name="p")
-    run = SimpleNamespace(success=True, x=[1.0, 3.0], metrics={"sensitivity": 0.8, "crosstalk": 0.07},
-                          history=[{"metrics": {"sensitivity": 0.8, "crosstalk": 0.07}}])
-    prob = SimpleNamespace(spec=spec, names=["silicone_above", "gap"], units=["mm", "mm"], constraints=[])
-    _convergence(prob, run, tmp_path / "c.png")
-    write_front(prob, [(0.1, run)], {"sensitivity": 0.7, "crosstalk": 0.08}, tmp_path)
+    run = Result([1.0, 3.0], -0.8, {"sensitivity": 0.8, "crosstalk": 0.07}, {}, 1, True, "ok",
+                 [{"x": [1.0, 3.0], "metrics": {"sensitivity": 0.8, "crosstalk": 0.07}, "phase": "local"}])
+    res = OptimizationResult("p", ["silicone_above", "gap"], ["mm", "mm"], "maximize", "sensitivity",
+                             optimum=run, reference={"x": {}, "sensitivity": 0.7, "crosstalk": 0.08})
+    optimization.convergence(res, tmp_path / "c.png")
+    res.optimum, res.runs = None, [FrontRun(0.1, run)]
+    optimization.front(res, tmp_path / "pareto.png")
     # the report's own figures: scene drawing, fields, the taxel heat map of an array
     taxel.solve("thesis-pzt-3x3-2d").to_folder(tmp_path / "array")
     build([tmp_path / "array"], tmp_path / "r", compare=False)

@@ -1,0 +1,39 @@
+"""The optimizer's metrics, each with its unit and its axis label: one table.
+
+A metric with unit "ratio" is dimensionless (its bound is a plain number); the
+others are SI (a bound may carry any unit of the same kind: "2 mm").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Metric:
+    """One optimizer metric: what it is called on an axis and its SI unit."""
+    label: str
+    unit: str
+
+    @property
+    def axis(self) -> str:
+        """The axis label, its unit in parentheses."""
+        return f"{self.label} ({self.unit})"
+
+
+METRIC_TABLE = {
+    "sensitivity": Metric("sensitivity", "V/N"),
+    "crosstalk": Metric("crosstalk", "ratio"),
+    "max_strain": Metric("largest silicone strain", "ratio"),
+    "total_thickness": Metric("total thickness", "m"),
+    "footprint": Metric("footprint", "m"),
+    "gap": Metric("gap", "m"),
+    "localization_error": Metric("localization error", "m"),
+}
+METRICS = tuple(METRIC_TABLE)
+
+
+def axis_label(metric: str) -> str:
+    """The axis label of a metric; a metric missing from METRIC_TABLE is a KeyError
+    (every metric carries its unit)."""
+    return METRIC_TABLE[metric].axis

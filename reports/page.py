@@ -1,0 +1,41 @@
+"""What every report page shares: the Page record of a written page (its index
+card), the jinja2 templates, and the provenance section. Used by the page
+builders (reports/build.py, reports/validation.py)."""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from taxel.reports import tables
+from taxel.studies.store import code_version
+
+
+@dataclass
+class Page:
+    """A written page and what its index card shows."""
+    path: Path
+    kind: str
+    title: str
+    numbers: list = field(default_factory=list)      # [(label, value in units)]
+    banners: list = field(default_factory=list)      # one sentence each: the number and the fix
+    thumb: bytes | None = None                       # PNG of the key figure
+
+
+def templates():
+    """The jinja2 environment of reports/templates (autoescaped XHTML)."""
+    import jinja2
+    return jinja2.Environment(loader=jinja2.PackageLoader("taxel.reports", "templates"),
+                              autoescape=True, trim_blocks=True, lstrip_blocks=True)
+
+
+def provenance(folder: Path, scene_data: dict | None) -> list[dict]:
+    """The provenance blocks of a page: the folder, the code version, the date, the scene."""
+    rows = [{"item": "folder", "value": str(folder.resolve())}, {"item": "code version", "value": code_version()},
+            {"item": "report date", "value": time.strftime("%Y-%m-%d %H:%M:%S")}]
+    blocks = [{"type": "table", "table": tables.table(rows, ["item", "value"])}]
+    if scene_data:
+        blocks.append({"type": "details", "summary": "scene", "text": json.dumps(scene_data, indent=1)})
+    return blocks

@@ -1,0 +1,100 @@
+"""The main job behind `make demo` (`taxel demo`): on the built-in example, run the
+thesis's Fig. 2.5 study, the sensitivity-crosstalk fronts of the thesis PZT and
+PVDF designs (2D, then verified in 3D: optimize.multifidelity), the frequency
+response through the charge amplifier and the step response through the 500 MOhm
+input, the validation loop on the simulated rig (simulate, capture over a pty,
+analyze, calibrate, localize: studies.measure.pipeline), then build the report;
+`small` is the reduced run CI uses. Each step is a call of the API (taxel.api:
+run_study, optimize, solve, report)."""
+
+from __future__ import annotations
+
+import shutil
+import time
+from pathlib import Path
+
+from taxel import api
+from taxel.optimize import multifidelity as MF
+from taxel.optimize import spec as O
+from taxel.optimize.run import reference_x
+from taxel.reports import analysis
+from taxel.reports.multifidelity import draw as draw_verified_front
+from taxel.studies.measure.pipeline import run as validate
+from taxel.studies.spec import Study, load_study
+
+STUDY_PLOTS = ("voltage_pressed", "max_strain")
+
+
+def small_study(st: Study) -> Study:
+    """The study reduced for `--small`: the first value of each listed parameter, two of each range."""
+    st.spec = st.spec.model_copy(update={"parameters": [
+        p.model_copy(update={"values": p.values[:1], "labels": (p.labels or [None])[:1] if p.labels else None})
+        if p.values else p.model_copy(update={"step": None, "num": 2}) for p in st.spec.parameters]})
+    return st
+
+
+def small_optimization(name: str) -> O.Optimization:
+    """A built-in optimization reduced to one short local run (6 evaluations, no front)."""
+    prob = O.load_optimization(name)
+    prob.spec = prob.spec.model_copy(update={"pareto": None, "algorithm": prob.spec.algorithm.model_copy(
+        update={"max_evaluations": 6, "global_": "none"})})
+    return prob
+
+
+def front(out: Path, name: str, small: bool) -> Path:
+    """The cheap (2D) front of a built-in problem (taxel.optimize), then its 3D
+    verification (optimize.multifidelity); `small`: one short run, no front."""
+    if small:
+        api.optimize(small_optimization(name), out)
+        return out
+    plan = MF.plan(O.load_optimization(name))
+    print(f"      {name}: plan {plan['cheap solves (at most)']} cheap solves at most, "
+          f"{plan['3D solves (first round)']} 3D solves, about {plan['estimated seconds']:.0f} s")
+    t0 = time.perf_counter()
+    result = api.optimize(name, out, workers=2)
+    t1 = time.perf_counter()
+    prob = O.load_optimization(name, out)
+    mf = MF.confirm(prob, MF.verify(prob, result.runs, reference_x(prob), max_rounds=2, workers=2), workers=2)
+    rec = mf.to_folder(out, prob)
+    draw_verified_front(mf, prob.spec.name, out)
+    print(f"      cheap front {t1 - t0:.0f} s; " + "; ".join(mf.summary()))
+    print(f"      {rec['sentence']}")
+    return out
+
+
+def run(root: Path, small: bool = False) -> Path:
+    """Run the main job into `root` and return the report's index page."""
+    t0 = time.perf_counter()
+    started = time.strftime("%Y-%m-%d %H:%M:%S")
+    root.mkdir(parents=True, exist_ok=True)
+    folders = []
+    print("[1/5] thesis Fig. 2.5 study (silicone thickness x force x material, 2D plane stress)")
+    st = load_study("fig-2-5")
+    st = small_study(st) if small else st
+    summ = api.run_study(st, root / "fig-2-5", workers=1 if small else 2, progress=True, plots=STUDY_PLOTS)
+    folders.append(summ.folder)
+    print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
+    print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
+    for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
+        folders.append(front(root / name, name, small))
+    print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
+    for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
+        scene = api.load(name)
+        if small:
+            scene = scene.replace(**{"analysis.points": 20, "analysis.duration": 0.05})
+        out = root / name
+        files, summary = analysis.write(api.solve(scene), out)
+        for line in summary:
+            print(line)
+        folders.append(out)
+    print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize")
+    shutil.rmtree(root / "validation", ignore_errors=True)
+    validate(root / "validation")
+    folders.append(root / "validation")
+    print("[5/5] report")
+    what = ("taxel demo" + (" --small" if small else "") + ": thesis Fig. 2.5 study, sensitivity-crosstalk "
+            "front, frequency response, step response, validation on the simulated rig")
+    index = api.report(folders, root / "report", compare=not small,
+                       run={"what": what, "started": started, "seconds": time.perf_counter() - t0})
+    print(f"done in {time.perf_counter() - t0:.0f} s; open {index.resolve()}")
+    return index
