@@ -3,7 +3,7 @@ thesis's Fig. 2.5 study, the sensitivity-crosstalk fronts of the thesis PZT and
 PVDF designs (2D, then verified in 3D: optimize.multifidelity),
 the frequency response through the charge amplifier and the step response
 through the 500 MOhm input, the validation loop on the simulated rig (simulate,
-capture over a pty, analyze, calibrate, localize: studies.measure.pipeline),
+capture over a pty, analyze, calibrate, localize: studies.measured.pipeline),
 then build the report; `small` is the reduced run
 CI uses."""
 
@@ -26,7 +26,7 @@ from taxel.reports.multifidelity import write as write_mf
 from taxel.reports.optimization import write_front, write_run
 from taxel.scene import load, parse
 from taxel.studies.execute import run as run_study
-from taxel.studies.measure.pipeline import run as validate
+from taxel.studies.measured.pipeline import run as validate
 from taxel.studies.spec import load_study
 from taxel.studies.store import tidy_rows, write_rows
 
