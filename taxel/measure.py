@@ -36,10 +36,11 @@ from taxel.studies.bench.simulation import Simulation
 from taxel.studies.measured.analysis import Analysis
 from taxel.studies.measured.calibrate import FolderCalibration
 from taxel.studies.measured.localize import Localization, PressEvent
+from taxel.studies.measured.pipeline import Validation
 
 __all__ = ["load_rig", "capture", "import_file", "export_csv", "read", "rebuild", "simulate", "analyze", "calibrate",
-           "localize", "Rig", "Measurement", "CaptureResult", "CsvExport", "Simulation", "Analysis",
-           "FolderCalibration", "Localization", "PressEvent", "MeasurementError", "RigError"]
+           "localize", "validate", "Rig", "Measurement", "CaptureResult", "CsvExport", "Simulation", "Analysis",
+           "FolderCalibration", "Localization", "PressEvent", "Validation", "MeasurementError", "RigError"]
 
 
 def _scene(scene: Scene | str | Path | None) -> tuple[Scene | None, str | None]:
@@ -273,3 +274,27 @@ def localize(folder: str | Path, presses: str | Path, scene: Scene | str | Path 
     if sc is not None:
         check_scene(sc, read_rig(folder), name or "scene")
     return localize_folder(folder, presses, sc)
+
+
+def validate(root: str | Path, scene: str = "thesis-pzt-3x3-2d", rig: str = "thesis-bench",
+             progress: Callable[[str], None] | None = print) -> Validation:
+    """The validation loop on the simulated rig (studies.measured.pipeline): simulate, capture over a
+    pseudo-terminal, analyze, calibrate, localize, one folder per record under `root`.
+
+    Parameters
+    ----------
+    root : path
+        Where the records and validation.json go.
+    scene, rig : str
+        The simulated sensor's scene and the rig (files or built-in names).
+    progress : callable, optional
+        Called with a line per record.
+
+    Returns
+    -------
+    Validation
+        validation.json (already written into `root`): measured, the simulator's truth, the thesis's figures.
+    """
+    from taxel.studies.measured.pipeline import run
+    data = run(Path(root), scene, rig, progress=progress or (lambda line: None))
+    return Validation(Path(root), data)

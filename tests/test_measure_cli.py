@@ -15,7 +15,7 @@ from taxel.cli import main
 from taxel.studies.bench import folder as F
 from taxel.studies.bench.capture import capture
 
-BENCH = Path(__file__).parents[1] / "studies" / "measure" / "builtin" / "thesis-bench.toml"
+BENCH = Path(__file__).parents[1] / "studies" / "bench" / "builtin" / "thesis-bench.toml"
 
 
 def test_simulate_on_loopback_port_then_capture(tmp_path):

@@ -30,6 +30,7 @@ stated above.
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -47,6 +48,49 @@ from taxel.studies.bench.wire import Player, assemble
 
 THESIS = {"tau_s": [1.7, 3.1], "linearity_R": {"PZT": 0.9942, "PVDF": 0.9933},
           "repeatability_pct": [95.65, 96.63], "rms_error_pct": {"lumped": 9.75, "FEM": 11.58}}
+
+
+@dataclass
+class Validation:
+    """The loop's summary (ROOT/validation.json): measured here, the simulator's truth, the thesis's figures."""
+
+    folder: Path
+    data: dict
+
+    def record(self) -> dict:
+        """JSON-ready: validation.json."""
+        return self.data
+
+    def summary(self) -> list[str]:
+        """For a person: each measured figure beside the thesis's."""
+        m, th = self.data["measured"], self.data["thesis"]
+        r = [abs(x) for x in m["linearity_R"].values()]
+        loc = m["localization"]
+        return [f"{self.folder}: {self.data['scene']} on {self.data['rig']}",
+                "  time constants " + ", ".join(f"{t['tau_s']:.4g} s (set {t['truth_s']:g})" for t in m["tau"])
+                + f"; thesis {', '.join(f'{x:g}' for x in th['tau_s'])} s",
+                f"  linearity R {min(r):.5f}-{max(r):.5f}; thesis {th['linearity_R']['PZT']} (PZT)",
+                f"  repeatability {m['repeatability_pct']['by_spread']:.2f} % by spread, "
+                f"{m['repeatability_pct']['by_range']:.2f} % by range; thesis {th['repeatability_pct']}",
+                f"  FRF RMS error: lumped {m['rms_error_pct']['lumped']:.2f} %, FEM {m['rms_error_pct']['fem']:.1f} %; "
+                f"lumped after calibration {m['rms_error_pct']['lumped_validation_after']:.2f} %",
+                f"  localization: largest taxel {100 * loc['correct_rate']:.0f} % correct, model-based "
+                f"{loc['model_position_error_mm_rms']:.3g} mm rms on the taxels"]
+
+    def to_folder(self, folder: str | Path | None = None) -> Path:
+        """validation.json in `folder` (default: the loop's root); returns its path."""
+        path = Path(folder if folder is not None else self.folder) / "validation.json"
+        write_json(path, self.data)
+        return path
+
+    @classmethod
+    def read(cls, folder: str | Path) -> Validation:
+        """The loop's summary in `folder`; one-line MeasurementError if there is none."""
+        from taxel.studies.bench.folder import MeasurementError
+        try:
+            return cls(Path(folder), json.loads((Path(folder) / "validation.json").read_text()))
+        except (OSError, ValueError):
+            raise MeasurementError(f"{folder}: no readable validation.json; run the loop into it first") from None
 
 
 def captured(rig: Rig, scene: Scene, settings: Settings, out: Path) -> Path:
