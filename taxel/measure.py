@@ -296,5 +296,5 @@ def validate(root: str | Path, scene: str = "thesis-pzt-3x3-2d", rig: str = "the
         validation.json (already written into `root`): measured, the simulator's truth, the thesis's figures.
     """
     from taxel.studies.measured.pipeline import run
-    data = run(Path(root), scene, rig, progress=progress or (lambda line: None))
-    return Validation(Path(root), data)
+    run(Path(root), scene, rig, progress=progress or (lambda line: None))
+    return Validation.read(root)
