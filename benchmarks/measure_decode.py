@@ -16,8 +16,8 @@ import time
 
 import numpy as np
 
-from taxel.studies.measure import wire as W
-from taxel.studies.measure.protocol import PROTOCOLS, Decoder, Frames, decode_all, encode_frames
+from taxel.studies.bench import wire as W
+from taxel.studies.bench.protocol import PROTOCOLS, Decoder, Frames, decode_all, encode_frames
 
 
 def frames_of(n_frames: int, seed: int = 0) -> Frames:

@@ -7,7 +7,7 @@ recorded (force per metre of travel).
 1. The lumped model of the thesis taxel (thesis-pzt-3x3-2d): the relative change of
    |Q_sc / F| at 1, 10, 50 and 100 Hz when the silicone's moduli are scaled by 1.2,
    and when its loss factor goes from the scene's 0.1 to 0.12 (+20 %).
-2. Fisher information (studies.measure.silicone.identifiability) at the truth of the
+2. Fisher information (studies.measured.silicone.identifiability) at the truth of the
    tests (modulus scale 1.2, loss factor 0.12, gain 0.85, chain tau scale 1.1), over
    10-96 Hz every 1 Hz with independent relative errors of 1 % per frequency (the
    bench's H1 accuracy, tests/test_measure_analyze.py) and of 0.1 % (the travel
@@ -26,10 +26,10 @@ import numpy as np
 
 import taxel
 from taxel.analyses.dynamic import damping
-from taxel.studies.measure.calibrate import _chain
-from taxel.studies.measure.frf import lumped_frf
-from taxel.studies.measure.rig import load_rig
-from taxel.studies.measure.silicone import compliance, identifiability, scaled_model
+from taxel.studies.measured.calibrate import scaled_chain
+from taxel.studies.measured.frf import lumped_frf
+from taxel.studies.bench.rig import load_rig
+from taxel.studies.measured.silicone import compliance, identifiability, scaled_model
 
 
 def main():
@@ -50,7 +50,7 @@ def main():
     bench = freqs[np.abs(freqs - 50) >= 15]
 
     def chirp(fr, modulus_scale, loss_factor, gain, tau_scale):
-        r, _ = _chain(readout, tau_scale)
+        r, _ = scaled_chain(readout, tau_scale)
         return gain * lumped_frf(scaled_model(sc, modulus_scale, loss_factor), r, fr)
 
     def travel(fr, modulus_scale, loss_factor):

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.studies.measure import folder as F
-from taxel.studies.measure.capture import capture, open_port
-from taxel.studies.measure.rig import load_rig, parse_rig
+from taxel.studies.bench import folder as F
+from taxel.studies.bench.capture import capture, open_port
+from taxel.studies.bench.rig import load_rig, parse_rig
 
 
 def main():
@@ -57,7 +57,7 @@ def main():
     sent = len(truth["seq"])
     same = len(m) == sent and np.array_equal(m.counts, truth["counts"]) and np.array_equal(m.seq, truth["seq"])
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
-    s = m.summary
+    s = m.stats
     print(f"sent {sent} frames ({a.seconds:g} s at 2 kHz, 10 channels) over {url}")
     print(f"captured {len(m)} frames; identical to the truth: {same}; lost {sent - len(m)}; "
           f"seq gaps {s['seq_gaps']}, CRC failures {s['crc_failures']}, resyncs {s['resyncs']}")

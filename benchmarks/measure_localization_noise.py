@@ -7,7 +7,7 @@ The thesis bench (charge amplifiers, notch), the 3x3 PZT scene, presses of
 (Settings.between = 0.5; the taxels' weights from the FEM influence functions of
 position), the simulator's defaults but the white noise. Printed per noise level:
 the largest-taxel correct rate (on-taxel presses), and for both estimators
-(studies.measure.localize) the position error (mm rms) and force error (% rms) on
+(studies.measured.localize) the position error (mm rms) and force error (% rms) on
 the taxels, between them (inside the outer taxels' centres) and beyond the outer
 taxels, each taxel's sensitivity calibrated on its 1st, 3rd, ... on-taxel press and
 the rest scored; position errors are rms, then medians (mm). The pressed taxel's
@@ -19,11 +19,11 @@ from __future__ import annotations
 import argparse
 
 import taxel
-from taxel.studies.measure import events
-from taxel.studies.measure.influence import influence
-from taxel.studies.measure.localize import Press, largest_taxel, model_based
-from taxel.studies.measure.rig import load_rig
-from taxel.studies.measure.simulate import Settings, simulate
+from taxel.studies.measured import events
+from taxel.analyses.influence import influence
+from taxel.studies.measured.localize import PressEvent, largest_taxel, model_based
+from taxel.studies.bench.rig import load_rig
+from taxel.studies.bench.simulate import Settings, simulate
 
 
 def main():
@@ -40,7 +40,7 @@ def main():
         rec = events.Record(tr.t, v[:, 9], v[:, :9], rig.names[:9], [c.taxel for c in rig.ordered()[:9]],
                             rig.sampling.rate)
         pos = tr.params["positions"]
-        presses = [Press(p["t"], tuple(pos[p["position"]]), tuple(p["xy_mm"])) for p in tr.params["presses"]]
+        presses = [PressEvent(p["t"], tuple(pos[p["position"]]), tuple(p["xy_mm"])) for p in tr.params["presses"]]
         loc = model_based(rec, presses, infl, loc=largest_taxel(rec, presses, pitch_mm=1e3 * infl.pitch))
         for name, sc in (("largest taxel", loc.largest), ("model-based", loc.model)):
             cells, med = [], []

@@ -1,6 +1,6 @@
 """How baseline drift biases the fitted time constant of a step response, and
 whether the fit's 95 % interval covers the truth: the white-residual fit against
-the drift-robust one (studies.measure.step, noise "white" and "drift").
+the drift-robust one (studies.measured.step, noise "white" and "drift").
 
     python benchmarks/measure_step_drift.py [--seeds 40] [--quick]
 
@@ -11,7 +11,7 @@ the record) at 0, 0.5, 2, 5 and 20 mV (20 mV is the simulator's default). Printe
 per fit: the rms relative error of tau over the seeds, the median half-width of
 the 95 % interval, the fraction of seeds whose interval contains the truth
 (coverage; 95 % if honest), and the Cramer-Rao floor 2 q sqrt(tau) / a of one
-step (studies.measure.step), q the random walk's intensity estimated from the
+step (studies.measured.step), q the random walk's intensity estimated from the
 simulator's own drift path (its rms increment over 1 s, of 20 ms means).
 """
 
@@ -23,10 +23,10 @@ import numpy as np
 
 import taxel
 from taxel.analyses import lumped_model
-from taxel.studies.measure import events
-from taxel.studies.measure.rig import load_rig, parse_rig
-from taxel.studies.measure.simulate import Settings, simulate
-from taxel.studies.measure.step import fit_step
+from taxel.studies.measured import events
+from taxel.studies.bench.rig import load_rig, parse_rig
+from taxel.studies.bench.simulate import Settings, simulate
+from taxel.studies.measured.step import fit_step
 
 
 def main():

@@ -29,7 +29,7 @@ SQLite store and reused by later runs).
 Metrics: sensitivity (|V| of the pressed taxel per newton, open circuit, V/N),
 crosstalk (largest neighbour-to-pressed voltage ratio), max_strain (largest
 silicone strain), localization_error (the predicted rms position error of a press
-over the array, m: the Cramer-Rao bound of studies.measure.predict from the FEM
+over the array, m: the Cramer-Rao bound of taxel.analyses.localization from the FEM
 influence functions at the rig's white noise `noise`, default 1 mV on each taxel
 peak; 9 more static solves per design for a 3-taxel row, kept in OUT/influence/),
 and geometric ones without FEM: total_thickness (silicone above + piezo + below,
@@ -165,7 +165,7 @@ class Optimization:
 def _localization_error(scene, noise_V: float, out: Path | None) -> float | None:
     """The design's localization_error (m); each press position a point of the OUT/influence store."""
     from taxel.scene import to_data
-    from taxel.studies.measure.predict import localization_error
+    from taxel.analyses.localization import localization_error
     store = Store(out / "influence") if out is not None else None
 
     def solve(s):

@@ -1,4 +1,4 @@
-"""The validation page of a measurement-validation folder (studies.measure.pipeline):
+"""The validation page of a measurement-validation folder (studies.measured.pipeline):
 model against measurement on the (simulated) bench.
 
 Sections: the summary table beside the thesis's figures; the step traces with
@@ -35,8 +35,8 @@ def _figure(png: bytes) -> dict:
 
 
 def _step_figure(folder: Path):
-    from taxel.studies.measure import analyze, events
-    from taxel.studies.measure.folder import read
+    from taxel.studies.measured import events, peaks as analyze
+    from taxel.studies.bench.folder import read
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 3.6))
     for d in sorted(folder.glob("step-*")):
@@ -58,7 +58,7 @@ def _step_figure(folder: Path):
 
 
 def _frf_figure(folder: Path):
-    from taxel.studies.measure import frf as FR
+    from taxel.studies.measured import frf as FR
     plt = _plt()
     a = json.loads((folder / "chirp" / "analysis.json").read_text())["frf"]
     cal = json.loads((folder / "chirp" / "calibration.json").read_text())
@@ -70,10 +70,10 @@ def _frf_figure(folder: Path):
         ax.semilogy(f, a["models"]["lumped"]["abs_V_per_N"], "--", label="lumped model")
         from taxel.analyses import lumped_model
         from taxel.scene import load
-        from taxel.studies.measure.calibrate import _chain
-        from taxel.studies.measure.folder import _rig_of
-        chain = _rig_of(folder / "chirp").chains()[a["taxel"]].readout()
-        r, _ = _chain(chain, cal["tau_scale"])
+        from taxel.studies.measured.calibrate import scaled_chain
+        from taxel.studies.bench.folder import read_rig
+        chain = read_rig(folder / "chirp").chains()[a["taxel"]].readout()
+        r, _ = scaled_chain(chain, cal["tau_scale"])
         scene = json.loads((folder / "validation.json").read_text())["scene"]
         Hc = cal["gain"] * np.abs(FR.lumped_frf(lumped_model(load(scene)), r, f))
         ax.semilogy(f, Hc, ":", lw=1.5, label="lumped, calibrated")
@@ -265,7 +265,7 @@ def build_page(folder: Path, out: Path) -> Page:
     sections = [
         {"title": "Summary beside the thesis", "blocks": [
             {"type": "table", "table": table(rows, ["figure", "thesis", "simulated rig"])},
-            {"type": "note", "text": "Measured on the simulated rig (studies.measure.pipeline): each record captured "
+            {"type": "note", "text": "Measured on the simulated rig (studies.measured.pipeline): each record captured "
                                      "over a pseudo-terminal, analysed with taxel measure analyze/calibrate/localize."}]},
         {"title": "Step responses", "blocks": [_figure(_png_bytes(_step_figure(folder)))]},
         {"title": "Frequency response", "blocks": [_figure(frf_png)]},

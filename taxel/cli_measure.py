@@ -91,66 +91,50 @@ def register(sub) -> None:
     q.set_defaults(run=_calibrate)
 
 
-def _rig(args, path):
-    from taxel.studies.measure.rig import load_rig, parse_rig
-    rig = load_rig(path)
-    if getattr(args, "url", None):
-        rig = parse_rig({**rig.model_dump(), "port": {**rig.port.model_dump(), "url": args.url}}, si_numbers=True)
-    return rig
-
-
 def _capture(args):
-    from taxel.studies.measure.capture import capture, check_out, open_port, print_progress
-    rig = _rig(args, args.rig)
+    from taxel import measure as tm
+    from taxel.studies.bench.capture import check_out, open_port, print_progress
+    rig = tm.load_rig(args.rig, args.url)
     if args.seconds is not None and not args.seconds > 0:
         raise ValueError(f"--seconds must be positive, got {args.seconds}")
     check_out(Path(args.out))
     port = open_port(rig)
     print(f"capturing {rig.port.url} ({rig.port.protocol}, {rig.n} channels) into {args.out}; Ctrl-C stops",
           file=sys.stderr)
-    res = capture(rig, Path(args.out), seconds=args.seconds, progress=None if args.quiet else print_progress,
-                  port=port)
+    res = tm.capture(rig, args.out, seconds=args.seconds, progress=None if args.quiet else print_progress, port=port)
     if not args.quiet:
         print(file=sys.stderr)
-    if res.ended == "port vanished":
-        print(f"taxel: {res.message}", file=sys.stderr)
-    s = res.summary
-    print(f"{s['frames']} frames, {s['crc_failures']} CRC failures, {s['seq_gaps']} seq gaps "
-          f"({s['frames_lost']} frames lost), {s['resyncs']} resyncs, rate "
-          f"{(s['rate_Hz'] or 0):.2f} Hz, jitter {(s['jitter_us'] or 0):.1f} us; {res.folder}")
+    *vanished, line = res.summary()
+    for v in vanished:
+        print(v, file=sys.stderr)
+    print(line)
     return 1 if res.ended == "port vanished" else 0
 
 
 def _import(args):
-    from taxel.studies.measure.importers import import_file
-    rig = _rig(args, args.rig)
-    m = import_file(args.file, rig, args.out, args.format)
+    from taxel import measure as tm
+    rig = tm.load_rig(args.rig)
+    m = tm.import_file(args.file, rig, args.out, args.format)
     print(f"{len(m)} frames of {rig.n} channels from {args.file} in {m.folder}")
 
 
 def _export(args):
-    from taxel.studies.measure.export import export_csv
-    n = export_csv(args.folder, args.csv, raw=args.raw)
-    print(f"{n} rows written to {args.csv}")
+    from taxel import measure as tm
+    print("\n".join(tm.export_csv(args.folder, args.csv, raw=args.raw).summary()))
 
 
 def _rebuild(args):
-    from taxel.studies.measure.folder import rebuild
-    m = rebuild(args.folder)
-    s = m.summary
+    from taxel import measure as tm
+    m = tm.rebuild(args.folder)
+    s = m.stats
     print(f"{len(m)} frames rebuilt from raw.bin; {s['crc_failures']} CRC failures, {s['seq_gaps']} seq gaps, "
           f"{s['resyncs']} resyncs")
 
 
 def _simulate(args):
-    import numpy as np
-
-    from taxel import api
-    from taxel.studies.measure import wire as W
-    from taxel.studies.measure.protocol import encode_frames
-    from taxel.studies.measure.simulate import Settings, save_truth, simulate
-    rig = _rig(args, args.rig)
-    scene = api.load(args.scene)
+    from taxel import measure as tm
+    from taxel.studies.bench import wire as W
+    rig = tm.load_rig(args.rig)
     if not 0 <= args.corrupt < 1:
         raise ValueError(f"--corrupt must be a probability in [0, 1), got {args.corrupt}")
     if not args.seconds > 0:
@@ -165,15 +149,11 @@ def _simulate(args):
         url = int(port)
     truth_dir = Path(args.truth) if args.truth else (Path(args.to).with_suffix(".truth") if args.to
                                                      else Path("out") / f"simulate-{args.input}")
-    s = Settings(input=args.input, seconds=args.seconds, seed=args.seed, seq0=args.seq0, t0_us=args.t0_us,
-                 crosstalk=not args.no_crosstalk, model=args.model, between=args.between)
-    truth = simulate(rig, scene, s)
-    chunks = encode_frames(truth.frames, rig.port.protocol)
-    wire = W.corrupt(chunks, args.corrupt, np.random.default_rng(args.seed + 1))
-    save_truth(truth, truth_dir, {"intact": wire.intact, "frame_ends": wire.ends, "flips": wire.flips,
-                                  "drops": wire.drops, "corrupt": args.corrupt, "protocol": rig.port.protocol})
-    print(f"{len(chunks)} frames ({len(wire.data)} bytes, {wire.flips} flipped, {wire.drops} dropped, "
-          f"{int(wire.intact.sum())} intact); truth in {truth_dir}", flush=True)
+    sim = tm.simulate(rig, args.scene, args.input, args.seconds, args.corrupt, seed=args.seed, seq0=args.seq0,
+                      t0_us=args.t0_us, crosstalk=not args.no_crosstalk, model=args.model, between=args.between)
+    sim.to_folder(truth_dir, stream=False)
+    print(f"{sim.summary()[0]}; truth in {truth_dir}", flush=True)
+    wire = sim.wire
     if args.to:
         try:
             Path(args.to).parent.mkdir(parents=True, exist_ok=True)
@@ -197,66 +177,24 @@ def _simulate(args):
 
 
 def _analyze(args):
-    from taxel import api
-    from taxel.studies.measure.analysis import analyze_folder
-    scene = api.load(args.scene) if args.scene else None
-    a = analyze_folder(args.folder, scene, args.scene, args.input, args.resolution)
-    written = a.write()
+    from taxel import measure as tm
+    a = tm.analyze(args.folder, args.scene, args.input, args.resolution)
+    written = a.to_folder()
     print("\n".join(a.summary()))
     print("wrote " + ", ".join(str(p) for p in written))
 
 
 def _localize(args):
-    from taxel import api
-    from taxel.studies.measure.analysis import check_scene
-    from taxel.studies.measure.localize import localize_folder
-    scene = None
-    if args.scene:
-        scene = api.load(args.scene)
-        check_scene(scene, _read_rig(args.folder), args.scene)
-    res = localize_folder(args.folder, args.presses, scene)
-    path = res.write(Path(args.folder))
+    from taxel import measure as tm
+    res = tm.localize(args.folder, args.presses, args.scene)
+    path = res.to_folder(Path(args.folder))
     print("\n".join(res.summary()))
     print(f"wrote {path}")
 
 
 def _calibrate(args):
-    from taxel import api
-    from taxel.analyses import lumped_model
-    from taxel.studies.measure import calibrate as C
-    from taxel.studies.measure.analysis import analyze_folder
-    scene = api.load(args.scene)
-    a = analyze_folder(args.folder, scene, args.scene, "chirp", args.resolution, fem=False)
-    rig_chain = _read_rig(args.folder).chains()[a.frf.taxel].readout()
-    cal = C.calibrate(a.frf, lumped_model(scene), rig_chain)
-    if args.step:
-        s = analyze_folder(args.step, scene, args.scene, "step")
-        fits = {f.taxel: f for f in s.steps}
-        if cal.taxel not in fits:
-            raise ValueError(f"--step {args.step}: no step fit of {cal.taxel}; give a step of the same taxel")
-        cal.step_tau_s = fits[cal.taxel].tau_s
-    sil, extra = None, None
-    if args.travel:
-        from taxel.studies.measure import events, silicone as SI
-        from taxel.studies.measure.folder import read
-        rec = events.record(read(args.travel))
-        sil = SI.fit(rec, scene)
-        extra = {"silicone": sil.record(), "piezo_coefficient_scale": cal.gain,
-                 "piezo_coefficient_scale_ci95": list(cal.gain_ci95), "travel": str(args.travel)}
-    text = C.calibrated_scene(args.scene, rig_chain, cal.tau_scale, sil, cal.gain if sil is not None else None)
-    paths = C.write(Path(args.folder), cal, text, extra)
-    print(f"{cal.taxel}: gain {cal.gain:.4g} (95 % {cal.gain_ci95[0]:.4g}-{cal.gain_ci95[1]:.4g}), tau {cal.tau_s:.4g} s "
-          f"(scale {cal.tau_scale:.4g}, 95 % {cal.tau_scale_ci95[0]:.4g}-{cal.tau_scale_ci95[1]:.4g})"
-          + (f", step tau {cal.step_tau_s:.4g} s" if cal.step_tau_s else ""))
-    if sil is not None:
-        print(f"silicone: modulus scale {sil.modulus_scale:.4g} (95 % {sil.modulus_scale_ci95[0]:.4g}-"
-              f"{sil.modulus_scale_ci95[1]:.4g}), loss factor {sil.loss_factor:.4g} (95 % {sil.loss_factor_ci95[0]:.4g}-"
-              f"{sil.loss_factor_ci95[1]:.4g}); piezo coefficient scale {cal.gain:.4g}")
-    print(f"RMS error on {cal.validation_band_Hz[0]:g}-{cal.validation_band_Hz[1]:g} Hz (not fitted): "
-          f"{cal.rms_before_pct:.2f} % before, {cal.rms_after_pct:.2f} % after")
+    from taxel import measure as tm
+    cal = tm.calibrate(args.folder, args.scene, args.step, args.travel, args.resolution)
+    paths = cal.to_folder()
+    print("\n".join(cal.summary()))
     print("wrote " + ", ".join(str(p) for p in paths))
-
-
-def _read_rig(folder):
-    from taxel.studies.measure.folder import _rig_of
-    return _rig_of(Path(folder))

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.studies.measure import wire as W
-from taxel.studies.measure.protocol import Frames, encode_frames
-from taxel.studies.measure.rig import Rig, parse_rig
+from taxel.studies.bench import wire as W
+from taxel.studies.bench.protocol import Frames, encode_frames
+from taxel.studies.bench.rig import Rig, parse_rig
 
 
 def rig_dict(url="loop://", protocol="taxel-cobs", rows=3, cols=3, rate="2 kHz"):

@@ -5,7 +5,7 @@ Noise: the simulator's defaults (1 mV white at the ADC, 5 / 1.5 / 0.5 mV hum at
 30 % time-constant spread, 20 mV rms baseline drift) unless a test says otherwise.
 The drift is a low-passed random walk whose power sits at the time scales of a
 seconds-long time constant: at 20 mV one 2 N step (0.3 V) pins a 1.7-3.1 s tau to
-about 7-12 % at best (studies.measure.step gives the bound), so the step tests check
+about 7-12 % at best (studies.measured.step gives the bound), so the step tests check
 the drift-robust fit's interval there, and the 2 % target on a quiet bench (0.5 mV)."""
 
 import json
@@ -17,13 +17,13 @@ from scipy import signal
 
 import taxel
 from taxel.cli import main
-from taxel.studies.measure import analyze, events, frf
-from taxel.studies.measure.analysis import analyze_folder
-from taxel.studies.measure.importers import import_file
-from taxel.studies.measure.localize import largest_taxel
-from taxel.studies.measure.protocol import encode_frames
-from taxel.studies.measure.rig import load_rig, parse_rig
-from taxel.studies.measure.simulate import Settings, _chain, save_truth, simulate
+from taxel.studies.measured import events, frf, peaks
+from taxel.studies.measured.analysis import analyze_folder
+from taxel.studies.bench.importers import import_file
+from taxel.studies.measured.localize import largest_taxel
+from taxel.studies.bench.protocol import encode_frames
+from taxel.studies.bench.rig import load_rig, parse_rig
+from taxel.studies.bench.simulate import Settings, conditioning_tf, save_truth, simulate
 
 SCENE = "thesis-pzt-3x3-2d"
 
@@ -104,7 +104,7 @@ def test_step_interval_covers_the_truth_over_seeds_where_the_white_fit_does_not(
         rec = events.Record(tr.t, v[:, 9], v[:, :9], rig.names[:9], [c.taxel for c in rig.ordered()[:9]],
                             rig.sampling.rate)
         for kind in hits:
-            f = analyze.fit_step(rec, 4, rig.chains()["taxel_1_1"], truth_C_p(), noise=kind)
+            f = peaks.fit_step(rec, 4, rig.chains()["taxel_1_1"], truth_C_p(), noise=kind)
             hits[kind] += f.tau_ci95_s[0] <= 1.7 <= f.tau_ci95_s[1]
     assert hits["drift"] >= 13 and hits["white"] <= 4, hits
 
@@ -122,7 +122,7 @@ def test_linearity_sensitivity_within_1_percent(tmp_path, cache):
     # the truth: the same peaks on the simulator's clean signals (no noise, hum, drift, quantisation)
     clean = events.Record(truth.t, truth.force, truth.clean_volts[:, :9], rig.names[:9],
                           [c.taxel for c in rig.ordered()[:9]], rig.sampling.rate)
-    exact = {x.taxel: x for x in analyze.linearity(clean, events.segments(clean))}
+    exact = {x.taxel: x for x in peaks.linearity(clean, events.segments(clean))}
     for x in a.linearity:
         assert x.sensitivity_V_per_N == pytest.approx(exact[x.taxel].sensitivity_V_per_N, rel=0.01)
         assert abs(exact[x.taxel].r) > 0.99999 and 0.999 < abs(x.r) <= 1.0
@@ -140,7 +140,7 @@ def test_repeatability_both_definitions_on_a_known_spread(tmp_path):
     assert r.taxel == "taxel_1_1" and r.n == 10
     clean = events.Record(truth.t, truth.force, truth.clean_volts[:, :9], rig.names[:9],
                           [c.taxel for c in rig.ordered()[:9]], rig.sampling.rate)
-    (e,) = analyze.repeatability(clean, events.segments(clean))
+    (e,) = peaks.repeatability(clean, events.segments(clean))
     # the known spread: 3 % rms on the impulse forces, so about 97 % by the spread definition
     forces = np.array([p["force_N"] for p in truth.params["presses"]])
     assert 100 * (1 - forces.std(ddof=1) / forces.mean()) == pytest.approx(e.by_spread_pct, abs=0.3)
@@ -153,7 +153,7 @@ def _exact_frf(truth, rig, C_p, name, freqs):
     """The simulator's own discrete chain (bilinear) and notch for one taxel, per newton."""
     p = truth.params["taxels"][name]
     cond = rig.chains()[name]
-    num, den, _ = _chain(cond, C_p, p["tau_factor"])
+    num, den, _ = conditioning_tf(cond, C_p, p["tau_factor"])
     b, a = signal.bilinear(num, den, fs=rig.sampling.rate)
     _, Hc = signal.freqz(b, a, worN=freqs, fs=rig.sampling.rate)
     lo, hi = cond.notch_frequency - cond.notch_bandwidth / 2, cond.notch_frequency + cond.notch_bandwidth / 2
@@ -194,7 +194,7 @@ def test_h1_matches_the_exact_frf_within_1_percent(tmp_path):
 
 
 def _record(folder):
-    from taxel.studies.measure.folder import read
+    from taxel.studies.bench.folder import read
     return events.record(read(folder))
 
 
@@ -284,12 +284,12 @@ def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     assert rec["correct_rate"] == 1.0
     # the design-time prediction (Cramer-Rao, white noise only) at the taxel centres, for the median
     # sensitivity and press force of this record, against the estimator's measured error
-    from taxel.studies.measure.influence import influence
-    from taxel.studies.measure.predict import accuracy_map
+    from taxel.analyses.influence import influence
+    from taxel.analyses.localization import accuracy_map
     infl = influence(taxel.load(SCENE))
     S = float(np.median(np.abs(list(mb["sensitivity_V_per_N"].values()))))
     F = float(np.median([p["force_N"] for p in truth.params["presses"]]))
-    from taxel.studies.measure.localize import reading_noise
+    from taxel.studies.measured.localize import reading_noise
     amap = accuracy_map(infl, 3, 3, S, reading_noise(1e-3, 2000.0), F)      # 1 mV per sample, 9 samples read
     predicted = float(np.sqrt(np.mean(amap.at_taxels(1e3 * infl.pitch) ** 2)))
     assert 0.7 < mb["position_error_mm"]["rms"] / predicted < 3.0           # hum and drift residuals add
@@ -312,7 +312,7 @@ def test_presses_between_taxels_both_estimators_scored_apart(tmp_path, cache):
     assert rec["correct_rate"] == 1.0 and rec["matched"] >= 40          # on-taxel presses only
     assert mb["presses"] >= 15 and mb["between"]["presses"] >= 15 and mb["edge"]["presses"] >= 5
     assert mb["position_error_mm"]["rms"] < 0.5 and mb["force_error_pct"]["rms"] < 5
-    # a corner press can land at its mirror image (studies.measure.localize): the median and 90th percentile
+    # a corner press can land at its mirror image (studies.measured.localize): the median and 90th percentile
     assert mb["between"]["position_error_mm"]["median"] < 0.3 and mb["between"]["position_error_mm"]["p90"] < 1.0
     assert mb["between"]["force_error_pct"]["rms"] < 10
     # the largest taxel names a centre: a press in a gap is pitch / 2 (3.5 mm) or more away
@@ -327,7 +327,7 @@ def test_a_press_beyond_an_edge_taxel_looks_like_a_weaker_press_on_it(cache):
     """Why the estimator keeps to the taxels' span: 0.5-1.7 mm beyond taxel_0_0, with the force that
     gives the same peak on it, every one of the nine peaks is within 6 mV (of 0.4 V) of a press on it;
     the neighbours' 7 % crosstalk (28 mV) is what carries the position."""
-    from taxel.studies.measure.influence import influence
+    from taxel.analyses.influence import influence
     infl = influence(taxel.load(SCENE))
     taxels = [(r, c) for r in range(3) for c in range(3)]
     on = 0.4 * infl.weights((0.0, 0.0), taxels)

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from measure_util import random_frames, rig, rig_dict, wire_of
 
-from taxel.studies.measure import folder as F
-from taxel.studies.measure.capture import PortError, capture, open_port
-from taxel.studies.measure.wire import Player
+from taxel.studies.bench import folder as F
+from taxel.studies.bench.capture import PortError, capture, open_port
+from taxel.studies.bench.wire import Player
 
 RATE = 2000.0
 
@@ -23,7 +23,7 @@ def _check_all(res, frames):
     m = F.read(res.folder)
     assert m.seq.tolist() == frames.seq.tolist() and m.t_us.tolist() == frames.t_us.tolist()
     assert np.array_equal(m.counts, frames.counts)
-    s = res.summary
+    s = res.stats
     assert s["frames"] == len(frames)
     assert s["crc_failures"] == s["cobs_failures"] == s["length_failures"] == 0
     assert s["seq_gaps"] == s["frames_lost"] == s["resyncs"] == 0
@@ -62,9 +62,9 @@ def test_port_vanishes_data_kept(tmp_path, kind):
         player.start()
         res = capture(r, tmp_path / "m", seconds=20, port=port)
     assert res.ended == "port vanished" and "vanished" in res.message and "\n" not in res.message
-    assert res.summary["seconds"] < 10
+    assert res.stats["seconds"] < 10
     m = F.read(tmp_path / "m")
-    assert m.summary["status"] == "port vanished"
+    assert m.stats["status"] == "port vanished"
     assert len(m) == len(frames) and np.array_equal(m.counts, frames.counts)
 
 
@@ -125,7 +125,7 @@ def test_kill_9_then_rebuild(tmp_path):
     k = len(m)
     assert 0 < k < len(frames)
     assert np.array_equal(m.counts, frames.counts[:k]) and np.array_equal(m.seq, frames.seq[:k])
-    assert m.summary["crc_failures"] == 0 and m.summary["seq_gaps"] == 0
+    assert m.stats["crc_failures"] == 0 and m.stats["seq_gaps"] == 0
     if before is not None:                                  # what was flushed is a prefix of what was received
         assert np.array_equal(before.counts, frames.counts[:len(before)])
 
@@ -140,9 +140,9 @@ def test_ctrl_c_stops_cleanly(tmp_path):
         out, err = proc.communicate(timeout=10)
     assert proc.returncode == 0, err
     m = F.read(tmp_path / "m")
-    assert m.summary["status"] == "interrupted" and 0 < len(m) < len(frames)
-    assert m.summary["crc_failures"] == m.summary["cobs_failures"] == m.summary["resyncs"] == 0   # a cut frame
-    assert m.summary["truncated_bytes"] < 52                                                # is not a failure
+    assert m.stats["status"] == "interrupted" and 0 < len(m) < len(frames)
+    assert m.stats["crc_failures"] == m.stats["cobs_failures"] == m.stats["resyncs"] == 0   # a cut frame
+    assert m.stats["truncated_bytes"] < 52                                                # is not a failure
     assert np.array_equal(m.counts, frames.counts[:len(m)])
     assert np.array_equal(F.rebuild(tmp_path / "m").counts, m.counts)
 
@@ -167,4 +167,4 @@ def test_damaged_hdf5_points_to_rebuild(tmp_path):
         F.read(tmp_path / "m")
     assert np.array_equal(F.rebuild(tmp_path / "m").counts, frames.counts)
     assert np.array_equal(F.read(tmp_path / "m").counts, frames.counts)
-    assert res.summary["frames"] == len(frames)
+    assert res.stats["frames"] == len(frames)

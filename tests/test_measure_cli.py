@@ -12,10 +12,10 @@ import pytest
 from measure_util import rig, rig_dict
 
 from taxel.cli import main
-from taxel.studies.measure import folder as F
-from taxel.studies.measure.capture import capture
+from taxel.studies.bench import folder as F
+from taxel.studies.bench.capture import capture
 
-BENCH = Path(__file__).parents[1] / "studies" / "measure" / "builtin" / "thesis-bench.toml"
+BENCH = Path(__file__).parents[1] / "studies" / "bench" / "builtin" / "thesis-bench.toml"
 
 
 def test_simulate_on_loopback_port_then_capture(tmp_path):
@@ -32,7 +32,7 @@ def test_simulate_on_loopback_port_then_capture(tmp_path):
             if line.startswith("serving on "):
                 url = line.split()[2]
         assert url and url.startswith("socket://127.0.0.1:")
-        from taxel.studies.measure.rig import load_rig, parse_rig
+        from taxel.studies.bench.rig import load_rig, parse_rig
         r = load_rig("thesis-bench")
         r = parse_rig({**r.model_dump(), "port": {**r.port.model_dump(), "url": url}}, si_numbers=True)
         res = capture(r, tmp_path / "m", seconds=30)
@@ -47,8 +47,8 @@ def test_simulate_on_loopback_port_then_capture(tmp_path):
     got = [(int(s), *map(int, c)) for s, c in zip(m.seq, m.counts)]
     intact = [(int(s), *map(int, c)) for s, c, ok in zip(truth["seq"], truth["counts"], truth["intact"]) if ok]
     assert all(g in sent for g in got) and set(intact) <= set(got)
-    assert m.summary["crc_failures"] + m.summary["cobs_failures"] + m.summary["length_failures"] > 0
-    assert m.summary["frames_lost"] == len(truth["seq"]) - len(got)
+    assert m.stats["crc_failures"] + m.stats["cobs_failures"] + m.stats["length_failures"] > 0
+    assert m.stats["frames_lost"] == len(truth["seq"]) - len(got)
 
 
 def _toml(d: dict) -> str:
@@ -93,7 +93,7 @@ def test_bad_rig_files(tmp_path, capsys, case, data, msg):
 
 def test_good_rig_file_round_trip(tmp_path):
     (tmp_path / "rig.toml").write_text(_toml(rig_dict()))
-    from taxel.studies.measure.rig import load_rig
+    from taxel.studies.bench.rig import load_rig
     assert load_rig(tmp_path / "rig.toml") == rig()
     assert load_rig(BENCH).n == 10
 
@@ -163,7 +163,7 @@ def test_simulate_on_a_pty_in_ascii_then_capture(tmp_path):
     truth = np.load(tmp_path / "truth" / "truth.npz")
     m = F.read(tmp_path / "m")
     assert np.array_equal(m.counts, truth["counts"]) and np.array_equal(m.seq, truth["seq"])
-    assert m.summary["crc_failures"] == 0 and m.summary["frames_lost"] == 0 and m.summary["resyncs"] == 0
+    assert m.stats["crc_failures"] == 0 and m.stats["frames_lost"] == 0 and m.stats["resyncs"] == 0
 
 
 def test_simulate_between_out_of_range_and_a_bad_press_point(tmp_path, capsys):
@@ -171,8 +171,8 @@ def test_simulate_between_out_of_range_and_a_bad_press_point(tmp_path, capsys):
                  "--between", "1.5", "--to", str(tmp_path / "s.bin")]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--between" in err and not (tmp_path / "s.bin").exists()
-    from taxel.studies.measure.folder import MeasurementError
-    from taxel.studies.measure.localize import read_presses
+    from taxel.studies.bench.folder import MeasurementError
+    from taxel.studies.measured.localize import read_presses
     (tmp_path / "p.json").write_text('[{"t": 1.0, "position": [0, 1], "xy_mm": [3.0, "x"]}]')
     with pytest.raises(MeasurementError, match="press 0 needs t"):
         read_presses(tmp_path / "p.json")
@@ -182,7 +182,7 @@ def test_simulate_between_out_of_range_and_a_bad_press_point(tmp_path, capsys):
 
 
 def test_travel_channel_takes_a_length_sensitivity(tmp_path, capsys):
-    from taxel.studies.measure.rig import load_rig
+    from taxel.studies.bench.rig import load_rig
     d = rig_dict()
     d["channels"].append({"index": 10, "name": "travel", "sensitivity": "1 V/mm"})
     assert parse_ok(d).ordered()[10].volts_per_si == pytest.approx(1000.0)
@@ -198,5 +198,5 @@ def test_travel_channel_takes_a_length_sensitivity(tmp_path, capsys):
 
 
 def parse_ok(d):
-    from taxel.studies.measure.rig import parse_rig
+    from taxel.studies.bench.rig import parse_rig
     return parse_rig(d)

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from measure_util import random_frames, rig, wire_of, write_lvm
 
-from taxel.studies.measure import folder as F
-from taxel.studies.measure.export import export_csv
-from taxel.studies.measure.importers import import_file
+from taxel.studies.bench import folder as F
+from taxel.studies.bench.export import export_csv
+from taxel.studies.bench.importers import import_file
 
 EXAMPLE_LVM = Path(__file__).parents[1] / "docs" / "examples" / "thesis-bench-step.lvm"
 
@@ -58,7 +58,7 @@ def test_tdms_round_trip(tmp_path):
     m = import_file(tmp_path / "bench.tdms", r, tmp_path / "m")
     assert np.array_equal(m.values, values)
     assert np.array_equal(m.t_us, np.arange(300) * 500)
-    assert m.summary["rate_Hz"] == pytest.approx(2000.0)
+    assert m.stats["rate_Hz"] == pytest.approx(2000.0)
 
 
 @pytest.mark.parametrize("decimal,sep,segments", [(".", "\t", 1), (",", "\t", 3), (".", ",", 2)])
@@ -76,7 +76,7 @@ def test_lvm_round_trip(tmp_path, decimal, sep, segments):
 def test_shipped_lvm_example(tmp_path):
     m = import_file(EXAMPLE_LVM, rig(), tmp_path / "m")
     force = m.values[:, -1]
-    assert len(m) == 400 and m.summary["rate_Hz"] == pytest.approx(2000.0, rel=1e-6)
+    assert len(m) == 400 and m.stats["rate_Hz"] == pytest.approx(2000.0, rel=1e-6)
     assert force[:100].mean() < 0.05 and force[-50:].mean() > 0.5          # a 1 N step at 0.1 s
 
 
@@ -95,7 +95,7 @@ def test_simulate_cli_physics(tmp_path, monkeypatch):
                         "--rig", "thesis-bench", "--out", str(tmp_path / "m")], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     m = F.read(tmp_path / "m")
-    assert np.array_equal(m.counts, truth["counts"]) and m.summary["frames_lost"] == 0
+    assert np.array_equal(m.counts, truth["counts"]) and m.stats["frames_lost"] == 0
     clean = truth["clean_volts"]
     names = meta["channels"]
     c, nb = names.index("taxel_1_1"), names.index("taxel_1_2")
@@ -122,8 +122,8 @@ def test_simulator_fem_transient_settles_on_the_static_fem_charge(tmp_path, monk
     is the static FEM short-circuit charge; the lumped model's is about 4.5 x smaller."""
     import taxel
     from taxel.analyses import solve_static
-    from taxel.studies.measure.rig import load_rig
-    from taxel.studies.measure.simulate import Settings, simulate
+    from taxel.studies.bench.rig import load_rig
+    from taxel.studies.bench.simulate import Settings, simulate
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     scene = taxel.load("thesis-pzt-3x3-2d")
     bench = load_rig("thesis-bench")

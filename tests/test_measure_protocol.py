@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from measure_util import random_frames, wire_of
 
-from taxel.studies.measure import protocol as P
+from taxel.studies.bench import protocol as P
 
 
 def crc_bitwise(data: bytes) -> int:

@@ -3,7 +3,7 @@ thesis's Fig. 2.5 study, the sensitivity-crosstalk fronts of the thesis PZT and
 PVDF designs (2D, then verified in 3D: optimize.multifidelity), the frequency
 response through the charge amplifier and the step response through the 500 MOhm
 input, the validation loop on the simulated rig (simulate, capture over a pty,
-analyze, calibrate, localize: studies.measure.pipeline), then build the report;
+analyze, calibrate, localize: studies.measured.pipeline), then build the report;
 `small` is the reduced run CI uses. Each step is a call of the API (taxel.api:
 run_study, optimize, solve, report)."""
 
@@ -19,7 +19,7 @@ from taxel.optimize import spec as O
 from taxel.optimize.run import reference_x
 from taxel.reports import analysis
 from taxel.reports.multifidelity import draw as draw_verified_front
-from taxel.studies.measure.pipeline import run as validate
+from taxel import measure
 from taxel.studies.spec import Study, load_study
 
 STUDY_PLOTS = ("voltage_pressed", "max_strain")
@@ -89,7 +89,7 @@ def run(root: Path, small: bool = False) -> Path:
         folders.append(out)
     print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize")
     shutil.rmtree(root / "validation", ignore_errors=True)
-    validate(root / "validation")
+    measure.validate(root / "validation")
     folders.append(root / "validation")
     print("[5/5] report")
     what = ("taxel demo" + (" --small" if small else "") + ": thesis Fig. 2.5 study, sensitivity-crosstalk "

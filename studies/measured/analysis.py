@@ -1,14 +1,14 @@
 """`taxel measure analyze`: one measurement folder in, analysis.json (+ CSV) in it.
 
-The record's kind (step, impulse, chirp, presses; studies.measure.events) decides
+The record's kind (step, impulse, chirp, presses; studies.measured.events) decides
 what is computed, each defined in its module:
-  step     the first-order fit of every taxel that moved (studies.measure.analyze);
+  step     the first-order fit of every taxel that moved (studies.measured.step);
   presses  linearity of every taxel pressed at least three times;
   impulse  repeatability (both definitions) of the pressed taxel;
   chirp    H1 with coherence and the amplitude-spectrum ratio of the pressed taxel
            (the channel with the largest response), and with a scene the lumped
            model and the FEM (a frequency sweep, seconds in 2D) through the rig's
-           readout chain with their RMS errors (studies.measure.frf).
+           readout chain with their RMS errors (studies.measured.frf).
 A scene must describe the rig's array: every taxel_R_C channel inside its rows x cols.
 Written: DIR/analysis.json, and DIR/analysis-frf.csv (chirp), DIR/analysis-peaks.csv
 (presses, impulses). Nothing is written when the analysis fails.
@@ -18,13 +18,14 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from taxel.studies.measure import analyze, events, frf
-from taxel.studies.measure.folder import MeasurementError, read, write_json
+from taxel.studies.measured import events, frf, peaks
+from taxel.studies.bench.folder import MeasurementError, read, write_json
 
 JSON, FRF_CSV, PEAKS_CSV = "analysis.json", "analysis-frf.csv", "analysis-peaks.csv"
 
@@ -34,9 +35,9 @@ class Analysis:
     folder: Path
     kind: str
     scene: str | None
-    steps: list[analyze.StepFit] = field(default_factory=list)
-    linearity: list[analyze.Linearity] = field(default_factory=list)
-    repeatability: list[analyze.Repeatability] = field(default_factory=list)
+    steps: list[peaks.StepFit] = field(default_factory=list)
+    linearity: list[peaks.Linearity] = field(default_factory=list)
+    repeatability: list[peaks.Repeatability] = field(default_factory=list)
     frf: frf.FRF | None = None
     C_p_F: float | None = None
 
@@ -69,22 +70,43 @@ class Analysis:
         return lines
 
     def write(self) -> list[Path]:
-        """analysis.json and the CSVs, each written whole (atomically) after everything was computed."""
-        written = [self.folder / JSON]
+        """analysis.json and the CSVs into the measurement folder (`to_folder`)."""
+        return self.to_folder(self.folder)
+
+    def to_folder(self, folder: str | Path | None = None) -> list[Path]:
+        """analysis.json and the CSVs in `folder` (default: the measurement folder), each written whole
+        (atomically) after everything was computed; returns the files written."""
+        folder = Path(folder) if folder is not None else self.folder
+        folder.mkdir(parents=True, exist_ok=True)
+        written = [folder / JSON]
         files: dict[Path, str] = {}
         if self.frf is not None:
-            files[self.folder / FRF_CSV] = _csv(self.frf.csv_header(), self.frf.csv_rows())
+            files[folder / FRF_CSV] = _csv(self.frf.csv_header(), self.frf.csv_rows())
         rows = [[x.taxel, "presses", f, v] for x in self.linearity for f, v in zip(x.forces_N, x.peaks_V)]
         rows += [[x.taxel, "impulse", f, v] for x in self.repeatability for f, v in zip(x.forces_N, x.peaks_V)]
         if rows:
-            files[self.folder / PEAKS_CSV] = _csv(["taxel", "event", "force_peak_N", "voltage_peak_V"], rows)
+            files[folder / PEAKS_CSV] = _csv(["taxel", "event", "force_peak_N", "voltage_peak_V"], rows)
         for path, text in files.items():
             tmp = path.with_suffix(".tmp")
             tmp.write_text(text)
             tmp.replace(path)
             written.append(path)
-        write_json(self.folder / JSON, self.record())
+        write_json(folder / JSON, self.record())
         return written
+
+    @classmethod
+    def read(cls, folder: str | Path) -> Analysis:
+        """The analysis written in `folder` (analysis.json); one-line MeasurementError if there is none."""
+        folder = Path(folder)
+        try:
+            rec = json.loads((folder / JSON).read_text())
+        except (OSError, ValueError):
+            raise MeasurementError(f"{folder}: no readable {JSON}; run 'taxel measure analyze {folder}' first") from None
+        return cls(folder, rec["kind"], rec["scene"],
+                   [peaks.StepFit(**{**s, "tau_ci95_s": tuple(s["tau_ci95_s"])}) for s in rec["step"]],
+                   [peaks.Linearity(**x) for x in rec["linearity"]],
+                   [peaks.Repeatability(**x) for x in rec["repeatability"]],
+                   frf.FRF.from_record(rec["frf"]) if rec["frf"] is not None else None, rec["C_p_F"])
 
 
 def _csv(header, rows) -> str:
@@ -126,11 +148,11 @@ def analyze_folder(folder, scene=None, scene_name: str | None = None, kind: str 
     if kind == "step":
         moved = _moved(rec)
         for k in moved:
-            out.steps.append(analyze.fit_step(rec, k, chains[rec.names[k]], lm.C_p if lm is not None else None))
+            out.steps.append(peaks.fit_step(rec, k, chains[rec.names[k]], lm.C_p if lm is not None else None))
     elif kind == "presses":
-        out.linearity = analyze.linearity(rec, segs)
+        out.linearity = peaks.linearity(rec, segs)
     elif kind == "impulse":
-        out.repeatability = analyze.repeatability(rec, segs)
+        out.repeatability = peaks.repeatability(rec, segs)
     else:
         a, b = frf.chirp_span(rec)
         k = int(np.argmax(np.std(rec.volts[a:b], axis=0)))

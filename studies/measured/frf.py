@@ -31,8 +31,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from taxel.studies.measure.events import Record, segments
-from taxel.studies.measure.folder import MeasurementError
+from taxel.studies.measured.events import Record, segments
+from taxel.studies.bench.folder import MeasurementError
 
 
 class ChirpError(MeasurementError):
@@ -57,7 +57,20 @@ class FRF:
                 "H1_phase_deg": np.degrees(np.angle(self.H1)).tolist(), "coherence": self.coherence.tolist(),
                 "ratio_V_per_N": self.ratio.tolist(),
                 "models": {k: {"abs_V_per_N": [float(x) if np.isfinite(x) else None for x in np.abs(v)],
+                               "phase_deg": [float(x) if np.isfinite(x) else None for x in np.degrees(np.angle(v))],
                                **rms_error(self, k)} for k, v in self.models.items()}}
+
+    @classmethod
+    def from_record(cls, rec: dict) -> FRF:
+        """The FRF of its `record()` (a model written without its phase reads back with phase 0)."""
+        def cplx(mag, deg):
+            m = np.array([np.nan if x is None else x for x in mag], float)
+            d = np.array([np.nan if x is None else x for x in deg], float) if deg is not None else np.zeros(len(m))
+            return m * np.exp(1j * np.radians(d))
+        return cls(rec["taxel"], np.array(rec["freqs_Hz"], float), cplx(rec["H1_abs_V_per_N"], rec["H1_phase_deg"]),
+                   np.array(rec["coherence"], float), np.array(rec["ratio_V_per_N"], float), tuple(rec["span_s"]),
+                   int(rec["nperseg"]),
+                   {k: cplx(v["abs_V_per_N"], v.get("phase_deg")) for k, v in rec.get("models", {}).items()})
 
     def csv_rows(self) -> list[list[float]]:
         cols = [self.freqs, np.abs(self.H1), np.degrees(np.angle(self.H1)), self.coherence, self.ratio]

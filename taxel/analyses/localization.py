@@ -1,7 +1,7 @@
 """A predicted localization accuracy map of a design, before anything is built.
 
 For a press of force F at (x, y) the taxel peaks are modelled as in
-studies.measure.localize, V_(r,c) = S F G_r(y) G_c(x) (S one sensitivity for every
+studies.measured.localize, V_(r,c) = S F G_r(y) G_c(x) (S one sensitivity for every
 taxel, V per N at its own centre; G the FEM's influence functions), plus white
 noise of rms sigma on every peak. The Cramer-Rao bound of an unbiased estimate of
 (x, y, F) is the inverse Fisher information, cov = sigma^2 (J^T J)^-1 with
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from taxel.studies.measure.influence import Influence
+from taxel.analyses.influence import Influence
 
 
 @dataclass
@@ -72,7 +72,7 @@ def accuracy_map(infl: Influence, rows: int, cols: int, sensitivity: float, nois
     return AccuracyMap(1e3 * xs, 1e3 * ys, pos, frc, noise_V, sensitivity, force)
 
 
-NOISE_V = 1e-3      # the simulated thesis bench's white noise at the ADC (studies.measure.simulate.Settings)
+NOISE_V = 1e-3      # the simulated thesis bench's white noise at the ADC (studies.bench.simulate.Settings)
 
 
 @dataclass
@@ -87,7 +87,7 @@ class LocalizationError:
 def localization_error(scene, noise_V: float = NOISE_V, solve=None, per_pitch: int = 8) -> LocalizationError:
     """The predicted position error of a design, a metric for the optimizer.
 
-    The influence functions over the taxels' span (studies.measure.influence, every
+    The influence functions over the taxels' span (taxel.analyses.influence, every
     pitch / per_pitch, no margins, mirror symmetry: 9 static solves for a 3-taxel
     row at per_pitch 8, against 17 without the mirror; coarser sampling is cheaper but
     puts the bound 0.7-9 x off), the Cramer-Rao map above (every pitch / 8
@@ -99,7 +99,7 @@ def localization_error(scene, noise_V: float = NOISE_V, solve=None, per_pitch: i
     benchmarks/measure_influence_cost.py measures the solves and the error of per_pitch
     2 and 4 against 8. `solve` (scene -> {electrode: V}) lets the optimizer keep every
     press position in a study store."""
-    from taxel.studies.measure.influence import influence
+    from taxel.analyses.influence import influence
     arr = scene.array
     if arr is None or arr.cols < 2:
         raise ValueError("localization_error needs a taxel array with at least two columns")

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from taxel.studies.measure.folder import Measurement, MeasurementError
+from taxel.studies.bench.folder import Measurement, MeasurementError
 
 KINDS = ("step", "impulse", "chirp", "presses")
 

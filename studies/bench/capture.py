@@ -19,10 +19,10 @@ from typing import Callable
 
 import serial
 
-from taxel.studies.measure.folder import (RAW, SUMMARY, MeasurementError, Writer, now_iso, summary_record,
+from taxel.studies.bench.folder import (RAW, SUMMARY, MeasurementError, Writer, now_iso, read, summary_record,
                                           write_json)
-from taxel.studies.measure.protocol import Decoder, Frames, SeqStats
-from taxel.studies.measure.rig import Rig
+from taxel.studies.bench.protocol import Decoder, Frames, SeqStats
+from taxel.studies.bench.rig import Rig
 
 READ_SIZE = 8192
 TIMEOUT = 0.05
@@ -34,10 +34,28 @@ class PortError(ValueError):
 
 @dataclass
 class CaptureResult:
+    """A finished capture: its folder, `stats` (its summary.json), how it ended."""
+
     folder: Path
-    summary: dict
+    stats: dict
     ended: str                 # "seconds" | "stopped" | "interrupted" | "port vanished"
     message: str
+
+    def record(self) -> dict:
+        """JSON-ready: the folder, how the capture ended, and summary.json."""
+        return {"folder": str(self.folder), "ended": self.ended, "message": self.message, "stats": self.stats}
+
+    def summary(self) -> list[str]:
+        """For a person: the counters, the rate and the jitter in one line (two if the port vanished)."""
+        s = self.stats
+        lines = [f"taxel: {self.message}"] if self.ended == "port vanished" else []
+        return lines + [f"{s['frames']} frames, {s['crc_failures']} CRC failures, {s['seq_gaps']} seq gaps "
+                        f"({s['frames_lost']} frames lost), {s['resyncs']} resyncs, rate "
+                        f"{(s['rate_Hz'] or 0):.2f} Hz, jitter {(s['jitter_us'] or 0):.1f} us; {self.folder}"]
+
+    def measurement(self):
+        """The captured folder, read (studies.bench.folder.read)."""
+        return read(self.folder)
 
 
 def open_port(rig: Rig) -> serial.SerialBase:

@@ -49,7 +49,7 @@ from taxel.fem.circuits import Readout
 from taxel.schema import Strict
 from taxel.scene import one_line, read_toml
 
-from taxel.studies.measure.protocol import MAX_CHANNELS, Protocol
+from taxel.studies.bench.protocol import MAX_CHANNELS, Protocol
 
 
 class RigError(ValueError):
@@ -230,7 +230,7 @@ class Rig(Strict):
 
 
 def _rig_line(err: ValidationError) -> str:
-    return one_line(err).replace("the scene reference in README.md", "the rig reference in studies/measure/rig.py")
+    return one_line(err).replace("the scene reference in README.md", "the rig reference in studies/bench/rig.py")
 
 
 def parse_rig(data: dict, source: str = "rig", si_numbers: bool = False) -> Rig:

@@ -2,9 +2,9 @@
 
 Definitions (t in s, v the taxel's conditioning output in V, F the load cell in N):
 
-Step response: studies.measure.step (a first-order fit, robust to baseline drift).
+Step response: studies.measured.step (a first-order fit, robust to baseline drift).
 
-Peaks. For each event (studies.measure.events) the force peak is the largest
+Peaks. For each event (studies.measured.events) the force peak is the largest
 2 ms-averaged force above its level 15-60 ms before the event; a taxel's peak is,
 after the mains hum is filtered out (events.dehum: zero-phase notches at 50, 150
 and 250 Hz, applied alike to any signal compared with), its signed extreme (largest |v - baseline|, baseline the median 15-60 ms before)
@@ -30,8 +30,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy import stats
 
-from taxel.studies.measure.events import Record, dehum, smooth
-from taxel.studies.measure.step import StepFit, fit_step, step_model
+from taxel.studies.measured.events import Record, dehum, smooth
+from taxel.studies.measured.step import StepFit, fit_step, step_model
 
 __all__ = ["StepFit", "fit_step", "step_model", "Linearity", "Repeatability", "peaks", "linearity",
            "repeatability"]

@@ -9,14 +9,14 @@ without it the press is on its taxel's centre. The simulator's truth.json
 taxel when its point is within pitch / 8 of the taxel's centre in x and y, else
 "between" (in a gap or at a corner inside the outer taxels' centres) or "edge"
 (beyond them, over the margin); `position` is then the taxel it is nearest to. Each known press is matched to the loading event on the
-force channel (studies.measure.events) that starts within `window_s` after its
+force channel (studies.measured.events) that starts within `window_s` after its
 time (a press the force channel did not see is "missed"); F_peak is its load-cell
-peak (studies.measure.analyze.peaks). The confusion matrix takes the taxel peaks of
-studies.measure.analyze.peaks (each channel's own extreme). The position and force
-estimates take the readings V_k of studies.measure.readings instead.
+peak (studies.measured.peaks.peaks). The confusion matrix takes the taxel peaks of
+studies.measured.peaks.peaks (each channel's own extreme). The position and force
+estimates take the readings V_k of studies.measured.readings instead.
 
 Each taxel's sensitivity S_k is calibrated on some of the on-taxel presses and both
-estimators are scored on the others (studies.measure.readings), separately for on-
+estimators are scored on the others (studies.measured.readings), separately for on-
 and between-taxel presses:
   position error = |(x, y) - press point| in mm,
   force error    = 100 % x (F - F_peak) / F_peak.
@@ -29,7 +29,7 @@ presses apart; correct rate = trace(C) / presses, over the on-taxel presses.
 
 Model-based estimator: (x, y, F) by least squares of
     V_(r,c) = S_(r,c) F G_r(y) G_c(x),
-G the FEM's influence functions (studies.measure.influence). The influence
+G the FEM's influence functions (taxel.analyses.influence). The influence
 functions change sign in the gaps (a press there lifts both neighbours), so the
 fit has distant local minima and a start at the largest taxel can end in the
 wrong gap: the fit first scans a grid every pitch / 16 over the taxels' span,
@@ -62,19 +62,19 @@ from pathlib import Path
 import numpy as np
 from scipy import ndimage, optimize
 
-from taxel.studies.measure.analyze import peaks
-from taxel.studies.measure.events import Record, record, segments
-from taxel.studies.measure.folder import MeasurementError, read, write_json
-from taxel.studies.measure.readings import amplitudes, reading_noise, scored, sensitivities
+from taxel.studies.measured.peaks import peaks
+from taxel.studies.measured.events import Record, record, segments
+from taxel.studies.bench.folder import MeasurementError, read, write_json
+from taxel.studies.measured.readings import amplitudes, reading_noise, scored, sensitivities
 
 JSON = "localization.json"
-__all__ = ["Press", "Scores", "Localization", "read_presses", "match", "largest_taxel", "model_based",
+__all__ = ["PressEvent", "Scores", "Localization", "read_presses", "match", "largest_taxel", "model_based",
            "localize_folder", "amplitudes", "reading_noise", "scored", "sensitivities"]
 CLASSES = ("on", "between", "edge")
 
 
 @dataclass(frozen=True)
-class Press:
+class PressEvent:
     t: float
     position: tuple[int, int]                  # the pressed (or nearest) taxel
     xy_mm: tuple[float, float] | None = None   # the press point; None: the taxel's centre
@@ -89,8 +89,8 @@ class Press:
         return abs(x - self.position[1] * pitch_mm) <= pitch_mm / 8 and abs(y - self.position[0] * pitch_mm) <= pitch_mm / 8
 
 
-def as_press(p) -> Press:
-    return p if isinstance(p, Press) else Press(float(p[0]), tuple(p[1]))
+def as_press(p) -> PressEvent:
+    return p if isinstance(p, PressEvent) else PressEvent(float(p[0]), tuple(p[1]))
 
 
 @dataclass
@@ -106,6 +106,13 @@ class Scores:
         self.force_error_pct.append(float(100 * (F - f) / f))
         self.estimates_mm.append([float(est_xy[0]), float(est_xy[1])])
         self.truth_mm.append([float(true_xy[0]), float(true_xy[1])])
+
+    @classmethod
+    def from_record(cls, rec: dict) -> Scores:
+        """The scores of their `record()`."""
+        pp = rec.get("per_press") or {}
+        return cls(list(pp.get("error_mm", [])), list(pp.get("force_error_pct", [])),
+                   list(pp.get("estimate_mm", [])), list(pp.get("truth_mm", [])))
 
     def record(self) -> dict:
         e, f = np.array(self.position_error_mm), np.abs(self.force_error_pct)
@@ -162,12 +169,33 @@ class Localization:
                                  f"% rms over {r['presses']} presses")
         return lines
 
-    def write(self, folder: Path) -> Path:
+    def write(self, folder: str | Path) -> Path:
+        """localization.json in `folder` (`to_folder`)."""
+        return self.to_folder(folder)
+
+    def to_folder(self, folder: str | Path) -> Path:
+        """localization.json in `folder`; returns its path."""
         write_json(Path(folder) / JSON, self.record())
         return Path(folder) / JSON
 
+    @classmethod
+    def read(cls, folder: str | Path) -> Localization:
+        """The localization written in `folder` (localization.json); one-line MeasurementError if none."""
+        try:
+            rec = json.loads((Path(folder) / JSON).read_text())
+        except (OSError, ValueError):
+            raise MeasurementError(f"{folder}: no readable {JSON}; run 'taxel measure localize {folder}' first") from None
+        mb = rec.get("model_based")
+        model = {} if mb is None else {"on": Scores.from_record(mb), "between": Scores.from_record(mb["between"]),
+                                       "edge": Scores.from_record(mb["edge"])}
+        between = rec.get("confusion_between")
+        return cls(rec["taxels"], np.array(rec["confusion"], int), rec["correct_rate"], rec["matched"], rec["missed"],
+                   rec["truth"], rec["estimate"], None if between is None else np.array(between, int),
+                   {c: Scores.from_record(r) for c, r in rec.get("largest_taxel", {}).items()}, model,
+                   mb["sensitivity_V_per_N"] if mb is not None else {})
 
-def read_presses(path) -> list[Press]:
+
+def read_presses(path) -> list[PressEvent]:
     """The known presses; one-line MeasurementError otherwise."""
     path = Path(path)
     try:
@@ -191,7 +219,7 @@ def read_presses(path) -> list[Press]:
             xy = None if xy is None else (float(xy[0]), float(xy[1]))
             if xy is not None and not all(np.isfinite(xy)):
                 raise ValueError
-            out.append(Press(float(p["t"]), (int(pos[0]), int(pos[1])), xy))
+            out.append(PressEvent(float(p["t"]), (int(pos[0]), int(pos[1])), xy))
         except (KeyError, TypeError, IndexError, ValueError):
             raise MeasurementError(f"{path}: press {i} needs t (s), position [row, col] and optionally "
                                    "xy_mm [x, y] (finite numbers); fix that entry") from None
@@ -199,7 +227,7 @@ def read_presses(path) -> list[Press]:
 
 
 def match(rec: Record, presses, window_s: float = 0.1, with_segments: bool = False):
-    """(matched [(Press, F_peak, V (k,))], missed) of the known presses; with_segments adds each
+    """(matched [(PressEvent, F_peak, V (k,))], missed) of the known presses; with_segments adds each
     press's event (start, stop) as a fourth item."""
     segs = segments(rec)
     starts = np.array([a for a, _ in segs]) / rec.rate
@@ -249,7 +277,7 @@ def largest_taxel(rec: Record, presses, window_s: float = 0.1, pitch_mm: float |
     return loc
 
 
-def _class(p: Press, pitch_mm: float, span_mm: tuple[float, float] | None = None) -> str:
+def _class(p: PressEvent, pitch_mm: float, span_mm: tuple[float, float] | None = None) -> str:
     """on (a taxel), between (in a gap, inside the taxels' span) or edge (beyond the outer taxels' centres,
     span_mm = (x_max, y_max), the last taxel centres)."""
     if p.on_taxel(pitch_mm):
@@ -309,6 +337,6 @@ def localize_folder(folder, presses_file, scene=None) -> Localization:
     rec, presses = record(m), read_presses(presses_file)
     if scene is None:
         return largest_taxel(rec, presses)
-    from taxel.studies.measure.influence import influence
+    from taxel.analyses.influence import influence
     infl = influence(scene)
     return model_based(rec, presses, infl, loc=largest_taxel(rec, presses, pitch_mm=1e3 * infl.pitch))

@@ -14,7 +14,7 @@ each taxel's 1st, 3rd, 5th, ... on-taxel press (the median of V_k / F_peak, divi
 by G_r(y) G_c(x) at the press's known point when the influence functions are at
 hand: an on-taxel press may be up to pitch / 8 off the centre; a taxel
 with none gets the median of the others, so its gain spread becomes error); the estimators
-(studies.measure.localize) are scored on every other press: each taxel's 2nd, 4th, ...
+(studies.measured.localize) are scored on every other press: each taxel's 2nd, 4th, ...
 on-taxel press and every between-taxel press.
 """
 
@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.studies.measure.events import Record, dehum
+from taxel.studies.measured.events import Record, dehum
 
 
 def amplitudes(rec: Record, matched, pitch_mm: float) -> list:
@@ -58,7 +58,7 @@ def amplitudes(rec: Record, matched, pitch_mm: float) -> list:
 
 def reading_noise(noise_V: float, rate: float) -> float:
     """The white part of the noise on one V_k reading (a mean of the samples within 2 ms of its time):
-    the per-sample noise over sqrt(samples); for the Cramer-Rao map of studies.measure.predict."""
+    the per-sample noise over sqrt(samples); for the Cramer-Rao map of taxel.analyses.localization."""
     return noise_V / np.sqrt(2 * int(round(2e-3 * rate)) + 1)
 
 

@@ -9,9 +9,9 @@ over the margins):
   charge     model "lumped": Q_k = q_per_N * g_k * sum_p W[p, k] F_p, with q_per_N the
              lumped model's short-circuit charge per newton at 1 Hz (`lumped_model(scene)`;
              its resonances are above 10 kHz, so it is quasi-static at the bench's
-             rates), W the FEM's crosstalk weights (studies.measure.crosstalk; with
+             rates), W the FEM's crosstalk weights (taxel.analyses.crosstalk; with
              `between` > 0 the influence functions of position, W[p, (r, c)] =
-             G_r(y_p) G_c(x_p), studies.measure.influence, for every press) and
+             G_r(y_p) G_c(x_p), taxel.analyses.influence, for every press) and
              g_k a per-taxel gain spread (log-normal, `gain_spread`);
              model "fem": the FEM transient (Newmark, electrodes shorted: fem.timestep)
              of the scene under the rolled-off force on its pressed taxel gives the
@@ -28,7 +28,7 @@ over the margins):
   travel     with a travel channel in the rig, the actuator's travel: the total force
              through the compliance of the lumped taxel (top displacement per newton) whose
              silicone has its moduli scaled by `modulus_scale` and loss factor
-             `silicone_loss` (studies.measure.silicone), + the sensor's white noise;
+             `silicone_loss` (studies.measured.silicone), + the sensor's white noise;
   ADC        volts = V * gain + white noise + 50 Hz hum with its 3rd and 5th
              harmonics + baseline drift; the load cell F * sensitivity + its noise;
              quantised to the rig's ADC (16 bits over +-10 V in the thesis rig) and clipped.
@@ -44,11 +44,12 @@ from typing import Literal
 import numpy as np
 from scipy import signal
 
+from taxel.analyses.bench_model import compliance, fem_charges, loss_factor, scaled_model
+from taxel.analyses.crosstalk import profile, weights
 from taxel.fem.circuits import notch_in_time
 from taxel.scene import Scene
-from taxel.studies.measure.crosstalk import profile, weights
-from taxel.studies.measure.protocol import Frames
-from taxel.studies.measure.rig import Rig
+from taxel.studies.bench.protocol import Frames
+from taxel.studies.bench.rig import Rig
 
 Input = Literal["step", "impulse", "chirp", "presses"]
 INPUTS = ("step", "impulse", "chirp", "presses")
@@ -150,25 +151,15 @@ def command(s: Settings, rate: float, n_press: int, centre: int, rng, spots=None
     return t, F, presses
 
 
-def fem_charges(scene: Scene, t: np.ndarray, force: np.ndarray) -> tuple[np.ndarray, list[str]]:
-    """Short-circuit charges (nt, na) of the scene's electrodes under `force` (N) on its load, by FEM transient."""
-    from taxel.analyses import problem
-    from taxel.fem import dynamics, timestep
-    dm = dynamics.model(problem(scene), short=True)
-    tr = timestep.transient(dm, t, force)
-    return tr.Q, list(tr.names)
-
-
 def travel(lm, force: np.ndarray, rate: float) -> np.ndarray:
     """The top of the stack's displacement (m) under `force` (N): the lumped model's compliance
     X1 / F applied in the frequency domain (zero-padded FFT: no wrap-around)."""
-    from taxel.studies.measure.silicone import compliance
     n = 2 * len(force)
     f = np.fft.rfftfreq(n, 1 / rate)
     return np.fft.irfft(np.fft.rfft(force, n) * compliance(lm, f), n)[:len(force)]
 
 
-def _chain(cond, C_p: float, factor: float):
+def conditioning_tf(cond, C_p: float, factor: float):
     """(num, den) of V/Q for one taxel's conditioning with its time constant scaled."""
     if cond.circuit == "open":
         return [-1.0 / C_p], [1.0], None
@@ -195,7 +186,7 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     s.amplitude = s.amplitude if s.amplitude is not None else float(scene.load.force or 1.0)
     infl = None
     if s.input == "presses" and s.between and arr is not None:
-        from taxel.studies.measure.influence import influence
+        from taxel.analyses.influence import influence
         infl = influence(scene)
     spots = (positions, infl.pitch, -float(infl.x[0])) if infl is not None else \
         (positions, arr.taxel_width + arr.gap, 0.0) if arr is not None else None
@@ -233,7 +224,7 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     per_taxel = {}
     for k, ch in enumerate(taxel_ch):
         cond = chains[ch.name]
-        num, den, tau = _chain(cond, model.C_p, tau_f[k])
+        num, den, tau = conditioning_tf(cond, model.C_p, tau_f[k])
         b, a = signal.bilinear(num, den, fs=rate)
         v = signal.lfilter(b, a, Q[:, k])
         if cond.notch:
@@ -247,9 +238,8 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     travel_ch = [c for c in chans if c.kind == "travel"]
     silicone = None
     if travel_ch:
-        from taxel.studies.measure.silicone import _loss, scaled_model
         lm_true = scaled_model(scene, s.modulus_scale, s.silicone_loss)
-        silicone = {"modulus_scale": s.modulus_scale, "loss_factor": _loss(lm_true, scene)}
+        silicone = {"modulus_scale": s.modulus_scale, "loss_factor": loss_factor(lm_true, scene)}
         delta = travel(lm_true, F.sum(axis=1), rate)
         for c in travel_ch:
             clean[:, c.index] = delta * c.volts_per_si

@@ -17,9 +17,9 @@ an 8 s chirp is biased by the chain's memory rather than by noise (measured in
 tests/test_measure_analyze.py): within 1.5 notch bandwidths of the notch (3-13 %)
 and below 10 resolution bins (the chirp's mean force leaking through the window:
 18 % at 5 Hz).
-Cross-validation: those frequencies are split at their median; the fit uses the lower half, and the RMS error (studies.measure.frf)
+Cross-validation: those frequencies are split at their median; the fit uses the lower half, and the RMS error (studies.measured.frf)
 is reported on the other half before and after calibration (and on all of it).
-With a step record, the step's first-order fit tau (studies.measure.analyze)
+With a step record, the step's first-order fit tau (studies.measured.peaks)
 is reported beside s R_f C_f as an independent check.
 
 Not identifiable from this chirp: the silicone's modulus scale and loss factor.
@@ -29,7 +29,7 @@ resonances are above 10 kHz: a 1.2 x modulus changes |Q_sc / F| by 0.0015 % at
 10 Hz and 0.15 % at 100 Hz, a loss factor 0.1 -> 0.12 by 0.004 % at 100 Hz; the
 Cramer-Rao bound over 10-96 Hz at H1's 1 % is 62 % (modulus scale) and 400 %
 (loss factor) (benchmarks/measure_identifiability.py). A chirp with the
-actuator's travel recorded identifies both (studies.measure.silicone: 0.1 % and
+actuator's travel recorded identifies both (studies.measured.silicone: 0.1 % and
 1.5 % at the same 1 %): `taxel measure calibrate --travel DIR` fits them there
 and writes them into the overlay, with the charge gain g as the piezo
 coefficient scale (d scaled by g).
@@ -43,14 +43,16 @@ calibrated readout ([readout] from the rig's chain, R_f or R scaled by s), which
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+import json
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
 from scipy import optimize
 
-from taxel.studies.measure.frf import FRF, lumped_frf, rms_error
-from taxel.studies.measure.folder import MeasurementError, write_json
+from taxel.studies.measured.frf import FRF, lumped_frf, rms_error
+from taxel.studies.bench.folder import MeasurementError, write_json
+from taxel.studies.measured.silicone import SiliconeFit
 
 JSON, SCENE_TOML = "calibration.json", "calibrated-scene.toml"
 
@@ -75,7 +77,7 @@ class Calibration:
         return asdict(self)
 
 
-def _chain(readout, s: float):
+def scaled_chain(readout, s: float):
     if readout.circuit == "charge_amplifier":
         return replace(readout, R_f=readout.R_f * s), readout.R_f * readout.C_f * s
     if readout.circuit == "resistor":
@@ -97,7 +99,7 @@ def calibrate(frf: FRF, lm, readout, min_coherence: float = 0.9) -> Calibration:
     H1 = np.abs(frf.H1[ok])
 
     def model(p, sel):
-        r, _ = _chain(readout, float(np.exp(p[1])))
+        r, _ = scaled_chain(readout, float(np.exp(p[1])))
         return np.exp(p[0]) * np.abs(lumped_frf(lm, r, f[sel]))
 
     def resid(p):
@@ -111,7 +113,7 @@ def calibrate(frf: FRF, lm, readout, min_coherence: float = 0.9) -> Calibration:
         sig = np.full(2, np.inf)
     g, s = np.exp(res.x)
     ci = [(float(np.exp(res.x[i] - 1.96 * sig[i])), float(np.exp(res.x[i] + 1.96 * sig[i]))) for i in range(2)]
-    r_cal, tau = _chain(readout, float(s))
+    r_cal, tau = scaled_chain(readout, float(s))
     if tau is None:
         tau = r_cal.R * lm.C_p
 
@@ -153,14 +155,14 @@ def toml_text(data: dict) -> str:
 
 def calibrated_scene(scene_source: str, readout, s: float, silicone=None, piezo_scale: float | None = None) -> str:
     """The scene's TOML with [readout] replaced by the rig's chain, R_f (or R) scaled by s; with a
-    studies.measure.silicone.SiliconeFit, the silicone as a user material with its moduli scaled and
+    studies.measured.silicone.SiliconeFit, the silicone as a user material with its moduli scaled and
     [dynamics] silicone_loss; with piezo_scale, the piezo as a user material with d scaled."""
     from taxel.scene import EXAMPLES, load, read_toml
     path = Path(scene_source)
     if not path.is_file():
         path = EXAMPLES / f"{scene_source}.toml"
     data = read_toml(path)
-    r, _ = _chain(readout, s)
+    r, _ = scaled_chain(readout, s)
     ro = {"circuit": r.circuit, "R": f"{r.R!r} ohm", "C_f": f"{r.C_f!r} F", "R_f": f"{r.R_f!r} ohm",
           "R_i": f"{r.R_i!r} ohm", "C_c": f"{r.C_c!r} F", "notch": bool(r.notch),
           "notch_frequency": f"{r.notch_frequency!r} Hz", "notch_bandwidth": f"{r.notch_bandwidth!r} Hz"}
@@ -203,4 +205,103 @@ def write(folder: Path, cal: Calibration, scene_text: str, extra: dict | None = 
     return [folder / JSON, folder / SCENE_TOML]
 
 
-__all__ = ["Calibration", "calibrate", "calibrated_scene", "rms_error", "write"]
+@dataclass
+class FolderCalibration:
+    """The calibration of a chirp's measurement folder (`calibrate_folder`): the chain's fit, with a travel
+    record the silicone's, the calibrated scene's TOML, and what calibration.json adds (`extra`)."""
+
+    folder: Path
+    calibration: Calibration
+    scene_text: str
+    silicone: SiliconeFit | None = None
+    extra: dict = field(default_factory=dict)
+
+    def record(self) -> dict:
+        """JSON-ready: calibration.json."""
+        return {**self.calibration.record(), **self.extra, "scene": SCENE_TOML}
+
+    def summary(self) -> list[str]:
+        """For a person: the gain and time constant with their intervals, the silicone's, the RMS errors."""
+        cal, sil = self.calibration, self.silicone
+        lines = [f"{cal.taxel}: gain {cal.gain:.4g} (95 % {cal.gain_ci95[0]:.4g}-{cal.gain_ci95[1]:.4g}), tau "
+                 f"{cal.tau_s:.4g} s (scale {cal.tau_scale:.4g}, 95 % {cal.tau_scale_ci95[0]:.4g}-"
+                 f"{cal.tau_scale_ci95[1]:.4g})" + (f", step tau {cal.step_tau_s:.4g} s" if cal.step_tau_s else "")]
+        if sil is not None:
+            lines.append(f"silicone: modulus scale {sil.modulus_scale:.4g} (95 % {sil.modulus_scale_ci95[0]:.4g}-"
+                         f"{sil.modulus_scale_ci95[1]:.4g}), loss factor {sil.loss_factor:.4g} (95 % "
+                         f"{sil.loss_factor_ci95[0]:.4g}-{sil.loss_factor_ci95[1]:.4g}); piezo coefficient scale "
+                         f"{cal.gain:.4g}")
+        lines.append(f"RMS error on {cal.validation_band_Hz[0]:g}-{cal.validation_band_Hz[1]:g} Hz (not fitted): "
+                     f"{cal.rms_before_pct:.2f} % before, {cal.rms_after_pct:.2f} % after")
+        return lines
+
+    def to_folder(self, folder: str | Path | None = None) -> list[Path]:
+        """calibration.json and calibrated-scene.toml in `folder` (default: the chirp's folder)."""
+        return write(Path(folder) if folder is not None else self.folder, self.calibration, self.scene_text, self.extra)
+
+    @classmethod
+    def read(cls, folder: str | Path) -> FolderCalibration:
+        """The calibration written in `folder`; one-line MeasurementError if there is none."""
+        folder = Path(folder)
+        try:
+            rec = json.loads((folder / JSON).read_text())
+            text = (folder / SCENE_TOML).read_text()
+        except (OSError, ValueError):
+            raise MeasurementError(f"{folder}: no readable {JSON} and {SCENE_TOML}; run 'taxel measure calibrate "
+                                   f"{folder} --scene SCENE' first") from None
+        names = {f.name for f in fields(Calibration)}
+        cal = Calibration(**{k: tuple(v) if isinstance(v, list) else v for k, v in rec.items() if k in names})
+        extra = {k: v for k, v in rec.items() if k not in names and k != "scene"}
+        sil = extra.get("silicone")
+        sil = None if sil is None else SiliconeFit(**{k: tuple(v) if isinstance(v, list) else v for k, v in sil.items()})
+        return cls(folder, cal, text, sil, extra)
+
+
+def calibrate_folder(folder, scene, scene_source: str, step=None, travel=None,
+                     resolution: float = 1.0) -> FolderCalibration:
+    """Calibrate the chain (and with a travel record the silicone) on the chirp in `folder`.
+
+    Parameters
+    ----------
+    folder : path
+        A chirp's measurement folder.
+    scene : taxel.scene.Scene
+        The measured array's scene.
+    scene_source : str
+        The scene's file or built-in name (the calibrated scene is its TOML, overlaid).
+    step : path, optional
+        A step's measurement folder of the same taxel: its fitted tau, for comparison.
+    travel : path, optional
+        A chirp with the actuator's travel recorded: the silicone's modulus scale and loss factor,
+        and the piezo coefficient scale, into the calibrated scene.
+    resolution : float
+        H1's frequency resolution, Hz.
+
+    Returns
+    -------
+    FolderCalibration
+        Not yet written: `to_folder()` writes calibration.json and calibrated-scene.toml.
+    """
+    from taxel.analyses import lumped_model
+    from taxel.studies.bench.folder import read, read_rig
+    from taxel.studies.measured import events, silicone as SI
+    from taxel.studies.measured.analysis import analyze_folder
+    a = analyze_folder(folder, scene, scene_source, "chirp", resolution, fem=False)
+    chain = read_rig(folder).chains()[a.frf.taxel].readout()
+    cal = calibrate(a.frf, lumped_model(scene), chain)
+    if step:
+        fits = {f.taxel: f for f in analyze_folder(step, scene, scene_source, "step").steps}
+        if cal.taxel not in fits:
+            raise ValueError(f"--step {step}: no step fit of {cal.taxel}; give a step of the same taxel")
+        cal.step_tau_s = fits[cal.taxel].tau_s
+    sil, extra = None, {}
+    if travel:
+        sil = SI.fit(events.record(read(travel)), scene)
+        extra = {"silicone": sil.record(), "piezo_coefficient_scale": cal.gain,
+                 "piezo_coefficient_scale_ci95": list(cal.gain_ci95), "travel": str(travel)}
+    text = calibrated_scene(scene_source, chain, cal.tau_scale, sil, cal.gain if sil is not None else None)
+    return FolderCalibration(Path(folder), cal, text, sil, extra)
+
+
+__all__ = ["Calibration", "FolderCalibration", "calibrate", "calibrate_folder", "calibrated_scene", "rms_error",
+           "scaled_chain", "write"]

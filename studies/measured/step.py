@@ -60,9 +60,9 @@ import numpy as np
 from scipy import optimize, signal
 from scipy.linalg import toeplitz
 
-from taxel.studies.measure.events import Record, segments, smooth
-from taxel.studies.measure.folder import MeasurementError
-from taxel.studies.measure.rig import Conditioning
+from taxel.studies.measured.events import Record, segments, smooth
+from taxel.studies.bench.folder import MeasurementError
+from taxel.studies.bench.rig import Conditioning
 
 Noise = Literal["drift", "white"]
 

@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.studies.measure.folder import (RAW, MeasurementError, Writer, now_iso, prepare, rebuild,
+from taxel.studies.bench.folder import (RAW, MeasurementError, Writer, now_iso, prepare, rebuild,
                                           summary_record, write_json, SUMMARY)
-from taxel.studies.measure.protocol import Counters, Frames, sequence_stats
-from taxel.studies.measure.rig import Rig
+from taxel.studies.bench.protocol import Counters, Frames, sequence_stats
+from taxel.studies.bench.rig import Rig
 
 FORMATS = ("raw", "csv", "tdms", "lvm")
 SUFFIX = {".bin": "raw", ".raw": "raw", ".dump": "raw", ".cobs": "raw", ".csv": "csv", ".tdms": "tdms",
@@ -184,7 +184,7 @@ def read_lvm(path: Path, rig: Rig) -> Table:
 
 def import_file(path: str | Path, rig: Rig, out: str | Path, fmt: str | None = None):
     """Build a measurement folder from `path`; returns the Measurement."""
-    from taxel.studies.measure.folder import read
+    from taxel.studies.bench.folder import read
     path, out = Path(path), Path(out)
     if not path.is_file():
         raise InputFileError(f"{path}: no such file")
@@ -195,7 +195,7 @@ def import_file(path: str | Path, rig: Rig, out: str | Path, fmt: str | None = N
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise MeasurementError(f"{out}: exists and is not empty; choose a new --out folder")
     if fmt == "raw":
-        from taxel.studies.measure.protocol import decode_all
+        from taxel.studies.bench.protocol import decode_all
         frames, counters = decode_all(path.read_bytes(), rig.port.protocol, rig.n)
         if counters.frames == 0:
             raise InputFileError(f"{path}: no valid {rig.port.protocol} frame of {rig.n} channels in it; "

@@ -30,8 +30,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from taxel.studies.measure.protocol import Counters, Decoder, Frames, sequence_stats
-from taxel.studies.measure.rig import Rig, RigError, parse_rig
+from taxel.studies.bench.protocol import Counters, Decoder, Frames, sequence_stats
+from taxel.studies.bench.rig import Rig, RigError, parse_rig
 
 FORMAT = "taxel-measurement v1"
 H5, RAW, SUMMARY, RIG = "measurement.h5", "raw.bin", "summary.json", "rig.json"
@@ -110,7 +110,8 @@ class Writer:
 
 @dataclass
 class Measurement:
-    """A measurement folder, read: the frames, the rig, the summary."""
+    """A measurement folder, read: the frames, the rig, and `stats`, its summary.json (frames, failures,
+    rate, jitter, start time, status)."""
 
     folder: Path
     rig: Rig
@@ -118,7 +119,7 @@ class Measurement:
     t_us: np.ndarray
     counts: np.ndarray | None          # ADC counts (serial sources), else None
     values: np.ndarray                 # (N, n) SI: V out of each taxel's conditioning, N for the force
-    summary: dict
+    stats: dict                        # summary.json
 
     def si(self) -> np.ndarray:
         return self.values
@@ -126,8 +127,38 @@ class Measurement:
     def __len__(self) -> int:
         return len(self.seq)
 
+    def record(self) -> dict:
+        """JSON-ready: the folder, the channels and their units, the frame count and summary.json."""
+        return {"folder": str(self.folder), "channels": self.rig.names, "units": [c.unit for c in self.rig.ordered()],
+                "frames": len(self), "counts": self.counts is not None, "stats": self.stats}
 
-def _rig_of(folder: Path) -> Rig:
+    def summary(self) -> list[str]:
+        """For a person: frames, channels and the decoder's counters."""
+        s = self.stats
+        lines = [f"{self.folder}: {len(self)} frames of {self.rig.n} channels ({', '.join(self.rig.names)})"]
+        if "crc_failures" in s:
+            lines.append(f"  {s['crc_failures']} CRC failures, {s.get('seq_gaps', 0)} seq gaps "
+                         f"({s.get('frames_lost', 0)} frames lost), {s.get('resyncs', 0)} resyncs; {s.get('status', '')}")
+        return lines
+
+    def to_folder(self, folder: str | Path) -> Path:
+        """A copy of this measurement folder at `folder` (a new or empty folder); returns it."""
+        import shutil
+        out = prepare(Path(folder))
+        for name in (RIG, H5, SUMMARY, RAW):
+            if (self.folder / name).exists():
+                shutil.copyfile(self.folder / name, out / name)
+        return out
+
+    @classmethod
+    def read(cls, folder: str | Path) -> "Measurement":
+        """The measurement folder `folder` (`read`)."""
+        return read(folder)
+
+
+def read_rig(folder: str | Path) -> Rig:
+    """The rig a measurement folder was taken with (its rig.json); one-line MeasurementError if none."""
+    folder = Path(folder)
     try:
         return parse_rig(json.loads((folder / RIG).read_text()), str(folder / RIG), si_numbers=True)
     except (OSError, json.JSONDecodeError):
@@ -139,7 +170,7 @@ def read(folder: str | Path) -> Measurement:
     folder = Path(folder)
     if not folder.is_dir():
         raise MeasurementError(f"{folder}: no such measurement folder")
-    rig = _rig_of(folder)
+    rig = read_rig(folder)
     try:
         with h5py.File(folder / H5, "r") as f:
             seq, t_us = f["seq"][:], f["t_us"][:]
@@ -161,7 +192,7 @@ def rebuild(folder: str | Path, status: str | None = None) -> Measurement:
     """Decode raw.bin again into a fresh measurement.h5 and summary.json (after kill -9, or to check).
     The summary's status says so, unless `status` is given."""
     folder = Path(folder)
-    rig = _rig_of(folder)
+    rig = read_rig(folder)
     raw = folder / RAW
     if not raw.exists():
         raise MeasurementError(f"{folder}: no {RAW}; only captures and raw-dump imports can be rebuilt")
@@ -188,4 +219,4 @@ def rebuild(folder: str | Path, status: str | None = None) -> Measurement:
 
 
 __all__ = ["Measurement", "MeasurementError", "Writer", "read", "rebuild", "prepare", "write_json",
-           "summary_record", "now_iso", "RigError"]
+           "summary_record", "now_iso", "read_rig", "RigError"]

@@ -9,7 +9,7 @@ thesis's figures.
     ROOT/chirp                  0-100 Hz over 8 s, thesis bench; analysed and calibrated
     ROOT/chirp-travel           a chirp on the rig with the actuator's travel recorded (one more channel),
                                 the silicone drawn 1.2 x stiffer with loss factor 0.12: the modulus
-                                scale and loss factor fitted (studies.measure.silicone) into chirp/'s
+                                scale and loss factor fitted (studies.measured.silicone) into chirp/'s
                                 calibrated scene, with the piezo coefficient scale; the Cramer-Rao
                                 figures of both chirps for them
     ROOT/chirp-fem              the same chirp with the taxel simulated by the FEM transient
@@ -18,7 +18,7 @@ thesis's figures.
     ROOT/presses-between        60 s of presses, half on the taxels in turn and half at random points of the
                                 array (between taxels, over the margins); localization by both methods,
                                 on and between taxels, and the predicted accuracy map
-                                (studies.measure.predict) at the white noise of one reading
+                                (taxel.analyses.localization) at the white noise of one reading
                                 (1 mV per sample over the 9 samples it averages)
     ROOT/validation.json        the summary table (measured here) beside the thesis's figures
 Each measurement folder is captured from a pseudo-terminal fed by the simulator
@@ -30,23 +30,67 @@ stated above.
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from taxel.scene import Scene
-from taxel.studies.measure import calibrate as C
-from taxel.studies.measure.analysis import analyze_folder
-from taxel.studies.measure.capture import capture, open_port
-from taxel.studies.measure.folder import write_json
-from taxel.studies.measure.localize import localize_folder
-from taxel.studies.measure.protocol import encode_frames
-from taxel.studies.measure.rig import Rig, load_rig, parse_rig
-from taxel.studies.measure.simulate import Settings, save_truth, simulate
-from taxel.studies.measure.wire import Player, assemble
+from taxel.studies.measured import calibrate as C
+from taxel.studies.measured.analysis import analyze_folder
+from taxel.studies.bench.capture import capture, open_port
+from taxel.studies.bench.folder import write_json
+from taxel.studies.measured.localize import localize_folder
+from taxel.studies.bench.protocol import encode_frames
+from taxel.studies.bench.rig import Rig, load_rig, parse_rig
+from taxel.studies.bench.simulate import Settings, save_truth, simulate
+from taxel.studies.bench.wire import Player, assemble
 
 THESIS = {"tau_s": [1.7, 3.1], "linearity_R": {"PZT": 0.9942, "PVDF": 0.9933},
           "repeatability_pct": [95.65, 96.63], "rms_error_pct": {"lumped": 9.75, "FEM": 11.58}}
+
+
+@dataclass
+class Validation:
+    """The loop's summary (ROOT/validation.json): measured here, the simulator's truth, the thesis's figures."""
+
+    folder: Path
+    data: dict
+
+    def record(self) -> dict:
+        """JSON-ready: validation.json."""
+        return self.data
+
+    def summary(self) -> list[str]:
+        """For a person: each measured figure beside the thesis's."""
+        m, th = self.data["measured"], self.data["thesis"]
+        r = [abs(x) for x in m["linearity_R"].values()]
+        loc = m["localization"]
+        return [f"{self.folder}: {self.data['scene']} on {self.data['rig']}",
+                "  time constants " + ", ".join(f"{t['tau_s']:.4g} s (set {t['truth_s']:g})" for t in m["tau"])
+                + f"; thesis {', '.join(f'{x:g}' for x in th['tau_s'])} s",
+                f"  linearity R {min(r):.5f}-{max(r):.5f}; thesis {th['linearity_R']['PZT']} (PZT)",
+                f"  repeatability {m['repeatability_pct']['by_spread']:.2f} % by spread, "
+                f"{m['repeatability_pct']['by_range']:.2f} % by range; thesis {th['repeatability_pct']}",
+                f"  FRF RMS error: lumped {m['rms_error_pct']['lumped']:.2f} %, FEM {m['rms_error_pct']['fem']:.1f} %; "
+                f"lumped after calibration {m['rms_error_pct']['lumped_validation_after']:.2f} %",
+                f"  localization: largest taxel {100 * loc['correct_rate']:.0f} % correct, model-based "
+                f"{loc['model_position_error_mm_rms']:.3g} mm rms on the taxels"]
+
+    def to_folder(self, folder: str | Path | None = None) -> Path:
+        """validation.json in `folder` (default: the loop's root); returns its path."""
+        path = Path(folder if folder is not None else self.folder) / "validation.json"
+        write_json(path, self.data)
+        return path
+
+    @classmethod
+    def read(cls, folder: str | Path) -> Validation:
+        """The loop's summary in `folder`; one-line MeasurementError if there is none."""
+        from taxel.studies.bench.folder import MeasurementError
+        try:
+            return cls(Path(folder), json.loads((Path(folder) / "validation.json").read_text()))
+        except (OSError, ValueError):
+            raise MeasurementError(f"{folder}: no readable validation.json; run the loop into it first") from None
 
 
 def captured(rig: Rig, scene: Scene, settings: Settings, out: Path) -> Path:
@@ -61,8 +105,8 @@ def captured(rig: Rig, scene: Scene, settings: Settings, out: Path) -> Path:
         # 1 s for the capture to drain the pty's few kB); the frame count is checked below
         res = capture(r, out, seconds=len(truth.t) / rig.sampling.rate + 10, stop=player.done, port=port)
     save_truth(truth, out / "truth")
-    if res.summary["frames"] != len(truth.t):
-        raise RuntimeError(f"{out}: captured {res.summary['frames']} of {len(truth.t)} frames")
+    if res.stats["frames"] != len(truth.t):
+        raise RuntimeError(f"{out}: captured {res.stats['frames']} of {len(truth.t)} frames")
     return out
 
 
@@ -81,13 +125,13 @@ def travel_rig(rig: Rig) -> Rig:
 def identifiability_pair(scene, chain, sil, cal, sigma: float = 0.01) -> dict:
     """Cramer-Rao figures of the silicone from the bench chirp and from the travel chirp, at the
     fitted values, over 10-96 Hz (the bench's without 35-65 Hz, the notch), sigma relative per frequency."""
-    from taxel.studies.measure.frf import lumped_frf
-    from taxel.studies.measure.silicone import compliance, identifiability, scaled_model
+    from taxel.studies.measured.frf import lumped_frf
+    from taxel.studies.measured.silicone import compliance, identifiability, scaled_model
     f = np.arange(10.0, 97.0)
     th = {"modulus_scale": sil.modulus_scale, "loss_factor": sil.loss_factor}
 
     def chirp(fr, modulus_scale, loss_factor, gain, tau_scale):
-        return gain * lumped_frf(scaled_model(scene, modulus_scale, loss_factor), C._chain(chain, tau_scale)[0], fr)
+        return gain * lumped_frf(scaled_model(scene, modulus_scale, loss_factor), C.scaled_chain(chain, tau_scale)[0], fr)
 
     def travel(fr, modulus_scale, loss_factor):
         return 1.0 / compliance(scaled_model(scene, modulus_scale, loss_factor), fr)
@@ -136,8 +180,8 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     sil_truth = {"modulus_scale": 1.2, "silicone_loss": 0.12}
     tout = captured(travel_rig(rig), scene, Settings(input="chirp", seconds=10, crosstalk=False, seed=5, **sil_truth),
                     root / "chirp-travel")
-    from taxel.studies.measure import events, silicone as SI
-    from taxel.studies.measure.folder import read
+    from taxel.studies.measured import events, silicone as SI
+    from taxel.studies.bench.folder import read
     sil = SI.fit(events.record(read(tout)), scene)
     ident = identifiability_pair(scene, chain, sil, cal)
     C.write(out, cal, C.calibrated_scene(scene_name, chain, cal.tau_scale, sil, cal.gain),
@@ -186,12 +230,12 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
                             "model_based": {c: brief(v) for c, v in loc.model.items()}}
     meas["localization"]["model_position_error_mm_rms"] = meas["localization"]["model_based"]["on"]["position_error_mm_rms"]
     meas["localization"]["model_force_error_pct_rms"] = meas["localization"]["model_based"]["on"]["force_error_pct_rms"]
-    from taxel.studies.measure.influence import influence
-    from taxel.studies.measure.predict import accuracy_map
+    from taxel.analyses.influence import influence
+    from taxel.analyses.localization import accuracy_map
     infl = influence(scene)
     S = float(np.median(np.abs(list(loc.sensitivity_V_per_N.values()))))
     F = float(np.median([p["force_N"] for p in json.loads((out / "truth" / "truth.json").read_text())["presses"]]))
-    from taxel.studies.measure.localize import reading_noise
+    from taxel.studies.measured.localize import reading_noise
     amap = accuracy_map(infl, scene.array.rows, scene.array.cols, S, reading_noise(1e-3, rig.sampling.rate), F)
     write_json(out / "accuracy-map.json", amap.record())
     meas["localization"]["predicted_position_error_mm_at_taxels"] = float(

@@ -4,11 +4,12 @@ columns seq,t_us,<channel names>; seq and t_us as received, the channels in SI
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from taxel.studies.measure.folder import MeasurementError, read
+from taxel.studies.bench.folder import MeasurementError, read
 
 
 def export_csv(folder: str | Path, path: str | Path, raw: bool = False) -> int:
@@ -32,3 +33,26 @@ def export_csv(folder: str | Path, path: str | Path, raw: bool = False) -> int:
     except OSError as exc:
         raise MeasurementError(f"--csv {path}: cannot write it ({exc.strerror or exc})") from None
     return len(m)
+
+
+@dataclass
+class CsvExport:
+    """A measurement folder written as CSV (`export_csv`); `import_file` reads the CSV back."""
+
+    folder: Path                       # the measurement folder exported
+    path: Path                         # the CSV file
+    rows: int
+    raw: bool                          # ADC counts instead of SI values
+
+    def record(self) -> dict:
+        """JSON-ready: the folder, the file, the rows, counts or SI."""
+        return {"folder": str(self.folder), "csv": str(self.path), "rows": self.rows, "raw": self.raw}
+
+    def summary(self) -> list[str]:
+        """For a person: the rows written and where."""
+        return [f"{self.rows} rows written to {self.path}"]
+
+
+def export(folder: str | Path, path: str | Path, raw: bool = False) -> CsvExport:
+    """`export_csv` as a typed result."""
+    return CsvExport(Path(folder), Path(path), export_csv(folder, path, raw=raw), raw)

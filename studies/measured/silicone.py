@@ -10,7 +10,7 @@ the bench's 0-100 Hz a 1.2 x modulus changes |V / F| by 0.15 % at 100 Hz and
 What does identify them: the dynamic stiffness the actuator sees,
     K(f) = F(f) / delta(f) = 1 / X1(f),   X1 the lumped model's top displacement per newton
 (state-space output x1, the top silicone's mass), measured as H1 from the travel
-delta (input) to the load cell's force F (output) over a chirp (studies.measure.frf
+delta (input) to the load cell's force F (output) over a chirp (studies.measured.frf
 conventions: Welch, Hann, 50 % overlap). Below the resonances the stack is the
 silicone layers and the piezo in series, the piezo ~10^3 x stiffer, so
 |K| ~ s_E k_sil (the modulus scale at full sensitivity) and
@@ -39,15 +39,15 @@ each parameter's smallest relative standard deviation and their correlations.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import asdict, dataclass
 
 import numpy as np
 from scipy import optimize, signal
 
-from taxel.studies.measure.events import Record
-from taxel.studies.measure.folder import MeasurementError
-from taxel.studies.measure.frf import chirp_span
+from taxel.analyses.bench_model import compliance, loss_factor, scaled_model
+from taxel.studies.measured.events import Record
+from taxel.studies.bench.folder import MeasurementError
+from taxel.studies.measured.frf import chirp_span
 
 
 @dataclass
@@ -71,31 +71,6 @@ class SiliconeFit:
 
     def record(self) -> dict:
         return asdict(self)
-
-
-def scaled_model(scene, modulus_scale: float = 1.0, loss: float | None = None):
-    """The scene's lumped taxel with the silicone's moduli scaled and its loss factor set."""
-    from taxel.analyses.dynamic import damping
-    from taxel.analyses.adapter import scene_materials
-    from taxel.fem import lumped
-    a, mats = scene.array, scene_materials(scene)
-    sil = mats[a.silicone]
-    sil = dataclasses.replace(sil, mu=sil.mu * modulus_scale, K=sil.K * modulus_scale,
-                              yeoh=None if sil.yeoh is None else tuple(c * modulus_scale for c in sil.yeoh))
-    d = damping(scene)
-    if loss is not None:
-        d = dataclasses.replace(d, silicone_loss=loss)
-    return lumped.taxel_model(mats[a.piezo], sil, a.taxel_width, a.silicone_above, a.piezo_thickness,
-                              a.silicone_below, float(scene.load.force or 1.0), d)
-
-
-def compliance(lm, freqs) -> np.ndarray:
-    """X1(f) / F (m/N): the top of the stack per newton, from the lumped state space."""
-    A, B, _, _ = lm.state_space()
-    s = 2j * np.pi * np.asarray(freqs, float)
-    M = s[:, None, None] * np.eye(len(A))[None] - A[None]
-    x = np.linalg.solve(M, np.broadcast_to(B.astype(complex), (len(s),) + B.shape))
-    return x[:, 0, 0]
 
 
 def stiffness(rec: Record, resolution: float = 1.0) -> Stiffness:
@@ -137,7 +112,7 @@ def fit(rec: Record, scene, st: Stiffness | None = None) -> SiliconeFit:
     def resid(p):
         return (model(p)[a:b] + p[2] - y[a:b]) / scale
 
-    eta0 = _loss(scaled_model(scene), scene)
+    eta0 = loss_factor(scaled_model(scene), scene)
     m1 = model([0.0, np.log(max(eta0, 1e-3))])[a:b]                # the start: s_E by linear regression
     X = np.column_stack([m1, np.ones(len(m1))])
     (s0, c0), *_ = np.linalg.lstsq(X, y[a:b], rcond=None)
@@ -158,16 +133,6 @@ def fit(rec: Record, scene, st: Stiffness | None = None) -> SiliconeFit:
     return SiliconeFit(float(np.exp(res.x[0])), ci[0], float(np.exp(res.x[1])), ci[1],
                        (float(st.freqs[ok].min()), float(st.freqs[ok].max())) if ok.any() else (0.0, 0.0),
                        float(100 * np.sqrt(np.mean(res.fun ** 2))), corr)
-
-
-def _loss(lm, scene) -> float:
-    """The silicone's loss factor of a lumped model: b = eta k / (2 pi f_ref)."""
-    return float(lm.b[0] * 2 * np.pi * _f_ref(scene) / lm.k[0])
-
-
-def _f_ref(scene) -> float:
-    from taxel.analyses.dynamic import damping
-    return float(damping(scene).reference_frequency)
 
 
 @dataclass
