@@ -98,16 +98,19 @@ def _csv_link(src: Path, out: Path, folder: Path) -> str | None:
     return name
 
 
+_PRESSED = ("pressed_voltage", "voltage_pressed")     # the key plot's output (its name before this release)
+
+
 def _study(folder: Path, out: Path, scene_data) -> dict:
     spec = read_json(folder / "study.json")
     rows = list(csv.DictReader(open(folder / "results.csv"))) if (folder / "results.csv").exists() else []
     cols = list(rows[0]) if rows else []
     params = cols[:cols.index("status")] if "status" in cols else []
-    shown = params + [c for c in cols if c in ("voltage_pressed", "max_strain") or c.startswith("charge_")]
+    shown = params + [c for c in cols if c in ("pressed_voltage", "voltage_pressed", "max_strain") or c.startswith("charge_")]
     if any(r.get("status") != "done" for r in rows):
         shown += ["status", "error"]
-    plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith("voltage"), p.name))
-    key = [p for p in plots if p.name.startswith("voltage") and "silicone" in p.name] or plots
+    plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith(_PRESSED), p.name))
+    key = [p for p in plots if p.name.startswith(_PRESSED) and "silicone" in p.name] or plots
     return {"sections": [
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
                                                 _figures(plots, wide=True)]},

@@ -84,7 +84,8 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[str]:
     return out
 
 
-_OUTPUT_KEYS = {"status", "voltage_pressed", "max_strain", "seconds", "error", "crosstalk"}
+_OUTPUT_KEYS = {"status", "pressed_voltage", "voltage_pressed", "sensitivity", "max_strain", "seconds", "error",
+                "crosstalk"}
 
 
 def frequency_banners(summary: str, scene_data: dict) -> list[str]:
@@ -100,7 +101,7 @@ def frequency_banners(summary: str, scene_data: dict) -> list[str]:
 def study_numbers(rows: list[dict]) -> list[tuple[str, str]]:
     done = [r for r in rows if r.get("status") == "done"]
     out = [("points", f"{len(done)} of {len(rows)} solved")]
-    v = [abs(_num(r.get("voltage_pressed"))) for r in done if _num(r.get("voltage_pressed")) is not None]
+    v = [abs(_num(_pressed(r))) for r in done if _num(_pressed(r)) is not None]
     if v:
         out.append(("pressed |V|", f"{engineering(min(v), 'V', 3)} to {engineering(max(v), 'V', 3)}"))
     return out
@@ -173,6 +174,11 @@ def analysis_numbers(summary: str) -> list[tuple[str, str]]:
         out.append(("peak output", engineering(float(m.group(1)), "V", 3)))
         out.append(("final output", engineering(float(m.group(2)), "V", 3)))
     return out
+
+
+def _pressed(row: dict):
+    """A row's pressed_voltage (voltage_pressed in a results.csv of an older release)."""
+    return row.get("pressed_voltage", row.get("voltage_pressed"))
 
 
 def _num(v):

@@ -82,7 +82,7 @@ def run_study(spec, out: str | Path | None = None, workers: int = 2, scheduler: 
         raise
     rows = tidy_rows(out)
     write_rows(rows, out / "results.csv")
-    plots = study_plots(rows, [p.name for p in st.spec.parameters], ["voltage_pressed", "crosstalk", "max_strain"],
+    plots = study_plots(rows, [p.name for p in st.spec.parameters], ["pressed_voltage", "crosstalk", "max_strain"],
                         out / "plots", st.spec.name)
     return StudyRun(st.spec.name, out, s.total, s.cached, s.done, s.failed, s.seconds, rows, plots)
 
