@@ -30,7 +30,7 @@ from pathlib import Path
 from taxel.analyses.results import output_folder
 from taxel.scene import SceneError
 from taxel.reports import findings, tables
-from taxel.reports.scene_sections import data_uri, scene_sections
+from taxel.reports.scene_sections import data_uri, scene_sections, stored_result
 from taxel.studies.store import code_version
 
 
@@ -150,12 +150,13 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
 
 def _analysis(folder: Path, out: Path, scene_data) -> dict:
     imgs = sorted(folder.glob("*.png"))
-    summary = (folder / "summary.txt").read_text() if (folder / "summary.txt").exists() else ""
+    result = stored_result(folder)
+    summary = "\n".join(result.summary()) if result is not None else ""
     links = [c for c in (_csv_link(p, out, folder) for p in sorted(folder.glob("*.csv"))) if c]
     blocks = [{"type": "pre", "text": summary}] if summary else []
     blocks += [_figures(imgs)] + [{"type": "note", "text": f"Full precision (SI units): {c}"} for c in links]
-    return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(summary),
-            "banners": findings.frequency_banners(summary, scene_data),
+    return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
+            "banners": findings.frequency_banners(result),
             "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
             "thumb": imgs[0].read_bytes() if imgs else None}
 

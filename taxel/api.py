@@ -40,6 +40,14 @@ def solve(scene: Scene | str | Path | dict, **options):
     return analyses.solve(scene if isinstance(scene, Scene) else _load_scene(scene), **options)
 
 
+def read(folder: str | Path):
+    """The result a folder holds (its result.json and scene.json, written by
+    `result.to_folder` or `taxel solve --out`), as the type that wrote it: its
+    numbers, `record()`, `outputs()` and `summary()`, but no mesh or fields.
+    Raises ResultError (a ValueError, one line) for a folder without a result."""
+    return analyses.read(folder)
+
+
 @dataclass
 class StudyRun:
     name: str

@@ -42,14 +42,21 @@ class FrequencyResult:
     basis_size: int
     measured_error: float       # the reduced sweep's measured relative error
     seconds: float
+    capacitance: dict[str, float]          # F, each electrode's capacitance at the lowest frequency
     error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.error_estimate)
     port: PortResponse | None = None       # open-circuit voltages and capacitances (None when read back)
     kind = "frequency"
 
     @classmethod
     def from_port(cls, scene: Scene, port: PortResponse, output: np.ndarray, label: str) -> FrequencyResult:
+        C = np.diag(np.linalg.inv(port.Cinv[0])).real
         return cls(scene, port.freqs, output, list(port.names), label, port.method, port.basis_size, port.error,
-                   port.seconds, port=port)
+                   port.seconds, {k: float(c) for k, c in zip(port.names, C)}, port=port)
+
+    @property
+    def pressed(self) -> str:
+        """The electrode the outputs describe: the pressed taxel's, else the first."""
+        return self.names[_pressed_index(self.scene, self.names)]
 
     def sweep_values(self) -> np.ndarray:
         """|readout output| per newton of the pressed (or first) taxel at each frequency."""
@@ -64,7 +71,8 @@ class FrequencyResult:
     def record(self) -> dict:
         return {"kind": self.kind, "format": FORMAT, "scene": self.scene.name, "output": self.label,
                 "method": self.method, "basis_size": self.basis_size, "measured_error": self.measured_error,
-                "seconds": self.seconds, "frequency_Hz": np.asarray(self.freqs).tolist(),
+                "seconds": self.seconds, "capacitance_F": self.capacitance,
+                "frequency_Hz": np.asarray(self.freqs).tolist(),
                 "magnitude_V_per_N": {k: np.abs(self.output[:, i]).tolist() for i, k in enumerate(self.names)},
                 "phase_deg": {k: np.degrees(np.angle(self.output[:, i])).tolist()
                               for i, k in enumerate(self.names)},
@@ -76,7 +84,8 @@ class FrequencyResult:
         out = np.array([np.asarray(rec["magnitude_V_per_N"][k]) * np.exp(1j * np.radians(rec["phase_deg"][k]))
                         for k in names]).T
         return cls(scene, np.asarray(rec["frequency_Hz"], dtype=float), out, names, rec["output"], rec["method"],
-                   rec["basis_size"], rec["measured_error"], rec["seconds"], read_error(rec))
+                   rec["basis_size"], rec["measured_error"], rec["seconds"], dict(rec.get("capacitance_F") or {}),
+                   read_error(rec))
 
     def summary(self) -> list[str]:
         f, V = self.freqs, self.output
