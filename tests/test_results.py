@@ -133,3 +133,17 @@ def test_a_folder_without_a_result_is_one_line(tmp_path):
         (tmp_path / "result.json").write_text("[1, 2]")
         with pytest.raises(ResultError, match="not a JSON object"):
             read(tmp_path)
+
+
+def test_tidy_rows_name_columns_by_the_vocabulary_and_read_old_rows(tmp_path):
+    from taxel.studies.store import Store, tidy_rows
+    store = Store(tmp_path)
+    old = {"voltage": {"taxel_0_0": -0.4}, "pressed": "taxel_0_0", "force": 0.5, "max_strain": 0.1, "seconds": 1.0}
+    store.put("old", {"force": "0.5 N"}, "done", old)
+    store.put("new", {"force": "1 N"}, "done", {**old, "force": 1.0, "outputs": {
+        "pressed_voltage": -0.8, "sensitivity": -0.8, "max_strain": 0.2}})
+    store.close()
+    rows = {r["force"]: r for r in tidy_rows(tmp_path)}
+    assert rows["0.5 N"]["pressed_voltage"] == -0.4 and rows["0.5 N"]["sensitivity"] == pytest.approx(-0.8)
+    assert rows["1 N"]["pressed_voltage"] == -0.8 and rows["1 N"]["sensitivity"] == -0.8
+    assert not any("voltage_pressed" in r for r in rows.values())
