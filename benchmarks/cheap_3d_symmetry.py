@@ -19,7 +19,7 @@ REFERENCE = json.loads((Path(__file__).parent.parent / "docs" / "reference_3d.js
 
 
 def main():
-    print(f"allowance: voltage {100 * CHEAP_3D_ERROR['voltage_per_newton']:.2f} %, "
+    print(f"allowance: voltage {100 * CHEAP_3D_ERROR['sensitivity']:.2f} %, "
           f"crosstalk {100 * CHEAP_3D_ERROR['crosstalk']:.1f} %")
     for name, key in (("thesis-pzt-single-3d", "single"), ("thesis-pzt-3x3-3d", "3x3")):
         ref = REFERENCE.get(key, {}).get("reference")
@@ -29,7 +29,7 @@ def main():
             res = taxel.solve(scene)
             dt = time.perf_counter() - t
             out = output_values(res)
-            v = out["voltage_per_newton"] * abs(res.applied_force)
+            v = out["sensitivity"] * abs(res.applied_force)
             err = f"{100 * (v / ref - 1):+.3f} %" if ref else "no reference"
             xt = f"{100 * out['crosstalk']:.3f} %" if "crosstalk" in out else "-"
             print(f"{name:<22} {sym:<8} {dt:6.1f} s   V = {v:.6f} V ({err})   crosstalk {xt}", flush=True)

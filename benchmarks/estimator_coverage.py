@@ -71,7 +71,7 @@ def reference(scene: Scene, store: Store) -> dict[str, float]:
     if status != "done":
         raise RuntimeError(err)
     p, f = res["pressed"], abs(res["force"])
-    out = {"voltage_per_newton": res["voltage"][p] / f, "short_circuit_charge": res["charge"][p] / f}
+    out = {"sensitivity": res["voltage"][p] / f, "charge_sensitivity": res["charge"][p] / f}
     if res.get("crosstalk") is not None:
         out["crosstalk"] = res["crosstalk"]
     return out

@@ -36,7 +36,7 @@ def main():
         rows = {}
         for name in ("3d", "2d"):
             for r in tidy_rows(tmp / name):
-                rows.setdefault((r["piezo"], r["silicone_thickness"], r["force"]), {})[name] = r["voltage_pressed"]
+                rows.setdefault((r["piezo"], r["silicone_thickness"], r["force"]), {})[name] = r["pressed_voltage"]
         print(f"{'piezo':<6} {'k':>8} {'3D V':>9} {'2D V':>9} {'2D/3D':>6}   (1 N)")
         for (piezo, k, f), v in sorted(rows.items(), key=lambda x: (str(x[0][0]), str(x[0][1]))):
             force = f if isinstance(f, (int, float)) else float(str(f).split()[0])

@@ -1,16 +1,22 @@
-"""An analysis result written into its folder: the result's own files (scene,
-CSV or JSON), a plot, and the summary lines. Used by the command line and the
-main job."""
+"""An analysis result written into its folder: the result's own files (result.json,
+scene.json, its CSV), a plot, the figures of a static solve's fields (`fields/`),
+and the summary lines. Used by the command line and the main job; the report
+pages read these files back and never solve again."""
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
-from taxel.analyses import FrequencyResult, LumpedResult, StaticResult, TransientResult
+from taxel.analyses import AnalysisResult, FrequencyResult, LumpedResult, StaticResult, TransientResult
 from taxel.reports import figures
 
+FIELDS = "fields"          # the folder's subfolder of field figures (FIELD_FIGURES, in page order)
+FIELD_FIGURES = ("render.png", "section.png", "taxels.png")
+RENDER_NOTE = "render-note.txt"   # why the 3D render is missing (no off-screen OpenGL)
 
-def write(result: StaticResult | FrequencyResult | TransientResult | LumpedResult, out) -> tuple[list[Path], list[str]]:
+
+def write(result: AnalysisResult, out) -> tuple[list[Path], list[str]]:
     """Write a result into `out`; returns (files written, summary lines). The
     summary is also kept as summary.txt."""
     out = Path(out)
@@ -25,11 +31,42 @@ def write(result: StaticResult | FrequencyResult | TransientResult | LumpedResul
     elif isinstance(result, LumpedResult):
         files.append(figures.bode(result.freqs, result.output[:, None], ["lumped 3-DoF"], result.label,
                                   out / f"{name}-lumped.png", title=f"{name} (lumped)"))
-    elif isinstance(result, StaticResult) and result.contact_record() is not None:
-        files.append(contact_curves(result.contact_record(), out / f"{name}-contact.png", title=name))
-    summary = result.summary() if hasattr(result, "summary") else str(result).splitlines()
+    elif isinstance(result, StaticResult):
+        if result.contact_record() is not None:
+            files.append(contact_curves(result.contact_record(), out / f"{name}-contact.png", title=name))
+        files += field_figures(result, out / FIELDS)
+    summary = result.summary()
     (out / "summary.txt").write_text("\n".join(summary) + "\n")
     return files, summary
+
+
+def field_figures(result: StaticResult, folder: Path) -> list[Path]:
+    """The solved fields of a fresh static result, drawn into `folder`: the
+    off-screen 3D render (or RENDER_NOTE saying why not), the 2D cross-section and
+    the taxels' voltage map (an array). Nothing for a result read back (no fields)."""
+    if result.mesh is None:
+        return []
+    folder.mkdir(parents=True, exist_ok=True)
+    files = []
+    try:
+        png = figures.pyvista_render(result)
+        (folder / "render.png").write_bytes(png)
+        files.append(folder / "render.png")
+    except Exception as exc:          # no off-screen OpenGL here: say so, keep the 2D figures
+        note = f"3D render unavailable ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
+        (folder / RENDER_NOTE).write_text(note)
+        files.append(folder / RENDER_NOTE)
+    if result.mesh.mesh.dim() == 2:
+        buf = io.BytesIO()
+        figures.cross_section(result, buf)
+        (folder / "section.png").write_bytes(buf.getvalue())
+        files.append(folder / "section.png")
+    heat = figures.taxel_heatmap(result)
+    if heat is not None:
+        heat.savefig(folder / "taxels.png", dpi=110)
+        figures.pyplot().close(heat)
+        files.append(folder / "taxels.png")
+    return files
 
 
 def contact_curves(rec: dict, path: Path, title: str = "") -> Path:

@@ -30,7 +30,7 @@ from taxel.analyses.results import output_folder
 from taxel.scene import SceneError
 from taxel.reports import findings, tables
 from taxel.reports.page import Page, provenance, templates
-from taxel.reports.scene_sections import data_uri, scene_sections
+from taxel.reports.scene_sections import data_uri, scene_sections, stored_result
 from taxel.reports.validation import build_page as validation_page
 from taxel.studies.store import code_version
 
@@ -81,16 +81,19 @@ def _csv_link(src: Path, out: Path, folder: Path) -> str | None:
     return name
 
 
+_PRESSED = ("pressed_voltage", "voltage_pressed")     # the key plot's output (its name before this release)
+
+
 def _study(folder: Path, out: Path, scene_data) -> dict:
     spec = read_json(folder / "study.json")
     rows = list(csv.DictReader(open(folder / "results.csv"))) if (folder / "results.csv").exists() else []
     cols = list(rows[0]) if rows else []
     params = cols[:cols.index("status")] if "status" in cols else []
-    shown = params + [c for c in cols if c in ("voltage_pressed", "max_strain") or c.startswith("charge_")]
+    shown = params + [c for c in cols if c in ("pressed_voltage", "voltage_pressed", "max_strain") or c.startswith("charge_")]
     if any(r.get("status") != "done" for r in rows):
         shown += ["status", "error"]
-    plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith("voltage"), p.name))
-    key = [p for p in plots if p.name.startswith("voltage") and "silicone" in p.name] or plots
+    plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith(_PRESSED), p.name))
+    key = [p for p in plots if p.name.startswith(_PRESSED) and "silicone" in p.name] or plots
     return {"sections": [
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
                                                 _figures(plots, wide=True)]},
@@ -130,12 +133,13 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
 
 def _analysis(folder: Path, out: Path, scene_data) -> dict:
     imgs = sorted(folder.glob("*.png"))
-    summary = (folder / "summary.txt").read_text() if (folder / "summary.txt").exists() else ""
+    result = stored_result(folder)
+    summary = "\n".join(result.summary()) if result is not None else ""
     links = [c for c in (_csv_link(p, out, folder) for p in sorted(folder.glob("*.csv"))) if c]
     blocks = [{"type": "pre", "text": summary}] if summary else []
     blocks += [_figures(imgs)] + [{"type": "note", "text": f"Full precision (SI units): {c}"} for c in links]
-    return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(summary),
-            "banners": findings.frequency_banners(summary, scene_data),
+    return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
+            "banners": findings.frequency_banners(result),
             "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
             "thumb": imgs[0].read_bytes() if imgs else None}
 

@@ -14,6 +14,7 @@ import numpy as np
 from taxel.analyses.adapter import layout
 from taxel.analyses.adapter import scene_materials
 from taxel.fem.yeoh_fit import stability_limit
+from taxel.schema import renamed_value
 from taxel.units import magnitude
 
 
@@ -100,8 +101,10 @@ def time_response(t, force, y, names, label, path, title=""):
 
 
 # outputs of a study: (axis label, scale from SI, absolute value?)
-_OUTPUT_AXES = {"voltage_pressed": ("pressed taxel |V|", "V"), "max_strain": ("largest silicone strain", "%"),
-                "crosstalk": ("crosstalk", "%")}
+_OUTPUT_AXES = {"pressed_voltage": ("pressed taxel |V|", "V"), "sensitivity": ("pressed taxel |V| per newton", "V/N"),
+                "max_strain": ("largest silicone strain", "%"), "crosstalk": ("crosstalk", "%")}
+# study columns renamed this release: a caller naming the old one is read with a DeprecationWarning
+_RENAMED_COLUMNS = {"voltage_pressed": "pressed_voltage"}
 _PREFIX = [(1.0, ""), (1e-3, "m"), (1e-6, "u"), (1e-9, "n"), (1e-12, "p")]
 
 
@@ -137,6 +140,7 @@ def study_plots(rows, parameters, outputs, folder, title=""):
     carry the unit. Returns the files written."""
     plt = pyplot()
     folder.mkdir(parents=True, exist_ok=True)
+    outputs = [renamed_value(out, _RENAMED_COLUMNS, "study plot output") for out in outputs]
     done = [r for r in rows if r["status"] == "done"]
     numeric = [p for p in parameters if done and all(_param_value(r.get(p)) is not None for r in done)]
     facets = [p for p in parameters if p not in numeric]

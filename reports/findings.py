@@ -9,11 +9,12 @@ page and into the index's run summary. The ranges checked:
 - a Newton stop (a Yeoh solve that returned the linear result, a study point
   that failed in Newton);
 - a reduced (Krylov) sweep whose measured error is above its tolerance.
+
+The numbers come from the results read back from their folders
+(`taxel.analyses.read`), never from summary text.
 """
 
 from __future__ import annotations
-
-import re
 
 import numpy as np
 
@@ -84,15 +85,18 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[str]:
     return out
 
 
-_OUTPUT_KEYS = {"status", "voltage_pressed", "max_strain", "seconds", "error", "crosstalk"}
+_OUTPUT_KEYS = {"status", "pressed_voltage", "voltage_pressed", "sensitivity", "max_strain", "seconds", "error",
+                "crosstalk"}
 
 
-def frequency_banners(summary: str, scene_data: dict) -> list[str]:
-    """A reduced sweep whose measured error exceeds the scene's tolerance."""
-    m = re.search(r"measured error ([0-9.eE+-]+)", summary)
-    tol = float(((scene_data or {}).get("analysis") or {}).get("tolerance", 1e-3))
-    if m and float(m.group(1)) > tol:
-        return [f"Reduced (Krylov) sweep above its error bound: measured error {float(m.group(1)):.2g} > "
+def frequency_banners(result) -> list[str]:
+    """A reduced sweep (a FrequencyResult, read from its folder) whose measured error
+    exceeds its scene's analysis.tolerance."""
+    if getattr(result, "kind", None) != "frequency":
+        return []
+    err, tol = result.measured_error, result.scene.analysis.tolerance
+    if err > tol:
+        return [f"Reduced (Krylov) sweep above its error bound: measured error {err:.2g} > "
                 f"tolerance {tol:g}. Fix: set analysis.method = \"direct\", or a smaller analysis.tolerance."]
     return []
 
@@ -100,7 +104,7 @@ def frequency_banners(summary: str, scene_data: dict) -> list[str]:
 def study_numbers(rows: list[dict]) -> list[tuple[str, str]]:
     done = [r for r in rows if r.get("status") == "done"]
     out = [("points", f"{len(done)} of {len(rows)} solved")]
-    v = [abs(_num(r.get("voltage_pressed"))) for r in done if _num(r.get("voltage_pressed")) is not None]
+    v = [abs(_num(_pressed(r))) for r in done if _num(_pressed(r)) is not None]
     if v:
         out.append(("pressed |V|", f"{engineering(min(v), 'V', 3)} to {engineering(max(v), 'V', 3)}"))
     return out
@@ -162,17 +166,28 @@ def optimum_numbers(rec: dict) -> list[tuple[str, str]]:
     return out
 
 
-def analysis_numbers(summary: str) -> list[tuple[str, str]]:
-    """Peak response (frequency) or peak and final output (transient) from summary.txt."""
+def analysis_numbers(result) -> list[tuple[str, str]]:
+    """Peak response (frequency) or peak and final output (transient) of a result
+    read from its folder (`result.outputs()`)."""
+    kind = getattr(result, "kind", None)
     out = []
-    m = re.search(r"peak ([0-9.eE+-]+) V/N at ([0-9.eE+-]+) Hz", summary)
-    if m:
-        out.append(("peak response", f"{engineering(float(m.group(1)), 'V/N', 3)} at {float(m.group(2)):.4g} Hz"))
-    m = re.search(r"peak ([0-9.eE+-]+) V, final ([0-9.eE+-]+) V", summary)
-    if m:
-        out.append(("peak output", engineering(float(m.group(1)), "V", 3)))
-        out.append(("final output", engineering(float(m.group(2)), "V", 3)))
+    if kind == "frequency":
+        o = result.outputs()                  # the pressed (or first) taxel's
+        out.append(("peak response", f"{engineering(o['readout_sensitivity'], 'V/N', 3)} at "
+                                     f"{o['peak_frequency']:.4g} Hz"))
+        c = result.capacitance.get(result.pressed)
+        if c:
+            out.append(("capacitance", f"{c * 1e12:.4g} pF"))
+    elif kind == "transient":
+        o = result.outputs()
+        out.append(("peak output", engineering(o["peak_output"], "V", 3)))
+        out.append(("final output", engineering(o["final_output"], "V", 3)))
     return out
+
+
+def _pressed(row: dict):
+    """A row's pressed_voltage (voltage_pressed in a results.csv of an older release)."""
+    return row.get("pressed_voltage", row.get("voltage_pressed"))
 
 
 def _num(v):

@@ -1,31 +1,29 @@
-"""The sections a page draws from its folder's scene: the scene to scale, the solved
-fields, the solver's own figures, and the model comparison, with the headline
-numbers and the validity banners of the solve.
+"""The sections a page draws from its folder: the scene to scale, the solved fields
+and the solver's tables of a static solve stored in the folder, and the model
+comparison, with the headline numbers and the validity banners of the solve.
 
-Nothing already solved is solved again. The model comparison's points go through
-a study store in the folder (`Store.get_or_compute`, report-cache/results.sqlite,
-apart from a study's own points),
-and the scene's own solve is kept as what the page shows of it (the renders, the
-tables, the numbers) in the folder's `report-cache/`, under the key of a study
-point (the scene and the code version) and of the drawing code, so a second
-build of the same folder solves nothing.
+Nothing is solved here. The static solve is read from the folder's result.json
+(`taxel.analyses.read`) and its fields are the figures drawn when the folder was
+written (reports.analysis.write: `fields/`); a folder without them (a study, an
+optimization, a dynamic analysis) shows the scene only. The model comparison's
+points go through a study store in the folder (`Store.get_or_compute`,
+report-cache/results.sqlite, apart from a study's own points), so a second build
+of the same folder solves nothing.
 """
 
 from __future__ import annotations
 
 import base64
-import hashlib
 import io
-import json
 import tempfile
 import time
-from functools import cache
 from pathlib import Path
 
-from taxel.analyses import lumped_model, scene_materials, solve_static
+from taxel.analyses import StaticResult, lumped_model, read, scene_materials
 from taxel.reports import findings, tables
+from taxel.reports.analysis import FIELD_FIGURES, FIELDS, RENDER_NOTE
 from taxel.scene import parse, scene_material_names, to_data
-from taxel.studies.store import Store, StoreError, point_key
+from taxel.studies.store import Store, StoreError
 from taxel.units import engineering
 
 
@@ -42,85 +40,62 @@ def figure_png(fig, dpi=110) -> bytes:
     return buf.getvalue()
 
 
+def stored_result(folder: Path):
+    """The result a folder's result.json holds (taxel.analyses.read), or None
+    when the folder has none. Raises ResultError (one line) for an unreadable one."""
+    return read(folder) if (Path(folder) / "result.json").exists() else None
+
+
 def scene_sections(folder: Path, scene_data: dict, compare: bool):
     """(sections, headline numbers, banners, key figure PNG) of the folder's scene."""
     from taxel.reports import figures
     scene = parse({**scene_data, "name": scene_data.get("name", "scene")})
-    solved = _solved(folder, scene)
     sections = [
         {"title": "Scene", "blocks": [
             {"type": "figures", "images": [data_uri(figure_png(figures.scene_drawing(scene)))]},
             {"type": "table", "table": tables.table(
                 [{"material": m, "source": scene_materials(scene)[m].source} for m in scene_material_names(scene)],
-                ["material", "source"])}]},
-        {"title": "Fields", "blocks": [{"type": "figures", "images": [data_uri(p) for p in solved["images"]]}]
-         + ([{"type": "note", "text": solved["render_note"]}] if solved["render_note"] else [])},
-        {"title": "Solver", "blocks": [{"type": "table", "table": solved["solver"]},
-                                       {"type": "table", "table": solved["electrodes"]}]},
-    ]
+                ["material", "source"])}]}]
+    result = stored_result(folder)
+    numbers, banners, key_png = [], [], None
+    if isinstance(result, StaticResult):
+        images = [(folder / FIELDS / n).read_bytes() for n in FIELD_FIGURES if (folder / FIELDS / n).is_file()]
+        note = folder / FIELDS / RENDER_NOTE
+        fields = [{"type": "figures", "images": [data_uri(p) for p in images]}] if images else []
+        if note.is_file():
+            fields.append({"type": "note", "text": note.read_text().strip()})
+        if not images and not note.is_file():
+            fields.append({"type": "note", "text": "No field figures in this folder: they are drawn when the "
+                                                   "folder is written (taxel solve SCENE --out DIR)."})
+        sections += [{"title": "Fields", "blocks": fields},
+                     {"title": "Solver", "blocks": [{"type": "table", "table": solver_table(result)},
+                                                    {"type": "table", "table": electrode_table(result)}]}]
+        numbers, banners = findings.static_numbers(result), findings.static_banners(result)
+        key_png = images[-1] if images else None
     if compare and scene.array is not None and scene.array.rows * scene.array.cols == 1:
         sections.append({"title": "Model comparison", "blocks": comparison(folder, scene)})
-    key_png = solved["images"][-1] if solved["images"] else None
-    return sections, [tuple(n) for n in solved["numbers"]], solved["banners"], key_png
+    return sections, numbers, banners, key_png
 
 
-def _solved(folder: Path, scene) -> dict:
-    """What the page shows of the scene's static solve, from report-cache/ or solved now."""
-    cache = folder / "report-cache"
-    key = hashlib.sha256((point_key(to_data(scene)) + _drawing_version()).encode()).hexdigest()[:24]
-    meta = cache / f"{key}.json"
-    if meta.exists():
-        rec = json.loads(meta.read_text())
-        rec["images"] = [(cache / n).read_bytes() for n in rec.pop("image_files")]
-        return rec
-    from taxel.reports import figures
-    sol = solve_static(scene)
-    images, note = [], ""
-    try:
-        images.append(figures.pyvista_render(sol))
-    except Exception as exc:          # no off-screen OpenGL here: say so, keep the 2D figures
-        note = f"3D render unavailable ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
-    if sol.mesh.mesh.dim() == 2:
-        buf = io.BytesIO()
-        figures.cross_section(sol, buf)
-        images.append(buf.getvalue())
-    heat = figures.taxel_heatmap(sol)
-    if heat is not None:
-        images.append(figure_png(heat))
-    rec = {
-        "numbers": findings.static_numbers(sol), "banners": findings.static_banners(sol), "render_note": note,
-        "solver": tables.table([{
-            "model": scene.model.type.replace("_", " "), "silicone": sol.model_note or scene.model.silicone,
-            "order": scene.mesh.order, "unknowns": sol.unknowns, "solver": sol.solver,
-            "relative residual": f"{sol.residual:.1e}",
-            "Newton iterations": sol.newton.total_iterations if sol.newton else "-",
-            "mesh": f"{sol.times['mesh']:.2f} s", "assemble": f"{sol.times['assemble']:.2f} s",
-            "solve": f"{sol.times['solve']:.2f} s"}]),
-        "electrodes": tables.table(
-            [{"electrode": e.name, "open-circuit V": engineering(e.voltage, "V"),
-              "short-circuit Q": engineering(e.short_circuit_charge, "C"),
-              "capacitance": engineering(e.capacitance, "F")} for e in sol.electrodes.values()],
-            sort_by=["electrode"]),
-    }
-    try:                              # a read-only folder: the page is built, nothing is kept
-        cache.mkdir(exist_ok=True)
-        names = []
-        for i, png in enumerate(images):
-            (cache / f"{key}-{i}.png").write_bytes(png)
-            names.append(f"{key}-{i}.png")
-        meta.write_text(json.dumps({**rec, "image_files": names}))
-    except OSError:
-        pass
-    rec["images"] = images
-    return rec
+def solver_table(result: StaticResult) -> dict:
+    """The model, the silicone law and the solve's cost, one row."""
+    scene, n = result.scene, result.newton
+    t = result.times
+    return tables.table([{
+        "model": scene.model.type.replace("_", " "), "silicone": result.model_note or scene.model.silicone,
+        "order": scene.mesh.order, "unknowns": result.unknowns, "solver": result.solver,
+        "relative residual": f"{result.residual:.1e}",
+        "Newton iterations": n.total_iterations if n else "-",
+        **{k: f"{t[k]:.2f} s" for k in ("mesh", "assemble", "solve") if k in t}}])
 
 
-@cache
-def _drawing_version() -> str:
-    """Hash of the code that draws and words a solve (a change redraws the cached pages)."""
-    here = Path(__file__).parent
-    return hashlib.sha256(b"".join((here / f).read_bytes() for f in (
-        "figures.py", "findings.py", "tables.py", "scene_sections.py"))).hexdigest()[:16]
+def electrode_table(result: StaticResult) -> dict:
+    """Each electrode's open-circuit voltage, short-circuit charge and capacitance."""
+    return tables.table(
+        [{"electrode": e.name, "open-circuit V": engineering(e.voltage, "V"),
+          "short-circuit Q": engineering(e.short_circuit_charge, "C"),
+          "capacitance": engineering(e.capacitance, "F")} for e in result.electrodes.values()],
+        sort_by=["electrode"])
 
 
 def comparison(folder: Path, scene) -> list[dict]:

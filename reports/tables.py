@@ -14,14 +14,14 @@ from taxel.units import engineering, magnitude
 
 # column name pattern -> (shown name, how to print an SI number)
 _COLUMNS = [
-    (r"^voltage_pressed$", "pressed |V|", lambda v: engineering(v, "V")),
+    (r"^(pressed_voltage|voltage_pressed)$", "pressed |V|", lambda v: engineering(v, "V")),
     (r"^voltage_(.+)$", "V {0}", lambda v: engineering(v, "V")),
     (r"^charge_(.+)$", "Q {0}", lambda v: engineering(v, "C")),
     (r"^capacitance.*", "capacitance", lambda v: engineering(v, "F")),
     (r"^max_strain$", "largest silicone strain", lambda v: percent(v)),
     (r"^crosstalk_bound$", "crosstalk bound", lambda v: percent(v)),
     (r"^crosstalk$", "crosstalk", lambda v: percent(v)),
-    (r"^sensitivity_V_per_N$", "sensitivity", lambda v: engineering(v, "V/N")),
+    (r"^sensitivity(_V_per_N)?$", "sensitivity", lambda v: engineering(v, "V/N")),
     (r"^seconds$", "solve time", lambda v: f"{v:.2f} s"),
 ]
 

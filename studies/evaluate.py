@@ -14,7 +14,9 @@ OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
 
 
 def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
-    """Solve one design point and return its outputs (JSON-ready, SI units)."""
+    """Solve one design point and return its outputs (JSON-ready, SI units): the
+    per-taxel voltages and charges asked for, and the result's named outputs
+    (`StaticResult.outputs()`) under "outputs"."""
     scene = parse({**scene_data, "name": "point"})
     t0 = time.perf_counter()
     sol = solve_static(scene)
@@ -25,10 +27,13 @@ def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
         res["voltage"] = {k: e.voltage for k, e in taxels.items()}
     if "charge" in outputs:
         res["charge"] = {k: e.short_circuit_charge for k, e in taxels.items()}
-    if "crosstalk" in outputs and pressed in taxels and len(taxels) > 1:
-        res["crosstalk"] = sol.crosstalk
+    named = sol.outputs()
+    if "crosstalk" in outputs and "crosstalk" in named and pressed in taxels and len(taxels) > 1:
+        res["crosstalk"] = named["crosstalk"]
     if "max_strain" in outputs:
-        res["max_strain"] = sol.max_silicone_strain
+        res["max_strain"] = named["max_strain"]
+    # the named outputs (StaticResult.outputs: sensitivity, charge_sensitivity, pressed_voltage, ...)
+    res["outputs"] = named
     if "frequency_response" in outputs:
         fr = frequency(replace(scene, **{"analysis.method": "reduced"}))
         res["frequency_response"] = {"freqs": fr.freqs.tolist(),

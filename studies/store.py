@@ -32,7 +32,7 @@ def code_version() -> str:
     import taxel.scene
     h = hashlib.sha256()
     for mod in (taxel.fem, taxel.meshing, taxel.analyses):
-        for f in sorted(Path(mod.__path__[0]).glob("*.py")):
+        for f in sorted(Path(mod.__path__[0]).rglob("*.py")):
             h.update(f.read_bytes())
     for f in (taxel.scene.__file__, Path(__file__).parent / "evaluate.py"):
         h.update(Path(f).read_bytes())
@@ -121,7 +121,10 @@ class Store:
 
 
 def tidy_rows(out: Path) -> list[dict]:
-    """One flat row per point: parameters, status, then outputs per taxel."""
+    """One flat row per point: parameters, status, the outputs per taxel
+    (voltage_<taxel>, charge_<taxel>), then the named outputs: pressed_voltage (V)
+    and sensitivity (V/N) of the pressed taxel, crosstalk, max_strain, and the
+    seconds. Rows stored by an older release (no "outputs") read the same."""
     store = Store(out)
     rows = []
     for r in store.rows():
@@ -137,8 +140,13 @@ def tidy_rows(out: Path) -> list[dict]:
         for name in ("voltage", "charge"):
             for taxel, val in (res.get(name) or {}).items():
                 row[f"{name}_{taxel}"] = val
-        if res.get("pressed") and res.get("voltage"):
-            row["voltage_pressed"] = res["voltage"].get(res["pressed"])
+        named = res.get("outputs") or {}
+        if res.get("pressed") and res.get("voltage"):     # rows stored before "outputs" have only these
+            row["pressed_voltage"] = named.get("pressed_voltage", res["voltage"].get(res["pressed"]))
+            if "sensitivity" in named:
+                row["sensitivity"] = named["sensitivity"]
+            elif res.get("force"):
+                row["sensitivity"] = res["voltage"].get(res["pressed"]) / abs(res["force"])
         for name in ("crosstalk", "max_strain", "seconds"):
             if name in res:
                 row[name] = res[name]

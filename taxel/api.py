@@ -40,6 +40,14 @@ def solve(scene: Scene | str | Path | dict, **options):
     return analyses.solve(scene if isinstance(scene, Scene) else _load_scene(scene), **options)
 
 
+def read(folder: str | Path):
+    """The result a folder holds (its result.json and scene.json, written by
+    `result.to_folder` or `taxel solve --out`), as the type that wrote it: its
+    numbers, `record()`, `outputs()` and `summary()`, but no mesh or fields.
+    Raises ResultError (a ValueError, one line) for a folder without a result."""
+    return analyses.read(folder)
+
+
 @dataclass
 class StudyRun:
     name: str
@@ -55,7 +63,7 @@ class StudyRun:
 
 def run_study(spec, out: str | Path | None = None, workers: int = 2, scheduler: str | None = None,
               retry_failed: bool = False, progress: bool = True,
-              plots=("voltage_pressed", "crosstalk", "max_strain")) -> StudyRun:
+              plots=("pressed_voltage", "crosstalk", "max_strain")) -> StudyRun:
     """Run a parameter study (a TOML file, a built-in name, or a studies.spec.Study)
     into `out` (default out/NAME): every point not already stored is solved
     (on `workers` local Dask workers, or the cluster at `scheduler`), then

@@ -83,8 +83,8 @@ def _solve(args):
     vtu = _writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None
     with output_folder(Path(args.out)) if args.out else contextlib.nullcontext() as tmp:
         sol = api.solve(scene, solver=args.solver, estimate=args.estimate)
-        if tmp is not None:
-            sol.to_folder(tmp)
+        if tmp is not None:                       # result.json, scene.json, the field figures, summary.txt
+            analysis.write(sol, tmp)
     if vtu:
         export(sol.mesh, vtu, point_data={"u": sol.fields.u, "phi": sol.fields.phi},
                cell_data={"strain": sol.fields.strain, "stress": sol.fields.stress})

@@ -18,10 +18,10 @@ import typing
 from pathlib import Path
 from typing import Literal
 
-from pydantic import BaseModel, Field, StrictInt, ValidationError, model_validator
+from pydantic import BaseModel, Field, StrictInt, ValidationError, field_validator, model_validator
 
 from taxel import units
-from taxel.schema import (Strict, GEOMETRY, Capacitance, Coordinate, Duration, Force, Frequency, Length, MeshSize, Name,
+from taxel.schema import (Strict, renamed_value, GEOMETRY, Capacitance, Coordinate, Duration, Force, Frequency, Length, MeshSize, Name,
                               Pressure, Resistance, Thickness, safe_name)
 
 EXAMPLES = Path(__file__).parent / "examples"
@@ -34,6 +34,10 @@ class SceneError(ValueError):
 MAX_TIME_STEPS = 1_000_000     # a transient beyond this is refused before it starts
 
 
+# model.outputs renamed this release (read for one release with a DeprecationWarning)
+RENAMED_OUTPUTS = {"voltage_per_newton": "sensitivity", "short_circuit_charge": "charge_sensitivity"}
+
+
 class Model(Strict):
     type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
     depth: Length | None = None     # out-of-plane depth of a 2D model; default: the taxel or plate width
@@ -44,8 +48,15 @@ class Model(Strict):
     symmetry: Literal["auto", "full", "half", "quarter"] = "auto"
     # "auto": the cheapest model, mesh and law whose estimated error on `outputs` is within tolerance
     fidelity: Literal["fixed", "auto"] = "fixed"
-    outputs: tuple[Literal["voltage_per_newton", "crosstalk", "short_circuit_charge"], ...] = \
-        ("voltage_per_newton",)
+    outputs: tuple[Literal["sensitivity", "crosstalk", "charge_sensitivity"], ...] = ("sensitivity",)
+
+    @field_validator("outputs", mode="before")
+    @classmethod
+    def _renamed_outputs(cls, v):
+        """Old output names (voltage_per_newton, short_circuit_charge) read with a warning."""
+        if isinstance(v, (list, tuple)):
+            return tuple(renamed_value(x, RENAMED_OUTPUTS, "model.outputs") if isinstance(x, str) else x for x in v)
+        return v
 
 
 class Mesh(Strict):

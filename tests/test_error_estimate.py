@@ -32,16 +32,16 @@ def test_estimate_parts_add_up_and_show():
     sc = small()
     res = taxel.solve(sc, estimate=True)
     e = res.error
-    assert set(e.outputs) == {"voltage_per_newton", "short_circuit_charge"}
+    assert set(e.outputs) == {"sensitivity", "charge_sensitivity"}
     for oe in e.outputs.values():
         assert oe.discretisation > 0 and oe.model_form > 0 and oe.material > 0
         assert oe.total == pytest.approx(oe.discretisation + oe.model_form + oe.material)
-    v = e.outputs["voltage_per_newton"].value
+    v = e.outputs["sensitivity"].value
     assert v == pytest.approx(res.voltages()["taxel_0_0"] / 0.05)
     assert "estimated error" in str(res) and "model form" in str(res)
     rec = json.loads(json.dumps(res.record()))
-    assert rec["error_estimate"]["outputs"]["voltage_per_newton"]["total"] == pytest.approx(
-        e.outputs["voltage_per_newton"].total)
+    assert rec["error_estimate"]["outputs"]["sensitivity"]["total"] == pytest.approx(
+        e.outputs["sensitivity"].total)
 
 
 def test_discretisation_part_against_three_level_richardson():
@@ -50,7 +50,7 @@ def test_discretisation_part_against_three_level_richardson():
     lower and order 2 undershoots: 0.27 % against 0.40 %; benchmarks/estimator_coverage.py
     measures such misses)."""
     sc = load("thesis-pzt-single-2d").replace(**{"load.force": 0.05})
-    q = [est.output_values(solve_static(refined(sc, f)))["voltage_per_newton"] for f in (0.5, 1, 2)]
+    q = [est.output_values(solve_static(refined(sc, f)))["sensitivity"] for f in (0.5, 1, 2)]
     p = __import__("math").log2(abs(q[1] - q[0]) / abs(q[2] - q[1]))
     q_inf = q[2] + (q[2] - q[1]) / (2 ** p - 1)
     true = abs(q[1] / q_inf - 1)
@@ -64,7 +64,7 @@ def test_cli_json_carries_the_estimate(capsys, tmp_path):
                     .replace('margin = "3 mm"', 'margin = "1 mm"'))
     assert main(["solve", str(path), "--estimate", "--json"]) in (None, 0)
     rec = json.loads(capsys.readouterr().out)
-    assert set(rec["error_estimate"]["outputs"]["voltage_per_newton"]) == {
+    assert set(rec["error_estimate"]["outputs"]["sensitivity"]) == {
         "value", "discretisation", "model_form", "material", "total"}
 
 
@@ -72,7 +72,7 @@ def test_auto_chooses_2d_when_it_is_within_tolerance():
     sc = small(**{"model.fidelity": "auto", "model.tolerance": 0.1})
     res = solve_static(sc)
     assert res.scene.model.type == "plane_strain"
-    assert res.error.within(0.1, ["voltage_per_newton"])
+    assert res.error.within(0.1, ["sensitivity"])
     assert res.model_note.startswith("fidelity auto: plane strain")
     # a study point (and so an optimization's design) takes the same path
     point = evaluate(to_data(sc), ("voltage",))
@@ -83,7 +83,7 @@ def test_auto_chooses_2d_when_it_is_within_tolerance():
 def test_auto_leaves_2d_for_a_crosstalk_it_cannot_meet():
     """2D overstates crosstalk 2-4x: a 20 % crosstalk tolerance needs 3D."""
     sc = small(**ROW, **{"model.fidelity": "auto", "model.tolerance": 0.2,
-                         "model.outputs": ("voltage_per_newton", "crosstalk")})
+                         "model.outputs": ("sensitivity", "crosstalk")})
     res = solve_static(sc)
     assert res.scene.model.type in ("axisymmetric", "3d")
     assert "plane strain (linear)" in res.model_note and res.model_note.startswith("fidelity auto: 3D")
@@ -207,7 +207,7 @@ def test_estimate_of_a_yeoh_press_has_no_linear_law_part_and_the_punch_floor():
                   "load.radius": "2 mm", "load.edge_radius": "0.2 mm", "load.force": 0.3})
     res = taxel.solve(sc, estimate=True)
     assert res.yeoh
-    oe = res.error.outputs["voltage_per_newton"]
+    oe = res.error.outputs["sensitivity"]
     assert oe.material == 0.0
     assert oe.model_form >= est.PRESS_3D_ERROR * 0.9
     assert any("material: Yeoh" in h for h in res.error.how)

@@ -59,9 +59,13 @@ def test_pages_are_well_formed_and_images_embedded_and_non_empty(demo):
 
 def test_study_page_has_the_parameter_curves_scene_and_renders(demo):
     text = (demo / "report" / "fig-2-5.html").read_text()
-    for section in ("Parameter study", "Results", "Scene", "Fields", "Solver", "Provenance"):
+    for section in ("Parameter study", "Results", "Scene", "Provenance"):
         assert f"<h2>{section}</h2>" in text
-    assert "3D render unavailable" not in text                     # the pyvista render is there
+    assert "<h2>Fields</h2>" not in text                           # a study folder holds no solve of its own
+    static = (demo / "report2" / "static.html").read_text()       # a solve folder: its stored fields
+    for section in ("Scene", "Fields", "Solver"):
+        assert f"<h2>{section}</h2>" in static
+    assert "3D render unavailable" not in static                   # the pyvista render is there
 
 
 def test_not_a_result_folder_is_a_clear_error(tmp_path, capsys):
@@ -163,8 +167,8 @@ def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeyp
     seen = _axis_labels_checked(monkeypatch)
     # the study plots, faceted by material (a second material with scaled values)
     rows = tidy_rows(demo / "fig-2-5")
-    rows += [{**r, "piezo": "PVDF", "voltage_pressed": 10 * r["voltage_pressed"]} for r in rows]
-    files = study_plots(rows, ["piezo", "silicone_thickness", "force"], ["voltage_pressed", "max_strain"],
+    rows += [{**r, "piezo": "PVDF", "pressed_voltage": 10 * r["pressed_voltage"]} for r in rows]
+    files = study_plots(rows, ["piezo", "silicone_thickness", "force"], ["pressed_voltage", "max_strain"],
                         tmp_path / "plots", "fig-2-5")
     assert len(files) == 4
     # Bode and time plots, the optimization's convergence and front
@@ -179,7 +183,7 @@ def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeyp
     res.optimum, res.runs = None, [FrontRun(0.1, run)]
     optimization.front(res, tmp_path / "pareto.png")
     # the report's own figures: scene drawing, fields, the taxel heat map of an array
-    taxel.solve("thesis-pzt-3x3-2d").to_folder(tmp_path / "array")
+    analysis.write(taxel.solve("thesis-pzt-3x3-2d"), tmp_path / "array")     # draws the fields
     build([tmp_path / "array"], tmp_path / "r", compare=False)
     labels = [lbl for _, lbl in seen]
     assert len(seen) >= 25 and "open-circuit voltage (mV)" in labels and "row (index)" in labels
@@ -242,18 +246,15 @@ def test_a_study_out_of_range_shows_the_banner(demo):
 def test_building_twice_solves_nothing_the_second_time(demo, tmp_path, monkeypatch):
     import shutil
 
-    import taxel.reports.scene_sections as S
     import taxel.studies.evaluate as E
     folder = tmp_path / "static"
     shutil.copytree(demo / "static", folder, ignore=shutil.ignore_patterns("report-cache"))
     calls = []
-    for mod in (S, E):
-        real = mod.solve_static
-        monkeypatch.setattr(mod, "solve_static", lambda scene, *a, _real=real, **k: calls.append(1) or _real(
-            scene, *a, **k))
+    real = E.solve_static
+    monkeypatch.setattr(E, "solve_static", lambda scene, *a, **k: calls.append(1) or real(scene, *a, **k))
     build([folder], tmp_path / "r1", compare=True)
     first = len(calls)
-    assert first >= 5                           # the page's solve and the four FEM models compared
+    assert first == 4                           # the four FEM models compared; the page's own solve is read
     build([folder], tmp_path / "r2", compare=True)
     assert len(calls) == first                  # nothing solved the second time
     a, b = ((tmp_path / r / "static.html").read_text() for r in ("r1", "r2"))

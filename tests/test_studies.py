@@ -174,8 +174,8 @@ def test_status_and_export(tmp_path, capsys):
     csv = tmp_path / "r.csv"
     assert main(["study", "export", str(out), "--csv", str(csv)]) == 0
     lines = csv.read_text().splitlines()
-    assert len(lines) == 13 and "voltage_pressed" in lines[0]
-    assert (out / "plots" / "voltage_pressed-vs-silicone.png").stat().st_size > 1000
+    assert len(lines) == 13 and "pressed_voltage" in lines[0] and "sensitivity" in lines[0]
+    assert (out / "plots" / "pressed_voltage-vs-silicone.png").stat().st_size > 1000
 
 
 BAD = [

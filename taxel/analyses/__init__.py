@@ -11,7 +11,8 @@ import importlib
 
 from taxel.scene import Scene
 from taxel.analyses.adapter import check, mesh, problem, readout, scene_materials
-from taxel.analyses.results import FrequencyResult, LumpedResult, StaticResult, TransientResult
+from taxel.analyses.results import (AnalysisResult, FrequencyResult, LumpedResult, ResultError, StaticResult,
+                                    TransientResult, read)
 from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_model
 
 _LAZY = {name: "taxel.analyses.dynamic" for name in
@@ -23,9 +24,11 @@ def __getattr__(name):
         return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'taxel.analyses' has no attribute {name!r}")
 
+
 __all__ = ["solve", "solve_static", "frequency", "transient", "lumped_model", "lumped_response", "problem", "mesh",
            "readout", "check", "scene_materials", "frequencies", "force_history", "linear_error",
-           "LINEAR_ERROR_PER_STRAIN", "StaticResult", "FrequencyResult", "TransientResult", "LumpedResult"]
+           "LINEAR_ERROR_PER_STRAIN", "read", "ResultError", "AnalysisResult", "StaticResult", "FrequencyResult",
+           "TransientResult", "LumpedResult"]
 
 
 def solve(scene: Scene, estimate: bool = False, **options) -> StaticResult | FrequencyResult | TransientResult:

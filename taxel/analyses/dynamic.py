@@ -57,7 +57,7 @@ def frequency(scene: Scene, dm: dynamics.DynamicModel | None = None) -> Frequenc
     a = scene.analysis
     port = sweep.sweep(dm, frequencies(a), a.method, a.tolerance)
     r = readout(scene)
-    return FrequencyResult(scene, port, circuits.readout(port, r), r.label)
+    return FrequencyResult.from_port(scene, port, circuits.readout(port, r), r.label)
 
 
 def transient(scene: Scene) -> TransientResult:
@@ -83,7 +83,7 @@ def transient(scene: Scene) -> TransientResult:
             y = tr.V
     if r.notch:
         y = circuits.notch_in_time(t, y, r)
-    return TransientResult(scene, tr, y, r.label, iters)
+    return TransientResult.from_transient(scene, tr, y, r.label, iters)
 
 
 def _amplitude(scene: Scene, prob) -> float:

@@ -1,9 +1,10 @@
 """How wrong a static result may be: its estimated relative error on each output,
 split into discretisation, model form and material law.
 
-Outputs (`output_values`): the pressed taxel's open-circuit voltage per newton
-(V/N), the crosstalk (largest neighbour |V| / pressed |V|), and the pressed
-taxel's short-circuit charge per newton (C/N). Every part is a relative error
+Outputs (`output_values`, a part of `StaticResult.outputs()`): the sensitivity
+(the pressed taxel's open-circuit voltage per newton, V/N), the crosstalk
+(largest neighbour |V| / pressed |V|), and the charge sensitivity (the pressed
+taxel's short-circuit charge per newton, C/N). Every part is a relative error
 |q_h - q| / |q| of the output q, and the total is their sum (a bound: signed
 parts may cancel, the sum never undercounts them).
 
@@ -42,9 +43,8 @@ import numpy as np
 from taxel.scene import Scene, refined
 from taxel.analyses.results import ErrorEstimate, FrequencyResult, OutputError, StaticResult
 from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_model
-from taxel.schema import electrode_name
 
-OUTPUTS = ("voltage_per_newton", "crosstalk", "short_circuit_charge")
+OUTPUTS = ("sensitivity", "crosstalk", "charge_sensitivity")
 
 # Richardson order per element order (the voltage's observed order in 2D is 2.2 for P2,
 # benchmarks/default_mesh.py). P1/MINI has no observed order on the thesis taxels: the
@@ -55,7 +55,7 @@ RICHARDSON_ORDER = {1: 2.0, 2: 2.0}
 # The cheapest 3D model: its mesh sizes, and its relative error per output against the
 # 3D reference, the worst over the scenes of benchmarks/estimator_coverage.py (x 1.2).
 CHEAP_3D = {"mesh.size": 1.5e-3, "mesh.piezo_size": 0.6e-3, "mesh.piezo_layers": 2}
-CHEAP_3D_ERROR = {"voltage_per_newton": 0.005, "crosstalk": 0.05, "short_circuit_charge": 0.005}
+CHEAP_3D_ERROR = {"sensitivity": 0.005, "crosstalk": 0.05, "charge_sensitivity": 0.005}
 # Under a rigid punch a 3D mesh errs more: the default 3D mesh's press voltage is +5.4 %
 # off the extrapolation of three nested meshes (benchmarks/contact_3d.py, 1 N, Yeoh,
 # sticking). The cheapest mesh is coarser, so this is a floor for its error there.
@@ -70,17 +70,9 @@ def cheap_3d_error(scene: Scene) -> dict[str, float]:
 
 
 def output_values(result: StaticResult) -> dict[str, float]:
-    """The outputs an estimate covers, of one static result (SI: V/N, ratio, C/N)."""
-    taxels = {k: e for k, e in result.electrodes.items() if e.state != "reference"}
-    if not taxels:
-        return {}
-    name = result.pressed or next(iter(taxels))
-    force = abs(result.applied_force) or 1.0
-    e = taxels[name]
-    out = {"voltage_per_newton": e.voltage / force, "short_circuit_charge": e.short_circuit_charge / force}
-    if result.crosstalk is not None:
-        out["crosstalk"] = result.crosstalk
-    return out
+    """The outputs an estimate covers (OUTPUTS), of one static result (SI: V/N, ratio, C/N)."""
+    out = result.outputs()
+    return {k: out[k] for k in OUTPUTS if k in out}
 
 
 def cheapest_3d(scene: Scene) -> Scene:
@@ -155,10 +147,7 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
 
 def sweep_values(result: FrequencyResult) -> np.ndarray:
     """|readout output| per newton of the pressed (or first) taxel at each frequency."""
-    p = result.scene.load.taxel
-    name = electrode_name(p[0], p[1])
-    k = result.names.index(name) if name in result.names else 0
-    return np.abs(result.output[:, k])
+    return result.sweep_values()
 
 
 def estimate_frequency(scene: Scene, result: FrequencyResult) -> ErrorEstimate:
@@ -173,13 +162,13 @@ def estimate_frequency(scene: Scene, result: FrequencyResult) -> ErrorEstimate:
     y = sweep_values(result)
     yc = sweep_values(frequency(refined(scene, 0.5)))
     p = RICHARDSON_ORDER[scene.mesh.order]
-    disc = float(np.max(np.abs(y - yc) / (2 ** p - 1) / np.abs(y))) + result.port.error
+    disc = float(np.max(np.abs(y - yc) / (2 ** p - 1) / np.abs(y))) + result.measured_error
     how = [f"discretisation: Richardson on a mesh at twice every size, order {p:g}, the largest over "
-           f"{len(y)} frequencies, plus the reduced sweep's measured error {result.port.error:.1e}"]
+           f"{len(y)} frequencies, plus the reduced sweep's measured error {result.measured_error:.1e}"]
     form = 0.0 if scene.model.type == "3d" else None
     if scene.model.type != "3d" and scene.array is not None:
         y3 = sweep_values(frequency(cheapest_3d(scene).replace(**{"model.silicone": scene.model.silicone})))
-        form = float(np.max(np.abs(y / y3 - 1))) + CHEAP_3D_ERROR["voltage_per_newton"]
+        form = float(np.max(np.abs(y / y3 - 1))) + CHEAP_3D_ERROR["sensitivity"]
         how.append("model form: against the cheapest 3D model's sweep, widened by that mesh's measured error")
-    out = {"readout_output": OutputError(float(y.max()), disc, form, 0.0)}
+    out = {"readout_sensitivity": OutputError(float(y.max()), disc, form, 0.0)}
     return ErrorEstimate(out, how, time.perf_counter() - t0)

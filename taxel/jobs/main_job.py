@@ -22,7 +22,7 @@ from taxel.reports.multifidelity import draw as draw_verified_front
 from taxel import measure
 from taxel.studies.spec import Study, load_study
 
-STUDY_PLOTS = ("voltage_pressed", "max_strain")
+STUDY_PLOTS = ("pressed_voltage", "max_strain")
 
 
 def small_study(st: Study) -> Study:

@@ -1,0 +1,17 @@
+"""Result objects of the analyses, one protocol for all (results.protocol):
+`record()`, `summary()`, `to_folder(dir)`, `error` and `outputs()`; `read(folder)`
+reads a folder's result.json back into the same type. The CLI, studies and
+reports read these and never re-derive what a result holds."""
+
+from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, TransientResult
+from taxel.analyses.results.errors import (NOT_ESTIMATED, OUTPUT_NAMES, RENAMED_OUTPUTS, ErrorEstimate,
+                                           OutputError)
+from taxel.analyses.results.folders import FORMAT, output_folder, write_csv, write_scene
+from taxel.analyses.results.protocol import KINDS, MEMBERS, AnalysisResult
+from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult
+from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_record
+
+__all__ = ["FrequencyResult", "LumpedResult", "TransientResult", "StaticResult", "ErrorEstimate", "OutputError",
+           "OUTPUT_NAMES", "RENAMED_OUTPUTS", "NOT_ESTIMATED", "FORMAT", "output_folder", "write_csv",
+           "write_scene", "KINDS", "MEMBERS", "AnalysisResult", "STATIC_OUTPUTS", "RESULT_TYPES", "ResultError",
+           "read", "read_record"]

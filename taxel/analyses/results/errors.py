@@ -1,0 +1,98 @@
+"""A result's error estimate (`ErrorEstimate`: one `OutputError` per output) and the
+names of the outputs it covers."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from taxel.schema import renamed_value
+from taxel.scene import RENAMED_OUTPUTS as SCENE_RENAMED_OUTPUTS
+
+OUTPUT_NAMES = {"sensitivity": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
+                "charge_sensitivity": "pressed-taxel short-circuit charge per newton",
+                "readout_sensitivity": "readout output per newton, largest over the sweep"}
+
+# output names renamed this release: read for one release with a DeprecationWarning
+RENAMED_OUTPUTS = {**SCENE_RENAMED_OUTPUTS, "readout_output": "readout_sensitivity"}
+
+# why a result has no error estimate, per analysis kind
+NOT_ESTIMATED = {"static": "not estimated (taxel solve --estimate)",
+                 "frequency": "not estimated (taxel solve --estimate)",
+                 "transient": "not estimated (no error estimate for a transient)",
+                 "lumped": "not estimated (the lumped model has no error estimate)"}
+
+
+@dataclass
+class OutputError:
+    """The estimated relative error of one output, split into its parts (each a
+    relative error >= 0, or None when that part was not estimated)."""
+
+    value: float                          # the output itself (SI: V/N, ratio, C/N)
+    discretisation: float | None = None   # against the same model on a converged mesh
+    model_form: float | None = None       # 2D / axisymmetric against 3D
+    material: float | None = None         # linear silicone against Yeoh
+
+    @property
+    def total(self) -> float:
+        """The parts added (a bound: they may partly cancel)."""
+        return sum(x for x in (self.discretisation, self.model_form, self.material) if x is not None)
+
+    def record(self) -> dict:
+        return {"value": self.value, "discretisation": self.discretisation, "model_form": self.model_form,
+                "material": self.material, "total": self.total}
+
+    @classmethod
+    def from_record(cls, rec: dict) -> OutputError:
+        return cls(rec["value"], rec.get("discretisation"), rec.get("model_form"), rec.get("material"))
+
+
+@dataclass
+class ErrorEstimate:
+    """A result's estimated error on each output (taxel.analyses.error_estimate), how
+    each part was found, and what the estimate cost."""
+
+    outputs: dict[str, OutputError]
+    how: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def within(self, tolerance: float, names=None) -> bool:
+        return all(self.outputs[k].total <= tolerance for k in (names or self.outputs) if k in self.outputs)
+
+    def record(self) -> dict:
+        return {"outputs": {k: e.record() for k, e in self.outputs.items()}, "how": self.how,
+                "seconds": self.seconds}
+
+    @classmethod
+    def from_record(cls, rec: dict) -> ErrorEstimate:
+        """The estimate of a result.json; old output names (voltage_per_newton,
+        short_circuit_charge, readout_output) are read with a DeprecationWarning."""
+        outs = {renamed_value(k, RENAMED_OUTPUTS, "error_estimate.outputs"): OutputError.from_record(v)
+                for k, v in rec["outputs"].items()}
+        return cls(outs, list(rec.get("how", [])), float(rec.get("seconds", 0.0)))
+
+    def lines(self) -> list[str]:
+        def pct(x):
+            return "-" if x is None else f"{100 * x:.2g} %"
+        out = [f"{'estimated error':<46}{'discretisation':>15}{'model form':>12}{'material':>10}{'total':>10}"]
+        for k, e in self.outputs.items():
+            out.append(f"{OUTPUT_NAMES.get(k, k):<46}{pct(e.discretisation):>15}{pct(e.model_form):>12}"
+                       f"{pct(e.material):>10}{pct(e.total):>10}")
+        return out + [f"  {h}" for h in self.how] + [f"  (the estimate took {self.seconds:.2f} s)"]
+
+
+def error_record(error: ErrorEstimate | None, kind: str) -> dict:
+    """The "error_estimate" and "error_note" keys of a record: the estimate, or None
+    and the reason there is none."""
+    return {"error_estimate": None if error is None else error.record(),
+            "error_note": "" if error is not None else NOT_ESTIMATED[kind]}
+
+
+def error_lines(error: ErrorEstimate | None, kind: str) -> list[str]:
+    """The summary lines of the estimate, or the one line saying why there is none."""
+    return error.lines() if error is not None else [f"error: {NOT_ESTIMATED[kind]}"]
+
+
+def read_error(rec: dict) -> ErrorEstimate | None:
+    """The ErrorEstimate of a record, or None."""
+    e = rec.get("error_estimate")
+    return None if e is None else ErrorEstimate.from_record(e)

@@ -1,0 +1,218 @@
+"""The static result: per-electrode voltage, charge, short-circuit charge and
+capacitance, the support reaction, the largest silicone strain, the press of an
+indenter, and (a fresh solve only) the mesh and fields."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from taxel.fem.linear import ElectrodeResult, Solution
+from taxel.fem.newton import NewtonResult
+from taxel.meshing.build import TaggedMesh
+from taxel.scene import Scene
+from taxel.units import engineering
+from taxel.analyses.results.errors import ErrorEstimate, error_lines, error_record, read_error
+from taxel.analyses.results.folders import FORMAT, write_csv, write_result
+from taxel.analyses.results.protocol import pressed_name
+
+# the outputs of a static result (`StaticResult.outputs`), SI units
+STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
+                  "max_strain": ""}
+
+
+@dataclass
+class StaticResult:
+    """A static solve of a scene: per-electrode voltage, charge, short-circuit charge
+    and capacitance, the support reaction and the fields.
+
+    Read back from a folder (`taxel.analyses.read`), the numbers are all there but
+    the solution has no mesh and no fields (`mesh`, `fields` are None) and no
+    capacitance matrix; the press is kept as its record (`contact_record()`), and
+    `contact` is None."""
+
+    scene: Scene
+    solution: Solution
+    times: dict[str, float] = field(default_factory=dict)     # s: mesh, assemble, solve, total
+    model_note: str = ""       # which silicone model was used and why (model.silicone = "auto")
+    error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.error_estimate)
+    yeoh: bool = False         # the silicone was solved as Yeoh (model.silicone = "yeoh", or "auto" chose it)
+    contact_data: dict | None = None       # the press record of a result read back (else from the solution)
+    kind = "static"
+
+    @property
+    def electrodes(self) -> dict[str, ElectrodeResult]:
+        return self.solution.electrodes
+
+    @property
+    def applied_force(self) -> float:
+        return self.solution.applied_force
+
+    @property
+    def reaction(self) -> np.ndarray:
+        return self.solution.reaction
+
+    @property
+    def max_silicone_strain(self) -> float:
+        return self.solution.max_solid_strain
+
+    @property
+    def mesh(self) -> TaggedMesh | None:
+        return self.solution.mesh
+
+    @property
+    def fields(self):
+        return self.solution.fields
+
+    @property
+    def newton(self):
+        return self.solution.newton
+
+    @property
+    def unknowns(self) -> int:
+        return self.solution.unknowns
+
+    @property
+    def solver(self) -> str:
+        return self.solution.solver
+
+    @property
+    def residual(self) -> float:
+        return self.solution.residual
+
+    def voltages(self) -> dict[str, float]:
+        return self.solution.voltages()
+
+    @property
+    def pressed(self) -> str | None:
+        """The electrode of the pressed taxel, if the load presses one."""
+        return pressed_name(self.scene, self.electrodes)
+
+    @property
+    def crosstalk(self) -> float | None:
+        """Largest |V| of a neighbour over |V| of the pressed taxel (None without one)."""
+        v = self.voltages()
+        p = self.pressed
+        if p is None or len(v) < 2 or v[p] == 0:
+            return None
+        return max(abs(x) for k, x in v.items() if k != p) / abs(v[p])
+
+    def outputs(self) -> dict[str, float]:
+        """The named outputs (SI, STATIC_OUTPUTS): sensitivity (open-circuit V/N),
+        charge_sensitivity (short-circuit C/N) and pressed_voltage (V) of the pressed
+        taxel, or of the first taxel when the load presses none (signed; per newton
+        of |applied force|); crosstalk (with a pressed taxel and a neighbour);
+        max_strain (the largest principal strain in the silicone)."""
+        out: dict[str, float] = {}
+        taxels = {k: e for k, e in self.electrodes.items() if e.state != "reference"}
+        if taxels:
+            e = taxels[self.pressed or next(iter(taxels))]
+            force = abs(self.applied_force) or 1.0
+            out = {"sensitivity": e.voltage / force, "charge_sensitivity": e.short_circuit_charge / force,
+                   "pressed_voltage": e.voltage}
+            if self.crosstalk is not None:
+                out["crosstalk"] = self.crosstalk
+        out["max_strain"] = self.max_silicone_strain
+        return out
+
+    @property
+    def contact(self):
+        """The press (fem.press.ContactResult) of an indenter scene, else None."""
+        return getattr(self.solution, "contact", None)
+
+    def contact_record(self) -> dict | None:
+        """The press in SI units: the final state and every converged state of the path
+        (force-travel and voltage-force curves), sorted by travel."""
+        c = self.contact
+        if c is None or not c.points:
+            return self.contact_data
+        last = c.points[-1]
+        pts = sorted(c.points, key=lambda p: p.travel)
+        return {"indenter": {"shape": c.indenter.shape, "radius_m": c.indenter.radius,
+                             "edge_radius_m": c.indenter.edge_radius},
+                "force_N": last.force, "travel_m": last.travel, "contact_area_m2": last.area,
+                "contact_half_width_m": last.half_width, "max_pressure_Pa": last.max_pressure,
+                "penetration_m": last.penetration, "newton_iterations": c.total_iterations,
+                "load_steps": len(c.points), "failed_trials": c.failed_trials, "penalty_Pa_per_m": c.penalty,
+                "curve": {"travel_m": [p.travel for p in pts], "force_N": [p.force for p in pts],
+                          "voltages_V": {k: [p.voltages[k] for p in pts] for k in last.voltages},
+                          "contact_area_m2": [p.area for p in pts],
+                          "max_pressure_Pa": [p.max_pressure for p in pts]}}
+
+    def record(self) -> dict:
+        """One JSON-ready record of the numbers a user asks for (SI units)."""
+        n = self.newton
+        return {"kind": self.kind, "format": FORMAT, "contact": self.contact_record(),
+            "scene": self.scene.name, "model": self.scene.model.type,
+            "electrodes": {k: {"state": e.state, "voltage_V": e.voltage, "charge_C": e.charge,
+                               "short_circuit_charge_C": e.short_circuit_charge,
+                               "capacitance_F": e.capacitance} for k, e in self.electrodes.items()},
+            "applied_force_N": self.applied_force, "reaction_N": np.asarray(self.reaction).tolist(),
+            "max_silicone_strain": self.max_silicone_strain, "unknowns": self.unknowns,
+            "solver": self.solver, "relative_residual": self.residual,
+            "times_s": self.times, "silicone": self.scene.model.silicone, "model_note": self.model_note,
+            "yeoh": self.yeoh, "outputs": self.outputs(), **error_record(self.error, self.kind),
+            "newton": None if n is None else {"converged": n.converged, "load_factors": n.load_factors,
+                                              "iterations": n.iterations, "cutbacks": n.cutbacks,
+                                              "message": n.message},
+        }
+
+    @classmethod
+    def from_record(cls, scene: Scene, rec: dict) -> StaticResult:
+        """The result of a result.json record (no mesh, no fields)."""
+        els = {k: ElectrodeResult(k, e["state"], e["voltage_V"], e["charge_C"], e["short_circuit_charge_C"],
+                                  e["capacitance_F"]) for k, e in rec["electrodes"].items()}
+        n = rec.get("newton")
+        newton = None if n is None else NewtonResult(n.get("converged", True), list(n["load_factors"]),
+                                                     list(n["iterations"]), cutbacks=n["cutbacks"],
+                                                     message=n["message"])
+        sol = Solution(els, rec["applied_force_N"], np.asarray(rec["reaction_N"], dtype=float),
+                       rec["max_silicone_strain"], rec["unknowns"], rec["solver"], rec["relative_residual"],
+                       None, None, newton)
+        return cls(scene, sol, dict(rec.get("times_s", {})), rec.get("model_note", ""), read_error(rec),
+                   bool(rec.get("yeoh", rec.get("silicone") == "yeoh")), rec.get("contact"))
+
+    def to_folder(self, out) -> list[Path]:
+        """result.json, scene.json and, for a press, contact-curve.csv."""
+        out = Path(out)
+        paths = write_result(out, self)
+        c = self.contact_record()
+        if c is not None:               # the force-travel / voltage-force curve
+            cv = c["curve"]
+            paths.append(write_csv(out / "contact-curve.csv",
+                                   ["travel_m", "force_N", "contact_area_m2", "max_pressure_Pa"]
+                                   + [f"{k}_V" for k in cv["voltages_V"]],
+                                   [cv["travel_m"], cv["force_N"], cv["contact_area_m2"], cv["max_pressure_Pa"]]
+                                   + list(cv["voltages_V"].values())))
+        return paths
+
+    def summary(self) -> list[str]:
+        """The electrodes' table, the press and the error estimate, for a person."""
+        s, m = self.scene, self.scene.mesh
+        lines = [f"scene {s.name}: {s.model.type}, order {m.order} ({s.model.silicone} silicone, {m.formulation}), "
+                 f"{self.unknowns} unknowns, solver {self.solver}"
+                 + (f", {self.times['total']:.3f} s" if "total" in self.times else ""),
+                 f"{'electrode':<12}{'state':<10}{'voltage':>12}{'charge':>13}{'short-circuit Q':>18}"
+                 f"{'capacitance':>14}"]
+        for e in self.electrodes.values():
+            lines.append(f"{e.name:<12}{e.state:<10}{engineering(e.voltage, 'V'):>12}"
+                         f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
+                         f"{engineering(e.capacitance, 'F'):>14}")
+        c = self.contact_record()
+        if c is not None:
+            lines.append(f"indenter ({c['indenter']['shape']}): force {engineering(c['force_N'], 'N')} at travel "
+                         f"{engineering(c['travel_m'], 'm')}, contact area {1e6 * c['contact_area_m2']:.4g} mm2, "
+                         f"max pressure {engineering(c['max_pressure_Pa'], 'Pa')}, penetration "
+                         f"{engineering(c['penetration_m'], 'm')}; {c['load_steps']} load steps, "
+                         f"{c['newton_iterations']} Newton iterations")
+            lines.append(f"{'travel':>12}{'force':>12}" + "".join(f"{k:>14}" for k in c["curve"]["voltages_V"]))
+            cv = c["curve"]
+            for i, d in enumerate(cv["travel_m"]):
+                lines.append(f"{engineering(d, 'm'):>12}{engineering(cv['force_N'][i], 'N'):>12}"
+                             + "".join(f"{engineering(v[i], 'V'):>14}" for v in cv["voltages_V"].values()))
+        return lines + error_lines(self.error, self.kind)
+
+    def __str__(self) -> str:
+        return "\n".join(self.summary())
