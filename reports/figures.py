@@ -16,6 +16,7 @@ from taxel.analyses.adapter import scene_materials
 from taxel.fem.yeoh_fit import stability_limit
 from taxel.schema import renamed_value
 from taxel.units import magnitude
+from taxel.schema import electrode_name
 
 
 def pyplot():
@@ -204,7 +205,7 @@ def taxel_heatmap(sol):
     im = ax.imshow(grid, cmap="coolwarm", vmin=-lim, vmax=lim)
     for (r, c), v in cells.items():
         ax.text(c - c0, r - r0, f"{v:.0f}", ha="center", va="center", fontsize=10,
-                fontweight="bold" if f"taxel_{r}_{c}" == sol.pressed else "normal")
+                fontweight="bold" if electrode_name(r, c) == sol.pressed else "normal")
     ax.set_xticks(range(grid.shape[1]), [str(c) for c in range(c0, c1 + 1)])
     ax.set_yticks(range(grid.shape[0]), [str(r) for r in range(r0, r1 + 1)])
     ax.set_xlabel("column (index)")

@@ -22,7 +22,15 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def package_dirs() -> dict[str, Path]:
     cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-    return {pkg: ROOT / cfg["package-dir"].get(pkg, pkg.replace(".", "/")) for pkg in cfg["packages"]}
+    mapped = cfg["package-dir"]
+
+    def folder(pkg: str) -> Path:          # setuptools' rule: the nearest mapped parent, then the names
+        head, tail = pkg, []
+        while head not in mapped and "." in head:
+            head, _, last = head.rpartition(".")
+            tail.insert(0, last)
+        return ROOT.joinpath(mapped.get(head, head.replace(".", "/")), *tail)
+    return {pkg: folder(pkg) for pkg in cfg["packages"]}
 
 
 def modules() -> dict[str, Path]:
@@ -137,6 +145,15 @@ def test_no_underscore_names_across_modules():
                     and aliases[node.value.id] != mod):
                 bad.append(f"{path.relative_to(ROOT)}:{node.lineno} uses {aliases[node.value.id]}.{node.attr}")
     assert not bad, "\n".join(bad)
+
+
+def test_every_package_folder_is_installed():
+    """A folder with an __init__.py under a layer folder is listed in pyproject's packages
+    (an unlisted one works editable and is missing from a real install)."""
+    listed = package_dirs()
+    for folder in set(listed.values()):
+        for init in folder.rglob("__init__.py"):
+            assert init.parent in listed.values(), f"{init.parent.relative_to(ROOT)} is not in pyproject's packages"
 
 
 def test_electrode_names_come_from_one_helper():

@@ -50,6 +50,7 @@ from taxel.fem.circuits import notch_in_time
 from taxel.scene import Scene
 from taxel.studies.bench.protocol import Frames
 from taxel.studies.bench.rig import Rig
+from taxel.schema import electrode_name
 
 Input = Literal["step", "impulse", "chirp", "presses"]
 INPUTS = ("step", "impulse", "chirp", "presses")
@@ -212,10 +213,10 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
         pr = positions[centre][0]
         Q = np.zeros((len(t), len(taxels)))
         for k, (r, c) in enumerate(taxels):
-            if f"taxel_{r}_{c}" in names:                       # modelled (3D, or the pressed row)
-                Q[:, k] = Qe[:, names.index(f"taxel_{r}_{c}")]
-            elif f"taxel_{pr}_{c}" in names and r < len(W1) and pr < len(W1):
-                Q[:, k] = Qe[:, names.index(f"taxel_{pr}_{c}")] * W1[pr, r]
+            if electrode_name(r, c) in names:                       # modelled (3D, or the pressed row)
+                Q[:, k] = Qe[:, names.index(electrode_name(r, c))]
+            elif electrode_name(pr, c) in names and r < len(W1) and pr < len(W1):
+                Q[:, k] = Qe[:, names.index(electrode_name(pr, c))] * W1[pr, r]
         Q *= gain[None, :]
     else:
         Q = q_per_N * (F @ Wm) * gain[None, :]

@@ -33,6 +33,7 @@ from scipy import signal
 
 from taxel.studies.measured.events import Record, segments
 from taxel.studies.bench.folder import MeasurementError
+from taxel.schema import electrode_name
 
 
 class ChirpError(MeasurementError):
@@ -151,7 +152,7 @@ def fem_frf(scene, readout, taxel: tuple[int, int], freqs: np.ndarray) -> np.nda
                          "analysis.points": len(f), "analysis.spacing": "linear", "load.kind": "taxel",
                          "load.taxel": list(taxel), **ro})
     r = frequency(s)
-    name = f"taxel_{taxel[0]}_{taxel[1]}"
+    name = electrode_name(taxel[0], taxel[1])
     out = np.full(len(freqs), np.nan, complex)
     out[sel] = np.interp(f, r.freqs, r.output[:, list(r.names).index(name)].real) + \
         1j * np.interp(f, r.freqs, r.output[:, list(r.names).index(name)].imag)

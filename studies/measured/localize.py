@@ -66,6 +66,7 @@ from taxel.studies.measured.peaks import peaks
 from taxel.studies.measured.events import Record, record, segments
 from taxel.studies.bench.folder import MeasurementError, read, write_json
 from taxel.studies.measured.readings import amplitudes, reading_noise, scored, sensitivities
+from taxel.schema import electrode_name
 
 JSON = "localization.json"
 __all__ = ["PressEvent", "Scores", "Localization", "read_presses", "match", "largest_taxel", "model_based",
@@ -236,7 +237,7 @@ def match(rec: Record, presses, window_s: float = 0.1, with_segments: bool = Fal
     for p in map(as_press, presses):
         if p.position not in rec.taxels:
             raise MeasurementError(f"press at {p.t:g} s on taxel {list(p.position)}: the rig has no channel "
-                                   f"taxel_{p.position[0]}_{p.position[1]}; fix the presses file or the rig")
+                                   f"{electrode_name(*p.position)}; fix the presses file or the rig")
         j = np.flatnonzero((starts >= p.t - 1e-3) & (starts <= p.t + window_s))
         if not len(j):
             missed += 1

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.scene import Scene
+from taxel.schema import electrode_name
 
 
 def cache_dir() -> Path:
@@ -42,7 +43,7 @@ def profile(scene: Scene) -> np.ndarray:
     W1 = np.zeros((arr.cols, arr.cols))
     for c in range(arr.cols):
         v = solve_static(scene.replace(**{"load.kind": "taxel", "load.taxel": [row, c]})).voltages()
-        W1[c] = [v[f"taxel_{row}_{k}"] / v[f"taxel_{row}_{c}"] for k in range(arr.cols)]
+        W1[c] = [v[electrode_name(row, k)] / v[electrode_name(row, c)] for k in range(arr.cols)]
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps({"scene_sha256": key, "W1": W1.tolist()}))

@@ -42,6 +42,7 @@ from scipy.interpolate import CubicSpline
 
 from taxel.scene import Scene
 from taxel.analyses.crosstalk import cache_dir
+from taxel.schema import electrode_name
 
 Solve = Callable[[Scene], dict]
 
@@ -119,7 +120,7 @@ def influence(scene: Scene, per_pitch: int = 8, edges: bool = True, solve: Solve
         s = scene.replace(**{"load.kind": "indenter", "load.taxel": [row, c], "load.radius": arr.taxel_width / 2,
                              "load.offset": [float(x - c * pitch), 0.0], "load.profile": "flat"})
         v = solve(s)
-        V[i] = [v[f"taxel_{row}_{k}"] for k in range(n)]
+        V[i] = [v[electrode_name(row, k)] for k in range(n)]
         count += 1
     centre = [int(np.argmin(np.abs(xs - c * pitch))) for c in range(n)]
     G = V / V[centre, np.arange(n)][None, :]

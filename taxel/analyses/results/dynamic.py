@@ -20,12 +20,13 @@ from taxel.fem.timestep import Transient
 from taxel.scene import Scene
 from taxel.analyses.results.errors import ErrorEstimate, error_lines, error_record, read_error
 from taxel.analyses.results.folders import FORMAT, write_csv, write_result
+from taxel.schema import electrode_name
 
 
 def _pressed_index(scene: Scene, names: list[str]) -> int:
     """The column of the pressed taxel (scene.load.taxel) among `names`, else 0."""
     p = scene.load.taxel
-    name = f"taxel_{p[0]}_{p[1]}"
+    name = electrode_name(p[0], p[1])
     return names.index(name) if name in names else 0
 
 

@@ -17,6 +17,7 @@ from typing import Protocol, runtime_checkable
 
 from taxel.scene import Scene
 from taxel.analyses.results.errors import ErrorEstimate
+from taxel.schema import electrode_name
 
 KINDS = ("static", "frequency", "transient", "lumped")
 MEMBERS = ("record", "summary", "to_folder", "error", "outputs")
@@ -43,5 +44,5 @@ def pressed_name(scene: Scene, names) -> str | None:
     """The electrode of the pressed taxel when the load presses one of `names`."""
     if scene.array is None or scene.load.kind not in ("taxel", "indenter"):
         return None
-    name = f"taxel_{scene.load.taxel[0]}_{scene.load.taxel[1]}"
+    name = electrode_name(scene.load.taxel[0], scene.load.taxel[1])
     return name if name in names else None
