@@ -3,7 +3,8 @@
     python benchmarks/walk.py [--inside-layers] [ARGS...]
                                         (default: solve thesis-pzt-single-2d --json --out DIR)
 
-Runs the `taxel` command in this process under a profile hook and records every call
+Runs the `taxel` command in this process under a profile hook and records, from the
+moment the command's handler takes over (after argument parsing), every call
 from one module of the package into another (calls inside a module, and calls into
 third-party code, are not steps). Prints the modules in the order they are first
 entered, how many distinct modules the walk passes through, and how many times it
@@ -54,8 +55,16 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
         return False
     cache: dict[str, str | None] = {}
 
+    active = [False]
+    parse_and_import = cli._import_api
+
+    def start():                       # the command line is parsed and the API imported: the walk begins
+        parse_and_import()
+        active[0] = True
+    cli._import_api = start
+
     def hook(frame, event, arg):
-        if event != "call" or frame.f_code.co_name == "<module>" or at_import(frame):
+        if not active[0] or event != "call" or frame.f_code.co_name == "<module>" or at_import(frame):
             return
         callee = cache.setdefault(frame.f_code.co_filename, module_of(frame.f_code.co_filename))
         if callee is None or callee == "taxel.cli" and not steps:
@@ -72,6 +81,7 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
         cli.main(argv)
     finally:
         sys.setprofile(None)
+        cli._import_api = parse_and_import
     return steps
 
 

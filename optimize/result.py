@@ -47,6 +47,9 @@ class Constraint:
         return (self.metric, self.op, self.bound)
 
 
+KINDS = ("optimum", "front")          # result.json's "kind" of an optimization folder
+
+
 @dataclass
 class OptimizationResult:
     """The optimum or the front of an optimization spec, with the reference design."""

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 from taxel.analyses import StaticResult, lumped_model, read, scene_materials
+from taxel.analyses.results import RESULT_TYPES, result_kind
 from taxel.reports import findings, tables
 from taxel.reports.analysis import FIELD_FIGURES, FIELDS, RENDER_NOTE
 from taxel.scene import parse, scene_material_names, to_data
@@ -41,9 +42,10 @@ def figure_png(fig, dpi=110) -> bytes:
 
 
 def stored_result(folder: Path):
-    """The result a folder's result.json holds (taxel.analyses.read), or None
-    when the folder has none. Raises ResultError (one line) for an unreadable one."""
-    return read(folder) if (Path(folder) / "result.json").exists() else None
+    """The analysis result a folder's result.json holds (taxel.analyses.read), or
+    None when the folder has none (or holds an optimization's result). Raises
+    ResultError (one line) for an unreadable one."""
+    return read(folder) if result_kind(folder) in RESULT_TYPES else None
 
 
 def scene_sections(folder: Path, scene_data: dict, compare: bool):

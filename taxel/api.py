@@ -44,7 +44,12 @@ def read(folder: str | Path):
     """The result a folder holds (its result.json and scene.json, written by
     `result.to_folder` or `taxel solve --out`), as the type that wrote it: its
     numbers, `record()`, `outputs()` and `summary()`, but no mesh or fields.
-    Raises ResultError (a ValueError, one line) for a folder without a result."""
+    An optimization folder reads back as its OptimizationResult. Raises
+    ResultError (a ValueError, one line) for a folder without a result."""
+    from taxel.analyses.results import result_kind
+    from taxel.optimize.result import KINDS as OPTIMIZATION_KINDS, OptimizationResult
+    if result_kind(folder) in OPTIMIZATION_KINDS:
+        return OptimizationResult.from_folder(folder)
     return analyses.read(folder)
 
 

@@ -104,7 +104,7 @@ class FrequencyResult:
     def to_folder(self, out) -> list[Path]:
         """result.json, scene.json and <scene>-frequency.csv."""
         out = Path(out)
-        paths = write_result(out, self)
+        paths = write_result(out, self.record(), self.scene)
         header, cols = ["frequency_Hz"], [self.freqs]
         for k, name in enumerate(self.names):
             header += [f"{name}_mag_V_per_N", f"{name}_phase_deg"]
@@ -171,7 +171,7 @@ class TransientResult:
     def to_folder(self, out) -> list[Path]:
         """result.json, scene.json and <scene>-transient.csv."""
         out = Path(out)
-        paths = write_result(out, self)
+        paths = write_result(out, self.record(), self.scene)
         header, cols = ["time_s", "force_N"], [self.t, self.force]
         for k, name in enumerate(self.names):
             header.append(f"{name}_V")
@@ -240,6 +240,6 @@ class LumpedResult:
     def to_folder(self, out) -> list[Path]:
         """result.json, scene.json and <scene>-lumped.csv."""
         out = Path(out)
-        return write_result(out, self) + [
+        return write_result(out, self.record(), self.scene) + [
             write_csv(out / f"{self.scene.name}-lumped.csv", ["frequency_Hz", "mag_V_per_N", "phase_deg"],
                       [self.freqs, np.abs(self.output), np.degrees(np.angle(self.output))])]

@@ -72,11 +72,11 @@ def write_scene(out: Path, scene: Scene) -> Path:
     return path
 
 
-def write_result(out, result) -> list[Path]:
-    """Make `out` and write the two files every result folder holds: result.json
-    (`result.record()`) and scene.json. Returns their paths."""
+def write_result(out, record: dict, scene: Scene) -> list[Path]:
+    """Make `out` and write the two files every result folder holds: result.json (a
+    result's `record()`) and scene.json. Returns their paths."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "result.json"
-    path.write_text(json.dumps(result.record(), indent=1))
-    return [write_scene(out, result.scene), path]
+    path.write_text(json.dumps(record, indent=1))
+    return [write_scene(out, scene), path]

@@ -177,7 +177,7 @@ class StaticResult:
     def to_folder(self, out) -> list[Path]:
         """result.json, scene.json and, for a press, contact-curve.csv."""
         out = Path(out)
-        paths = write_result(out, self)
+        paths = write_result(out, self.record(), self.scene)
         c = self.contact_record()
         if c is not None:               # the force-travel / voltage-force curve
             cv = c["curve"]

@@ -34,6 +34,16 @@ def _json(path: Path) -> dict:
     return data
 
 
+def result_kind(folder) -> str | None:
+    """The "kind" of the folder's result.json ("static", "frequency", "transient",
+    "lumped"; an optimization's "optimum" or "front"), or None when it has none."""
+    path = Path(folder) / "result.json"
+    if not path.is_file():
+        return None
+    rec = _json(path)
+    return rec.get("kind", "static" if "electrodes" in rec else None)
+
+
 def read_record(folder) -> dict:
     """The folder's result.json, its old keys read with a DeprecationWarning (a
     format-0 static result.json: no "kind")."""
