@@ -1,6 +1,6 @@
 """The walk of one design point through the package, module by module, as it runs.
 
-    python benchmarks/walk.py [--inside-layers] [ARGS...]
+    python benchmarks/walk.py [--inside-layers | --folders] [ARGS...]
                                         (default: solve thesis-pzt-single-2d --json --out DIR)
 
 Runs the `taxel` command in this process under a profile hook and records, from the
@@ -14,6 +14,7 @@ taxel.scene and taxel.schema calling taxel.units) is counted like any other call
 the FEM (taxel.fem) or the meshing (taxel.meshing) into another of the same folder
 are the solver's own machinery, where the design point is no longer a scene but a
 Problem or a layout: they are left out unless --inside-layers is given.
+--folders draws the walk one stop per folder (taxel.analyses, taxel.fem, ...).
 """
 
 from __future__ import annotations
@@ -56,14 +57,11 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
     cache: dict[str, str | None] = {}
 
     active = [False]
-    parse_and_import = cli._import_api
-
-    def start():                       # the command line is parsed and the API imported: the walk begins
-        parse_and_import()
-        active[0] = True
-    cli._import_api = start
+    handler = "_" + argv[0].replace("-", "_")     # the command's handler in taxel.cli (_solve for solve)
 
     def hook(frame, event, arg):
+        if not active[0] and frame.f_code.co_name == handler and frame.f_code.co_filename == cli.__file__:
+            active[0] = True                      # the command line is parsed: the walk begins
         if not active[0] or event != "call" or frame.f_code.co_name == "<module>" or at_import(frame):
             return
         callee = cache.setdefault(frame.f_code.co_filename, module_of(frame.f_code.co_filename))
@@ -81,7 +79,6 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
         cli.main(argv)
     finally:
         sys.setprofile(None)
-        cli._import_api = parse_and_import
     return steps
 
 
@@ -91,13 +88,16 @@ def package(module: str) -> str:
     return ".".join(parts[:2]) if len(parts) > 2 and parts[1] in LAYER_PACKAGES else module
 
 
-LAYER_PACKAGES = ("fem", "meshing")
+LAYER_PACKAGES = ["fem", "meshing"]
 
 
 def main() -> None:
     args = sys.argv[1:]
     inside = "--inside-layers" in args          # also count calls inside the fem and meshing folders
-    args = [a for a in args if a != "--inside-layers"]
+    by_folder = "--folders" in args             # one stop per folder (taxel.analyses, taxel.reports, ...)
+    args = [a for a in args if a not in ("--inside-layers", "--folders")]
+    if by_folder:
+        LAYER_PACKAGES.extend(("analyses", "reports", "studies", "optimize", "jobs"))
     with tempfile.TemporaryDirectory() as tmp:
         argv = args or ["solve", "thesis-pzt-single-2d", "--json", "--out", str(Path(tmp) / "x")]
         import contextlib
@@ -106,6 +106,8 @@ def main() -> None:
             steps = trace(argv)
     if not inside:     # the design point's walk: within the FEM and the meshing (which never see the scene)
         steps = [(a, b) for a, b in steps if not (package(a) == package(b) != a)]
+    if by_folder:
+        steps = [(package(a), package(b)) for a, b in steps if package(a) != package(b)]
     edges = list(dict.fromkeys(steps))            # each caller -> callee pair once, in first-call order
     seen, order, back = {"taxel.cli"}, ["taxel.cli"], []
     for caller, callee in edges:
