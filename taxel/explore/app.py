@@ -275,7 +275,8 @@ class Explorer:
             html.Div("{{ answer3d }}", id="answer3d", classes="text-body-1")
         with v3.VCard(classes="pa-3"):
             html.Div("{{ figure_title }}", id="figure_title", classes="text-subtitle-2")
-            html.Div("{{ line }}", v_for="line in error_lines", classes="text-caption")
+            html.Div("{{ line }}", v_for="line in error_lines", id="error_lines",
+                     style="white-space:pre;font-family:monospace;font-size:12px")
             html.Img(src=("figure",), v_show=("figure",), style="max-width:100%", id="figure")
 
     # -- serving ---------------------------------------------------------------------------------
