@@ -155,3 +155,27 @@ def work_precision(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path
     wps = [work_precision(sc, f, Path(store) if store else out / "store", progress) for sc in scenes for f in forces]
     write(wps, out)
     return wps
+
+
+def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: str | Path | None = None,
+            host: str = "127.0.0.1", port: int = 8080) -> None:
+    """Serve the design explorer (taxel.explore) for a scene, or for a result,
+    study or optimization folder (its scene.json; its results.sqlite is the
+    cache), at http://host:port/ until interrupted. Answers are cached in the
+    study store under `folder` (default out/explore/NAME); saved scenes go to
+    `folder`/exports. Binds to this machine only unless `host` says otherwise."""
+    import json
+    from taxel.explore.app import Explorer
+    source = scene
+    if isinstance(source, (str, Path)) and Path(source).is_dir():
+        if not (Path(source) / "scene.json").is_file():
+            from taxel.scene import SceneError
+            raise SceneError(f"{source}: a folder without scene.json; give a scene file, a built-in name, "
+                             "or a result, study or optimization folder")
+        scene = load(parse(json.loads((Path(source) / "scene.json").read_text())))
+        store = Path(source)
+    else:
+        scene = load(scene)
+        store = None
+    folder = Path(folder) if folder is not None else Path("out") / "explore" / scene.name
+    Explorer(scene, folder, store=store).serve(host, port)

@@ -1,0 +1,124 @@
+"""The design explorer (taxel explore) driven from headless Chromium.
+
+The app runs as `taxel explore` in a subprocess on a free port; Chromium is
+driven over the DevTools protocol with real key presses. Waits are event-driven
+(the page's text is polled) with generous limits: the first page load imports
+the FEM and trame on a possibly loaded 2-core machine.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from taxel.explore.browser import chromium_path
+
+pytestmark = pytest.mark.skipif(chromium_path() is None,
+                                reason="no Chromium here (Debian's chromium package; .ci/run installs it)")
+
+SCENE = "thesis-pzt-single-2d"
+
+
+def cli(*args, check=True):
+    return subprocess.run([sys.executable, "-m", "taxel.cli", *args], capture_output=True, text=True,
+                          check=check, env={"MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
+                                            "PATH": "/usr/bin:/bin"})
+
+
+def scene_file(tmp: Path, name: str, **array) -> Path:
+    """The built-in scene with [array] values replaced, as a TOML file for `taxel solve`."""
+    from taxel.scene import EXAMPLES
+    text = (EXAMPLES / f"{SCENE}.toml").read_text()
+    for key, value in array.items():
+        lines = [f'{key} = "{value}"' if ln.startswith(f"{key} =") else ln for ln in text.splitlines()]
+        text = "\n".join(lines) + "\n"
+    path = tmp / f"{name}.toml"
+    path.write_text(text)
+    return path
+
+
+THUMB = "document.getElementById('slider_{0}').closest('.v-slider').querySelector('[role=slider]')"
+TEXT = "(document.getElementById('{0}') || {{textContent: ''}}).textContent.trim()"
+
+
+@pytest.fixture(scope="module")
+def page(tmp_path_factory):
+    from taxel.explore.browser import Browser, ExplorerProcess
+    out = tmp_path_factory.mktemp("explore")
+    with ExplorerProcess(SCENE, out) as app, Browser() as b:
+        b.goto(app.url)
+        b.wait(TEXT.format("voltage"), 180, "the first voltage")
+        yield b, out
+
+
+def test_slider_gives_the_voltage_of_taxel_solve(page, tmp_path):
+    b, _ = page
+    from taxel.units import engineering
+    first = b.js(TEXT.format("voltage"))
+    rec = json.loads(cli("solve", str(scene_file(tmp_path, "s", silicone_above="1 mm")), "--json").stdout)
+    assert first == engineering(rec["electrodes"]["taxel_0_0"]["voltage_V"], "V")
+    rec = json.loads(cli("solve", str(scene_file(tmp_path, "thin", silicone_above="0.8 mm")), "--json").stdout)
+    expected = engineering(rec["electrodes"]["taxel_0_0"]["voltage_V"], "V")
+    assert expected != first
+    b.js(THUMB.format("silicone_above") + ".focus()")
+    for _ in range(4):                                   # 1 mm -> 0.8 mm in steps of 0.05 mm
+        b.key("ArrowLeft", "ArrowLeft", 37)
+    assert b.wait("document.getElementById('field_silicone_above').value", 30) == "0.80"
+    shown = b.wait(f"(() => {{ const t = {TEXT.format('voltage')}; return t === {json.dumps(expected)} && t; }})()",
+                   120, f"the voltage of taxel solve ({expected}); shown: {b.js(TEXT.format('voltage'))}")
+    assert shown == expected
+    assert "2D (plane strain)" in b.js(TEXT.format("answer_model"))
+
+
+def test_bad_value_shows_the_cli_message(page, tmp_path):
+    b, _ = page
+    r = cli("solve", str(scene_file(tmp_path, "bad", silicone_below="-1 mm")), check=False)
+    assert r.returncode == 2
+    message = r.stderr.strip().removeprefix("taxel: error: ")
+    assert message.startswith("array.silicone_below")
+    b.type_into("#field_silicone_below", "-1")
+    shown = b.wait("(() => { const m = document.getElementById('field_silicone_below').closest('.v-input')"
+                   ".querySelector('.v-messages'); return m && m.textContent.trim(); })()", 60,
+                   "the message beside the field")
+    assert shown == message
+    b.type_into("#field_silicone_below", "1")            # back to a valid design
+    b.wait("(() => { const m = document.getElementById('field_silicone_below').closest('.v-input')"
+           ".querySelector('.v-messages'); return m && m.textContent.trim() === ''; })()", 60)
+
+
+def test_3d_shows_progress_and_a_result(page, tmp_path):
+    b, out = page
+    from taxel.units import to_si
+    before = b.js(TEXT.format("voltage"))
+    b.js("document.getElementById('solve3d').click()")
+    progress = b.wait(f"(() => {{ const t = {TEXT.format('progress3d')}; return t.includes('3D solve') && t; }})()",
+                      60, "3D progress")
+    assert "3D solve" in progress
+    text = b.wait(TEXT.format("answer3d"), 600, "the 3D answer")
+    assert text.startswith("3D: ") and "coarse mesh" in text, text
+    v3d = to_si(text.split()[1] + " " + text.split()[2].rstrip("(").strip(), "V", "voltage")
+    v2d = to_si(before, "V", "voltage")
+    # a single square taxel under uniform pressure: plane strain and coarse 3D agree to a few per cent
+    assert abs(v3d - v2d) < 0.05 * abs(v2d), (text, before)
+    shot = b.screenshot(tmp_path / "explore.png")
+    print(f"screenshot: {shot}")
+    assert shot.stat().st_size > 10_000
+
+
+def test_export_writes_the_shown_design(page):
+    b, out = page
+    import taxel
+    from taxel.units import engineering
+    b.js("document.getElementById('export').click()")
+    msg = b.wait(TEXT.format("export_msg"), 30, "the export message")
+    assert msg.startswith("wrote "), msg
+    path = Path(msg.removeprefix("wrote "))
+    assert path.parent == (out / "exports").resolve()
+    saved = taxel.load(path)
+    assert saved.array.silicone_above == pytest.approx(0.8e-3)
+    rec = json.loads(cli("solve", str(path), "--json").stdout)
+    assert engineering(rec["electrodes"]["taxel_0_0"]["voltage_V"], "V") == b.js(TEXT.format("voltage"))
