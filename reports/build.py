@@ -53,7 +53,7 @@ def kind_of(folder: Path) -> str:
         return "study"
     if (folder / "optimum.json").exists() or (folder / "front.json").exists():
         return "optimization"
-    if (folder / "work-precision.json").exists():             # a work-precision chart (reports/work_precision.py)
+    if (folder / "work-precision.json").exists() or (folder / "fidelity.json").exists():   # reports/work_precision.py
         return "work-precision"
     if (folder / "scene.json").exists():
         return "analysis"
@@ -145,8 +145,8 @@ def _analysis(folder: Path, out: Path, scene_data) -> dict:
 
 
 def _work_precision(folder: Path, out: Path, scene_data) -> dict:
-    from taxel.reports.work_precision import cheapest_rows
-    rec = read_json(folder / "work-precision.json")
+    from taxel.reports.work_precision import chart_files, cheapest_rows
+    rec = read_json(chart_files(folder)[0])
     imgs = sorted(folder.glob("*.png"))
     rows = cheapest_rows(rec)
     notes = [{"type": "note", "text": f"{w['scene']} at {w['force_N']:g} N: {w['how']}"} for w in rec["work_precision"]]
@@ -158,7 +158,7 @@ def _work_precision(folder: Path, out: Path, scene_data) -> dict:
                                      "and silicone law; the Pareto set (cheapest for its accuracy) is ringed."},
             _figures(imgs, wide=True)] + notes},
         {"title": "Cheapest model for 1 %, 5 % and 10 % error", "blocks": [
-            {"type": "table", "table": tables.table(rows, csv=_csv_link(folder / "work-precision.csv", out, folder))}]}],
+            {"type": "table", "table": tables.table(rows, csv=_csv_link(chart_files(folder)[1], out, folder))}]}],
         "numbers": numbers, "banners": [], "thumb": imgs[0].read_bytes() if imgs else None}
 
 

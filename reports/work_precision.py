@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -142,12 +143,30 @@ def lines(rec: dict) -> list[str]:
     return out
 
 
+def chart_files(folder: Path) -> tuple[Path, Path] | None:
+    """(work-precision.json, work-precision.csv) of a folder, or None when it holds no
+    chart. A folder written before this release (fidelity.json, fidelity.csv) is read
+    for one release, with a DeprecationWarning."""
+    folder = Path(folder)
+    for stem in ("work-precision", "fidelity"):
+        if (folder / f"{stem}.json").is_file():
+            if stem == "fidelity":
+                warnings.warn(f"{folder}: fidelity.json and fidelity.csv are now work-precision.json and "
+                              "work-precision.csv; the old names are read for one release", DeprecationWarning,
+                              stacklevel=2)
+            return folder / f"{stem}.json", folder / f"{stem}.csv"
+    return None
+
+
 def read(folder: Path) -> list[WorkPrecision]:
     """The WorkPrecision of each scene and force, back from a written folder
     (work-precision.json and work-precision.csv): redraws without solving."""
     folder = Path(folder)
-    rec = json.loads((folder / "work-precision.json").read_text())
-    rows = list(csv.DictReader(open(folder / "work-precision.csv")))
+    files = chart_files(folder)
+    if files is None:
+        raise FileNotFoundError(2, "no work-precision chart here (work-precision.json)", str(folder))
+    rec = json.loads(files[0].read_text())
+    rows = list(csv.DictReader(open(files[1])))
     out = []
     for w in rec["work_precision"]:
         pts = []
