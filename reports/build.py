@@ -31,6 +31,7 @@ from taxel.scene import SceneError
 from taxel.reports import findings, tables
 from taxel.reports.page import Page, provenance, templates
 from taxel.reports.scene_sections import data_uri, scene_sections, stored_result
+from taxel.reports import noise as noise_page
 from taxel.reports.validation import build_page as validation_page
 from taxel.studies.store import code_version
 
@@ -55,6 +56,8 @@ def kind_of(folder: Path) -> str:
         return "optimization"
     if (folder / "work-precision.json").exists() or (folder / "fidelity.json").exists():   # reports/work_precision.py
         return "work-precision"
+    if noise_page.is_noise(folder):                     # a noise budget (reports/noise.py)
+        return "noise"
     if (folder / "scene.json").exists():
         return "analysis"
     if (folder / "validation.json").exists():           # a measurement validation (reports/validation.py)
@@ -163,7 +166,8 @@ def _work_precision(folder: Path, out: Path, scene_data) -> dict:
 
 
 # the page of each folder kind: (folder, out, scene data) -> sections, numbers, banners, thumb
-PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis, "work-precision": _work_precision}
+PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analysis, "work-precision": _work_precision,
+              "noise": noise_page.page}
 
 
 def build_page(folder: Path, out: Path, compare=True) -> Page:

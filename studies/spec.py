@@ -60,6 +60,9 @@ class Parameter(Strict):
     stop: Any = None
     step: Any = None
     num: int | None = Field(None, ge=2)
+    tolerance: Any = None             # sampling = "tolerance": "0.1 mm" or "10 %" (studies.tolerance)
+    distribution: Literal["normal", "uniform"] = "normal"
+    nominal: Any = None               # default: the base scene's value at the (first) path
 
     @property
     def paths(self) -> list[str]:
@@ -78,17 +81,23 @@ class StudySpec(Strict):
     name: Name = "study"
     description: str = ""
     base: str
-    sampling: Literal["grid", "lhs"] = "grid"
+    sampling: Literal["grid", "lhs", "tolerance"] = "grid"
     samples: int | None = Field(None, ge=1)
     seed: int = 0
     overrides: dict[str, Any] = {}       # fixed values, by dotted scene path
     parameters: list[Parameter] = Field(min_length=1)
     outputs: list[Literal[OUTPUTS]] = ["voltage", "charge", "crosstalk", "max_strain"]
+    requirements: dict[str, str] = {}    # tolerance studies: output = ">= 0.7 V/N" (the yield)
 
     @model_validator(mode="after")
     def _check(self):
-        if self.sampling == "lhs" and not self.samples:
-            raise ValueError("sampling = 'lhs' needs samples = N")
+        if self.sampling in ("lhs", "tolerance") and not self.samples:
+            raise ValueError(f"sampling = '{self.sampling}' needs samples = N")
+        if self.sampling == "tolerance":
+            for p in self.parameters:
+                if p.tolerance is None:
+                    raise ValueError(f"parameters '{p.name}': sampling = 'tolerance' needs tolerance = "
+                                     "\"0.1 mm\" or \"10 %\"")
         names = [p.name for p in self.parameters]
         for n in names:
             if names.count(n) > 1:
@@ -113,13 +122,34 @@ class Study:
 
     def points(self) -> list[dict]:
         """Design points: {parameter name: value (as typed in the file or generated)}."""
-        axes = [_axis(p, self.spec) for p in self.spec.parameters]
         names = [p.name for p in self.spec.parameters]
+        if self.spec.sampling == "tolerance":
+            from taxel.studies.tolerance import sample
+            spreads = self.spreads()
+            x = sample(spreads, self.spec.samples, self.spec.seed)
+            return [{n: s.text(v) for n, s, v in zip(names, spreads, row)} for row in x]
+        axes = [_axis(p, self.spec) for p in self.spec.parameters]
         if self.spec.sampling == "grid":
             return [dict(zip(names, combo)) for combo in product(*axes)]
         from scipy.stats import qmc
         u = qmc.LatinHypercube(d=len(axes), seed=self.spec.seed).random(self.spec.samples)
         return [{n: ax(float(x)) for n, ax, x in zip(names, axes, row)} for row in u]
+
+    def spreads(self) -> list:
+        """The parameters' fabrication spreads (studies.tolerance.Spread) of a tolerance study."""
+        from taxel.studies.tolerance import ToleranceError, spread
+        base = self.base_data()
+        out = []
+        for p in self.spec.parameters:
+            nominal = p.nominal if p.nominal is not None else get_value(base, p.paths[0])
+            if nominal is None:                  # the scene's default
+                from taxel.scene import to_data
+                nominal = get_value(to_data(parse({**base, "name": "nominal"})), p.paths[0])
+            try:
+                out.append(spread(p.name, nominal, p.tolerance, p.distribution))
+            except ToleranceError as exc:
+                raise StudyError(str(exc)) from None
+        return out
 
     def base_data(self) -> dict:
         """The base scene with the study's fixed overrides (no parameter applied)."""
@@ -201,6 +231,16 @@ def _same_unit(name, *values, unit=None):
 def _fmt(x, unit):
     x = round(x, 12)
     return f"{x:g} {unit}" if unit else x
+
+
+def get_value(data: dict, path: str):
+    """The value at a dotted path of a scene dict, or None."""
+    node = data
+    for key in path.split("."):
+        if not isinstance(node, dict) or key not in node:
+            return None
+        node = node[key]
+    return node
 
 
 def set_value(data: dict, path: str, value):

@@ -16,15 +16,30 @@ import json
 import tomllib
 import typing
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, Field, StrictInt, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, BeforeValidator, Field, StrictInt, ValidationError, ValidationInfo, field_validator, model_validator
 
 from taxel import units
 from taxel.schema import (Strict, renamed_value, GEOMETRY, Capacitance, Coordinate, Duration, Force, Frequency, Length, MeshSize, Name,
                               Pressure, Resistance, Thickness, safe_name)
 
 EXAMPLES = Path(__file__).parent / "examples"
+
+
+def _noise_quantity(unit: str, what: str, positive: bool = False):
+    """A [readout] noise field: a string with a unit in a file, SI numbers from Python."""
+    def parse(v, info: ValidationInfo):
+        si_numbers = bool(info.context and info.context.get("si_numbers"))
+        return units.to_si(v, unit, what, si_numbers=si_numbers, nonnegative=not positive, positive=positive)
+    parse.unit = unit
+    return BeforeValidator(parse)
+
+
+NoiseVoltage = Annotated[float, _noise_quantity("V/Hz**0.5", "voltage noise density")]
+NoiseCurrent = Annotated[float, _noise_quantity("A/Hz**0.5", "current noise density")]
+Voltage = Annotated[float, _noise_quantity("V", "voltage")]
+Temperature = Annotated[float, _noise_quantity("K", "temperature", positive=True)]
 
 
 class SceneError(ValueError):
@@ -158,6 +173,16 @@ class Readout(Strict):
     notch: bool = False               # the thesis's 50 Hz second-order Butterworth band-stop
     notch_frequency: Frequency = "50 Hz"
     notch_bandwidth: Frequency = "10 Hz"
+    # noise of the chain (taxel.analyses.noise; fem.noise has the physics). The thesis does not
+    # name its op-amp: the defaults are a TL072-class JFET op-amp (TI datasheet SLOS080: 18 nV/sqrt(Hz)
+    # at 1 kHz, 0.01 pA/sqrt(Hz), +-12 V linear swing on +-15 V supplies), white (no 1/f corner).
+    e_n: NoiseVoltage = "18 nV/Hz**0.5"   # op-amp (or buffer) voltage noise density
+    i_n: NoiseCurrent = "10 fA/Hz**0.5"   # op-amp current noise density
+    e_n_corner: Frequency | None = None   # 1/f corner of e_n (None: white)
+    swing: Voltage = "12 V"               # the amplifier's largest linear output (+-)
+    temperature: Temperature = "296.15 K" # of the resistors and the piezo's dielectric loss
+    hum: tuple[Voltage, ...] = ()          # mains pickup at the output before the notch: peak amplitudes of
+    mains_frequency: Frequency = "50 Hz"  # the mains frequency and its odd harmonics (1, 3, 5...)
 
 
 class Scene(Strict):

@@ -62,6 +62,25 @@ def front(out: Path, name: str, small: bool) -> Path:
     return out
 
 
+def noise_budget(out: Path, small: bool = False) -> Path:
+    """The noise budget of the thesis PZT taxel (FEM transfer function, charge amplifier and
+    notch) on the thesis bench's ADC, with the simulated rig's hum (5, 1.5, 0.5 mV at 50, 150,
+    250 Hz) as the mains pickup: result folder and figure (taxel.analyses.noise, reports.noise)."""
+    from taxel.analyses.noise import noise
+    from taxel.reports.noise import figure
+    from taxel.studies.bench.rig import load_rig
+    t0 = time.perf_counter()
+    scene = api.load("thesis-pzt-frequency").replace(**{"readout.hum": ["5 mV", "1.5 mV", "0.5 mV"]})
+    res = noise(scene, load_rig("thesis-bench"), model="lumped" if small else "fem")
+    shutil.rmtree(out, ignore_errors=True)
+    res.to_folder(out)
+    figure(out)
+    for line in res.summary()[:3]:
+        print("      " + line)
+    print(f"      noise budget in {time.perf_counter() - t0:.1f} s")
+    return out
+
+
 def run(root: Path, small: bool = False) -> Path:
     """Run the main job into `root` and return the report's index page."""
     t0 = time.perf_counter()
@@ -87,6 +106,7 @@ def run(root: Path, small: bool = False) -> Path:
         for line in summary:
             print(line)
         folders.append(out)
+    folders.append(noise_budget(root / "noise-budget", small))
     print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize")
     shutil.rmtree(root / "validation", ignore_errors=True)
     measure.validate(root / "validation")

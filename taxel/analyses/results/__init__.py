@@ -7,6 +7,7 @@ from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, Transi
 from taxel.analyses.results.errors import (NOT_ESTIMATED, OUTPUT_NAMES, RENAMED_OUTPUTS, ErrorEstimate,
                                            OutputError)
 from taxel.analyses.results.folders import FORMAT, output_folder, write_csv, write_scene
+from taxel.analyses.results.noise import NOISE_OUTPUTS, NoiseResult
 from taxel.analyses.results.protocol import KINDS, MEMBERS, AnalysisResult
 from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult
 from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_record, result_kind
@@ -14,4 +15,4 @@ from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_
 __all__ = ["FrequencyResult", "LumpedResult", "TransientResult", "StaticResult", "ErrorEstimate", "OutputError",
            "OUTPUT_NAMES", "RENAMED_OUTPUTS", "NOT_ESTIMATED", "FORMAT", "output_folder", "write_csv",
            "write_scene", "KINDS", "MEMBERS", "AnalysisResult", "STATIC_OUTPUTS", "RESULT_TYPES", "ResultError",
-           "read", "read_record", "result_kind"]
+           "read", "read_record", "result_kind", "NoiseResult", "NOISE_OUTPUTS"]

@@ -19,7 +19,8 @@ RENAMED_OUTPUTS = {**SCENE_RENAMED_OUTPUTS, "readout_output": "readout_sensitivi
 NOT_ESTIMATED = {"static": "not estimated (taxel solve --estimate)",
                  "frequency": "not estimated (taxel solve --estimate)",
                  "transient": "not estimated (no error estimate for a transient)",
-                 "lumped": "not estimated (the lumped model has no error estimate)"}
+                 "lumped": "not estimated (the lumped model has no error estimate)",
+                 "noise": "not estimated (a noise budget's transfer function is the frequency analysis's)"}
 
 
 @dataclass

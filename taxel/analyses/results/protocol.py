@@ -19,7 +19,7 @@ from taxel.scene import Scene
 from taxel.analyses.results.errors import ErrorEstimate
 from taxel.schema import electrode_name
 
-KINDS = ("static", "frequency", "transient", "lumped")
+KINDS = ("static", "frequency", "transient", "lumped", "noise")
 MEMBERS = ("record", "summary", "to_folder", "error", "outputs")
 
 

@@ -11,10 +11,12 @@ from pathlib import Path
 from taxel.scene import SceneError, parse
 from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, TransientResult
 from taxel.analyses.results.folders import FORMAT
+from taxel.analyses.results.noise import NoiseResult
 from taxel.analyses.results.static import StaticResult
 
 RESULT_TYPES = {"static": StaticResult, "frequency": FrequencyResult, "transient": TransientResult,
-                "lumped": LumpedResult}
+                "lumped": LumpedResult,
+                "noise": NoiseResult}
 
 
 class ResultError(ValueError):
@@ -63,7 +65,7 @@ def read_record(folder) -> dict:
     return rec
 
 
-def read(folder) -> StaticResult | FrequencyResult | TransientResult | LumpedResult:
+def read(folder) -> StaticResult | FrequencyResult | TransientResult | LumpedResult | NoiseResult:
     """The result a folder holds (result.json and scene.json), as the type that wrote
     it: the same `record()` and `outputs()`; no mesh, fields or port matrices.
     Raises ResultError (one line) for a folder without a readable result."""

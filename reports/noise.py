@@ -1,0 +1,71 @@
+"""The noise-budget page: a noise result folder (taxel.analyses.noise, result.json of
+kind "noise") drawn as the PSD of each source at the readout output, stacked, and
+the share of each source in the band's variance. Reads the folder; never solves."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from taxel.analyses import read
+from taxel import units
+
+FIGURE = "noise-budget.png"
+
+
+def figure(folder) -> Path:
+    """FOLDER/noise-budget.png: the stacked PSD per source (left) and each source's share (right)."""
+    from taxel.reports.figures import pyplot
+    plt = pyplot()
+    folder = Path(folder)
+    res = read(folder)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4), gridspec_kw={"width_ratios": [2.2, 1]})
+    order = sorted(res.psd, key=lambda k: -res.variance()[k])
+    base = np.zeros_like(res.freqs)
+    for k in reversed(order):
+        top = base + res.psd[k]
+        ax.fill_between(res.freqs, np.sqrt(base), np.sqrt(top), label=k, alpha=0.8, linewidth=0)
+        base = top
+    for f, p in res.lines:
+        ax.axvline(f, color="k", lw=0.8, ls=":")
+    ax.set(xscale="log", yscale="log", xlabel="frequency (Hz)", ylabel="noise density at the readout (V/sqrt(Hz))",
+           title=f"{res.electrode}: {units.engineering(res.noise_rms, 'V')} rms in "
+                 f"{res.band[0]:g}-{res.band[1]:g} Hz")
+    ax.legend(fontsize=7, loc="lower left")
+    sh = res.shares()
+    names = sorted(sh, key=lambda k: sh[k])
+    bx.barh(names, [100 * sh[k] for k in names], color="tab:blue")
+    bx.set(xscale="log", xlabel="share of the band's variance (%, log)",
+           title=f"min. detectable force {units.engineering(res.min_detectable_force, 'N')}")
+    bx.tick_params(axis="y", labelsize=7)
+    fig.tight_layout()
+    path = folder / FIGURE
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def is_noise(folder: Path) -> bool:
+    import json
+    p = Path(folder) / "result.json"
+    try:
+        return p.is_file() and json.loads(p.read_text()).get("kind") == "noise"
+    except ValueError:
+        return False
+
+
+def page(folder: Path, out: Path, scene_data) -> dict:
+    """The page's sections, headline numbers and thumbnail (reports.build's PAGE_KINDS)."""
+    from taxel.reports.scene_sections import data_uri
+    res = read(folder)
+    png = Path(folder) / FIGURE
+    o = res.outputs()
+    numbers = [("minimum detectable force", units.engineering(o["min_detectable_force"], "N")),
+               ("noise (rms)", units.engineering(o["noise_rms"], "V")),
+               ("dynamic range", f"{o['dynamic_range']:.1f} dB")]
+    blocks = [{"type": "pre", "text": "\n".join(res.summary())}]
+    if png.exists():
+        blocks.append({"type": "figures", "images": [data_uri(png.read_bytes())]})
+    return {"sections": [{"title": "Noise budget", "blocks": blocks}], "numbers": numbers, "banners": [],
+            "scene_banners": False, "thumb": png.read_bytes() if png.exists() else None}

@@ -1,0 +1,107 @@
+"""The noise budget of a scene's taxel through its readout chain (and a rig's ADC).
+
+The transfer function H(f) (readout output per newton of the pressed taxel) and
+each electrode's capacitance C_p(f) (complex: its imaginary part is the piezo's
+dielectric loss, -Im C_p = C' tan(delta)) come from the frequency analysis: the FEM
+sweep (taxel.analyses.dynamic.frequency, model = "fem") or the 3-DoF lumped model
+(model = "lumped", tan(delta) of the material or [dynamics] dielectric_loss). The
+noise sources, their transfer to the readout output and the ADC are fem.noise; the
+numbers of the chain are the scene's [readout] (e_n, i_n, e_n_corner, swing,
+temperature, hum, mains_frequency), with a rig the conditioning of the pressed
+taxel's channel, the channel gain and the ADC (bits, range, rate) of the rig.
+
+Assumptions: the sources are uncorrelated (their PSDs add); the chain is linear up
+to saturation; the ADC's quantisation is white (the noise spans several codes);
+the band is [analysis.f_min, analysis.f_max], cut at the rig's Nyquist frequency.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from taxel.fem import noise as N
+from taxel.fem.circuits import Readout
+from taxel.scene import Scene, SceneError
+from taxel.analyses.adapter import readout as scene_readout
+from taxel.analyses.adapter import scene_materials
+from taxel.analyses.results.noise import NoiseResult
+from taxel.analyses.results.protocol import pressed_name
+
+
+def chain(scene: Scene, rig=None, channel: str | None = None) -> N.Chain:
+    """The noise chain of a scene (and rig: the conditioning of `channel`, its gain and the ADC)."""
+    r = scene.readout
+    amp = N.Amplifier(r.e_n, r.i_n, r.e_n_corner or 0.0, r.swing, r.temperature)
+    hum = N.Hum(tuple(r.hum), r.mains_frequency)
+    if rig is None:
+        return N.Chain(scene_readout(scene), amp, None, hum)
+    chains = rig.chains()
+    name = channel if channel in chains else next(iter(chains))
+    gain = next((c.volts_per_si for c in rig.ordered() if c.name == name), 1.0)
+    adc = N.Converter(rig.adc.bits, rig.adc.range[0], rig.adc.range[1], rig.sampling.rate, gain, rig.adc.offset)
+    return N.Chain(chains[name].readout(), amp, adc, hum)
+
+
+def with_readout(scene: Scene, r: Readout) -> Scene:
+    """The scene with the readout chain `r` (a rig's conditioning)."""
+    return scene.replace(**{f"readout.{k}": v for k, v in
+                            dict(circuit=r.circuit, R=r.R, C_f=r.C_f, R_f=r.R_f, R_i=r.R_i, C_c=r.C_c, notch=r.notch,
+                                 notch_frequency=r.notch_frequency, notch_bandwidth=r.notch_bandwidth).items()})
+
+
+def band_of(scene: Scene, rig=None, band=None) -> tuple[float, float]:
+    """The band (Hz): given, else the scene's [analysis] f_min..f_max, cut at the rig's Nyquist."""
+    lo, hi = band if band is not None else (scene.analysis.f_min, scene.analysis.f_max)
+    if rig is not None:
+        hi = min(hi, rig.sampling.rate / 2)
+    if not 0 < lo < hi:
+        raise SceneError(f"noise band {lo:g}-{hi:g} Hz is empty; set analysis.f_min < analysis.f_max "
+                         "(below the rig's Nyquist frequency)")
+    return float(lo), float(hi)
+
+
+def transfer(scene: Scene, band, model: str = "fem", points: int = 60):
+    """(freqs, H (nf, na) V/N of the readout, C_p (nf, na) complex F, electrode names, label) over the band."""
+    s = scene.replace(**{"analysis.type": "frequency", "analysis.f_min": band[0], "analysis.f_max": band[1],
+                         "analysis.points": points, "analysis.spacing": "log"})
+    if model == "lumped":
+        from taxel.analyses.dynamic import lumped_response
+        lr = lumped_response(s)
+        mat = scene_materials(s)[s.array.piezo]
+        tand = s.dynamics.dielectric_loss if s.dynamics.dielectric_loss is not None else (mat.tan_delta or 0.0)
+        C = np.full((len(lr.freqs), 1), lr.model.C_p * (1 - 1j * tand))
+        return lr.freqs, lr.output[:, None], C, ["lumped"], lr.label
+    if model != "fem":
+        raise SceneError(f"noise model '{model}': use fem or lumped")
+    from taxel.analyses.dynamic import frequency
+    fr = frequency(s.replace(**{"analysis.method": "reduced"}))
+    C = np.einsum("fii->fi", fr.port.C)
+    return fr.freqs, fr.output, C, list(fr.names), fr.label
+
+
+def noise(scene: Scene, rig=None, band=None, model: str = "fem", points: int = 2000) -> NoiseResult:
+    """The noise budget of the scene's pressed taxel (see the module docstring): each
+    source's PSD over the band on `points` log-spaced frequencies, the rms noise at
+    every electrode, and the minimum detectable force, SNR and dynamic range."""
+    band = band_of(scene, rig, band)
+    names_hint = None
+    if scene.array is not None:
+        from taxel.schema import electrode_name
+        names_hint = electrode_name(*scene.load.taxel)
+    ch = chain(scene, rig, names_hint)
+    f_sw, H, C, names, label = transfer(with_readout(scene, ch.readout), band, model)
+    k = names.index(pressed_name(scene, names)) if pressed_name(scene, names) else 0
+    f = N.grid(band, points)
+    lf, lsw = np.log(f), np.log(f_sw)
+    gain = np.interp(lf, lsw, np.abs(H[:, k]))
+
+    def cap(j):
+        return np.interp(lf, lsw, C[:, j].real) + 1j * np.interp(lf, lsw, C[:, j].imag)
+    psd = ch.psd(f, cap(k))
+    lines = [(fl, p) for fl, p in ch.hum.lines(ch.readout) if band[0] <= fl <= band[1]]
+    hum = sum(p for _, p in lines)
+    per = {n: float(np.sqrt(sum(N.band_power(f, v, band) for v in ch.psd(f, cap(j)).values()) + hum))
+           for j, n in enumerate(names)}
+    sat, by = ch.saturation()
+    return NoiseResult(scene, band, f, psd, lines, gain, names[k], per, float(scene.load.force or 1.0), sat,
+                       by if np.isfinite(sat) else "none", label, getattr(rig, "name", None))
