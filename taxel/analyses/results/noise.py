@@ -133,7 +133,7 @@ class NoiseResult:
     def to_folder(self, out) -> list[Path]:
         """result.json, scene.json and <scene>-noise.csv (the PSD per source)."""
         out = Path(out)
-        paths = write_result(out, self)
+        paths = write_result(out, self.record(), self.scene)
         header = ["frequency_Hz", "gain_V_per_N"] + [f"{k.replace(' ', '_')}_V2_per_Hz" for k in self.psd]
         cols = [self.freqs, self.gain] + list(self.psd.values())
         return paths + [write_csv(out / f"{self.scene.name}-noise.csv", header, cols)]
