@@ -263,6 +263,7 @@ def main(argv=None):
     p.set_defaults(run=_examples)
     cli_material.register(sub)
     cli_measure.register(sub)        # taxel measure ... (taxel/cli_measure.py)
+    __import__("taxel.cli_schema").cli_schema.register(sub)   # taxel schema ... (taxel/cli_schema.py)
     try:
         args = ap.parse_args(argv)
     except InputError as exc:
