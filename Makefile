@@ -1,4 +1,5 @@
-# Two entry points: `make demo` (set up, run the main job, build the report) and `make test`.
+# Two entry points: `make demo` (set up, run the main job, build the report) and `make test`;
+# `make docs` builds the documentation site into docs/_build/html (warnings are errors).
 PY ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
@@ -6,7 +7,7 @@ STAMP := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
-	$(VENV)/bin/pip install --quiet -e '.[test]'
+	$(VENV)/bin/pip install --quiet -e '.[test,docs]'
 	touch $(STAMP)
 
 setup: $(STAMP)
@@ -17,6 +18,10 @@ demo: $(STAMP)
 test: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q $(PYTEST_ARGS)
 
+docs: $(STAMP)
+	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/sphinx-build -W --keep-going -q -b html docs docs/_build/html
+	@echo "open docs/_build/html/index.html"
+
 lint: $(STAMP)
 	.ci/lint-imports
 
@@ -24,4 +29,4 @@ bench: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/taxel_2d.py
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/default_mesh.py
 
-.PHONY: setup demo test lint bench
+.PHONY: setup demo test docs lint bench

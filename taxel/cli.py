@@ -26,7 +26,7 @@ import sqlite3
 import sys
 from pathlib import Path
 
-from taxel import cli_material, cli_measure
+from taxel import cli_explore, cli_material, cli_measure, cli_schema
 from taxel.cli_files import InputError, writable_file as _writable_file
 from taxel.units import engineering as si
 
@@ -266,7 +266,8 @@ def main(argv=None):
     p.set_defaults(run=_examples)
     cli_material.register(sub)
     cli_measure.register(sub)        # taxel measure ... (taxel/cli_measure.py)
-    __import__("taxel.cli_explore").cli_explore.register(sub)    # taxel explore (taxel/cli_explore.py)
+    cli_explore.register(sub)        # taxel explore (taxel/cli_explore.py)
+    cli_schema.register(sub)         # taxel schema ... (taxel/cli_schema.py)
     try:
         args = ap.parse_args(argv)
     except InputError as exc:

@@ -1,4 +1,6 @@
-"""The README cannot drift: every code block in it runs here.
+"""The README and the docs pages it points to cannot drift: every code block in
+them runs here (the README's sections moved into the site keep their blocks, in
+PAGES).
 
 - ```python blocks are executed (their own asserts hold);
 - ```sh blocks: every `taxel ...` line runs as a command and must exit 0; the
@@ -23,17 +25,26 @@ import pytest
 import taxel
 
 ROOT = Path(__file__).resolve().parents[1]
-BLOCKS = re.findall(r"```(\w+)\n(.*?)```", (ROOT / "README.md").read_text(encoding="utf-8"), re.S)
+# The README and the pages holding the blocks that moved out of it (a page added here has
+# its ```python, ```sh and ```toml blocks run; a ```toml block must be a scene).
+PAGES = ["README.md", "docs/getting-started.md", "docs/guide/scenes.md", "docs/guide/measured-data.md",
+         "docs/guide/silicone-and-contact.md", "docs/guide/meshes-and-accuracy.md"]
+BLOCKS = [(page, kind, body) for page in PAGES
+          for kind, body in re.findall(r"^```(\w+)\n(.*?)^```", (ROOT / page).read_text(encoding="utf-8"),
+                                       re.S | re.M)]
 
 
 def blocks(lang):
-    return [pytest.param(body, id=f"{lang}-{i}") for i, (kind, body) in enumerate(BLOCKS) if kind == lang]
+    return [pytest.param(body, id=f"{Path(page).stem}-{lang}-{i}")
+            for i, (page, kind, body) in enumerate(BLOCKS) if kind == lang]
 
 
-def test_the_readme_has_the_blocks_this_test_runs():
-    kinds = [k for k, _ in BLOCKS]
-    assert kinds.count("python") >= 1 and kinds.count("sh") >= 2 and kinds.count("toml") >= 1
+def test_the_readme_and_its_pages_have_the_blocks_this_test_runs():
+    kinds = [k for _, k, _ in BLOCKS]
+    assert kinds.count("python") >= 4 and kinds.count("sh") >= 4 and kinds.count("toml") >= 3
     assert set(kinds) <= {"python", "sh", "toml"}, f"a block this test does not run: {set(kinds)}"
+    readme = [k for page, k, _ in BLOCKS if page == "README.md"]
+    assert "python" in readme and "sh" in readme, "the README keeps its example and its two commands"
 
 
 @pytest.mark.parametrize("body", blocks("python"))
