@@ -125,7 +125,7 @@ class Load(Strict):
     shape: Literal["flat", "sphere", "cylinder"] = "flat"
     edge_radius: Length | None = None  # flat punch's rounded edge; default radius / 20
     # sticking (the default under contact): no slip once in contact, as a dry probe on tacky
-    # silicone; frictionless: the closed-form cases (Hertz, Boussinesq); see README "Contact"
+    # silicone; frictionless: the closed-form cases (Hertz, Boussinesq); see the guide page "Silicone laws and contact"
     friction: Literal["frictionless", "sticking"] | None = None
     travel: Length | None = None       # prescribed indenter travel (instead of force)
 
@@ -330,7 +330,7 @@ def one_line(err: ValidationError) -> str:
     loc = ".".join(str(x) for x in e["loc"] if not str(x).startswith("function-after"))
     msg = e["msg"].removeprefix("Value error, ")
     if e["type"] == "extra_forbidden":
-        return f"unknown key '{loc}'; check its spelling against the scene reference in README.md"
+        return f"unknown key '{loc}'; check its spelling against 'taxel schema scene' (or the key reference in the docs)"
     if e["type"] == "missing":
         return f"'{loc}' is required; add it"
     if e["type"] == "literal_error":
