@@ -102,7 +102,7 @@ def main():
             st = Store(p.out)
             solves = len(st.rows())
             st.close()
-            print(f"| {name} | {1e3 * x['silicone_above']:.3f} mm | {1e3 * x['gap']:.3f} mm | "
+            print(f"| {name} | {x['silicone_above']:.3f} mm | {x['gap']:.3f} mm | "
                   f"{r.metrics['sensitivity']:.4f} | {100 * r.metrics['crosstalk']:.2f} % | {p5:.4f} | "
                   f"{100 * y['yield']:.0f} % ({100 * y['low']:.0f}-{100 * y['high']:.0f} %) | {r.nfev} | "
                   f"{solves} | {secs:.0f} |")
