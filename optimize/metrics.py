@@ -1,7 +1,9 @@
 """The optimizer's metrics, each with its unit and its axis label: one table.
 
-A metric with unit "ratio" is dimensionless (its bound is a plain number); the
-others are SI (a bound may carry any unit of the same kind: "2 mm").
+A metric with unit "ratio" or "dB" is dimensionless (its bound is a plain number);
+the others are SI (a bound may carry any unit of the same kind: "2 mm").
+The noise metrics come from optimize.resolution, the robust ones (a percentile over
+the design's fabrication spread, the yield) from optimize.robust.
 """
 
 from __future__ import annotations
@@ -29,7 +31,14 @@ METRIC_TABLE = {
     "footprint": Metric("footprint", "m"),
     "gap": Metric("gap", "m"),
     "localization_error": Metric("localization error", "m"),
+    "min_detectable_force": Metric("minimum detectable force", "N"),
+    "snr": Metric("SNR", "dB"),
+    "dynamic_range": Metric("dynamic range", "dB"),
+    "robust_sensitivity": Metric("sensitivity percentile", "V/N"),
+    "robust_crosstalk": Metric("crosstalk percentile", "ratio"),
+    "yield": Metric("yield", "ratio"),
 }
+PLAIN = ("ratio", "dB")                  # units whose bounds are plain numbers
 METRICS = tuple(METRIC_TABLE)
 
 

@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
@@ -54,7 +54,9 @@ import numpy as np
 from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
-from taxel.optimize.metrics import METRIC_TABLE, METRICS
+from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN
+from taxel.optimize.resolution import NOISE_METRICS, Resolution
+from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel.optimize.result import FrontRun
 from taxel import units as U
 from taxel.schema import Name, Strict
@@ -101,6 +103,9 @@ class OptimizationSpec(Strict):
     pareto: Pareto | None = None
     algorithm: Algorithm = Algorithm()
     noise: Any = "1 mV"                       # localization_error: white noise on each taxel peak
+    resolution: Resolution = Resolution()     # the noise metrics' rig, band and force (optimize.resolution)
+    robust: Robust | None = None              # the robust metrics' tolerances (optimize.robust)
+    requirements: dict[Literal[METRICS], str] = {}   # the yield's spec, e.g. crosstalk = "<= 8 %"
 
     @model_validator(mode="after")
     def _check(self):
@@ -119,6 +124,7 @@ class Optimization:
     units: list[str]
     constraints: list[tuple[str, str, float]]
     out: Path | None = None
+    requirements: dict = field(default_factory=dict)     # metric -> (op, SI bound)
 
     @property
     def names(self):
@@ -131,27 +137,49 @@ class Optimization:
         return data
 
     def evaluate(self, x) -> dict:
-        """All metrics of design x, from the store when this design was solved before."""
+        """All metrics of design x, from the store when this design was solved before; the
+        robust ones (optimize.robust) when the spec asks for them."""
         data = self.scene_data(x)
+        metrics = self.point(data, dict(zip(self.names, map(float, x))))
+        if "localization_error" in self.used and metrics["sensitivity"] is not None:
+            metrics["localization_error"] = _localization_error(parse({**data, "name": "design"}), self.noise_V,
+                                                                self.out)
+        if set(ROBUST_METRICS) & self.used:
+            from taxel.optimize.robust import robust_metrics
+            metrics.update(robust_metrics(self.spec.robust, self.requirements, data, self.point))
+        return metrics
+
+    def point(self, data: dict, params: dict) -> dict:
+        """The metrics of one scene (a design or one of its parts): geometry, FEM (stored), noise."""
         scene = parse({**data, "name": "design"})
-        metrics = _geometry(scene)
+        metrics = {**_geometry(scene), **dict.fromkeys(("sensitivity", "crosstalk", "max_strain",
+                                                        "localization_error", *NOISE_METRICS))}
         outputs = ("voltage", "crosstalk", "max_strain")
         if self.out is None:
             status, result, _ = evaluate_safely(data, outputs)
         else:
             store = Store(self.out)
             try:
-                status, result, _ = store.get_or_compute(data, outputs, dict(zip(self.names, map(float, x))))
+                status, result, _ = store.get_or_compute(data, outputs, params)
             finally:
                 store.close()
         if status != "done":
-            return {**metrics, "sensitivity": None, "crosstalk": None, "max_strain": None, "localization_error": None}
+            return metrics
         v = result["voltage"].get(result["pressed"])
         metrics.update(sensitivity=abs(v) / result["force"] if v is not None else None,
                        crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
-        if "localization_error" in self.used:
-            metrics["localization_error"] = _localization_error(scene, self.noise_V, self.out)
+        if set(NOISE_METRICS) & (self.used | set(self.requirements)):
+            from taxel.optimize.resolution import noise_metrics
+            metrics.update(noise_metrics(scene, result.get("outputs") or {}, self.spec.resolution, self.rig))
         return metrics
+
+    @property
+    def rig(self):
+        """The [resolution] rig (loaded once)."""
+        if not hasattr(self, "_rig"):
+            from taxel.optimize.resolution import load_rig_of
+            self._rig = load_rig_of(self.spec.resolution)
+        return self._rig
 
     @property
     def used(self) -> set[str]:
@@ -218,7 +246,7 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
         op = text[:2]
         if op not in ("<=", ">="):
             raise OptimizeError(f"constraints.{metric}: write \"<= value\" or \">= value\", got {text!r}")
-        unit = "" if METRIC_TABLE[metric].unit == "ratio" else METRIC_TABLE[metric].unit
+        unit = "" if METRIC_TABLE[metric].unit in PLAIN else METRIC_TABLE[metric].unit
         value = text[2:].strip()
         if unit:
             bound = magnitude(value, unit, f"constraints.{metric}")[0]
@@ -232,6 +260,8 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
             raise OptimizeError(f"constraints.{metric}: the bound {value!r} is not a finite number")
         cons.append((metric, op, bound))
     problem = Optimization(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
+    from taxel.optimize.checks import check_robust
+    check_robust(problem, OptimizeError)
     try:
         scene = parse({**problem.scene_data(problem.x0), "name": "start"})
     except SceneError as exc:

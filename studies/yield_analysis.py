@@ -187,9 +187,30 @@ def analyze(name: str, spreads: list[Spread], x: np.ndarray, values: dict[str, n
     return res
 
 
-def from_study(study, store) -> ToleranceResult:
+MAGNITUDES = ("sensitivity", "charge_sensitivity")
+
+
+def noise_outputs(scene_data: dict, outputs: dict, band=(1.0, 100.0)) -> dict:
+    """min_detectable_force (N), snr (dB at the scene's load force) and dynamic_range (dB)
+    of a point from its static outputs, through the scene's own [readout] over `band` (Hz):
+    the quasi-static noise budget (taxel.analyses.noise.quasi_static_noise); {} without a
+    pressed taxel's voltage and charge."""
+    from taxel.analyses.noise import quasi_static_noise
+    from taxel.scene import SceneError, parse
+    s, q = outputs.get("sensitivity"), outputs.get("charge_sensitivity")
+    if not s or not q:
+        return {}
+    try:
+        o = quasi_static_noise(parse({**scene_data, "name": "point"}), s, q, band=band).outputs()
+    except SceneError:
+        return {}
+    return {k: o[k] for k in ("min_detectable_force", "snr", "dynamic_range")}
+
+
+def from_study(study, store, noise_band=(1.0, 100.0)) -> ToleranceResult:
     """The ToleranceResult of a tolerance study from its store (studies.store.Store): the
-    named outputs (sensitivity, crosstalk, ...) of every point."""
+    named outputs of every point (sensitivity and charge_sensitivity as magnitudes, crosstalk,
+    ...) and its noise outputs over `noise_band` (noise_outputs)."""
     from taxel.studies.store import point_key
     spreads = study.spreads()
     names = [p.name for p in study.spec.parameters]
@@ -200,7 +221,13 @@ def from_study(study, store) -> ToleranceResult:
         xs.append([float(str(pt[n]).split()[0]) if isinstance(pt[n], str) else float(pt[n]) for n in names])
         row = rows.get(point_key(study.scene_data(pt)))
         outs.append(((row or {}).get("result") or {}).get("outputs") or {})
+    for pt, o in zip(points, outs):
+        o.update(noise_outputs(study.scene_data(pt), o, noise_band) if o else {})
     keys = sorted({k for o in outs for k in o if isinstance(o[k], (int, float))})
     values = {k: np.array([o.get(k, np.nan) if o.get(k) is not None else np.nan for o in outs], float)
               for k in keys}
+    values = {k: v for k, v in values.items() if np.isfinite(v).any()}   # e.g. dynamic_range without clipping
+    for k in MAGNITUDES:                     # the taxel's sign is its poling: the spec is on |S|
+        if k in values:
+            values[k] = np.abs(values[k])
     return analyze(study.spec.name, spreads, np.array(xs), values, study.spec.requirements, seed=study.spec.seed)

@@ -84,12 +84,20 @@ def noise(scene: Scene, rig=None, band=None, model: str = "fem", points: int = 2
     source's PSD over the band on `points` log-spaced frequencies, the rms noise at
     every electrode, and the minimum detectable force, SNR and dynamic range."""
     band = band_of(scene, rig, band)
-    names_hint = None
-    if scene.array is not None:
-        from taxel.schema import electrode_name
-        names_hint = electrode_name(*scene.load.taxel)
-    ch = chain(scene, rig, names_hint)
+    ch = chain(scene, rig, _pressed_hint(scene))
     f_sw, H, C, names, label = transfer(with_readout(scene, ch.readout), band, model)
+    return _budget(scene, rig, ch, band, f_sw, H, C, names, label, points)
+
+
+def _pressed_hint(scene: Scene) -> str | None:
+    if scene.array is None:
+        return None
+    from taxel.schema import electrode_name
+    return electrode_name(*scene.load.taxel)
+
+
+def _budget(scene, rig, ch, band, f_sw, H, C, names, label, points) -> NoiseResult:
+    """The NoiseResult from the transfer H (nf, na) V/N and the capacitances C (nf, na) on f_sw."""
     k = names.index(pressed_name(scene, names)) if pressed_name(scene, names) else 0
     f = N.grid(band, points)
     lf, lsw = np.log(f), np.log(f_sw)
@@ -105,3 +113,41 @@ def noise(scene: Scene, rig=None, band=None, model: str = "fem", points: int = 2
     sat, by = ch.saturation()
     return NoiseResult(scene, band, f, psd, lines, gain, names[k], per, float(scene.load.force or 1.0), sat,
                        by if np.isfinite(sat) else "none", label, getattr(rig, "name", None))
+
+
+def loss_tangent(scene: Scene) -> float:
+    """The piezo's dielectric loss tangent: [dynamics] dielectric_loss, else the material's (0 without one)."""
+    if scene.dynamics.dielectric_loss is not None:
+        return float(scene.dynamics.dielectric_loss)
+    return float(scene_materials(scene)[scene.array.piezo].tan_delta or 0.0)
+
+
+def quasi_static_noise(scene: Scene, sensitivity: float, charge_sensitivity: float, rig=None, band=None,
+                       points: int = 400) -> NoiseResult:
+    """The noise budget from one static solve: the cheap route for design outputs.
+
+    Below the first mechanical resonance the taxel is a charge source: per newton its
+    short-circuit charge is the static Q_sc = `charge_sensitivity` (C/N) and its
+    open-circuit voltage the static V_oc = `sensitivity` (V/N), so its capacitance is
+    C_p = |Q_sc / V_oc| (with the other electrodes as in the static solve) and the
+    readout output per newton is the circuit's H(f) for that source (fem.circuits.readout
+    on a one-port PortResponse of constant V_oc and C_p); the dielectric loss enters the
+    noise as C_p (1 - i tan(delta)). The noise sources, the ADC and the hum are those of
+    `noise` (fem.noise). Valid where the band sits well below the resonance (a few kHz
+    and up for a silicone-covered taxel; tests/test_robust.py checks it against the FEM
+    sweep of `noise` on the thesis PZT taxel). Cost: no solve beyond the static one.
+    """
+    from taxel.fem import circuits
+    from taxel.fem.sweep import PortResponse
+    if not sensitivity or not charge_sensitivity:
+        raise SceneError("quasi-static noise: the pressed taxel has no voltage or no charge; press a taxel")
+    band = band_of(scene, rig, band)
+    ch = chain(scene, rig, _pressed_hint(scene))
+    C_p = abs(charge_sensitivity / sensitivity)
+    f = np.geomspace(band[0], band[1], 200)
+    port = PortResponse(f, np.full((len(f), 1), abs(sensitivity)), np.full((len(f), 1, 1), 1 / C_p), ["taxel"],
+                        "quasi-static", 0.0)
+    H = circuits.readout(port, ch.readout)
+    C = np.full((len(f), 1), C_p * (1 - 1j * loss_tangent(scene)))
+    name = _pressed_hint(scene) or "taxel"
+    return _budget(scene, rig, ch, band, f, H, C, [name], ch.readout.label + " (quasi-static)", points)

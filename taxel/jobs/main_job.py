@@ -81,6 +81,57 @@ def noise_budget(out: Path, small: bool = False) -> Path:
     return out
 
 
+THESIS_TOLERANCES = '''
+name = "thesis-pzt-tolerances"
+description = "the thesis PZT design under fabrication tolerances (2D row, mesh 1 mm)"
+base = "thesis-pzt-3x3-2d"
+sampling = "tolerance"
+samples = 16
+seed = 0
+outputs = ["voltage", "crosstalk"]
+[overrides]
+"mesh.size" = "1 mm"
+[requirements]
+sensitivity = ">= 0.805 V/N"
+crosstalk = "<= 8 %"
+[[parameters]]
+path = "array.silicone_above"
+tolerance = "0.1 mm"
+distribution = "uniform"
+[[parameters]]
+path = "array.gap"
+tolerance = "0.2 mm"
+[[parameters]]
+path = "array.piezo_thickness"
+tolerance = "5 %"
+'''
+
+
+def tolerances(out: Path) -> Path:
+    """The yield and Sobol' indices of the thesis PZT design (2D row, 16 parts on the study
+    store: silicone above +-0.1 mm uniform, gap +-0.2 mm and piezo thickness +-5 % normal;
+    studies.tolerance, studies.yield_analysis): OUT/tolerance.json."""
+    from taxel.studies.execute import run as run_points
+    from taxel.studies.spec import load_study as load
+    from taxel.studies.store import Store
+    from taxel.studies.yield_analysis import from_study
+    t0 = time.perf_counter()
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "study.toml").write_text(THESIS_TOLERANCES)
+    st = load(out / "study.toml")
+    run_points(st, out / "points", workers=1, progress=False)
+    store = Store(out / "points")
+    try:
+        res = from_study(st, store)
+    finally:
+        store.close()
+    res.to_folder(out)
+    for line in res.summary():
+        print("      " + line)
+    print(f"      tolerances in {time.perf_counter() - t0:.1f} s")
+    return out
+
+
 def run(root: Path, small: bool = False) -> Path:
     """Run the main job into `root` and return the report's index page."""
     t0 = time.perf_counter()
@@ -107,6 +158,7 @@ def run(root: Path, small: bool = False) -> Path:
             print(line)
         folders.append(out)
     folders.append(noise_budget(root / "noise-budget", small))
+    tolerances(root / "tolerances")
     print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize")
     shutil.rmtree(root / "validation", ignore_errors=True)
     measure.validate(root / "validation")
