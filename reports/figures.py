@@ -298,7 +298,7 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
         if region != "silicone":
             piezo[sol.mesh.regions[region]] = True
     grid.cell_data["piezo"] = piezo.astype(float)
-    lay = scene_layout(sol.scene)
+    lay = sol.mesh.layout               # the solved layout (cut, for a symmetric model)
     centre = (lay.load.x if lay.load is not None else float(np.mean(pts[:, 0])) * 1e-3) * 1e3
     half = (3 * lay.taxels[0].half + getattr(sol.scene.array, "gap", 0.0)) * 1e3 if lay.taxels else None
     y_load = (lay.load.y * 1e3) if lay.load is not None else float(np.median(pts[:, 1]))

@@ -25,7 +25,7 @@ from taxel.scene import Scene, SceneError
 from taxel.analyses.adapter import readout as scene_readout
 from taxel.analyses.adapter import scene_materials
 from taxel.analyses.results.noise import NoiseResult
-from taxel.analyses.results.protocol import pressed_name
+from taxel.analyses.results.base import pressed_name
 
 
 def chain(scene: Scene, rig=None, channel: str | None = None) -> N.Chain:

@@ -1,14 +1,13 @@
-"""Result objects of the analyses, one protocol for all (results.protocol):
+"""Result objects of the analyses, one protocol for all (results.base):
 `record()`, `summary()`, `to_folder(dir)`, `error` and `outputs()`; `read(folder)`
 reads a folder's result.json back into the same type. The CLI, studies and
 reports read these and never re-derive what a result holds."""
 
 from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, TransientResult
-from taxel.analyses.results.errors import (NOT_ESTIMATED, OUTPUT_NAMES, RENAMED_OUTPUTS, ErrorEstimate,
-                                           OutputError)
+from taxel.analyses.results.base import (KINDS, MEMBERS, NOT_ESTIMATED, OUTPUT_NAMES, RENAMED_OUTPUTS,
+                                         AnalysisResult, ErrorEstimate, OutputError)
 from taxel.analyses.results.folders import FORMAT, output_folder, write_csv, write_scene
 from taxel.analyses.results.noise import NOISE_OUTPUTS, NoiseResult
-from taxel.analyses.results.protocol import KINDS, MEMBERS, AnalysisResult
 from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult
 from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_record, result_kind
 

@@ -18,7 +18,7 @@ from taxel.fem.lumped import Lumped
 from taxel.fem.sweep import PortResponse
 from taxel.fem.timestep import Transient
 from taxel.scene import Scene
-from taxel.analyses.results.errors import ErrorEstimate, error_lines, error_record, read_error
+from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, read_error
 from taxel.analyses.results.folders import FORMAT, write_csv, write_result
 from taxel.schema import electrode_name
 

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.scene import Scene
-from taxel.analyses.results.errors import ErrorEstimate, error_record
+from taxel.analyses.results.base import ErrorEstimate, error_record
 from taxel.analyses.results.folders import FORMAT, write_csv, write_result
 from taxel import units
 

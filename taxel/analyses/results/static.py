@@ -14,9 +14,8 @@ from taxel.fem.newton import NewtonResult
 from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene
 from taxel.units import engineering
-from taxel.analyses.results.errors import ErrorEstimate, error_lines, error_record, read_error
+from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, pressed_name, read_error
 from taxel.analyses.results.folders import FORMAT, write_csv, write_result
-from taxel.analyses.results.protocol import pressed_name
 
 # the outputs of a static result (`StaticResult.outputs`), SI units
 STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
