@@ -197,3 +197,57 @@ def test_a_lost_scheduler_stops_the_run_with_one_line_and_a_rerun_resumes(study)
     n, distinct, rows = _rows(study / "o")
     assert n == distinct == len(FORCES) and {r[1] for r in rows} == {"done"}
     _same_sensitivity(rows)
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 4 MiB tmpfs made for the test (needs root or CAP_SYS_ADMIN: skipped otherwise)."""
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=4m", "tmpfs", str(disk)], capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip(f"cannot mount a small tmpfs here ({r.stderr.strip() or r.returncode}); the disk-full "
+                    "test needs root or CAP_SYS_ADMIN")
+    try:
+        yield disk
+    finally:
+        subprocess.run(["umount", "-l", str(disk)], capture_output=True)
+
+
+def fill(disk: Path) -> Path:
+    """Write a filler file until the file system is full; return it (delete it to free the space)."""
+    filler = disk / "filler"
+    block = b"\0" * 4096
+    with open(filler, "wb", buffering=0) as fh:
+        try:
+            while True:
+                fh.write(block)
+        except OSError as exc:
+            assert exc.errno == 28           # ENOSPC
+    return filler
+
+
+@pytest.mark.slow
+def test_a_full_disk_under_the_store_is_one_line_keeps_every_point_and_a_rerun_completes(study, small_disk):
+    out = small_disk / "o"
+    proc = _start(["study", "run", "st.toml", "--out", str(out), "--workers", "1", "--quiet"], study)
+    _wait_for(lambda: (out / "results.sqlite").exists() and _rows(out)[0] >= 1, proc, "a first stored point")
+    filler = fill(small_disk)
+    code, _, err = _finish(proc)
+    lines = err.strip().splitlines()
+    assert code == 1 and len(lines) == 1 and "Traceback" not in err, err
+    assert lines[0].startswith("taxel: failed:") and "no space left" in lines[0] and "again" in lines[0]
+    n, distinct, rows = _rows(out)                   # read on the full disk: every stored point intact
+    assert 1 <= n == distinct < len(FORCES)
+    db = sqlite3.connect(out / "results.sqlite")
+    assert db.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+    db.close()
+    _same_sensitivity(rows)
+    filler.unlink()                                  # space freed: the same command resumes
+    proc = _start(["study", "run", "st.toml", "--out", str(out), "--workers", "1", "--quiet"], study)
+    code, stdout, err = _finish(proc)
+    assert code == 0, err
+    assert f"{n} cached" in stdout
+    n, distinct, rows = _rows(out)
+    assert n == distinct == len(FORCES) and {r[1] for r in rows} == {"done"}
+    _same_sensitivity(rows)
