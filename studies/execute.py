@@ -60,15 +60,16 @@ def _run(study, out, workers, scheduler, retry_failed, progress, t0) -> RunSumma
     points = study.points()
     todo, params_of, cached = [], {}, 0
     known = store.status()
-    seen = set()
+    seen, invalid = set(), set()
     for pt in points:
         data = study.scene_data(pt)
         try:
             key = point_key(data)
-        except SceneError as exc:
+        except SceneError as exc:        # stored failed, and counted: the run exits 1
             key = hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
             if key not in known:
                 store.put(key, pt, "failed", error=f"SceneError: {exc}")
+            invalid.add(key)
             continue
         if key in seen:
             continue
@@ -92,7 +93,7 @@ def _run(study, out, workers, scheduler, retry_failed, progress, t0) -> RunSumma
     finally:
         bar.close()
         store.close()
-    return RunSummary(len(seen), cached, done, failed, time.perf_counter() - t0)
+    return RunSummary(len(seen) + len(invalid), cached, done, failed + len(invalid), time.perf_counter() - t0)
 
 
 def _bar(total, cached, progress):

@@ -265,13 +265,28 @@ def load_study(path) -> Study:
     return study
 
 
+CHECK_ALL = 2000      # points validated one by one before a run (a few ms each: pint reads every quantity)
+
+
 def check_points(study: Study) -> None:
-    """Validate every design point's scene before anything runs (about 0.1 ms a
-    point: 10 s for the largest study allowed); the first invalid one is refused
-    with one line naming the point and its values, so a run never starts on a
-    study whose later points cannot be solved."""
+    """Validate the design points' scenes before anything runs, so that a run never
+    starts on a study whose later points cannot be solved; the first invalid one is
+    refused with one line naming the point and its values. Up to CHECK_ALL points
+    every point is checked; beyond, every value of every parameter (with the other
+    parameters at their first point's values), and the run stores any remaining
+    invalid combination as failed (exit 1)."""
     points = study.points()
-    for i, pt in enumerate(points):
+    if len(points) <= CHECK_ALL:
+        candidates = list(enumerate(points))
+    else:
+        first, seen, candidates = points[0], set(), [(0, points[0])]
+        for i, pt in enumerate(points):
+            for name, v in pt.items():
+                key = (name, json.dumps(v, sort_keys=True, default=str))
+                if key not in seen:
+                    seen.add(key)
+                    candidates.append((i, {**first, name: v}))
+    for i, pt in candidates:
         try:
             parse(study.scene_data(pt))
         except SceneError as exc:

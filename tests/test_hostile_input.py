@@ -476,3 +476,34 @@ def test_replace_refuses_a_path_that_is_not_in_the_scene():
         scene.replace(**{"array.nope": 1})
     with pytest.raises(SceneError, match="array.gap"):
         scene.replace(**{"array.gap": "abc"})
+
+
+# ------------------------------------------------------------------------- studies: every point checked
+def test_a_large_study_with_one_invalid_value_is_refused_before_it_runs(tmp_path):
+    """Beyond CHECK_ALL points each parameter value is checked (not each of the
+    product's points): 60 x 50 = 3000 points, one force value in millimetres."""
+    from taxel.studies.spec import CHECK_ALL, StudyError, load_study
+    forces = [f'"{0.01 * (i + 1):.2f} N"' for i in range(59)] + ['"0.3 mm"']
+    f = tmp_path / "big.toml"
+    f.write_text('base = "thesis-pzt-single-2d"\n[[parameters]]\npath = "load.force"\nvalues = ['
+                 + ", ".join(forces) + ']\n[[parameters]]\npath = "array.silicone_above"\nstart = "0.1 mm"\n'
+                 'stop = "5 mm"\nstep = "0.1 mm"\n')
+    with pytest.raises(StudyError) as err:
+        load_study(f)
+    assert 60 * 50 > CHECK_ALL
+    assert "point " in str(err.value) and "of 3000" in str(err.value) and "load.force" in str(err.value)
+
+
+def test_a_combination_that_is_invalid_at_run_time_is_counted_failed(tmp_path):
+    """A point invalid only in combination (two taxels with no gap), in a study built
+    in Python (no load_study check): stored failed with its reason, and counted, so
+    the run does not look clean."""
+    from taxel.studies.execute import run
+    from taxel.studies.spec import Study, StudySpec
+    spec = StudySpec.model_validate({"base": "x", "outputs": ["voltage"],
+                                     "overrides": {"mesh.size": "1 mm", "mesh.piezo_size": "0.5 mm"},
+                                     "parameters": [{"path": "array.cols", "values": [1, 2]},
+                                                    {"path": "array.gap", "values": ["3 mm", "0 mm"]}]})
+    base = {"model": {"type": "plane_strain"}, "array": {}}
+    s = run(Study(spec, base, tmp_path), tmp_path / "o", workers=1, progress=False)
+    assert (s.total, s.failed, s.done) == (4, 1, 3)
