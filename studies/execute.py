@@ -156,9 +156,11 @@ def _execute_dask(todo, outputs, workers, scheduler):
         for fut in as_completed(list(futures)):
             try:
                 results = fut.result()
-            except KilledWorker as exc:        # its worker died every time it ran (kill -9, out of memory)
-                results = [(key, ("failed", None, f"WorkerDied: {_worker_died(exc)}")) for key, _ in futures[fut]]
+            except KilledWorker:               # its worker died every time it ran (kill -9, out of memory)
+                results = [(key, ("failed", None, f"WorkerDied: {_worker_died()}")) for key, _ in futures[fut]]
             except Exception as exc:           # the scheduler went away: every future is cancelled
+                if client.status == "running" and "Cancelled" not in type(exc).__name__:
+                    raise                          # not the machinery: a bug (points catch their own errors)
                 raise SchedulerLost(f"the Dask scheduler{' at ' + scheduler if scheduler else ''} was lost "
                                     f"({type(exc).__name__}) after {finished} of {len(todo)} points; the finished "
                                     "points are stored: run 'taxel study run' again to resume") from None
@@ -175,7 +177,7 @@ class SchedulerLost(RuntimeError):
     rerun resumes. One line (exit 1 at the command line)."""
 
 
-def _worker_died(exc) -> str:
+def _worker_died() -> str:
     import dask
     tries = dask.config.get("distributed.scheduler.allowed-failures") + 1
     return (f"the Dask worker computing this point died {tries} time(s) (killed, or out of memory); "
