@@ -94,6 +94,14 @@ def _workers(proc) -> list:
     return out
 
 
+def _kill(p):
+    """SIGKILL a worker process (it may have exited meanwhile)."""
+    try:
+        p.send_signal(signal.SIGKILL)
+    except psutil.Error:
+        pass
+
+
 def _same_sensitivity(rows):
     s = [r[2] for r in rows]
     assert all(v is not None for v in s)
@@ -113,7 +121,7 @@ def test_a_worker_killed_mid_point_is_retried_and_nothing_is_lost_or_duplicated(
               "a first stored point")
     victims = _workers(proc)
     assert victims, "no worker process found"
-    victims[0].send_signal(signal.SIGKILL)            # it is computing its next point
+    _kill(victims[0])                                 # it is computing its next point
     code, out, err = _finish(proc)
     assert code == 0, err
     n, distinct, rows = _rows(study / "o")
@@ -129,8 +137,12 @@ def test_a_point_whose_worker_keeps_dying_is_recorded_failed_and_retried_later(s
                   DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES="0")
     _wait_for(lambda: (study / "o" / "results.sqlite").exists() and _rows(study / "o")[0] >= 1, proc,
               "a first stored point")
-    for w in _workers(proc):
-        w.send_signal(signal.SIGKILL)
+    t0 = time.monotonic()                 # kill the workers until a point has failed (one may be idle)
+    while proc.poll() is None and not any(r[1] == "failed" for r in _rows(study / "o")[2]):
+        for w in _workers(proc):
+            _kill(w)
+        assert time.monotonic() - t0 < CEILING, "no point failed"
+        time.sleep(0.5)
     code, out, err = _finish(proc)
     n, distinct, rows = _rows(study / "o")
     assert n == distinct == len(FORCES), rows

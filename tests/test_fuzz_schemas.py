@@ -12,8 +12,9 @@ the schema) and unknown ones, set to values drawn from the quantities, names and
 literals a person types plus arbitrary TOML values (integers, floats with inf and
 nan, booleans, strings, arrays, inline tables). The keys that only change cost
 (model type, mesh sizes, sweep points) take values from a bounded set, so that a
-valid scene stays a coarse 2D solve. Example counts: SCENE_EXAMPLES, ... below;
-each is bounded by `max_examples` and needs no deadline (a solve takes ~1 s).
+valid scene stays a coarse 2D solve. Example counts: 300 scenes, 200 studies,
+100 optimizations, 300 rigs a run (about 15 s in all on one core; times
+TAXEL_FUZZ_SCALE); each is bounded by `max_examples` and has no deadline.
 Failures found are kept as explicit `@example`s.
 """
 
@@ -39,7 +40,9 @@ from pydantic import BaseModel  # noqa: E402
 from taxel.cli import main  # noqa: E402
 from taxel.scene import Scene  # noqa: E402
 
-SCENE_EXAMPLES, STUDY_EXAMPLES, OPT_EXAMPLES, RIG_EXAMPLES = 300, 200, 100, 300
+# examples per run; TAXEL_FUZZ_SCALE=10 multiplies them for a deeper run by hand or at night
+SCALE = max(1, int(os.environ.get("TAXEL_FUZZ_SCALE", "1")))
+SCENE_EXAMPLES, STUDY_EXAMPLES, OPT_EXAMPLES, RIG_EXAMPLES = (n * SCALE for n in (300, 200, 100, 300))
 SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
                 derandomize=False, database=None)
 
