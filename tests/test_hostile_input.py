@@ -380,6 +380,9 @@ FIT = [
     fit("all-compression", "strain,stress_Pa\n" + "".join(f"{-e},{-2e4 * e}\n" for e in (0.1, 0.2, 0.3, 0.4)),
         "t.csv", "negative", "tension"),
     fit("stretch-not-positive", "strain,stress_Pa\n-1.5,-1\n0.1,1\n0.2,2\n0.3,3\n0.4,4\n", "t.csv", "stretch"),
+    fit("stretch-column", "stretch,stress_Pa\n0.8,-1\n1.1,1\n1.2,2\n1.3,3\n1.4,4\n", "t.csv", "strain"),
+    fit("mixed-signs-percent", "Engineering Strain (%);Engineering Stress (kPa)\n-20;-4\n-10;-2\n10;2\n20;4\n"
+        "30;6\n40;8\n", "t.csv", "compressive", "tension"),
     fit("stress-sign-flipped", "strain,stress_Pa\n" + "".join(f"{e},{-2e4 * e}\n" for e in (0.1, 0.2, 0.3, 0.4)),
         "t.csv", "sign"),
     fit("empty", "", "t.csv"),
