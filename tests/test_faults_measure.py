@@ -19,8 +19,9 @@ import time
 import numpy as np
 import pytest
 from measure_util import random_frames, rig, wire_of
-from test_faults_study import fill, small_disk  # noqa: F401  (the small tmpfs fixture)
+from faults_util import fill, small_disk  # noqa: F401  (the small tmpfs fixture)
 from test_measure_capture import _rig_file
+from waits import CEILING               # reached only by a capture that hangs
 
 from taxel.cli import main
 from taxel.studies.bench import folder as F
@@ -29,7 +30,6 @@ from taxel.studies.bench.stream_check import FIRST_FRAMES, StreamMismatch
 from taxel.studies.bench.wire import Player
 
 RATE = 2000.0
-CEILING = 300.0          # seconds: reached only by a capture that hangs
 
 
 def _captured(tmp_path, n=3000):

@@ -22,14 +22,14 @@ import time
 from pathlib import Path
 
 import pytest
+from faults_util import fill, small_disk  # noqa: F401  (the small tmpfs fixture)
+from waits import CEILING                 # a ceiling for a hang only: the waits are event-driven
 
 psutil = pytest.importorskip("psutil")
 
 FORCES = [f"{0.1 * (i + 1):.1f} N" for i in range(8)]
 STUDY = ('base = "thesis-pzt-single-2d"\noutputs = ["voltage"]\n[overrides]\n"mesh.size" = "0.3 mm"\n'
          '[[parameters]]\npath = "load.force"\nvalues = [' + ", ".join(f'"{f}"' for f in FORCES) + "]\n")
-# a hung run is the only thing these ceilings catch: a point takes about 1 s on one core
-CEILING = 600.0
 
 
 def _env(**extra):
@@ -209,34 +209,6 @@ def test_a_lost_scheduler_stops_the_run_with_one_line_and_a_rerun_resumes(study)
     n, distinct, rows = _rows(study / "o")
     assert n == distinct == len(FORCES) and {r[1] for r in rows} == {"done"}
     _same_sensitivity(rows)
-
-
-@pytest.fixture
-def small_disk(tmp_path):
-    """A 4 MiB tmpfs made for the test (needs root or CAP_SYS_ADMIN: skipped otherwise)."""
-    disk = tmp_path / "disk"
-    disk.mkdir()
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=4m", "tmpfs", str(disk)], capture_output=True, text=True)
-    if r.returncode != 0:
-        pytest.skip(f"cannot mount a small tmpfs here ({r.stderr.strip() or r.returncode}); the disk-full "
-                    "test needs root or CAP_SYS_ADMIN")
-    try:
-        yield disk
-    finally:
-        subprocess.run(["umount", "-l", str(disk)], capture_output=True)
-
-
-def fill(disk: Path) -> Path:
-    """Write a filler file until the file system is full; return it (delete it to free the space)."""
-    filler = disk / "filler"
-    block = b"\0" * 4096
-    with open(filler, "wb", buffering=0) as fh:
-        try:
-            while True:
-                fh.write(block)
-        except OSError as exc:
-            assert exc.errno == 28           # ENOSPC
-    return filler
 
 
 @pytest.mark.slow
