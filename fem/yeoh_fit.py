@@ -83,6 +83,7 @@ def fit_yeoh(strain, stress, max_strain: float) -> YeohFit:
         raise ValueError(f"max strain must be a positive fraction (0.5 = 50 %), got {max_strain:g}")
     strain = np.asarray(strain, float)
     stress = np.asarray(stress, float)
+    _check_tension(strain, stress, max_strain)
     ok = np.isfinite(strain) & np.isfinite(stress) & (strain > 0) & (strain <= max_strain)
     n = int(ok.sum())
     if n < 4:
@@ -108,6 +109,28 @@ def fit_yeoh(strain, stress, max_strain: float) -> YeohFit:
 # --------------------------------------------------------------------------------------
 # stability
 # --------------------------------------------------------------------------------------
+
+def _check_tension(strain: np.ndarray, stress: np.ndarray, max_strain: float) -> None:
+    """Refuse data that is not one uniaxial tension test: a stretch 1 + strain <= 0,
+    compression (strain < 0) mixed with tension (strain > 0), no tension at all, or a
+    compressive stress at every tensile strain (a sign convention flipped). One line each."""
+    finite = np.isfinite(strain) & np.isfinite(stress)
+    e, P = strain[finite], stress[finite]
+    if np.any(e <= -1):
+        raise ValueError(f"strain {e[e <= -1][0]:g} is a stretch 1 + strain <= 0, which no material reaches; "
+                         "give engineering strain as a fraction (0.5 = 50 %), positive in tension")
+    neg, pos = int(np.sum(e < 0)), int(np.sum(e > 0))
+    if neg and pos:
+        raise ValueError(f"the data mixes {neg} compressive (negative) and {pos} tensile (positive) strains; "
+                         "fit-yeoh fits one uniaxial tension test: keep the tension rows (strain > 0) only")
+    if neg and not pos:
+        raise ValueError("every strain is negative (compression); fit-yeoh fits uniaxial tension: give the "
+                         "tension test, strain positive")
+    inside = (e > 0) & (e <= max_strain)
+    if np.any(inside) and np.all(P[inside] < 0):
+        raise ValueError("every stress at a positive strain is negative; in tension both are positive: check "
+                         "the sign convention of the stress column")
+
 
 def _first_loss(mode, C, lam_from, lam_to, n=4000):
     """First stretch from lam_from towards lam_to where is_stable fails, or None.

@@ -59,7 +59,7 @@ from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel.optimize.result import FrontRun
 from taxel import units as U
-from taxel.schema import Name, Strict
+from taxel.schema import Fraction, Name, Strict, dimensionless_value
 from taxel.scene import Scene, SceneError, parse
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.execute import local_cluster
@@ -84,7 +84,7 @@ class Algorithm(Strict):
     global_: Literal["DIRECT", "ISRES", "none"] = Field("DIRECT", alias="global")
     local: Literal["COBYLA", "BOBYQA", "SBPLX"] = "COBYLA"
     max_evaluations: int = Field(40, ge=2, le=10000)
-    xtol: float = Field(0.02, gt=0, lt=1)
+    xtol: Fraction = 0.02
 
 
 class Pareto(Strict):
@@ -232,6 +232,10 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
     for name, var in spec.variables.items():
         if var.path.split(".")[0] not in Scene.model_fields:
             raise OptimizeError(f"variables.{name}: unknown scene path '{var.path}'")
+        problem = numeric_path(var.path)
+        if problem:
+            raise OptimizeError(f"variables.{name}: path = '{var.path}' {problem}; an optimization variable "
+                                "varies a number (a length such as array.gap, a force); vary names in a study")
         a, unit = magnitude(var.min, what=f"variables.{name}.min")
         b, _ = magnitude(var.max, unit, f"variables.{name}.max")
         if not b > a:
@@ -252,10 +256,10 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
             bound = magnitude(value, unit, f"constraints.{metric}")[0]
         else:
             try:
-                bound = float(value)
+                bound = dimensionless_value(value, "ratio")
             except ValueError:
-                raise OptimizeError(f"constraints.{metric}: {value!r} is not a number; write e.g. \"<= 0.05\"") \
-                    from None
+                raise OptimizeError(f"constraints.{metric}: {value!r} is not a number; write e.g. \"<= 0.05\" "
+                                    "or \"<= 5 %\"") from None
         if not math.isfinite(bound):
             raise OptimizeError(f"constraints.{metric}: the bound {value!r} is not a finite number")
         cons.append((metric, op, bound))
@@ -279,6 +283,51 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
                             "vs crosstalk)")
     _check_feasible(problem)
     return problem
+
+
+def numeric_path(path: str) -> str | None:
+    """None when the dotted scene path ends at a number (a quantity, a float or an
+    int field of the scene schema, or a user material's constant); else what it is."""
+    import types
+    import typing
+    from pydantic import BaseModel
+    model, keys = Scene, path.split(".")
+    for i, key in enumerate(keys):
+        field = model.model_fields.get(key) if model is not None else None
+        if field is None:
+            if model is None:
+                return None
+            return f"is not in the scene ('{key}' is not a key of {'.'.join(keys[:i]) or 'the scene'})"
+        ann = field.annotation
+        args = [a for a in typing.get_args(ann) if a is not type(None)] \
+            if typing.get_origin(ann) in (typing.Union, types.UnionType) else [ann]
+        ann = args[0] if len(args) == 1 else ann
+        if isinstance(ann, type) and issubclass(ann, BaseModel):
+            model = ann
+            continue
+        rest = keys[i + 1:]
+        if key == "materials":          # materials.NAME.CONSTANT: a user material's SI number
+            return None if len(rest) == 2 and rest[1] != "kind" else \
+                "is not a material constant (materials.NAME.CONSTANT, e.g. materials.gel.E)"
+        if rest:
+            return f"goes inside '{'.'.join(keys[:i + 1])}', which is not a table"
+        if ann is int:
+            return "holds a whole number (a count), which a continuous optimizer cannot vary"
+        if ann is float or (typing.get_origin(ann) is typing.Annotated and typing.get_args(ann)[0] is float):
+            return None
+        return f"is not a number (it holds {_describe(ann)})"
+    return "is a table, not a number"
+
+
+def _describe(ann) -> str:
+    import typing
+    if ann is str:
+        return "a name"
+    if typing.get_origin(ann) is typing.Literal:
+        return "one of " + ", ".join(map(repr, typing.get_args(ann)))
+    if ann is bool:
+        return "true or false"
+    return "a list or a table" if typing.get_origin(ann) in (tuple, list, dict) else str(ann)
 
 
 def _check_feasible(problem: Optimization):

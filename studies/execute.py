@@ -60,15 +60,16 @@ def _run(study, out, workers, scheduler, retry_failed, progress, t0) -> RunSumma
     points = study.points()
     todo, params_of, cached = [], {}, 0
     known = store.status()
-    seen = set()
+    seen, invalid = set(), set()
     for pt in points:
         data = study.scene_data(pt)
         try:
             key = point_key(data)
-        except SceneError as exc:
+        except SceneError as exc:        # stored failed, and counted: the run exits 1
             key = hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
             if key not in known:
                 store.put(key, pt, "failed", error=f"SceneError: {exc}")
+            invalid.add(key)
             continue
         if key in seen:
             continue
@@ -92,7 +93,7 @@ def _run(study, out, workers, scheduler, retry_failed, progress, t0) -> RunSumma
     finally:
         bar.close()
         store.close()
-    return RunSummary(len(seen), cached, done, failed, time.perf_counter() - t0)
+    return RunSummary(len(seen) + len(invalid), cached, done, failed + len(invalid), time.perf_counter() - t0)
 
 
 def _bar(total, cached, progress):
@@ -110,7 +111,30 @@ def _execute(todo, outputs, workers, scheduler):
         for key, data in todo:
             yield key, evaluate_safely(data, outputs)
         return
+    import distributed  # noqa: F401  (configures its loggers on import: before _quiet_client)
+    with _quiet_client():
+        yield from _execute_dask(todo, outputs, workers, scheduler)
+
+
+@contextlib.contextmanager
+def _quiet_client():
+    """The Dask client logs a lost scheduler as tracebacks on stderr; the run reports
+    it in one line (SchedulerLost), so the client's own log is silenced meanwhile, and
+    stays so after a failed run (the client's loop thread logs its closing later)."""
+    import logging
+    log = logging.getLogger("distributed.client")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    yield
+    log.setLevel(level)
+
+
+def _execute_dask(todo, outputs, workers, scheduler):
+    """Yield (key, (status, result, error)) from Dask as chunks of points finish. A
+    chunk whose worker died (more often than the scheduler's allowed-failures) is
+    recorded failed; a lost scheduler raises SchedulerLost."""
     from dask.distributed import Client, as_completed
+    from distributed import KilledWorker
     if scheduler is not None:
         try:
             client, cluster = Client(scheduler, timeout="10s"), None
@@ -127,13 +151,37 @@ def _execute(todo, outputs, workers, scheduler):
         # a few points per task: fewer round trips, results still stored as they come
         size = max(1, min(4, len(todo) // (8 * n_workers)))
         chunks = [todo[i:i + size] for i in range(0, len(todo), size)]
-        futures = [client.submit(_evaluate_chunk, chunk, outputs, pure=False) for chunk in chunks]
-        for fut in as_completed(futures):
-            yield from fut.result()
+        futures = {client.submit(_evaluate_chunk, chunk, outputs, pure=False): chunk for chunk in chunks}
+        finished = 0
+        for fut in as_completed(list(futures)):
+            try:
+                results = fut.result()
+            except KilledWorker:               # its worker died every time it ran (kill -9, out of memory)
+                results = [(key, ("failed", None, f"WorkerDied: {_worker_died()}")) for key, _ in futures[fut]]
+            except Exception as exc:           # the scheduler went away: every future is cancelled
+                if client.status == "running" and "Cancelled" not in type(exc).__name__:
+                    raise                          # not the machinery: a bug (points catch their own errors)
+                raise SchedulerLost(f"the Dask scheduler{' at ' + scheduler if scheduler else ''} was lost "
+                                    f"({type(exc).__name__}) after {finished} of {len(todo)} points; the finished "
+                                    "points are stored: run 'taxel study run' again to resume") from None
+            finished += len(results)
+            yield from results
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+class SchedulerLost(RuntimeError):
+    """The Dask scheduler disappeared mid-run; the finished points are stored and a
+    rerun resumes. One line (exit 1 at the command line)."""
+
+
+def _worker_died() -> str:
+    import dask
+    tries = dask.config.get("distributed.scheduler.allowed-failures") + 1
+    return (f"the Dask worker computing this point died {tries} time(s) (killed, or out of memory); "
+            "run again with --retry-failed, or with fewer --workers if memory is short")
 
 
 # Modules a worker needs, imported once in the fork server so every worker starts warm.

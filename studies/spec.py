@@ -37,7 +37,7 @@ from itertools import product
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import Field, ValidationError, model_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
 
 from taxel import units
 from taxel.schema import Name, Strict, safe_name
@@ -83,7 +83,14 @@ class StudySpec(Strict):
     base: str
     sampling: Literal["grid", "lhs", "tolerance"] = "grid"
     samples: int | None = Field(None, ge=1)
-    seed: int = 0
+    seed: int = 0                        # Latin hypercube: 0 to 2**32 - 1
+
+    @field_validator("seed")
+    @classmethod
+    def _seed(cls, v):
+        if not 0 <= v < 2 ** 32:
+            raise ValueError(f"seed = {v}: use a whole number from 0 to {2 ** 32 - 1} (it seeds the Latin hypercube)")
+        return v
     overrides: dict[str, Any] = {}       # fixed values, by dotted scene path
     parameters: list[Parameter] = Field(min_length=1)
     outputs: list[Literal[OUTPUTS]] = ["voltage", "charge", "crosstalk", "max_strain"]
@@ -294,9 +301,35 @@ def load_study(path) -> Study:
     if n > MAX_POINTS:
         raise StudyError(f"the study has {n:.3g} points, more than {MAX_POINTS} (about "
                          f"{n * SECONDS_PER_POINT / 3600:.3g} h at {SECONDS_PER_POINT} s a point); use fewer values")
-    points = study.points()
-    try:                                  # validate the first point fully: unknown keys, units
-        parse(study.scene_data(points[0]))
-    except SceneError as exc:
-        raise StudyError(f"the study's first point is not a valid scene: {exc}") from None
+    check_points(study)
     return study
+
+
+CHECK_ALL = 2000      # points validated one by one before a run (a few ms each: pint reads every quantity)
+
+
+def check_points(study: Study) -> None:
+    """Validate the design points' scenes before anything runs, so that a run never
+    starts on a study whose later points cannot be solved; the first invalid one is
+    refused with one line naming the point and its values. Up to CHECK_ALL points
+    every point is checked; beyond, every value of every parameter (with the other
+    parameters at their first point's values), and the run stores any remaining
+    invalid combination as failed (exit 1)."""
+    points = study.points()
+    if len(points) <= CHECK_ALL:
+        candidates = list(enumerate(points))
+    else:
+        first, seen, candidates = points[0], set(), [(0, points[0])]
+        for i, pt in enumerate(points):
+            for name, v in pt.items():
+                key = (name, json.dumps(v, sort_keys=True, default=str))
+                if key not in seen:
+                    seen.add(key)
+                    candidates.append((i, {**first, name: v}))
+    for i, pt in candidates:
+        try:
+            parse(study.scene_data(pt))
+        except SceneError as exc:
+            which = "first point" if i == 0 else f"point {i + 1} of {len(points)}"
+            values = ", ".join(f"{k} = {_value(v)!r}" for k, v in pt.items())[:160]
+            raise StudyError(f"the study's {which} ({values}) is not a valid scene: {exc}") from None

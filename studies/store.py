@@ -12,6 +12,7 @@ cached evaluation every caller uses.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import sqlite3
@@ -49,6 +50,19 @@ class StoreError(ValueError):
     """A store that cannot be read; one line naming the file and how to recover."""
 
 
+class StoreFull(OSError):
+    """No space left for the store: the points already stored are intact (each is one
+    SQLite transaction); free space and run again to resume."""
+
+    def __init__(self, path: Path):
+        super().__init__(errno.ENOSPC, "no space left on the device for the results store; the points "
+                         "already stored are intact: free space and run again to resume", str(path))
+
+
+def _full(exc: sqlite3.Error) -> bool:
+    return isinstance(exc, sqlite3.OperationalError) and "full" in str(exc).lower()
+
+
 class Store:
     """The study's SQLite database: one row per design point key. A corrupt file
     (a garbage header, a garbage or truncated page) is refused on opening, by
@@ -73,6 +87,8 @@ class Store:
             if cols[:3] != ["key", "params", "status"]:
                 raise sqlite3.DatabaseError("not a taxel results store")
         except sqlite3.DatabaseError as exc:
+            if _full(exc):
+                raise StoreFull(self.path) from None
             raise StoreError(f"{self.path}: the results store is corrupt or not a taxel store ({exc}); "
                              f"move it aside (mv {self.path} {self.path}.bad) and rerun") from None
 
@@ -80,10 +96,15 @@ class Store:
         return dict(self.db.execute("SELECT key, status FROM points"))
 
     def put(self, key, params, status, result=None, error=None, seconds=0.0):
-        with self.db:                     # one transaction: a point is stored whole or not at all
-            self.db.execute("INSERT OR REPLACE INTO points VALUES (?, ?, ?, ?, ?, ?, ?)",
-                            (key, json.dumps(params), status, json.dumps(result) if result is not None else None,
-                             error, seconds, time.time()))
+        try:
+            with self.db:                 # one transaction: a point is stored whole or not at all
+                self.db.execute("INSERT OR REPLACE INTO points VALUES (?, ?, ?, ?, ?, ?, ?)",
+                                (key, json.dumps(params), status, json.dumps(result) if result is not None else None,
+                                 error, seconds, time.time()))
+        except sqlite3.OperationalError as exc:
+            if _full(exc):                # rolled back: the store holds every earlier point, whole
+                raise StoreFull(self.path) from None
+            raise
 
     def rows(self, keys=None):
         cur = self.db.execute("SELECT key, params, status, result, error, seconds FROM points")

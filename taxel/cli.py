@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import json
 import os
 import sqlite3
@@ -281,9 +282,17 @@ def main(argv=None):
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except sqlite3.DatabaseError as exc:
+        if "full" in str(exc).lower():    # "database or disk is full": the disk, not the store
+            print("taxel: failed: results.sqlite: no space left on the device; free space and run the same "
+                  "command again (finished points are kept)", file=sys.stderr)
+            return EXIT_FAILED
         return _error(f"{getattr(exc, 'path', 'results.sqlite')}: the results store is corrupt or not a "
                       f"database ({exc}); move it aside and rerun")
     except OSError as exc:
+        if exc.errno == errno.ENOSPC:    # not bad input: the machine; what is finished is kept
+            print(f"taxel: failed: {exc.filename or 'the output folder'}: no space left on the device; free space "
+                  "and run the same command again (finished points and written files are kept)", file=sys.stderr)
+            return EXIT_FAILED
         where = exc.filename or ""
         return _error(f"{where}: {exc.strerror or exc}; check the path and its permissions" if where
                       else f"{exc.strerror or exc}; check the paths and their permissions")

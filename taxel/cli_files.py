@@ -18,4 +18,12 @@ def writable_file(path: str, what: str, suffixes: tuple[str, ...] | None = None)
         raise InputError(f"{what} {p}: the folder {p.parent} does not exist; create it first")
     if p.is_dir():
         raise InputError(f"{what} {p}: is a folder; give a file name")
+    existed = p.exists()
+    try:                                  # open it now: a read-only folder or file system fails here
+        with open(p, "ab"):
+            pass
+    except OSError as exc:
+        raise InputError(f"{what} {p}: cannot write it ({exc.strerror or exc}); choose a writable path") from None
+    if not existed:
+        p.unlink(missing_ok=True)
     return p

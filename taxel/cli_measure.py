@@ -108,7 +108,7 @@ def _capture(args):
     for v in vanished:
         print(v, file=sys.stderr)
     print(line)
-    return 1 if res.ended == "port vanished" else 0
+    return 1 if res.ended in ("port vanished", "disk full") else 0
 
 
 def _import(args):

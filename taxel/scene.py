@@ -21,8 +21,9 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, BeforeValidator, Field, StrictInt, ValidationError, ValidationInfo, field_validator, model_validator
 
 from taxel import units
-from taxel.schema import (Strict, renamed_value, GEOMETRY, Capacitance, Coordinate, Duration, Force, Frequency, Length, MeshSize, Name,
-                              Pressure, Resistance, Thickness, safe_name)
+from taxel.schema import (Strict, renamed_value, GEOMETRY, Capacitance, Coordinate, Duration, Force, Fraction,
+                          Frequency, Length, LossFactor, MeshSize, Name, Pressure, Resistance, Thickness,
+                          dimensionless, safe_name)
 
 EXAMPLES = Path(__file__).parent / "examples"
 
@@ -57,7 +58,7 @@ class Model(Strict):
     type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
     depth: Length | None = None     # out-of-plane depth of a 2D model; default: the taxel or plate width
     silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
-    tolerance: float = Field(0.02, gt=0, lt=1)   # "auto": largest accepted linear-model voltage error
+    tolerance: Fraction = 0.02   # "auto": largest accepted linear-model voltage error
     # solve a half (cut at x = 0) or quarter (and y = 0) of a mirror-symmetric array: see
     # symmetry_planes; "auto": the largest the scene allows, in 3d (a 2D section is cheap: full)
     symmetry: Literal["auto", "full", "half", "quarter"] = "auto"
@@ -137,9 +138,9 @@ class Supports(Strict):
 
 class Dynamics(Strict):
     """Damping. No sourced damping data exists for Ecoflex: loss factors are parameters."""
-    silicone_loss: float = Field(0.1, ge=0, lt=2)     # structural loss factor eta of the silicone
-    piezo_loss: float | None = Field(None, ge=0, lt=1)        # default 1/Qm of the material
-    dielectric_loss: float | None = Field(None, ge=0, lt=1)   # default tan(delta) of the material
+    silicone_loss: Annotated[float, dimensionless("loss factor", ge=0, lt=2)] = 0.1     # structural loss factor eta of the silicone
+    piezo_loss: LossFactor | None = None        # default 1/Qm of the material
+    dielectric_loss: LossFactor | None = None   # default tan(delta) of the material
     rayleigh_alpha: float = Field(0.0, ge=0)          # 1/s, C = alpha M + beta K
     rayleigh_beta: float = Field(0.0, ge=0)           # s
     reference_frequency: Frequency = "100 Hz"         # time domain: eta -> viscous eta / (2 pi f_ref)
@@ -152,7 +153,7 @@ class Analysis(Strict):
     points: StrictInt = Field(200, ge=2, le=100000)
     spacing: Literal["log", "linear"] = "log"
     method: Literal["reduced", "direct"] = "reduced"
-    tolerance: float = Field(1e-3, gt=0, lt=1)        # reduced sweep: accepted relative error
+    tolerance: Fraction = 1e-3        # reduced sweep: accepted relative error
     input: Literal["step", "impulse", "chirp", "csv"] = "step"
     duration: Duration = "1 s"
     dt: Duration = "0.5 ms"
@@ -238,6 +239,8 @@ class Scene(Strict):
                 raise ValueError("plate.radius is missing; give the disk's radius, e.g. \"10 mm\"")
             if self.model.type == "axisymmetric" and p.shape != "disk":
                 raise ValueError("model.type = 'axisymmetric' needs plate.shape = 'disk'")
+            if self.load.kind == "indenter" and self.load.radius is not None:
+                _indenter_on_plate(self.load, p)
         ld = self.load
         if ld.kind == "pressure" and ld.pressure is None:
             raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
@@ -300,6 +303,11 @@ class Scene(Strict):
                              "set supports.bottom = 'bonded' or 'rollers', or fix the edges")
         for name, state in self.electrodes.items():
             electrode_state(state, f"electrodes.{name}")
+        if self.model.silicone == "yeoh":
+            for name in _user_solids_without_yeoh(self):
+                raise ValueError(f"model.silicone = 'yeoh' needs the Yeoh constants of '{name}': add C10 (and C20, "
+                                 f"C30) to [materials.{name}] (taxel material fit-yeoh fits them to a tension "
+                                 "test), or use model.silicone = 'linear'")
         if self.model.silicone != "linear":
             if self.model.type == "plane_stress":
                 raise ValueError("model.silicone = 'yeoh' is not offered in plane stress (an incompressible "
@@ -309,6 +317,32 @@ class Scene(Strict):
             if any(not isinstance(electrode_state(v), str) for v in self.electrodes.values()):
                 raise ValueError("electrodes at a set voltage are linear-model only; use 'open' or 'ground'")
         return self
+
+
+def _user_solids_without_yeoh(scene: Scene) -> list[str]:
+    """The scene's user solid materials (its [materials] of kind "solid") that it
+    uses and that have no Yeoh constant C10 (a linear law only)."""
+    used = scene_material_names(scene)
+    return [n for n in used if isinstance(scene.materials.get(n), dict)
+            and scene.materials[n].get("kind") == "solid" and "C10" not in scene.materials[n]]
+
+
+def _indenter_on_plate(load: Load, plate: Plate):
+    """An indenter's footprint (radius about its offset centre) must lie on the plate."""
+    half = [plate.radius] * 2 if plate.shape == "disk" else [plate.width / 2, (plate.length or plate.width) / 2]
+    reach = [abs(load.offset[0]) + load.radius, abs(load.offset[1]) + load.radius]
+    if plate.shape == "disk":
+        far = (load.offset[0] ** 2 + load.offset[1] ** 2) ** 0.5 + load.radius
+        if far > half[0] * (1 + 1e-9):
+            raise ValueError(f"load.radius = {load.radius * 1e3:g} mm (offset included) reaches "
+                             f"{far * 1e3:g} mm from the centre of a disk of radius {plate.radius * 1e3:g} mm; "
+                             "make the indenter smaller than the plate (or the offset smaller)")
+        return
+    for axis, r, h, key in ((0, reach[0], half[0], "width"), (1, reach[1], half[1], "length")):
+        if r > h * (1 + 1e-9):
+            raise ValueError(f"load.radius = {load.radius * 1e3:g} mm (offset included) reaches {r * 1e3:g} mm "
+                             f"from the centre, beyond the plate's half-{key} {h * 1e3:g} mm; make the "
+                             "indenter smaller than the plate (or the offset smaller)")
 
 
 def electrode_state(state: str, key="electrode"):

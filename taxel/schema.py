@@ -13,6 +13,7 @@ through taxel.units, or an SI number when the model is validated from Python
 
 from __future__ import annotations
 
+import math
 import re
 import warnings
 from typing import Annotated, ClassVar
@@ -110,3 +111,45 @@ def safe_name(stem: str) -> str:
     """A scene or study name from a file name: characters outside NAME become '-'."""
     name = re.sub(r"[^A-Za-z0-9._+-]", "-", stem).lstrip(".")[:100]
     return name or "scene"
+
+
+def dimensionless_value(v, what: str = "fraction") -> float:
+    """The number in a dimensionless value: 0.02, "0.02", "2 %", "2 percent",
+    "500 ppm" or "1 mm/m" (pint through taxel.units); ValueError (one line) for
+    anything else, a unit with a dimension, or a value that is not finite."""
+    if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+        raise ValueError(f"expected a {what} such as 0.02 or \"2 %\", got {v!r}")
+    if isinstance(v, str):
+        try:
+            q = units.quantity(v.strip())
+            x = float(q.to("").magnitude) if hasattr(q, "to") else float(q)
+        except Exception:
+            raise ValueError(f"cannot read {v!r} as a {what}; write e.g. 0.02 or \"2 %\"") from None
+    else:
+        x = float(v)
+    if not math.isfinite(x):
+        raise ValueError(f"must be a finite number, got {v!r}")
+    return x
+
+
+def dimensionless(what: str, *, ge: float | None = None, gt: float | None = None, lt: float | None = None,
+                  le: float | None = None):
+    """A dimensionless field (a fraction, a loss factor, a gain in V/V): whatever
+    `dimensionless_value` reads, checked against the bounds; one line naming the
+    bound otherwise. The same in a file and from Python (no unit to confuse)."""
+    def parse(v, info: ValidationInfo):
+        if v is None:
+            return v
+        x = dimensionless_value(v, what)
+        for bound, ok, word in ((ge, lambda b: x >= b, "at least"), (gt, lambda b: x > b, "above"),
+                                (lt, lambda b: x < b, "below"), (le, lambda b: x <= b, "at most")):
+            if bound is not None and not ok(bound):
+                raise ValueError(f"{v!r} must be {word} {bound:g} ({bound * 100:g} %)")
+        return x
+    parse.unit = None
+    return BeforeValidator(parse)
+
+
+Fraction = Annotated[float, dimensionless("fraction", gt=0, lt=1)]      # (0, 1): a tolerance, "2 %"
+LossFactor = Annotated[float, dimensionless("loss factor", ge=0, lt=1)]
+Ratio = Annotated[float, dimensionless("ratio (V/V)", gt=0)]

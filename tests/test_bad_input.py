@@ -129,6 +129,20 @@ CASES = [
     case("symmetry-half-asymmetric-electrodes", ARRAY.replace("[model]\n", '[model]\nsymmetry = "half"\n')
          + 'cols = 3\n[load]\ntaxel = [0, 1]\n[electrodes]\ntaxel_0_0 = "ground"\n', "model.symmetry",
          "electrodes"),
+    case("tolerance-percent-over-100", ARRAY.replace("[model]\n", '[model]\ntolerance = "120 %"\n'),
+         "model.tolerance", "below 1"),
+    case("tolerance-as-length", ARRAY.replace("[model]\n", '[model]\ntolerance = "2 mm"\n'), "model.tolerance"),
+    case("tolerance-negative-percent", ARRAY.replace("[model]\n", '[model]\ntolerance = "-2 %"\n'),
+         "model.tolerance"),
+    case("loss-factor-as-frequency", ARRAY + '[dynamics]\npiezo_loss = "1 Hz"\n', "dynamics.piezo_loss"),
+    case("dielectric-loss-100-percent", ARRAY + '[dynamics]\ndielectric_loss = "100 %"\n',
+         "dynamics.dielectric_loss"),
+    case("plate-indenter-beyond-edge", PLATE + '[load]\nkind = "indenter"\nradius = "8 mm"\n'
+         'offset = ["5 mm", "0 mm"]\n', "load.radius", "half-width"),
+    case("plate-indenter-wider", PLATE + '[load]\nkind = "indenter"\nradius = "30 mm"\n', "load.radius"),
+    case("yeoh-user-silicone-without-c10", ARRAY.replace("[model]\n", '[model]\nsilicone = "yeoh"\n')
+         + 'silicone = "gel"\n[materials.gel]\nkind = "solid"\nE = 1e5\nnu = 0.45\nrho = 1000\n',
+         "materials.gel", "C10", "fit-yeoh"),
     case("scene-path-is-a-directory", DIRECTORY, "scene-dir"),
     case("scene-file-not-utf8", b'[array]\ntaxel_width = "4 mm"\n# \xff\xfe\n', "bad-input.toml"),
 ]

@@ -123,6 +123,33 @@ SCENES = [
     scene("readout-R-zero", ARRAY + '[readout]\nR = "0 ohm"\n', "readout.R"),
     scene("readout-unknown-circuit", ARRAY + '[readout]\ncircuit = "tube"\n', "readout.circuit"),
     scene("dynamics-negative-loss", ARRAY + "[dynamics]\nsilicone_loss = -0.1\n", "dynamics.silicone_loss"),
+    scene("tolerance-150-percent", ARRAY.replace('"plane_strain"', '"plane_strain"\ntolerance = "150 %"'),
+          "model.tolerance", "below"),
+    scene("tolerance-with-length", ARRAY.replace('"plane_strain"', '"plane_strain"\ntolerance = "1 mm"'),
+          "model.tolerance", "fraction"),
+    scene("tolerance-bool", ARRAY.replace('"plane_strain"', '"plane_strain"\ntolerance = true'), "model.tolerance"),
+    scene("tolerance-zero-percent", ARRAY.replace('"plane_strain"', '"plane_strain"\ntolerance = "0 %"'),
+          "model.tolerance"),
+    scene("tolerance-nan", ARRAY.replace('"plane_strain"', '"plane_strain"\ntolerance = "nan"'), "model.tolerance",
+          "finite"),
+    scene("loss-abc", ARRAY + '[dynamics]\nsilicone_loss = "abc"\n', "dynamics.silicone_loss"),
+    scene("piezo-loss-200-percent", ARRAY + '[dynamics]\npiezo_loss = "200 %"\n', "dynamics.piezo_loss"),
+    scene("sweep-tolerance-hz", ARRAY + '[analysis]\ntype = "frequency"\ntolerance = "1 Hz"\n',
+          "analysis.tolerance"),
+    scene("plate-indenter-wider", FAST + '[plate]\nwidth = "10 mm"\nlayers = [{material = "PVDF", '
+          'thickness = "1 mm"}]\n[load]\nkind = "indenter"\nradius = "20 mm"\n', "load.radius", "plate"),
+    scene("plate-indenter-offset-off", FAST + '[plate]\nwidth = "10 mm"\nlayers = [{material = "PVDF", '
+          'thickness = "1 mm"}]\n[load]\nkind = "indenter"\nradius = "2 mm"\noffset = ["4 mm", "0 mm"]\n',
+          "load.radius", "offset"),
+    scene("disk-indenter-wider", FAST.replace('"plane_strain"', '"axisymmetric"') + '[plate]\nshape = "disk"\n'
+          'radius = "5 mm"\nlayers = [{material = "PVDF", thickness = "1 mm"}]\n[load]\nkind = "indenter"\n'
+          'radius = "6 mm"\n', "load.radius", "disk"),
+    scene("3d-plate-indenter-longer", FAST.replace('"plane_strain"', '"3d"') + '[plate]\nwidth = "20 mm"\n'
+          'length = "4 mm"\nlayers = [{material = "PVDF", thickness = "1 mm"}]\n[load]\nkind = "indenter"\n'
+          'radius = "3 mm"\n', "load.radius", "length"),
+    scene("yeoh-without-constants", ARRAY.replace('"plane_strain"', '"plane_strain"\nsilicone = "yeoh"')
+          + 'silicone = "gel"\n[materials.gel]\nkind = "solid"\nE = 1e5\nnu = 0.45\nrho = 1000\n',
+          "materials.gel", "C10"),
     scene("not-toml", "this is [not toml\n", "s.toml", "TOML"),
     scene("empty-file", "", "[array]", "[plate]"),
     scene("binary-file", b"\x00\x01\x02\xff\xfe", "s.toml"),
@@ -180,6 +207,12 @@ SOLVE = [
          {"s.toml": ARRAY}),
     Case("mesh-missing-folder", ["mesh", "s.toml", "-o", "no/dir/x.msh"], ("no/dir",), {"s.toml": ARRAY}),
     Case("mesh-no-output", ["mesh", "s.toml"], ("-o",), {"s.toml": ARRAY}),
+    Case("mesh-out-not-writable", ["mesh", "s.toml", "-o", "/proc/taxel-x.msh"], ("-o", "/proc/taxel-x.msh",
+         "cannot write"), {"s.toml": ARRAY}),
+    Case("mesh-vtu-not-writable", ["mesh", "s.toml", "-o", "/sys/taxel-x.vtu"], ("/sys/taxel-x.vtu", "cannot write"),
+         {"s.toml": ARRAY}),
+    Case("solve-vtu-not-writable", ["solve", "s.toml", "--vtu", "/proc/taxel-x.vtu"], ("--vtu", "/proc/taxel-x.vtu"),
+         {"s.toml": ARRAY}),
     Case("lumped-plate", ["lumped", "p.toml"], ("[array]",),
          {"p.toml": FAST + '[plate]\nwidth = "10 mm"\nlayers = [{material = "PVDF", thickness = "1 mm"}]\n'
                            '[load]\nkind = "pressure"\npressure = "1 kPa"\n'}),
@@ -226,6 +259,21 @@ STUDIES = [
           'labels = ["a"]'), "labels"),
     study("bad-outputs", STUDY.replace('["voltage"]', '["happiness"]'), "outputs"),
     study("first-point-invalid", STUDY.replace('"0.2 N"', '"0.2 mm"'), "load.force"),
+    study("second-point-invalid", STUDY.replace('"0.4 N"', '"0.4 mm"'), "point 2 of 2", "load.force"),
+    study("last-grid-point-invalid", STUDY + '[[parameters]]\npath = "array.rows"\nvalues = [1, 0]\n',
+          "point 2 of 4", "array.rows"),
+    study("override-invalid", STUDY.replace('"mesh.size" = "1 mm"', '"mesh.size" = "-1 mm"'), "first point",
+          "mesh.size"),
+    study("lhs-some-points-invalid", 'base = "thesis-pzt-single-2d"\nsampling = "lhs"\nsamples = 6\n'
+          '[[parameters]]\npath = "mesh.size"\nstart = "-1 mm"\nstop = "1 mm"\n', "point", "mesh.size"),
+    study("lhs-negative-seed", 'base = "thesis-pzt-single-2d"\nsampling = "lhs"\nsamples = 3\nseed = -1\n'
+          '[[parameters]]\npath = "load.force"\nstart = "0.2 N"\nstop = "1 N"\n', "seed"),
+    study("lhs-huge-seed", 'base = "thesis-pzt-single-2d"\nsampling = "lhs"\nsamples = 3\nseed = 1099511627776\n'
+          '[[parameters]]\npath = "load.force"\nstart = "0.2 N"\nstop = "1 N"\n', "seed"),
+    study("lhs-float-seed", 'base = "thesis-pzt-single-2d"\nsampling = "lhs"\nsamples = 3\nseed = 1.5\n'
+          '[[parameters]]\npath = "load.force"\nstart = "0.2 N"\nstop = "1 N"\n', "seed"),
+    study("tolerance-override-bad", STUDY.replace('"mesh.size" = "1 mm"', '"model.tolerance" = "5 mm"'),
+          "model.tolerance"),
     study("not-toml", "[[[\n", "st.toml", "TOML"),
     study("binary", b"\xff\xfe\x00", "st.toml"),
     study("base-not-toml", 'base = "b.toml"\n[[parameters]]\npath = "load.force"\nvalues = ["1 N"]\n',
@@ -249,6 +297,8 @@ STUDIES = [
     Case("study-export-no-csv", ["study", "export", "d"], ("--csv",), setup=lambda p: _tiny_store(p / "d")),
     Case("study-export-csv-missing-folder", ["study", "export", "d", "--csv", "no/dir/x.csv"], ("no/dir",),
          setup=lambda p: _tiny_store(p / "d")),
+    Case("study-export-csv-not-writable", ["study", "export", "d", "--csv", "/proc/taxel-x.csv"],
+         ("/proc/taxel-x.csv",), setup=lambda p: _tiny_store(p / "d")),
     Case("study-corrupt-study-json", ["study", "status", "d"], ("study.json",),
          {"d/study.json": "{not json"}, setup=lambda p: _tiny_store(p / "d")),
 ]
@@ -287,6 +337,19 @@ OPTIMIZE = [
     opt("algorithm-typo", OPT.replace('global = "none"', 'global = "DIRCT"'), "global"),
     opt("crosstalk-single-taxel", OPT.replace("thesis-pzt-3x3-2d", "thesis-pzt-single-2d"), "crosstalk"),
     opt("pareto-needs-sensitivity", OPT + "[pareto]\npoints = 3\n", "pareto"),
+    opt("variable-on-material", OPT.replace('"array.gap"', '"array.silicone"'), "variables.gap", "array.silicone",
+        "not a number"),
+    opt("variable-on-piezo", OPT.replace('"array.gap"', '"array.piezo"'), "variables.gap", "array.piezo"),
+    opt("variable-on-model-type", OPT.replace('"array.gap"', '"model.type"'), "variables.gap", "model.type"),
+    opt("variable-on-table", OPT.replace('"array.gap"', '"array"'), "variables.gap", "table"),
+    opt("variable-on-bool", OPT.replace('"array.gap"', '"load.contact"'), "variables.gap", "load.contact"),
+    opt("variable-on-count", OPT.replace('"array.gap"', '"array.rows"'), "variables.gap", "whole number"),
+    opt("variable-inside-number", OPT.replace('"array.gap"', '"array.gap.x"'), "variables.gap", "not a table"),
+    opt("variable-unknown-leaf", OPT.replace('"array.gap"', '"array.gapp"'), "variables.gap", "gapp"),
+    opt("variable-on-material-kind", OPT.replace('"array.gap"', '"materials.gel.kind"'), "variables.gap",
+        "material constant"),
+    opt("xtol-percent-too-big", OPT.replace('global = "none"', 'global = "none"\nxtol = "150 %"'), "xtol"),
+    opt("constraint-percent-unit", OPT + '[constraints]\ncrosstalk = "<= 5 mm"\n', "constraints.crosstalk"),
     opt("not-toml", "[[[", "op.toml"),
     Case("opt-missing-file", ["optimize", "nope.toml"], ("nope",)),
 ]
@@ -311,6 +374,17 @@ FIT = [
     fit("nan-max-strain", GOOD_CSV, "--max-strain", args=("--max-strain", "nan")),
     fit("plot-missing-folder", GOOD_CSV, "no/dir", args=("--max-strain", "0.5", "--plot", "no/dir/p.png")),
     fit("binary", b"\x00\xff\xfe", "t.csv"),
+    fit("mixed-signs", "strain,stress_Pa\n-0.2,-4000\n-0.1,-2000\n0.1,2000\n0.2,4000\n0.3,6000\n0.4,8000\n",
+        "t.csv", "compressive", "tension"),
+    fit("mixed-one-negative", GOOD_CSV + "-0.05,-1000\n", "t.csv", "compressive"),
+    fit("all-compression", "strain,stress_Pa\n" + "".join(f"{-e},{-2e4 * e}\n" for e in (0.1, 0.2, 0.3, 0.4)),
+        "t.csv", "negative", "tension"),
+    fit("stretch-not-positive", "strain,stress_Pa\n-1.5,-1\n0.1,1\n0.2,2\n0.3,3\n0.4,4\n", "t.csv", "stretch"),
+    fit("stretch-column", "stretch,stress_Pa\n0.8,-1\n1.1,1\n1.2,2\n1.3,3\n1.4,4\n", "t.csv", "strain"),
+    fit("mixed-signs-percent", "Engineering Strain (%);Engineering Stress (kPa)\n-20;-4\n-10;-2\n10;2\n20;4\n"
+        "30;6\n40;8\n", "t.csv", "compressive", "tension"),
+    fit("stress-sign-flipped", "strain,stress_Pa\n" + "".join(f"{e},{-2e4 * e}\n" for e in (0.1, 0.2, 0.3, 0.4)),
+        "t.csv", "sign"),
     fit("empty", "", "t.csv"),
     Case("fit-missing-file", ["material", "fit-yeoh", "nope.csv"], ("nope.csv",)),
     Case("fit-directory", ["material", "fit-yeoh", "d"], ("d",), setup=lambda p: (p / "d").mkdir()),
@@ -405,3 +479,34 @@ def test_replace_refuses_a_path_that_is_not_in_the_scene():
         scene.replace(**{"array.nope": 1})
     with pytest.raises(SceneError, match="array.gap"):
         scene.replace(**{"array.gap": "abc"})
+
+
+# ------------------------------------------------------------------------- studies: every point checked
+def test_a_large_study_with_one_invalid_value_is_refused_before_it_runs(tmp_path):
+    """Beyond CHECK_ALL points each parameter value is checked (not each of the
+    product's points): 60 x 50 = 3000 points, one force value in millimetres."""
+    from taxel.studies.spec import CHECK_ALL, StudyError, load_study
+    forces = [f'"{0.01 * (i + 1):.2f} N"' for i in range(59)] + ['"0.3 mm"']
+    f = tmp_path / "big.toml"
+    f.write_text('base = "thesis-pzt-single-2d"\n[[parameters]]\npath = "load.force"\nvalues = ['
+                 + ", ".join(forces) + ']\n[[parameters]]\npath = "array.silicone_above"\nstart = "0.1 mm"\n'
+                 'stop = "5 mm"\nstep = "0.1 mm"\n')
+    with pytest.raises(StudyError) as err:
+        load_study(f)
+    assert 60 * 50 > CHECK_ALL
+    assert "point " in str(err.value) and "of 3000" in str(err.value) and "load.force" in str(err.value)
+
+
+def test_a_combination_that_is_invalid_at_run_time_is_counted_failed(tmp_path):
+    """A point invalid only in combination (two taxels with no gap), in a study built
+    in Python (no load_study check): stored failed with its reason, and counted, so
+    the run does not look clean."""
+    from taxel.studies.execute import run
+    from taxel.studies.spec import Study, StudySpec
+    spec = StudySpec.model_validate({"base": "x", "outputs": ["voltage"],
+                                     "overrides": {"mesh.size": "1 mm", "mesh.piezo_size": "0.5 mm"},
+                                     "parameters": [{"path": "array.cols", "values": [1, 2]},
+                                                    {"path": "array.gap", "values": ["3 mm", "0 mm"]}]})
+    base = {"model": {"type": "plane_strain"}, "array": {}}
+    s = run(Study(spec, base, tmp_path), tmp_path / "o", workers=1, progress=False)
+    assert (s.total, s.failed, s.done) == (4, 1, 3)

@@ -14,6 +14,7 @@ from measure_util import rig, rig_dict
 from taxel.cli import main
 from taxel.studies.bench import folder as F
 from taxel.studies.bench.capture import capture
+from waits import CEILING
 
 BENCH = Path(__file__).parents[1] / "studies" / "bench" / "builtin" / "thesis-bench.toml"
 
@@ -26,7 +27,7 @@ def test_simulate_on_loopback_port_then_capture(tmp_path):
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     try:
         url = None
-        end = time.monotonic() + 60
+        end = time.monotonic() + CEILING    # the simulator's first line; a ceiling for a hang
         while url is None and time.monotonic() < end:
             line = proc.stdout.readline()
             if line.startswith("serving on "):
@@ -35,8 +36,8 @@ def test_simulate_on_loopback_port_then_capture(tmp_path):
         from taxel.studies.bench.rig import load_rig, parse_rig
         r = load_rig("thesis-bench")
         r = parse_rig({**r.model_dump(), "port": {**r.port.model_dump(), "url": url}}, si_numbers=True)
-        res = capture(r, tmp_path / "m", seconds=30)
-        proc.wait(timeout=30)
+        res = capture(r, tmp_path / "m", seconds=CEILING)   # ends when the port vanishes
+        proc.wait(timeout=CEILING)
     finally:
         proc.kill()
         proc.wait()
@@ -148,14 +149,14 @@ def test_simulate_on_a_pty_in_ascii_then_capture(tmp_path):
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         url = None
-        end = time.monotonic() + 60
+        end = time.monotonic() + CEILING    # the simulator's first line; a ceiling for a hang
         while url is None and time.monotonic() < end:
             line = proc.stdout.readline()
             if line.startswith("serving on "):
                 url = line.split()[2]
         assert url and url.startswith("/dev/")
-        res = capture(rig(url, "taxel-ascii"), tmp_path / "m", seconds=30)
-        proc.wait(timeout=30)
+        res = capture(rig(url, "taxel-ascii"), tmp_path / "m", seconds=CEILING)   # ends when the port vanishes
+        proc.wait(timeout=CEILING)
     finally:
         proc.kill()
         proc.wait()

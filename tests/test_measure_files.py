@@ -12,6 +12,7 @@ from measure_util import random_frames, rig, wire_of, write_lvm
 from taxel.studies.bench import folder as F
 from taxel.studies.bench.export import export_csv
 from taxel.studies.bench.importers import import_file
+from waits import CEILING
 
 EXAMPLE_LVM = Path(__file__).parents[1] / "docs" / "examples" / "thesis-bench-step.lvm"
 
@@ -87,7 +88,7 @@ def test_simulate_cli_physics(tmp_path, monkeypatch):
     env = {**__import__("os").environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
     cmd = [sys.executable, "-m", "taxel.cli", "measure", "simulate", "thesis-bench", "--scene", "thesis-pzt-3x3-2d",
            "--input", "step", "--to", str(tmp_path / "step.bin"), "--seconds", "1.5"]
-    p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=CEILING)
     assert p.returncode == 0, p.stderr
     truth = np.load(tmp_path / "step.truth" / "truth.npz")
     meta = json.loads((tmp_path / "step.truth" / "truth.json").read_text())

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from waits import CEILING
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -20,7 +21,7 @@ def test_taxel_is_the_only_top_level_name_installed():
 
 def test_from_an_empty_folder_the_api_solves_and_the_layer_folders_are_not_top_level(tmp_path):
     code = "import taxel; r = taxel.solve(taxel.load('thesis-pzt-single-2d')); print(r)"
-    run = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    run = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=CEILING)
     assert run.returncode == 0, run.stderr
     assert "taxel_0_0" in run.stdout and " mV" in run.stdout
     for name in ("fem", "meshing", "optimize", "studies", "reports"):
@@ -40,7 +41,7 @@ def test_a_users_own_reports_module_does_not_break_the_cli(tmp_path):
 def test_the_import_contract_holds():
     """.ci/lint-imports: import-linter on the installed package (layers, the FEM never
     sees the scene schema, the FEM's own layers)."""
-    run = subprocess.run([str(ROOT / ".ci" / "lint-imports")], capture_output=True, text=True, timeout=600,
+    run = subprocess.run([str(ROOT / ".ci" / "lint-imports")], capture_output=True, text=True, timeout=CEILING,
                          env={"PATH": "/usr/bin:/bin", "PYTHON": sys.executable})
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]
     assert "0 broken" in run.stdout

@@ -23,6 +23,7 @@ from pathlib import Path
 import pytest
 
 import taxel
+from waits import CEILING
 
 ROOT = Path(__file__).resolve().parents[1]
 # The README and the pages holding the blocks that moved out of it (a page added here has
@@ -71,7 +72,7 @@ def test_shell_blocks_run(body):
         else:
             assert argv[0] == "taxel", f"README command not run by this test: {cmd}"
             run = subprocess.run([str(bindir / "taxel"), *argv[1:]], cwd=ROOT, capture_output=True, text=True,
-                                 timeout=300)
+                                 timeout=CEILING)
         assert run.returncode == 0, f"{cmd}: exit {run.returncode}\n{run.stderr[-2000:]}"
 
 

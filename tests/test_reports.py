@@ -12,6 +12,7 @@ import pytest
 
 from taxel.reports.build import CHROMIUM_FLAGS, build, chromium
 from taxel.cli import main
+from waits import CEILING
 
 
 @pytest.fixture(scope="module")
@@ -82,7 +83,7 @@ def test_pages_open_in_headless_chromium_without_errors_and_are_not_blank(demo):
             run = subprocess.run([chromium(), *CHROMIUM_FLAGS, f"--user-data-dir={profile}",
                                   "--enable-logging=stderr", "--v=0", "--window-size=1200,1600",
                                   f"--screenshot={shot}", page.resolve().as_uri()],
-                                 capture_output=True, text=True, timeout=120)
+                                 capture_output=True, text=True, timeout=CEILING)
             assert shot.exists(), run.stderr[-500:]
             console = [line for line in run.stderr.splitlines() if "CONSOLE" in line or "Failed to load" in line]
             assert not console, console
@@ -90,7 +91,7 @@ def test_pages_open_in_headless_chromium_without_errors_and_are_not_blank(demo):
             assert img.std() > 0.02                                   # not blank
     dom = subprocess.run([chromium(), *CHROMIUM_FLAGS, "--user-data-dir=" + tempfile.mkdtemp(), "--dump-dom",
                           (demo / "report" / "fig-2-5.html").resolve().as_uri()],
-                         capture_output=True, text=True, timeout=120).stdout
+                         capture_output=True, text=True, timeout=CEILING).stdout
     assert "fig-2-5 (study)" in dom and dom.count("<img") >= 4
 
 
@@ -109,7 +110,7 @@ def test_offscreen_render_is_silent_on_a_headless_machine():
     code = ("import taxel; from taxel.reports.figures import pyvista_render; "
             "png = pyvista_render(taxel.solve('thesis-pzt-single-2d')); assert png[:4] == b'\\x89PNG'")
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=CEILING)
     assert run.returncode == 0, run.stderr[-2000:]
     assert "X server" not in run.stderr and "WARN" not in run.stderr, run.stderr[-2000:]
 

@@ -17,6 +17,7 @@ from taxel.studies.execute import run as run_study
 from taxel.studies.spec import load_study
 from taxel.studies.store import tidy_rows
 from taxel.cli import main
+from waits import CEILING
 
 SMALL = """
 name = "small"
@@ -54,7 +55,7 @@ def results(folder):
 
 def count(folder):
     try:
-        db = sqlite3.connect(Path(folder) / "results.sqlite", timeout=5)
+        db = sqlite3.connect(Path(folder) / "results.sqlite", timeout=30)   # waits out a commit
         n = db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
         db.close()
         return n
@@ -73,7 +74,7 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
     for target in (3, 7):                      # kill after some points, twice
         proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 cwd=Path(__file__).parent.parent)
-        deadline = time.time() + 120
+        deadline = time.time() + CEILING        # event-driven: the row count; a ceiling for a hang
         while count(out) < target and proc.poll() is None and time.time() < deadline:
             time.sleep(0.05)
         proc.send_signal(signal.SIGKILL)
@@ -106,7 +107,7 @@ def test_dask_two_workers_equal_in_process(tmp_path):
 
     def holder():                      # a caller's thread holding a lock through the run
         with held:
-            stop.wait(600)
+            stop.wait(CEILING)
     t = threading.Thread(target=holder, daemon=True)
     t.start()
     try:
@@ -254,7 +255,7 @@ def test_a_second_run_on_a_busy_folder_is_refused_and_the_lock_dies_with_the_fir
     env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
-        deadline = time.time() + 120
+        deadline = time.time() + CEILING        # event-driven: the row count; a ceiling for a hang
         while count(out) < 2 and proc.poll() is None and time.time() < deadline:
             time.sleep(0.05)
         assert proc.poll() is None, "the first run ended before the second could start"

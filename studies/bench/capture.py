@@ -9,7 +9,10 @@ closed, pty master gone): then one line says so and everything received is kept.
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import os
+import shutil
 import sys
 import threading
 import time
@@ -23,6 +26,7 @@ from taxel.studies.bench.folder import (RAW, SUMMARY, MeasurementError, Writer, 
                                           write_json)
 from taxel.studies.bench.protocol import Decoder, Frames, SeqStats
 from taxel.studies.bench.rig import Rig
+from taxel.studies.bench.stream_check import HEAD_BYTES, StreamMismatch, diagnose, mismatched
 
 READ_SIZE = 8192
 TIMEOUT = 0.05
@@ -38,7 +42,7 @@ class CaptureResult:
 
     folder: Path
     stats: dict
-    ended: str                 # "seconds" | "stopped" | "interrupted" | "port vanished"
+    ended: str                 # "seconds" | "stopped" | "interrupted" | "port vanished" | "disk full"
     message: str
 
     def record(self) -> dict:
@@ -48,7 +52,7 @@ class CaptureResult:
     def summary(self) -> list[str]:
         """For a person: the counters, the rate and the jitter in one line (two if the port vanished)."""
         s = self.stats
-        lines = [f"taxel: {self.message}"] if self.ended == "port vanished" else []
+        lines = [f"taxel: {self.message}"] if self.ended in ("port vanished", "disk full") else []
         return lines + [f"{s['frames']} frames, {s['crc_failures']} CRC failures, {s['seq_gaps']} seq gaps "
                         f"({s['frames_lost']} frames lost), {s['resyncs']} resyncs, rate "
                         f"{(s['rate_Hz'] or 0):.2f} Hz, jitter {(s['jitter_us'] or 0):.1f} us; {self.folder}"]
@@ -80,6 +84,34 @@ def progress_line(s: dict, elapsed: float) -> str:
             f"({s['frames_lost']} frames lost)")
 
 
+class DiskFull(OSError):
+    """No space left for raw.bin; `kept`: the bytes of the stream it holds."""
+
+    def __init__(self, kept: int):
+        super().__init__(errno.ENOSPC, "no space left on the device")
+        self.kept = kept
+
+
+def _write_all(raw, data: bytes) -> None:
+    """Write every byte to the unbuffered raw.bin, or raise DiskFull with the size
+    of the file as left (every byte up to there is intact: appends only)."""
+    view = memoryview(data)
+    while view:
+        try:
+            n = raw.write(view)
+        except OSError as exc:
+            if exc.errno != errno.ENOSPC:
+                raise
+            raise DiskFull(os.fstat(raw.fileno()).st_size) from None
+        view = view[n:]
+
+
+def _no_space(exc: Exception) -> bool:
+    """ENOSPC, also as HDF5 reports it (an OSError whose text holds the errno)."""
+    text = str(exc)
+    return getattr(exc, "errno", None) == errno.ENOSPC or "errno = 28" in text or "No space left" in text
+
+
 def capture(rig: Rig, out: Path, seconds: float | None = None, stop: threading.Event | None = None,
             progress: Callable[[str], None] | None = None, port: serial.SerialBase | None = None) -> CaptureResult:
     """Capture into the (new, empty) folder `out`. The port is opened before
@@ -87,14 +119,16 @@ def capture(rig: Rig, out: Path, seconds: float | None = None, stop: threading.E
     out = Path(out)
     check_out(out)
     ser = port or open_port(rig)
+    existed = out.exists()
     out.mkdir(parents=True, exist_ok=True)
     start, t0 = now_iso(), time.monotonic()
     source = f"capture from {rig.port.url} ({rig.port.protocol})"
     dec = Decoder(rig.port.protocol, rig.n)
     writer = Writer(out, rig, source, start_time=start)
     stats, pending = SeqStats(), []
-    raw = open(out / RAW, "ab")
+    raw = open(out / RAW, "ab", buffering=0)   # unbuffered: every write is in the OS, or raised
     ended, message = "seconds", ""
+    received, head, mismatch = 0, bytearray(), None
 
     def checkpoint(status: str) -> dict:
         frames = Frames.concat(pending, rig.n)
@@ -117,32 +151,64 @@ def capture(rig: Rig, out: Path, seconds: float | None = None, stop: threading.E
                 break
             data = ser.read(READ_SIZE)
             if data:
-                raw.write(data)
-                raw.flush()                       # to the OS before anything else: survives kill -9
+                _write_all(raw, data)             # to the OS before anything else: survives kill -9
+                received += len(data)
                 pending.append(dec.feed(data))
+                if not dec.counters.frames and len(head) < HEAD_BYTES:
+                    head += data[:HEAD_BYTES - len(head)]
+                    if mismatched(dec.counters):          # the first packets contradict the rig file
+                        raise StreamMismatch(diagnose(bytes(head), rig.port.protocol, rig.n,
+                                                      f"port {rig.port.url}"))
             if now - last >= 1.0:
-                os.fsync(raw.fileno())
-                summary = checkpoint("capturing")
+                try:
+                    os.fsync(raw.fileno())
+                    summary = checkpoint("capturing")
+                except (OSError, RuntimeError) as exc:   # the HDF5 or summary.json found the disk full
+                    if not _no_space(exc):
+                        raise
+                    raise DiskFull(os.fstat(raw.fileno()).st_size) from None
                 last = now
                 if progress:
                     progress(progress_line(summary, now - t0))
     except KeyboardInterrupt:
         ended, message = "interrupted", "stopped by Ctrl-C"
+    except StreamMismatch as exc:
+        mismatch = exc
+    except DiskFull as exc:
+        ended = "disk full"
+        message = (f"{out}: no space left on the device after {time.monotonic() - t0:.1f} s; the "
+                   f"{exc.kept} bytes received until then are kept in {RAW}: free space, then "
+                   f"'taxel measure rebuild {out}'")
     except (serial.SerialException, OSError) as exc:
         ended = "port vanished"
         message = (f"port {rig.port.url} vanished after {time.monotonic() - t0:.1f} s ({str(exc).splitlines()[0]}); "
                    f"everything received is kept in {out}")
     finally:
-        raw.flush()
-        os.fsync(raw.fileno())
+        with contextlib.suppress(OSError):         # nothing is buffered; fsync may find the disk full
+            os.fsync(raw.fileno())
         raw.close()
         try:
             ser.close()
         except Exception:
             pass
+    if mismatch is not None:                        # bad input: nothing half-written is left
+        writer.close()
+        for f in out.iterdir():
+            f.unlink() if f.is_file() else shutil.rmtree(f, ignore_errors=True)
+        if not existed:
+            out.rmdir()
+        raise mismatch
     pending.append(dec.flush())
-    summary = checkpoint({"seconds": "complete", "stopped": "complete"}.get(ended, ended))
-    writer.close()
+    if ended == "disk full":                       # no more HDF5 writes: raw.bin holds every byte written
+        with contextlib.suppress(Exception):
+            writer.close()
+        pending.clear()
+        summary = summary_record(dec.counters, stats.record(), start, ended, source, time.monotonic() - t0)
+        with contextlib.suppress(OSError):
+            write_json(out / SUMMARY, summary)
+    else:
+        summary = checkpoint({"seconds": "complete", "stopped": "complete"}.get(ended, ended))
+        writer.close()
     if progress:
         progress(progress_line(summary, summary["seconds"]))
     return CaptureResult(out, summary, ended, message or f"captured {summary['frames']} frames in {out}")

@@ -84,10 +84,10 @@ class Writer:
                              volts_per_si=rig.volts_per_si(), rig=rig.model_dump_json(), source=source,
                              start_time=self.start_time)
         chunk = 4096
-        self.h5.create_dataset("seq", (0,), np.uint16, maxshape=(None,), chunks=(chunk,))
-        self.h5.create_dataset("t_us", (0,), np.uint32, maxshape=(None,), chunks=(chunk,))
+        self.h5.create_dataset("seq", (0,), np.uint16, maxshape=(None,), chunks=(chunk,), fletcher32=True)
+        self.h5.create_dataset("t_us", (0,), np.uint32, maxshape=(None,), chunks=(chunk,), fletcher32=True)
         dtype = np.int32 if kind == "counts" else np.float64
-        self.h5.create_dataset(kind, (0, n), dtype, maxshape=(None, n), chunks=(chunk, n))
+        self.h5.create_dataset(kind, (0, n), dtype, maxshape=(None, n), chunks=(chunk, n), fletcher32=True)
         self.h5.flush()
         self.n_rows = 0
 

@@ -46,7 +46,7 @@ from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, mo
 
 from taxel import units
 from taxel.fem.circuits import Readout
-from taxel.schema import Strict
+from taxel.schema import Ratio, Strict
 from taxel.scene import one_line, read_toml
 
 from taxel.studies.bench.protocol import MAX_CHANNELS, Protocol
@@ -114,7 +114,7 @@ class ADC(Strict):
 class Channel(Strict):
     index: int = Field(ge=0, lt=MAX_CHANNELS)
     name: str
-    gain: float | None = Field(None, gt=0)
+    gain: Ratio | None = None
     sensitivity: Annotated[float | None, BeforeValidator(_sensitivity)] = None
 
     @model_validator(mode="after")

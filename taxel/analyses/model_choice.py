@@ -58,14 +58,14 @@ def choose(scene: Scene, solver: str = "auto") -> StaticResult:
     tried, best = [], None
     for rung in ladder(scene):
         for law in ("linear", "yeoh"):
-            sc = fixed.replace(**dict(rung.changes), **{"model.silicone": law, "mesh.order": 2})
-            try:
+            try:                            # the scene itself may refuse the law (no Yeoh constants)
+                sc = fixed.replace(**dict(rung.changes), **{"model.silicone": law, "mesh.order": 2})
                 if cheap3d is not None and sc == est.cheapest_3d(fixed):
                     res = cheap3d           # solved already for the model-form estimate
                 else:
                     res = solve_model(sc, solver)
             except ValueError as exc:       # e.g. PVDF has no axisymmetric model
-                tried.append(f"{rung.label}: not possible ({exc})")
+                tried.append(f"{rung.label} ({law}): not possible ({exc})")
                 break
             if sc.model.type != "3d" and cheap3d is None:
                 cheap3d = solve_model(est.cheapest_3d(fixed), solver)
