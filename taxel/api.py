@@ -150,3 +150,14 @@ def work_precision(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path
     wps = [work_precision(sc, f, Path(store) if store else out / "store", progress) for sc in scenes for f in forces]
     write(wps, out)
     return wps
+
+
+def reduce(scene: Scene | str | Path | dict, inputs: str | None = None, output: str = "readout",
+           f_max: float | None = None):
+    """The scene's reduced-order model (taxel.analyses.reduced.ReducedModel): inputs a
+    force on each taxel ("taxels", array scenes) or the scene's load ("probe"), outputs
+    the readout chain ("readout") or the short-circuit charges ("charge") at every
+    taxel; `.frf(f)`, `.simulate(t, force)`, `.to_control()`, `.to_scipy()`,
+    `.save_mat(path)`, `.save(path.npz)`, `.to_folder(dir)`."""
+    from taxel.analyses.reduced import reduce as _reduce
+    return _reduce(scene if isinstance(scene, Scene) else load(scene), inputs, output, f_max)

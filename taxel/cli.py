@@ -26,7 +26,7 @@ import sqlite3
 import sys
 from pathlib import Path
 
-from taxel import cli_material, cli_measure
+from taxel import cli_material, cli_measure, cli_reduce
 from taxel.cli_files import InputError, writable_file as _writable_file
 from taxel.units import engineering as si
 
@@ -263,6 +263,7 @@ def main(argv=None):
     p.set_defaults(run=_examples)
     cli_material.register(sub)
     cli_measure.register(sub)        # taxel measure ... (taxel/cli_measure.py)
+    cli_reduce.register(sub)         # taxel reduce ... (taxel/cli_reduce.py)
     try:
         args = ap.parse_args(argv)
     except InputError as exc:

@@ -20,8 +20,12 @@ Two views of the same reduced model (fem.reduced):
 
 from __future__ import annotations
 
+import hashlib
+import json
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
+from datetime import datetime, timezone
+from pathlib import Path
 
 import numpy as np
 
@@ -29,8 +33,12 @@ from taxel.fem import circuits, dynamics, reduced, statespace
 from taxel.fem.assembly import elements, load_vector
 from taxel.fem.problem import PatchLoad
 from taxel.fem.sweep import PortResponse
-from taxel.scene import Scene, SceneError
+from taxel.scene import Scene, SceneError, parse, to_data
+from taxel.schema import electrode_name
+from taxel.analyses import reduced_export
 from taxel.analyses.adapter import problem, readout
+from taxel.analyses.results.errors import error_record
+from taxel.analyses.results.folders import FORMAT, write_result
 
 
 @dataclass
@@ -39,13 +47,17 @@ class ReducedModel:
 
     scene: Scene
     red: reduced.Reduced
-    inputs: list[str]              # "force:<taxel>" or "force:probe"
-    outputs: list[str]             # "<quantity>:<electrode>"
+    input_names: list[str]         # "force:<taxel>" or "force:probe"
+    output_names: list[str]        # "<quantity>:<electrode>"
     output_unit: str               # V or C
     readout: circuits.Readout | str    # a Readout, or "charge"
     loss: str = "modal"
+    f_cut: float = 5000.0          # Hz: modes above it kept quasi-statically (fem.statespace)
     seconds: float = 0.0
+    provenance: dict = field(default_factory=dict)
     _ss: statespace.StateSpace | None = field(default=None, repr=False)
+    kind = "reduced"
+    error = None                   # no ErrorEstimate: the reduction's own measured error is `measured_error`
 
     @property
     def order(self) -> int:
@@ -60,9 +72,115 @@ class ReducedModel:
         return port_readout(freqs, V, Ci, self.red.names, self.readout)
 
     def state_space(self) -> statespace.StateSpace:
+        """The real first-order realization (fem.statespace), A, B, C, D in SI units."""
         if self._ss is None:
-            self._ss = statespace.realize(self.red, self.readout, self.loss)
+            self._ss = statespace.realize(self.red, self.readout, self.loss, self.f_cut)
         return self._ss
+
+    @property
+    def measured_error(self) -> float:
+        """The reduction's relative error against direct solves at the last check frequency."""
+        return self.red.error
+
+    def pressed(self) -> tuple[int, int]:
+        """(output, input) index of the pressed taxel's own path (else the first)."""
+        name = electrode_name(*self.scene.load.taxel)
+        i = next((k for k, n in enumerate(self.output_names) if n.endswith(":" + name)), 0)
+        j = next((k for k, n in enumerate(self.input_names) if n.endswith(":" + name)), 0)
+        return i, j
+
+    def outputs(self) -> dict[str, float]:
+        """reduced_order (states); reduction_error (measured, relative);
+        static_gain: the pressed path's readout output per newton at 1 Hz (V/N or C/N)."""
+        i, j = self.pressed()
+        return {"reduced_order": float(self.order), "reduction_error": float(self.red.error),
+                "static_gain": float(abs(self.frf([1.0])[0, i, j]))}
+
+    def record(self) -> dict:
+        return {"kind": self.kind, "format": FORMAT, "scene": self.scene.name, "inputs": self.input_names,
+                "outputs_named": self.output_names, "output_unit": self.output_unit, "input_unit": "N",
+                "readout": self.readout_label, "loss": self.loss, "f_cut_Hz": self.f_cut,
+                "order": self.order, "basis_size": self.red.order, "measured_error": self.red.error,
+                "checks": [[f, e] for f, e in self.red.checks], "seconds": self.seconds,
+                "files": {"npz": "model.npz", "mat": "model.mat"}, "provenance": self.provenance,
+                "outputs": self.outputs(), **error_record(None, "frequency"),
+                "error_note": "the reduction's error is measured against direct solves: measured_error"}
+
+    @property
+    def readout_label(self) -> str:
+        return "short-circuit charge" if self.readout == "charge" else self.readout.label
+
+    def summary(self) -> list[str]:
+        i, j = self.pressed()
+        return [f"reduced model of {self.scene.name}: {len(self.input_names)} inputs (N) x {len(self.output_names)} outputs "
+                f"({self.output_unit}, {self.readout_label})",
+                f"  {self.order} states ({self.red.order} basis vectors), built in {self.seconds:.1f} s, "
+                f"measured error {self.red.error:.1e} (checks at "
+                + ", ".join(f"{f:.4g} Hz" for f, _ in self.red.checks) + ")",
+                f"  static gain {self.input_names[j]} -> {self.output_names[i]}: {self.outputs()['static_gain']:.4g} "
+                f"{self.output_unit}/N",
+                f"  loss factors: {self.loss} viscous damping in the state space (fem.statespace); frf() keeps them "
+                "complex"]
+
+    def __str__(self) -> str:
+        return "\n".join(self.summary())
+
+    # exports (taxel.analyses.reduced_export)
+    def to_control(self):
+        ss = self.state_space()
+        return reduced_export.to_control(ss.A, ss.B, ss.C, ss.D, self.input_names, self.output_names, self.scene.name)
+
+    def to_scipy(self):
+        ss = self.state_space()
+        return reduced_export.to_scipy(ss.A, ss.B, ss.C, ss.D)
+
+    def save_mat(self, path) -> Path:
+        ss = self.state_space()
+        return reduced_export.save_mat(path, ss.A, ss.B, ss.C, ss.D, self.input_names, self.output_names, "N",
+                                       self.output_unit, f"taxel reduced model of {self.scene.name}: "
+                                       f"{self.readout_label}; provenance in the .npz")
+
+    def save(self, path) -> Path:
+        """The model as .npz (state space, reduced second-order model, provenance)."""
+        ss, r = self.state_space(), self.red
+        arrays = {"A": ss.A, "B": ss.B, "C": ss.C, "D": ss.D, "M": r.M, "mech": r.mech, "F": r.F, "Be": r.Be,
+                  "E": r.E, "u_cols": r.u_cols, **{f"part:{k}": P for k, P in r.parts.items()}}
+        meta = {"format": FORMAT, "inputs": self.input_names, "outputs": self.output_names, "output_unit": self.output_unit,
+                "readout": "charge" if self.readout == "charge" else asdict(self.readout), "loss": self.loss,
+                "f_cut": self.f_cut, "seconds": self.seconds, "names": r.names, "alpha": r.alpha, "beta": r.beta,
+                "kappa": {k: [v.real, v.imag] for k, v in r.kappa.items()}, "viscous": r.viscous,
+                "error": r.error, "checks": r.checks, "scene": to_data(self.scene), "provenance": self.provenance}
+        return reduced_export.save_npz(path, arrays, meta)
+
+    @classmethod
+    def load(cls, path) -> "ReducedModel":
+        """A model written by `save` (ValueError, one line, for another file)."""
+        a, m = reduced_export.load_npz(path)
+        try:
+            red = reduced.Reduced({k[5:]: v for k, v in a.items() if k.startswith("part:")},
+                                  {k: complex(*v) for k, v in m["kappa"].items()}, m["viscous"], a["M"], a["mech"],
+                                  m["alpha"], m["beta"], a["F"], a["Be"], a["E"], a["u_cols"], m["names"], m["error"],
+                                  [tuple(c) for c in m["checks"]], m["seconds"])
+            r = m["readout"] if m["readout"] == "charge" else circuits.Readout(**m["readout"])
+            model = cls(parse(m["scene"]), red, m["inputs"], m["outputs"], m["output_unit"], r, m["loss"],
+                        m["f_cut"], m["seconds"], m["provenance"])
+        except (KeyError, TypeError, SceneError) as exc:
+            raise ValueError(f"{path}: not a reduced model file ({exc}); write it with taxel reduce SCENE -o FILE.npz") \
+                from None
+        model._ss = statespace.StateSpace(a["A"], a["B"], a["C"], a["D"])
+        return model
+
+    def to_folder(self, out) -> list[Path]:
+        """result.json, scene.json, model.npz and model.mat."""
+        out = Path(out)
+        paths = write_result(out, self)
+        return paths + [self.save(out / "model.npz"), self.save_mat(out / "model.mat")]
+
+
+
+def read_folder(folder, scene: Scene, rec: dict) -> ReducedModel:
+    """The model of a folder written by `ReducedModel.to_folder` (taxel.analyses.read)."""
+    return ReducedModel.load(Path(folder) / rec.get("files", {}).get("npz", "model.npz"))
 
     def simulate(self, t, force) -> np.ndarray:
         """Outputs (nt, outputs) for forces (nt, inputs) in N at uniform times t (s)."""
@@ -107,7 +225,7 @@ def reduce(scene: Scene, inputs: str | None = None, output: str = "readout", f_m
     f_max: the highest frequency it must hold (default the scene's analysis.f_max,
     at least 2 kHz)."""
     t0 = time.perf_counter()
-    if scene.model.symmetry != "full" if hasattr(scene.model, "symmetry") else False:
+    if scene.model.symmetry != "full":          # dynamic models are solved on the full mesh
         scene = scene.replace(**{"model.symmetry": "full"})
     arr = scene.array
     pressed_by_indenter = scene.load.kind == "indenter" and scene.load.contact
@@ -130,5 +248,18 @@ def reduce(scene: Scene, inputs: str | None = None, output: str = "readout", f_m
     red = reduced.build(dm, loads, f_top, max(scene.analysis.f_min, 0.1), tol)
     r = "charge" if output == "charge" else readout(scene)
     quantity = "charge" if output == "charge" else ("voltage" if r.circuit != "charge_amplifier" else "output")
+    data = to_data(scene)
+    provenance = {"scene": scene.name, "scene_sha256": hashlib.sha256(json.dumps(data, sort_keys=True).encode())
+                  .hexdigest(), "taxel_version": _version(), "built": datetime.now(timezone.utc).isoformat(
+                      timespec="seconds"), "unknowns": int(dm.M.shape[0]), "inputs": inputs, "output": output}
     return ReducedModel(scene, red, names_in, [f"{quantity}:{k}" for k in red.names],
-                        "C" if output == "charge" else "V", r, loss, time.perf_counter() - t0)
+                        "C" if output == "charge" else "V", r, loss, 2.5 * f_top, time.perf_counter() - t0,
+                        provenance)
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("taxel")
+    except PackageNotFoundError:
+        return "unknown"

@@ -4,6 +4,7 @@ mesh and fields (see each type's docstring)."""
 
 from __future__ import annotations
 
+import importlib
 import json
 import warnings
 from pathlib import Path
@@ -15,6 +16,9 @@ from taxel.analyses.results.static import StaticResult
 
 RESULT_TYPES = {"static": StaticResult, "frequency": FrequencyResult, "transient": TransientResult,
                 "lumped": LumpedResult}
+# kinds read by a module's read_folder(folder, scene, record): the reduced model's
+# matrices are in the folder's model.npz
+FOLDER_READERS = {"reduced": "taxel.analyses.reduced"}
 
 
 class ResultError(ValueError):
@@ -45,8 +49,8 @@ def read_record(folder) -> dict:
         warnings.warn(f"{path}: a result.json without \"kind\" (an older release's static result) is read for "
                       "one release; write the folder again", DeprecationWarning, stacklevel=3)
         rec = {**rec, "kind": "static", "format": 0}
-    if rec["kind"] not in RESULT_TYPES:
-        raise ResultError(f"{path}: kind = '{rec['kind']}' is not one of {', '.join(RESULT_TYPES)}")
+    if rec["kind"] not in RESULT_TYPES and rec["kind"] not in FOLDER_READERS:
+        raise ResultError(f"{path}: kind = '{rec['kind']}' is not one of {', '.join([*RESULT_TYPES, *FOLDER_READERS])}")
     if rec.get("format", 0) > FORMAT:
         raise ResultError(f"{path}: format {rec['format']} is newer than this release reads ({FORMAT}); "
                           "update taxel")
@@ -64,6 +68,8 @@ def read(folder) -> StaticResult | FrequencyResult | TransientResult | LumpedRes
     except SceneError as exc:
         raise ResultError(f"{folder / 'scene.json'}: {exc}") from None
     try:
+        if rec["kind"] in FOLDER_READERS:        # results whose folder holds more than result.json
+            return importlib.import_module(FOLDER_READERS[rec["kind"]]).read_folder(folder, scene, rec)
         return RESULT_TYPES[rec["kind"]].from_record(scene, rec)
     except (KeyError, TypeError, ValueError) as exc:
         raise ResultError(f"{folder / 'result.json'}: a {rec['kind']} result without a readable "
