@@ -100,8 +100,8 @@ class StateSpace:
 
 def condensed(red: Reduced, loss: str = "modal", f_cut: float | None = None):
     """(W (n,), C_m (n, n), Phi^T F_d, Phi^T B_d, G Phi W^-1, g_f, g_Q): the modal form
-    of steps 1-3 of the module docstring. Modes above `f_cut` (Hz) are kept
-    quasi-statically (static residualization: eta_j = (Phi_j^T F_d f + Phi_j^T B_d Q) / w_j^2
+    of steps 1-3 of the module docstring. Modes above `f_cut` (Hz) whose damping
+    force is below 1 % of their stiffness there are kept quasi-statically (static residualization: eta_j = (Phi_j^T F_d f + Phi_j^T B_d Q) / w_j^2
     added to the direct terms g_f, g_Q), so the static response stays exact."""
     d = red.u_cols
     K = sum(red.parts.values())
@@ -136,8 +136,8 @@ def condensed(red: Reduced, loss: str = "modal", f_cut: float | None = None):
         raise ValueError(f"loss = '{loss}': use 'modal' or 'reference'")
     G = red.E @ TP / w[None, :]
     Fm, Bm, gf, gQ = Phi.T @ Fd, Phi.T @ Bd, red.E @ tf, red.E @ tQ
-    if f_cut is not None:
-        hi = w > 2 * np.pi * f_cut
+    if f_cut is not None:            # quasi-static only where the mode's damping is negligible at f_cut too
+        hi = (w > 2 * np.pi * f_cut) & (np.diag(viscous) * 2 * np.pi * f_cut < 1e-2 * w ** 2)
         gf = gf + (G[:, hi] / w[hi]) @ Fm[hi]
         gQ = gQ + (G[:, hi] / w[hi]) @ Bm[hi]
         lo = ~hi

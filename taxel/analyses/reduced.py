@@ -52,7 +52,7 @@ class ReducedModel:
     output_unit: str               # V or C
     readout: circuits.Readout | str    # a Readout, or "charge"
     loss: str = "modal"
-    f_cut: float = 5000.0          # Hz: modes above it kept quasi-statically (fem.statespace)
+    f_cut: float = 20000.0         # Hz: modes above it kept quasi-statically (fem.statespace)
     seconds: float = 0.0
     provenance: dict = field(default_factory=dict)
     _ss: statespace.StateSpace | None = field(default=None, repr=False)
@@ -76,6 +76,10 @@ class ReducedModel:
         if self._ss is None:
             self._ss = statespace.realize(self.red, self.readout, self.loss, self.f_cut)
         return self._ss
+
+    def simulate(self, t, force) -> np.ndarray:
+        """Outputs (nt, outputs) for forces (nt, inputs) in N at uniform times t (s)."""
+        return self.state_space().simulate(t, force)
 
     @property
     def measured_error(self) -> float:
@@ -182,11 +186,6 @@ def read_folder(folder, scene: Scene, rec: dict) -> ReducedModel:
     """The model of a folder written by `ReducedModel.to_folder` (taxel.analyses.read)."""
     return ReducedModel.load(Path(folder) / rec.get("files", {}).get("npz", "model.npz"))
 
-    def simulate(self, t, force) -> np.ndarray:
-        """Outputs (nt, outputs) for forces (nt, inputs) in N at uniform times t (s)."""
-        return self.state_space().simulate(t, force)
-
-
 def port_readout(freqs, V, Ci, names, r) -> np.ndarray:
     """The readout (fem.circuits) applied to each input's port response: (nf, na, m)."""
     if r == "charge":
@@ -253,7 +252,7 @@ def reduce(scene: Scene, inputs: str | None = None, output: str = "readout", f_m
                   .hexdigest(), "taxel_version": _version(), "built": datetime.now(timezone.utc).isoformat(
                       timespec="seconds"), "unknowns": int(dm.M.shape[0]), "inputs": inputs, "output": output}
     return ReducedModel(scene, red, names_in, [f"{quantity}:{k}" for k in red.names],
-                        "C" if output == "charge" else "V", r, loss, 2.5 * f_top, time.perf_counter() - t0,
+                        "C" if output == "charge" else "V", r, loss, 10 * f_top, time.perf_counter() - t0,
                         provenance)
 
 
