@@ -59,8 +59,9 @@ def register(sub) -> None:
     q.add_argument("--no-crosstalk", action="store_true", help="skip the FEM crosstalk solves")
     q.add_argument("--between", type=float, default=0.0, metavar="P",
                    help="--input presses: the fraction of presses at random points (between taxels, over the edges)")
-    q.add_argument("--model", choices=["lumped", "fem"], default="lumped",
-                   help="the taxel's charge: the lumped model with FEM crosstalk, or an FEM transient")
+    q.add_argument("--model", choices=["reduced", "lumped", "fem"], default="reduced",
+                   help="the taxel's charge: the scene's reduced model from the FEM (default; MIMO, crosstalk "
+                   "included), the seed's lumped model with FEM crosstalk weights, or an FEM transient")
     q.add_argument("--linger", type=float, default=1.0, help="seconds the port stays open after the stream")
     q.add_argument("--delay", type=float, default=0.0, help="--pty: seconds before the stream starts (time to "
                    "start the capture: opening a port empties its input buffer)")

@@ -262,3 +262,22 @@ def _version() -> str:
         return version("taxel")
     except PackageNotFoundError:
         return "unknown"
+
+
+def cached(scene: Scene, inputs: str | None = None, output: str = "readout") -> ReducedModel:
+    """`reduce(scene, inputs, output)`, kept in the user's cache (taxel.analyses.crosstalk.cache_dir)
+    keyed by the scene's SHA-256 and the options; rebuilt when missing or unreadable."""
+    from taxel.analyses.crosstalk import cache_dir
+    key = hashlib.sha256(json.dumps([to_data(scene), inputs, output, FORMAT], sort_keys=True).encode()).hexdigest()
+    path = cache_dir() / f"reduced-{key[:16]}.npz"
+    try:
+        return ReducedModel.load(path)
+    except ValueError:
+        pass
+    model = reduce(scene, inputs, output)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        model.save(path)
+    except OSError:
+        pass
+    return model
