@@ -5,8 +5,9 @@ The FEM targets, for the pressed (or only) taxel of an array scene:
 * static compliance c = F^T x / 1 N of the scene's load (open circuit, lossless K0);
 * static short-circuit charge per newton Q_sc = -C V_oc at the pressed electrode
   (every electrode grounded), and the static capacitance C_ii;
-* the first resonance: the first peak of |Q_sc(f)| of the scene's reduced model
-  (taxel.analyses.reduced, probe input, charge output) below 10 kHz.
+* the first resonance: the first peak of |Q_sc(f)| of the pressed taxel's own path in the
+  scene's reduced model (taxel.analyses.reduced, charge outputs, cached) up to its
+  highest frequency (2 kHz by default).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name
 from taxel.analyses.adapter import problem
 from taxel.analyses.dynamic import lumped_model
-from taxel.analyses.reduced import reduce
+from taxel.analyses.reduced import cached
 
 
 @dataclass
@@ -32,7 +33,7 @@ class FemTargets:
     peak: float                  # C/N: |Q_sc / F| at the first resonance
 
 
-def targets(scene: Scene, f_top: float = 10e3) -> FemTargets:
+def targets(scene: Scene) -> FemTargets:
     """The FEM quantities the informed model is fitted to (module docstring)."""
     if scene.array is None:
         raise SceneError("the lumped model describes a taxel array scene ([array])")
@@ -45,9 +46,11 @@ def targets(scene: Scene, f_top: float = 10e3) -> FemTargets:
     Q = -C @ X[nf:, 0]
     name = electrode_name(*scene.load.taxel)
     i = dm.names.index(name) if name in dm.names else 0
-    model = reduce(scene, inputs="probe", output="charge", f_max=f_top)
+    model = cached(scene, None, "charge")
+    f_top = 2e3                      # the reduced model holds to 2 kHz at least (reduced.reduce)
     f = np.geomspace(10.0, f_top, 800)
-    h = np.abs(model.frf(f)[:, i, 0])
+    j = next((k for k, n in enumerate(model.input_names) if n.endswith(":" + name)), 0)
+    h = np.abs(model.frf(f)[:, i, j])
     peaks = np.flatnonzero((h[1:-1] > h[:-2]) & (h[1:-1] >= h[2:])) + 1
     if not len(peaks):
         raise SceneError(f"no resonance of the charge response below {f_top:g} Hz; the lumped fit needs one")
