@@ -75,6 +75,34 @@ def case(label, scene):
     return model
 
 
+def lumped_rows(label, scene):
+    """The seed's and the FEM-informed 3-DoF models against the FEM (the scene's reduced
+    model, charge output, pressed path): |FRF| and complex errors below half the first
+    resonance and within +-50 % of it."""
+    from taxel.analyses.dynamic import lumped_model
+    from taxel.analyses.lumped_fem import informed, targets
+    t = time.perf_counter()
+    fem = targets(scene)
+    idf = informed(scene, fem)
+    seconds = time.perf_counter() - t
+    rm = R.cached(scene, None, "charge")
+    i, j = rm.pressed()
+    f1 = fem.first_resonance
+    f = np.geomspace(1.0, 1.5 * f1, 300)
+    H = rm.frf(f)[:, i, j]
+    below, around = f < 0.5 * f1, f >= 0.5 * f1
+    print(f"\n{label}: FEM first resonance {f1:.0f} Hz, static charge {fem.charge_per_newton:.4g} C/N, compliance "
+          f"{fem.compliance:.4g} m/N; informed model identified in {seconds:.1f} s (scales {idf.scales})")
+    for name, lm in (("lumped (seed's)", lumped_model(scene)), ("lumped (FEM-informed)", idf.model)):
+        Hl = lm.Q_sc(f) / lm.force
+        Hl = Hl * np.sign((Hl[0] / H[0]).real)                  # the FEM's sign convention
+        mag = np.abs(np.abs(Hl) - np.abs(H)) / np.abs(H)
+        cpx = np.abs(Hl - H) / np.abs(H)
+        print(f"  {name:22s} static charge {abs(Hl[0]):.4g} C/N ({100 * (abs(Hl[0]) / abs(H[0]) - 1):+.1f} %); "
+              f"|FRF| error below 0.5 f1 {100 * mag[below].max():.1f} %, 0.5-1.5 f1 {100 * mag[around].max():.0f} %; "
+              f"complex below {100 * cpx[below].max():.1f} %")
+
+
 def main():
     resistor = {"readout.circuit": "resistor", "readout.R": "500 Mohm"}
     case("thesis-pzt-3x3-2d (the row through the pressed taxel: paths taxel_1_c -> taxel_1_c')",
@@ -82,6 +110,7 @@ def main():
     case("thesis-pzt-single-3d, coarse mesh (size 2 mm, piezo 1 mm)",
          taxel.load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm", "mesh.piezo_size": "1 mm",
                                                       "model.symmetry": "full", **resistor}))
+    lumped_rows("thesis-pzt-single-2d, the 3-DoF models against the FEM", taxel.load("thesis-pzt-single-2d"))
 
 
 if __name__ == "__main__":

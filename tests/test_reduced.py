@@ -158,3 +158,22 @@ def test_cli_writes_npz_and_mat(tmp_path, capsys):
     assert "states" in out and "m.mat" in out
     m = X.load_mat(tmp_path / "m.mat")
     assert m["inputs"] == ["force:taxel_0_0"] and m["A"].shape[0] == m["A"].shape[1] > 0
+
+
+def test_simulated_rig_on_the_reduced_model_has_the_fems_static_charge_and_crosstalk():
+    from taxel.fem.reduced import ports
+    from taxel.studies.bench.rig import load_rig
+    from taxel.studies.bench.simulate import Settings, simulate
+    scene = taxel.load("thesis-pzt-3x3-2d")
+    truth = simulate(load_rig("thesis-bench"), scene, Settings(input="step", seconds=1.0, model="reduced",
+                                                               gain_spread=0.0, tau_spread=0.0))
+    rm = R.cached(scene, "taxels", "charge")
+    V, Ci = ports(rm.red, [1e-3])
+    Q_static = (-np.linalg.inv(Ci[0]) @ V[0]).real               # (outputs, inputs) C/N
+    taxels = [tuple(p["taxel"]) for p in truth.params["taxels"].values()]
+    settled = truth.charge[-1] / truth.force[-1]
+    for k, (r, c) in enumerate(taxels):
+        if r == 1:                                             # the modelled row: the FEM's own paths
+            assert settled[k] == pytest.approx(Q_static[c, 1], rel=2e-2, abs=1e-3 * abs(Q_static[1, 1]))
+    middle = taxels.index((1, 1))
+    assert abs(settled[middle]) > 5 * np.abs(np.delete(settled, middle)).max()

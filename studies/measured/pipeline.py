@@ -221,9 +221,18 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
     a.frf.models["lumped_fem"] = lumped_frf(informed(scene).model, chain.readout(), a.frf.freqs)
     a.write()
     meas["rms_error_pct_reduced_rig"] = {k: C.rms_error(a.frf, k)["rms_error_pct"] for k in ("lumped", "lumped_fem", "fem")}
+    from taxel.analyses.reduced import cached, one_port
+    truth = json.loads((out / "truth" / "truth.json").read_text())["taxels"][a.frf.taxel]
+    port = one_port(cached(scene, None, "charge"), tuple(truth["taxel"]))
+    cal = C.calibrate(a.frf, port, chain.readout())              # the chain fit on the FEM's reduced model
+    meas["calibration_reduced"] = cal.record()
+    tru["reduced_rig"] = {"gain_factor": truth["gain_factor"], "tau_factor": truth["tau_factor"]}
     progress("      chirp, the taxel simulated by the scene's reduced model (FEM truth, drawn gain and tau): RMS error "
              + ", ".join(f"{k} {v:.1f} %" for k, v in meas["rms_error_pct_reduced_rig"].items())
-             + " (lumped: the seed's; lumped_fem: identified from the FEM)")
+             + " (lumped: the seed's; lumped_fem: identified from the FEM); calibrated on the reduced model: gain "
+             f"{cal.gain:.4g} [{cal.gain_ci95[0]:.4g}, {cal.gain_ci95[1]:.4g}] (truth {truth['gain_factor']:.4g}), tau "
+             f"scale {cal.tau_scale:.4g} [{cal.tau_scale_ci95[0]:.4g}, {cal.tau_scale_ci95[1]:.4g}] (truth "
+             f"{truth['tau_factor']:.4g}), validation RMS {cal.rms_before_pct:.2f} -> {cal.rms_after_pct:.2f} %")
     out = captured(rig, scene, Settings(input="presses", seconds=60, seed=11), root / "presses")
     a = analyze_folder(out, scene, scene_name)
     a.write()

@@ -281,3 +281,40 @@ def cached(scene: Scene, inputs: str | None = None, output: str = "readout") -> 
     except OSError:
         pass
     return model
+
+
+@dataclass
+class OnePort:
+    """One path of a reduced model as a one-port taxel, the interface the chain fits
+    use for the lumped model (studies.measured.frf.lumped_frf, calibrate): the
+    open-circuit voltage per newton `V_oc(f)` of taxel `output` pressed on `input`
+    (the FEM's, loss factors complex), the static capacitance `C_p` of that electrode
+    (F) and `force` = 1 N. Values are remembered per frequency array (a least-squares
+    fit asks for the same frequencies again and again)."""
+
+    model: ReducedModel
+    output: int
+    input: int
+    C_p: float
+    force: float = 1.0
+    _memo: dict = field(default_factory=dict, repr=False)
+
+    def V_oc(self, freqs) -> np.ndarray:
+        freqs = np.asarray(freqs, float)
+        key = freqs.tobytes()
+        if key not in self._memo:
+            self._memo[key] = reduced.ports(self.model.red, freqs)[0][:, self.output, self.input]
+        return self._memo[key]
+
+    def Q_sc(self, freqs) -> np.ndarray:
+        return -self.C_p * self.V_oc(freqs) * self.force
+
+
+def one_port(model: ReducedModel, taxel: tuple[int, int] | None = None) -> OnePort:
+    """The path of `taxel` pressed and read (default the scene's pressed taxel) as a OnePort."""
+    name = electrode_name(*(taxel if taxel is not None else model.scene.load.taxel))
+    names = model.red.names
+    i = names.index(name) if name in names else 0
+    j = next((k for k, n in enumerate(model.input_names) if n.endswith(":" + name)), 0)
+    C = np.linalg.inv(reduced.ports(model.red, [1e-3])[1][0]).real
+    return OnePort(model, i, j, float(C[i, i]))
