@@ -6,16 +6,17 @@ The full model (fem.dynamics) with m force inputs, load vectors F = [F_1 .. F_m]
 
     (sum_k kappa_k K_k - w^2 M + i w (alpha M + beta K_mech)) x = F f + B_e Q,   V = E x
 
-is projected on a real basis V (fem.sweep.krylov with every load column in the
-block: moment matching of all m + na transfer functions at the shifts):
+is projected on a real basis V (`basis`: block Krylov spaces of the damped operator at
+complex-valued shifts, every load column in the block: moment matching of all
+m + na transfer functions at the shifts):
 
     (sum_k kappa_k V^T K_k V - w^2 V^T M V + i w (...)) q = V^T F f + V^T B_e Q,   V_el = E V q.
 
 The complex loss factors kappa_k are kept, so `ports` is the reduced form of
-exactly the model fem.sweep solves. The basis grows like fem.sweep's: new shifts
-at the worst of the check frequencies (the highest, and the geometric middle)
+exactly the model fem.sweep solves. The basis grows greedily (`build`): shifts at
+0 Hz and f_max, then at the frequency of the largest residual in the full model,
 until the open-circuit voltages of every input and the inverse capacitance agree
-with direct solves there within `tol` (relative to the largest entry).
+with a direct solve there within `tol` (relative to the largest entry).
 """
 
 from __future__ import annotations
