@@ -227,7 +227,7 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     elif s.model == "reduced":
         if F.shape[1] > len(positions):
             raise ValueError("the reduced model takes presses on the taxels: use --between 0, or --model lumped")
-        Q, C_p = reduced_charges(scene, t, F, positions, taxels, W1, s.crosstalk)
+        Q, C_p, q_per_N = reduced_charges(scene, t, F, positions, taxels, W1, s.crosstalk)
         Q *= gain[None, :]
     else:
         Q = q_per_N * (F @ Wm) * gain[None, :]
@@ -285,9 +285,9 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
 
 
 def reduced_charges(scene: Scene, t, F, positions, taxels, W1, crosstalk: bool = True):
-    """(Q (nt, taxels), C_p): the short-circuit charges of `taxels` under the forces F (nt,
+    """(Q (nt, taxels), C_p, q): the short-circuit charges of `taxels` under the forces F (nt,
     positions) by the scene's reduced model (see the module docstring), and the FEM's
-    static capacitance of the pressed taxel (F)."""
+    static capacitance (F) and charge per newton (C/N) of the pressed taxel."""
     from taxel.analyses.reduced import cached
     from taxel.fem.reduced import ports
     rm = cached(scene, "taxels", "charge")
@@ -315,9 +315,11 @@ def reduced_charges(scene: Scene, t, F, positions, taxels, W1, crosstalk: bool =
                     w = 0.0
                 Q[:, k] += w * Y[:, outs.index(name)]
     pressed = electrode_name(*scene.load.taxel)
-    C = np.linalg.inv(ports(rm.red, [1.0])[1][0]).real
+    V, Ci = ports(rm.red, [1e-3])
+    C = np.linalg.inv(Ci[0]).real
     i = rm.red.names.index(pressed) if pressed in rm.red.names else 0
-    return Q, float(C[i, i])
+    j = next((k for k, n in enumerate(rm.input_names) if n.endswith(":" + pressed)), 0)
+    return Q, float(C[i, i]), float(-(C @ V[0].real)[i, j])
 
 
 def save_truth(truth: Truth, folder, extra: dict | None = None) -> None:
