@@ -177,3 +177,22 @@ def test_simulated_rig_on_the_reduced_model_has_the_fems_static_charge_and_cross
             assert settled[k] == pytest.approx(Q_static[c, 1], rel=2e-2, abs=1e-3 * abs(Q_static[1, 1]))
     middle = taxels.index((1, 1))
     assert abs(settled[middle]) > 5 * np.abs(np.delete(settled, middle)).max()
+
+
+def test_calibrate_on_the_reduced_model_recovers_the_drawn_gain_and_time_constant(tmp_path):
+    """A 10 s chirp on the rig whose taxel is the reduced model (thesis bench: charge
+    amplifier and notch); `taxel measure calibrate --model reduced` from the stream."""
+    from taxel.cli import main
+    assert main(["measure", "simulate", "thesis-bench", "--scene", "thesis-pzt-3x3-2d", "--input", "chirp",
+                 "--seconds", "10", "--seed", "4", "--to", str(tmp_path / "c.bin")]) == 0
+    assert main(["measure", "import", str(tmp_path / "c.bin"), "--rig", "thesis-bench", "--out",
+                 str(tmp_path / "m")]) == 0
+    assert main(["measure", "calibrate", str(tmp_path / "m"), "--scene", "thesis-pzt-3x3-2d", "--model",
+                 "reduced"]) == 0
+    import json
+    cal = json.loads((tmp_path / "m" / "calibration.json").read_text())
+    truth = json.loads((tmp_path / "c.truth" / "truth.json").read_text())["taxels"][cal["taxel"]]
+    assert cal["model"] == "reduced"
+    assert cal["gain_ci95"][0] <= truth["gain_factor"] <= cal["gain_ci95"][1]
+    assert cal["tau_scale_ci95"][0] <= truth["tau_factor"] <= cal["tau_scale_ci95"][1]
+    assert cal["rms_after_all_pct"] < 5.0
