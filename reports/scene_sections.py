@@ -42,8 +42,12 @@ def figure_png(fig, dpi=110) -> bytes:
 
 def stored_result(folder: Path):
     """The result a folder's result.json holds (taxel.analyses.read), or None
-    when the folder has none. Raises ResultError (one line) for an unreadable one."""
-    return read(folder) if (Path(folder) / "result.json").exists() else None
+    when the folder has none or holds an optimization's (kind "optimum" or "front":
+    drawn by the optimization page). Raises ResultError (one line) for an unreadable one."""
+    path = Path(folder) / "result.json"
+    if not path.exists() or (Path(folder) / "optimum.json").exists() or (Path(folder) / "front.json").exists():
+        return None
+    return read(folder)
 
 
 def scene_sections(folder: Path, scene_data: dict, compare: bool):
