@@ -138,3 +138,63 @@ def points_per_second(model: Lumped, n=200_000):
     t = time.perf_counter()
     model.Q_sc(f)
     return n / (time.perf_counter() - t)
+
+
+@dataclass
+class Identified:
+    """A 3-DoF model identified from the FEM, and what it was fitted to."""
+
+    model: Lumped
+    compliance: float          # m/N: the FEM's static compliance of the loaded surface (open circuit)
+    charge_per_newton: float   # C/N: the FEM's static short-circuit charge per newton
+    first_resonance: float     # Hz: the FEM's first resonance of the charge response
+    capacitance: float         # F: the FEM's static (free) capacitance
+    scales: dict               # silicone stiffness and mass scales against the seed's
+
+
+def identified(seed: Lumped, compliance: float, charge_per_newton: float, first_resonance: float,
+               capacitance: float, loss, peak: float | None = None) -> Identified:
+    """The seed's 3-DoF structure with parameters from the FEM (section 3.1's model, FEM-informed):
+
+    * piezo stiffness k_p as the seed's (the free patch, A / (s33^E t_p));
+    * charge gain from the static charge: Q_sc = gain (x2 - x3) = gain F / k_p, so
+      gain = k_p Q/F (the FEM's);
+    * silicone stiffnesses k_t, k_b scaled by one factor so the springs in series give the
+      FEM's static compliance: 1/k_t + 1/k_p + 1/k_b = c (the 2 mm of soft silicone
+      dominate c);
+    * silicone masses m_t, m_b scaled by one factor so the lowest eigenfrequency
+      equals the FEM's first resonance (scipy.optimize.brentq);
+    * damping b = eta k / w_1, the loss factors `loss` (top silicone, piezo, bottom) as viscous
+      damping matched at that resonance; with `peak` (the FEM's |Q_sc / F| at the first
+      resonance, C/N) all three scaled by one factor so the model's peak equals it (the
+      FEM spreads the load over more than one mode: its peak is lower than one mode's);
+      C_p the FEM's static capacitance.
+    Statically exact by construction (charge and compliance); dynamically a one-mode fit."""
+    from scipy.optimize import brentq
+    kt, kp, kb = seed.k
+    rest = compliance - 1 / kp
+    if rest <= 0 or charge_per_newton == 0:
+        raise ValueError("the FEM's compliance is below the piezo's alone: no silicone stiffness fits it")
+    s_k = (1 / kt + 1 / kb) / rest
+    k = np.array([kt * s_k, kp, kb * s_k])
+    w1 = 2 * np.pi * first_resonance
+
+    def first(s_m):
+        m = np.array([seed.m[0] * s_m, seed.m[1], seed.m[2] * s_m])
+        K = np.array([[k[0], -k[0], 0], [-k[0], k[0] + k[1], -k[1]], [0, -k[1], k[1] + k[2]]])
+        return np.sqrt(la.eigvalsh(K, np.diag(m)).min()) - w1
+
+    s_m = brentq(first, 1e-6, 1e6, xtol=1e-12, rtol=1e-12)
+    m = np.array([seed.m[0] * s_m, seed.m[1], seed.m[2] * s_m])
+    b = np.asarray(loss, float) * k / w1
+    model = Lumped(m, k, b, charge_per_newton * kp, capacitance, seed.force)
+    s_b = 1.0
+    if peak is not None:
+        def excess(log_s):
+            lm = Lumped(m, k, b * np.exp(log_s), model.gain, capacitance, 1.0)
+            return abs(lm.Q_sc([first_resonance])[0]) - peak
+        if excess(np.log(1e-3)) > 0 > excess(np.log(1e4)):
+            s_b = float(np.exp(brentq(excess, np.log(1e-3), np.log(1e4), xtol=1e-10)))
+        model = Lumped(m, k, b * s_b, model.gain, capacitance, seed.force)
+    return Identified(model, compliance, charge_per_newton, first_resonance, capacitance,
+                      {"silicone_stiffness": float(s_k), "silicone_mass": float(s_m), "damping": s_b})

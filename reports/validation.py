@@ -211,6 +211,20 @@ def summary_rows(v: dict) -> list[dict]:
         {"figure": "FRF RMS error, FEM-simulated taxel (%)", "thesis": "-",
          "simulated rig": f"lumped {m['rms_error_pct_fem_rig']['lumped']:.1f}, FEM "
                           f"{m['rms_error_pct_fem_rig']['fem']:.2f}"},
+        *([{"figure": "FRF RMS error, reduced-model taxel: FEM truth (%)", "thesis": "-",
+            "simulated rig": "lumped (seed's) {lumped:.1f}, lumped (FEM-informed) {lumped_fem:.1f}, FEM {fem:.1f} "
+                             "before calibration; calibrated on the reduced model: gain {g:.4g} (95 % {g0:.4g}-{g1:.4g}, "
+                             "truth {gt:.4g}), time-constant scale {s:.4g} (95 % {s0:.4g}-{s1:.4g}, truth {st:.4g}), "
+                             "validation RMS {rb:.2f} -> {ra:.2f}".format(
+                                 **m["rms_error_pct_reduced_rig"], g=m["calibration_reduced"]["gain"],
+                                 g0=m["calibration_reduced"]["gain_ci95"][0], g1=m["calibration_reduced"]["gain_ci95"][1],
+                                 gt=v["truth"]["reduced_rig"]["gain_factor"], s=m["calibration_reduced"]["tau_scale"],
+                                 s0=m["calibration_reduced"]["tau_scale_ci95"][0],
+                                 s1=m["calibration_reduced"]["tau_scale_ci95"][1],
+                                 st=v["truth"]["reduced_rig"]["tau_factor"],
+                                 rb=m["calibration_reduced"]["rms_before_pct"],
+                                 ra=m["calibration_reduced"]["rms_after_pct"])}]
+           if m.get("rms_error_pct_reduced_rig") and m.get("calibration_reduced") else []),
         *([{"figure": "silicone modulus scale / loss factor", "thesis": "not identified",
             "simulated rig": f"{m['silicone']['modulus_scale']:.4g} / {m['silicone']['loss_factor']:.3g} from a chirp "
                              f"with the travel (truth {v['truth']['silicone']['modulus_scale']:g} / "

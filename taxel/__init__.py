@@ -25,6 +25,7 @@ _PUBLIC = {
     "load": "taxel.api", "solve": "taxel.api", "read": "taxel.api", "run_study": "taxel.api",
     "optimize": "taxel.api", "report": "taxel.api", "work_precision": "taxel.api",
     "explore": "taxel.api",
+    "reduce": "taxel.api",
     "Scene": "taxel.scene", "SceneError": "taxel.scene",
     "StaticResult": "taxel.analyses", "FrequencyResult": "taxel.analyses",
     "TransientResult": "taxel.analyses", "LumpedResult": "taxel.analyses",

@@ -48,8 +48,12 @@ def read(folder: str | Path):
     ResultError (a ValueError, one line) for a folder without a result."""
     from taxel.analyses.results import result_kind
     from taxel.optimize.result import KINDS as OPTIMIZATION_KINDS, OptimizationResult
-    if result_kind(folder) in OPTIMIZATION_KINDS:
+    kind = result_kind(folder)
+    if kind in OPTIMIZATION_KINDS:
         return OptimizationResult.from_folder(folder)
+    if kind == "reduced":                  # its matrices are in the folder's model.npz
+        from taxel.analyses.reduced import read_folder
+        return read_folder(folder)
     return analyses.read(folder)
 
 
@@ -179,3 +183,14 @@ def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: s
         store = None
     folder = Path(folder) if folder is not None else Path("out") / "explore" / scene.name
     Explorer(scene, folder, store=store).serve(host, port)
+
+
+def reduce(scene: Scene | str | Path | dict, inputs: str | None = None, output: str = "readout",
+           f_max: float | None = None):
+    """The scene's reduced-order model (taxel.analyses.reduced.ReducedModel): inputs a
+    force on each taxel ("taxels", array scenes) or the scene's load ("probe"), outputs
+    the readout chain ("readout") or the short-circuit charges ("charge") at every
+    taxel; `.frf(f)`, `.simulate(t, force)`, `.to_control()`, `.to_scipy()`,
+    `.save_mat(path)`, `.save(path.npz)`, `.to_folder(dir)`."""
+    from taxel.analyses.reduced import reduce as _reduce
+    return _reduce(scene if isinstance(scene, Scene) else load(scene), inputs, output, f_max)

@@ -27,7 +27,7 @@ import sqlite3
 import sys
 from pathlib import Path
 
-from taxel import cli_explore, cli_material, cli_measure, cli_schema
+from taxel import cli_explore, cli_material, cli_measure, cli_reduce, cli_schema
 from taxel.cli_files import InputError, writable_file as _writable_file
 from taxel.units import engineering as si
 
@@ -269,6 +269,7 @@ def main(argv=None):
     cli_measure.register(sub)        # taxel measure ... (taxel/cli_measure.py)
     cli_explore.register(sub)        # taxel explore (taxel/cli_explore.py)
     cli_schema.register(sub)         # taxel schema ... (taxel/cli_schema.py)
+    cli_reduce.register(sub)         # taxel reduce ... (taxel/cli_reduce.py)
     try:
         args = ap.parse_args(argv)
     except InputError as exc:

@@ -6,9 +6,10 @@
     taxel measure rebuild DIR
     taxel measure simulate RIG --scene SCENE --input step|impulse|chirp|presses
                            [--port URL | --pty | --to FILE] [--corrupt P] [--seconds S] [--truth DIR]
+                           [--model reduced|lumped|fem]
     taxel measure analyze DIR [--scene SCENE] [--input KIND] [--resolution HZ]
     taxel measure localize DIR --presses FILE [--scene SCENE]
-    taxel measure calibrate DIR --scene SCENE [--step DIR] [--travel DIR] [--resolution HZ]
+    taxel measure calibrate DIR --scene SCENE [--step DIR] [--travel DIR] [--resolution HZ] [--model lumped|reduced]
 
 RIG is a rig TOML file or a built-in rig (thesis-bench). Bad input: one line, exit 2.
 """
@@ -59,8 +60,9 @@ def register(sub) -> None:
     q.add_argument("--no-crosstalk", action="store_true", help="skip the FEM crosstalk solves")
     q.add_argument("--between", type=float, default=0.0, metavar="P",
                    help="--input presses: the fraction of presses at random points (between taxels, over the edges)")
-    q.add_argument("--model", choices=["lumped", "fem"], default="lumped",
-                   help="the taxel's charge: the lumped model with FEM crosstalk, or an FEM transient")
+    q.add_argument("--model", choices=["reduced", "lumped", "fem"], default="reduced",
+                   help="the taxel's charge: the scene's reduced model from the FEM (default; MIMO, crosstalk "
+                   "included), the seed's lumped model with FEM crosstalk weights, or an FEM transient")
     q.add_argument("--linger", type=float, default=1.0, help="seconds the port stays open after the stream")
     q.add_argument("--delay", type=float, default=0.0, help="--pty: seconds before the stream starts (time to "
                    "start the capture: opening a port empties its input buffer)")
@@ -88,6 +90,9 @@ def register(sub) -> None:
     q.add_argument("--travel", default=None, metavar="DIR", help="a chirp with the actuator's travel recorded: the "
                    "silicone's modulus scale and loss factor, and the piezo coefficient scale, into the overlay")
     q.add_argument("--resolution", type=float, default=1.0, metavar="HZ")
+    q.add_argument("--model", choices=["lumped", "reduced"], default="lumped",
+                   help="the taxel model the chain is fitted on: the seed's lumped model, or the scene's reduced "
+                   "model from the FEM")
     q.set_defaults(run=_calibrate)
 
 
@@ -194,7 +199,7 @@ def _localize(args):
 
 def _calibrate(args):
     from taxel import measure as tm
-    cal = tm.calibrate(args.folder, args.scene, args.step, args.travel, args.resolution)
+    cal = tm.calibrate(args.folder, args.scene, args.step, args.travel, args.resolution, args.model)
     paths = cal.to_folder()
     print("\n".join(cal.summary()))
     print("wrote " + ", ".join(str(p) for p in paths))

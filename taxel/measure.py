@@ -221,7 +221,7 @@ def analyze(folder: str | Path, scene: Scene | str | Path | None = None, input: 
 
 
 def calibrate(folder: str | Path, scene: str | Path, step: str | Path | None = None,
-              travel: str | Path | None = None, resolution: float = 1.0) -> FolderCalibration:
+              travel: str | Path | None = None, resolution: float = 1.0, model: str = "lumped") -> FolderCalibration:
     """Fit the charge gain and the chain's time constant to a chirp's FRF (and with `travel` the silicone).
 
     Parameters
@@ -236,6 +236,9 @@ def calibrate(folder: str | Path, scene: str | Path, step: str | Path | None = N
         A chirp with the actuator's travel recorded: the silicone's modulus scale and loss factor.
     resolution : float
         H1's frequency resolution, Hz.
+    model : {"lumped", "reduced"}
+        The taxel model the chain is fitted on: the seed's lumped model, or the scene's
+        reduced model from the FEM (its pressed path).
 
     Returns
     -------
@@ -246,7 +249,7 @@ def calibrate(folder: str | Path, scene: str | Path, step: str | Path | None = N
     if isinstance(scene, Scene):
         raise ValueError("calibrate: give the scene's file or built-in name (the calibrated scene overlays its TOML)")
     sc, name = _scene(scene)
-    return calibrate_folder(folder, sc, name, step, travel, resolution)
+    return calibrate_folder(folder, sc, name, step, travel, resolution, model)
 
 
 def localize(folder: str | Path, presses: str | Path, scene: Scene | str | Path | None = None) -> Localization:

@@ -82,12 +82,13 @@ def test_shipped_lvm_example(tmp_path):
 
 
 def test_simulate_cli_physics(tmp_path, monkeypatch):
-    """The simulated rig through the CLI: the stream holds exactly the truth's
-    frames, the pressed taxel answers through the charge amplifier, and its
-    neighbours carry the FEM's crosstalk."""
+    """The simulated rig through the CLI with the lumped model (--model lumped; the
+    default, the reduced model, is tested in tests/test_reduced.py): the stream holds
+    exactly the truth's frames, the pressed taxel answers through the charge
+    amplifier, and its neighbours carry the FEM's crosstalk."""
     env = {**__import__("os").environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
     cmd = [sys.executable, "-m", "taxel.cli", "measure", "simulate", "thesis-bench", "--scene", "thesis-pzt-3x3-2d",
-           "--input", "step", "--to", str(tmp_path / "step.bin"), "--seconds", "1.5"]
+           "--input", "step", "--to", str(tmp_path / "step.bin"), "--seconds", "1.5", "--model", "lumped"]
     p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=CEILING)
     assert p.returncode == 0, p.stderr
     truth = np.load(tmp_path / "step.truth" / "truth.npz")

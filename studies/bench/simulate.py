@@ -19,6 +19,12 @@ over the margins):
              pressed row, and the other rows get W1[pressed row, row] of it. The FEM
              charge is about 4.5 x the lumped one for the thesis taxel (lateral flow,
              README); step, impulse and chirp only;
+             model "reduced": the scene's reduced model (taxel.analyses.reduced, inputs a
+             force on each taxel, outputs the short-circuit charges; cached), MIMO, so
+             the crosstalk within the modelled row (2D) or array (3D) is the FEM's own and
+             its dynamics (resonances, losses) are in; in 2D a press on row r reaches row r'
+             with W1[r, r'] of the modelled row's charges; `crosstalk` False keeps each
+             taxel's own path only; not with presses between taxels;
   readout    the rig's conditioning of taxel k with its time constant scaled by
              a per-taxel factor s_k (log-normal, `tau_spread`; the thesis measured
              1.7 s and 3.1 s on two PZT taxels at 500 MOhm): open V = -Q / C_p;
@@ -74,7 +80,7 @@ class Settings:
     seq0: int = 0
     t0_us: int = 0
     crosstalk: bool = True             # FEM crosstalk weights (else none)
-    model: Literal["lumped", "fem"] = "lumped"
+    model: Literal["lumped", "fem", "reduced"] = "lumped"
     between: float = 0.0               # presses: the fraction at random points of the array (else on taxel centres)
     modulus_scale: float = 1.0         # the silicone's true moduli over the scene's (the travel channel)
     silicone_loss: float | None = None # its true loss factor (default: the scene's)
@@ -218,14 +224,20 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
             elif electrode_name(pr, c) in names and r < len(W1) and pr < len(W1):
                 Q[:, k] = Qe[:, names.index(electrode_name(pr, c))] * W1[pr, r]
         Q *= gain[None, :]
+    elif s.model == "reduced":
+        if F.shape[1] > len(positions):
+            raise ValueError("the reduced model takes presses on the taxels: use --between 0, or --model lumped")
+        Q, C_p, q_per_N = reduced_charges(scene, t, F, positions, taxels, W1, s.crosstalk)
+        Q *= gain[None, :]
     else:
         Q = q_per_N * (F @ Wm) * gain[None, :]
+    C_p = C_p if s.model == "reduced" else model.C_p
     chains = rig.chains()
     clean = np.zeros((len(t), rig.n))
     per_taxel = {}
     for k, ch in enumerate(taxel_ch):
         cond = chains[ch.name]
-        num, den, tau = conditioning_tf(cond, model.C_p, tau_f[k])
+        num, den, tau = conditioning_tf(cond, C_p, tau_f[k])
         b, a = signal.bilinear(num, den, fs=rate)
         v = signal.lfilter(b, a, Q[:, k])
         if cond.notch:
@@ -263,13 +275,51 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     jitter = np.round(rng.standard_normal(len(t))).astype(np.int64)
     seq = ((s.seq0 + k) % (1 << 16)).astype(np.uint16)
     t_us = ((s.t0_us + np.round(k * 1e6 / rate).astype(np.int64) + jitter) % (1 << 32)).astype(np.uint32)
-    params = {"settings": asdict(s), "rate_Hz": rate, "q_per_N_C": q_per_N, "C_p_F": model.C_p,
+    params = {"settings": asdict(s), "rate_Hz": rate, "q_per_N_C": q_per_N, "C_p_F": C_p,
               "crosstalk_W1": W1.tolist(), "positions": [list(p) for p in positions], "presses": presses,
               "taxels": per_taxel, "channels": rig.names, "clipped_samples": int(np.sum((counts == lo) | (counts == hi)))}
     params["model"] = s.model
     if silicone is not None:
         params["silicone"] = silicone
     return Truth(t, Fcmd, F.sum(axis=1), Q, clean, Frames(seq, t_us, counts), params)
+
+
+def reduced_charges(scene: Scene, t, F, positions, taxels, W1, crosstalk: bool = True):
+    """(Q (nt, taxels), C_p, q): the short-circuit charges of `taxels` under the forces F (nt,
+    positions) by the scene's reduced model (see the module docstring), and the FEM's
+    static capacitance (F) and charge per newton (C/N) of the pressed taxel."""
+    from taxel.analyses.reduced import cached
+    from taxel.fem.reduced import ports
+    rm = cached(scene, "taxels", "charge")
+    where = {electrode_name(r, c): (r, c) for r, c in positions}
+    ins = [where[n.split(":", 1)[1]] for n in rm.input_names]
+    outs = [n.split(":", 1)[1] for n in rm.output_names]
+    Q = np.zeros((len(t), len(taxels)))
+    row_model = len({r for r, _ in ins}) == 1 and len(set(r for r, _ in positions)) > 1   # 2D: one row
+    press_rows = sorted({r for r, _ in positions}) if row_model else [None]
+    for pr in press_rows:
+        cols = [positions.index((pr, c) if row_model else (r, c)) for r, c in ins]
+        U = F[:, cols]
+        if not np.any(U):
+            continue
+        runs = [(U, None)] if crosstalk else [(np.where(np.arange(U.shape[1]) == j, U, 0.0), j)
+                                              for j in range(U.shape[1]) if np.any(U[:, j])]
+        for Uj, j in runs:
+            Y = rm.simulate(t, Uj)
+            for k, (r, c) in enumerate(taxels):
+                name = electrode_name(ins[0][0], c) if row_model else electrode_name(r, c)
+                if name not in outs or (j is not None and outs.index(name) != j):
+                    continue
+                w = 1.0 if not row_model else (W1[pr, r] if pr < len(W1) and r < len(W1) else 0.0)
+                if not crosstalk and row_model and r != pr:
+                    w = 0.0
+                Q[:, k] += w * Y[:, outs.index(name)]
+    pressed = electrode_name(*scene.load.taxel)
+    V, Ci = ports(rm.red, [1e-3])
+    C = np.linalg.inv(Ci[0]).real
+    i = rm.red.names.index(pressed) if pressed in rm.red.names else 0
+    j = next((k for k, n in enumerate(rm.input_names) if n.endswith(":" + pressed)), 0)
+    return Q, float(C[i, i]), float(-(C @ V[0].real)[i, j])
 
 
 def save_truth(truth: Truth, folder, extra: dict | None = None) -> None:

@@ -258,7 +258,7 @@ class FolderCalibration:
 
 
 def calibrate_folder(folder, scene, scene_source: str, step=None, travel=None,
-                     resolution: float = 1.0) -> FolderCalibration:
+                     resolution: float = 1.0, model: str = "lumped") -> FolderCalibration:
     """Calibrate the chain (and with a travel record the silicone) on the chirp in `folder`.
 
     Parameters
@@ -276,6 +276,10 @@ def calibrate_folder(folder, scene, scene_source: str, step=None, travel=None,
         and the piezo coefficient scale, into the calibrated scene.
     resolution : float
         H1's frequency resolution, Hz.
+    model : {"lumped", "reduced"}
+        The taxel model the chain is fitted on: the seed's lumped model, or the pressed
+        path of the scene's reduced model (taxel.analyses.reduced.one_port: the FEM's
+        V_oc(f) and static capacitance; fast enough for the least-squares loop).
 
     Returns
     -------
@@ -287,8 +291,16 @@ def calibrate_folder(folder, scene, scene_source: str, step=None, travel=None,
     from taxel.studies.measured import events, silicone as SI
     from taxel.studies.measured.analysis import analyze_folder
     a = analyze_folder(folder, scene, scene_source, "chirp", resolution, fem=False)
-    chain = read_rig(folder).chains()[a.frf.taxel].readout()
-    cal = calibrate(a.frf, lumped_model(scene), chain)
+    rig = read_rig(folder)
+    chain = rig.chains()[a.frf.taxel].readout()
+    if model == "reduced":
+        from taxel.analyses.reduced import cached, one_port
+        taxel = next(tuple(c.taxel) for c in rig.ordered() if c.name == a.frf.taxel)
+        cal = calibrate(a.frf, one_port(cached(scene, None, "charge"), taxel), chain)
+    elif model == "lumped":
+        cal = calibrate(a.frf, lumped_model(scene), chain)
+    else:
+        raise ValueError(f"--model {model}: use lumped or reduced")
     if step:
         fits = {f.taxel: f for f in analyze_folder(step, scene, scene_source, "step").steps}
         if cal.taxel not in fits:
@@ -300,7 +312,7 @@ def calibrate_folder(folder, scene, scene_source: str, step=None, travel=None,
         extra = {"silicone": sil.record(), "piezo_coefficient_scale": cal.gain,
                  "piezo_coefficient_scale_ci95": list(cal.gain_ci95), "travel": str(travel)}
     text = calibrated_scene(scene_source, chain, cal.tau_scale, sil, cal.gain if sil is not None else None)
-    return FolderCalibration(Path(folder), cal, text, sil, extra)
+    return FolderCalibration(Path(folder), cal, text, sil, {**extra, "model": model})
 
 
 __all__ = ["Calibration", "FolderCalibration", "calibrate", "calibrate_folder", "calibrated_scene", "rms_error",
