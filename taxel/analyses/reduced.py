@@ -177,7 +177,7 @@ class ReducedModel:
     def to_folder(self, out) -> list[Path]:
         """result.json, scene.json, model.npz and model.mat."""
         out = Path(out)
-        paths = write_result(out, self)
+        paths = write_result(out, self.record(), self.scene)
         return paths + [self.save(out / "model.npz"), self.save_mat(out / "model.mat")]
 
 
