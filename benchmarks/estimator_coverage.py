@@ -30,7 +30,8 @@ import time
 
 from taxel.analyses import error_estimate as est
 from taxel.analyses import solve_static
-from taxel.scene import Scene, load, to_data
+from taxel.scene import Scene, load
+from taxel.schema import to_data
 from taxel.studies.store import Store
 
 REFERENCE_3D = {"model.type": "3d", "model.depth": None, "mesh.size": 1e-3, "mesh.piezo_size": 0.4e-3,

@@ -75,7 +75,8 @@ def spreads(robust: Robust, data: dict) -> list[Spread]:
         nominal = get_value(data, p.path)
         if nominal is None:
             if full is None:
-                from taxel.scene import parse, to_data
+                from taxel.scene import parse
+                from taxel.schema import to_data
                 full = to_data(parse({**data, "name": "nominal"}))
             nominal = get_value(full, p.path)
         out.append(spread(p.name, nominal, p.tolerance, p.distribution))

@@ -192,7 +192,7 @@ class Optimization:
 
 def _localization_error(scene, noise_V: float, out: Path | None) -> float | None:
     """The design's localization_error (m); each press position a point of the OUT/influence store."""
-    from taxel.scene import to_data
+    from taxel.schema import to_data
     from taxel.analyses.localization import localization_error
     store = Store(out / "influence") if out is not None else None
 

@@ -23,7 +23,8 @@ from taxel.analyses import StaticResult, lumped_model, read, scene_materials
 from taxel.analyses.results import RESULT_TYPES, result_kind
 from taxel.reports import findings, tables
 from taxel.reports.analysis import FIELD_FIGURES, FIELDS, RENDER_NOTE
-from taxel.scene import parse, scene_material_names, to_data
+from taxel.scene import parse, scene_material_names
+from taxel.schema import to_data
 from taxel.studies.store import Store, StoreError
 from taxel.units import engineering
 

@@ -41,7 +41,8 @@ from pydantic import Field, ValidationError, field_validator, model_validator
 
 from taxel import units
 from taxel.schema import Name, Strict, safe_name
-from taxel.scene import EXAMPLES, Scene, SceneError, one_line, parse, read_toml, set_path
+from taxel.scene import EXAMPLES, Scene, SceneError, parse
+from taxel.schema import one_line, read_toml, set_path
 
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
 BUILTIN = Path(__file__).parent / "builtin"
@@ -150,7 +151,7 @@ class Study:
         for p in self.spec.parameters:
             nominal = p.nominal if p.nominal is not None else get_value(base, p.paths[0])
             if nominal is None:                  # the scene's default
-                from taxel.scene import to_data
+                from taxel.schema import to_data
                 nominal = get_value(to_data(parse({**base, "name": "nominal"})), p.paths[0])
             try:
                 out.append(spread(p.name, nominal, p.tolerance, p.distribution))

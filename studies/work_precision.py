@@ -41,7 +41,8 @@ import numpy as np
 
 from taxel.analyses import frequency, lumped_model, lumped_response, solve_static
 from taxel.analyses.error_estimate import relative
-from taxel.scene import Scene, canonical, parse, refined, to_data
+from taxel.scene import Scene, canonical, parse, refined
+from taxel.schema import to_data
 from taxel.studies.store import Store
 from taxel.schema import electrode_name
 

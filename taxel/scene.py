@@ -11,36 +11,21 @@ Every validation error is one line: `scene error: <key>: <problem>; <fix>`.
 
 from __future__ import annotations
 
-import copy
 import json
-import tomllib
-import typing
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, BeforeValidator, Field, StrictInt, ValidationError, ValidationInfo, field_validator, model_validator
+from pydantic import BaseModel, Field, StrictInt, ValidationError, field_validator, model_validator
 
 from taxel import units
-from taxel.schema import (Strict, renamed_value, GEOMETRY, Capacitance, Coordinate, Duration, Force, Fraction,
-                          Frequency, Length, LossFactor, MeshSize, Name, Pressure, Resistance, Thickness,
-                          dimensionless, safe_name)
+from taxel.schema import (GEOMETRY, Capacitance, Coordinate, Duration, Force, Fraction, Frequency, Length,
+                          LossFactor, MeshSize, Name, NoiseCurrent, NoiseVoltage, Pressure, Resistance, Strict,
+                          Temperature, Thickness, Voltage, dimensionless, one_line, read_toml, renamed_value,
+                          safe_name, set_path, to_data)
 
 EXAMPLES = Path(__file__).parent / "examples"
 
 
-def _noise_quantity(unit: str, what: str, positive: bool = False):
-    """A [readout] noise field: a string with a unit in a file, SI numbers from Python."""
-    def parse(v, info: ValidationInfo):
-        si_numbers = bool(info.context and info.context.get("si_numbers"))
-        return units.to_si(v, unit, what, si_numbers=si_numbers, nonnegative=not positive, positive=positive)
-    parse.unit = unit
-    return BeforeValidator(parse)
-
-
-NoiseVoltage = Annotated[float, _noise_quantity("V/Hz**0.5", "voltage noise density")]
-NoiseCurrent = Annotated[float, _noise_quantity("A/Hz**0.5", "current noise density")]
-Voltage = Annotated[float, _noise_quantity("V", "voltage")]
-Temperature = Annotated[float, _noise_quantity("K", "temperature", positive=True)]
 
 
 class SceneError(ValueError):
@@ -358,20 +343,6 @@ def electrode_state(state: str, key="electrode"):
         raise ValueError(f"{key} = {state!r}: use 'open', 'ground' or a voltage such as \"10 V\"") from None
 
 
-def one_line(err: ValidationError) -> str:
-    """The first problem of a pydantic error as one line: the key, the problem, the fix."""
-    e = err.errors()[0]
-    loc = ".".join(str(x) for x in e["loc"] if not str(x).startswith("function-after"))
-    msg = e["msg"].removeprefix("Value error, ")
-    if e["type"] == "extra_forbidden":
-        return f"unknown key '{loc}'; check its spelling against 'taxel schema scene' (or the key reference in the docs)"
-    if e["type"] == "missing":
-        return f"'{loc}' is required; add it"
-    if e["type"] == "literal_error":
-        return f"{loc}: {msg} (got {e['input']!r})"
-    return f"{loc}: {msg}" if loc else msg
-
-
 def parse(data: dict, *, si_numbers: bool = False) -> Scene:
     """A validated Scene from a dict (TOML-like: quantities as strings with units;
     with `si_numbers`, plain numbers are SI). Raises SceneError with one line.
@@ -380,18 +351,6 @@ def parse(data: dict, *, si_numbers: bool = False) -> Scene:
         return Scene.model_validate(data, context={"si_numbers": si_numbers})
     except ValidationError as err:
         raise SceneError(one_line(err)) from None
-
-
-def read_toml(path: Path, error=SceneError) -> dict:
-    """A TOML file as a dict; an unreadable or invalid file is one line naming it."""
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise error(f"{path}: not valid TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise error(f"{path}: not UTF-8 text; save it as a UTF-8 TOML file") from None
-    except OSError as exc:
-        raise error(f"{path}: cannot read it ({exc.strerror or exc})") from None
 
 
 def load(source: str | Path | dict) -> Scene:
@@ -407,7 +366,7 @@ def load(source: str | Path | dict) -> Scene:
             raise SceneError(f"no scene file '{source}' and no built-in example of that name; "
                              f"built-in: {', '.join(examples())}")
         path = builtin
-    data = read_toml(path)
+    data = read_toml(path, SceneError)
     data.setdefault("name", safe_name(path.stem))
     analysis = data.get("analysis")
     if isinstance(analysis, dict) and isinstance(analysis.get("file"), str):
@@ -425,35 +384,6 @@ def scene_material_names(scene: Scene) -> list[str]:
     if scene.array is not None:
         return [scene.array.piezo, scene.array.silicone]
     return [layer.material for layer in scene.plate.layers]
-
-
-def set_path(data: dict, path: str, value):
-    """Set `value` at a dotted path of a scene dict; a table is merged (deeply) into
-    the table there. The path "" is the scene itself. Raises KeyError(path) where a
-    key on the way is not a table."""
-    if path == "":
-        if not isinstance(value, dict):
-            raise KeyError(path)
-        _merge(data, value)
-        return
-    keys = path.split(".")
-    node = data
-    for k in keys[:-1]:
-        node = node.setdefault(k, {})
-        if not isinstance(node, dict):
-            raise KeyError(path)
-    if isinstance(value, dict) and isinstance(node.get(keys[-1]), dict):
-        _merge(node[keys[-1]], value)
-    else:
-        node[keys[-1]] = value
-
-
-def _merge(node: dict, value: dict):
-    for k, v in value.items():
-        if isinstance(v, dict) and isinstance(node.get(k), dict):
-            _merge(node[k], v)
-        else:
-            node[k] = v
 
 
 def replace(scene: Scene, **changes) -> Scene:
@@ -483,29 +413,3 @@ def refined(scene: Scene, factor: float) -> Scene:
 def canonical(scene: Scene) -> str:
     """The scene as canonical JSON (sorted keys, SI numbers): what a result depends on."""
     return json.dumps(scene.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
-
-
-def to_data(model: BaseModel) -> dict:
-    """A scene (or part) as a TOML-like dict that `parse` reads back: quantities as
-    strings with their SI unit ("0.001 m"), everything else as is."""
-    out = {}
-    for name, info in type(model).model_fields.items():
-        value = getattr(model, name)
-        if value is None:
-            continue
-        unit = next((getattr(m.func, "unit", None) for m in info.metadata if hasattr(m, "func")), None)
-        if unit is None:                                  # tuple[Coordinate, Coordinate] and friends
-            for arg in typing.get_args(info.annotation):
-                for m in getattr(arg, "__metadata__", ()):
-                    unit = getattr(getattr(m, "func", None), "unit", unit)
-        if isinstance(value, BaseModel):
-            out[name] = to_data(value)
-        elif isinstance(value, list) and value and isinstance(value[0], BaseModel):
-            out[name] = [to_data(v) for v in value]
-        elif unit and isinstance(value, float):
-            out[name] = f"{value!r} {unit}"
-        elif unit and isinstance(value, tuple):
-            out[name] = [f"{v!r} {unit}" for v in value]
-        else:
-            out[name] = copy.deepcopy(list(value) if isinstance(value, tuple) else value)
-    return out

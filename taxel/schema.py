@@ -13,12 +13,17 @@ through taxel.units, or an SI number when the model is validated from Python
 
 from __future__ import annotations
 
+import copy
 import math
 import re
+import tomllib
+import typing
 import warnings
+from pathlib import Path
 from typing import Annotated, ClassVar
 
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, ValidationInfo, model_validator
+from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, ValidationError, ValidationInfo,
+                      model_validator)
 
 from taxel import units
 
@@ -153,3 +158,95 @@ def dimensionless(what: str, *, ge: float | None = None, gt: float | None = None
 Fraction = Annotated[float, dimensionless("fraction", gt=0, lt=1)]      # (0, 1): a tolerance, "2 %"
 LossFactor = Annotated[float, dimensionless("loss factor", ge=0, lt=1)]
 Ratio = Annotated[float, dimensionless("ratio (V/V)", gt=0)]
+
+NoiseVoltage = Annotated[float, _quantity("V/Hz**0.5", "voltage noise density", nonnegative=True)]
+NoiseCurrent = Annotated[float, _quantity("A/Hz**0.5", "current noise density", nonnegative=True)]
+Voltage = Annotated[float, _quantity("V", "voltage", nonnegative=True)]
+Temperature = Annotated[float, _quantity("K", "temperature", positive=True)]
+
+
+# --------------------------------------------------------------------------------------
+# documents: reading a TOML file, one-line errors, dotted paths, back to TOML-like data
+# --------------------------------------------------------------------------------------
+
+def read_toml(path: Path, error: type[Exception]) -> dict:
+    """A TOML file as a dict; an unreadable or invalid file raises `error` with one
+    line naming it."""
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise error(f"{path}: not UTF-8 text; save it as a UTF-8 TOML file") from None
+    except OSError as exc:
+        raise error(f"{path}: cannot read it ({exc.strerror or exc})") from None
+
+
+def one_line(err: ValidationError) -> str:
+    """The first problem of a pydantic error as one line: the key, the problem, the fix."""
+    e = err.errors()[0]
+    loc = ".".join(str(x) for x in e["loc"] if not str(x).startswith("function-after"))
+    msg = e["msg"].removeprefix("Value error, ")
+    if e["type"] == "extra_forbidden":
+        return f"unknown key '{loc}'; check its spelling against 'taxel schema' (or the key reference in the docs)"
+    if e["type"] == "missing":
+        return f"'{loc}' is required; add it"
+    if e["type"] == "literal_error":
+        return f"{loc}: {msg} (got {e['input']!r})"
+    return f"{loc}: {msg}" if loc else msg
+
+
+def set_path(data: dict, path: str, value):
+    """Set `value` at a dotted path of a document (a scene, study or rig dict); a table is merged (deeply) into
+    the table there. The path "" is the scene itself. Raises KeyError(path) where a
+    key on the way is not a table."""
+    if path == "":
+        if not isinstance(value, dict):
+            raise KeyError(path)
+        _merge(data, value)
+        return
+    keys = path.split(".")
+    node = data
+    for k in keys[:-1]:
+        node = node.setdefault(k, {})
+        if not isinstance(node, dict):
+            raise KeyError(path)
+    if isinstance(value, dict) and isinstance(node.get(keys[-1]), dict):
+        _merge(node[keys[-1]], value)
+    else:
+        node[keys[-1]] = value
+
+
+def _merge(node: dict, value: dict):
+    for k, v in value.items():
+        if isinstance(v, dict) and isinstance(node.get(k), dict):
+            _merge(node[k], v)
+        else:
+            node[k] = v
+
+
+def to_data(model: BaseModel) -> dict:
+    """A validated document (a scene or part of one) as a TOML-like dict that its
+    model reads back: quantities as
+    strings with their SI unit ("0.001 m"), everything else as is."""
+    out = {}
+    for name, info in type(model).model_fields.items():
+        value = getattr(model, name)
+        if value is None:
+            continue
+        unit = next((getattr(m.func, "unit", None) for m in info.metadata if hasattr(m, "func")), None)
+        if unit is None:                                  # tuple[Coordinate, Coordinate] and friends
+            for arg in typing.get_args(info.annotation):
+                for m in getattr(arg, "__metadata__", ()):
+                    unit = getattr(getattr(m, "func", None), "unit", unit)
+        if isinstance(value, BaseModel):
+            out[name] = to_data(value)
+        elif isinstance(value, list) and value and isinstance(value[0], BaseModel):
+            out[name] = [to_data(v) for v in value]
+        elif unit and isinstance(value, float):
+            out[name] = f"{value!r} {unit}"
+        elif unit and isinstance(value, tuple):
+            out[name] = [f"{v!r} {unit}" for v in value]
+        else:
+            out[name] = copy.deepcopy(list(value) if isinstance(value, tuple) else value)
+    return out

@@ -17,7 +17,8 @@ import taxel
 from taxel.analyses import error_estimate as est
 from taxel.analyses import solve_static
 from taxel.cli import main
-from taxel.scene import SceneError, load, refined, to_data
+from taxel.scene import SceneError, load, refined
+from taxel.schema import to_data
 from taxel.studies.evaluate import evaluate
 
 ROW = {"array.cols": 3, "load.taxel": (0, 1)}

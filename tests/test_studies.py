@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from taxel.scene import EXAMPLES, set_path
+from taxel.scene import EXAMPLES
+from taxel.schema import set_path
 from taxel.units import magnitude
 from taxel.studies.execute import run as run_study
 from taxel.studies.spec import load_study

@@ -47,7 +47,7 @@ from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, mo
 from taxel import units
 from taxel.fem.circuits import Readout
 from taxel.schema import Ratio, Strict
-from taxel.scene import one_line, read_toml
+from taxel.schema import one_line, read_toml
 
 from taxel.studies.bench.protocol import MAX_CHANNELS, Protocol
 

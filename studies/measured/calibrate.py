@@ -157,11 +157,12 @@ def calibrated_scene(scene_source: str, readout, s: float, silicone=None, piezo_
     """The scene's TOML with [readout] replaced by the rig's chain, R_f (or R) scaled by s; with a
     studies.measured.silicone.SiliconeFit, the silicone as a user material with its moduli scaled and
     [dynamics] silicone_loss; with piezo_scale, the piezo as a user material with d scaled."""
-    from taxel.scene import EXAMPLES, load, read_toml
+    from taxel.scene import EXAMPLES, SceneError, load
+    from taxel.schema import read_toml
     path = Path(scene_source)
     if not path.is_file():
         path = EXAMPLES / f"{scene_source}.toml"
-    data = read_toml(path)
+    data = read_toml(path, SceneError)
     r, _ = scaled_chain(readout, s)
     ro = {"circuit": r.circuit, "R": f"{r.R!r} ohm", "C_f": f"{r.C_f!r} F", "R_f": f"{r.R_f!r} ohm",
           "R_i": f"{r.R_i!r} ohm", "C_c": f"{r.C_c!r} F", "notch": bool(r.notch),

@@ -33,7 +33,8 @@ from taxel.fem import circuits, dynamics, reduced, statespace
 from taxel.fem.assembly import elements, load_vector
 from taxel.fem.problem import PatchLoad
 from taxel.fem.sweep import PortResponse
-from taxel.scene import Scene, SceneError, parse, to_data
+from taxel.scene import Scene, SceneError, parse
+from taxel.schema import to_data
 from taxel.schema import electrode_name
 from taxel.analyses import reduced_export
 from taxel.analyses.adapter import problem, readout

@@ -24,7 +24,8 @@ from trame.widgets import html, vuetify3 as v3
 
 from taxel.explore import session as S
 from taxel.explore.controls import LAWS, LOADS, MODELS, NUMBERS, READOUTS, Design, FieldError, piezo_names, scene_of
-from taxel.scene import Scene, to_data
+from taxel.scene import Scene
+from taxel.schema import to_data
 from taxel.units import engineering
 
 DEBOUNCE = 0.02     # s: moves closer together than this are answered once

@@ -25,7 +25,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from taxel.scene import Scene, canonical, replace, to_data
+from taxel.scene import Scene, canonical, replace
+from taxel.schema import to_data
 from taxel.studies.store import Store
 
 OUTPUTS = ("voltage", "crosstalk", "max_strain")

@@ -10,7 +10,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from taxel.scene import Scene, to_data
+from taxel.scene import Scene
+from taxel.schema import to_data
 
 # result.json's layout version: 1 adds "kind", "format", "outputs" and "error_note"
 # (a static result.json without them is format 0, read as static)
