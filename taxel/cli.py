@@ -54,8 +54,9 @@ def _print_written(out: Path, files, summary):
 def _work_precision(args):
     from taxel.reports.work_precision import lines
     if args.command == "fidelity":
-        print("taxel: 'taxel fidelity' is now 'taxel work-precision'; the old name works for one release",
-              file=sys.stderr)
+        import warnings
+        warnings.warn("'taxel fidelity' is now 'taxel work-precision'; the old name works for one release",
+                      DeprecationWarning, stacklevel=1)
     forces = args.force or [0.2, 1.0]
     for f in forces:
         if not (0 < f <= 100):

@@ -182,6 +182,10 @@ def _unit(meta) -> str:
 
 def _bound_text(meta) -> list[str]:
     out = []
+    checked = getattr(getattr(meta, "func", None), "bounds", {})      # a dimensionless quantity's own bounds
+    for attr, sym in (("ge", ">="), ("gt", ">"), ("le", "<="), ("lt", "<")):
+        if attr in checked:
+            out.append(f"{sym} {checked[attr]:g}")
     for cls, attr, sym in _BOUNDS:
         if isinstance(meta, cls):
             out.append(f"{sym} {getattr(meta, attr)}")

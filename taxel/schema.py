@@ -152,6 +152,7 @@ def dimensionless(what: str, *, ge: float | None = None, gt: float | None = None
                 raise ValueError(f"{v!r} must be {word} {bound:g} ({bound * 100:g} %)")
         return x
     parse.unit = None
+    parse.bounds = {k: b for k, b in (("ge", ge), ("gt", gt), ("le", le), ("lt", lt)) if b is not None}
     return BeforeValidator(parse)
 
 
