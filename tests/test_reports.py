@@ -28,7 +28,8 @@ def test_main_job_writes_a_report_for_every_folder_kind(demo):
     index = demo / "report" / "index.html"
     assert index.exists()
     pages = {p.stem for p in (demo / "report").glob("*.html")} - {"index"}
-    assert pages == {"fig-2-5", "thesis-pzt-front", "thesis-pzt-frequency", "thesis-pzt-step", "validation"}
+    assert pages == {"fig-2-5", "thesis-pzt-front", "thesis-pzt-frequency", "thesis-pzt-step", "noise-budget",
+                     "validation"}
     text = (demo / "report" / "validation.html").read_text()
     for section in ("Summary beside the thesis", "Step responses", "Frequency response", "Linearity and repeatability",
                     "Localization", "Provenance"):
@@ -131,7 +132,7 @@ def _text(el) -> str:
 def test_index_is_a_summary_with_a_number_per_card(demo):
     root = _xml(demo / "report" / "index.html")
     cards = [d for d in root.iter("{http://www.w3.org/1999/xhtml}div") if d.get("class") == "card"]
-    assert len(cards) == 5                 # study, front, frequency, step, validation
+    assert len(cards) == 6                 # study, front, frequency, step, noise budget, validation
     for card in cards:
         values = [_text(dd) for dd in card.iter("{http://www.w3.org/1999/xhtml}dd")]
         assert any(re.search(r"\d", v) for v in values), (_text(card)[:80], values)
