@@ -167,7 +167,9 @@ def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: s
     study or optimization folder (its scene.json; its results.sqlite is the
     cache), at http://host:port/ until interrupted. Answers are cached in the
     study store under `folder` (default out/explore/NAME); saved scenes go to
-    `folder`/exports. Binds to this machine only unless `host` says otherwise."""
+    `folder`/exports. An optimization folder's stored front is shown with the current
+    design on it; a front design loads into the controls, and the current design can
+    start a new optimization. Binds to this machine only unless `host` says otherwise."""
     import json
     from taxel.explore.app import Explorer
     source = scene
@@ -178,11 +180,13 @@ def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: s
                              "or a result, study or optimization folder")
         scene = load(parse(json.loads((Path(source) / "scene.json").read_text())))
         store = Path(source)
+        from taxel.explore.front import Front
+        front = Front.of(source)
     else:
         scene = load(scene)
-        store = None
+        store, front = None, None
     folder = Path(folder) if folder is not None else Path("out") / "explore" / scene.name
-    Explorer(scene, folder, store=store).serve(host, port)
+    Explorer(scene, folder, store=store, front=front).serve(host, port)
 
 
 def reduce(scene: Scene | str | Path | dict, inputs: str | None = None, output: str = "readout",

@@ -122,3 +122,81 @@ def test_export_writes_the_shown_design(page):
     assert saved.array.silicone_above == pytest.approx(0.8e-3)
     rec = json.loads(cli("solve", str(path), "--json").stdout)
     assert engineering(rec["electrodes"]["taxel_0_0"]["voltage_V"], "V") == b.js(TEXT.format("voltage"))
+
+
+FRONT_SPEC = """
+base = "thesis-pzt-3x3-2d"
+reference = {gap = "3 mm"}
+[variables]
+gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
+[objective]
+maximize = "sensitivity"
+[constraints]
+total_thickness = "<= 2.2 mm"
+[pareto]
+points = 2
+[algorithm]
+global = "none"
+local = "COBYLA"
+max_evaluations = 6
+"""
+
+
+@pytest.fixture(scope="module")
+def front_page(tmp_path_factory):
+    """A two-point front of the 2D 3x3 array (the gap), then the explorer on its folder."""
+    import taxel
+    from taxel.explore.browser import Browser, ExplorerProcess
+    tmp = tmp_path_factory.mktemp("front")
+    (tmp / "front.toml").write_text(FRONT_SPEC)
+    result = taxel.optimize(tmp / "front.toml", tmp / "front", workers=1)
+    with ExplorerProcess(str(tmp / "front"), tmp / "app") as app, Browser() as b:
+        b.goto(app.url)
+        b.wait(TEXT.format("voltage"), 180, "the first voltage")
+        yield b, tmp, result
+
+
+def test_front_is_shown_and_a_click_loads_its_design(front_page):
+    b, tmp, result = front_page
+    from taxel.explore.front import Front
+    front = Front.of(tmp / "front")
+    assert len(front.designs) == len(result.front_rows) >= 1
+    rows = b.wait("(() => { const r = [...document.querySelectorAll('#front_table tr')]; "
+                  "return r.length && r.map(x => x.textContent); })()", 60, "the front's table")
+    assert len(rows) == len(front.designs)
+    for row, d in zip(rows, front.designs):
+        assert f"{d.sensitivity:.4g} V/N" in row and f"{100 * d.crosstalk:.2f} %" in row
+    assert b.wait("document.getElementById('front_image').src.startsWith('data:image/png') && "
+                  "document.getElementById('front_image').src", 120, "the front plot").startswith("data:")
+    # move the gap away from every front design, then click the last front design
+    gaps = [d.values["gap"] for d in front.designs]
+    away = next(g for g in (4.7, 4.3, 1.3) if all(abs(g - x) > 0.05 for x in gaps))
+    b.type_into("#field_gap", str(away))
+    b.wait(f"document.getElementById('field_gap').value === '{away}'", 30)
+    d = front.designs[-1]
+    b.js(f"document.getElementById('front_row_{len(front.designs) - 1}').click()")
+    shown = b.wait(f"(() => {{ const v = document.getElementById('field_gap').value; "
+                   f"return v !== '{away}' && v; }})()", 60, "the front design's gap")
+    assert float(shown) == pytest.approx(d.values["gap"], rel=1e-5)
+    # the live answer of the loaded design is the stored front point, to display precision
+    expected = f"{100 * d.crosstalk:.1f} %"
+    b.wait(f"{TEXT.format('crosstalk')} === 'crosstalk: {expected}'", 120,
+           f"the front design's crosstalk {expected}; shown: {b.js(TEXT.format('crosstalk'))}")
+    star = f"current design (the star): {d.sensitivity:.4g} V/N, {100 * d.crosstalk:.2f} %"
+    b.wait(f"{TEXT.format('front_current')} === {json.dumps(star)}", 120,
+           f"the moving point at the front design ({star}); shown: {b.js(TEXT.format('front_current'))}")
+    print(f"screenshot: {b.screenshot(tmp / 'explore-front.png')}")
+
+
+def test_send_to_optimization_writes_a_loadable_spec(front_page):
+    b, tmp, result = front_page
+    from taxel.optimize.spec import load_optimization
+    b.js("document.getElementById('send').click()")
+    msg = b.wait(f"(() => {{ const t = {TEXT.format('send_msg')}; return t.startsWith('wrote ') && t; }})()",
+                 30, "the send message")
+    path = Path(msg.removeprefix("wrote "))
+    assert path.parent == (tmp / "app" / "exports").resolve() and path.suffix == ".toml"
+    problem = load_optimization(path)
+    gap = float(b.js("document.getElementById('field_gap').value"))
+    assert problem.names == ["gap"] and problem.x0[0] == pytest.approx(gap, rel=1e-5)
+    assert problem.spec.pareto.points == 2 and problem.constraints[0][0] == "total_thickness"

@@ -23,6 +23,7 @@ from trame.ui.vuetify3 import SinglePageLayout
 from trame.widgets import html, vuetify3 as v3
 
 from taxel.explore import session as S
+from taxel.explore.front import Front
 from taxel.explore.controls import LAWS, LOADS, MODELS, NUMBERS, READOUTS, Design, FieldError, piezo_names, scene_of
 from taxel.scene import Scene
 from taxel.schema import to_data
@@ -38,13 +39,15 @@ def _decimals(step: float) -> int:
 class Explorer:
     """One explorer app: the base scene, its session (store in `folder`) and the page."""
 
-    def __init__(self, scene: Scene, folder: Path, store: Path | None = None, name: str = "taxel-explore"):
-        self.base, self.folder = scene, Path(folder)
+    def __init__(self, scene: Scene, folder: Path, store: Path | None = None, name: str = "taxel-explore",
+                 front: Front | None = None):
+        self.base, self.folder, self.front = scene, Path(folder), front
         self.server = get_server(name, client_type="vue3")
         self.state, self.ctrl = self.server.state, self.server.controller
         self.session = S.Session(store if store is not None else self.folder / "store")
         self.solver = ThreadPoolExecutor(1, thread_name_prefix="explore-2d")     # the numbers
         self.extras = ThreadPoolExecutor(1, thread_name_prefix="explore-extra")  # figures on request
+        self.plots = ThreadPoolExecutor(1, thread_name_prefix="explore-front")   # the front with the design
         self.generation = 0
         self.job3d: S.Job3D | None = None
         self.scene: Scene | None = None
@@ -64,7 +67,11 @@ class Explorer:
                    "e_piezo": [], "message": "", "voltage": "", "answer_model": "", "answer_time": "",
                    "bars": [], "crosstalk": "", "note": "", "busy": False, "busy3d": False, "progress3d": "",
                    "answer3d": "", "figure": "", "figure_title": "", "error_lines": [], "extra_busy": False,
-                   "export_name": self.base.name, "export_msg": "", "scene_name": self.base.name})
+                   "export_name": self.base.name, "export_msg": "", "scene_name": self.base.name,
+                   "has_front": self.front is not None, "front_image": "", "front_current": "", "send_msg": "",
+                   "front_rows": self.front.rows() if self.front else [],
+                   "front_note": (f"no control for {', '.join(self.front.unmatched)}: not loaded"
+                                  if self.front and self.front.unmatched else "")})
 
     def design(self) -> Design:
         st = self.state
@@ -112,6 +119,8 @@ class Explorer:
         with st:
             self._show(ans)
             st.busy = False
+        if self.front is not None:
+            await self._plot_front(ans, scene, gen)
 
     def _show(self, a: S.Answer):
         st = self.state
@@ -124,6 +133,42 @@ class Explorer:
                     "colour": "#c0392b" if x < 0 else "#2e86c1"} for k, x in a.voltages.items()]
         st.crosstalk = f"{100 * a.crosstalk:.1f} %" if a.crosstalk is not None else "- (one taxel)"
         st.note = a.note
+
+    # -- the optimization's front -------------------------------------------------------------------
+    async def _plot_front(self, a: S.Answer, scene: Scene, gen: int):
+        v, f = a.pressed_voltage, scene.load.force
+        current = (abs(v) / f, a.crosstalk) if v is not None and f and a.crosstalk is not None else None
+        url = await asyncio.get_running_loop().run_in_executor(self.plots, self.front.image, current)
+        if gen == self.generation:
+            with self.state:
+                self.state.front_image = url
+                self.state.front_current = ("current design (the star): -" if current is None else
+                                            f"current design (the star): {current[0]:.4g} V/N, "
+                                            f"{100 * current[1]:.2f} %")
+
+    def load_front(self, i: int):
+        """Put front design `i`'s variables into the controls (the change solves it)."""
+        d = self.front.designs[int(i)]
+        with self.state:
+            for name, value in d.values.items():
+                self.state[f"t_{name}"] = f"{value:.6g}"
+                self.state[f"x_{name}"] = float(value)
+            self.state.send_msg = f"loaded the front design {d.label}"
+
+    def send_to_optimization(self):
+        """Write the current design as a scene TOML and an optimization TOML starting at it."""
+        from taxel.studies.measured.calibrate import toml_text
+        self.export()
+        if not str(self.state.export_msg).startswith("wrote "):
+            self.state.send_msg = self.state.export_msg
+            return
+        scene_path = Path(str(self.state.export_msg).removeprefix("wrote "))
+        values = {n.name: n.value(self.scene) for n in NUMBERS if n.name != "offset"}
+        data = self.front.optimization_data(values, scene_path.name)
+        path = scene_path.with_name(f"{scene_path.stem}-optimization.toml")
+        path.write_text(f"# written by taxel explore: {self.front.result.name} starting at the design "
+                        f"{scene_path.name}\n" + toml_text(data))
+        self.state.send_msg = f"wrote {path.resolve()}"
 
     # -- 3D --------------------------------------------------------------------------------------
     def solve_3d(self):
@@ -248,7 +293,24 @@ class Explorer:
             v3.VBtn("save scene TOML", click=self.export, id="export")
         html.Div("{{ export_msg }}", id="export_msg", classes="text-caption")
 
+    def _front_card(self):
+        with v3.VCard(classes="pa-3 mb-2", v_if=("has_front",)):
+            html.Div("the optimization's front (stored; the star is the current design)", classes="text-subtitle-2")
+            html.Img(src=("front_image",), v_show=("front_image",), style="max-width:100%", id="front_image")
+            html.Div("{{ front_current }}", id="front_current", classes="text-caption")
+            with html.Table(style="font-size:12px;width:100%", id="front_table"):
+                with html.Tr(v_for="r in front_rows", key="r.i", id=("'front_row_' + r.i",),
+                             click=(self.load_front, "[r.i]"), style="cursor:pointer"):
+                    html.Td("{{ r.label }}")
+                    html.Td("{{ r.sensitivity }}")
+                    html.Td("{{ r.crosstalk }}")
+                    html.Td("{{ r.design }}")
+            html.Div("{{ front_note }}", classes="text-caption")
+            v3.VBtn("send to a new optimization", click=self.send_to_optimization, id="send", classes="ma-1")
+            html.Div("{{ send_msg }}", id="send_msg", classes="text-caption")
+
     def _views(self):
+        self._front_card()
         with v3.VCard(classes="pa-3 mb-2"):
             html.Div("pressed-taxel open-circuit voltage", classes="text-subtitle-2")
             html.Div("{{ voltage }}", id="voltage", classes="text-h3")
