@@ -17,6 +17,7 @@ from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
 import pytest
+from waits import CEILING
 from pydantic import BaseModel
 
 from taxel.cli import main
@@ -133,7 +134,7 @@ def site(tmp_path_factory):
     pytest.importorskip("sphinx_gallery", reason="the docs extra is not installed (make setup installs it)")
     out = tmp_path_factory.mktemp("site") / "html"
     run = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
-                          str(DOCS), str(out)], capture_output=True, text=True, cwd=ROOT, timeout=1800)
+                          str(DOCS), str(out)], capture_output=True, text=True, cwd=ROOT, timeout=3 * CEILING)   # the whole site, gallery executed: 1-5 min here
     assert run.returncode == 0, (run.stdout + run.stderr)[-4000:]
     return out
 
@@ -170,14 +171,14 @@ def test_index_and_a_gallery_page_open_in_headless_chromium(site, tmp_path):
         with tempfile.TemporaryDirectory() as profile:
             run = subprocess.run([_chromium(), *flags, f"--user-data-dir={profile}", "--enable-logging=stderr",
                                   "--v=0", "--window-size=1200,1600", f"--screenshot={shot}", page.as_uri()],
-                                 capture_output=True, text=True, timeout=120)
+                                 capture_output=True, text=True, timeout=CEILING)
         assert shot.exists(), run.stderr[-500:]
         failed = [line for line in run.stderr.splitlines() if "Failed to load" in line or "ERR_FILE_NOT_FOUND" in line]
         assert not failed, failed
         assert mpimg.imread(shot).std() > 0.02                    # not blank
         with tempfile.TemporaryDirectory() as profile:
             dom = subprocess.run([_chromium(), *flags, f"--user-data-dir={profile}", "--dump-dom", page.as_uri()],
-                                 capture_output=True, text=True, timeout=120).stdout
+                                 capture_output=True, text=True, timeout=CEILING).stdout
         for src in re.findall(r'<img[^>]+src="([^"]+)"', dom):   # every image the page shows is there
             if not urlsplit(src).scheme:
                 assert (page.parent / unquote(src)).exists(), src

@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from taxel.explore.browser import chromium_path
+from waits import CEILING
 
 pytestmark = pytest.mark.skipif(chromium_path() is None,
                                 reason="no Chromium here (Debian's chromium package; .ci/run installs it)")
@@ -49,9 +50,9 @@ TEXT = "(document.getElementById('{0}') || {{textContent: ''}}).textContent.trim
 def page(tmp_path_factory):
     from taxel.explore.browser import Browser, ExplorerProcess
     out = tmp_path_factory.mktemp("explore")
-    with ExplorerProcess(SCENE, out) as app, Browser() as b:
+    with ExplorerProcess(SCENE, out, limit=CEILING) as app, Browser(timeout=CEILING) as b:
         b.goto(app.url)
-        b.wait(TEXT.format("voltage"), 180, "the first voltage")
+        b.wait(TEXT.format("voltage"), CEILING, "the first voltage")
         yield b, out
 
 
@@ -67,9 +68,9 @@ def test_slider_gives_the_voltage_of_taxel_solve(page, tmp_path):
     b.js(THUMB.format("silicone_above") + ".focus()")
     for _ in range(4):                                   # 1 mm -> 0.8 mm in steps of 0.05 mm
         b.key("ArrowLeft", "ArrowLeft", 37)
-    assert b.wait("document.getElementById('field_silicone_above').value", 30) == "0.80"
+    assert b.wait("document.getElementById('field_silicone_above').value", CEILING) == "0.80"
     shown = b.wait(f"(() => {{ const t = {TEXT.format('voltage')}; return t === {json.dumps(expected)} && t; }})()",
-                   120, f"the voltage of taxel solve ({expected}); shown: {b.js(TEXT.format('voltage'))}")
+                   CEILING, f"the voltage of taxel solve ({expected}); shown: {b.js(TEXT.format('voltage'))}")
     assert shown == expected
     assert "2D (plane strain)" in b.js(TEXT.format("answer_model"))
 
@@ -96,9 +97,9 @@ def test_3d_shows_progress_and_a_result(page, tmp_path):
     before = b.js(TEXT.format("voltage"))
     b.js("document.getElementById('solve3d').click()")
     progress = b.wait(f"(() => {{ const t = {TEXT.format('progress3d')}; return t.includes('3D solve') && t; }})()",
-                      60, "3D progress")
+                      CEILING, "3D progress")
     assert "3D solve" in progress
-    text = b.wait(TEXT.format("answer3d"), 600, "the 3D answer")
+    text = b.wait(TEXT.format("answer3d"), CEILING, "the 3D answer")
     assert text.startswith("3D: ") and "coarse mesh" in text, text
     v3d = to_si(text.split()[1] + " " + text.split()[2].rstrip("(").strip(), "V", "voltage")
     v2d = to_si(before, "V", "voltage")
@@ -114,7 +115,7 @@ def test_export_writes_the_shown_design(page):
     import taxel
     from taxel.units import engineering
     b.js("document.getElementById('export').click()")
-    msg = b.wait(TEXT.format("export_msg"), 30, "the export message")
+    msg = b.wait(TEXT.format("export_msg"), CEILING, "the export message")
     assert msg.startswith("wrote "), msg
     path = Path(msg.removeprefix("wrote "))
     assert path.parent == (out / "exports").resolve()
@@ -150,9 +151,9 @@ def front_page(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("front")
     (tmp / "front.toml").write_text(FRONT_SPEC)
     result = taxel.optimize(tmp / "front.toml", tmp / "front", workers=1)
-    with ExplorerProcess(str(tmp / "front"), tmp / "app") as app, Browser() as b:
+    with ExplorerProcess(str(tmp / "front"), tmp / "app", limit=CEILING) as app, Browser(timeout=CEILING) as b:
         b.goto(app.url)
-        b.wait(TEXT.format("voltage"), 180, "the first voltage")
+        b.wait(TEXT.format("voltage"), CEILING, "the first voltage")
         yield b, tmp, result
 
 
@@ -162,28 +163,28 @@ def test_front_is_shown_and_a_click_loads_its_design(front_page):
     front = Front.of(tmp / "front")
     assert len(front.designs) == len(result.front_rows) >= 1
     rows = b.wait("(() => { const r = [...document.querySelectorAll('#front_table tr')]; "
-                  "return r.length && r.map(x => x.textContent); })()", 60, "the front's table")
+                  "return r.length && r.map(x => x.textContent); })()", CEILING, "the front's table")
     assert len(rows) == len(front.designs)
     for row, d in zip(rows, front.designs):
         assert f"{d.sensitivity:.4g} V/N" in row and f"{100 * d.crosstalk:.2f} %" in row
     assert b.wait("document.getElementById('front_image').src.startsWith('data:image/png') && "
-                  "document.getElementById('front_image').src", 120, "the front plot").startswith("data:")
+                  "document.getElementById('front_image').src", CEILING, "the front plot").startswith("data:")
     # move the gap away from every front design, then click the last front design
     gaps = [d.values["gap"] for d in front.designs]
     away = next(g for g in (4.7, 4.3, 1.3) if all(abs(g - x) > 0.05 for x in gaps))
     b.type_into("#field_gap", str(away))
-    b.wait(f"document.getElementById('field_gap').value === '{away}'", 30)
+    b.wait(f"document.getElementById('field_gap').value === '{away}'", CEILING)
     d = front.designs[-1]
     b.js(f"document.getElementById('front_row_{len(front.designs) - 1}').click()")
     shown = b.wait(f"(() => {{ const v = document.getElementById('field_gap').value; "
-                   f"return v !== '{away}' && v; }})()", 60, "the front design's gap")
+                   f"return v !== '{away}' && v; }})()", CEILING, "the front design's gap")
     assert float(shown) == pytest.approx(d.values["gap"], rel=1e-5)
     # the live answer of the loaded design is the stored front point, to display precision
     expected = f"{100 * d.crosstalk:.1f} %"
-    b.wait(f"{TEXT.format('crosstalk')} === 'crosstalk: {expected}'", 120,
+    b.wait(f"{TEXT.format('crosstalk')} === 'crosstalk: {expected}'", CEILING,
            f"the front design's crosstalk {expected}; shown: {b.js(TEXT.format('crosstalk'))}")
     star = f"current design (the star): {d.sensitivity:.4g} V/N, {100 * d.crosstalk:.2f} %"
-    b.wait(f"{TEXT.format('front_current')} === {json.dumps(star)}", 120,
+    b.wait(f"{TEXT.format('front_current')} === {json.dumps(star)}", CEILING,
            f"the moving point at the front design ({star}); shown: {b.js(TEXT.format('front_current'))}")
     print(f"screenshot: {b.screenshot(tmp / 'explore-front.png')}")
 
@@ -193,7 +194,7 @@ def test_send_to_optimization_writes_a_loadable_spec(front_page):
     from taxel.optimize.spec import load_optimization
     b.js("document.getElementById('send').click()")
     msg = b.wait(f"(() => {{ const t = {TEXT.format('send_msg')}; return t.startsWith('wrote ') && t; }})()",
-                 30, "the send message")
+                 CEILING, "the send message")
     path = Path(msg.removeprefix("wrote "))
     assert path.parent == (tmp / "app" / "exports").resolve() and path.suffix == ".toml"
     problem = load_optimization(path)

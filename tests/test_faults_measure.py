@@ -21,7 +21,7 @@ import pytest
 from measure_util import random_frames, rig, wire_of
 from faults_util import fill, small_disk  # noqa: F401  (the small tmpfs fixture)
 from test_measure_capture import _rig_file
-from waits import CEILING               # reached only by a capture that hangs
+from waits import CEILING, poll_until               # reached only by a capture that hangs
 
 from taxel.cli import main
 from taxel.studies.bench import folder as F
@@ -115,11 +115,7 @@ def test_the_check_passes_a_stream_that_starts_mid_frame(tmp_path):
 
 
 def _wait_for_bytes(path, proc):
-    t0 = time.monotonic()
-    while not (path.exists() and path.stat().st_size > 0):
-        assert proc.poll() is None, proc.communicate()
-        assert time.monotonic() - t0 < CEILING, f"{path} never received bytes"
-        time.sleep(0.05)
+    poll_until(lambda: path.exists() and path.stat().st_size > 0, f"bytes in {path}", proc)
 
 
 @pytest.mark.slow

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 from faults_util import fill, small_disk  # noqa: F401  (the small tmpfs fixture)
-from waits import CEILING                 # a ceiling for a hang only: the waits are event-driven
+from waits import CEILING, poll_until                 # a ceiling for a hang only: the waits are event-driven
 
 psutil = pytest.importorskip("psutil")
 
@@ -50,7 +50,7 @@ def _finish(proc):
 
 def _rows(folder: Path) -> tuple[int, int, list]:
     """(rows, distinct keys, [(force, status, voltage per newton or None)]) of a study store."""
-    db = sqlite3.connect(folder / "results.sqlite", timeout=30)
+    db = sqlite3.connect(folder / "results.sqlite", timeout=CEILING)   # the run may hold the write lock
     try:
         n, distinct = db.execute("SELECT COUNT(*), COUNT(DISTINCT key) FROM points").fetchone()
         import json
@@ -68,14 +68,7 @@ def _rows(folder: Path) -> tuple[int, int, list]:
 
 def _wait_for(predicate, proc, what):
     """Poll until `predicate()` (event-driven: a row in the store); fail if the run ends first."""
-    t0 = time.monotonic()
-    while not predicate():
-        if proc.poll() is not None:
-            pytest.fail(f"the run ended before {what}: {proc.communicate()}")
-        if time.monotonic() - t0 > CEILING:
-            proc.kill()
-            pytest.fail(f"no {what} within {CEILING} s")
-        time.sleep(0.05)
+    poll_until(predicate, what, proc)
 
 
 def _workers(proc) -> list:
@@ -171,12 +164,13 @@ def _scheduler(tmp_path):
         assert sched.poll() is None and time.monotonic() - t0 < CEILING, "the scheduler did not start"
         time.sleep(0.05)
     import json
-    while True:                            # written in one go, but read it only once complete
+    def address_written():                 # written in one go, but read it only once complete
         try:
-            address = json.loads(sched_file.read_text())["address"]
-            break
+            return json.loads(sched_file.read_text())["address"]
         except (ValueError, KeyError):
-            time.sleep(0.05)
+            return None
+    poll_until(address_written, "the scheduler's address", sched)
+    address = address_written()
     worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
                                "--nworkers", "1", "--no-dashboard"], env=_env(), cwd=tmp_path,
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

@@ -6,12 +6,11 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
 from measure_util import random_frames, rig, rig_dict, wire_of
-from waits import CEILING
+from waits import CEILING, poll_until
 
 from taxel.studies.bench import folder as F
 from taxel.studies.bench.capture import PortError, capture, open_port
@@ -99,14 +98,7 @@ def test_cli_vanished_port_is_one_line(tmp_path):
 
 def _wait_for_bytes(path, size=1, proc=None):
     """Event-driven: until `path` holds `size` bytes (or the capture `proc` ended)."""
-    end = time.monotonic() + CEILING
-    while time.monotonic() < end:
-        if path.exists() and path.stat().st_size >= size:
-            return
-        if proc is not None and proc.poll() is not None:
-            raise AssertionError(f"the capture ended before {path} held {size} bytes: {proc.communicate()}")
-        time.sleep(0.05)
-    raise AssertionError(f"{path} never received {size} bytes")
+    poll_until(lambda: path.exists() and path.stat().st_size >= size, f"{size} bytes in {path}", proc)
 
 
 # 60 s of stream: a capture stopped once it holds a second of it (event-driven) ends well

@@ -9,3 +9,18 @@ good code: CEILING is ten minutes, far beyond any wait that is not a hang.
 """
 
 CEILING = 600.0       # seconds
+
+
+def poll_until(predicate, what: str, proc=None, every: float = 0.05):
+    """Event-driven wait: return as soon as `predicate()` is true; fail if the process
+    `proc` ended first, or (a hang) after CEILING seconds."""
+    import time
+    end = time.monotonic() + CEILING
+    while not predicate():
+        if proc is not None and proc.poll() is not None:
+            raise AssertionError(f"the process ended before {what}: {proc.communicate()}")
+        if time.monotonic() > end:
+            if proc is not None:
+                proc.kill()
+            raise AssertionError(f"no {what} within {CEILING:g} s")
+        time.sleep(every)
