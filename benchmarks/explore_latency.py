@@ -53,7 +53,6 @@ def main():
         b.js(PROBE)
         for model in ("2D", "axisymmetric"):
             if model != "2D":
-                before = b.js("document.getElementById('answer_model').textContent")
                 b.js(f"window.trame.state.set('model', '{model}')")
                 b.wait(f"document.getElementById('answer_model').textContent.includes('{model}')", 60, model)
             fresh = moves(b, "ArrowRight", "ArrowRight", 39, args.moves)       # new thicknesses: solved

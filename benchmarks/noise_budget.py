@@ -18,6 +18,7 @@ import time
 from taxel import load
 from taxel.analyses.noise import noise
 from taxel.studies.bench.rig import load_rig
+from taxel.studies.bench.simulate import Settings
 
 
 def main() -> None:
@@ -25,7 +26,7 @@ def main() -> None:
     bench = load_rig("thesis-bench")
     cases = [("amplifier only (no ADC)", base, None),
              ("thesis bench ADC", base, bench),
-             ("+ hum 5/1.5/0.5 mV", base.replace(**{"readout.hum": ["5 mV", "1.5 mV", "0.5 mV"]}), bench)]
+             ("+ the simulated rig's hum", base.replace(**{"readout.hum": list(Settings().hum_V)}), bench)]
     print(f"{'chain':<26}{'noise rms':>12}{'min. force':>12}{'dyn. range':>12}  largest shares   (time)")
     for label, scene, rig in cases:
         t0 = time.perf_counter()

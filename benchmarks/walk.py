@@ -25,9 +25,7 @@ from pathlib import Path
 
 
 def trace(argv: list[str]) -> list[tuple[str, str]]:
-    import taxel
     from taxel import cli
-    root = Path(taxel.__file__).resolve().parent.parent
     roots = {}
     import importlib
     for sub in ("taxel", "taxel.fem", "taxel.meshing", "taxel.optimize", "taxel.studies", "taxel.reports"):

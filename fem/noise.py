@@ -166,5 +166,5 @@ def band_power(f, psd, band) -> float:
 
 
 def grid(band, points: int = 2000) -> np.ndarray:
-    """Log-spaced frequencies over a band (Hz), with the notch and hum lines resolved by density."""
+    """Log-spaced frequencies over a band (Hz); the hum lines are added as lines, not sampled here."""
     return np.geomspace(band[0], band[1], points)

@@ -298,7 +298,7 @@ def answer(mf: MultiFidelity) -> dict:
     better = [d for d in mf.front_3d if d is not mf.reference and d.fine[0] >= s0 and d.fine[1] <= c0]
     out = {"thesis_3d": {"sensitivity_V_per_N": s0, "crosstalk": c0},
            "thesis_on_3d_front": not better and any(d is mf.reference for d in mf.front_3d)}
-    b = best_below(mf)
+    best = b = best_below(mf)
     if b is not None:
         out["best_at_or_below_thesis_crosstalk"] = {"x": b.x, "sensitivity_V_per_N": b.fine[0], "crosstalk": b.fine[1],
                                                    "sensitivity_gain": b.fine[0] / s0 - 1}
@@ -307,7 +307,7 @@ def answer(mf: MultiFidelity) -> dict:
         out["confirmed"] = {"model": {k: str(v) for k, v in CONFIRM_3D.items()},
                             "thesis": {"sensitivity_V_per_N": conf["reference"][0], "crosstalk": conf["reference"][1]}}
         if "best" in conf:
-            b = best_below(mf)
+            b = best
             out["confirmed"]["best"] = {"x": b.x, "sensitivity_V_per_N": conf["best"][0], "crosstalk": conf["best"][1],
                                         "sensitivity_gain": conf["best"][0] / conf["reference"][0] - 1}
     same = [d for d in mf.front_3d if d.fine[0] >= s0]
@@ -330,7 +330,7 @@ def sentence(problem, a: dict) -> str:
     c = a.get("confirmed")
     if c:
         t = c["thesis"]
-        head += (f" On the finer 3D mesh (1.5 mm, 0.6 mm at the taxels): the thesis design "
+        head += (f" On the finer 3D mesh ({CONFIRM_3D['mesh.size']}, {CONFIRM_3D['mesh.piezo_size']} at the taxels): the thesis design "
                  f"{t['sensitivity_V_per_N']:.3f} V/N at {100 * t['crosstalk']:.2f} %")
         if "best" in c:
             b = c["best"]

@@ -47,11 +47,10 @@ def figure(folder) -> Path:
 
 
 def is_noise(folder: Path) -> bool:
-    import json
-    p = Path(folder) / "result.json"
+    from taxel.analyses.results import ResultError, result_kind
     try:
-        return p.is_file() and json.loads(p.read_text()).get("kind") == "noise"
-    except ValueError:
+        return result_kind(folder) == "noise"
+    except ResultError:
         return False
 
 

@@ -10,8 +10,8 @@ are too many FEM solves: a full quadratic polynomial in the standardised
 deviations z = (x - nominal) / sigma, fitted by least squares (numpy.linalg.lstsq).
 Its error is measured on held-out points (5-fold cross validation: rms of the
 held-out residuals over the output's standard deviation) and reported beside the
-indices; a surrogate that cannot follow the output (error > 0.3) shows why the
-indices should not be trusted.
+indices, so that the reader can judge the indices (a surrogate that cannot
+follow the output has a held-out error near 1).
 """
 
 from __future__ import annotations

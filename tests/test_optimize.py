@@ -162,6 +162,9 @@ max_evaluations = 3
     assert r.runs[0].bound <= r.runs[1].bound
     assert r.reference["x"] == {"gap": pytest.approx(3.0)} and r.reference["sensitivity"] > 0
     assert r.reference_dominated in (True, False) and r.nondominated
+    s0, c0 = r.reference["sensitivity"], r.reference["crosstalk"]          # dominated: by any row of the front
+    assert r.reference_dominated == any(row["sensitivity_V_per_N"] >= s0 * (1 + 1e-3)
+                                        and row["crosstalk"] <= c0 * (1 - 1e-3) for row in r.front_rows)
     assert r.evaluations == sum(run.result.nfev for run in r.runs) and r.fem_solves > 0
     assert r.summary()[-1].startswith(f"front: {len(r.front_rows)} runs")
     front = json.loads((out / "front.json").read_text())

@@ -113,6 +113,17 @@ def test_the_graph_sees_the_layers():
     assert "taxel.fem.problem" in g["taxel.analyses.adapter"]       # a real edge is found
 
 
+def test_the_checks_see_a_cycle_and_an_underscore_import(tmp_path):
+    """The cycle finder and the import reader find what they are for (else the two tests
+    below would pass on a broken check)."""
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+    bad = tmp_path / "bad.py"
+    bad.write_text("from taxel.fem.linear import _private\nfrom taxel.analyses import adapter\n")
+    found = imports("taxel.fake", bad, modules())
+    assert ("taxel.fem.linear", 1, "_private") in found and ("taxel.analyses.adapter", 2, None) in found
+
+
 def test_no_import_cycles():
     found = cycles(graph())
     assert not found, "import cycles: " + "; ".join(" <-> ".join(c) for c in found)

@@ -23,7 +23,7 @@ class ModuleDocstring(SphinxDirective):
             raise self.error(f"{name} has no docstring")
         where = Path(inspect.getfile(module))
         parts = where.parts
-        rel = "/".join(parts[-2:]) if parts[-2] != "taxel" else "taxel/" + parts[-1]
+        rel = "/".join(parts[-2:])
         caption = nodes.paragraph()
         caption += nodes.strong(text=name)
         caption += nodes.Text(f" ({rel}), from its docstring:")

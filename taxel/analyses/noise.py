@@ -67,9 +67,7 @@ def transfer(scene: Scene, band, model: str = "fem", points: int = 60):
     if model == "lumped":
         from taxel.analyses.dynamic import lumped_response
         lr = lumped_response(s)
-        mat = scene_materials(s)[s.array.piezo]
-        tand = s.dynamics.dielectric_loss if s.dynamics.dielectric_loss is not None else (mat.tan_delta or 0.0)
-        C = np.full((len(lr.freqs), 1), lr.model.C_p * (1 - 1j * tand))
+        C = np.full((len(lr.freqs), 1), lr.model.C_p * (1 - 1j * loss_tangent(s)))
         return lr.freqs, lr.output[:, None], C, ["lumped"], lr.label
     if model != "fem":
         raise SceneError(f"noise model '{model}': use fem or lumped")

@@ -18,7 +18,8 @@ from pathlib import Path
 
 from taxel.explore.controls import NUMBERS, Number
 from taxel.optimize.metrics import METRIC_TABLE, PLAIN
-from taxel.optimize.result import RESULT_FILE, OptimizationResult
+from taxel.analyses.results import result_kind
+from taxel.optimize.result import KINDS, OptimizationResult
 from taxel.units import quantity
 
 
@@ -47,10 +48,7 @@ class Front:
     @classmethod
     def of(cls, folder: str | Path) -> Front | None:
         """The front of `folder`, or None when it is not an optimization folder."""
-        if not (Path(folder) / RESULT_FILE).is_file():
-            return None
-        import json
-        if json.loads((Path(folder) / RESULT_FILE).read_text()).get("kind") not in ("optimum", "front"):
+        if result_kind(folder) not in KINDS:
             return None
         r = OptimizationResult.from_folder(folder)
         runs = [(f"crosstalk <= {100 * run.bound:.2f} %", run.result) for run in r.runs]

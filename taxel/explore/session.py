@@ -25,7 +25,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from taxel.scene import Scene, canonical, replace
+from taxel.scene import Scene, replace
 from taxel.schema import to_data
 from taxel.studies.store import Store
 
@@ -213,7 +213,3 @@ def curve_image(points: list[tuple[float, float]], title: str) -> str:
     return url
 
 
-def key_of(scene: Scene) -> str:
-    """A short key of the design (what the page shows the user as 'this design')."""
-    import hashlib
-    return hashlib.sha256(canonical(scene).encode()).hexdigest()[:10]

@@ -70,7 +70,8 @@ def noise_budget(out: Path, small: bool = False) -> Path:
     from taxel.reports.noise import figure
     from taxel.studies.bench.rig import load_rig
     t0 = time.perf_counter()
-    scene = api.load("thesis-pzt-frequency").replace(**{"readout.hum": ["5 mV", "1.5 mV", "0.5 mV"]})
+    from taxel.studies.bench.simulate import Settings
+    scene = api.load("thesis-pzt-frequency").replace(**{"readout.hum": list(Settings().hum_V)})   # the rig's hum
     res = noise(scene, load_rig("thesis-bench"), model="lumped" if small else "fem")
     shutil.rmtree(out, ignore_errors=True)
     res.to_folder(out)
