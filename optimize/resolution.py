@@ -31,7 +31,7 @@ from __future__ import annotations
 from typing import Any
 
 from taxel.schema import Strict
-from taxel.scene import Scene, SceneError
+from taxel.scene import Scene
 from taxel import units as U
 
 NOISE_METRICS = ("min_detectable_force", "snr", "dynamic_range")
@@ -82,14 +82,5 @@ def load_rig_of(res: Resolution):
 def noise_metrics(scene: Scene, outputs: dict, res: Resolution, rig=None) -> dict:
     """{min_detectable_force (N), snr (dB), dynamic_range (dB)} of a design from its static
     solve's named outputs (sensitivity, charge_sensitivity); None values when it has none."""
-    from taxel.analyses.noise import quasi_static_noise
-    s, q = outputs.get("sensitivity"), outputs.get("charge_sensitivity")
-    if not s or not q:
-        return dict.fromkeys(NOISE_METRICS)
-    try:
-        nr = quasi_static_noise(scene, s, q, rig, band_hz(res))
-    except SceneError:
-        return dict.fromkeys(NOISE_METRICS)
-    o = nr.outputs()
-    return {"min_detectable_force": o["min_detectable_force"], "snr": nr.snr_at(force_n(res, scene)),
-            "dynamic_range": o["dynamic_range"]}
+    from taxel.analyses.noise import design_noise
+    return design_noise(scene, outputs, rig, band_hz(res), force_n(res, scene))

@@ -195,16 +195,10 @@ def noise_outputs(scene_data: dict, outputs: dict, band=(1.0, 100.0)) -> dict:
     of a point from its static outputs, through the scene's own [readout] over `band` (Hz):
     the quasi-static noise budget (taxel.analyses.noise.quasi_static_noise); {} without a
     pressed taxel's voltage and charge."""
-    from taxel.analyses.noise import quasi_static_noise
-    from taxel.scene import SceneError, parse
-    s, q = outputs.get("sensitivity"), outputs.get("charge_sensitivity")
-    if not s or not q:
-        return {}
-    try:
-        o = quasi_static_noise(parse({**scene_data, "name": "point"}), s, q, band=band).outputs()
-    except SceneError:
-        return {}
-    return {k: o[k] for k in ("min_detectable_force", "snr", "dynamic_range")}
+    from taxel.analyses.noise import design_noise
+    from taxel.scene import parse
+    m = design_noise(parse({**scene_data, "name": "point"}), outputs, band=band)
+    return {k: v for k, v in m.items() if v is not None}
 
 
 def from_study(study, store, noise_band=(1.0, 100.0)) -> ToleranceResult:

@@ -113,6 +113,26 @@ def _budget(scene, rig, ch, band, f_sw, H, C, names, label, points) -> NoiseResu
                        by if np.isfinite(sat) else "none", label, getattr(rig, "name", None))
 
 
+DESIGN_NOISE = ("min_detectable_force", "snr", "dynamic_range")
+
+
+def design_noise(scene: Scene, outputs: dict, rig=None, band=None, force: float | None = None) -> dict:
+    """{min_detectable_force (N), snr (dB at `force`, default the scene's load force),
+    dynamic_range (dB)} of a design from its static solve's named outputs (sensitivity,
+    charge_sensitivity) through the quasi-static budget; None values when the design has
+    no pressed taxel's voltage and charge, or its chain cannot be built."""
+    s, q = outputs.get("sensitivity"), outputs.get("charge_sensitivity")
+    if not s or not q:
+        return dict.fromkeys(DESIGN_NOISE)
+    try:
+        nr = quasi_static_noise(scene, s, q, rig, band)
+    except SceneError:
+        return dict.fromkeys(DESIGN_NOISE)
+    o = nr.outputs()
+    return {"min_detectable_force": o["min_detectable_force"],
+            "snr": nr.snr_at(force) if force is not None else o["snr"], "dynamic_range": o["dynamic_range"]}
+
+
 def loss_tangent(scene: Scene) -> float:
     """The piezo's dielectric loss tangent: [dynamics] dielectric_loss, else the material's (0 without one)."""
     if scene.dynamics.dielectric_loss is not None:

@@ -82,44 +82,16 @@ def noise_budget(out: Path, small: bool = False) -> Path:
     return out
 
 
-THESIS_TOLERANCES = '''
-name = "thesis-pzt-tolerances"
-description = "the thesis PZT design under fabrication tolerances (2D row, mesh 1 mm)"
-base = "thesis-pzt-3x3-2d"
-sampling = "tolerance"
-samples = 16
-seed = 0
-outputs = ["voltage", "crosstalk"]
-[overrides]
-"mesh.size" = "1 mm"
-[requirements]
-sensitivity = ">= 0.805 V/N"
-crosstalk = "<= 8 %"
-[[parameters]]
-path = "array.silicone_above"
-tolerance = "0.1 mm"
-distribution = "uniform"
-[[parameters]]
-path = "array.gap"
-tolerance = "0.2 mm"
-[[parameters]]
-path = "array.piezo_thickness"
-tolerance = "5 %"
-'''
-
-
 def tolerances(out: Path) -> Path:
     """The yield and Sobol' indices of the thesis PZT design (2D row, 16 parts on the study
     store: silicone above +-0.1 mm uniform, gap +-0.2 mm and piezo thickness +-5 % normal;
     studies.tolerance, studies.yield_analysis): OUT/tolerance.json."""
     from taxel.studies.execute import run as run_points
-    from taxel.studies.spec import load_study as load
     from taxel.studies.store import Store
     from taxel.studies.yield_analysis import from_study
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
-    (out / "study.toml").write_text(THESIS_TOLERANCES)
-    st = load(out / "study.toml")
+    st = load_study("thesis-pzt-tolerances")          # studies/builtin/thesis-pzt-tolerances.toml
     run_points(st, out / "points", workers=1, progress=False)
     store = Store(out / "points")
     try:
