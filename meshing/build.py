@@ -7,9 +7,8 @@ conformal at every interface, keeps thin layers (a 52 um PVDF film) at a
 controlled element count through the thickness, and has nodes on every patch
 edge. In-plane size: `piezo_size` at taxel and load edges (where stresses are
 singular), growing to `size` over a distance of `growth` x `size` (2), and at most
-`taxel_cap` x `piezo_size` (2) inside taxels. (In 3D the edge refinement matches no
-curve, since gmsh pads bounding boxes by 1e-7 m; a known issue, see README "mesh
-grading": 3D meshes are sized by the taxel cap and `size` only.) Vertically: `piezo_layers` elements per piezo
+`taxel_cap` x `piezo_size` (2) inside taxels. Plan curves are found from points
+on them, not from their bounding boxes (gmsh pads OCC boxes by 1e-7 m). Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
 `size`, ratio 1.5.
 
@@ -175,11 +174,11 @@ def _size_field(gmsh, lay: Layout):
     else:
         ents = []
         for _, t in gmsh.model.getEntities(1):
-            lo = gmsh.model.getBoundingBox(1, t)
-            if abs(lo[2]) < 1e-12 and abs(lo[5]) < 1e-12:
-                mid = gmsh.model.getValue(1, t, [0.5 * sum(gmsh.model.getParametrizationBounds(1, t))])
-                if any(_on_edge(p, mid[0], mid[1]) for p in edges):
-                    ents.append(t)
+            # points on the curve, not its bounding box: gmsh pads OCC boxes by 1e-7
+            a, b = gmsh.model.getParametrizationBounds(1, t)
+            xyz = np.reshape(gmsh.model.getValue(1, t, [a[0], 0.5 * (a[0] + b[0]), b[0]]), (3, 3))
+            if np.all(np.abs(xyz[:, 2]) < 1e-12) and any(_on_edge(p, xyz[1, 0], xyz[1, 1]) for p in edges):
+                ents.append(t)
         kind = "CurvesList"
     dist = f.add("Distance")
     f.setNumbers(dist, kind, ents)
