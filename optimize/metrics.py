@@ -25,6 +25,7 @@ class Metric:
 
 METRIC_TABLE = {
     "sensitivity": Metric("sensitivity", "V/N"),
+    "tangent_sensitivity": Metric("small-signal sensitivity", "V/N"),
     "crosstalk": Metric("crosstalk", "ratio"),
     "max_strain": Metric("largest silicone strain", "ratio"),
     "total_thickness": Metric("total thickness", "m"),

@@ -237,28 +237,43 @@ def verify(problem, runs: list[FrontRun], x_reference, tolerance=0.05, max_round
     cap = max(len(cheap_front), 2)
     ref_cheap = problem.evaluate(np.asarray(x_reference))
     reference = Design(list(map(float, x_reference)), (ref_cheap["sensitivity"], ref_cheap["crosstalk"]))
-    candidates = cheap_front + [reference]
-    rounds, n3d = [], 0
+    verified, rounds = correct(problem, pool, cheap_front + [reference], cap,
+                               lambda xs: solve_3d(problem, xs, workers), tolerance, max_rounds)
+    n3d = sum(r["verified"] for r in rounds)
+    front_3d = nondominated([d for d in verified if d.fine], lambda d: d.fine)
+    spent = {"cheap designs (feasible, distinct)": len(pool), "3D solves": n3d, "seconds": time.perf_counter() - t0}
+    return MultiFidelity(cheap_front, verified, front_3d, reference, rounds, plan(problem), spent)
+
+
+def correct(problem, pool: list[Design], candidates: list[Design], cap: int, solve, tolerance=0.05,
+            max_rounds=3) -> tuple[list[Design], list[dict]]:
+    """The correction loop (3.-4. above) over the cheap designs `pool`: solve the
+    `candidates` on the expensive level (`solve(xs)` -> [(sensitivity, crosstalk) or
+    None], at most `cap` a round), fit the correction (`interpolant`) to every design
+    solved so far, predict the rest of the pool, and take its corrected non-dominated
+    set as the next candidates. Sets each design's `fine` or `predicted`; returns the
+    designs solved and one record per round."""
+    rounds: list[dict] = []
     verified: list[Design] = []
     for k in range(max_rounds):
         new = [d for d in candidates if d.fine is None]
         if not new:
             break
-        if len(new) > cap:              # at most as many 3D solves a round as the front has points
+        if len(new) > cap:              # at most as many expensive solves a round as the front has points
             new = sorted(new, key=lambda d: (d.predicted or d.cheap)[1])
             new = [new[i] for i in np.unique(np.linspace(0, len(new) - 1, cap).round().astype(int))]
-        for d, m in zip(new, solve_3d(problem, [d.x for d in new], workers)):
+        for d, m in zip(new, solve([d.x for d in new])):
             d.fine = m
-        n3d += len(new)
         verified += [d for d in new if d.fine]
         miss = [max(abs(d.predicted[0] / d.fine[0] - 1), abs(d.predicted[1] / d.fine[1] - 1))
                 for d in new if d.predicted and d.fine]
+        solved = [d for d in new if d.fine]
         rounds.append({"round": k, "verified": len(new), "largest disagreement of the corrected prediction":
                        max(miss) if miss else None,
-                       "largest 2D/3D disagreement": max(max(abs(d.cheap[0] / d.fine[0] - 1),
-                                                             abs(d.cheap[1] / d.fine[1] - 1))
-                                                         for d in new if d.fine)})
-        if miss and max(miss) <= tolerance:
+                       "largest cheap/expensive disagreement": max((max(abs(d.cheap[0] / d.fine[0] - 1),
+                                                                        abs(d.cheap[1] / d.fine[1] - 1))
+                                                                    for d in solved), default=None)})
+        if (miss and max(miss) <= tolerance) or not verified:
             break
         ratio = interpolant(problem, verified)
         for d in pool:
@@ -266,9 +281,7 @@ def verify(problem, runs: list[FrontRun], x_reference, tolerance=0.05, max_round
                 r = ratio(d.x)
                 d.predicted = (d.cheap[0] * r[0], d.cheap[1] * r[1])
         candidates = nondominated(pool, lambda d: d.fine or d.predicted)
-    front_3d = nondominated([d for d in verified if d.fine], lambda d: d.fine)
-    spent = {"cheap designs (feasible, distinct)": len(pool), "3D solves": n3d, "seconds": time.perf_counter() - t0}
-    return MultiFidelity(cheap_front, verified, front_3d, reference, rounds, plan(problem), spent)
+    return verified, rounds
 
 
 def best_below(mf: MultiFidelity) -> Design | None:

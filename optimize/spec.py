@@ -27,7 +27,9 @@ SQLite store and reused by later runs).
     xtol = 0.02                                   # in normalised variables (see the noise note)
 
 Metrics: sensitivity (|V| of the pressed taxel per newton, open circuit, V/N),
-crosstalk (largest neighbour-to-pressed voltage ratio), max_strain (largest
+tangent_sensitivity (the small-signal slope |dV/dF| there: equal to sensitivity on the
+linear model; under a [press], optimize.probe), crosstalk (largest
+neighbour-to-pressed voltage ratio), max_strain (largest
 silicone strain), localization_error (the predicted rms position error of a press
 over the array, m: the Cramer-Rao bound of taxel.analyses.localization from the FEM
 influence functions at the rig's white noise `noise`, default 1 mV on each taxel
@@ -46,7 +48,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -55,6 +57,7 @@ from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
 from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN
+from taxel.optimize.probe import PROBE_METRICS, Press, press_scene, stored_press
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel.optimize.result import FrontRun
@@ -106,6 +109,7 @@ class OptimizationSpec(Strict):
     resolution: Resolution = Resolution()     # the noise metrics' rig, band and force (optimize.resolution)
     robust: Robust | None = None              # the robust metrics' tolerances (optimize.robust)
     requirements: dict[Literal[METRICS], str] = {}   # the yield's spec, e.g. crosstalk = "<= 8 %"
+    press: Press | None = None                # the rig's probe press as the model (optimize.probe)
 
     @model_validator(mode="after")
     def _check(self):
@@ -152,8 +156,10 @@ class Optimization:
     def point(self, data: dict, params: dict) -> dict:
         """The metrics of one scene (a design or one of its parts): geometry, FEM (stored), noise."""
         scene = parse({**data, "name": "design"})
-        metrics = {**_geometry(scene), **dict.fromkeys(("sensitivity", "crosstalk", "max_strain",
+        metrics = {**_geometry(scene), **dict.fromkeys(("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain",
                                                         "localization_error", *NOISE_METRICS))}
+        if self.spec.press is not None:
+            return {**metrics, **self._pressed(data, params)}
         outputs = ("voltage", "crosstalk", "max_strain")
         if self.out is None:
             status, result, _ = evaluate_safely(data, outputs)
@@ -167,11 +173,29 @@ class Optimization:
             return metrics
         v = result["voltage"].get(result["pressed"])
         metrics.update(sensitivity=abs(v) / result["force"] if v is not None else None,
+                       tangent_sensitivity=abs(v) / result["force"] if v is not None else None,   # linear: V ~ F
                        crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
         if set(NOISE_METRICS) & (self.used | set(self.requirements)):
             from taxel.optimize.resolution import noise_metrics
             metrics.update(noise_metrics(scene, result.get("outputs") or {}, self.spec.resolution, self.rig))
         return metrics
+
+    def _pressed(self, data: dict, params: dict) -> dict:
+        """The press metrics of one design under the [press] probe (optimize.probe), stored."""
+        store = Store(self.out) if self.out is not None else None
+        try:
+            status, result, _ = stored_press(store, press_scene(data, self.spec.press), self.spec.press.step, params)
+        finally:
+            if store is not None:
+                store.close()
+        if status != "done":
+            return {}
+        return {k: result[k] for k in PROBE_METRICS}
+
+    def linear(self) -> "Optimization":
+        """The same problem on the cheap level: the base scene's own load on linear silicone
+        (no [press]); same store folder, so its designs are the linear front's."""
+        return replace(self, spec=self.spec.model_copy(update={"press": None}))
 
     @property
     def rig(self):
@@ -264,6 +288,13 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
             raise OptimizeError(f"constraints.{metric}: the bound {value!r} is not a finite number")
         cons.append((metric, op, bound))
     problem = Optimization(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
+    if spec.press is not None:
+        from taxel.optimize.probe import check as check_press
+        check_press(spec.press, OptimizeError)
+        other = problem.used - {*PROBE_METRICS, "total_thickness", "footprint", "gap"}
+        if other:
+            raise OptimizeError(f"[press]: {sorted(other)[0]} is not a press metric; under a probe press use "
+                                "sensitivity, tangent_sensitivity, crosstalk, max_strain or the geometric metrics")
     from taxel.optimize.checks import check_robust
     check_robust(problem, OptimizeError)
     try:

@@ -1,0 +1,169 @@
+"""The rig's press as an optimizer's model: a rigid probe pressed into (Yeoh) silicone.
+
+An optimization takes it with a [press] table:
+
+    [press]
+    shape = "flat"              # flat | sphere (3D) | cylinder (2D): the probe
+    radius = "2 mm"             # punch radius (half-width in 2D) or sphere radius
+    edge_radius = "0.2 mm"      # a flat punch's rounded edge
+    force = "1 N"               # the operating force (default: the base scene's load.force)
+    silicone = "yeoh"           # the silicone law under the probe (yeoh | linear)
+    friction = "sticking"       # sticking | frictionless
+    step = 0.02                 # the tangent's force step, relative
+
+The default probe is the one the project's contact benchmarks and the thesis bench's
+press use (benchmarks/contact_taxel.py): a 4 mm flat punch with a 0.2 mm edge radius,
+centred on the pressed taxel (the base scene's load.taxel), sticking, on Yeoh silicone.
+The rig file (studies/bench) describes the electronics, not the probe; a scene with a
+contact indenter (load.kind = "indenter", load.contact = true) as the base gives its own
+probe, which then wins over these defaults for every key the table does not set.
+
+Objectives of a press, for the pressed taxel's open-circuit voltage V(F) along the
+force-controlled press (fem.press, every state converged):
+
+    sensitivity          = |V(F)| / F               (V/N, the secant at the operating force F)
+    tangent_sensitivity  = |dV/dF| at F             (V/N, the small-signal slope there)
+    crosstalk            = max_j |V_j(F)| / |V(F)|  (neighbours j, the same press at F)
+    max_strain           = the silicone's largest principal strain at F
+
+The secant, crosstalk and largest strain are those of `taxel solve` of the same scene
+(the same press to F, the same StaticResult). The tangent continues the press to
+F (1 + h) and F (1 + 2 h) and differentiates the quadratic through the three states at
+F (second order in h: with h = 0.02, a few 1e-4 of the slope on the thesis taxel, whose
+V(F) bends by about 1 % over 0.1 F). A linear silicone gives equal secant and tangent only
+when the contact area does not change; under a flat punch it hardly does.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import Field
+
+from taxel import units as U
+from taxel.schema import Strict
+
+PROBE_METRICS = ("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain")
+
+
+class Press(Strict):
+    """The [press] table of an optimization: the rigid probe, its force and the silicone."""
+    shape: Literal["flat", "sphere", "cylinder"] | None = None
+    radius: Any = None
+    edge_radius: Any = None
+    force: Any = None
+    silicone: Literal["yeoh", "linear"] = "yeoh"
+    friction: Literal["sticking", "frictionless"] | None = None
+    step: float = Field(0.02, gt=0, le=0.2)
+
+
+DEFAULT_PROBE = {"shape": "flat", "radius": "2 mm", "edge_radius": "0.2 mm", "friction": "sticking"}
+
+
+def press_scene(data: dict, press: Press) -> dict:
+    """The scene data `data` pressed by the [press] probe at its force: load.kind =
+    "indenter", contact = true, centred on the scene's pressed taxel; the silicone law
+    set; static. A base scene's own contact indenter keeps what the table leaves unset."""
+    data = json.loads(json.dumps(data))
+    load = data.setdefault("load", {})
+    own = load.get("kind") == "indenter" and load.get("contact")
+    for key, default in DEFAULT_PROBE.items():
+        value = getattr(press, key)
+        if value is not None:
+            load[key] = value
+        elif not own or key not in load:
+            load[key] = default
+    if press.force is not None:
+        load["force"] = press.force
+    load.update(kind="indenter", contact=True)
+    load.pop("pressure", None)
+    load.pop("profile", None)
+    data.setdefault("model", {})["silicone"] = press.silicone
+    data.setdefault("analysis", {})["type"] = "static"
+    return data
+
+
+def check(press: Press, base: dict, error) -> None:
+    """One-line `error` when the table's lengths or force are not quantities."""
+    for key, unit in (("radius", "m"), ("edge_radius", "m"), ("force", "N")):
+        v = getattr(press, key)
+        if v is not None:
+            try:
+                if not U.in_unit(v, unit)[0] > 0 and key != "edge_radius":
+                    raise error(f"press.{key} must be positive, got {v!r}")
+            except U.UnitError as exc:
+                raise error(f"press.{key}: {exc}") from None
+
+
+def press_metrics(data: dict, step: float = 0.02) -> dict:
+    """PROBE_METRICS of a pressed scene's data (press_scene's output), the voltage-force
+    states of the press, its force and the seconds it took (JSON-ready, SI)."""
+    from taxel.analyses import problem
+    from taxel.analyses.results import StaticResult
+    from taxel.fem.assembly import assemble
+    from taxel.fem.press import Press as FemPress
+    from taxel.scene import parse
+    t0 = time.perf_counter()
+    scene = parse({**data, "name": "press"})
+    prob = problem(scene)
+    pr = FemPress(assemble(prob), prob.indenter)
+    F = float(scene.load.force)
+    pr.force(F)                                  # as taxel solve: one force-controlled press to F
+    sol = pr.solution()
+    res = StaticResult(scene, sol, {}, yeoh=prob.hyperelastic)
+    out = res.outputs()
+    pressed = res.pressed
+    f0, v0 = pr.res.points[-1].force, pr.res.points[-1].voltages[pressed]
+    states = [(f0, v0)]
+    for k in (1, 2):
+        p = pr.force(F * (1 + k * step))
+        states.append((p.force, p.voltages[pressed]))
+    return {"sensitivity": abs(out["sensitivity"]), "tangent_sensitivity": abs(tangent(states)),
+            "crosstalk": out.get("crosstalk"), "max_strain": out["max_strain"], "force": f0,
+            "pressed": pressed, "voltage": v0, "states": states,
+            "curve": [(p.force, p.voltages[pressed]) for p in sorted(pr.res.points, key=lambda q: q.travel)],
+            "seconds": time.perf_counter() - t0}
+
+
+def tangent(states) -> float:
+    """dV/dF at the first of three (F, V) states: the derivative of the quadratic through them."""
+    (f0, v0), (f1, v1), (f2, v2) = states
+    c = np.polyfit(np.array([f0, f1, f2]) - f0, [v0, v1, v2], 2)
+    return float(c[1])
+
+
+def press_safely(data: dict, step: float) -> tuple[str, dict | None, str | None]:
+    """(status, result, error) of press_metrics: a failed press is recorded, the search goes on."""
+    try:
+        return "done", press_metrics(data, step), None
+    except Exception as exc:            # recorded with the design; the optimizer treats it as missing
+        return "failed", None, f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
+
+
+def press_key(data: dict, step: float) -> str:
+    """The store key of a press: the pressed scene's point key with the tangent's step."""
+    import hashlib
+    from taxel.studies.store import point_key
+    return hashlib.sha256(f"{point_key(data)} probe-press step {step:g}".encode()).hexdigest()
+
+
+def stored_press(store, data: dict, step: float, params=None) -> tuple[str, dict | None, str | None]:
+    """press_safely through a study store (studies.store.Store): the key is the pressed
+    scene's point key with the tangent's step, so a design is pressed once per step."""
+    from taxel.scene import SceneError
+    try:
+        key = press_key(data, step)
+    except SceneError as exc:
+        return "failed", None, f"SceneError: {exc}"
+    if store is not None:
+        row = store.get(key)
+        if row is not None and row["status"] == "done":
+            return "done", row["result"], None
+    status, result, error = press_safely(data, step)
+    if store is not None:
+        store.put(key, {**(params or {}), "probe press": True}, status, result, error,
+                  (result or {}).get("seconds", 0.0))
+    return status, result, error

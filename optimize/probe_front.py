@@ -1,0 +1,258 @@
+"""The front under the rig's press: the linear pressure-patch front corrected by probe presses.
+
+Levels (each a model of the same design, cheapest first):
+
+  A  linear 2D, the base scene's pressure patch: the cheap front (problem.linear(),
+     optimize.spec.front) and every design its search visited (all cached);
+  B  the probe press in 2D (optimize.probe: the [press] probe on Yeoh silicone,
+     plane strain, the base scene's mesh): a few designs, through the correction
+     loop of optimize.multifidelity (`correct`: log-linear + inverse-distance ratio
+     B/A fitted at the pressed designs, every visited design re-scored, the
+     corrected non-dominated set pressed next, until the prediction agrees);
+  C  the probe press in 3D (the same probe on VERIFY_3D, the verification mesh):
+     with `full`, the level-B front and the thesis design are pressed in 3D, and the
+     same loop corrects level B to C. Without `full` (the main job's default: a 3D
+     press costs about 2 minutes on this mesh), level C is estimated as
+     B x (3D / 2D of the linear patch at the same design), the linear verification's
+     ratio (optimize.multifidelity.verify, interpolated between its designs): the
+     3D/2D factor of the geometry taken from the linear model, the material law's
+     and the probe's factor from the 2D press.
+
+Every front design carries its estimated relative error, the sum of
+  - discretisation: the 2D mesh's (DISCRETISATION_2D; README: the default mesh within
+    0.24-0.47 % of the converged voltage) at level B, PRESS_3D_ERROR at level C
+    (taxel.analyses.error_estimate: the default 3D mesh's press voltage is 5.4 % off);
+  - the correction: for a design predicted, not pressed, the loop's last measured
+    disagreement of its prediction; for level C estimated from B, the product's
+    error (PRODUCT_ERROR, measured by benchmarks/probe_front.py --full);
+  - the material law: 0 against the Yeoh law (the fit's own error is the law's, stated
+    in docs/guide/silicone-and-contact.md); for the linear front beside it,
+    LINEAR_ERROR_PER_STRAIN x its largest strain.
+
+`movements` compares, design by design, the linear verified front with the probe
+front: how far sensitivity and crosstalk moved, whether the order of the designs by
+sensitivity changed, and where the thesis design stands.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from taxel.analyses.error_estimate import PRESS_3D_ERROR
+from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN
+from taxel.optimize.multifidelity import (VERIFY_3D, Design, MultiFidelity, answer, correct, fine_data,
+                                          interpolant, nondominated)
+from taxel.optimize.probe import press_key, press_safely, press_scene, stored_press
+from taxel.studies.execute import local_cluster
+from taxel.studies.store import Store
+
+DISCRETISATION_2D = 0.0047        # the default 2D mesh's voltage error, worst of README's 0.24-0.47 %
+PRODUCT_ERROR = None              # level C from B x (3D/2D linear): measured by benchmarks/probe_front.py --full
+PROBE_FILE = "probe-front.json"   # the headline front, in the linear front's folder
+KIND = "probe-front"
+
+
+@dataclass
+class ProbeFront:
+    level: str                                  # "3D press" (full) or "2D press x linear 3D/2D"
+    pool: list[Design]                          # every visited design: cheap = linear 2D
+    pressed_2d: list[Design]                    # designs pressed in 2D (fine = 2D press)
+    pressed_3d: list[Design]                    # designs pressed in 3D (full only)
+    front: list[dict]                           # the headline front's rows
+    reference: dict                             # the thesis design's row
+    rounds: dict = field(default_factory=dict)
+    spent: dict = field(default_factory=dict)
+    movements: list[dict] = field(default_factory=list)
+    ranking: dict = field(default_factory=dict)
+
+    def record(self, problem) -> dict:
+        return {"kind": KIND, "name": problem.spec.name, "level": self.level,
+                "press": problem.spec.press.model_dump(), "verify_3d": VERIFY_3D,
+                "front": self.front, "reference": self.reference, "movements": self.movements,
+                "ranking": self.ranking, "rounds": self.rounds, "spent": self.spent,
+                "definitions": DEFINITIONS, "sentence": sentence(self)}
+
+    def to_folder(self, out, problem) -> dict:
+        rec = self.record(problem)
+        (Path(out) / PROBE_FILE).write_text(json.dumps(rec, indent=1))
+        return rec
+
+
+DEFINITIONS = {
+    "sensitivity": "|V(F)| / F of the pressed taxel at the operating force F (secant, V/N)",
+    "tangent_sensitivity": "|dV/dF| at F (small-signal slope, V/N)",
+    "crosstalk": "largest neighbour |V| / pressed |V| of the same press at F",
+    "estimated error": "discretisation + correction + material law, relative, on sensitivity"}
+
+
+def _solver(problem, model: dict | None, workers: int):
+    """xs -> [(sensitivity, crosstalk) or None]: the [press] of each design on the 2D base
+    mesh (model None) or on `model` (3D), stored in the run's store."""
+    press = problem.spec.press
+
+    def datas(xs):
+        return [press_scene(problem.scene_data(x) if model is None else fine_data(problem, x, model), press)
+                for x in xs]
+
+    def solve(xs):
+        ds = datas(xs)
+        store = Store(problem.out)
+        try:
+            got = [stored_press(store, d, press.step) if _cached(store, d, press.step) else None for d in ds]
+            todo = [i for i, g in enumerate(got) if g is None]
+            if workers > 1 and len(todo) > 1:
+                from dask.distributed import Client
+                cluster = local_cluster(workers)
+                client = Client(cluster)
+                try:
+                    res = client.gather([client.submit(press_safely, ds[i], press.step, pure=False) for i in todo])
+                finally:
+                    client.close()
+                    cluster.close()
+            else:
+                res = [press_safely(ds[i], press.step) for i in todo]
+            for i, r in zip(todo, res):
+                _put(store, ds[i], press.step, r)
+                got[i] = r
+        finally:
+            store.close()
+        return [(g[1]["sensitivity"], g[1]["crosstalk"]) if g[0] == "done" else None for g in got]
+    return solve
+
+
+def _cached(store, data, step) -> bool:
+    row = store.get(press_key(data, step))
+    return row is not None and row["status"] == "done"
+
+
+def _put(store, data, step, r):
+    status, result, error = r
+    store.put(press_key(data, step), {"probe press": True}, status, result, error, (result or {}).get("seconds", 0.0))
+
+
+def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False, workers=2,
+                tolerance=0.02, max_rounds=2) -> ProbeFront:
+    """The probe front of `problem` (a spec with [press]) from its linear front `runs`
+    (problem.linear()'s, optimize.spec.front) and their 3D verification `linear_mf`."""
+    from taxel.optimize.multifidelity import _history
+    t0 = time.perf_counter()
+    lin = problem.linear()
+    pool = _history(runs, lin)
+    by_x = {tuple(np.round(d.x, 9)): d for d in pool}
+    front_a = [by_x[k] for k in (tuple(np.round(d.x, 9)) for d in linear_mf.cheap_front) if k in by_x]
+    ref = Design(list(map(float, x_reference)), linear_mf.reference.cheap)
+    pool.append(ref)
+    cap = max(len(front_a), 2)
+    pressed_2d, rounds_b = correct(lin, pool, front_a + [ref], cap, _solver(problem, None, workers),
+                                   tolerance, max_rounds)
+    t1 = time.perf_counter()
+    miss_b = _last_miss(rounds_b)
+    score_b = {id(d): d.fine or d.predicted for d in pool}
+    ratio_lin = interpolant(lin, linear_mf.verified)
+    pressed_3d, rounds_c = [], []
+    if full:
+        pool_c = [Design(d.x, score_b[id(d)]) for d in pool if score_b[id(d)] is not None]
+        ref_c = next(d for d in pool_c if np.allclose(d.x, ref.x))
+        front_b = nondominated(pool_c, lambda d: d.cheap)
+        pressed_3d, rounds_c = correct(lin, pool_c, front_b + ([ref_c] if ref_c not in front_b else []),
+                                       max(len(front_b), 2), _solver(problem, VERIFY_3D, workers), tolerance, 1)
+        rows = [_row(lin, d.x, d.fine, "3D press", PRESS_3D_ERROR) for d in pressed_3d if d.fine]
+        ref_row = _row(lin, ref_c.x, ref_c.fine, "3D press", PRESS_3D_ERROR) if ref_c.fine else None
+    else:
+        rows, ref_row = [], None
+        for d in pool:
+            s = score_b[id(d)]
+            if s is None:
+                continue
+            r = ratio_lin(d.x)
+            err = DISCRETISATION_2D + (0.0 if d.fine else (miss_b or 0.0)) + (PRODUCT_ERROR or 0.0)
+            row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press" if d.fine else "2D press, predicted", err)
+            row["sensitivity 2D press (V/N)"], row["crosstalk 2D press"] = s
+            rows.append(row)
+            if d is ref:
+                ref_row = row
+    front = _nondominated_rows(rows)
+    if ref_row is None:
+        ref_row = {"x": ref.x, "note": "the thesis design's press failed"}
+    level = "3D press" if full else "2D press x linear 3D/2D"
+    pf = ProbeFront(level, pool, pressed_2d, pressed_3d, front, ref_row,
+                    {"2D press": rounds_b, "3D press": rounds_c},
+                    {"linear designs visited": len(pool) - 1, "2D presses": len(pressed_2d),
+                     "3D presses": len(pressed_3d), "2D press seconds": t1 - t0,
+                     "3D press seconds": time.perf_counter() - t1,
+                     "3D solves if every candidate were pressed in 3D": len(pool),
+                     "product error measured": PRODUCT_ERROR is not None})
+    pf.movements, pf.ranking = movements(lin, linear_mf, pf, ratio_lin, score_b, pool)
+    return pf
+
+
+def _last_miss(rounds) -> float | None:
+    vals = [r["largest disagreement of the corrected prediction"] for r in rounds
+            if r["largest disagreement of the corrected prediction"] is not None]
+    return vals[-1] if vals else None
+
+
+def _row(problem, x, sc, how, err) -> dict:
+    return {"x": list(map(float, x)), **{f"{n} ({u})": v for n, v, u in zip(problem.names, x, problem.units)},
+            "sensitivity (V/N)": sc[0], "crosstalk": sc[1], "how": how, "estimated error": err,
+            "within 2 %": err <= 0.02}
+
+
+def _nondominated_rows(rows) -> list[dict]:
+    from taxel.optimize.driver import pareto_front
+    keep = set(pareto_front([(r["sensitivity (V/N)"], r["crosstalk"]) for r in rows]))
+    return sorted([r for r in rows if (r["sensitivity (V/N)"], r["crosstalk"]) in keep], key=lambda r: r["crosstalk"])
+
+
+def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b, pool):
+    """Per design of the linear 3D-verified front: its linear 3D (s, c) and its probe
+    estimate at the same design, the relative moves; the ranking by sensitivity under
+    each; whether the thesis design is dominated under each."""
+    by_x = {tuple(np.round(d.x, 9)): d for d in pool}
+    rows = []
+    for d in linear_mf.front_3d:
+        p = by_x.get(tuple(np.round(d.x, 9)))
+        if p is None or score_b.get(id(p)) is None:
+            continue
+        s = score_b[id(p)]
+        r = ratio_lin(d.x)
+        probe = (s[0] * r[0], s[1] * r[1])
+        rows.append({**{f"{n} ({u})": v for n, v, u in zip(lin.names, d.x, lin.units)},
+                     "linear sensitivity (V/N)": d.fine[0], "probe sensitivity (V/N)": probe[0],
+                     "sensitivity moved": probe[0] / d.fine[0] - 1,
+                     "linear crosstalk": d.fine[1], "probe crosstalk": probe[1],
+                     "crosstalk moved": probe[1] / d.fine[1] - 1})
+    order_lin = np.argsort([-r["linear sensitivity (V/N)"] for r in rows])
+    order_probe = np.argsort([-r["probe sensitivity (V/N)"] for r in rows])
+    ref = pf.reference
+    dominated = [r for r in pf.front if ref.get("sensitivity (V/N)") is not None
+                 and r["sensitivity (V/N)"] > ref["sensitivity (V/N)"] * (1 + 1e-3)
+                 and r["crosstalk"] < ref["crosstalk"] * (1 - 1e-3)]
+    ranking = {"same order by sensitivity": bool(np.array_equal(order_lin, order_probe)),
+               "linear order": order_lin.tolist(), "probe order": order_probe.tolist(),
+               "thesis dominated (linear 3D)": not answer(linear_mf)["thesis_on_3d_front"],
+               "thesis dominated (probe)": bool(dominated),
+               "designs dominating the thesis (probe)": len(dominated)}
+    return rows, ranking
+
+
+def sentence(pf: ProbeFront) -> str:
+    ref = pf.reference
+    if ref.get("sensitivity (V/N)") is None:
+        return "The thesis design could not be pressed."
+    head = (f"Under the probe ({pf.level}) the thesis design gives {ref['sensitivity (V/N)']:.3f} V/N at "
+            f"{100 * ref['crosstalk']:.2f} % crosstalk; it is "
+            f"{'dominated by ' + str(pf.ranking['designs dominating the thesis (probe)']) + ' front designs' if pf.ranking.get('thesis dominated (probe)') else 'on the probe front'}.")
+    moved = pf.movements
+    if moved:
+        ds = [100 * m["sensitivity moved"] for m in moved]
+        dc = [100 * m["crosstalk moved"] for m in moved]
+        head += (f" Against the linear 3D front, the front designs' sensitivity moved {min(ds):+.1f} to {max(ds):+.1f} %"
+                 f" and crosstalk {min(dc):+.1f} to {max(dc):+.1f} %; the order by sensitivity "
+                 f"{'did not change' if pf.ranking['same order by sensitivity'] else 'changed'}.")
+    return head
