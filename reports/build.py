@@ -130,6 +130,9 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
                    {"type": "table", "table": tables.table(rec["front_3d"] + [rec["reference"]])},
                    {"type": "note", "text": f"3D model: {rec['verify_3d']}; rounds: {rec['rounds']}; "
                                             f"plan: {rec['plan']}; spent: {rec['spent']}"}]
+    if (folder / "probe-front.json").exists():       # the headline under the rig's probe (optimize.probe_front)
+        from taxel.reports.multifidelity import probe_blocks
+        blocks = probe_blocks(read_json(folder / "probe-front.json")) + blocks
     return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
             "banners": [], "thumb": key[0].read_bytes() if key else None}
 

@@ -34,3 +34,56 @@ def draw(mf: MultiFidelity, name: str, out: Path) -> Path:
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def draw_probe(pf, mf: MultiFidelity, name: str, out: Path) -> Path:
+    """OUT/pareto-probe.png: the probe-Yeoh front (the headline, optimize.probe_front)
+    beside the linear pressure-patch front verified in 3D, the thesis design under each,
+    each front design's move joined by a line."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.5, 4.2), constrained_layout=True)
+    f3 = sorted(mf.front_3d, key=lambda d: d.fine[1])
+    ax.plot([100 * d.fine[1] for d in f3], [d.fine[0] for d in f3], "s-", color="tab:blue",
+            label="linear pressure patch, 3D-verified front")
+    fr = pf.front
+    ax.plot([100 * r["crosstalk"] for r in fr], [r["sensitivity (V/N)"] for r in fr], "o-", color="tab:red",
+            label=f"probe on Yeoh silicone ({pf.level})")
+    for m in pf.movements:
+        ax.plot([100 * m["linear crosstalk"], 100 * m["probe crosstalk"]],
+                [m["linear sensitivity (V/N)"], m["probe sensitivity (V/N)"]], "-", color="0.7", lw=0.8)
+    ax.plot(100 * mf.reference.fine[1], mf.reference.fine[0], "*", color="tab:blue", ms=13, mfc="none",
+            label="thesis design, linear patch")
+    ref = pf.reference
+    if ref.get("sensitivity (V/N)") is not None:
+        ax.plot(100 * ref["crosstalk"], ref["sensitivity (V/N)"], "*", color="tab:red", ms=14,
+                label="thesis design, probe")
+    ax.set_xscale("log")
+    ax.set_xlabel(f"{METRIC_TABLE['crosstalk'].label} (%)")
+    ax.set_ylabel(axis_label("sensitivity"))
+    ax.set_title(f"{name}: the front under the rig's probe (grey: each design's move)", fontsize=10)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.grid(True, alpha=0.3)
+    path = Path(out) / "pareto-probe.png"
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def probe_blocks(rec: dict) -> list[dict]:
+    """The report's blocks of a probe front (probe-front.json, kind "probe-front"): the
+    sentence, the front with each design's estimated error, the movements against the
+    linear front, the definitions and the cost."""
+    from taxel.reports import tables
+    front = [{k: v for k, v in r.items() if k != "x"} for r in rec["front"]]
+    ref = {k: v for k, v in rec["reference"].items() if k != "x"}
+    over = [r for r in rec["front"] if not r.get("within 2 %", True)]
+    blocks = [{"type": "text", "text": "Headline: " + rec["sentence"]},
+              {"type": "table", "table": tables.table(front + [{**ref, "how": f"thesis design ({ref.get('how', '')})"}])},
+              {"type": "text", "text": "Movements against the linear pressure-patch front (3D-verified), design by design:"},
+              {"type": "table", "table": tables.table(rec["movements"])},
+              {"type": "note", "text": "Definitions: " + "; ".join(f"{k}: {v}" for k, v in rec["definitions"].items())
+               + f". Ranking: {rec['ranking']}. Spent: {rec['spent']}."}]
+    if over:
+        blocks.append({"type": "note", "text": f"{len(over)} of {len(rec['front'])} front designs have an estimated "
+                                               f"error above 2 % (column 'estimated error')."})
+    return blocks

@@ -8,7 +8,7 @@
     taxel study status DIR | taxel study export DIR --csv FILE
     taxel optimize OPT [--out DIR] [--workers N]
     taxel report DIR... --out OUT [--pdf]
-    taxel demo [--out DIR] [--small]
+    taxel demo [--out DIR] [--small] [--full]
     taxel examples
     taxel measure capture|import|export|rebuild|simulate ...   (taxel/cli_measure.py)
 
@@ -187,7 +187,7 @@ def _demo(args):
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}: exists and is not a folder; choose another output folder")
-    run(out, small=args.small)
+    run(out, small=args.small, full=args.full)
 
 
 def _mesh(args):
@@ -263,6 +263,7 @@ def main(argv=None):
     p = sub.add_parser("demo", help="the main job: thesis study, optimization, dynamics and the report")
     p.add_argument("--out", default="out/demo", metavar="DIR")
     p.add_argument("--small", action="store_true", help="a reduced run (for CI)")
+    p.add_argument("--full", action="store_true", help="the probe fronts verified by 3D presses (slow)")
     p.set_defaults(run=_demo)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)

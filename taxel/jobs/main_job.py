@@ -15,10 +15,11 @@ from pathlib import Path
 
 from taxel import api
 from taxel.optimize import multifidelity as MF
+from taxel.optimize import probe_front as PF
 from taxel.optimize import spec as O
 from taxel.optimize.run import reference_x
 from taxel.reports import analysis
-from taxel.reports.multifidelity import draw as draw_verified_front
+from taxel.reports.multifidelity import draw as draw_verified_front, draw_probe as draw_probe_front
 from taxel import measure
 from taxel.studies.spec import Study, load_study
 
@@ -41,9 +42,12 @@ def small_optimization(name: str) -> O.Optimization:
     return prob
 
 
-def front(out: Path, name: str, small: bool) -> Path:
-    """The cheap (2D) front of a built-in problem (taxel.optimize), then its 3D
-    verification (optimize.multifidelity); `small`: one short run, no front."""
+def front(out: Path, name: str, small: bool, full: bool = False) -> Path:
+    """The cheap (2D) front of a built-in problem (taxel.optimize), its 3D
+    verification (optimize.multifidelity), then the headline: the same designs under
+    the rig's probe on Yeoh silicone (optimize.probe_front, the built-in
+    NAME-probe-front spec; 3D presses with `full`), written to OUT/probe-front.json;
+    `small`: one short run, no front."""
     if small:
         api.optimize(small_optimization(name), out)
         return out
@@ -59,6 +63,15 @@ def front(out: Path, name: str, small: bool) -> Path:
     draw_verified_front(mf, prob.spec.name, out)
     print(f"      cheap front {t1 - t0:.0f} s; " + "; ".join(mf.summary()))
     print(f"      {rec['sentence']}")
+    probe = O.load_optimization(name.replace("-front", "-probe-front"), out)
+    pf = PF.probe_front(probe, mf, result.runs, reference_x(prob), full=full, workers=2)
+    prec = pf.to_folder(out, probe)
+    draw_probe_front(pf, mf, probe.spec.name, out)
+    s = pf.spent
+    print(f"      probe front ({pf.level}): {s['2D presses']} 2D presses in {s['2D press seconds']:.0f} s, "
+          f"{s['3D presses']} 3D presses in {s['3D press seconds']:.0f} s, against "
+          f"{s['3D solves if every candidate were pressed in 3D']} 3D presses for every candidate")
+    print(f"      {prec['sentence']}")
     return out
 
 
@@ -105,8 +118,9 @@ def tolerances(out: Path) -> Path:
     return out
 
 
-def run(root: Path, small: bool = False) -> Path:
-    """Run the main job into `root` and return the report's index page."""
+def run(root: Path, small: bool = False, full: bool = False) -> Path:
+    """Run the main job into `root` and return the report's index page; `full`: the probe
+    fronts verified by 3D presses (about 2 minutes a press on the verification mesh)."""
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%d %H:%M:%S")
     root.mkdir(parents=True, exist_ok=True)
@@ -119,7 +133,7 @@ def run(root: Path, small: bool = False) -> Path:
     print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
-        folders.append(front(root / name, name, small))
+        folders.append(front(root / name, name, small, full))
     print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = api.load(name)

@@ -1,0 +1,176 @@
+"""The rig's probe press as the optimizer's model (optimize.probe, optimize.probe_front):
+the press objective against `taxel solve` of the same scene and its tangent against
+independent presses; the multi-fidelity correction against pressing every candidate;
+an optimization under the press that must find a known optimum. Coarse 2D meshes."""
+
+import json
+
+import numpy as np
+import pytest
+
+from taxel.cli import main
+from taxel.optimize.multifidelity import Design, correct, nondominated
+from taxel.optimize.probe import Press, press_metrics, press_scene
+from taxel.optimize.probe_front import _solver
+from taxel.optimize.spec import load_optimization, optimize
+from taxel.schema import to_data
+from taxel.scene import load
+
+COARSE = {"mesh.size": 1e-3, "mesh.piezo_size": 0.25e-3}
+
+SCENE = """
+description = "thesis pzt 3x3 row, pressed by the rig's 4 mm punch on Yeoh silicone"
+[model]
+type = "plane_strain"
+silicone = "yeoh"
+[mesh]
+size = "1 mm"
+piezo_size = "0.25 mm"
+order = 2
+[array]
+rows = 3
+cols = 3
+taxel_width = "4 mm"
+piezo = "PSI-5H4E"
+piezo_thickness = "0.127 mm"
+gap = "3 mm"
+margin = "3 mm"
+silicone = "Ecoflex-00-30"
+silicone_above = "1 mm"
+silicone_below = "1 mm"
+[load]
+kind = "indenter"
+contact = true
+shape = "flat"
+radius = "2 mm"
+edge_radius = "0.2 mm"
+friction = "sticking"
+taxel = [1, 1]
+force = "1 N"
+[supports]
+bottom = "bonded"
+"""
+
+
+@pytest.mark.slow
+def test_press_objective_equals_taxel_solve_and_its_tangent_the_slope(tmp_path, capsys):
+    """Secant sensitivity, crosstalk and largest strain equal `taxel solve --json` of the
+    same scene (the same press to 1 N); the tangent matches the central difference along
+    one press through 0.9, 1 and 1.1 N, and within 2 % the chord of two independent
+    presses to 0.9 and 1.1 N."""
+    path = tmp_path / "press.toml"
+    path.write_text(SCENE)
+    assert main(["solve", str(path), "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    data = to_data(load(path))
+    m = press_metrics(data)
+    assert m["sensitivity"] == pytest.approx(abs(rec["outputs"]["sensitivity"]), rel=1e-12)
+    assert m["crosstalk"] == pytest.approx(rec["outputs"]["crosstalk"], rel=1e-12)
+    assert m["max_strain"] == pytest.approx(rec["max_silicone_strain"], rel=1e-12)
+    from taxel.analyses import problem
+    from taxel.fem.assembly import assemble
+    from taxel.fem.press import Press as FemPress
+    prob = problem(load(path))
+    pr = FemPress(assemble(prob), prob.indenter)
+    v = {F: (p.force, p.voltages["taxel_1_1"]) for F, p in ((F, pr.force(F)) for F in (0.9, 1.0, 1.1))}
+    slope = abs((v[1.1][1] - v[0.9][1]) / (v[1.1][0] - v[0.9][0]))      # central, along one press
+    assert m["tangent_sensitivity"] == pytest.approx(slope, rel=3e-3)
+    # independent presses from zero to 0.9 and 1.1 N end on a curve 1.1 % less steep (the
+    # sticking set depends on the load steps): the small-signal slope is the continued press's
+    ends = []
+    for F in (0.9, 1.1):
+        d = json.loads(json.dumps(data))
+        d["load"]["force"] = f"{F} N"
+        ends.append(press_metrics(d))
+    chord = abs((ends[1]["voltage"] - ends[0]["voltage"]) / (ends[1]["force"] - ends[0]["force"]))
+    assert m["tangent_sensitivity"] == pytest.approx(chord, rel=2e-2)
+    # Yeoh stiffens and the contact grows: the slope is below the secant
+    assert m["tangent_sensitivity"] < m["sensitivity"]
+
+
+def test_press_scene_puts_the_probe_on_the_pressed_taxel():
+    data = to_data(load("thesis-pzt-3x3-2d"))
+    d = press_scene(data, Press(radius="1.5 mm", force="0.5 N"))
+    assert d["load"] | {} == {**d["load"], "kind": "indenter", "contact": True, "radius": "1.5 mm",
+                             "force": "0.5 N", "shape": "flat", "edge_radius": "0.2 mm", "friction": "sticking"}
+    assert d["model"]["silicone"] == "yeoh" and list(d["load"]["taxel"]) == [1, 1]
+
+
+def _problem(tmp_path, objective="maximize = \"sensitivity\"", extra=""):
+    text = f"""
+base = "thesis-pzt-3x3-2d"
+[variables]
+silicone_above = {{path = "array.silicone_above", min = "0.4 mm", max = "1.8 mm", start = "0.7 mm"}}
+gap = {{path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}}
+[objective]
+{objective}
+[constraints]
+total_thickness = "<= 2.127 mm"
+{extra}
+[algorithm]
+global = "none"
+local = "COBYLA"
+max_evaluations = 10
+xtol = 0.02
+[press]
+force = "1 N"
+"""
+    p = tmp_path / "opt.toml"
+    p.write_text(text)
+    prob = load_optimization(p, tmp_path / "out")
+    prob.base = json.loads(json.dumps(prob.base))
+    prob.base["mesh"].update(size="1 mm", piezo_size="0.25 mm")
+    return prob
+
+
+@pytest.mark.slow
+def test_multifidelity_front_equals_pressing_every_candidate(tmp_path):
+    """Six designs: the correction loop (linear 2D -> 2D press) presses some of them and
+    predicts the rest; its front is the front of pressing all six, and each pressed value
+    is the brute-force one."""
+    prob = _problem(tmp_path)
+    lin = prob.linear()
+    xs = [np.array([a, g]) * 1e-3 for a, g in ((0.5, 1.5), (0.8, 4.5), (1.0, 3.0), (1.3, 2.0), (0.6, 3.5),
+                                                 (1.0, 5.0))]
+    pool = []
+    for x in xs:
+        m = lin.evaluate(x)
+        pool.append(Design(list(x), (m["sensitivity"], m["crosstalk"])))
+    solve = _solver(prob, None, 1)
+    front_lin = nondominated(pool, lambda d: d.cheap)
+    verified, rounds = correct(lin, pool, front_lin, 2, solve, tolerance=0.01, max_rounds=6)
+    brute = solve([d.x for d in pool])                       # from the store where the loop pressed
+    mf_front = nondominated([d for d in pool if d.fine or d.predicted], lambda d: d.fine or d.predicted)
+    bf_front = nondominated([Design(d.x, b) for d, b in zip(pool, brute)], lambda d: d.cheap)
+    assert {tuple(d.x) for d in mf_front} == {tuple(d.x) for d in bf_front}
+    for d in verified:
+        assert d.fine == brute[[tuple(p.x) for p in pool].index(tuple(d.x))]
+    assert len(verified) < len(pool) or len(rounds) > 1
+
+
+@pytest.mark.slow
+def test_optimizer_under_the_press_finds_the_known_optimum(tmp_path):
+    """Minimize crosstalk under the probe over the gap alone (silicone fixed): crosstalk
+    falls with the distance to the neighbour, so the optimum is the largest gap, 5 mm;
+    COBYLA reaches it from 3 mm within 10 presses."""
+    text = """
+base = "thesis-pzt-3x3-2d"
+[variables]
+gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
+[objective]
+minimize = "crosstalk"
+[algorithm]
+global = "none"
+local = "BOBYQA"
+max_evaluations = 8
+xtol = 0.01
+[press]
+force = "1 N"
+"""
+    p = tmp_path / "gap.toml"
+    p.write_text(text)
+    prob = load_optimization(p, tmp_path / "out")
+    prob.base["mesh"].update(size="1 mm", piezo_size="0.25 mm")
+    r = optimize(prob)
+    assert r.x[0] == pytest.approx(5e-3, abs=0.05e-3)
+    assert r.metrics["tangent_sensitivity"] is not None
