@@ -90,7 +90,7 @@ def press_scene(data: dict, press: Press) -> dict:
     return data
 
 
-def check(press: Press, base: dict, error) -> None:
+def check(press: Press, error) -> None:
     """One-line `error` when the table's lengths or force are not quantities."""
     for key, unit in (("radius", "m"), ("edge_radius", "m"), ("force", "N")):
         v = getattr(press, key)
