@@ -21,7 +21,9 @@ Levels (each a model of the same design, cheapest first):
 Every front design carries its estimated relative error, the sum of
   - discretisation: the 2D mesh's (DISCRETISATION_2D; README: the default mesh within
     0.24-0.47 % of the converged voltage) at level B, PRESS_3D_ERROR at level C
-    (taxel.analyses.error_estimate: the default 3D mesh's press voltage is 5.4 % off);
+    (taxel.analyses.error_estimate: the default 3D mesh's press voltage is 5.4 % off),
+    and for C estimated from B the linear ratio's own 3D mesh error (VERIFY_3D_ERROR,
+    the verification mesh's worst measured voltage error, 3.8 %);
   - the correction: for a design predicted, not pressed, the loop's last measured
     disagreement of its prediction; for level C estimated from B, the product's
     error (PRODUCT_ERROR, measured by benchmarks/probe_front.py --full);
@@ -52,6 +54,7 @@ from taxel.studies.execute import local_cluster
 from taxel.studies.store import Store
 
 DISCRETISATION_2D = 0.0047        # the default 2D mesh's voltage error, worst of README's 0.24-0.47 %
+VERIFY_3D_ERROR = 0.038           # the verification mesh's voltage error, worst measured (optimize.multifidelity, 6.)
 PRODUCT_ERROR = None              # level C from B x (3D/2D linear): measured by benchmarks/probe_front.py --full
 PROBE_FILE = "probe-front.json"   # the headline front, in the linear front's folder
 KIND = "probe-front"
@@ -76,6 +79,24 @@ class ProbeFront:
                 "front": self.front, "reference": self.reference, "movements": self.movements,
                 "ranking": self.ranking, "rounds": self.rounds, "spent": self.spent,
                 "definitions": DEFINITIONS, "sentence": sentence(self)}
+
+    def summary(self, problem) -> list[str]:
+        """The probe front, its errors, and each linear front design's move, for a person."""
+        names = [f"{n} ({u})" for n, u in zip(problem.names, problem.units)]
+        lines = [f"probe front ({self.level}): sensitivity V/N, crosstalk %, estimated error %, design"]
+        for r in self.front + [dict(self.reference, how="thesis design")]:
+            if r.get("sensitivity (V/N)") is None:
+                continue
+            lines.append(f"  {r['sensitivity (V/N)']:.4f}  {100 * r['crosstalk']:6.2f}  "
+                         f"{100 * r['estimated error']:4.2f}{'' if r['within 2 %'] else ' (> 2 %)'}  "
+                         + ", ".join(f"{r[n]:.3g}" for n in names) + f"  [{r['how']}]")
+        lines.append("moves of the linear 3D-verified front's designs (linear -> probe): sensitivity V/N, crosstalk %")
+        for m in self.movements:
+            lines.append(f"  {', '.join(f'{m[n]:.3g}' for n in names)}: {m['linear sensitivity (V/N)']:.4f} -> "
+                         f"{m['probe sensitivity (V/N)']:.4f} ({100 * m['sensitivity moved']:+.1f} %), "
+                         f"{100 * m['linear crosstalk']:.2f} -> {100 * m['probe crosstalk']:.2f} "
+                         f"({100 * m['crosstalk moved']:+.1f} %)")
+        return lines
 
     def to_folder(self, out, problem) -> dict:
         rec = self.record(problem)
@@ -145,10 +166,12 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
     pool = _history(runs, lin)
     by_x = {tuple(np.round(d.x, 9)): d for d in pool}
     front_a = [by_x[k] for k in (tuple(np.round(d.x, 9)) for d in linear_mf.cheap_front) if k in by_x]
-    ref = Design(list(map(float, x_reference)), linear_mf.reference.cheap)
-    pool.append(ref)
+    ref = by_x.get(tuple(np.round(np.asarray(x_reference, float), 9)))
+    if ref is None:
+        ref = Design(list(map(float, x_reference)), linear_mf.reference.cheap)
+        pool.append(ref)
     cap = max(len(front_a), 2)
-    pressed_2d, rounds_b = correct(lin, pool, front_a + [ref], cap, _solver(problem, None, workers),
+    pressed_2d, rounds_b = correct(lin, pool, front_a + ([ref] if ref not in front_a else []), cap, _solver(problem, None, workers),
                                    tolerance, max_rounds)
     t1 = time.perf_counter()
     miss_b = _last_miss(rounds_b)
@@ -170,7 +193,7 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
             if s is None:
                 continue
             r = ratio_lin(d.x)
-            err = DISCRETISATION_2D + (0.0 if d.fine else (miss_b or 0.0)) + (PRODUCT_ERROR or 0.0)
+            err = DISCRETISATION_2D + (0.0 if d.fine else (miss_b or 0.0)) + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0)
             row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press" if d.fine else "2D press, predicted", err)
             row["sensitivity 2D press (V/N)"], row["crosstalk 2D press"] = s
             rows.append(row)
@@ -182,10 +205,11 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
     level = "3D press" if full else "2D press x linear 3D/2D"
     pf = ProbeFront(level, pool, pressed_2d, pressed_3d, front, ref_row,
                     {"2D press": rounds_b, "3D press": rounds_c},
-                    {"linear designs visited": len(pool) - 1, "2D presses": len(pressed_2d),
+                    {"2D presses": len(pressed_2d),
                      "3D presses": len(pressed_3d), "2D press seconds": t1 - t0,
                      "3D press seconds": time.perf_counter() - t1,
                      "3D solves if every candidate were pressed in 3D": len(pool),
+                     "linear designs visited": len(pool),
                      "product error measured": PRODUCT_ERROR is not None})
     pf.movements, pf.ranking = movements(lin, linear_mf, pf, ratio_lin, score_b, pool)
     return pf

@@ -71,7 +71,9 @@ def front(out: Path, name: str, small: bool, full: bool = False) -> Path:
     print(f"      probe front ({pf.level}): {s['2D presses']} 2D presses in {s['2D press seconds']:.0f} s, "
           f"{s['3D presses']} 3D presses in {s['3D press seconds']:.0f} s, against "
           f"{s['3D solves if every candidate were pressed in 3D']} 3D presses for every candidate")
-    print(f"      {prec['sentence']}")
+    for line in pf.summary(probe):
+        print("      " + line)
+    print(f"      {prec['sentence']}", flush=True)
     return out
 
 
