@@ -88,7 +88,8 @@ class ProbeFront:
             if r.get("sensitivity (V/N)") is None:
                 continue
             lines.append(f"  {r['sensitivity (V/N)']:.4f}  {100 * r['crosstalk']:6.2f}  "
-                         f"{100 * r['estimated error']:4.2f}{'' if r['within 2 %'] else ' (> 2 %)'}  "
+                         + (f"{100 * r['estimated error']:4.2f}" if r["estimated error"] is not None else "n/a")
+                         + f"{'' if r['within 2 %'] else ' (> 2 %)'}  "
                          + ", ".join(f"{r[n]:.3g}" for n in names) + f"  [{r['how']}]")
         lines.append("moves of the linear 3D-verified front's designs (linear -> probe): sensitivity V/N, crosstalk %")
         for m in self.movements:
@@ -193,7 +194,8 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
             if s is None:
                 continue
             r = ratio_lin(d.x)
-            err = DISCRETISATION_2D + (0.0 if d.fine else (miss_b or 0.0)) + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0)
+            err = None if not d.fine and miss_b is None else \
+                DISCRETISATION_2D + (0.0 if d.fine else miss_b) + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0)
             row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press" if d.fine else "2D press, predicted", err)
             row["sensitivity 2D press (V/N)"], row["crosstalk 2D press"] = s
             rows.append(row)
@@ -224,7 +226,7 @@ def _last_miss(rounds) -> float | None:
 def _row(problem, x, sc, how, err) -> dict:
     return {"x": list(map(float, x)), **{f"{n} ({u})": v for n, v, u in zip(problem.names, x, problem.units)},
             "sensitivity (V/N)": sc[0], "crosstalk": sc[1], "how": how, "estimated error": err,
-            "within 2 %": err <= 0.02}
+            "within 2 %": bool(err is not None and err <= 0.02)}
 
 
 def _nondominated_rows(rows) -> list[dict]:
