@@ -87,15 +87,15 @@ class ProbeFront:
         for r in self.front + [dict(self.reference, how="thesis design")]:
             if r.get("sensitivity (V/N)") is None:
                 continue
-            lines.append(f"  {r['sensitivity (V/N)']:.4f}  {100 * r['crosstalk']:6.2f}  "
-                         + (f"{100 * r['estimated error']:4.2f}" if r["estimated error"] is not None else "n/a")
+            lines.append(f"  {r['sensitivity (V/N)']:.4f}  {100 * r['crosstalk']:6.3g}  "
+                             + f"{100 * r['estimated error']:4.2f}"
                          + f"{'' if r['within 2 %'] else ' (> 2 %)'}  "
                          + ", ".join(f"{r[n]:.3g}" for n in names) + f"  [{r['how']}]")
         lines.append("moves of the linear 3D-verified front's designs (linear -> probe): sensitivity V/N, crosstalk %")
         for m in self.movements:
             lines.append(f"  {', '.join(f'{m[n]:.3g}' for n in names)}: {m['linear sensitivity (V/N)']:.4f} -> "
                          f"{m['probe sensitivity (V/N)']:.4f} ({100 * m['sensitivity moved']:+.1f} %), "
-                         f"{100 * m['linear crosstalk']:.2f} -> {100 * m['probe crosstalk']:.2f} "
+                         f"{100 * m['linear crosstalk']:.3g} -> {100 * m['probe crosstalk']:.3g} "
                          f"({100 * m['crosstalk moved']:+.1f} %)")
         return lines
 
@@ -189,14 +189,13 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
         ref_row = _row(lin, ref_c.x, ref_c.fine, "3D press", PRESS_3D_ERROR) if ref_c.fine else None
     else:
         rows, ref_row = [], None
-        for d in pool:
+        for d in pool:                  # the front from pressed designs only (as the 3D front from verified)
             s = score_b[id(d)]
-            if s is None:
+            if s is None or not d.fine:
                 continue
             r = ratio_lin(d.x)
-            err = None if not d.fine and miss_b is None else \
-                DISCRETISATION_2D + (0.0 if d.fine else miss_b) + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0)
-            row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press" if d.fine else "2D press, predicted", err)
+            err = DISCRETISATION_2D + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0)
+            row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press x linear 3D/2D", err)
             row["sensitivity 2D press (V/N)"], row["crosstalk 2D press"] = s
             rows.append(row)
             if d is ref:
@@ -226,7 +225,7 @@ def _last_miss(rounds) -> float | None:
 def _row(problem, x, sc, how, err) -> dict:
     return {"x": list(map(float, x)), **{f"{n} ({u})": v for n, v, u in zip(problem.names, x, problem.units)},
             "sensitivity (V/N)": sc[0], "crosstalk": sc[1], "how": how, "estimated error": err,
-            "within 2 %": bool(err is not None and err <= 0.02)}
+            "within 2 %": bool(err <= 0.02)}
 
 
 def _nondominated_rows(rows) -> list[dict]:
@@ -256,15 +255,22 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
     order_lin = np.argsort([-r["linear sensitivity (V/N)"] for r in rows])
     order_probe = np.argsort([-r["probe sensitivity (V/N)"] for r in rows])
     ref = pf.reference
-    dominated = [r for r in pf.front if ref.get("sensitivity (V/N)") is not None
-                 and r["sensitivity (V/N)"] > ref["sensitivity (V/N)"] * (1 + 1e-3)
-                 and r["crosstalk"] < ref["crosstalk"] * (1 - 1e-3)]
+    dominated = [r for r in pf.front if ref.get("sensitivity (V/N)") is not None and r["x"] != ref.get("x")
+                 and _dominates((r["sensitivity (V/N)"], r["crosstalk"]), (ref["sensitivity (V/N)"], ref["crosstalk"]))]
     ranking = {"same order by sensitivity": bool(np.array_equal(order_lin, order_probe)),
                "linear order": order_lin.tolist(), "probe order": order_probe.tolist(),
                "thesis dominated (linear 3D)": not answer(linear_mf)["thesis_on_3d_front"],
                "thesis dominated (probe)": bool(dominated),
                "designs dominating the thesis (probe)": len(dominated)}
     return rows, ranking
+
+
+def _dominates(a, b, tol=1e-3) -> bool:
+    """Does (sensitivity, crosstalk) a dominate b: as sensitive within `tol` with crosstalk
+    lower by more than `tol`, or more sensitive by more than `tol` with crosstalk as low
+    within `tol` (relative)?"""
+    return (a[0] >= b[0] * (1 - tol) and a[1] <= b[1] * (1 - tol)) or \
+        (a[0] >= b[0] * (1 + tol) and a[1] <= b[1] * (1 + tol))
 
 
 def sentence(pf: ProbeFront) -> str:

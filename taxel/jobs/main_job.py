@@ -64,8 +64,7 @@ def front(out: Path, name: str, small: bool, full: bool = False) -> Path:
     print(f"      cheap front {t1 - t0:.0f} s; " + "; ".join(mf.summary()))
     print(f"      {rec['sentence']}")
     probe = O.load_optimization(name.replace("-front", "-probe-front"), out)
-    pf = PF.probe_front(probe, mf, result.runs, reference_x(prob), full=full, workers=2,
-                        max_rounds=2 if full else 1)      # one round of 2D presses: the 5-minute budget
+    pf = PF.probe_front(probe, mf, result.runs, reference_x(prob), full=full, workers=2, max_rounds=2)
     prec = pf.to_folder(out, probe)
     draw_probe_front(pf, mf, probe.spec.name, out)
     s = pf.spent
