@@ -33,8 +33,10 @@ F (second order in h). h = 0.05, not smaller: two presses of the same scene to n
 forces from zero differ by about 5e-4 in voltage (the sticking set depends on the
 force-control steps; measured on the thesis row, coarse mesh), which a difference over
 h = 0.02 would turn into 2.5 % of the slope; along one continued press the states share
-their path. tests/test_probe_front.py checks it against independent presses to 0.9 and
-1.1 F. On linear silicone the tangent equals the secant only when the contact area does
+their path. Still, under sticking contact the states depend on the load steps: the
+central difference along a press through 0.9, 1 and 1.1 F is 0.85 % below this tangent,
+the chord of independent presses to 0.9 and 1.1 F 1.1 % (thesis row, coarse mesh;
+tests/test_probe_front.py), so the tangent is good to about 1 %. On linear silicone the tangent equals the secant only when the contact area does
 not change; under a flat punch it hardly does.
 """
 
