@@ -93,7 +93,8 @@ class ProbeFront:
                          + ", ".join(f"{r[n]:.3g}" for n in names) + f"  [{r['how']}]")
         lines.append("moves of the linear 3D-verified front's designs (linear -> probe): sensitivity V/N, crosstalk %")
         for m in self.movements:
-            lines.append(f"  {', '.join(f'{m[n]:.3g}' for n in names)}: {m['linear sensitivity (V/N)']:.4f} -> "
+            lines.append(f"  {'thesis ' if m.get('thesis design') else ''}"
+                         f"{', '.join(f'{m[n]:.3g}' for n in names)}: {m['linear sensitivity (V/N)']:.4f} -> "
                          f"{m['probe sensitivity (V/N)']:.4f} ({100 * m['sensitivity moved']:+.1f} %), "
                          f"{100 * m['linear crosstalk']:.3g} -> {100 * m['probe crosstalk']:.3g} "
                          f"({100 * m['crosstalk moved']:+.1f} %)")
@@ -252,9 +253,17 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
                      "sensitivity moved": probe[0] / d.fine[0] - 1,
                      "linear crosstalk": d.fine[1], "probe crosstalk": probe[1],
                      "crosstalk moved": probe[1] / d.fine[1] - 1})
+    ref_lin, ref_row = linear_mf.reference, pf.reference
+    thesis = None
+    if ref_lin.fine and ref_row.get("sensitivity (V/N)") is not None:
+        thesis = {**{f"{n} ({u})": v for n, v, u in zip(lin.names, ref_lin.x, lin.units)},
+                  "linear sensitivity (V/N)": ref_lin.fine[0], "probe sensitivity (V/N)": ref_row["sensitivity (V/N)"],
+                  "sensitivity moved": ref_row["sensitivity (V/N)"] / ref_lin.fine[0] - 1,
+                  "linear crosstalk": ref_lin.fine[1], "probe crosstalk": ref_row["crosstalk"],
+                  "crosstalk moved": ref_row["crosstalk"] / ref_lin.fine[1] - 1, "thesis design": True}
     order_lin = np.argsort([-r["linear sensitivity (V/N)"] for r in rows])
     order_probe = np.argsort([-r["probe sensitivity (V/N)"] for r in rows])
-    ref = pf.reference
+    ref = ref_row
     dominated = [r for r in pf.front if ref.get("sensitivity (V/N)") is not None and r["x"] != ref.get("x")
                  and _dominates((r["sensitivity (V/N)"], r["crosstalk"]), (ref["sensitivity (V/N)"], ref["crosstalk"]))]
     ranking = {"same order by sensitivity": bool(np.array_equal(order_lin, order_probe)),
@@ -262,7 +271,7 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
                "thesis dominated (linear 3D)": not answer(linear_mf)["thesis_on_3d_front"],
                "thesis dominated (probe)": bool(dominated),
                "designs dominating the thesis (probe)": len(dominated)}
-    return rows, ranking
+    return rows + ([thesis] if thesis else []), ranking
 
 
 def _dominates(a, b, tol=1e-3) -> bool:
@@ -280,7 +289,7 @@ def sentence(pf: ProbeFront) -> str:
     head = (f"Under the probe ({pf.level}) the thesis design gives {ref['sensitivity (V/N)']:.3f} V/N at "
             f"{100 * ref['crosstalk']:.2f} % crosstalk; it is "
             f"{'dominated by ' + str(pf.ranking['designs dominating the thesis (probe)']) + ' front designs' if pf.ranking.get('thesis dominated (probe)') else 'on the probe front'}.")
-    moved = pf.movements
+    moved = [m for m in pf.movements if not m.get("thesis design")]
     if moved:
         ds = [100 * m["sensitivity moved"] for m in moved]
         dc = [100 * m["crosstalk moved"] for m in moved]

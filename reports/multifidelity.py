@@ -48,7 +48,7 @@ def draw_probe(pf, mf: MultiFidelity, name: str, out: Path) -> Path:
     fr = pf.front
     ax.plot([100 * r["crosstalk"] for r in fr], [r["sensitivity (V/N)"] for r in fr], "o-", color="tab:red",
             label=f"probe on Yeoh silicone ({pf.level})")
-    for m in pf.movements:
+    for m in pf.movements:                       # the thesis design's move too (its stars)
         ax.plot([100 * m["linear crosstalk"], 100 * m["probe crosstalk"]],
                 [m["linear sensitivity (V/N)"], m["probe sensitivity (V/N)"]], "-", color="0.7", lw=0.8)
     ax.plot(100 * mf.reference.fine[1], mf.reference.fine[0], "*", color="tab:blue", ms=13, mfc="none",
