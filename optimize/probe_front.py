@@ -159,9 +159,10 @@ def _put(store, data, step, r):
 
 
 def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False, workers=2,
-                tolerance=0.02, max_rounds=2) -> ProbeFront:
+                tolerance=0.02, max_rounds=2, fine_model: dict = VERIFY_3D) -> ProbeFront:
     """The probe front of `problem` (a spec with [press]) from its linear front `runs`
-    (problem.linear()'s, optimize.spec.front) and their 3D verification `linear_mf`."""
+    (problem.linear()'s, optimize.spec.front) and their 3D verification `linear_mf`;
+    with `full`, level C pressed on `fine_model` (the 3D verification mesh)."""
     from taxel.optimize.multifidelity import _history
     t0 = time.perf_counter()
     lin = problem.linear()
@@ -185,7 +186,7 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
         ref_c = next(d for d in pool_c if np.allclose(d.x, ref.x))
         front_b = nondominated(pool_c, lambda d: d.cheap)
         pressed_3d, rounds_c = correct(lin, pool_c, front_b + ([ref_c] if ref_c not in front_b else []),
-                                       max(len(front_b), 2), _solver(problem, VERIFY_3D, workers), tolerance, 1)
+                                       len(front_b) + 1, _solver(problem, fine_model, workers), tolerance, 1)
         rows = [_row(lin, d.x, d.fine, "3D press", PRESS_3D_ERROR) for d in pressed_3d if d.fine]
         ref_row = _row(lin, ref_c.x, ref_c.fine, "3D press", PRESS_3D_ERROR) if ref_c.fine else None
     else:
@@ -240,6 +241,7 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
     estimate at the same design, the relative moves; the ranking by sensitivity under
     each; whether the thesis design is dominated under each."""
     by_x = {tuple(np.round(d.x, 9)): d for d in pool}
+    pressed = {tuple(np.round(d.x, 9)): d.fine for d in pf.pressed_3d if d.fine}    # with full: the 3D press
     rows = []
     for d in linear_mf.front_3d:
         p = by_x.get(tuple(np.round(d.x, 9)))
@@ -247,7 +249,7 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
             continue
         s = score_b[id(p)]
         r = ratio_lin(d.x)
-        probe = (s[0] * r[0], s[1] * r[1])
+        probe = pressed.get(tuple(np.round(d.x, 9))) or (s[0] * r[0], s[1] * r[1])
         rows.append({**{f"{n} ({u})": v for n, v, u in zip(lin.names, d.x, lin.units)},
                      "linear sensitivity (V/N)": d.fine[0], "probe sensitivity (V/N)": probe[0],
                      "sensitivity moved": probe[0] / d.fine[0] - 1,
