@@ -20,6 +20,9 @@ SQLite store and reused by later runs).
     [pareto]                                      # optional: the epsilon-constraint front
     points = 7                                    # maximize sensitivity s.t. crosstalk <= eps_k
 
+    [press]                                       # optional: the rig's probe press as the model
+    radius = "2 mm"                               # (optimize.probe: probe, force, silicone law)
+
     [algorithm]
     global = "DIRECT"                             # DIRECT | ISRES | none
     local = "COBYLA"                              # COBYLA | BOBYQA | SBPLX
