@@ -175,3 +175,14 @@ force = "1 N"
     r = optimize(prob)
     assert r.x[0] == pytest.approx(5.0, abs=0.05)                  # mm, the variable's unit
     assert r.metrics["tangent_sensitivity"] is not None
+
+
+@pytest.mark.parametrize("line, words", [('radius = "2 kg"', "press.radius"), ('silicone = "rubber"', "press.silicone"),
+                                         ('force = "-1 N"', "press.force must be positive")])
+def test_a_bad_press_table_is_one_line_and_exit_2(tmp_path, capsys, line, words):
+    p = tmp_path / "bad.toml"
+    p.write_text('base = "thesis-pzt-3x3-2d"\n[variables]\ngap = {path = "array.gap", min = "1 mm", max = "5 mm"}\n'
+                 f'[objective]\nminimize = "crosstalk"\n[press]\n{line}\n')
+    assert main(["optimize", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and "\n" not in err and "Traceback" not in err
