@@ -184,7 +184,8 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
     if full:
         pool_c = [Design(d.x, score_b[id(d)]) for d in pool if score_b[id(d)] is not None]
         ref_c = next(d for d in pool_c if np.allclose(d.x, ref.x))
-        front_b = nondominated(pool_c, lambda d: d.cheap)
+        at_b = {tuple(np.round(d.x, 9)) for d in pressed_2d}       # level C presses the pressed level-B front
+        front_b = nondominated([d for d in pool_c if tuple(np.round(d.x, 9)) in at_b], lambda d: d.cheap)
         pressed_3d, rounds_c = correct(lin, pool_c, front_b + ([ref_c] if ref_c not in front_b else []),
                                        len(front_b) + 1, _solver(problem, fine_model, workers), tolerance, 1)
         est = [(d, ratio_lin(d.x)) for d in pressed_3d if d.fine]      # the default's estimate, measured here
