@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import read
-from taxel import units
+from taxel.reports.tables import eng
 
 FIGURE = "noise-budget.png"
 
@@ -30,14 +30,14 @@ def figure(folder) -> Path:
     for f, p in res.lines:
         ax.axvline(f, color="k", lw=0.8, ls=":")
     ax.set(xscale="log", yscale="log", xlabel="frequency (Hz)", ylabel="noise density at the readout (V/sqrt(Hz))",
-           title=f"{res.electrode}: {units.engineering(res.noise_rms, 'V')} rms in "
+           title=f"{res.electrode}: {eng(res.noise_rms, 'V')} rms in "
                  f"{res.band[0]:g}-{res.band[1]:g} Hz")
     ax.legend(fontsize=7, loc="lower left")
     sh = res.shares()
     names = sorted(sh, key=lambda k: sh[k])
     bx.barh(names, [100 * sh[k] for k in names], color="tab:blue")
     bx.set(xscale="log", xlabel="share of the band's variance (%, log)",
-           title=f"min. detectable force {units.engineering(res.min_detectable_force, 'N')}")
+           title=f"min. detectable force {eng(res.min_detectable_force, 'N')}")
     bx.tick_params(axis="y", labelsize=7)
     fig.tight_layout()
     path = folder / FIGURE
@@ -60,11 +60,15 @@ def page(folder: Path, out: Path, scene_data) -> dict:
     res = read(folder)
     png = Path(folder) / FIGURE
     o = res.outputs()
-    numbers = [("minimum detectable force", units.engineering(o["min_detectable_force"], "N")),
-               ("noise (rms)", units.engineering(o["noise_rms"], "V")),
-               ("dynamic range", f"{o['dynamic_range']:.1f} dB")]
-    blocks = [{"type": "pre", "text": "\n".join(res.summary())}]
+    from taxel.reports.captions import caption
+    from taxel.reports.findings import model_label
+    from taxel.reports.page import Headline
+    model = f"{model_label(res.scene)}, {res.label}, {res.band[0]:g}-{res.band[1]:g} Hz"
+    numbers = [Headline("minimum detectable force", eng(o["min_detectable_force"], "N"), model),
+               Headline("noise at the readout (rms)", eng(o["noise_rms"], "V"), model),
+               Headline("dynamic range", f"{o['dynamic_range']:.1f} dB", model)]
+    blocks = [{"type": "pre", "text": "\n".join(res.summary())}, {"type": "note", "text": f"Model: {model}."}]
     if png.exists():
-        blocks.append({"type": "figures", "images": [data_uri(png.read_bytes())]})
+        blocks.append({"type": "figures", "images": [{"src": data_uri(png.read_bytes()), "caption": caption(png)}]})
     return {"sections": [{"title": "Noise budget", "blocks": blocks}], "numbers": numbers, "banners": [],
             "scene_banners": False, "thumb": png.read_bytes() if png.exists() else None}
