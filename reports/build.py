@@ -195,25 +195,43 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
                          "largest 2D/3D disagreement (ratio)": r["largest 2D/3D disagreement"]}
                         for r in rec["rounds"]], title="verification rounds")},
                    {"type": "table", "table": tables.table(
-                       [{"item": k, "value": v} for k, v in {**rec["plan"], **rec["spent"]}.items()],
-                       title="plan and cost")}]
+                       [{"item": k.replace("seconds", "time (s)"), "value": f"{v:.3g}" if "seconds" in k else v}
+                        for k, v in {**rec["plan"], **rec["spent"]}.items()], title="plan and cost")}]
     return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
             "banners": banners, "thumb": key[0].read_bytes() if key else None}
 
 
-def _analysis(folder: Path, out: Path, scene_data) -> dict:
+def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:
+    """The folder's figures, with its Bode or time plot drawn again from the stored
+    result (the current figure style, whatever release wrote the folder)."""
+    from taxel.analyses import FrequencyResult, TransientResult
+    from taxel.reports.analysis import bode_png, transient_png
     imgs = sorted(folder.glob("*.png"))
+    if isinstance(result, (FrequencyResult, TransientResult)):
+        suffix = "-bode.png" if isinstance(result, FrequencyResult) else "-transient.png"
+        draw = bode_png if isinstance(result, FrequencyResult) else transient_png
+        imgs = [p for p in imgs if not p.name.endswith(suffix)]
+        imgs.insert(0, draw(result, scratch / f"{result.scene.name}{suffix}"))
+    return imgs
+
+
+def _analysis(folder: Path, out: Path, scene_data) -> dict:
+    import tempfile
     result = stored_result(folder)
+    scratch = Path(tempfile.mkdtemp(prefix="taxel-report-"))
+    imgs = _redrawn(folder, result, scratch)
     summary = "\n".join(result.summary()) if result is not None else ""
     links = [c for c in (_csv_link(p, out, folder) for p in sorted(folder.glob("*.csv"))) if c]
     blocks = [{"type": "pre", "text": summary}] if summary else []
     if result is not None and getattr(result, "scene", None) is not None:
         blocks.append({"type": "note", "text": f"Model: {findings.model_label(result.scene)}."})
     blocks += [_figures(imgs)] + [{"type": "note", "text": f"Full precision (SI units): {c}"} for c in links]
+    thumb = imgs[0].read_bytes() if imgs else None
+    shutil.rmtree(scratch, ignore_errors=True)
     return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
             "banners": findings.frequency_banners(result),
             "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
-            "thumb": imgs[0].read_bytes() if imgs else None}
+            "thumb": thumb}
 
 
 def _work_precision(folder: Path, out: Path, scene_data) -> dict:

@@ -62,7 +62,7 @@ def static_numbers(sol) -> list[Headline]:
                             model))
         if sol.crosstalk is not None:
             out.append(Headline("crosstalk", percent(sol.crosstalk), model))
-        out.append(Headline("capacitance", f"{e.capacitance * 1e12:.3g} pF", model))
+        out.append(Headline("capacitance", eng(e.capacitance, "F"), model))
     out.append(Headline("largest silicone strain", percent(sol.max_silicone_strain), model))
     return out
 
@@ -231,7 +231,8 @@ def analysis_numbers(result) -> list[Headline]:
     out = []
     if kind not in ("frequency", "transient"):
         return out
-    model = model_label(result.scene) + f", {result.label}"
+    from taxel.reports.figures import readable
+    model = model_label(result.scene) + f", {readable(result.label)}"
     o = result.outputs()                  # the pressed (or first) taxel's
     if kind == "frequency":
         out.append(Headline("readout output per newton at its peak",
@@ -239,7 +240,7 @@ def analysis_numbers(result) -> list[Headline]:
                             model))
         c = result.capacitance.get(result.pressed)
         if c:
-            out.append(Headline("taxel capacitance", f"{c * 1e12:.3g} pF", model_label(result.scene)))
+            out.append(Headline("taxel capacitance", eng(c, "F"), model_label(result.scene)))
     else:
         out.append(Headline("peak output", eng(o["peak_output"], "V", 3), model))
         out.append(Headline("final output", eng(o["final_output"], "V", 3), model))

@@ -28,6 +28,7 @@ _COLUMNS = [
     (r"^(.*)\(mm\)$", "{0}(mm)", lambda v: f"{v:.2f}"),
     (r"^(.*)\(V/N\)$", "{0}", lambda v: eng(v, "V/N")),
     (r"^sensitivity(_V_per_N)?$", "sensitivity", lambda v: eng(v, "V/N")),
+    (r"^(predicted sensitivity)$", "{0}", lambda v: eng(v, "V/N")),
     (r"^seconds$", "solve time", lambda v: f"{v:.2f} s"),
 ]
 
