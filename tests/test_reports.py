@@ -321,6 +321,7 @@ def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path
     assert len(pages) >= 7                     # six result pages and the index
     with Browser(1280, 800, timeout=CEILING) as b:
         for page in pages:
+            b.call("Emulation.setDeviceMetricsOverride", width=1280, height=800, deviceScaleFactor=1, mobile=False)
             b.goto(page.resolve().as_uri())
             b.wait("document.readyState === 'complete' && [...document.images].every(i => i.complete)",
                    what=f"{page.name} loaded")
@@ -350,5 +351,4 @@ def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path
             b.call("Emulation.setDeviceMetricsOverride", width=1280, height=min(int(height), 12000),
                    deviceScaleFactor=1, mobile=False)
             b.screenshot(shots / f"{page.stem}.png")
-            b.call("Emulation.clearDeviceMetricsOverride")
     assert (shots / "index-first-screen.png").stat().st_size > 20000
