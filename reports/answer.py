@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
-from taxel.reports.findings import MODEL_NAMES, verified_model
+from taxel.reports.findings import verified_model
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
@@ -162,20 +162,37 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, width: float, material: 
         ref_x = {k: 1e3 * magnitude(v) for k, v in load_optimization(folder.name).spec.reference.items()}
     except Exception:                       # not a built-in problem: no thesis design to compare with
         return None
-    hist = [h for h in rec.get("history", []) if h.get("metrics", {}).get("sensitivity") is not None]
     names = list(rec["x"])
-    start = [h for h in hist if all(abs(v - ref_x.get(n, float("nan"))) < 1e-6 for n, v in zip(names, h["x"]))]
-    if not start:
+    start = [m for x, m in _history(folder / "optimum-history.csv", len(names))
+             if all(abs(v - ref_x.get(n, float("nan"))) < 1e-6 for n, v in zip(names, x))]
+    if not start or start[0].get("sensitivity") is None:
         return None
-    tm = start[0]["metrics"]
+    tm = start[0]
     thesis = _design("thesis", ref_x, width, material, tm["sensitivity"], tm["crosstalk"])
     best = _design("recommended", rec["x"], width, material, m["sensitivity"], m["crosstalk"])
-    mt = scene.get("model", {}).get("type", "plane_strain")
-    model = (f"{MODEL_NAMES.get(mt, mt)} FEM (the scene's mesh), {scene.get('model', {}).get('silicone', 'linear')} "
-             "silicone, 3x3 array, 1 N on the middle taxel; a short local search, not verified in 3D")
+    from taxel.reports.findings import scene_model_label
+    model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "
+             "in 3D")
     # the 2D model's error against 3D is measured on the full run (front-3d.json): unknown here
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
                        False, ["Recommended: the short local search's best design (taxel demo --small)."])
+
+
+def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
+    """(design variables, metrics) of each evaluation in an optimum-history.csv: the n
+    variables follow the evaluation and phase columns, the metrics after them (a
+    metric may share a variable's name: "gap" in mm, then in m)."""
+    import csv
+    if not path.exists():
+        return []
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    head, out = rows[0], []
+    for r in rows[1:]:
+        x = [float(v) for v in r[2:2 + n]]
+        metrics = {k: float(v) for k, v in zip(head[2 + n:], r[2 + n:]) if v != ""}
+        out.append((x, metrics))
+    return out
 
 
 def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict | None:
@@ -205,4 +222,5 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
     cols = list(rows[0])
     return {"title": title, "cols": cols, "rows": [[row[c] for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
+            "verified": any(a.verified for a in answers),
             "noise_model": noise.model if noise else None}
