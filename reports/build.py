@@ -109,13 +109,24 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
         s = findings._num(r.get("max_strain"))
         return "out-of-range" if linear and s is not None and linear_error(s) > tol else ""
     label = findings.scene_model_label(scene_data)
+    from taxel.reports import thesis_claims
+    claims = thesis_claims.checks(rows)
+    thesis = [{"title": "Beside the thesis's Fig. 2.5 and 2.6", "blocks": [
+        {"type": "text", "text": f"The thesis's set-up: {thesis_claims.SETUP} Its statements: "
+                                 + "; ".join(f"\u201c{c}\u201d" for _, c in thesis_claims.CLAIMS)
+                                 + f"; and {thesis_claims.CHOICE}. Source: {thesis_claims.SOURCE}."},
+        {"type": "table", "table": tables.table(claims, title="the thesis's statements checked")},
+        {"type": "note", "text": "Each row: one curve of this study. With a linear silicone |V| is proportional "
+                                 "to the force, so every force gives the same shape; the thesis's Yeoh silicone "
+                                 "bends them apart at large strain (see the banner)."}]}] if claims else []
     return {"sections": [
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
                                                 {"type": "note", "text": f"Model: {label}."},
                                                 _figures(plots)]},
         {"title": "Results", "blocks": [{"type": "table", "table": tables.table(
             rows, shown, sort_by=params, csv=_csv_link(folder / "results.csv", out, folder), mark=mark,
-            order={p.get("label"): p.get("labels") for p in spec.get("parameters", []) if p.get("labels")})}]}],
+            order={p.get("label"): p.get("labels") for p in spec.get("parameters", []) if p.get("labels")})}]}]
+        + thesis,
         "numbers": findings.study_numbers(rows, label),
         "banners": findings.study_banners(rows, scene_data or {}), "scene_banners": False,
         "thumb": key[0].read_bytes() if key else None}
@@ -350,6 +361,8 @@ def answer_block(folders, out: Path) -> dict | None:
             for row, role in zip(blk["rows"], blk["roles"]):
                 w.writerow(row + [next(a.model for a in answers)])
         blk["csv"] = "answer.csv"
+        blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
+                        if f.name.endswith(("-thesis-3d", "-recommended-3d"))]
     return blk
 
 

@@ -277,17 +277,17 @@ def scene_drawing(scene):
     what = f"{load.force:g} N" if load.kind != "pressure" else f"{load.pressure:g} Pa"
     ax.text((a + b) / 2, H + 0.7, f"{load.kind}: {what}", ha="center", color="crimson", fontsize=8)
     for L in lay.layers:
-        ax.text(x1 * 1e3 + 0.3, (L.z0 + L.thickness / 2) * 1e3, f"{L.thickness * 1e3:g} mm", va="center", fontsize=7)
+        ax.text(x1 * 1e3 + 0.3, (L.z0 + L.thickness / 2) * 1e3, f"{L.thickness * 1e3:.3g} mm", va="center", fontsize=7)
     if lay.taxels:
         p = lay.taxels[0]
         ax.annotate("", ((p.x - p.half) * 1e3, -0.35), ((p.x + p.half) * 1e3, -0.35),
                     arrowprops=dict(arrowstyle="<->", lw=0.7))
-        ax.text(p.x * 1e3, -0.75, f"{2 * p.half * 1e3:g} mm", ha="center", fontsize=7)
+        ax.text(p.x * 1e3, -0.75, f"{2 * p.half * 1e3:.2f} mm", ha="center", fontsize=7)
         if len(lay.taxels) > 1:
             q = lay.taxels[1]
             ax.annotate("", ((p.x + p.half) * 1e3, -0.35), ((q.x - q.half) * 1e3, -0.35),
                         arrowprops=dict(arrowstyle="<->", lw=0.7, color="0.3"))
-            ax.text((p.x + p.half + q.x - q.half) / 2 * 1e3, -0.75, f"gap {(q.x - q.half - p.x - p.half) * 1e3:g} mm",
+            ax.text((p.x + p.half + q.x - q.half) / 2 * 1e3, -0.75, f"gap {(q.x - q.half - p.x - p.half) * 1e3:.2f} mm",
                     ha="center", fontsize=7)
     handles = [Rectangle((0, 0), 1, 1, fc=c, ec="0.4") for c in colours.values()]
     ax.legend(handles, list(colours), loc="upper right", fontsize=7, ncol=len(colours))
@@ -331,8 +331,15 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
     centre = (lay.load.x if lay.load is not None else float(np.mean(pts[:, 0])) * 1e-3) * 1e3
     half = (3 * lay.taxels[0].half + getattr(sol.scene.array, "gap", 0.0)) * 1e3 if lay.taxels else None
     y_load = (lay.load.y * 1e3) if lay.load is not None else float(np.median(pts[:, 1]))
-    if m.dim() == 3:                  # cut through the pressed row: the piezo's potential is inside
-        grid = grid.clip(normal="-y", origin=(0.0, y_load, 0.0))
+    if m.dim() == 3:                  # a symmetric cut (quarter or half) mirrored back to the whole for the view
+        for axis, at in ((0, centre), (1, y_load)):
+            if float(pts[:, axis].min()) >= at - 1e-6 * max(1.0, abs(at)):
+                normal = [0.0, 0.0, 0.0]
+                normal[axis] = 1.0
+                point = [0.0, 0.0, 0.0]
+                point[axis] = at
+                grid = grid.merge(grid.reflect(normal, point=point))
+        grid = grid.clip(normal="-y", origin=(0.0, y_load, 0.0))   # cut through the pressed row
     plotter = pv.Plotter(off_screen=True, window_size=window)
     unit = "potential (V)" if field == "phi" else field
     piezo_part = grid.threshold(0.5, scalars="piezo")

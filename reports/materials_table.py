@@ -28,7 +28,7 @@ def materials_table(scene) -> dict:
             row.update({"E (kPa)": f"{1e-3 * m.E:.3g}", "ν": f"{m.nu:.4f}", "μ (kPa)": f"{1e-3 * m.mu:.3g}",
                         "K (MPa)": f"{1e-6 * m.K:.3g}"})
             if m.yeoh:
-                row["Yeoh C10, C20, C30 (Pa)"] = ", ".join(f"{c:.3g}" for c in m.yeoh)
+                row["Yeoh C10, C20, C30 (kPa)"] = ", ".join(f"{1e-3 * c:.3g}" for c in m.yeoh)
         row["density (kg/m³)"] = f"{m.rho:.4g}"
         row["source"] = m.source
         rows.append(row)

@@ -96,7 +96,7 @@ def solver_table(result: StaticResult) -> dict:
         "order": scene.mesh.order, "unknowns": result.unknowns, "solver": result.solver,
         "relative residual": f"{result.residual:.1e}",
         "Newton iterations": n.total_iterations if n else "-",
-        **{k: f"{t[k]:.2f} s" for k in ("mesh", "assemble", "solve") if k in t}}])
+        **{f"{k} time (s)": f"{t[k]:.2f}" for k in ("mesh", "assemble", "solve") if k in t}}], title="solver")
 
 
 def electrode_table(result: StaticResult) -> dict:
@@ -105,7 +105,7 @@ def electrode_table(result: StaticResult) -> dict:
         [{"electrode": e.name, "open-circuit V": eng(e.voltage, "V"),
           "short-circuit Q": eng(e.short_circuit_charge, "C"),
           "capacitance": eng(e.capacitance, "F")} for e in result.electrodes.values()],
-        sort_by=["electrode"])
+        sort_by=["electrode"], title="electrodes")
 
 
 def comparison(folder: Path, scene) -> tuple[list[dict], list]:
