@@ -196,6 +196,13 @@ def study_plots(rows, parameters, outputs, folder, title=""):
                     label = ", ".join(f"{q.replace('_', ' ')} {v:g} {_param_value(done[0][q])[1]}"
                                       for q, v in zip(others, k)) or None
                     ax.plot([_param_value(r[p])[0] for r in grp], ys, "o-", ms=3, color=colour[k], label=label)
+                if out == "max_strain":       # the linear silicone's range (2 % voltage error), drawn
+                    from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN
+                    lim = 100 * 0.02 / LINEAR_ERROR_PER_STRAIN
+                    ax.axhline(lim, color="tab:red", lw=0.9, ls="--")
+                    ax.axhspan(lim, ax.get_ylim()[1], color="tab:red", alpha=0.06)
+                    ax.annotate(f"linear silicone valid below {lim:.2g} %", (0.02, lim), xycoords=("axes fraction",
+                                "data"), xytext=(0, 3), textcoords="offset points", fontsize=7, color="tab:red")
                 ax.set_title(", ".join(f"{q}: {v}" for q, v in zip(facets, panel)) or title, fontsize=10)
                 ax.set_xlabel(f"{p.replace('_', ' ')} ({unit})")
                 ax.set_ylabel(ylabel)

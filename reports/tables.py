@@ -39,9 +39,13 @@ def eng(value: float | None, unit: str, digits: int = 3) -> str:
 
 
 def percent(ratio: float) -> str:
-    """A ratio in %, 3 significant digits, never with an exponent."""
+    """A ratio in %, 3 significant digits, never with an exponent (0.00289 %)."""
+    import numpy as np
     p = 100 * ratio
-    return f"{p:.3g} %" if abs(p) >= 0.01 or p == 0 else f"< 0.01 %"
+    text = f"{p:.3g}"
+    if "e" in text:
+        text = np.format_float_positional(p, precision=3, unique=False, fractional=False, trim="-")
+    return f"{text} %"
 
 
 def column(name: str):
