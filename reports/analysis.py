@@ -12,7 +12,7 @@ from taxel.analyses import AnalysisResult, FrequencyResult, LumpedResult, Static
 from taxel.reports import figures
 
 FIELDS = "fields"          # the folder's subfolder of field figures (FIELD_FIGURES, in page order)
-FIELD_FIGURES = ("render.png", "section.png", "taxels.png")
+FIELD_FIGURES = ("render.png", "section.png", "taxels.png", "mesh.png")
 RENDER_NOTE = "render-note.txt"   # why the 3D render is missing (no off-screen OpenGL)
 
 
@@ -68,6 +68,11 @@ def field_figures(result: StaticResult, folder: Path) -> list[Path]:
         note = f"3D render unavailable ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
         (folder / RENDER_NOTE).write_text(note)
         files.append(folder / RENDER_NOTE)
+    try:
+        (folder / "mesh.png").write_bytes(figures.mesh_render(result))
+        files.append(folder / "mesh.png")
+    except Exception:                 # no off-screen OpenGL: the render note above says so
+        pass
     if result.mesh.mesh.dim() == 2:
         buf = io.BytesIO()
         figures.cross_section(result, buf)

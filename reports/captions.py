@@ -25,6 +25,8 @@ _FIXED = {
     "section.png": "Cross-section: the potential in the piezo on the deformed mesh (top) and the vertical "
                    "displacement (bottom).",
     "taxels.png": "The open-circuit voltage of every taxel for the press (mV); the pressed taxel in bold.",
+    "mesh.png": "The mesh the solve used: piezo orange, silicone grey, edges drawn; its element, node and "
+                "unknown counts and element sizes in the title.",
 }
 
 
