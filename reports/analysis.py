@@ -69,7 +69,8 @@ def field_figures(result: StaticResult, folder: Path) -> list[Path]:
         (folder / RENDER_NOTE).write_text(note)
         files.append(folder / RENDER_NOTE)
     try:
-        (folder / "mesh.png").write_bytes(figures.mesh_render(result))
+        from taxel.reports.mesh_figure import mesh_render
+        (folder / "mesh.png").write_bytes(mesh_render(result))
         files.append(folder / "mesh.png")
     except Exception:                 # no off-screen OpenGL: the render note above says so
         pass

@@ -106,7 +106,7 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
     linear = model.get("silicone", "linear") == "linear"
 
     def mark(r):
-        s = findings._num(r.get("max_strain"))
+        s = findings.finite_number(r.get("max_strain"))
         return "out-of-range" if linear and s is not None and linear_error(s) > tol else ""
     label = findings.scene_model_label(scene_data)
     from taxel.reports import thesis_claims

@@ -89,12 +89,12 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[Banner]:
     silicone = model.get("silicone", "linear")
     tol = float(model.get("tolerance", 0.02))
     out = []
-    done = [r for r in rows if r.get("status") == "done" and _num(r.get("max_strain")) is not None]
+    done = [r for r in rows if r.get("status") == "done" and finite_number(r.get("max_strain")) is not None]
     if silicone == "linear" and done:
-        bad = [r for r in done if linear_error(_num(r["max_strain"])) > tol]
+        bad = [r for r in done if linear_error(finite_number(r["max_strain"])) > tol]
         if bad:
-            worst = max(bad, key=lambda r: _num(r["max_strain"]))
-            s = _num(worst["max_strain"])
+            worst = max(bad, key=lambda r: finite_number(r["max_strain"]))
+            s = finite_number(worst["max_strain"])
             where = ", ".join(str(v) for k, v in worst.items() if k not in _OUTPUT_KEYS and not k.startswith(
                 ("voltage_", "charge_")))
             out.append(Banner("range", f"Linear silicone outside its range at {len(bad)} of {len(done)} points: up to "
@@ -128,7 +128,7 @@ def frequency_banners(result) -> list[Banner]:
 def study_numbers(rows: list[dict], model: str) -> list[Headline]:
     done = [r for r in rows if r.get("status") == "done"]
     out = [Headline("points", f"{len(done)} of {len(rows)} solved", model)]
-    v = [abs(_num(_pressed(r))) for r in done if _num(_pressed(r)) is not None]
+    v = [abs(finite_number(_pressed(r))) for r in done if finite_number(_pressed(r)) is not None]
     if v:
         out.append(Headline("pressed-taxel open-circuit |V|", f"{eng(min(v), 'V', 3)} to "
                                                               f"{eng(max(v), 'V', 3)}", model))
@@ -269,6 +269,6 @@ def _pressed(row: dict):
     return row.get("pressed_voltage", row.get("voltage_pressed"))
 
 
-def _num(v):
+def finite_number(v):
     m = magnitude(v)
     return m if isinstance(m, float) and np.isfinite(m) else None
