@@ -352,3 +352,36 @@ def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path
                    deviceScaleFactor=1, mobile=False)
             b.screenshot(shots / f"{page.stem}.png")
     assert (shots / "index-first-screen.png").stat().st_size > 20000
+
+
+def test_the_answer_and_banners_of_a_3d_verified_front(tmp_path):
+    """A verified front's record (front-3d.json, the PVDF run's numbers): the answer holds
+    both designs in mm with the pitch and the trade, from the confirmed 3D model; the 2D/3D
+    crosstalk gap and the corrected prediction's miss each raise their banner."""
+    import json
+    from taxel.reports.answer import headline_front
+    from taxel.reports.findings import front_3d_banners
+    ref = {"silicone_above (mm)": 1.0, "silicone_below (mm)": 1.0, "gap (mm)": 3.0, "sensitivity 2D (V/N)": 10.85,
+           "crosstalk 2D": 0.0723, "sensitivity 3D (V/N)": 10.48, "crosstalk 3D": 0.0470,
+           "predicted sensitivity": None, "predicted crosstalk": None}
+    missed = {**ref, "silicone_above (mm)": 1.53, "silicone_below (mm)": 0.47, "gap (mm)": 4.78,
+              "crosstalk 3D": 0.0206, "predicted crosstalk": 0.0000289}
+    best = {"x": [0.887, 1.113, 4.791], "sensitivity_V_per_N": 9.971, "crosstalk": 0.01995, "sensitivity_gain": 0.0159}
+    rec = {"verify_3d": {"model.type": "3d", "mesh.size": "3 mm", "mesh.piezo_size": "1.2 mm", "mesh.piezo_layers": 2},
+           "reference": ref, "verified": [ref, missed], "front_3d": [missed], "rounds": [], "plan": {}, "spent": {},
+           "answer": {"thesis_3d": {"sensitivity_V_per_N": 10.48, "crosstalk": 0.047}, "thesis_on_3d_front": False,
+                      "confirmed": {"model": {"model.type": "3d", "mesh.size": "1.5 mm", "mesh.piezo_size": "0.6 mm",
+                                              "mesh.piezo_layers": "2"},
+                                    "thesis": {"sensitivity_V_per_N": 9.815, "crosstalk": 0.04745}, "best": best}}}
+    folder = tmp_path / "thesis-pvdf-front"
+    folder.mkdir()
+    (folder / "front-3d.json").write_text(json.dumps(rec))
+    (folder / "scene.json").write_text(json.dumps({"array": {"taxel_width": "0.004 m", "piezo": "PVDF"}}))
+    a = headline_front(folder)
+    assert a.verified and "1.5 mm mesh" in a.model
+    assert (a.recommended.gap_mm, a.recommended.pitch_mm) == (4.791, pytest.approx(8.791))
+    assert a.thesis.sensitivity_V_per_N == 9.815 and a.recommended.crosstalk == 0.01995
+    assert "a wider pitch 7.00 → 8.79 mm" in a.trade and "+1.6 % sensitivity" in a.trade
+    kinds = {b.kind: b.text for b in front_3d_banners(rec)}
+    assert "1.5x" in kinds["disagreement"]
+    assert "0.00289 %" in kinds["verification"] and "2.06 %" in kinds["verification"]
