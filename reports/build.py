@@ -316,7 +316,11 @@ def build(folders, out: Path, pdf=False, compare=True, run: dict | None = None) 
     run = run or {}
     with output_folder(out, replace=True) as tmp:
         pages = [build_page(f, tmp, compare) for f in folders]
-        warnings = [{"page": p.title, "banner": b} for p in pages for b in p.banners]
+        grouped: dict = {}                       # one banner per warning, naming every page it is on
+        for p in pages:
+            for b in p.banners:
+                grouped.setdefault(b, []).append(p.title)
+        warnings = [{"page": ", ".join(titles), "banner": b} for b, titles in grouped.items()]
         cards = [{"href": p.path.name, "title": p.title, "numbers": p.numbers, "warnings": len(p.banners),
                   "thumb": data_uri(p.thumb) if p.thumb else None} for p in pages]
         kinds = {k: sum(w["banner"].kind == k for w in warnings) for k in ("range", "disagreement", "verification")}

@@ -79,7 +79,8 @@ def scene_sections(folder: Path, scene_data: dict, compare: bool):
                      {"title": "Solver", "blocks": [{"type": "table", "table": solver_table(result)},
                                                     {"type": "table", "table": electrode_table(result)}]}]
         numbers, banners = findings.static_numbers(result), findings.static_banners(result)
-        key_png = images[names.index("taxels.png")] if "taxels.png" in names else (images[0] if images else None)
+        key = next((n for n in ("render.png", "taxels.png") if n in names), None)
+        key_png = images[names.index(key)] if key else (images[0] if images else None)
     compare_banners = []
     if compare and scene.array is not None and scene.array.rows * scene.array.cols == 1:
         blocks, compare_banners = comparison(folder, scene)
