@@ -100,7 +100,7 @@ def _frf_figure(folder: Path):
     axc.plot(f, a["coherence"])
     axc.axhline(0.9, color="k", lw=0.5)
     axc.set_ylabel("coherence")
-    axc.set_xlabel("f (Hz)")
+    axc.set_xlabel("frequency (Hz)")
     fig.tight_layout()
     return fig
 
@@ -109,21 +109,21 @@ def _linearity_figure(folder: Path):
     plt = _plt()
     a = json.loads((folder / "presses" / "analysis.json").read_text())
     r = json.loads((folder / "impulse" / "analysis.json").read_text())["repeatability"]
-    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, (ax, ay) = plt.subplots(1, 2, figsize=(11, 3.8), layout="constrained")
     for x in a["linearity"]:
-        ax.plot(x["forces_N"], np.abs(x["peaks_V"]), "o", ms=3, label=f"{x['taxel']} R={abs(x['r']):.5f}")
+        ax.plot(x["forces_N"], np.abs(x["peaks_V"]), "o", ms=3,
+                label=f"{x['taxel'].removeprefix('taxel_')} R={abs(x['r']):.5f}")
     ax.set_xlabel("force peak (N)")
     ax.set_ylabel("|voltage peak| (V)")
-    ax.legend(fontsize=6)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.set_title("Linearity")
     for x in r:
         ay.plot(np.arange(1, x["n"] + 1), x["peaks_V"], "o-", label=f"{x['taxel']}: {x['by_spread_pct']:.2f} % / "
                 f"{x['by_range_pct']:.2f} %")
-    ay.set_xlabel("impulse")
+    ay.set_xlabel("impulse (count)")
     ay.set_ylabel("|voltage peak| (V)")
-    ay.legend(fontsize=7)
+    ay.legend(fontsize=7, loc="lower right")
     ay.set_title("Repeatability (spread / range)")
-    fig.tight_layout()
     return fig
 
 
