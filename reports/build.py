@@ -236,7 +236,7 @@ def _analysis(folder: Path, out: Path, scene_data) -> dict:
     blocks = [{"type": "pre", "text": summary}] if summary else []
     if result is not None and getattr(result, "scene", None) is not None:
         blocks.append({"type": "note", "text": f"Model: {findings.model_label(result.scene)}."})
-    blocks += [_figures(imgs)] + [{"type": "note", "text": f"Full precision (SI units): {c}"} for c in links]
+    blocks += [_figures(imgs)] + [{"type": "csv", "href": c} for c in links]
     thumb = imgs[0].read_bytes() if imgs else None
     shutil.rmtree(scratch, ignore_errors=True)
     return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
