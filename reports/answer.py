@@ -149,7 +149,8 @@ def _from_front_3d(folder: Path, rec: dict, width: float, material: str) -> Fron
                     b["crosstalk"]) if b and not a.get("thesis_on_3d_front") else None)
     error = dict(CHEAP_3D_ERROR) if c else dict(VERIFY_3D_ERROR)
     notes = [f"Recommended: the most sensitive design of the 3D-verified front at or below the thesis design's "
-             f"crosstalk, {len(rec['front_3d'])} designs verified in 3D out of {len(rec['verified'])}."]
+             f"crosstalk; the 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs solved "
+             "in 3D."]
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes)
 
 
