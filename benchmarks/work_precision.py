@@ -1,4 +1,5 @@
-"""The README's work-precision figure (docs/work-precision.png) and table: the four
+"""The README's work-precision figures (docs/work-precision-<output>.png, one per
+output; the every-panel grid docs/work-precision.png with --grid) and table: the four
 thesis scenes at 0.2 N and 1 N, from the caches `taxel work-precision` filled
 (out/work-precision-store; a first run solves everything: about 10-20 minutes, the
 3x3 3D references most of it).
@@ -13,7 +14,7 @@ import json
 from pathlib import Path
 
 import taxel
-from taxel.reports.work_precision import cheapest_rows, grid, read, write
+from taxel.reports.work_precision import cheapest_rows, grid, questions, read, write
 
 SCENES = ("thesis-pzt-single-2d", "thesis-pvdf-single-2d", "thesis-pzt-3x3-2d", "thesis-pvdf-3x3-2d")
 
@@ -24,6 +25,7 @@ def main():
     ap.add_argument("--out", default="out/work-precision")
     ap.add_argument("--from", dest="folders", nargs="*", default=[],
                     help="redraw from folders `taxel work-precision` wrote (no solving)")
+    ap.add_argument("--grid", action="store_true", help="also the every-panel grid, docs/work-precision.png")
     ap.add_argument("scenes", nargs="*", default=list(SCENES))
     args = ap.parse_args()
     if args.folders:
@@ -31,7 +33,11 @@ def main():
         write(wps, Path(args.out))
     else:                                # taxel.work_precision writes the charts itself
         wps = taxel.work_precision(args.scenes, args.out, (0.2, 1.0), store=args.store)
-    grid(wps, Path(__file__).parent.parent / "docs" / "work-precision.png")
+    docs = Path(__file__).parent.parent / "docs"
+    for path in questions(wps, docs):                # one figure per output, every model
+        print(f"wrote {path}")
+    if args.grid:
+        grid(wps, docs / "work-precision.png")
     rec = json.loads((Path(args.out) / "work-precision.json").read_text())
     print("| scene | force (N) | output | within 1 % | within 5 % | within 10 % |\n|---|---|---|---|---|---|")
     for r in cheapest_rows(rec):

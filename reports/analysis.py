@@ -12,7 +12,7 @@ from taxel.analyses import AnalysisResult, FrequencyResult, LumpedResult, Static
 from taxel.reports import figures
 
 FIELDS = "fields"          # the folder's subfolder of field figures (FIELD_FIGURES, in page order)
-FIELD_FIGURES = ("render.png", "section.png", "taxels.png")
+FIELD_FIGURES = ("render.png", "section.png", "taxels.png", "mesh.png")
 RENDER_NOTE = "render-note.txt"   # why the 3D render is missing (no off-screen OpenGL)
 
 
@@ -23,11 +23,9 @@ def write(result: AnalysisResult, out) -> tuple[list[Path], list[str]]:
     files = result.to_folder(out)
     name = result.scene.name
     if isinstance(result, FrequencyResult):
-        files.append(figures.bode(result.freqs, result.output, result.names, result.label, out / f"{name}-bode.png",
-                                  title=name))
+        files.append(bode_png(result, out / f"{name}-bode.png"))
     elif isinstance(result, TransientResult):
-        files.append(figures.time_response(result.t, result.force, result.output, result.names, result.label,
-                                           out / f"{name}-transient.png", title=name))
+        files.append(transient_png(result, out / f"{name}-transient.png"))
     elif isinstance(result, LumpedResult):
         files.append(figures.bode(result.freqs, result.output[:, None], ["lumped 3-DoF"], result.label,
                                   out / f"{name}-lumped.png", title=f"{name} (lumped)"))
@@ -38,6 +36,20 @@ def write(result: AnalysisResult, out) -> tuple[list[Path], list[str]]:
     summary = result.summary()
     (out / "summary.txt").write_text("\n".join(summary) + "\n")
     return files, summary
+
+
+def bode_png(result: FrequencyResult, path: Path) -> Path:
+    """The Bode plot of a frequency result (fresh or read back), the notch marked."""
+    r = result.scene.readout
+    notch = r.notch_frequency if getattr(r, "notch", False) else None
+    return figures.bode(result.freqs, result.output, result.names, result.label, path, title=result.scene.name,
+                        notch=notch)
+
+
+def transient_png(result: TransientResult, path: Path) -> Path:
+    """The force and output of a transient result (fresh or read back)."""
+    return figures.time_response(result.t, result.force, result.output, result.names, result.label, path,
+                                 title=result.scene.name)
 
 
 def field_figures(result: StaticResult, folder: Path) -> list[Path]:
@@ -56,6 +68,12 @@ def field_figures(result: StaticResult, folder: Path) -> list[Path]:
         note = f"3D render unavailable ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})"
         (folder / RENDER_NOTE).write_text(note)
         files.append(folder / RENDER_NOTE)
+    try:
+        from taxel.reports.mesh_figure import mesh_render
+        (folder / "mesh.png").write_bytes(mesh_render(result))
+        files.append(folder / "mesh.png")
+    except Exception:                 # no off-screen OpenGL: the render note above says so
+        pass
     if result.mesh.mesh.dim() == 2:
         buf = io.BytesIO()
         figures.cross_section(result, buf)

@@ -29,7 +29,7 @@ from pathlib import Path
 from taxel.analyses.results import output_folder
 from taxel.scene import SceneError
 from taxel.reports import findings, tables
-from taxel.reports.page import Page, provenance, templates
+from taxel.reports.page import Headline, Page, provenance, templates
 from taxel.reports.scene_sections import data_uri, scene_sections, stored_result
 from taxel.reports import noise as noise_page
 from taxel.reports.validation import build_page as validation_page
@@ -66,13 +66,16 @@ def kind_of(folder: Path) -> str:
                       "front.json or scene.json); run taxel study/optimize/solve with --out first")
 
 
-def _figures(paths, wide=False) -> dict:
-    """A block of embedded figures; wide ones one per row (small multiples)."""
+def _figures(paths, captions=None) -> dict:
+    """A block of embedded figures at their natural size, each with its caption
+    (`captions`, else reports.captions.caption of its file name)."""
+    from taxel.reports.captions import caption
     paths = list(paths)
     for p in paths:
         if not p.read_bytes():
             raise ReportError(f"{p}: an image to embed is empty; rerun the command that wrote it")
-    return {"type": "figures", "wide": wide, "images": [data_uri(p.read_bytes()) for p in paths]}
+    caps = captions or [caption(p) for p in paths]
+    return {"type": "figures", "images": [{"src": data_uri(p.read_bytes()), "caption": c} for p, c in zip(paths, caps)]}
 
 
 def _csv_link(src: Path, out: Path, folder: Path) -> str | None:
@@ -88,6 +91,7 @@ _PRESSED = ("pressed_voltage", "voltage_pressed")     # the key plot's output (i
 
 
 def _study(folder: Path, out: Path, scene_data) -> dict:
+    from taxel.analyses import linear_error
     spec = read_json(folder / "study.json")
     rows = list(csv.DictReader(open(folder / "results.csv"))) if (folder / "results.csv").exists() else []
     cols = list(rows[0]) if rows else []
@@ -97,57 +101,151 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
         shown += ["status", "error"]
     plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith(_PRESSED), p.name))
     key = [p for p in plots if p.name.startswith(_PRESSED) and "silicone" in p.name] or plots
+    model = (scene_data or {}).get("model", {}) or {}
+    tol = float(model.get("tolerance", 0.02))
+    linear = model.get("silicone", "linear") == "linear"
+
+    def mark(r):
+        s = findings.finite_number(r.get("max_strain"))
+        return "out-of-range" if linear and s is not None and linear_error(s) > tol else ""
+    label = findings.scene_model_label(scene_data)
+    from taxel.reports import thesis_claims
+    claims = thesis_claims.checks(rows)
+    thesis = [{"title": "Beside the thesis's Fig. 2.5 and 2.6", "blocks": [
+        {"type": "text", "text": f"The thesis's set-up: {thesis_claims.SETUP} Its statements: "
+                                 + "; ".join(f"\u201c{c}\u201d" for _, c in thesis_claims.CLAIMS)
+                                 + f"; and {thesis_claims.CHOICE}. Source: {thesis_claims.SOURCE}."},
+        {"type": "table", "table": tables.table(claims, title="the thesis's statements checked")},
+        {"type": "note", "text": "Each row: one curve of this study. With a linear silicone |V| is proportional "
+                                 "to the force, so every force gives the same shape; the thesis's Yeoh silicone "
+                                 "bends them apart at large strain (see the banner)."}]}] if claims else []
     return {"sections": [
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
-                                                _figures(plots, wide=True)]},
+                                                {"type": "note", "text": f"Model: {label}."},
+                                                _figures(plots)]},
         {"title": "Results", "blocks": [{"type": "table", "table": tables.table(
-            rows, shown, sort_by=params, csv=_csv_link(folder / "results.csv", out, folder),
-            order={p.get("label"): p.get("labels") for p in spec.get("parameters", []) if p.get("labels")})}]}],
-        "numbers": findings.study_numbers(rows),
+            rows, shown, sort_by=params, csv=_csv_link(folder / "results.csv", out, folder), mark=mark,
+            order={p.get("label"): p.get("labels") for p in spec.get("parameters", []) if p.get("labels")})}]}]
+        + thesis,
+        "numbers": findings.study_numbers(rows, label),
         "banners": findings.study_banners(rows, scene_data or {}), "scene_banners": False,
         "thumb": key[0].read_bytes() if key else None}
 
 
+def _dominated(points: list[tuple[float, float]]) -> list[bool]:
+    """For each (sensitivity, crosstalk): is another point at least as good in both, better in one?"""
+    return [any(s2 >= s and c2 <= c and (s2 > s or c2 < c) for s2, c2 in points) for s, c in points]
+
+
+def _bounds(name: str) -> str | None:
+    """The search bounds of a built-in optimization, one sentence; None for another one."""
+    from taxel.optimize.spec import load_optimization
+    try:
+        prob = load_optimization(name)
+    except Exception:                 # not a built-in problem: its bounds are in its own spec file
+        return None
+    v = prob.spec.variables
+    return ("Search bounds: " + ", ".join(f"{n.replace('_', ' ')} {x.min} to {x.max}" for n, x in v.items())
+            + "; " + ", ".join(f"{k.replace('_', ' ')} {c}" for k, c in (prob.spec.constraints or {}).items()) + ".")
+
+
+def _front_rows(rows: list[dict], ref: dict | None, s_key: str, c_key: str):
+    """Front rows with a design column, the reference (thesis) design added, and
+    each row's mark: reference, dominated or ''."""
+    out = [{"design": f"front {i + 1}", **r} for i, r in enumerate(sorted(rows, key=lambda r: r[c_key] or 0))]
+    if ref is not None:
+        out.append({"design": "thesis design (reference)", **ref})
+    dom = _dominated([(r.get(s_key) or 0.0, r.get(c_key) if r.get(c_key) is not None else float("inf"))
+                      for r in out])
+    marks = {id(r): ("reference" if r["design"].startswith("thesis") else "") + (" dominated" if d else "")
+             for r, d in zip(out, dom)}
+    return out, lambda r: marks[id(r)].strip()
+
+
 def _optimization(folder: Path, out: Path, scene_data) -> dict:
-    blocks, numbers = [], []
+    blocks, numbers, banners = [], [], []
+    cheap = findings.scene_model_label(scene_data)
+    name = read_json(folder / "result.json").get("name", folder.name) if (folder / "result.json").exists() else folder.name
+    bounds = _bounds(name)
+    if bounds:
+        blocks.append({"type": "note", "text": bounds})
     if (folder / "front.json").exists():
         rec = read_json(folder / "front.json")
-        numbers += findings.front_numbers(rec)
-        blocks.append({"type": "table", "table": tables.table(rec["front"], sort_by=["crosstalk"])})
+        numbers += findings.front_numbers(rec, cheap)
+        ref = rec.get("reference")
+        ref_row = ({**{f"{k} (mm)": v for k, v in ref["x"].items()}, "sensitivity_V_per_N": ref["sensitivity"],
+                    "crosstalk": ref["crosstalk"]} if ref else None)
+        rows, mark = _front_rows(rec["front"], ref_row, "sensitivity_V_per_N", "crosstalk")
+        cols = ["design"] + [c for c in rows[0] if c.endswith("(mm)")] + ["sensitivity_V_per_N", "crosstalk"]
+        blocks += [{"type": "text", "text": f"The 2D front ({cheap}): the most sensitive design at each crosstalk "
+                                            "bound (epsilon-constraint)."},
+                   {"type": "table", "table": tables.table(rows, cols, mark=mark, title="2D front")}]
     if (folder / "optimum.json").exists():
         rec = read_json(folder / "optimum.json")
-        numbers += findings.optimum_numbers(rec)
+        numbers += findings.optimum_numbers(rec, cheap)
         blocks.append({"type": "table", "table": tables.table(
-            [{**rec["x"], "objective": rec["objective"], "evaluations": rec["evaluations"],
-              "success": rec["success"], "message": rec["message"]}],
-            csv=_csv_link(folder / "optimum-history.csv", out, folder))})
+            [{**{f"{k} (mm)": v for k, v in rec["x"].items()}, "objective": rec["objective"],
+              "evaluations": rec["evaluations"], "success": rec["success"], "message": rec["message"]}],
+            csv=_csv_link(folder / "optimum-history.csv", out, folder), title="optimum")})
     imgs = sorted(folder.glob("*.png"))
-    key = [p for p in imgs if p.name == "pareto.png"] or imgs
+    key = [p for p in imgs if p.name == "pareto-3d.png"] or [p for p in imgs if p.name == "pareto.png"] or imgs
     if (folder / "front-3d.json").exists():          # the 3D-verified front (MultiFidelity.to_folder)
         rec = read_json(folder / "front-3d.json")
         numbers += findings.front_3d_numbers(rec)
+        banners += findings.front_3d_banners(rec)
+        rows, mark = _front_rows(rec["front_3d"], rec["reference"], "sensitivity 3D (V/N)", "crosstalk 3D")
+        model, _ = findings.verified_model(rec)
         blocks += [{"type": "text", "text": rec["sentence"]},
-                   {"type": "table", "table": tables.table(rec["front_3d"] + [rec["reference"]])},
-                   {"type": "note", "text": f"3D model: {rec['verify_3d']}; rounds: {rec['rounds']}; "
-                                            f"plan: {rec['plan']}; spent: {rec['spent']}"}]
+                   {"type": "table", "table": tables.table(rows, mark=mark, title="3D-verified front")},
+                   {"type": "note", "text": f"3D values: {findings.verified_model({**rec, 'answer': {}})[0]} for the "
+                                            f"front; the answer's two designs confirmed on {model}."},
+                   {"type": "table", "table": tables.table(
+                       [{"round": r["round"], "designs verified in 3D": r["verified"],
+                         "largest miss of the corrected prediction (ratio)":
+                             r["largest disagreement of the corrected prediction"],
+                         "largest 2D/3D disagreement (ratio)": r.get("largest cheap/expensive disagreement", r.get("largest 2D/3D disagreement"))}
+                        for r in rec["rounds"]], title="verification rounds")},
+                   {"type": "table", "table": tables.table(
+                       [{"item": k.replace("seconds", "time (s)"), "value": f"{v:.3g}" if "seconds" in k else v}
+                        for k, v in {**rec["plan"], **rec["spent"]}.items()], title="plan and cost")}]
     if (folder / "probe-front.json").exists():       # the headline under the rig's probe (optimize.probe_front)
         from taxel.reports.multifidelity import probe_blocks
         blocks = probe_blocks(read_json(folder / "probe-front.json")) + blocks
     return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
-            "banners": [], "thumb": key[0].read_bytes() if key else None}
+            "banners": banners, "thumb": key[0].read_bytes() if key else None}
+
+
+def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:
+    """The folder's figures, with its Bode or time plot drawn again from the stored
+    result (the current figure style, whatever release wrote the folder)."""
+    from taxel.analyses import FrequencyResult, TransientResult
+    from taxel.reports.analysis import bode_png, transient_png
+    imgs = sorted(folder.glob("*.png"))
+    if isinstance(result, (FrequencyResult, TransientResult)):
+        suffix = "-bode.png" if isinstance(result, FrequencyResult) else "-transient.png"
+        draw = bode_png if isinstance(result, FrequencyResult) else transient_png
+        imgs = [p for p in imgs if not p.name.endswith(suffix)]
+        imgs.insert(0, draw(result, scratch / f"{result.scene.name}{suffix}"))
+    return imgs
 
 
 def _analysis(folder: Path, out: Path, scene_data) -> dict:
-    imgs = sorted(folder.glob("*.png"))
+    import tempfile
     result = stored_result(folder)
+    scratch = Path(tempfile.mkdtemp(prefix="taxel-report-"))
+    imgs = _redrawn(folder, result, scratch)
     summary = "\n".join(result.summary()) if result is not None else ""
     links = [c for c in (_csv_link(p, out, folder) for p in sorted(folder.glob("*.csv"))) if c]
     blocks = [{"type": "pre", "text": summary}] if summary else []
-    blocks += [_figures(imgs)] + [{"type": "note", "text": f"Full precision (SI units): {c}"} for c in links]
+    if result is not None and getattr(result, "scene", None) is not None:
+        blocks.append({"type": "note", "text": f"Model: {findings.model_label(result.scene)}."})
+    blocks += [_figures(imgs)] + [{"type": "csv", "href": c} for c in links]
+    thumb = imgs[0].read_bytes() if imgs else None
+    shutil.rmtree(scratch, ignore_errors=True)
     return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
             "banners": findings.frequency_banners(result),
             "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
-            "thumb": imgs[0].read_bytes() if imgs else None}
+            "thumb": thumb}
 
 
 def _work_precision(folder: Path, out: Path, scene_data) -> dict:
@@ -157,12 +255,13 @@ def _work_precision(folder: Path, out: Path, scene_data) -> dict:
     rows = cheapest_rows(rec)
     notes = [{"type": "note", "text": f"{w['scene']} at {w['force_N']:g} N: {w['how']}"} for w in rec["work_precision"]]
     pzt = [r for r in rows if r["output"].startswith("pressed-taxel voltage")][:1]
-    numbers = [(f"cheapest for 1 % ({r['scene']}, {r['force (N)']:g} N)", r["cheapest within 1 %"]) for r in pzt]
+    numbers = [Headline(f"cheapest for 1 % ({r['scene']}, {r['force (N)']:g} N)", r["cheapest within 1 %"],
+                        "every model against the finest 3D") for r in pzt]
     return {"sections": [
         {"title": "Work against precision", "blocks": [
             {"type": "text", "text": "Wall time against error (log-log), one point per model, element order, mesh "
                                      "and silicone law; the Pareto set (cheapest for its accuracy) is ringed."},
-            _figures(imgs, wide=True)] + notes},
+            _figures(imgs)] + notes},
         {"title": "Cheapest model for 1 %, 5 % and 10 % error", "blocks": [
             {"type": "table", "table": tables.table(rows, csv=_csv_link(chart_files(folder)[1], out, folder))}]}],
         "numbers": numbers, "banners": [], "thumb": imgs[0].read_bytes() if imgs else None}
@@ -187,11 +286,12 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
     part = PAGE_KINDS[kind](folder, out, scene_data)
     sections, numbers, banners, thumb = part["sections"], part["numbers"], part["banners"], part["thumb"]
     if scene_data:
-        sec, nums, ban, key_png = scene_sections(folder, scene_data, compare)
+        sec, nums, ban, compare_ban, key_png = scene_sections(folder, scene_data, compare)
         sections, numbers = sections + sec, numbers + nums
-        banners += ban if part.get("scene_banners", True) else []
+        banners += (ban if part.get("scene_banners", True) else []) + compare_ban
         thumb = thumb or key_png
     sections.append({"title": "Provenance", "blocks": provenance(folder, scene_data)})
+    tables.write_csvs(sections, out, folder.name)
     path = out / f"{folder.name}.html"
     path.write_text(templates().get_template("page.html").render(
         title=title, kind=kind, folder=folder.name, banners=banners, headline=numbers, sections=sections),
@@ -219,21 +319,58 @@ def build(folders, out: Path, pdf=False, compare=True, run: dict | None = None) 
     run = run or {}
     with output_folder(out, replace=True) as tmp:
         pages = [build_page(f, tmp, compare) for f in folders]
-        warnings = [{"page": p.title, "text": b} for p in pages for b in p.banners]
+        grouped: dict = {}                       # one banner per warning, naming every page it is on
+        for p in pages:
+            for b in p.banners:
+                grouped.setdefault(b, []).append(p.title)
+        warnings = [{"page": ", ".join(titles), "banner": b} for b, titles in grouped.items()]
         cards = [{"href": p.path.name, "title": p.title, "numbers": p.numbers, "warnings": len(p.banners),
                   "thumb": data_uri(p.thumb) if p.thumb else None} for p in pages]
+        kinds = {k: sum(w["banner"].kind == k for w in warnings) for k in ("range", "disagreement", "verification")}
         summary = [("what", run.get("what") or ", ".join(p.title for p in pages)),
                    ("when", run.get("started") or time.strftime("%Y-%m-%d %H:%M:%S")),
                    ("code version", code_version()),
                    ("duration", (f"{run['seconds']:.0f} s to compute, " if "seconds" in run else "")
                     + f"{time.perf_counter() - t0:.0f} s to build this report"),
-                   ("warnings", f"{len(warnings)} result(s) outside their model's range" if warnings else "none")]
+                   ("warnings", f"{kinds['range']} result(s) outside their model's range, {kinds['disagreement']} "
+                                f"model disagreement(s), {kinds['verification']} failed verification(s)"
+                    if warnings else "none")]
         (tmp / "index.html").write_text(templates().get_template("index.html").render(
-            title="taxel report", run=summary, warnings=warnings, cards=cards), encoding="utf-8")
+            title="taxel report", run=summary, warnings=warnings, cards=cards,
+            answer=answer_block(folders, tmp)), encoding="utf-8")
         if pdf:
             for p in pages:
                 to_pdf(p.path)
     return out / "index.html"
+
+
+def answer_block(folders, out: Path) -> dict | None:
+    """The index's answer block (reports.answer) from the run's optimization folders,
+    with the thesis design's minimum detectable force from a noise budget folder of
+    the same design; its table also as OUT/answer.csv."""
+    from taxel.reports import answer
+    answers = [a for a in (answer.headline_front(f) for f in folders if kind_of(f) == "optimization") if a]
+    noise = next((f for f in folders if kind_of(f) == "noise"), None)
+    force = None
+    if noise is not None:
+        from taxel.analyses import read
+        res = read(noise)
+        arr = res.scene.array
+        force = answer.NoiseFloor(res.outputs()["min_detectable_force"],
+                                  f"{noise.name} page: {findings.model_label(res.scene)}, through the charge "
+                                  "amplifier and notch on the thesis bench's ADC; not computed for the other designs",
+                                  arr.piezo, 1e3 * arr.silicone_above, 1e3 * arr.silicone_below)
+    blk = answer.block(answers, force)
+    if blk is not None:
+        with open(out / "answer.csv", "w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh)
+            w.writerow(blk["cols"] + ["model"])
+            for row, role in zip(blk["rows"], blk["roles"]):
+                w.writerow(row + [next(a.model for a in answers)])
+        blk["csv"] = "answer.csv"
+        blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
+                        if f.name.endswith(("-thesis-3d", "-recommended-3d"))]
+    return blk
 
 
 def chromium():

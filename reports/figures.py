@@ -52,7 +52,7 @@ def cross_section(sol, path, exaggerate=None):
     ax.set_title(f"{sol.scene.name}: potential in the piezo (silicone grey), deformation x{scale:g}")
     ax = axes[1]
     pc = ax.tripcolor(Triangulation(*p, mesh.t.T), u[:, 1] * 1e3, shading="gouraud", cmap="viridis")
-    fig.colorbar(pc, ax=ax, label="vertical displacement (um)")
+    fig.colorbar(pc, ax=ax, label="vertical displacement (µm)")
     volts = ", ".join(f"{k}: {e.voltage * 1e3:.0f} mV" for k, e in sol.electrodes.items() if e.state != "reference")
     ax.set_title(f"{sol.applied_force:g} N on the taxel; open-circuit {volts}")
     axes[1].set_aspect("equal")
@@ -63,21 +63,46 @@ def cross_section(sol, path, exaggerate=None):
     plt.close(fig)
 
 
-def bode(freqs, H, names, label, path, title=""):
-    """Magnitude and phase of H (nf, na) against frequency."""
+def readable(label: str) -> str:
+    """A readout label for a person: resistances with an SI prefix ("voltage across
+    5e+08 ohm" -> "voltage across 500 MΩ")."""
+    import re
+    from taxel.reports.tables import eng
+    return re.sub(r"(\d[\d.]*(?:e[+-]?\d+)?) ?ohm", lambda m: eng(float(m.group(1)), "Ω"), label)
+
+
+def bode(freqs, H, names, label, path, title="", notch: float | None = None):
+    """Magnitude and phase (unwrapped) of H (nf, na) against frequency, with the
+    resonance (the largest |H| above the lowest decade) and the notch marked."""
     plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.2), sharex=True, layout="constrained")
+    freqs = np.asarray(freqs)
     for k, name in enumerate(names):
-        a1.loglog(freqs, np.abs(H[:, k]), label=name)
-        a2.semilogx(freqs, np.degrees(np.angle(H[:, k])), label=name)
-    a1.set_ylabel(f"|{label}| (V/N)")
-    a2.set_ylabel("phase (deg)")
+        a1.loglog(freqs, np.abs(H[:, k]), label=name.replace("_", " "))
+        a2.semilogx(freqs, np.degrees(np.unwrap(np.angle(H[:, k]))), label=name.replace("_", " "))
+    mag = np.abs(H[:, 0])
+    upper = freqs >= 10 * freqs[0]
+    if upper.any():
+        i = int(np.argmax(np.where(upper, mag, -np.inf)))
+        if 0 < i < len(freqs) - 1:              # a peak inside the sweep, not its edge
+            for a in (a1, a2):
+                a.axvline(freqs[i], color="tab:red", lw=0.8, ls="--")
+            a1.annotate(f"resonance {freqs[i]:.3g} Hz", (freqs[i], mag[i]), xytext=(-8, -4),
+                        textcoords="offset points", ha="right", va="top", fontsize=8, color="tab:red")
+    if notch:
+        for a in (a1, a2):
+            a.axvline(notch, color="tab:purple", lw=0.8, ls=":")
+        a1.annotate(f"notch {notch:g} Hz", (notch, mag.min()), xytext=(6, 0), textcoords="offset points",
+                    fontsize=8, color="tab:purple")
+    a1.set_ylabel("|output per newton| (V/N)")
+    a2.set_ylabel("phase, unwrapped (deg)")
     a2.set_xlabel("frequency (Hz)")
-    a1.set_title(title)
-    a1.legend(fontsize=8)
+    a1.set_title(f"{title}: {readable(label)}" if title else readable(label), fontsize=10)
+    if len(names) > 1:
+        a1.legend(fontsize=8, loc="upper left")
     for a in (a1, a2):
         a.grid(True, which="both", alpha=0.3)
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
 
@@ -85,18 +110,22 @@ def bode(freqs, H, names, label, path, title=""):
 def time_response(t, force, y, names, label, path, title=""):
     """Force and output voltages over time."""
     plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True, constrained_layout=True)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True, layout="constrained")
     a1.plot(t, force, color="k")
     a1.set_ylabel("force (N)")
-    a1.set_title(title)
+    a1.set_title(f"{title}: {readable(label)}" if title else readable(label), fontsize=10)
+    y = np.asarray(y)
+    big = float(np.nanmax(np.abs(y))) if y.size else 1.0
+    scale, unit = (1e3, "mV") if big < 1 else (1.0, "V")
     for k, name in enumerate(names):
-        a2.plot(t, y[:, k], label=name)
-    a2.set_ylabel(f"{label} (V)")
+        a2.plot(t, scale * y[:, k], label=name.replace("_", " "))
+    a2.set_ylabel(f"output ({unit})")
     a2.set_xlabel("time (s)")
-    a2.legend(fontsize=8)
+    if len(names) > 1:
+        a2.legend(fontsize=8, loc="best")
     for a in (a1, a2):
         a.grid(True, alpha=0.3)
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
 
@@ -106,7 +135,7 @@ _OUTPUT_AXES = {"pressed_voltage": ("pressed taxel |V|", "V"), "sensitivity": ("
                 "max_strain": ("largest silicone strain", "%"), "crosstalk": ("crosstalk", "%")}
 # study columns renamed this release: a caller naming the old one is read with a DeprecationWarning
 _RENAMED_COLUMNS = {"voltage_pressed": "pressed_voltage"}
-_PREFIX = [(1.0, ""), (1e-3, "m"), (1e-6, "u"), (1e-9, "n"), (1e-12, "p")]
+_PREFIX = [(1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p")]
 
 
 def _axis(out, values):
@@ -167,6 +196,13 @@ def study_plots(rows, parameters, outputs, folder, title=""):
                     label = ", ".join(f"{q.replace('_', ' ')} {v:g} {_param_value(done[0][q])[1]}"
                                       for q, v in zip(others, k)) or None
                     ax.plot([_param_value(r[p])[0] for r in grp], ys, "o-", ms=3, color=colour[k], label=label)
+                if out == "max_strain":       # the linear silicone's range (2 % voltage error), drawn
+                    from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN
+                    lim = 100 * 0.02 / LINEAR_ERROR_PER_STRAIN
+                    ax.axhline(lim, color="tab:red", lw=0.9, ls="--")
+                    ax.axhspan(lim, ax.get_ylim()[1], color="tab:red", alpha=0.06)
+                    ax.annotate(f"linear silicone valid below {lim:.2g} %", (0.02, lim), xycoords=("axes fraction",
+                                "data"), xytext=(0, 3), textcoords="offset points", fontsize=7, color="tab:red")
                 ax.set_title(", ".join(f"{q}: {v}" for q, v in zip(facets, panel)) or title, fontsize=10)
                 ax.set_xlabel(f"{p.replace('_', ' ')} ({unit})")
                 ax.set_ylabel(ylabel)
@@ -248,17 +284,17 @@ def scene_drawing(scene):
     what = f"{load.force:g} N" if load.kind != "pressure" else f"{load.pressure:g} Pa"
     ax.text((a + b) / 2, H + 0.7, f"{load.kind}: {what}", ha="center", color="crimson", fontsize=8)
     for L in lay.layers:
-        ax.text(x1 * 1e3 + 0.3, (L.z0 + L.thickness / 2) * 1e3, f"{L.thickness * 1e3:g} mm", va="center", fontsize=7)
+        ax.text(x1 * 1e3 + 0.3, (L.z0 + L.thickness / 2) * 1e3, f"{L.thickness * 1e3:.3g} mm", va="center", fontsize=7)
     if lay.taxels:
         p = lay.taxels[0]
         ax.annotate("", ((p.x - p.half) * 1e3, -0.35), ((p.x + p.half) * 1e3, -0.35),
                     arrowprops=dict(arrowstyle="<->", lw=0.7))
-        ax.text(p.x * 1e3, -0.75, f"{2 * p.half * 1e3:g} mm", ha="center", fontsize=7)
+        ax.text(p.x * 1e3, -0.75, f"{2 * p.half * 1e3:.2f} mm", ha="center", fontsize=7)
         if len(lay.taxels) > 1:
             q = lay.taxels[1]
             ax.annotate("", ((p.x + p.half) * 1e3, -0.35), ((q.x - q.half) * 1e3, -0.35),
                         arrowprops=dict(arrowstyle="<->", lw=0.7, color="0.3"))
-            ax.text((p.x + p.half + q.x - q.half) / 2 * 1e3, -0.75, f"gap {(q.x - q.half - p.x - p.half) * 1e3:g} mm",
+            ax.text((p.x + p.half + q.x - q.half) / 2 * 1e3, -0.75, f"gap {(q.x - q.half - p.x - p.half) * 1e3:.2f} mm",
                     ha="center", fontsize=7)
     handles = [Rectangle((0, 0), 1, 1, fc=c, ec="0.4") for c in colours.values()]
     ax.legend(handles, list(colours), loc="upper right", fontsize=7, ncol=len(colours))
@@ -302,8 +338,15 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
     centre = (lay.load.x if lay.load is not None else float(np.mean(pts[:, 0])) * 1e-3) * 1e3
     half = (3 * lay.taxels[0].half + getattr(sol.scene.array, "gap", 0.0)) * 1e3 if lay.taxels else None
     y_load = (lay.load.y * 1e3) if lay.load is not None else float(np.median(pts[:, 1]))
-    if m.dim() == 3:                  # cut through the pressed row: the piezo's potential is inside
-        grid = grid.clip(normal="-y", origin=(0.0, y_load, 0.0))
+    if m.dim() == 3:                  # a symmetric cut (quarter or half) mirrored back to the whole for the view
+        for axis, at in ((0, centre), (1, y_load)):
+            if float(pts[:, axis].min()) >= at - 1e-6 * max(1.0, abs(at)):
+                normal = [0.0, 0.0, 0.0]
+                normal[axis] = 1.0
+                point = [0.0, 0.0, 0.0]
+                point[axis] = at
+                grid = grid.merge(grid.reflect(normal, point=point))
+        grid = grid.clip(normal="-y", origin=(0.0, y_load, 0.0))   # cut through the pressed row
     plotter = pv.Plotter(off_screen=True, window_size=window)
     unit = "potential (V)" if field == "phi" else field
     piezo_part = grid.threshold(0.5, scalars="piezo")
@@ -336,6 +379,7 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
         plotter.camera.view_up = (0.0, 0.0, 1.0)
     plotter.add_text(f"{sol.scene.name}: piezo coloured by {unit}, silicone grey; deformed x1"
                      + (f", vertical x{zscale:.2g}" if zscale != 1 else ""), font_size=11)
+    plotter.add_axes(xlabel="x", ylabel="y", zlabel="z")
     img = plotter.screenshot(return_img=True)
     plotter.close()
     import matplotlib.image as mpimg

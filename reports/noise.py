@@ -9,18 +9,20 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import read
-from taxel import units
+from taxel.reports.tables import eng
 
 FIGURE = "noise-budget.png"
 
 
-def figure(folder) -> Path:
-    """FOLDER/noise-budget.png: the stacked PSD per source (left) and each source's share (right)."""
+def figure(folder, path: Path | None = None) -> Path:
+    """FOLDER/noise-budget.png (or `path`): the stacked PSD per source (left) and each
+    source's share (right)."""
     from taxel.reports.figures import pyplot
     plt = pyplot()
     folder = Path(folder)
     res = read(folder)
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4), gridspec_kw={"width_ratios": [2.2, 1]})
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4.6), gridspec_kw={"width_ratios": [2.2, 1]},
+                                 layout="constrained")
     order = sorted(res.psd, key=lambda k: -res.variance()[k])
     base = np.zeros_like(res.freqs)
     for k in reversed(order):
@@ -30,17 +32,16 @@ def figure(folder) -> Path:
     for f, p in res.lines:
         ax.axvline(f, color="k", lw=0.8, ls=":")
     ax.set(xscale="log", yscale="log", xlabel="frequency (Hz)", ylabel="noise density at the readout (V/sqrt(Hz))",
-           title=f"{res.electrode}: {units.engineering(res.noise_rms, 'V')} rms in "
+           title=f"{res.electrode}: {eng(res.noise_rms, 'V')} rms in "
                  f"{res.band[0]:g}-{res.band[1]:g} Hz")
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=4, frameon=False)
     sh = res.shares()
     names = sorted(sh, key=lambda k: sh[k])
     bx.barh(names, [100 * sh[k] for k in names], color="tab:blue")
     bx.set(xscale="log", xlabel="share of the band's variance (%, log)",
-           title=f"min. detectable force {units.engineering(res.min_detectable_force, 'N')}")
+           title=f"min. detectable force {eng(res.min_detectable_force, 'N')}")
     bx.tick_params(axis="y", labelsize=7)
-    fig.tight_layout()
-    path = folder / FIGURE
+    path = path or folder / FIGURE
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
@@ -58,13 +59,18 @@ def page(folder: Path, out: Path, scene_data) -> dict:
     """The page's sections, headline numbers and thumbnail (reports.build's PAGE_KINDS)."""
     from taxel.reports.scene_sections import data_uri
     res = read(folder)
-    png = Path(folder) / FIGURE
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="taxel-report-") as tmp:   # redrawn from the stored result
+        png_bytes = figure(folder, Path(tmp) / FIGURE).read_bytes()
     o = res.outputs()
-    numbers = [("minimum detectable force", units.engineering(o["min_detectable_force"], "N")),
-               ("noise (rms)", units.engineering(o["noise_rms"], "V")),
-               ("dynamic range", f"{o['dynamic_range']:.1f} dB")]
-    blocks = [{"type": "pre", "text": "\n".join(res.summary())}]
-    if png.exists():
-        blocks.append({"type": "figures", "images": [data_uri(png.read_bytes())]})
+    from taxel.reports.captions import caption
+    from taxel.reports.findings import model_label
+    from taxel.reports.page import Headline
+    model = f"{model_label(res.scene)}, {res.label}, {res.band[0]:g}-{res.band[1]:g} Hz"
+    numbers = [Headline("minimum detectable force", eng(o["min_detectable_force"], "N"), model),
+               Headline("noise at the readout (rms)", eng(o["noise_rms"], "V"), model),
+               Headline("dynamic range", f"{o['dynamic_range']:.1f} dB", model)]
+    blocks = [{"type": "pre", "text": "\n".join(res.summary())}, {"type": "note", "text": f"Model: {model}."}]
+    blocks.append({"type": "figures", "images": [{"src": data_uri(png_bytes), "caption": caption(Path(FIGURE))}]})
     return {"sections": [{"title": "Noise budget", "blocks": blocks}], "numbers": numbers, "banners": [],
-            "scene_banners": False, "thumb": png.read_bytes() if png.exists() else None}
+            "scene_banners": False, "thumb": png_bytes}

@@ -8,9 +8,35 @@ import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 from taxel.reports import tables
 from taxel.studies.store import code_version
+
+
+class Headline(NamedTuple):
+    """One headline number: what it is, its value in an engineering unit, and the
+    model it comes from (model type, mesh, silicone law), shown beside it."""
+    label: str
+    value: str
+    model: str
+
+
+class Banner(NamedTuple):
+    """One warning on top of a page: its kind ("range": a result outside its model's
+    range; "disagreement": two models apart by more than their error estimates;
+    "verification": a prediction that failed its check) and one sentence naming the
+    number and the fix."""
+    kind: str
+    text: str
+
+    @property
+    def heading(self) -> str:
+        return BANNER_HEADINGS[self.kind]
+
+
+BANNER_HEADINGS = {"range": "Outside the model's range.", "disagreement": "Models disagree.",
+                   "verification": "Failed verification."}
 
 
 @dataclass
@@ -19,8 +45,8 @@ class Page:
     path: Path
     kind: str
     title: str
-    numbers: list = field(default_factory=list)      # [(label, value in units)]
-    banners: list = field(default_factory=list)      # one sentence each: the number and the fix
+    numbers: list[Headline] = field(default_factory=list)
+    banners: list[Banner] = field(default_factory=list)
     thumb: bytes | None = None                       # PNG of the key figure
 
 

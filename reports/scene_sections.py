@@ -26,7 +26,7 @@ from taxel.reports.analysis import FIELD_FIGURES, FIELDS, RENDER_NOTE
 from taxel.scene import parse, scene_material_names
 from taxel.schema import to_data
 from taxel.studies.store import Store, StoreError
-from taxel.units import engineering
+from taxel.reports.tables import eng
 
 
 def data_uri(png: bytes) -> str:
@@ -50,21 +50,26 @@ def stored_result(folder: Path):
 
 
 def scene_sections(folder: Path, scene_data: dict, compare: bool):
-    """(sections, headline numbers, banners, key figure PNG) of the folder's scene."""
+    """(sections, headline numbers, banners of the folder's own solve, banners of the
+    model comparison, key figure PNG) of the folder's scene."""
     from taxel.reports import figures
+    from taxel.reports.captions import caption
+    from taxel.reports.materials_table import materials_table
     scene = parse({**scene_data, "name": scene_data.get("name", "scene")})
     sections = [
         {"title": "Scene", "blocks": [
-            {"type": "figures", "images": [data_uri(figure_png(figures.scene_drawing(scene)))]},
-            {"type": "table", "table": tables.table(
-                [{"material": m, "source": scene_materials(scene)[m].source} for m in scene_material_names(scene)],
-                ["material", "source"])}]}]
+            {"type": "figures", "images": [{"src": data_uri(figure_png(figures.scene_drawing(scene))),
+                                            "caption": f"The scene to scale (x-z section, mm): layers, taxels and "
+                                                       f"the load; {findings.model_label(scene)}."}]},
+            {"type": "table", "table": materials_table(scene)}]}]
     result = stored_result(folder)
     numbers, banners, key_png = [], [], None
     if isinstance(result, StaticResult):
-        images = [(folder / FIELDS / n).read_bytes() for n in FIELD_FIGURES if (folder / FIELDS / n).is_file()]
+        names = [n for n in FIELD_FIGURES if (folder / FIELDS / n).is_file()]
+        images = [(folder / FIELDS / n).read_bytes() for n in names]
         note = folder / FIELDS / RENDER_NOTE
-        fields = [{"type": "figures", "images": [data_uri(p) for p in images]}] if images else []
+        fields = [{"type": "figures", "images": [{"src": data_uri(p), "caption": caption(Path(n))}
+                                                 for p, n in zip(images, names)]}] if images else []
         if note.is_file():
             fields.append({"type": "note", "text": note.read_text().strip()})
         if not images and not note.is_file():
@@ -74,10 +79,13 @@ def scene_sections(folder: Path, scene_data: dict, compare: bool):
                      {"title": "Solver", "blocks": [{"type": "table", "table": solver_table(result)},
                                                     {"type": "table", "table": electrode_table(result)}]}]
         numbers, banners = findings.static_numbers(result), findings.static_banners(result)
-        key_png = images[-1] if images else None
+        key = next((n for n in ("render.png", "taxels.png") if n in names), None)
+        key_png = images[names.index(key)] if key else (images[0] if images else None)
+    compare_banners = []
     if compare and scene.array is not None and scene.array.rows * scene.array.cols == 1:
-        sections.append({"title": "Model comparison", "blocks": comparison(folder, scene)})
-    return sections, numbers, banners, key_png
+        blocks, compare_banners = comparison(folder, scene)
+        sections.append({"title": "Model comparison", "blocks": blocks})
+    return sections, numbers, banners, compare_banners, key_png
 
 
 def solver_table(result: StaticResult) -> dict:
@@ -89,22 +97,25 @@ def solver_table(result: StaticResult) -> dict:
         "order": scene.mesh.order, "unknowns": result.unknowns, "solver": result.solver,
         "relative residual": f"{result.residual:.1e}",
         "Newton iterations": n.total_iterations if n else "-",
-        **{k: f"{t[k]:.2f} s" for k in ("mesh", "assemble", "solve") if k in t}}])
+        **{f"{k} time (s)": f"{t[k]:.2f}" for k in ("mesh", "assemble", "solve") if k in t}}], title="solver")
 
 
 def electrode_table(result: StaticResult) -> dict:
     """Each electrode's open-circuit voltage, short-circuit charge and capacitance."""
     return tables.table(
-        [{"electrode": e.name, "open-circuit V": engineering(e.voltage, "V"),
-          "short-circuit Q": engineering(e.short_circuit_charge, "C"),
-          "capacitance": engineering(e.capacitance, "F")} for e in result.electrodes.values()],
-        sort_by=["electrode"])
+        [{"electrode": e.name, "open-circuit V": eng(e.voltage, "V"),
+          "short-circuit Q": eng(e.short_circuit_charge, "C"),
+          "capacitance": eng(e.capacitance, "F")} for e in result.electrodes.values()],
+        sort_by=["electrode"], title="electrodes")
 
 
-def comparison(folder: Path, scene) -> list[dict]:
+def comparison(folder: Path, scene) -> tuple[list[dict], list]:
     """Lumped, 2D plane stress/strain, axisymmetric and 3D, linear silicone, at the
-    scene's force: voltage per newton, deviation from 3D and the solve's cost. The
-    FEM points come from the folder's store (solved once, ever)."""
+    scene's force: voltage per newton, deviation from 3D, the largest silicone strain
+    and the solve's cost; with the banners it calls for (a model off 3D beyond the
+    error estimates; a linear strain beyond the linear law's range). The FEM points
+    come from the folder's store (solved once, ever)."""
+    from taxel.analyses import linear_error
     F = scene.load.force
     rows = []
     scratch = None
@@ -117,17 +128,17 @@ def comparison(folder: Path, scene) -> list[dict]:
         def variant(label, model, mesh=None):
             s = scene.replace(**{"model.type": model, "model.silicone": "linear"},
                               **{f"mesh.{k}": v for k, v in (mesh or {}).items()})
-            status, res, err = store.get_or_compute(to_data(s), ("voltage",), {"report": "comparison",
-                                                                               "model": label})
+            status, res, err = store.get_or_compute(to_data(s), ("voltage", "max_strain"),
+                                                    {"report": "comparison", "model": label})
             if status != "done":
-                rows.append({"model": label, "voltage V/N": None, "vs 3D": (err or "")[:70], "cost": None})
+                rows.append({"model": label, "v": None, "vs 3D": (err or "")[:70], "cost": None})
                 return None
             v = abs(res["voltage"][res["pressed"]]) / F
-            rows.append({"model": label, "voltage V/N": v, "cost": res["seconds"]})
+            rows.append({"model": label, "v": v, "cost": res["seconds"], "strain": res.get("max_strain")})
             return v
         t = time.perf_counter()
         lm = abs(lumped_model(scene).V_oc([1e-3])[0]) / F
-        rows.append({"model": "lumped 3-DoF", "voltage V/N": lm, "cost": time.perf_counter() - t})
+        rows.append({"model": "lumped 3-DoF", "v": lm, "cost": time.perf_counter() - t})
         variant("2D plane stress", "plane_stress")
         variant("2D plane strain", "plane_strain")
         variant("axisymmetric", "axisymmetric")     # PVDF: a row that says why not
@@ -136,16 +147,32 @@ def comparison(folder: Path, scene) -> list[dict]:
         store.close()
         if scratch is not None:
             scratch.cleanup()
+    banners = findings.comparison_banners(rows)
+    tol = scene.model.tolerance
+    hot = [r for r in rows if r.get("strain") is not None and linear_error(r["strain"]) > tol]
+    if hot:
+        worst = max(hot, key=lambda r: r["strain"])
+        banners.append(findings.Banner("range", (
+            f"Linear silicone outside its range at this scene's {F:g} N: the largest silicone strain is "
+            f"{100 * worst['strain']:.3g} % ({worst['model']}), an estimated voltage error of "
+            f"{100 * linear_error(worst['strain']):.2g} % against a tolerance of {100 * tol:g} %. A frequency or step "
+            "response is linear in the force: its V/N holds for small presses; at this force read it as a trend, "
+            "or rerun with model.silicone = \"yeoh\" (static) or a smaller load.force.")))
     for r in rows:
-        if ref and isinstance(r.get("voltage V/N"), float):
-            r["vs 3D"] = f"{100 * (r['voltage V/N'] / ref - 1):+.1f} %"
-    for r in rows:
-        r["voltage V/N"] = tables.cell(r["voltage V/N"], tables.column("sensitivity_V_per_N")[1])
+        if ref and isinstance(r.get("v"), float):
+            r["vs 3D"] = f"{100 * (r['v'] / ref - 1):+.1f} %"
+        r["voltage per newton"] = tables.cell(r["v"], tables.column("sensitivity_V_per_N")[1])
+        r["largest silicone strain"] = tables.percent(r["strain"]) if r.get("strain") is not None else ""
         r["cost"] = "" if r["cost"] is None else f"{r['cost']:.3g} s"
-    return [{"type": "table", "table": tables.table(rows, ["model", "voltage V/N", "vs 3D", "cost"])},
+
+    def mark(r):
+        return "out-of-range" if r in hot else ""
+    return [{"type": "table", "table": tables.table(
+                rows, ["model", "voltage per newton", "vs 3D", "largest silicone strain", "cost"], mark=mark,
+                title="model comparison")},
             {"type": "note", "text": (
                 f"Open-circuit voltage of the pressed taxel per newton, linear silicone, at {F:g} N. Deviation "
                 "from the 3D model (1 mm mesh, 0.4 mm at the taxel; its own mesh error is about 1 %). The Yeoh "
                 "silicone changes these by the strain-dependent amount in the README (7 % at 0.2 N). Cost: the "
                 "wall seconds of the solve when it was first computed; the results are kept in the folder's "
-                "report-cache/results.sqlite and reused.")}]
+                "report-cache/results.sqlite and reused.")}], banners

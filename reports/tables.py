@@ -2,8 +2,12 @@
 kPa, %), rows sorted by the parameters, the full-precision CSV beside the page.
 
 A table is a plain dict the page template draws: {"cols": [...], "rows": [[cell,
-...], ...], "more": n, "csv": href or None}. The column's unit comes from its
-name (the CSV's SI column names: voltage_*, charge_*, max_strain, ...).
+...], ...], "marks": [row class or "", ...], "csv": href or None, "raw": the
+unformatted rows}. Every row is shown (the page scrolls a long table); every table
+gets a CSV beside the page (`write_csvs`: its own full-precision file when it has
+one, else its rows as given). The column's unit comes from its name (the CSV's SI
+column names: voltage_*, charge_*, max_strain, ..., or a unit in parentheses:
+"gap (mm)"). Conventions: crosstalk in %, lengths to 0.01 mm, 3 significant figures.
 """
 
 from __future__ import annotations
@@ -14,22 +18,34 @@ from taxel.units import engineering, magnitude
 
 # column name pattern -> (shown name, how to print an SI number)
 _COLUMNS = [
-    (r"^(pressed_voltage|voltage_pressed)$", "pressed |V|", lambda v: engineering(v, "V")),
-    (r"^voltage_(.+)$", "V {0}", lambda v: engineering(v, "V")),
-    (r"^charge_(.+)$", "Q {0}", lambda v: engineering(v, "C")),
-    (r"^capacitance.*", "capacitance", lambda v: engineering(v, "F")),
+    (r"^(pressed_voltage|voltage_pressed)$", "V pressed taxel (signed)", lambda v: eng(v, "V")),
+    (r"^voltage_(.+)$", "V {0}", lambda v: eng(v, "V")),
+    (r"^charge_(.+)$", "Q {0}", lambda v: eng(v, "C")),
+    (r"^capacitance.*", "capacitance", lambda v: eng(v, "F")),
     (r"^max_strain$", "largest silicone strain", lambda v: percent(v)),
     (r"^crosstalk_bound$", "crosstalk bound", lambda v: percent(v)),
-    (r"^crosstalk$", "crosstalk", lambda v: percent(v)),
-    (r"^sensitivity(_V_per_N)?$", "sensitivity", lambda v: engineering(v, "V/N")),
+    (r"^(.*crosstalk.*)$", "{0}", lambda v: percent(v)),
+    (r"^(.*)\(mm\)$", "{0}(mm)", lambda v: f"{v:.2f}"),
+    (r"^(.*)\(V/N\)$", "{0}", lambda v: eng(v, "V/N")),
+    (r"^sensitivity(_V_per_N)?$", "sensitivity", lambda v: eng(v, "V/N")),
+    (r"^(predicted sensitivity)$", "{0}", lambda v: eng(v, "V/N")),
     (r"^seconds$", "solve time", lambda v: f"{v:.2f} s"),
 ]
 
 
+def eng(value: float | None, unit: str, digits: int = 3) -> str:
+    """A number with an SI prefix, 3 significant figures, micro as µ: eng(2.33e-4, "N") -> "233 µN"."""
+    return re.sub(r"^(\S+) u", r"\1 µ", engineering(value, unit, digits))
+
+
 def percent(ratio: float) -> str:
-    """A ratio in %, 3 significant digits, never with an exponent."""
+    """A ratio in %, 3 significant digits, never with an exponent (0.00289 %)."""
+    import numpy as np
     p = 100 * ratio
-    return f"{p:.3g} %" if abs(p) >= 0.01 or p == 0 else f"< 0.01 %"
+    text = f"{p:.3g}"
+    if "e" in text:
+        text = np.format_float_positional(p, precision=3, unique=False, fractional=False, trim="-")
+    return f"{text} %"
 
 
 def column(name: str):
@@ -37,7 +53,8 @@ def column(name: str):
     for pattern, shown, fmt in _COLUMNS:
         m = re.match(pattern, name)
         if m:
-            return shown.format(*m.groups()).replace("taxel_", "taxel "), fmt
+            name = shown.format(*m.groups())
+            return (name.replace("taxel_", "taxel ") if "taxel_" in name else name.replace("_", " ")).strip(), fmt
     return name.replace("_", " "), None
 
 
@@ -56,22 +73,46 @@ def cell(value, fmt=None) -> str:
         return fmt(x)
     if x.is_integer() and abs(x) < 1e15:   # counts: unknowns, evaluations
         return str(int(x))
-    return f"{x:.4g}"                       # no unit known (a ratio, a residual): as is
+    return f"{x:.3g}"                       # no unit known (a ratio, a residual): 3 significant figures
 
 
-def table(rows: list[dict], cols: list[str] | None = None, sort_by: list[str] = (), limit: int = 60,
-          csv: str | None = None, order: dict[str, list] | None = None) -> dict:
+def table(rows: list[dict], cols: list[str] | None = None, sort_by: list[str] = (), csv: str | None = None,
+          order: dict[str, list] | None = None, mark=None, title: str = "") -> dict:
     """A table for the page template: named columns in units, sorted by `sort_by`
     (numerically by each value's magnitude, so "0.5 mm" < "2 mm"; names such as
-    materials in the order `order` gives them, else as first met), at most `limit` rows."""
+    materials in the order `order` gives them, else as first met), every row.
+    `mark(row)` gives a row's class ("reference", "dominated", "out-of-range" or "")."""
     cols = cols or (list(rows[0]) if rows else [])
     if sort_by:
         first = {k: {v: i for i, v in reversed(list(enumerate(list((order or {}).get(k) or [])
                                                             + [r.get(k) for r in rows])))} for k in sort_by}
         rows = sorted(rows, key=lambda r: tuple(_sort_key(r.get(k), first[k]) for k in sort_by))
     shown = [column(c) for c in cols]
-    body = [[cell(r.get(c), fmt) for c, (_, fmt) in zip(cols, shown)] for r in rows[:limit]]
-    return {"cols": [name for name, _ in shown], "rows": body, "more": max(0, len(rows) - limit), "csv": csv}
+    body = [[cell(r.get(c), fmt) for c, (_, fmt) in zip(cols, shown)] for r in rows]
+    return {"cols": [name for name, _ in shown], "rows": body, "csv": csv, "title": title,
+            "marks": [mark(r) if mark else "" for r in rows], "raw": [[r.get(c) for c in cols] for r in rows],
+            "raw_cols": list(cols)}
+
+
+def write_csvs(sections: list[dict], out, stem: str) -> None:
+    """Give every table of the page's sections a CSV beside the page: the rows as
+    given to `table` (SI numbers where the caller had them), for a table without its
+    own full-precision file."""
+    import csv as _csv
+    n = 0
+    for sec in sections:
+        for b in sec["blocks"]:
+            t = b.get("table") if b.get("type") == "table" else None
+            if t is None or t.get("csv") or not t.get("rows"):
+                continue
+            n += 1
+            slug = re.sub(r"[^a-z0-9]+", "-", (t.get("title") or sec["title"]).lower()).strip("-")
+            name = f"{stem}-{slug}-{n}.csv"
+            with open(out / name, "w", newline="", encoding="utf-8") as fh:
+                w = _csv.writer(fh)
+                w.writerow(t["raw_cols"])
+                w.writerows(t["raw"])
+            t["csv"] = name
 
 
 def _sort_key(v, first):

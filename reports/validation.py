@@ -29,9 +29,20 @@ def _png_bytes(fig) -> bytes:
     return buf.getvalue()
 
 
-def _figure(png: bytes) -> dict:
-    """A page block with one embedded figure."""
-    return {"type": "figures", "images": [data_uri(png)], "wide": True}
+def _figure(png: bytes, caption: str) -> dict:
+    """A page block with one embedded figure and its caption."""
+    return {"type": "figures", "images": [{"src": data_uri(png), "caption": caption}]}
+
+
+def _noise(folder: Path) -> str:
+    """The one noise figure of the localization: per sample, and per reading (the mean
+    of the samples within 2 ms: studies.measured.readings.reading_noise)."""
+    amap = folder / _loc_dir(folder) / "accuracy-map.json"
+    if not amap.exists():
+        return "1 mV rms per sample"
+    per_reading = json.loads(amap.read_text())["noise_V"]
+    n = round((1e-3 / per_reading) ** 2)
+    return f"1 mV rms per sample, {1e3 * per_reading:.2g} mV per reading (the mean of {n} samples)"
 
 
 def _step_figure(folder: Path):
@@ -49,8 +60,8 @@ def _step_figure(folder: Path):
             model = analyze.step_model(rec, fit, m.rig.chains()[s["taxel"]])
             ax.plot(rec.t, rec.volts[:, k], lw=0.5, alpha=0.6, label=f"{d.name} {s['taxel']} measured")
             ax.plot(rec.t, model, lw=1.2, label=f"fit tau = {s['tau_s']:.3g} s")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("V")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("output (V)")
     ax.legend(fontsize=7)
     ax.set_title("Step responses and first-order fits")
     fig.tight_layout()
@@ -89,7 +100,7 @@ def _frf_figure(folder: Path):
     axc.plot(f, a["coherence"])
     axc.axhline(0.9, color="k", lw=0.5)
     axc.set_ylabel("coherence")
-    axc.set_xlabel("f (Hz)")
+    axc.set_xlabel("frequency (Hz)")
     fig.tight_layout()
     return fig
 
@@ -98,28 +109,28 @@ def _linearity_figure(folder: Path):
     plt = _plt()
     a = json.loads((folder / "presses" / "analysis.json").read_text())
     r = json.loads((folder / "impulse" / "analysis.json").read_text())["repeatability"]
-    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, (ax, ay) = plt.subplots(1, 2, figsize=(11, 3.8), layout="constrained")
     for x in a["linearity"]:
-        ax.plot(x["forces_N"], np.abs(x["peaks_V"]), "o", ms=3, label=f"{x['taxel']} R={abs(x['r']):.5f}")
+        ax.plot(x["forces_N"], np.abs(x["peaks_V"]), "o", ms=3,
+                label=f"{x['taxel'].removeprefix('taxel_')} R={abs(x['r']):.5f}")
     ax.set_xlabel("force peak (N)")
     ax.set_ylabel("|voltage peak| (V)")
-    ax.legend(fontsize=6)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.set_title("Linearity")
     for x in r:
         ay.plot(np.arange(1, x["n"] + 1), x["peaks_V"], "o-", label=f"{x['taxel']}: {x['by_spread_pct']:.2f} % / "
                 f"{x['by_range_pct']:.2f} %")
-    ay.set_xlabel("impulse")
+    ay.set_xlabel("impulse (count)")
     ay.set_ylabel("|voltage peak| (V)")
-    ay.legend(fontsize=7)
+    ay.legend(fontsize=7, loc="lower right")
     ay.set_title("Repeatability (spread / range)")
-    fig.tight_layout()
     return fig
 
 
 def _localization_figure(folder: Path):
     plt = _plt()
     loc = json.loads((folder / _loc_dir(folder) / "localization.json").read_text())
-    fig, (ax, ay) = plt.subplots(1, 2, figsize=(9, 4.8))
+    fig, (ax, ay) = plt.subplots(1, 2, figsize=(11, 4.8), layout="constrained")
     C = np.array(loc["confusion"])
     ax.imshow(C, cmap="Blues")
     for i in range(len(C)):
@@ -137,7 +148,7 @@ def _localization_figure(folder: Path):
         amap = json.loads(amap_path.read_text())
         x, y = np.array(amap["x_mm"]), np.array(amap["y_mm"])
         im = ay.pcolormesh(x, y, np.array(amap["position_error_mm"], float), shading="nearest", cmap="viridis")
-        fig.colorbar(im, ax=ay, label=f"predicted position error (mm), {1e3 * amap['noise_V']:.2g} mV per reading")
+        fig.colorbar(im, ax=ay, label="predicted position error (mm)")
     if mb:
         for cls, marker, colour in (("on", "s", "w"), ("between", "o", "orange"), ("beyond the edge", "^", "cyan")):
             r = mb if cls == "on" else mb.get(cls.split()[0] if cls == "between" else "edge", {})
@@ -153,12 +164,11 @@ def _localization_figure(folder: Path):
         ay.invert_yaxis()
         ay.set_xlabel("x (mm)")
         ay.set_ylabel("y (mm)")
-        ay.legend(fontsize=6, loc="lower left", bbox_to_anchor=(0, 1.08), ncol=2)
+        ay.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
         btw = mb.get("between", {}).get("position_error_mm", {}).get("median")
         on = mb["position_error_mm"].get("median", mb["position_error_mm"]["rms"])
         ay.set_title(f"Position error, median: {on:.2g} mm on taxels"
                      + (f", {btw:.2g} mm between" if btw is not None else ""), fontsize=9)
-    fig.tight_layout()
     return fig
 
 
@@ -185,7 +195,12 @@ def localization_rows(folder: Path) -> list[dict]:
     return rows
 
 
-def summary_rows(v: dict) -> list[dict]:
+def _all_presses(v: dict) -> int:
+    lt = v["measured"]["localization"].get("largest_taxel", {})
+    return sum(r.get("presses", 0) for r in lt.values()) or v["measured"]["localization"]["presses"]
+
+
+def summary_rows(v: dict, noise: str = "1 mV rms per sample") -> list[dict]:
     """The summary table: each figure measured here beside the thesis's."""
     m, th = v["measured"], v["thesis"]
     R = [abs(x) for x in m["linearity_R"].values()]
@@ -203,8 +218,9 @@ def summary_rows(v: dict) -> list[dict]:
          "simulated rig": f"{m['repeatability_pct']['by_spread']:.2f} (1 - std/mean), "
                           f"{m['repeatability_pct']['by_range']:.2f} (1 - range/mean)"},
         {"figure": "FRF RMS error, lumped (%)", "thesis": th["rms_error_pct"]["lumped"],
-         "simulated rig": f"{m['rms_error_pct']['lumped']:.2f}; after calibration "
-                          f"{m['rms_error_pct']['lumped_validation_after']:.2f} (validation half)"},
+         "simulated rig": f"{m['rms_error_pct']['lumped']:.3g} over the coherent band (as the thesis); on the "
+                          f"validation half {m['calibration']['rms_before_pct']:.3g} before and "
+                          f"{m['calibration']['rms_after_pct']:.3g} after calibration"},
         {"figure": "FRF RMS error, FEM (%)", "thesis": th["rms_error_pct"]["FEM"],
          "simulated rig": (f"{m['rms_error_pct']['fem']:.1f} (the simulated taxel is the lumped model)"
                            if m["rms_error_pct"].get("fem") is not None else "not computed")},
@@ -233,15 +249,16 @@ def summary_rows(v: dict) -> list[dict]:
                              f"{m['silicone']['identifiability']['bench_chirp']['cramer_rao_sd_pct'][1]:.0f} % at 1 %"}]
            if m.get("silicone") else []),
         {"figure": "localization, largest taxel", "thesis": "PZT better than PVDF",
-         "simulated rig": f"{100 * loc['correct_rate']:.0f} % of {loc['presses']} presses"},
+         "simulated rig": f"{100 * loc['correct_rate']:.0f} % of the {loc['presses']} presses matched to a taxel "
+                          f"(the localization table lists all {_all_presses(v)} presses by where they land)"},
         {"figure": "localization, model-based", "thesis": "-",
          "simulated rig": f"{loc['model_position_error_mm_rms']:.3g} mm, force {loc['model_force_error_pct_rms']:.3g} % rms"
                           + (f" on taxels; between them {loc['model_based']['between']['position_error_mm_rms']:.3g} mm "
-                             f"rms (median {loc['model_based']['between'].get('position_error_mm_median', float('nan')):.3g}),"
+                             f"rms (median {loc['model_based']['between'].get('position_error_mm_median', float('nan')):.3g} mm),"
                              f" force {loc['model_based']['between']['force_error_pct_rms']:.3g} % "
                              f"(largest taxel: {loc['largest_taxel']['between']['position_error_mm_rms']:.3g} mm)"
                              if loc.get("model_based", {}).get("between", {}).get("presses") else "")},
-        {"figure": "localization, predicted (Cramer-Rao, 1 mV per sample)", "thesis": "-",
+        {"figure": f"localization, predicted (Cramer-Rao, {noise})", "thesis": "-",
          "simulated rig": f"{loc['predicted_position_error_mm_at_taxels']:.3g} mm at the taxels, "
                           f"{loc['predicted_position_error_mm_max']:.3g} mm worst"},
     ]
@@ -272,37 +289,56 @@ def build_page(folder: Path, out: Path) -> Page:
                 {"parameter": "chain tau scale s", "value": cal["tau_scale"], "95 % low": cal["tau_scale_ci95"][0],
                  "95 % high": cal["tau_scale_ci95"][1], "truth": v["truth"].get("tau_factor")},
                 *_silicone_rows(v),
-                {"parameter": "RMS error before (%)", "value": cal["rms_before_pct"]},
-                {"parameter": "RMS error after (%)", "value": cal["rms_after_pct"]}]
-    rows = summary_rows(v)
+                {"parameter": "lumped FRF RMS error, validation half, before (%)", "value": cal["rms_before_pct"]},
+                {"parameter": "lumped FRF RMS error, validation half, after (%)", "value": cal["rms_after_pct"]}]
+    rows = summary_rows(v, _noise(folder))
     frf_png = _png_bytes(_frf_figure(folder))
+    fb, vb = cal["fit_band_Hz"], cal["validation_band_Hz"]
     sections = [
         {"title": "Summary beside the thesis", "blocks": [
-            {"type": "table", "table": table(rows, ["figure", "thesis", "simulated rig"])},
-            {"type": "note", "text": "Measured on the simulated rig (studies.measured.pipeline): each record captured "
-                                     "over a pseudo-terminal, analysed with taxel measure analyze/calibrate/localize."}]},
-        {"title": "Step responses", "blocks": [_figure(_png_bytes(_step_figure(folder)))]},
-        {"title": "Frequency response", "blocks": [_figure(frf_png)]},
-        {"title": "Linearity and repeatability", "blocks": [_figure(_png_bytes(_linearity_figure(folder)))]},
-        {"title": "Localization", "blocks": [_figure(_png_bytes(_localization_figure(folder))), {
+            {"type": "table", "table": table(rows, ["figure", "thesis", "simulated rig"],
+                                             title="summary beside the thesis")},
+            {"type": "note", "text": "Thesis column: the thesis's own bench figures (chapter 4). Measured on the "
+                                     "simulated rig (studies.measured.pipeline): each record captured over a "
+                                     "pseudo-terminal, analysed with taxel measure analyze/calibrate/localize. Model: "
+                                     "the lumped 3-DoF model of the thesis PZT taxel through the bench's readout."}]},
+        {"title": "Step responses", "blocks": [_figure(_png_bytes(_step_figure(folder)),
+                                                       "Step responses through the 500 MΩ input: each measured "
+                                                       "trace and its first-order fit (time constant in the legend).")]},
+        {"title": "Frequency response", "blocks": [_figure(frf_png, "Measured frequency response (H1 and the "
+                                                           "amplitude-spectrum ratio) against the lumped model before "
+                                                           "and after calibration, and the coherence (0.9 drawn).")]},
+        {"title": "Linearity and repeatability", "blocks": [_figure(
+            _png_bytes(_linearity_figure(folder)), "Left: voltage peak against force peak per taxel (linearity R). "
+                                                   "Right: the peaks of repeated impulses (repeatability).")]},
+        {"title": "Localization", "blocks": [_figure(
+            _png_bytes(_localization_figure(folder)),
+            f"Left: which taxel read largest against which was pressed. Right: the predicted (Cramer-Rao) position "
+            f"error at {_noise(folder)}, with the pressed points and the model-based estimates."), {
             "type": "table", "table": table(localization_rows(folder), ["method", "presses", "n",
                                                                        "position error rms (mm)",
                                                                        "position error median (mm)",
                                                                        "position error max (mm)",
                                                                        "force error rms (%)"])}]},
-        {"title": "Calibration (chirp; fitted on the lower half of the coherent band, validated on the upper)",
+        {"title": f"Calibration (chirp; fitted on {fb[0]:g}-{fb[1]:g} Hz, validated on {vb[0]:g}-{vb[1]:g} Hz)",
          "blocks": [{"type": "table", "table": table(cal_rows, ["parameter", "value", "95 % low", "95 % high",
                                                                 "truth"])}]},
         {"title": "Provenance", "blocks": provenance(folder, None)},
     ]
     m = v["measured"]
-    numbers = [("time constants", f"{m['tau'][0]['tau_s']:.3g} s, {m['tau'][1]['tau_s']:.3g} s"),
-               ("FRF RMS error, lumped", f"{m['rms_error_pct']['lumped']:.3g} %"),
-               ("after calibration", f"{m['rms_error_pct']['lumped_validation_after']:.3g} %"),
-               ("localization", f"{100 * m['localization']['correct_rate']:.0f} % correct")]
+    from taxel.reports.page import Headline
+    lumped = "lumped 3-DoF model against the simulated rig"
+    numbers = [Headline("time constants", f"{m['tau'][0]['tau_s']:.3g} s, {m['tau'][1]['tau_s']:.3g} s",
+                        "first-order fits to the measured steps"),
+               Headline(f"FRF RMS error, lumped, {vb[0]:g}-{vb[1]:g} Hz", f"{cal['rms_before_pct']:.3g} % → "
+                        f"{cal['rms_after_pct']:.3g} % after calibration", lumped),
+               Headline("localization, largest taxel", f"{100 * m['localization']['correct_rate']:.0f} % of "
+                        f"{m['localization']['presses']} matched presses", "measured peaks, no model")]
     out.mkdir(parents=True, exist_ok=True)
     path = out / f"{folder.name}.html"
     title = f"{folder.name} (validation)"
+    from taxel.reports.tables import write_csvs
+    write_csvs(sections, out, folder.name)
     path.write_text(templates().get_template("page.html").render(
         title=title, kind="validation", folder=folder.name, banners=[], headline=numbers, sections=sections),
         encoding="utf-8")

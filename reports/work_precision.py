@@ -78,8 +78,47 @@ def chart(wp: WorkPrecision, path: Path) -> Path:
     return path
 
 
+def question(wps: list[WorkPrecision], k: str, path: Path) -> Path:
+    """One question, one figure: which model is cheapest for output `k`? A panel per
+    scene and force (forces in rows), every model in it, the 1/5/10 % lines labelled."""
+    plt = pyplot()
+    wps = [w for w in wps if k in w.reference]
+    scenes = list(dict.fromkeys(w.scene for w in wps))
+    forces = sorted({w.force for w in wps})
+    fig, axes = plt.subplots(len(forces), len(scenes), figsize=(max(9.0, 3.6 * len(scenes) + 0.5), 3.1 * len(forces) + 0.9),
+                             squeeze=False, sharex=True, sharey=True, layout="constrained")
+    for ax in axes.flat:
+        ax.set_axis_off()
+    for w in wps:
+        ax = axes[forces.index(w.force)][scenes.index(w.scene)]
+        ax.set_axis_on()
+        _panel(ax, w, k)
+        ax.set_title(f"{w.scene}, {w.force:g} N", fontsize=9)
+        ax.grid(True, which="major", alpha=0.3)
+    for t in TOLERANCES:
+        axes[0][0].annotate(f"{100 * t:g} %", (1, t), xycoords=("axes fraction", "data"), fontsize=7,
+                            color="0.5", ha="right", va="bottom")
+    for ax in axes[-1]:
+        ax.set_xlabel("wall time (s)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("error against the 3D reference (ratio)")
+    _legend(fig)
+    fig.suptitle(f"Which model is cheapest for the {LABELS[k]}?", fontsize=11)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def questions(wps: list[WorkPrecision], folder: Path, stem: str = "work-precision") -> list[Path]:
+    """One figure per output (`question`): FOLDER/<stem>-<output>.png."""
+    folder = Path(folder)
+    return [question(wps, k, folder / f"{stem}-{k.replace('_', '-')}.png") for k in OUTPUTS
+            if any(k in w.reference for w in wps)]
+
+
 def grid(wps: list[WorkPrecision], path: Path) -> Path:
-    """Every scene and force in one figure: a row each, a column per output."""
+    """Every scene and force in one figure: a row each, a column per output (on
+    request: benchmarks/work_precision.py --grid; `questions` is the readable form)."""
     plt = pyplot()
     fig, axes = plt.subplots(len(wps), len(OUTPUTS), figsize=(2.9 * len(OUTPUTS), 2.3 * len(wps)),
                              constrained_layout=True, squeeze=False)

@@ -20,7 +20,8 @@ SOLVER_MODULES = {"taxel.fem.sweep", "taxel.fem.timestep", "taxel.fem.linear", "
 NOT_A_SOLVE = {"taxel.analyses.static.linear_error": "a formula of the largest strain",
                "taxel.analyses.dynamic.lumped_model": "the closed-form 3-DoF model, no FEM",
                "taxel.optimize.driver.pareto_front": "the nondominated subset of given points",
-               "taxel.optimize.driver.violation": "a constraint's violation at given metrics"}
+               "taxel.optimize.driver.violation": "a constraint's violation at given metrics",
+               "taxel.optimize.spec.load_optimization": "reads a problem's spec file (its bounds, its reference)"}
 # known, owned elsewhere: the model-comparison section of a scene page still solves
 KNOWN = {("scene_sections.py", "taxel.analyses.solve_static")}
 

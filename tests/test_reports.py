@@ -140,7 +140,7 @@ def test_index_is_a_summary_with_a_number_per_card(demo):
     text = _text(root)
     for item in ("what", "when", "code version", "duration", "warnings"):
         assert item in text
-    assert "V/N" in text and "pF" in text and "%" in text             # sensitivity, capacitance, crosstalk
+    assert "V/N" in text and re.search(r"\d [pn]F", text) and "%" in text   # sensitivity, capacitance, crosstalk
 
 
 def _axis_labels_checked(monkeypatch):
@@ -233,9 +233,9 @@ def test_out_of_range_page_shows_the_banner_and_an_in_range_one_does_not(tmp_pat
     import html
     hot = html.unescape((tmp_path / "r" / "press-1N.html").read_text())
     cold = (tmp_path / "r" / "press-10mN.html").read_text()
-    assert 'class="banner"' in hot and "Linear silicone outside its range" in hot
+    assert 'class="banner range"' in hot and "Linear silicone outside its range" in hot
     assert re.search(r"largest strain \d+(\.\d+)? %", hot) and 'model.silicone = "yeoh"' in hot
-    assert 'class="banner"' not in cold
+    assert 'class="banner' not in cold
     index = (tmp_path / "r" / "index.html").read_text()
     assert "1 result(s) outside their model" in index and "press-1N (analysis):" in index
 
@@ -263,3 +263,125 @@ def test_building_twice_solves_nothing_the_second_time(demo, tmp_path, monkeypat
     strip = re.compile(r"report date</td><td>[^<]*|<td>[\d.]+ s</td>")     # the date; the lumped model's time
     assert strip.sub("", a) == strip.sub("", b)              # the same page, the same renders
     assert "lumped 3-DoF" in b and "V/N" in b
+
+
+# --- issue 26: the report answers first; every page read in a browser -----------------
+
+_REPR = re.compile(r"\{'|\['|': |np\.float|array\(|object at 0x|PosixPath\(|dict_(keys|values|items)\(")
+_PAGE_JS = """(() => {
+  const vis = e => !!(e.offsetWidth || e.offsetHeight || e.getClientRects().length);
+  const imgs = [...document.querySelectorAll('img')].filter(i => !i.closest('.card'));
+  const tables = [...document.querySelectorAll('table')].filter(t => !t.classList.contains('summary'));
+  return {
+    text: document.body.innerText,
+    figures: imgs.map(i => ({caption: (i.closest('figure') && i.closest('figure').querySelector('figcaption'))
+                                      ? i.closest('figure').querySelector('figcaption').innerText.trim() : '',
+                             natural: i.naturalWidth, shown: i.getBoundingClientRect().width})),
+    numbers: [...document.querySelectorAll('.num, .card dd')].map(n => ({
+      text: n.innerText, model: n.querySelector('.model') ? n.querySelector('.model').innerText.trim() : ''})),
+    tables: tables.map(t => {
+      let e = t.closest('.tablewrap') || t, link = null;
+      for (let s = e.nextElementSibling; s && !link && !s.matches('table, .tablewrap, h2'); s = s.nextElementSibling)
+        link = s.querySelector('a.csv');
+      if (!link && t.closest('.answer')) link = t.closest('.answer').querySelector('a.csv');
+      return {rows: t.rows.length, csv: link ? link.getAttribute('href') : null,
+              strain: [...t.rows].slice(1).map(r => [...r.cells].map((c, i) =>
+                 [t.rows[0].cells[i] ? t.rows[0].cells[i].innerText : '', c.innerText]))
+                 .flat().filter(([h, v]) => /largest silicone strain/.test(h) && /%/.test(v)).map(([h, v]) => v),
+              marked: [...t.rows].filter(r => r.classList.contains('out-of-range')).length};
+    }),
+    range_banners: document.querySelectorAll('.banner.range').length,
+    answer: document.querySelector('.answer') ? document.querySelector('.answer').getBoundingClientRect().top : null,
+    answer_text: document.querySelector('.answer') ? document.querySelector('.answer').innerText : '',
+  };
+})()"""
+
+
+def _artifacts(tmp_path_factory) -> Path:
+    """Where the page screenshots are kept: $TAXEL_TEST_ARTIFACTS (CI uploads it), else the
+    pytest base temporary folder (kept for the last three runs)."""
+    import os
+    root = Path(os.environ.get("TAXEL_TEST_ARTIFACTS") or tmp_path_factory.getbasetemp()) / "report-screens"
+    root.mkdir(parents=True, exist_ok=True)
+    return root
+
+
+@pytest.mark.skipif(chromium() is None, reason="Chromium is not installed (CI installs it)")
+def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path_factory):
+    """Each page of the main job's report, rendered in headless Chromium at 1280x800:
+    no Python dict or repr text, a caption under every figure, a model beside every
+    headline number, a banner for every result outside its model's range, a CSV link
+    under every table; the index leads with the answer. Screenshots are kept."""
+    from taxel.explore.browser import Browser
+    from taxel.reports.findings import _linear_limit
+    shots = _artifacts(tmp_path_factory)
+    limit = 100 * _linear_limit(0.02)
+    report = demo / "report"
+    pages = sorted(report.glob("*.html"))
+    assert len(pages) >= 7                     # six result pages and the index
+    with Browser(1280, 800, timeout=CEILING) as b:
+        for page in pages:
+            b.call("Emulation.setDeviceMetricsOverride", width=1280, height=800, deviceScaleFactor=1, mobile=False)
+            b.goto(page.resolve().as_uri())
+            b.wait("document.readyState === 'complete' && [...document.images].every(i => i.complete)",
+                   what=f"{page.name} loaded")
+            b.screenshot(shots / f"{page.stem}-first-screen.png")
+            info = b.js(_PAGE_JS)
+            where = page.name
+            hit = _REPR.search(info["text"])
+            assert not hit, (where, info["text"][max(0, hit.start() - 80):hit.end() + 80])
+            for f in info["figures"]:
+                assert len(f["caption"]) > 20, (where, f)
+                assert f["shown"] <= f["natural"] + 2, (where, f)          # never blown up past its natural size (+ border)
+            assert info["numbers"], where
+            for n in info["numbers"]:
+                assert re.search(r"FEM|model|lumped|fits|no model|3D", n["model"]), (where, n)
+            for t in info["tables"]:
+                assert t["csv"] and (report / t["csv"]).is_file(), (where, t)
+                strains = [float(re.search(r"[\d.]+", v).group()) for v in t["strain"]]
+                if any(s > limit for s in strains) or t["marked"]:
+                    assert info["range_banners"], (where, strains)
+            if page.stem == "index":
+                assert info["answer"] is not None and info["answer"] < 120     # on top of the first screen
+                for item in ("recommended", "thesis", "silicone above (mm)", "gap (mm)", "pitch (mm)",
+                             "sensitivity", "crosstalk", "Model:", "Crosstalk:", "trade"):
+                    assert item in info["answer_text"], item
+            # the full page too, for a person looking at the artifacts
+            height = b.js("document.documentElement.scrollHeight")
+            b.call("Emulation.setDeviceMetricsOverride", width=1280, height=min(int(height), 12000),
+                   deviceScaleFactor=1, mobile=False)
+            b.screenshot(shots / f"{page.stem}.png")
+    assert (shots / "index-first-screen.png").stat().st_size > 20000
+
+
+def test_the_answer_and_banners_of_a_3d_verified_front(tmp_path):
+    """A verified front's record (front-3d.json, the PVDF run's numbers): the answer holds
+    both designs in mm with the pitch and the trade, from the confirmed 3D model; the 2D/3D
+    crosstalk gap and the corrected prediction's miss each raise their banner."""
+    import json
+    from taxel.reports.answer import headline_front
+    from taxel.reports.findings import front_3d_banners
+    ref = {"silicone_above (mm)": 1.0, "silicone_below (mm)": 1.0, "gap (mm)": 3.0, "sensitivity 2D (V/N)": 10.85,
+           "crosstalk 2D": 0.0723, "sensitivity 3D (V/N)": 10.48, "crosstalk 3D": 0.0470,
+           "predicted sensitivity": None, "predicted crosstalk": None}
+    missed = {**ref, "silicone_above (mm)": 1.53, "silicone_below (mm)": 0.47, "gap (mm)": 4.78,
+              "crosstalk 3D": 0.0206, "predicted crosstalk": 0.0000289}
+    best = {"x": [0.887, 1.113, 4.791], "sensitivity_V_per_N": 9.971, "crosstalk": 0.01995, "sensitivity_gain": 0.0159}
+    rec = {"verify_3d": {"model.type": "3d", "mesh.size": "3 mm", "mesh.piezo_size": "1.2 mm", "mesh.piezo_layers": 2},
+           "reference": ref, "verified": [ref, missed], "front_3d": [missed], "rounds": [], "plan": {}, "spent": {},
+           "answer": {"thesis_3d": {"sensitivity_V_per_N": 10.48, "crosstalk": 0.047}, "thesis_on_3d_front": False,
+                      "confirmed": {"model": {"model.type": "3d", "mesh.size": "1.5 mm", "mesh.piezo_size": "0.6 mm",
+                                              "mesh.piezo_layers": "2"},
+                                    "thesis": {"sensitivity_V_per_N": 9.815, "crosstalk": 0.04745}, "best": best}}}
+    folder = tmp_path / "thesis-pvdf-front"
+    folder.mkdir()
+    (folder / "front-3d.json").write_text(json.dumps(rec))
+    (folder / "scene.json").write_text(json.dumps({"array": {"taxel_width": "0.004 m", "piezo": "PVDF"}}))
+    a = headline_front(folder)
+    assert a.verified and "1.5 mm mesh" in a.model
+    assert (a.recommended.gap_mm, a.recommended.pitch_mm) == (4.791, pytest.approx(8.791))
+    assert a.thesis.sensitivity_V_per_N == 9.815 and a.recommended.crosstalk == 0.01995
+    assert "a wider pitch 7.00 → 8.79 mm" in a.trade and "+1.6 % sensitivity" in a.trade
+    kinds = {b.kind: b.text for b in front_3d_banners(rec)}
+    assert "1.5x" in kinds["disagreement"]
+    assert "0.00289 %" in kinds["verification"] and "2.06 %" in kinds["verification"]

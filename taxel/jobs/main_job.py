@@ -77,6 +77,26 @@ def front(out: Path, name: str, small: bool, full: bool = False) -> Path:
     return out
 
 
+def design_views(front_dir: Path, name: str, root: Path) -> list[Path]:
+    """The thesis and the recommended design of a verified front (reports.answer.headline_front)
+    solved once more in 3D on the verification's mesh (MF.VERIFY_3D) and written with their
+    fields and off-screen renders (reports.analysis.write): two solve folders for the report."""
+    from taxel.reports.answer import headline_front
+    from taxel.scene import parse
+    a = headline_front(front_dir)
+    prob = O.load_optimization(name)
+    out = []
+    for d in (a.thesis, a.recommended) if a else ():
+        if d is None:
+            continue
+        x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+        data = MF.fine_data(prob, [x[n] for n in prob.names], MF.VERIFY_3D)
+        data["name"] = f"{name.removesuffix('-front')}-{d.role}-3d"
+        analysis.write(api.solve(parse(data)), root / data["name"])
+        out.append(root / data["name"])
+    return out
+
+
 def noise_budget(out: Path, small: bool = False) -> Path:
     """The noise budget of the thesis PZT taxel (FEM transfer function, charge amplifier and
     notch) on the thesis bench's ADC, with the simulated rig's hum (5, 1.5, 0.5 mV at 50, 150,
@@ -136,6 +156,10 @@ def run(root: Path, small: bool = False, full: bool = False) -> Path:
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
         folders.append(front(root / name, name, small, full))
+    if not small:                      # the thesis and the recommended PZT design, deformed, in 3D
+        t3 = time.perf_counter()
+        folders += design_views(root / "thesis-pzt-front", "thesis-pzt-front", root)
+        print(f"      3D views of the thesis and the recommended design in {time.perf_counter() - t3:.0f} s")
     print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = api.load(name)
