@@ -6,8 +6,8 @@ circuit on the electrodes then follows exactly from the port relation
 Q = Q_sc + C V with Q_sc = -C V_oc (fem.circuits).
 Cheap sweeps. `sweep(..., method="reduced")` projects the system on a block
 Krylov basis {A_s^-1 B, A_s^-1 M A_s^-1 B, ...}, A_s = K0 - s^2 M at real shifts s
-(0 first), B = [F, B_e], each block also multiplied by A_s^-1 Im K (the loss
-factors): moment matching of the transfer function. The reduced
+(0 first), B = [F, B_e], each block also multiplied by A_s^-1 (K_u - K0) (the
+losses, fem.relaxation): moment matching of the transfer function. The reduced
 answer is compared with direct solves at check frequencies (the highest and
 the middle one); the basis grows (a new shift at the worst check frequency)
 until the relative error of V_oc and C^-1 is below the tolerance, which the
@@ -117,8 +117,9 @@ def krylov(dm: DynamicModel, shifts, moments, previous=None):
     Krylov vectors: its span contains the Krylov space, and the reduced mass is
     exactly zero on the second group, so `condense` is exact."""
     K0, M = dm.K0, dm.M
-    # the loss factors make K complex: K = K0 + i Kim; its directions enter the basis too
-    Kim = sum(np.imag(dm.kappa[k]) * P for k, P in dm.parts.items())
+    # the losses make K complex: K(w) = K0 + sum_j K^(j) i w tau_j / (1 + i w tau_j); the
+    # directions of their total K_u - K0 enter the basis too
+    Kim = dm.K_unrelaxed() - K0
     D = linalg.scaling(K0, dm.red.is_u)
     B = np.column_stack([dm.F, dm.Be])
     cols = [] if previous is None else [previous / D[:, None]]
@@ -153,7 +154,8 @@ def project(dm: DynamicModel, V):
 
 def _reduced_ports(dm: DynamicModel, r, f_hz):
     w = 2 * np.pi * f_hz
-    A = sum(dm.kappa[k] * P for k, P in r["parts"].items()) - w ** 2 * r["M"] \
+    kap = dm.kappa(w)
+    A = sum(kap[k] * P for k, P in r["parts"].items()) - w ** 2 * r["M"] \
         + 1j * w * (dm.alpha * r["M"] + dm.beta * r["mech"])
     X = r["E"] @ np.linalg.solve(A, r["B"])
     return X[:, 0], X[:, 1:]
