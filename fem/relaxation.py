@@ -115,7 +115,7 @@ def law(losses: dict, band=BAND, n: int = BRANCHES) -> Relaxation:
             memo[key] = fit(*key, tau, band)
         if np.any(memo[key]):
             weights[kind] = memo[key]
-    return Relaxation(tau, weights, tuple(band))
+    return Relaxation(tau if weights else np.zeros(0), weights, tuple(band))   # no loss: no internal variables
 
 
 def ripple(rel: Relaxation, kind: str, eta: float, band=None, points: int = 400) -> float:

@@ -86,10 +86,12 @@ def test_reduced_sweep_matches_direct_and_reports_its_error(taxel):
     f = np.geomspace(1, 1000, 40)
     red = sweep.sweep(dm, f)
     direct = sweep.sweep(dm, f[::8], method="direct")
-    assert red.error < 1e-6
+    assert red.error < 1e-3                      # the default tolerance (measured 2.7e-4 at 1 kHz)
     rel = np.abs(red.V_oc[::8] - direct.V_oc).max() / np.abs(direct.V_oc).max()
-    assert rel < 1e-6
-    np.testing.assert_allclose(red.Cinv[::8], direct.Cinv, rtol=1e-6)
+    assert rel <= 1.01 * red.error               # the reported error is the largest (at the top frequency)
+    np.testing.assert_allclose(red.Cinv[::8], direct.Cinv, rtol=red.error)
+    tight = sweep.sweep(dm, f, tol=1e-6)         # a tighter tolerance adds shifts until it holds
+    assert tight.error < 1e-6 and np.abs(tight.V_oc[::8] - direct.V_oc).max() < 1e-6 * np.abs(direct.V_oc).max()
 
 
 def lossless(scene, beta=0.0):
@@ -117,7 +119,10 @@ def test_resistive_load_coupled_equals_norton_postprocessing(taxel):
 
 
 def test_step_through_a_resistor_decays_with_tau_RC(taxel):
+    # without material losses: a lossy (relaxing, fem.relaxation) capacitance C(s) moves the
+    # pole off -1 / (R C(0)) by about 1 % (measured 1.0 %)
     scene, dm = taxel
+    dm = model(lossless(scene), tm=dm.sy.tm)
     R = 5e8
     t = np.arange(0, 4.0, 2e-3)
     f = np.clip(t / 0.02, 0, 1)
@@ -208,11 +213,15 @@ def test_lumped_equals_fem_for_a_confined_stack():
     scene = confined_stack()
     dm = model(scene)
     lm = lumped_model(scene, confined=True)
-    f = np.array([1.0, 100.0])
+    f = np.array([1e-3, 1.0, 100.0])
     fem_q = sweep.sweep(dm, f, method="direct").Q_sc[:, 0]
     lum_q = lm.Q_sc(f)
     # static limit: exact in 1-D (e33 F / c33^E); tolerance = the loss factors' phase
-    np.testing.assert_allclose(np.abs(lum_q), np.abs(fem_q), rtol=2e-3)
+    np.testing.assert_allclose(np.abs(lum_q[0]), np.abs(fem_q[0]), rtol=2e-3)
+    # dynamically the FEM's piezo stiffness follows the causal loss law (fem.relaxation),
+    # c33 kappa(w): Q_sc = e33 F / (c33 kappa(w)) (the silicone in series carries the same force)
+    kap = np.array([next(v for k, v in dm.kappa(2 * np.pi * x).items() if k.startswith("elastic")) for x in f])
+    np.testing.assert_allclose(np.abs(fem_q), np.abs(lum_q[0]) / np.abs(kap), rtol=2e-3)
 
 
 def test_lumped_and_fem_part_for_the_real_taxel():
@@ -249,7 +258,7 @@ def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_us
     dm = model(scene)
     dt_crit = timestep.critical_time_step(dm)
     assert 1e-9 < dt_crit < 2e-8                       # measured 5.5e-9 s
-    K, M, u = dm.K0.toarray(), dm.M.toarray(), dm.red.is_u
+    K, M, u = dm.K_unrelaxed().toarray(), dm.M.toarray(), dm.red.is_u     # instantaneous stiffness
     Kc = K[np.ix_(u, u)] - K[np.ix_(u, ~u)] @ np.linalg.solve(K[np.ix_(~u, ~u)], K[np.ix_(~u, u)])
     Mc = M[np.ix_(u, u)]
     kick = np.zeros(u.sum())
