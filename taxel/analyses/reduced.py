@@ -297,9 +297,11 @@ def cached(scene: Scene, inputs: str | None = None, output: str = "readout") -> 
 class OnePort:
     """One path of a reduced model as a one-port taxel, the interface the chain fits
     use for the lumped model (studies.measured.frf.lumped_frf, calibrate): the
-    open-circuit voltage per newton `V_oc(f)` of taxel `output` pressed on `input`
-    (the FEM's, loss factors complex), the static capacitance `C_p` of that electrode
-    (F) and `force` = 1 N. Values are remembered per frequency array (a least-squares
+    static capacitance `C_p` of electrode `output` (F), `force` = 1 N, and `V_oc(f)`
+    defined as -Q_sc(f) / C_p with Q_sc the FEM's short-circuit charge per newton of
+    taxel `output` pressed on `input`, every electrode held at 0 V (as the rig's charge
+    amplifiers hold them; the capacitance relaxes with frequency, fem.relaxation, so
+    the charge, not the open-circuit voltage, is the path's invariant). Values are remembered per frequency array (a least-squares
     fit asks for the same frequencies again and again)."""
 
     model: ReducedModel
@@ -313,7 +315,9 @@ class OnePort:
         freqs = np.asarray(freqs, float)
         key = freqs.tobytes()
         if key not in self._memo:
-            self._memo[key] = reduced.ports(self.model.red, freqs)[0][:, self.output, self.input]
+            V, Ci = reduced.ports(self.model.red, freqs)
+            Q_sc = -np.linalg.solve(Ci, V)[:, self.output, self.input]      # every electrode at 0 V
+            self._memo[key] = -Q_sc / self.C_p
         return self._memo[key]
 
     def Q_sc(self, freqs) -> np.ndarray:
