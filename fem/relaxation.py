@@ -55,6 +55,7 @@ class Relaxation:
     tau: np.ndarray                                  # (N,) s
     weights: dict = field(default_factory=dict)      # kind -> (N,) c_jk (signed: + modulus, - compliance)
     band: tuple = BAND
+    losses: dict = field(default_factory=dict)       # kind -> (eta, compliance): what the law was fitted to
 
     def kappa(self, w: float) -> dict:
         """kind -> complex multiplier at angular frequency w (kinds without loss: 1)."""
@@ -76,12 +77,12 @@ class Relaxation:
 
     def to_data(self) -> dict:
         return {"tau": self.tau.tolist(), "weights": {k: c.tolist() for k, c in self.weights.items()},
-                "band": list(self.band)}
+                "band": list(self.band), "losses": {k: [float(e), bool(c)] for k, (e, c) in self.losses.items()}}
 
     @classmethod
     def from_data(cls, d: dict) -> "Relaxation":
         return cls(np.asarray(d["tau"], float), {k: np.asarray(c, float) for k, c in d["weights"].items()},
-                   tuple(d["band"]))
+                   tuple(d["band"]), {k: (e, c) for k, (e, c) in d.get("losses", {}).items()})
 
 
 def times(band=BAND, n: int = BRANCHES, margin: float = MARGIN) -> np.ndarray:
@@ -115,7 +116,8 @@ def law(losses: dict, band=BAND, n: int = BRANCHES) -> Relaxation:
             memo[key] = fit(*key, tau, band)
         if np.any(memo[key]):
             weights[kind] = memo[key]
-    return Relaxation(tau if weights else np.zeros(0), weights, tuple(band))   # no loss: no internal variables
+    return Relaxation(tau if weights else np.zeros(0), weights, tuple(band),   # no loss: no internal variables
+                      {k: (float(e), bool(c)) for k, (e, c) in losses.items()})
 
 
 def ripple(rel: Relaxation, kind: str, eta: float, band=None, points: int = 400) -> float:
