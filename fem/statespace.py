@@ -67,6 +67,8 @@ class StateSpace:
     def modes(self):
         """(lambda, C W, W^-1 B) of the eigendecomposition A = W diag(lambda) W^-1,
         or () when W is ill conditioned (computed once)."""
+        if self._eig is None and self.order == 0:
+            self._eig = (np.zeros(0, complex), np.zeros((self.C.shape[0], 0)), np.zeros((0, self.B.shape[1])))
         if self._eig is None:
             lam, W = la.eig(self.A)
             self._eig = (lam, self.C @ W, np.linalg.solve(W, self.B)) if np.linalg.cond(W) < 1e8 else ()
@@ -104,23 +106,23 @@ class StateSpace:
         phi1 = np.where(small, h * (1 + x / 2 + x ** 2 / 6), (E - 1) / np.where(small, 1.0, lam))
         phi2 = np.where(small, h * (0.5 + x / 6 + x ** 2 / 24), (E - 1 - xs) / (xs * np.where(small, 1.0, lam)))
         keep = np.flatnonzero(lam.imag >= 0)
-        weight = np.where(lam[keep].imag > 0, 2.0, 1.0)
         y = u @ self.D.T
-        uT = np.ascontiguousarray(u.T)
         for chunk in np.array_split(keep, max(1, len(keep) // 32)):
-            beta = (WB[chunk].real @ uT) + 1j * (WB[chunk].imag @ uT)      # (modes, nt)
-            z = np.empty_like(beta)
+            Zr, Zi = np.zeros((len(chunk), len(t))), np.zeros((len(chunk), len(t)))
             for r, i in enumerate(chunk):
-                b0 = beta[r, 0]
-                z0 = -b0 / lam[i]                                   # static under u[0]
-                zi = [E[i] * z0 + (phi1[i] - phi2[i]) * b0]
-                if lam[i].imag == 0:
-                    z[r] = signal.lfilter([phi2[i].real, (phi1[i] - phi2[i]).real], [1.0, -E[i].real],
-                                          beta[r].real, zi=[zi[0].real])[0]
-                else:
-                    z[r] = signal.lfilter([phi2[i], phi1[i] - phi2[i]], [1.0, -E[i]], beta[r], zi=zi)[0]
-            c = CW[:, chunk] * weight[np.searchsorted(keep, chunk)]
-            y += (c.real @ z.real - c.imag @ z.imag).T
+                b = WB[i]
+                if lam[i].imag == 0:                                # a real pole: real arithmetic
+                    beta = u @ b.real
+                    zi = [(E[i] * (-beta[0] / lam[i]) + (phi1[i] - phi2[i]) * beta[0]).real]
+                    Zr[r] = signal.lfilter([phi2[i].real, (phi1[i] - phi2[i]).real], [1.0, -E[i].real],
+                                           beta, zi=zi)[0]
+                    continue
+                beta = u @ b.real + 1j * (u @ b.imag)
+                zi = [E[i] * (-beta[0] / lam[i]) + (phi1[i] - phi2[i]) * beta[0]]    # static under u[0]
+                z = 2 * signal.lfilter([phi2[i], phi1[i] - phi2[i]], [1.0, -E[i]], beta, zi=zi)[0]   # the pair: 2 Re
+                Zr[r], Zi[r] = z.real, z.imag
+            c = CW[:, chunk]
+            y += Zr.T @ c.real.T - Zi.T @ c.imag.T
         return y
 
 
@@ -181,7 +183,8 @@ def exact_port_model(red: Reduced) -> StateSpace:
     return StateSpace(A, B, C, D)
 
 
-def port_model(red: Reduced, band=(1.0, 2000.0), tol: float = 1e-3, points: int = 200) -> tuple[StateSpace, float]:
+def port_model(red: Reduced, band=(1.0, 2000.0), tol: float = 1e-3, points: int = 200,
+               compress: float = 0.5) -> tuple[StateSpace, float]:
     """The exact port model truncated to its dominant modes (step 4); returns it and
     the measured truncation error over the band (max over paths of the largest
     |H - H_exact| relative to the path's largest |H_exact|)."""
@@ -209,16 +212,60 @@ def port_model(red: Reduced, band=(1.0, 2000.0), tol: float = 1e-3, points: int 
     for k, i in enumerate(order):
         members = [i, i + 1] if lam[i].imag > 0 else [i]
         total = total + np.einsum("omi,fm->foi", R[:, members], err_of[:, members])
-        if (np.abs(total).max(axis=0) / scale).max() > tol:
+        if (np.abs(total).max(axis=0) / scale).max() > (1 - compress) * tol:
             break
         n_drop = k + 1
     gone = order[:n_drop]
     drop = np.concatenate([gone, gone[lam[gone].imag > 0] + 1]).astype(int)
     keep = np.setdiff1d(np.arange(len(lam)), drop)
     D = (ex.D - np.einsum("omi,m->oi", R[:, drop], 1 / lam[drop])).real
-    Ht = np.einsum("omi,fm->foi", R[:, keep], 1 / (s[:, None] - lam[keep][None, :])) + D
-    err = float((np.abs(Ht - H).max(axis=0) / scale).max())
-    return _real_modal(lam[keep], Cm[:, keep], Bm[keep], D), err
+    cplx, real = keep[lam[keep].imag != 0], keep[lam[keep].imag == 0]
+    ss = _real_modal(lam[cplx], Cm[:, cplx], Bm[cplx], D)
+    Hc = np.einsum("omi,fm->foi", R[:, cplx], 1 / (s[:, None] - lam[cplx][None, :])) + D
+    rs = _compress(lam[real].real, Cm[:, real].real, Bm[real].real, s, H - Hc, scale, compress * tol)
+    ss = StateSpace(la.block_diag(ss.A, rs.A), np.vstack([ss.B, rs.B]), np.hstack([ss.C, rs.C]), ss.D + rs.D)
+    err = float((np.abs(ss.frf(s.imag / (2 * np.pi)) - H).max(axis=0) / scale).max())
+    return ss, err
+
+
+def _compress(lam, C, B, s, target, scale, tol) -> StateSpace:
+    """The real-pole (relaxation) part, sum_i C_i B_i / (s - lam_i), reduced by balanced
+    truncation with singular perturbation (the static gain kept): scaled so that every
+    path counts relative to its largest value, Gramians of the diagonal system in closed
+    form P_ij = (b_i . b_j) / -(lam_i + lam_j); the smallest order (bisection) whose FRF
+    on the grid is within tol of `target` (the same part before compression)."""
+    if len(lam) == 0:
+        return StateSpace(np.zeros((0, 0)), np.zeros((0, B.shape[1])), np.zeros((C.shape[0], 0)),
+                          np.zeros((C.shape[0], B.shape[1])))
+    so, si = 1 / np.sqrt(scale.max(axis=1)), 1 / np.sqrt(scale.max(axis=0))
+    Bs, Cs = B * si[None, :], C * so[:, None]
+    S = -(lam[:, None] + lam[None, :])
+    P, Q = (Bs @ Bs.T) / S, (Cs.T @ Cs) / S
+
+    def root(X):
+        w, V = la.eigh((X + X.T) / 2)
+        return V * np.sqrt(np.maximum(w, 0))
+    Lp, Lq = root(P), root(Q)
+    U, sv, Vt = la.svd(Lq.T @ Lp)
+    nz = int((sv > 1e-14 * sv[0]).sum()) if sv[0] > 0 else 0
+    T = Lp @ Vt.T[:, :nz] / np.sqrt(sv[:nz])
+    Ti = (U[:, :nz] / np.sqrt(sv[:nz])).T @ Lq.T
+    Ab, Bb, Cb = Ti @ np.diag(lam) @ T, Ti @ Bs, Cs @ T
+    f = s.imag / (2 * np.pi)
+
+    def truncated(k):           # singular perturbation of the balanced system to order k
+        X = np.linalg.solve(Ab[k:, k:], np.hstack([Ab[k:, :k], Bb[k:]])) if k < nz else np.zeros((0, k + B.shape[1]))
+        Ar, Br = Ab[:k, :k] - Ab[:k, k:] @ X[:, :k], Bb[:k] - Ab[:k, k:] @ X[:, k:]
+        Cr, Dr = Cb[:, :k] - Cb[:, k:] @ X[:, :k], -Cb[:, k:] @ X[:, k:]
+        return StateSpace(Ar, Br / si[None, :], Cr / so[:, None], Dr / np.outer(so, si))
+
+    def ok(k):
+        return (np.abs(truncated(k).frf(f) - target).max(axis=0) / scale).max() <= tol
+    lo, hi = 0, nz                # the smallest order that holds (the error falls with the order)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if ok(mid) else (mid + 1, hi)
+    return truncated(lo)
 
 
 def _real_modal(lam, Cm, Bm, D) -> StateSpace:
