@@ -19,6 +19,7 @@ the law's internal variables, modally truncated (fem.statespace), which the expo
 
 from __future__ import annotations
 
+import os
 import statistics
 import time
 
@@ -70,11 +71,12 @@ def case(label, scene):
     rng = np.random.default_rng(0)
     u = np.column_stack([np.interp(tt, np.arange(0, 61, 0.5), rng.uniform(0, 1, 122)) for _ in model.input_names])
     model.simulate(tt[:100], u[:100])                     # warm-up (imports)
-    sims = []
+    sims, cpus = [], []
     for _ in range(3):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         model.simulate(tt, u)
         sims.append(time.perf_counter() - t)
+        cpus.append(time.process_time() - c)
     n_in, n_out = len(model.input_names), len(model.output_names)
     print(f"\n{label}: {dm.M.shape[0]} unknowns, {n_in} inputs x {n_out} outputs ({model.readout_label})")
     print(f"  order: {model.order} states ({model.red.order} basis vectors; measured reduction error "
@@ -83,7 +85,8 @@ def case(label, scene):
     print(f"  build {build:.1f} s + state space {realize:.1f} s | one direct sweep ({len(FREQS)} points, all inputs) "
           f"{direct:.1f} s (ratio {direct / (build + realize):.2f}) | the frequency analysis' reduced sweep (pressed taxel only) {existing:.1f} s")
     print(f"  60 s record at 2 kHz ({len(tt)} samples x {n_in} inputs): median {statistics.median(sims):.2f} s "
-          f"(of {', '.join(f'{s:.2f}' for s in sims)})")
+          f"(of {', '.join(f'{s:.2f}' for s in sims)}); CPU time {statistics.median(cpus):.2f} s (the wall time "
+          f"on a shared machine includes waiting: load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)")
     print(f"  FRF error vs direct, 1 Hz-2 kHz, {len(FREQS)} points: frf {e_rom:.1e} (worst path {p_rom}); "
           f"state space {e_ss:.1e} (worst path {p_ss}); state space at the resonance "
           f"({near[0]:.0f}-{near[-1]:.0f} Hz) {e_near:.1e} (worst path {p_near})")
