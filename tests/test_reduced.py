@@ -214,3 +214,25 @@ def test_calibrate_on_the_reduced_model_recovers_the_drawn_gain_and_time_constan
     assert cal["gain_ci95"][0] <= truth["gain_factor"] <= cal["gain_ci95"][1]
     assert cal["tau_scale_ci95"][0] <= truth["tau_factor"] <= cal["tau_scale_ci95"][1]
     assert cal["rms_after_all_pct"] < 5.0
+
+
+@pytest.mark.slow
+def test_physical_scales_identifiability_on_the_fem():
+    """studies.measured.physical on the single 2D taxel through the thesis bench's chain:
+    the piezo coefficient is a pure gain (sensitivity 1, the coupling matrix scaled;
+    checked against a finite difference of the FRF), confounded with the taxel's gain
+    (correlation -1), while the silicone's modulus and loss hardly move the chirp's FRF."""
+    from taxel.studies.bench.rig import load_rig
+    from taxel.studies.measured.physical import Physical, physical_identifiability
+    scene = taxel.load("thesis-pzt-single-2d")
+    readout = load_rig("thesis-bench").chains()["taxel_1_1"].readout()
+    f = np.arange(5.0, 99.0, 4.0)
+    f = f[np.abs(f - 50) >= 15]
+    model = Physical(scene, readout)
+    H0, H1 = model(f), model(f, piezo=1.01)
+    assert np.abs(np.log(np.abs(H1 / H0)) / np.log(1.01) - 1).max() < 0.02
+    idf = physical_identifiability(scene, readout, f, 0.01)
+    i = {n: k for k, n in enumerate(idf.names)}
+    assert abs(idf.correlation[i["piezo"], i["gain"]]) > 0.999
+    assert idf.sensitivity[i["modulus"]] < 0.05 and idf.sensitivity[i["loss"]] < 0.05
+    assert idf.sensitivity[i["R_f"]] > 0.5
