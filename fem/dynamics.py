@@ -9,13 +9,14 @@ whose row is its charge balance, right-hand side -Q_k):
 M is the consistent mass of the displacements (pressure and potential carry
 none), F the load of 1 N on the problem's footprint and f(t) the force in N. Damping:
 
-* frequency domain, structural (loss factors, per material):
-      K(w) = sum_parts kappa_part K_part,  kappa = 1 + i eta_s (silicone shear),
-      1 / (1 + i eta_s) (silicone volumetric: the compliance of the mixed form),
-      1 + i / Qm (piezo stiffness), 1 - i tan(delta) (permittivity), 1 (coupling);
-      plus Rayleigh  i w (alpha M + beta K_mech);
-* time domain: the same loss factors as viscous damping matched at the
-  reference frequency, C = alpha M + sum_mech (beta + eta / w_ref) K_part.
+* material (loss factors, per material: silicone shear and volumetric eta_s, piezo
+  stiffness 1/Qm, permittivity tan(delta)), one causal law for every analysis
+  (fem.relaxation: a generalized Maxwell / Debye series fitted to the loss factor
+  over the band; a constant complex modulus is not causal):
+      K(w) = sum_parts kappa_part(w) K_part,  kappa(0) = 1 (the material data are
+      the relaxed values), |Im kappa| / Re kappa = eta over the band;
+  in time, K_u q - sum_j K^(j) s_j with the internal variables tau_j s_j' = q - s_j;
+* Rayleigh, viscous: i w (alpha M + beta K_mech) (C = alpha M + beta K_mech).
 
 With a Yeoh silicone the model is linearised about the static state under the
 problem's load (the preload): K_part are then the consistent tangents at that
@@ -43,6 +44,7 @@ import scipy.sparse as sp
 from skfem import asm
 
 from taxel.fem import forms, linalg
+from taxel.fem import relaxation as rx
 from taxel.fem.assembly import System, assemble
 from taxel.fem.constraints import Reduction, reduction
 from taxel.fem.newton import newton, yeoh_terms
@@ -55,8 +57,7 @@ class DynamicModel:
     sy: System
     red: Reduction
     parts: dict          # kind -> reduced real sparse matrix
-    kappa: dict          # kind -> complex loss factor multiplier
-    viscous: dict        # kind -> time-domain stiffness-proportional damping coefficient (s)
+    relax: rx.Relaxation # the causal loss law of the lossy kinds (fem.relaxation)
     M: sp.csr_matrix
     alpha: float
     beta: float
@@ -69,19 +70,30 @@ class DynamicModel:
     def K0(self):
         return sum(self.parts.values())
 
+    def kappa(self, omega) -> dict:
+        """kind -> complex multiplier of K_kind at angular frequency omega (1: no loss)."""
+        k = self.relax.kappa(omega)
+        return {n: k.get(n, 1.0) for n in self.parts}
+
     def K(self, omega):
         """The complex dynamic stiffness at angular frequency omega."""
-        Kw = sum(k * P for k, P in zip((self.kappa[n] for n in self.parts), self.parts.values()))
-        mech = sum(P for n, P in self.parts.items() if mechanical(n))
-        return (Kw - omega ** 2 * self.M + 1j * omega * (self.alpha * self.M + self.beta * mech)).tocsc()
+        kap = self.kappa(omega)
+        Kw = sum(kap[n] * P for n, P in self.parts.items())
+        return (Kw - omega ** 2 * self.M + 1j * omega * self.C_rayleigh()).tocsc()
 
-    def C_time(self):
-        """Viscous damping matrix for transients (loss factors matched at the reference frequency)."""
-        out = self.alpha * self.M
-        for n, P in self.parts.items():
-            if mechanical(n):
-                out = out + (self.beta + self.viscous[n]) * P
-        return out
+    def C_rayleigh(self):
+        """The viscous (Rayleigh) damping matrix alpha M + beta K_mech."""
+        return self.alpha * self.M + self.beta * sum(P for n, P in self.parts.items() if mechanical(n))
+
+    def K_unrelaxed(self):
+        """sum_k kappa_k(inf) K_k: the instantaneous stiffness (fem.relaxation)."""
+        ku = self.relax.unrelaxed()
+        return sum(ku.get(n, 1.0) * P for n, P in self.parts.items())
+
+    def K_branch(self, j: int):
+        """K^(j) = sum_k c_jk K_k of relaxation branch j."""
+        c = self.relax.branch(j)
+        return sum(c[n] * self.parts[n] for n in c)
 
 
 def mechanical(kind):
@@ -111,24 +123,18 @@ def model(problem: Problem, short: bool = False) -> DynamicModel:
     red = reduction(sy, eliminate_grounded=True)
     P = red.P
     dyn = problem.damping
-    w_ref = 2 * np.pi * dyn.reference_frequency
-    parts, kappa, viscous = {}, {}, {}
+    parts, losses = {}, {}
     for kind, A in sy.parts.items():
         parts[kind] = (P.T @ A @ P).tocsr()
         what, _, region = kind.partition(":")
         mat = sy.laws[region].material if region else None
-        eta = 0.0
-        if what == "shear":
-            eta = dyn.silicone_loss
-        elif what == "volumetric":
-            kappa[kind] = 1 / (1 + 1j * dyn.silicone_loss)
+        if what in ("shear", "volumetric"):          # volumetric: the compliance 1/K of the mixed form
+            losses[kind] = (dyn.silicone_loss, what == "volumetric")
         elif what == "elastic":
-            eta = dyn.piezo_loss if dyn.piezo_loss is not None else (1 / mat.Qm if mat.Qm else 0.0)
-        elif what == "dielectric":
-            tand = dyn.dielectric_loss if dyn.dielectric_loss is not None else (mat.tan_delta or 0.0)
-            kappa[kind] = 1 - 1j * tand
-        kappa.setdefault(kind, 1 + 1j * eta)
-        viscous[kind] = eta / w_ref
+            losses[kind] = (dyn.piezo_loss if dyn.piezo_loss is not None else (1 / mat.Qm if mat.Qm else 0.0), False)
+        elif what == "dielectric":                   # enters with a minus sign: a compliance-like term
+            losses[kind] = (dyn.dielectric_loss if dyn.dielectric_loss is not None else (mat.tan_delta or 0.0), True)
+    relax = rx.law(losses, dyn.loss_band)
     M = sp.csr_matrix(sy.A.shape)
     for region, ub in sy.ubases.items():
         Mr = asm(forms.mass(sy.laws[region].material.rho, sy.kin), ub)
@@ -146,7 +152,7 @@ def model(problem: Problem, short: bool = False) -> DynamicModel:
         v = P @ linalg.scaled_solver(sum(parts.values()).tocsc(), red.is_u,
                                      linalg.resolve("auto", red.n, dim=sy.tm.mesh.dim()))(F)[0][:, 0]
         F = F / (dF_dd + float(dF_du @ v))
-    return DynamicModel(sy, red, parts, kappa, viscous, (P.T @ M @ P).tocsr(), dyn.rayleigh_alpha,
+    return DynamicModel(sy, red, parts, relax, (P.T @ M @ P).tocsr(), dyn.rayleigh_alpha,
                         dyn.rayleigh_beta, F, red.unit_charges(), names if short else list(red.active),
                         charge_rows)
 

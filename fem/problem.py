@@ -56,7 +56,8 @@ class Damping:
     dielectric_loss: float | None = None    # default tan(delta) of the material
     rayleigh_alpha: float = 0.0             # 1/s, C = alpha M + beta K
     rayleigh_beta: float = 0.0              # s
-    reference_frequency: float = 100.0      # Hz: loss factors as viscous damping in the time domain
+    reference_frequency: float = 100.0      # Hz: the lumped models' loss factors as viscous damping
+    loss_band: tuple[float, float] = (1.0, 2000.0)   # Hz: the FEM's causal law holds the loss factors here (fem.relaxation)
 
 
 @dataclass(frozen=True)

@@ -4,16 +4,16 @@ after a sweep).
 The full model (fem.dynamics) with m force inputs, load vectors F = [F_1 .. F_m]
 (each per newton), and the electrodes' unit-charge right-hand sides B_e:
 
-    (sum_k kappa_k K_k - w^2 M + i w (alpha M + beta K_mech)) x = F f + B_e Q,   V = E x
+    (sum_k kappa_k(w) K_k - w^2 M + i w (alpha M + beta K_mech)) x = F f + B_e Q,   V = E x
 
 is projected on a real basis V (`basis`: block Krylov spaces of the damped operator at
 complex-valued shifts, every load column in the block: moment matching of all
 m + na transfer functions at the shifts):
 
-    (sum_k kappa_k V^T K_k V - w^2 V^T M V + i w (...)) q = V^T F f + V^T B_e Q,   V_el = E V q.
+    (sum_k kappa_k(w) V^T K_k V - w^2 V^T M V + i w (...)) q = V^T F f + V^T B_e Q,   V_el = E V q.
 
-The complex loss factors kappa_k are kept, so `ports` is the reduced form of
-exactly the model fem.sweep solves. The basis grows greedily (`build`): shifts at
+The causal loss law kappa_k(w) (fem.relaxation) is kept, so `ports` is the reduced
+form of exactly the model fem.sweep solves, and fem.statespace realizes it exactly. The basis grows greedily (`build`): shifts at
 0 Hz and f_max, then at the frequency of the largest residual in the full model,
 until the open-circuit voltages of every input and the inverse capacitance agree
 with a direct solve there within `tol` (relative to the largest entry).
@@ -29,6 +29,7 @@ import scipy.linalg as la
 
 from taxel.fem import linalg
 from taxel.fem.dynamics import DynamicModel
+from taxel.fem.relaxation import Relaxation
 from taxel.fem.sweep import project
 
 
@@ -37,8 +38,7 @@ class Reduced:
     """The projected second-order model (all matrices dense, basis coordinates)."""
 
     parts: dict            # kind -> (r, r) real
-    kappa: dict            # kind -> complex loss multiplier
-    viscous: dict          # kind -> time-domain viscous coefficient eta / w_ref (s), as fem.timestep
+    relax: Relaxation      # the causal loss law (fem.relaxation)
     M: np.ndarray          # (r, r)
     mech: np.ndarray       # (r, r) the mechanical parts (Rayleigh beta acts on them)
     alpha: float
@@ -56,8 +56,13 @@ class Reduced:
     def order(self) -> int:
         return self.M.shape[0]
 
+    def kappa(self, w: float) -> dict:
+        k = self.relax.kappa(w)
+        return {n: k.get(n, 1.0) for n in self.parts}
+
     def dynamic_stiffness(self, w: float) -> np.ndarray:
-        K = sum(self.kappa[k] * P for k, P in self.parts.items())
+        kap = self.kappa(w)
+        K = sum(kap[k] * P for k, P in self.parts.items())
         return K - w ** 2 * self.M + 1j * w * (self.alpha * self.M + self.beta * self.mech)
 
 
@@ -163,6 +168,6 @@ def build(dm: DynamicModel, loads: np.ndarray, f_max: float, f_min: float = 1.0,
 def _project(dm: DynamicModel, loads: np.ndarray, V: np.ndarray) -> Reduced:
     r = project(replace(dm, F=loads), V)
     m = loads.shape[1]
-    return Reduced(r["parts"], dict(dm.kappa), dict(dm.viscous), r["M"], r["mech"] if not np.isscalar(r["mech"]) else
+    return Reduced(r["parts"], dm.relax, r["M"], r["mech"] if not np.isscalar(r["mech"]) else
                    np.zeros_like(r["M"]), dm.alpha, dm.beta, r["B"][:, :m], r["B"][:, m:], r["E"], r["u_cols"],
                    list(dm.names), np.inf)

@@ -1,35 +1,36 @@
 r"""A real first-order state space of a reduced model (fem.reduced), with its readout.
 
-1. Condensation (exact). The reduced basis has displacement columns d (with mass)
-   and pressure/potential columns a (massless, undamped: algebraic). With the real
-   stiffness K = sum_k K_k, eliminating q_a = K_aa^-1 (F_a f + B_a Q - K_ad z) gives
+The reduced model's losses follow the causal law of fem.relaxation, so it has an
+exact finite real realization (a constant loss factor E (1 + i eta) would have none:
+Kramers-Kronig; see fem.relaxation):
 
-       M_d z'' + C_d z' + K_d z = F_d f + B_d Q,    V = G z + g_f f + g_Q Q
+1. Internal variables. K(s) q = K_u q - sum_j K^(j) s_j, tau_j s_j' = q - s_j
+   (K_u the unrelaxed stiffness, K^(j) = sum_k c_jk K_k, projected: V^T K V).
+2. Condensation (exact). The basis has displacement columns d (with mass) and
+   pressure/potential columns a (massless, undamped: algebraic given the s_j):
+   q_a = K_u,aa^-1 (F_a f + B_a Q - K_u,ad z + sum_j K^(j)_a s_j), so
 
-   (K_d = K_dd - K_da K_aa^-1 K_ad, F_d, B_d alike; q = T z + t_f f + t_Q Q, G = E T).
-2. Modes. K_d phi = w^2 M_d phi, Phi^T M_d Phi = I: z = Phi eta, eta'' + C_m eta' + W^2 eta = ...
-3. Loss factors. The frequency-domain model has a complex stiffness
-   K0 + i K_im, K_im = sum_k Im(kappa_k) K_k (silicone shear eta, volumetric
-   Im 1/(1 + i eta), piezo 1/Qm, permittivity -tan(delta): each term is >= 0 on
-   every state, so K_im is positive semi-definite). A constant loss factor is not
-   causal (its real and imaginary parts violate the Kramers-Kronig relations: no
-   finite real state space reproduces it over a band; a least-squares fit of
-   Maxwell terms to 1 + 0.1 i over 1 Hz-2 kHz stays 5-8 % off). So the real model
-   carries it as viscous damping, to first order in the loss factors:
-   * `loss="modal"` (default): H = Phi^T T^T K_im T Phi, C_m = H_ij / sqrt(w_i w_j):
-     each mode's damping equals the hysteretic one at its own natural frequency
-     (modal damping ratio eta_i / 2), where damping decides the response; below a
-     mode the real model loses the hysteretic phase lag eta (quasi-static responses
-     differ by about eta in phase and eta^2 / 2 in magnitude);
-   * `loss="reference"`: C = sum_mech (eta_k / w_ref) K_k, the damping of the FEM
-     transient (fem.dynamics.DynamicModel.C_time), so `simulate` reproduces it.
-   Rayleigh damping alpha M + beta K_mech is viscous already and enters exactly.
-4. First order, balanced: x = [W eta, eta'] so that
-       x1' = W x2,   x2' = -W x1 - C_m x2 + Phi^T F_d f + Phi^T B_d Q.
-5. Readout (fem.circuits), all exact for the condensed model:
-   * "open": Q = 0, y = V = G Phi W^-1 x1 + g_f f;
-   * "charge": electrodes held at 0 V: Q = -g_Q^-1 (G z + g_f f) (the short-circuit
-     charge Q_sc of the port relation Q = Q_sc + C V) fed back into the mechanics; y = Q;
+       M_d z'' + C_d z' + K_d z = F_d f + B_d Q + sum_j P_j s_j,
+       q = T z + t_f f + t_Q Q + sum_j t_j s_j,     V = E q
+
+   (K_d = K_u,dd - K_u,da K_u,aa^-1 K_u,ad; F_d, B_d, P_j = K^(j)_d - K_u,da X_j alike).
+3. Modes of the unrelaxed system: K_d Phi = M_d Phi W^2, z = Phi eta; the state
+   x = [W eta, eta', s_1 .. s_N] (N r internal variables), Rayleigh damping
+   C_m = Phi^T C_d Phi exact. This is the port model: inputs [f, Q] (N, C), outputs
+   the electrode potentials V; its FRF equals `fem.reduced.ports` to rounding.
+4. Modal truncation with a measured error (`port_model`). The port model is
+   diagonalised, A = W Lambda W^-1; each mode's residue R_i = (C w_i)(w_i^-1 B)
+   bounds its contribution over the band. Modes are dropped, smallest bound first,
+   while the error of all dropped modes together, measured on a grid over the band
+   (after static residualization: a dropped mode keeps its static part
+   -R_i / lambda_i in the direct term, so the static response stays exact), stays
+   below `tol` of every path's largest value; the
+   kept modes become real 2 x 2 blocks [[Re l, Im l], [-Im l, Re l]] (pairs) or
+   1 x 1 (real poles). Most of the N r relaxation modes are uncontrollable or
+   unobservable, or sit far outside the band.
+5. Readout (fem.circuits) on the port model (A, [B_f B_Q], C, [D_f D_Q]), exact:
+   * "open": Q = 0, y = V;
+   * "charge": electrodes held at 0 V, Q = -D_Q^-1 (C x + D_f f) fed back; y = Q;
    * "resistor": Q becomes a state, Q' = -V / R, V the output;
    * "charge_amplifier": the "charge" model in series with each electrode's
      -(R_f s) / ((1 + s R_f C_f)(1 + s R_i (C_p + C_c))), C_p the static capacitance
@@ -39,7 +40,7 @@ r"""A real first-order state space of a reduced model (fem.reduced), with its re
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg as la
@@ -56,106 +57,233 @@ class StateSpace:
     B: np.ndarray
     C: np.ndarray
     D: np.ndarray
+    truncation_error: float = 0.0        # measured, of the modal truncation (fem.statespace.port_model)
+    _eig: tuple | None = field(default=None, repr=False)
 
     @property
     def order(self) -> int:
         return self.A.shape[0]
 
+    def modes(self):
+        """(lambda, C W, W^-1 B) of the eigendecomposition A = W diag(lambda) W^-1,
+        or () when W is ill conditioned (computed once)."""
+        if self._eig is None and self.order == 0:
+            self._eig = (np.zeros(0, complex), np.zeros((self.C.shape[0], 0)), np.zeros((0, self.B.shape[1])))
+        if self._eig is None:
+            lam, W = la.eig(self.A)
+            self._eig = (lam, self.C @ W, np.linalg.solve(W, self.B)) if np.linalg.cond(W) < 1e8 else ()
+        return self._eig
+
     def frf(self, freqs) -> np.ndarray:
-        """H(i 2 pi f) = C (sI - A)^-1 B + D, (nf, outputs, inputs)."""
+        """H(i 2 pi f) = C (sI - A)^-1 B + D, (nf, outputs, inputs); through the
+        eigendecomposition of A when it is well conditioned."""
         freqs = np.atleast_1d(np.asarray(freqs, float))
+        if self.modes():
+            lam, CW, WB = self.modes()
+            return np.array([(CW / (2j * np.pi * f - lam)) @ WB + self.D for f in freqs])
         eye = np.eye(self.order)
         return np.array([self.C @ np.linalg.solve(2j * np.pi * f * eye - self.A, self.B) + self.D for f in freqs])
 
     def simulate(self, t: np.ndarray, u: np.ndarray) -> np.ndarray:
         """Outputs (nt, outputs) for inputs u (nt, inputs) at uniform times t, from rest
-        at the static state of u[0]. Exact for inputs linear between samples
-        (first-order hold, scipy.signal.cont2discrete); then each mode of the
-        discrete system z_i[k+1] = lambda_i z_i[k] + b_i[k] is one first-order
-        filter (scipy.signal.lfilter), a conjugate pair counted once (2 Re)."""
+        at the static state of u[0]. Exact for inputs linear between samples (first-
+        order hold): each mode z' = lambda z + beta(t), beta = (W^-1 B u) linear over a
+        step h, is z[k+1] = E z[k] + (phi1 - phi2) beta[k] + phi2 beta[k+1] with
+        E = exp(lambda h), phi1 = (E - 1) / lambda, phi2 = (E - 1 - lambda h) / (lambda^2 h),
+        one first-order filter (scipy.signal.lfilter) per mode, a conjugate pair
+        counted once (2 Re). A defective A: scipy.signal.lsim."""
         from scipy import signal
         t, u = np.asarray(t, float), np.asarray(u, float).reshape(len(t), -1)
-        Ad, Bd, Cd, Dd, _ = signal.cont2discrete((self.A, self.B, self.C, self.D), t[1] - t[0], method="foh")
-        x0 = -np.linalg.solve(self.A, self.B @ u[0])
-        lam, W = la.eig(Ad)
-        y = u @ Dd.T
-        if np.linalg.cond(W) > 1e8:                         # defective: step the real system
-            x = x0
-            for k in range(len(t)):
-                y[k] += Cd @ x
-                x = Ad @ x + Bd @ u[k]
-            return y
-        Winv = np.linalg.inv(W)
-        b_modal, z0, c_modal = Winv @ Bd, Winv @ x0, Cd @ W
+        if not self.modes():
+            return signal.lsim((self.A, self.B, self.C, self.D), u, t,
+                               X0=-np.linalg.solve(self.A, self.B @ u[0]))[1].reshape(len(t), -1)
+        lam, CW, WB = self.modes()
+        h = t[1] - t[0]
+        x = lam * h
+        E = np.exp(x)
+        small = np.abs(x) < 1e-3
+        xs = np.where(small, 1.0, x)
+        phi1 = np.where(small, h * (1 + x / 2 + x ** 2 / 6), (E - 1) / np.where(small, 1.0, lam))
+        phi2 = np.where(small, h * (0.5 + x / 6 + x ** 2 / 24), (E - 1 - xs) / (xs * np.where(small, 1.0, lam)))
         keep = np.flatnonzero(lam.imag >= 0)
-        weight = np.where(lam[keep].imag > 0, 2.0, 1.0)
-        for chunk in np.array_split(np.arange(len(keep)), max(1, len(keep) // 24)):
-            idx = keep[chunk]
-            drive = u @ b_modal[idx].T                       # (nt, chunk) modal inputs
-            for j, i in enumerate(idx):
-                drive[:, j] = signal.lfilter([0.0, 1.0], [1.0, -lam[i]], drive[:, j], zi=[z0[i]])[0]
-            y += (drive @ (weight[chunk][:, None] * c_modal[:, idx].T)).real
+        y = u @ self.D.T
+        for chunk in np.array_split(keep, max(1, len(keep) // 32)):
+            Zr, Zi = np.zeros((len(chunk), len(t))), np.zeros((len(chunk), len(t)))
+            for r, i in enumerate(chunk):
+                b = WB[i]
+                if lam[i].imag == 0:                                # a real pole: real arithmetic
+                    beta = u @ b.real
+                    zi = [(E[i] * (-beta[0] / lam[i]) + (phi1[i] - phi2[i]) * beta[0]).real]
+                    Zr[r] = signal.lfilter([phi2[i].real, (phi1[i] - phi2[i]).real], [1.0, -E[i].real],
+                                           beta, zi=zi)[0]
+                    continue
+                beta = u @ b.real + 1j * (u @ b.imag)
+                zi = [E[i] * (-beta[0] / lam[i]) + (phi1[i] - phi2[i]) * beta[0]]    # static under u[0]
+                z = 2 * signal.lfilter([phi2[i], phi1[i] - phi2[i]], [1.0, -E[i]], beta, zi=zi)[0]   # the pair: 2 Re
+                Zr[r], Zi[r] = z.real, z.imag
+            c = CW[:, chunk]
+            y += Zr.T @ c.real.T - Zi.T @ c.imag.T
         return y
 
 
-def condensed(red: Reduced, loss: str = "modal", f_cut: float | None = None):
-    """(W (n,), C_m (n, n), Phi^T F_d, Phi^T B_d, G Phi W^-1, g_f, g_Q): the modal form
-    of steps 1-3 of the module docstring. Modes above `f_cut` (Hz) whose damping
-    force is below 1 % of their stiffness there are kept quasi-statically (static residualization: eta_j = (Phi_j^T F_d f + Phi_j^T B_d Q) / w_j^2
-    added to the direct terms g_f, g_Q), so the static response stays exact."""
-    d = red.u_cols
-    K = sum(red.parts.values())
-    Kim = sum(np.imag(red.kappa[k]) * P for k, P in red.parts.items())
-    a = ~d
-    Kaa = K[np.ix_(a, a)]
-    X = np.linalg.solve(Kaa, np.column_stack([K[np.ix_(a, d)], red.F[a], red.Be[a]]))
-    nd, m = d.sum(), red.F.shape[1]
-    XK, XF, XB = X[:, :nd], X[:, nd:nd + m], X[:, nd + m:]
-    Kda = K[np.ix_(d, a)]
-    Kd = K[np.ix_(d, d)] - Kda @ XK
+def exact_port_model(red: Reduced) -> StateSpace:
+    """Steps 1-3 of the module docstring: inputs [f (m), Q (na)], outputs V (na)."""
+    d, a = red.u_cols, ~red.u_cols
+    rel = red.relax
+    ku = rel.unrelaxed()
+    Ku = sum(ku.get(k, 1.0) * P for k, P in red.parts.items())
+    Kj = [sum(c * red.parts[k] for k, c in rel.branch(j).items()) for j in range(rel.n)]
+    r, m, na = len(d), red.F.shape[1], red.Be.shape[1]
+    nd = int(d.sum())
+    X = np.linalg.solve(Ku[np.ix_(a, a)], np.column_stack([Ku[np.ix_(a, d)], red.F[a], red.Be[a]]
+                                                          + [K[a] for K in Kj]))
+    XK, XF, XB = X[:, :nd], X[:, nd:nd + m], X[:, nd + m:nd + m + na]
+    Xj = [X[:, nd + m + na + j * r: nd + m + na + (j + 1) * r] for j in range(rel.n)]
+    Kda = Ku[np.ix_(d, a)]
+    Kd = Ku[np.ix_(d, d)] - Kda @ XK
     Fd, Bd = red.F[d] - Kda @ XF, red.Be[d] - Kda @ XB
-    T = np.zeros((len(d), nd))
-    T[d] = np.eye(nd)
-    T[a] = -XK
-    tf, tQ = np.zeros((len(d), m)), np.zeros((len(d), red.Be.shape[1]))
+    Pj = [K[d] - Kda @ x for K, x in zip(Kj, Xj)]
+    T = np.zeros((r, nd))
+    T[d], T[a] = np.eye(nd), -XK
+    tf, tQ = np.zeros((r, m)), np.zeros((r, na))
     tf[a], tQ[a] = XF, XB
+    tj = []
+    for x in Xj:
+        t = np.zeros((r, r))
+        t[a] = x
+        tj.append(t)
     Md = red.M[np.ix_(d, d)]
     w2, Phi = la.eigh((Kd + Kd.T) / 2, (Md + Md.T) / 2)
     w = np.sqrt(np.maximum(w2, 0))
     if w.min() <= 0:
         raise ValueError("the reduced model has a rigid-body mode; support the sensor (supports.bottom)")
+    Cd = red.alpha * red.M + red.beta * red.mech
     TP = T @ Phi
-    viscous = red.alpha * np.eye(nd) + red.beta * (TP.T @ red.mech @ TP)
-    if loss == "modal":
-        H = TP.T @ Kim @ TP
-        viscous = viscous + H / np.sqrt(np.outer(w, w))
-    elif loss == "reference":
-        viscous = viscous + TP.T @ sum(red.viscous[k] * red.parts[k] for k in red.parts
-                                       if k.split(":")[0] in ("shear", "elastic")) @ TP
-    else:
-        raise ValueError(f"loss = '{loss}': use 'modal' or 'reference'")
-    G = red.E @ TP / w[None, :]
-    Fm, Bm, gf, gQ = Phi.T @ Fd, Phi.T @ Bd, red.E @ tf, red.E @ tQ
-    if f_cut is not None:            # quasi-static only where the mode's damping is negligible at f_cut too
-        hi = (w > 2 * np.pi * f_cut) & (np.diag(viscous) * 2 * np.pi * f_cut < 1e-2 * w ** 2)
-        gf = gf + (G[:, hi] / w[hi]) @ Fm[hi]
-        gQ = gQ + (G[:, hi] / w[hi]) @ Bm[hi]
-        lo = ~hi
-        return w[lo], ((viscous + viscous.T) / 2)[np.ix_(lo, lo)], Fm[lo], Bm[lo], G[:, lo], gf, gQ
-    return w, (viscous + viscous.T) / 2, Fm, Bm, G, gf, gQ
+    Cm = Phi.T @ Cd[np.ix_(d, d)] @ Phi
+    n, N = nd, rel.n
+    nx = 2 * n + N * r
+    A = np.zeros((nx, nx))
+    B = np.zeros((nx, m + na))
+    A[:n, n:2 * n] = np.diag(w)
+    A[n:2 * n, :n] = -np.diag(w)
+    A[n:2 * n, n:2 * n] = -(Cm + Cm.T) / 2
+    B[n:2 * n] = Phi.T @ np.column_stack([Fd, Bd])
+    G = TP / w[None, :]                                 # q per unit of W eta
+    fQ = np.column_stack([tf, tQ])
+    for j in range(N):
+        sj = slice(2 * n + j * r, 2 * n + (j + 1) * r)
+        A[n:2 * n, sj] = Phi.T @ Pj[j]
+        A[sj, :n] = G / rel.tau[j]
+        for i in range(N):
+            A[sj, 2 * n + i * r: 2 * n + (i + 1) * r] = tj[i] / rel.tau[j]
+        A[sj, sj] -= np.eye(r) / rel.tau[j]
+        B[sj] = fQ / rel.tau[j]
+    C = np.hstack([red.E @ G, np.zeros((na, n))] + [red.E @ t for t in tj])
+    D = red.E @ fQ
+    return StateSpace(A, B, C, D)
 
 
-def mechanics(w, Cm, Fm, Bm, extra=None):
-    """(A, B) of x = [W eta, eta'] (step 4); `extra` (Bq, Gx, Gf): a charge feedback
-    Q = Gx x + Gf f entering the mechanics through Bm."""
-    n = len(w)
-    A = np.block([[np.zeros((n, n)), np.diag(w)], [-np.diag(w), -Cm]])
-    B = np.vstack([np.zeros_like(Fm), Fm])
-    if extra is not None:
-        Gx, Gf = extra
-        A[n:] += Bm @ Gx
-        B[n:] += Bm @ Gf
-    return A, B
+def port_model(red: Reduced, band=(1.0, 2000.0), tol: float = 1e-3, points: int = 200,
+               compress: float = 0.5) -> tuple[StateSpace, float]:
+    """The exact port model truncated to its dominant modes (step 4); returns it and
+    the measured truncation error over the band (max over paths of the largest
+    |H - H_exact| relative to the path's largest |H_exact|)."""
+    ex = exact_port_model(red)
+    lam, W = la.eig(ex.A)
+    Bm, Cm = np.linalg.solve(W, ex.B), ex.C @ W
+    s = 2j * np.pi * np.geomspace(band[0], band[1], points)
+    R = Cm[:, :, None] * Bm[None, :, :]                 # (na, modes, inputs) residues
+    H = np.einsum("omi,fm->foi", R, 1 / (s[:, None] - lam[None, :])) + ex.D
+    scale = np.abs(H).max(axis=0)                       # (outputs, inputs): each path's largest value
+    scale = np.maximum(scale, 1e-300)
+    # the error of dropping mode i with its static part kept: R_i (1/(s - l) + 1/l) = R_i s / (l (s - l))
+    f_i = np.abs(s[:, None] / (lam[None, :] * (s[:, None] - lam[None, :]))).max(axis=0)
+    bound = (np.abs(R) / scale[:, None, :]).max(axis=(0, 2)) * f_i
+    first = np.flatnonzero(lam.imag >= 0)             # a pair counted once (LAPACK: the pair is i, i + 1)
+    pair = lam[first].imag > 0
+    if not np.allclose(lam[first[pair] + 1], lam[first[pair]].conj()):
+        raise RuntimeError("eigenvalues of the real port model not in conjugate pairs")
+    b = bound[first] * np.where(pair, 2.0, 1.0)
+    order = first[np.argsort(b)]
+    # the largest prefix of `order` whose summed error (measured on the grid, where
+    # the dropped modes' contributions partly cancel) stays within tol
+    err_of = s[:, None] / (lam[None, :] * (s[:, None] - lam[None, :]))     # (grid, modes)
+    total, n_drop = np.zeros_like(H), 0
+    for k, i in enumerate(order):
+        members = [i, i + 1] if lam[i].imag > 0 else [i]
+        total = total + np.einsum("omi,fm->foi", R[:, members], err_of[:, members])
+        if (np.abs(total).max(axis=0) / scale).max() > (1 - compress) * tol:
+            break
+        n_drop = k + 1
+    gone = order[:n_drop]
+    drop = np.concatenate([gone, gone[lam[gone].imag > 0] + 1]).astype(int)
+    keep = np.setdiff1d(np.arange(len(lam)), drop)
+    D = (ex.D - np.einsum("omi,m->oi", R[:, drop], 1 / lam[drop])).real
+    cplx, real = keep[lam[keep].imag != 0], keep[lam[keep].imag == 0]
+    ss = _real_modal(lam[cplx], Cm[:, cplx], Bm[cplx], D)
+    Hc = np.einsum("omi,fm->foi", R[:, cplx], 1 / (s[:, None] - lam[cplx][None, :])) + D
+    rs = _compress(lam[real].real, Cm[:, real].real, Bm[real].real, s, H - Hc, scale, compress * tol)
+    ss = StateSpace(la.block_diag(ss.A, rs.A), np.vstack([ss.B, rs.B]), np.hstack([ss.C, rs.C]), ss.D + rs.D)
+    err = float((np.abs(ss.frf(s.imag / (2 * np.pi)) - H).max(axis=0) / scale).max())
+    return ss, err
+
+
+def _compress(lam, C, B, s, target, scale, tol) -> StateSpace:
+    """The real-pole (relaxation) part, sum_i C_i B_i / (s - lam_i), reduced by balanced
+    truncation with singular perturbation (the static gain kept): scaled so that every
+    path counts relative to its largest value, Gramians of the diagonal system in closed
+    form P_ij = (b_i . b_j) / -(lam_i + lam_j); the smallest order (bisection) whose FRF
+    on the grid is within tol of `target` (the same part before compression)."""
+    if len(lam) == 0:
+        return StateSpace(np.zeros((0, 0)), np.zeros((0, B.shape[1])), np.zeros((C.shape[0], 0)),
+                          np.zeros((C.shape[0], B.shape[1])))
+    so, si = 1 / np.sqrt(scale.max(axis=1)), 1 / np.sqrt(scale.max(axis=0))
+    Bs, Cs = B * si[None, :], C * so[:, None]
+    S = -(lam[:, None] + lam[None, :])
+    P, Q = (Bs @ Bs.T) / S, (Cs.T @ Cs) / S
+
+    def root(X):
+        w, V = la.eigh((X + X.T) / 2)
+        return V * np.sqrt(np.maximum(w, 0))
+    Lp, Lq = root(P), root(Q)
+    U, sv, Vt = la.svd(Lq.T @ Lp)
+    nz = int((sv > 1e-14 * sv[0]).sum()) if sv[0] > 0 else 0
+    T = Lp @ Vt.T[:, :nz] / np.sqrt(sv[:nz])
+    Ti = (U[:, :nz] / np.sqrt(sv[:nz])).T @ Lq.T
+    Ab, Bb, Cb = Ti @ np.diag(lam) @ T, Ti @ Bs, Cs @ T
+    f = s.imag / (2 * np.pi)
+
+    def truncated(k):           # singular perturbation of the balanced system to order k
+        X = np.linalg.solve(Ab[k:, k:], np.hstack([Ab[k:, :k], Bb[k:]])) if k < nz else np.zeros((0, k + B.shape[1]))
+        Ar, Br = Ab[:k, :k] - Ab[:k, k:] @ X[:, :k], Bb[:k] - Ab[:k, k:] @ X[:, k:]
+        Cr, Dr = Cb[:, :k] - Cb[:, k:] @ X[:, :k], -Cb[:, k:] @ X[:, k:]
+        return StateSpace(Ar, Br / si[None, :], Cr / so[:, None], Dr / np.outer(so, si))
+
+    def ok(k):
+        return (np.abs(truncated(k).frf(f) - target).max(axis=0) / scale).max() <= tol
+    lo, hi = 0, nz                # the smallest order that holds (the error falls with the order)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if ok(mid) else (mid + 1, hi)
+    return truncated(lo)
+
+
+def _real_modal(lam, Cm, Bm, D) -> StateSpace:
+    """Real block-diagonal realization of the modes (a conjugate pair as one 2 x 2 block)."""
+    blocks, rows, cols = [], [], []
+    for i in np.flatnonzero(lam.imag >= 0):
+        a, b = lam[i].real, lam[i].imag
+        if b == 0:
+            blocks.append(np.array([[a]]))
+            rows.append(Bm[i].real[None, :])
+            cols.append(Cm[:, i].real[:, None])
+        else:
+            blocks.append(np.array([[a, b], [-b, a]]))
+            rows.append(np.vstack([2 * Bm[i].real, -2 * Bm[i].imag]))
+            cols.append(np.column_stack([Cm[:, i].real, Cm[:, i].imag]))
+    if not blocks:
+        return StateSpace(np.zeros((0, 0)), np.zeros((0, D.shape[1])), np.zeros((D.shape[0], 0)), D)
+    return StateSpace(la.block_diag(*blocks), np.vstack(rows), np.hstack(cols), D)
 
 
 def series(s1: StateSpace, s2: StateSpace) -> StateSpace:
@@ -172,21 +300,18 @@ def diagonal_filter(num, den, k: int) -> StateSpace:
     return StateSpace(np.kron(np.eye(k), a), np.kron(np.eye(k), b), np.kron(np.eye(k), c), np.kron(np.eye(k), d))
 
 
-def realize(red: Reduced, readout: Readout | str = "open", loss: str = "modal",
-            f_cut: float | None = None) -> StateSpace:
-    """The real state space from the inputs (N) to the readout's outputs at every
-    electrode (V; C for readout "charge"); see the module docstring."""
-    w, Cm, Fm, Bm, G, gf, gQ = condensed(red, loss, f_cut)
-    n, na = len(w), gQ.shape[0]
+def with_readout(port: StateSpace, m: int, readout: Readout | str = "open") -> StateSpace:
+    """The readout (step 5) on a port model with m force inputs."""
+    A, C = port.A, port.C
+    Bf, BQ, Df, DQ = port.B[:, :m], port.B[:, m:], port.D[:, :m], port.D[:, m:]
+    na = DQ.shape[0]
     r = Readout(readout) if isinstance(readout, str) and readout != "charge" else readout
-    Gx = np.hstack([G, np.zeros((na, n))])
     if readout == "charge" or r.circuit == "charge_amplifier":
-        gQi = np.linalg.inv(gQ)
-        A, B = mechanics(w, Cm, Fm, Bm, (-gQi @ Gx, -gQi @ gf))
-        ss = StateSpace(A, B, -gQi @ Gx, -gQi @ gf)
+        DQi = np.linalg.inv(DQ)
+        ss = StateSpace(A - BQ @ DQi @ C, Bf - BQ @ DQi @ Df, -DQi @ C, -DQi @ Df)
         if readout == "charge":
             return ss
-        Cinv0 = gQ + G @ (Bm[:, :] / w[:, None])        # static: V = G eta + g_Q Q, eta = W^-2 Bm Q
+        Cinv0 = DQ - C @ np.linalg.solve(A, BQ)          # static inverse capacitance
         Cp = np.diag(np.linalg.inv(Cinv0))
         amps = [diagonal_filter([-r.R_f, 0.0], np.polymul([r.R_f * r.C_f, 1.0], [r.R_i * (c + r.C_c), 1.0]), 1)
                 for c in Cp]
@@ -194,13 +319,21 @@ def realize(red: Reduced, readout: Readout | str = "open", loss: str = "modal",
                          la.block_diag(*[s.C for s in amps]), la.block_diag(*[s.D for s in amps]))
         ss = series(ss, amp)
     elif r.circuit == "resistor":
-        A0, B0 = mechanics(w, Cm, Fm, Bm)
-        A = np.block([[A0, np.vstack([np.zeros((n, na)), Bm])], [-Gx / r.R, -gQ / r.R]])
-        ss = StateSpace(A, np.vstack([B0, -gf / r.R]), np.hstack([Gx, gQ]), gf)
+        ss = StateSpace(np.block([[A, BQ], [-C / r.R, -DQ / r.R]]), np.vstack([Bf, -Df / r.R]),
+                        np.hstack([C, DQ]), Df)
     else:
-        A, B = mechanics(w, Cm, Fm, Bm)
-        ss = StateSpace(A, B, Gx, gf)
+        ss = StateSpace(A, Bf, C, Df)
     if r.notch:
         w0, bw = 2 * np.pi * r.notch_frequency, r.notch_bandwidth / r.notch_frequency
         ss = series(ss, diagonal_filter([1.0, 0.0, w0 ** 2], [1.0, w0 * bw, w0 ** 2], na))
+    return ss
+
+
+def realize(red: Reduced, readout: Readout | str = "open", band=(1.0, 2000.0), tol: float = 1e-3) -> StateSpace:
+    """The real state space from the inputs (N) to the readout's outputs at every
+    electrode (V; C for readout "charge"); see the module docstring. The port
+    model's measured truncation error is `.truncation_error` of the result."""
+    port, err = port_model(red, band, tol)
+    ss = with_readout(port, red.F.shape[1], readout)
+    ss.truncation_error = err
     return ss

@@ -5,9 +5,10 @@ open-circuit voltages V_oc(w) per newton; unit charges give C(w)^-1. Any linear
 circuit on the electrodes then follows exactly from the port relation
 Q = Q_sc + C V with Q_sc = -C V_oc (fem.circuits).
 Cheap sweeps. `sweep(..., method="reduced")` projects the system on a block
-Krylov basis {A_s^-1 B, A_s^-1 M A_s^-1 B, ...}, A_s = K0 - s^2 M at real shifts s
-(0 first), B = [F, B_e], each block also multiplied by A_s^-1 Im K (the loss
-factors): moment matching of the transfer function. The reduced
+Krylov basis {A_s^-1 B, A_s^-1 M A_s^-1 B, ...}, A_s = K(s) the damped operator at
+shifts s (0 first: K0; then complex, the loss law of fem.relaxation there, real and
+imaginary parts as columns), B = [F, B_e], each block also multiplied by
+A_s^-1 (K_u - K0) (the directions of the losses): moment matching of the transfer function. The reduced
 answer is compared with direct solves at check frequencies (the highest and
 the middle one); the basis grows (a new shift at the worst check frequency)
 until the relative error of V_oc and C^-1 is below the tolerance, which the
@@ -117,19 +118,25 @@ def krylov(dm: DynamicModel, shifts, moments, previous=None):
     Krylov vectors: its span contains the Krylov space, and the reduced mass is
     exactly zero on the second group, so `condense` is exact."""
     K0, M = dm.K0, dm.M
-    # the loss factors make K complex: K = K0 + i Kim; its directions enter the basis too
-    Kim = sum(np.imag(dm.kappa[k]) * P for k, P in dm.parts.items())
+    # the losses make K complex: K(w) = K0 + sum_j K^(j) i w tau_j / (1 + i w tau_j); the
+    # directions of their total K_u - K0 enter the basis too
+    Kim = dm.K_unrelaxed() - K0
     D = linalg.scaling(K0, dm.red.is_u)
     B = np.column_stack([dm.F, dm.Be])
     cols = [] if previous is None else [previous / D[:, None]]
     new_shifts = shifts if previous is None else shifts[-1:]
     for s in new_shifts:
-        solve = linalg.scaled_solver((K0 - s ** 2 * M).tocsc(), dm.red.is_u, linalg.resolve("auto", K0.shape[0], dim=dm.sy.tm.mesh.dim()))
-        W = solve(B)[0]
+        # at a shift s > 0 the damped operator K(s) (complex: the loss law there), real and
+        # imaginary parts as columns; at 0 the static K0
+        A = (K0 - s ** 2 * M).tocsc() if s == 0 else dm.K(s)
+        solve = linalg.scaled_solver(A, dm.red.is_u, linalg.resolve("auto", K0.shape[0], dim=dm.sy.tm.mesh.dim())
+                                     if s == 0 else "superlu")
+        W = solve(B.astype(A.dtype))[0]
         for _ in range(moments):
             for Z in (W, solve(Kim @ W)[0]):
-                Zs = Z / D[:, None]
-                cols.append(Zs / np.maximum(np.linalg.norm(Zs, axis=0), 1e-300))
+                for P in ((Z,) if s == 0 else (Z.real, Z.imag)):
+                    Zs = P / D[:, None]
+                    cols.append(Zs / np.maximum(np.linalg.norm(Zs, axis=0), 1e-300))
             W = solve(M @ W)[0]
     W = np.hstack(cols)
     u = dm.red.is_u
@@ -153,7 +160,8 @@ def project(dm: DynamicModel, V):
 
 def _reduced_ports(dm: DynamicModel, r, f_hz):
     w = 2 * np.pi * f_hz
-    A = sum(dm.kappa[k] * P for k, P in r["parts"].items()) - w ** 2 * r["M"] \
+    kap = dm.kappa(w)
+    A = sum(kap[k] * P for k, P in r["parts"].items()) - w ** 2 * r["M"] \
         + 1j * w * (dm.alpha * r["M"] + dm.beta * r["mech"])
     X = r["E"] @ np.linalg.solve(A, r["B"])
     return X[:, 0], X[:, 1:]

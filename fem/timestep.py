@@ -1,10 +1,16 @@
 r"""Transients: Newmark on the reduced model, or full-order Newmark-Newton for Yeoh.
 
 Linear: the Krylov-reduced model (fem.sweep.krylov, shifts 0 and half the
-Nyquist frequency) with its massless pressure and potential directions condensed
-exactly (`condense`), then Newmark average acceleration, optionally with a
-resistor on every electrode coupled in as charge states. The force history is
-in newtons (the model's load vector is per newton).
+Nyquist frequency), then Newmark average acceleration, optionally with a
+resistor on every electrode coupled in as charge states. The massless pressure
+and potential rows are algebraic: Newmark enforces them at every step (their
+mass and damping rows are zero, so their velocities never feed back). The
+material losses follow fem.relaxation's causal law, the same as the frequency
+analysis: M q'' + C q' + K_u q - sum_j K^(j) s_j = F f + B Q, tau_j s_j' = q - s_j,
+the internal variables s_j by the trapezoidal rule like Newmark (second order,
+unconditionally stable). The force history is in newtons (the model's load
+vector is per newton); the record starts at rest under force[0] (relaxed:
+s_j = q).
 """
 
 from __future__ import annotations
@@ -24,59 +30,56 @@ from taxel.fem.sweep import krylov, project
 
 
 
-def newmark(M, C, K, F, f, dt, q0=None, coupling=None):
-    """Newmark average acceleration (gamma = 1/2, beta = 1/4): implicit,
-    unconditionally stable for M > 0, K >= 0, second order, no numerical damping.
+def relaxation_weights(tau, dt):
+    """(alpha_j, beta_j) of the trapezoidal internal-variable step
+    s_j[k+1] = alpha_j s_j[k] + beta_j (q[k+1] + q[k])."""
+    h = dt / (2 * np.asarray(tau, float))
+    return (1 - h) / (1 + h), h / (1 + h)
 
-    Dense matrices (a reduced, condensed model): M q'' + C q' + K q = F f(t) + B Q.
-    coupling = (B, Gz, gf, gQ, R): charge states Q of resistive electrodes with
-    Q' = -V / R, V = Gz q + gf f + gQ Q, trapezoidal in time like Newmark (so the
-    pair is solved together each step). Returns q (nt, n), Q (nt, na).
+
+def newmark(M, C, K, F, f, dt, q0=None, coupling=None, relax=None):
+    """Newmark average acceleration (gamma = 1/2, beta = 1/4): implicit,
+    unconditionally stable for M >= 0, K >= 0, second order, no numerical damping.
+
+    Dense matrices (a reduced model): M q'' + C q' + K q - sum_j K_j s_j = F f(t) + B Q,
+    relax = (K_j list, tau): internal variables tau_j s_j' = q - s_j, trapezoidal
+    (K is then the unrelaxed stiffness). Rows without mass or damping are algebraic.
+    coupling = (B, E, R): charge states Q of resistive electrodes with Q' = -V / R,
+    V = E q, trapezoidal in time like Newmark (so the pair is solved together each
+    step). Starts at rest at q0 (relaxed: s_j = q0), accelerated by any imbalance of
+    F f[0] there (zero when q0 is static under f[0]).
+    Returns q (nt, n), Q (nt, na).
     """
     n, nt = K.shape[0], len(f)
     a1, a2, a4 = 4 / dt ** 2, 4 / dt, 2 / dt
-    Keff = K + a4 * C + a1 * M
+    Kj, tau = relax if relax is not None else ([], np.zeros(0))
+    al, be = relaxation_weights(tau, dt)
+    Keff = K + a4 * C + a1 * M - sum(b * Kb for b, Kb in zip(be, Kj))
     if coupling is None:
-        coupling = (np.zeros((n, 0)), np.zeros((0, n)), np.zeros(0), np.zeros((0, 0)), 1.0)
-    B, Gz, gf, gQ, R = coupling
+        coupling = (np.zeros((n, 0)), np.zeros((0, n)), 1.0)
+    B, E, R = coupling
     na, h = B.shape[1], dt / (2 * R)
-    lu = la.lu_factor(np.block([[Keff, -B], [h * Gz, np.eye(na) + h * gQ]]))
+    lu = la.lu_factor(np.block([[Keff, -B], [h * E, np.eye(na)]]))
     q = np.zeros((nt, n))
     Q = np.zeros((nt, na))
     q[0] = 0.0 if q0 is None else q0
-    v = np.zeros(n)
-    a = np.linalg.solve(M, F * f[0] + B @ Q[0] - K @ q[0] - C @ v) if n else v
+    v, a = np.zeros(n), np.zeros(n)
+    S = [q[0].copy() for _ in Kj]
+    heavy = np.abs(M).sum(axis=1) > 0                  # rows with mass; the others are algebraic
+    K0 = K - sum(Kj) if Kj else K
+    if heavy.any():                                     # a0 from the equation of motion at t = 0
+        a[heavy] = np.linalg.solve(M[np.ix_(heavy, heavy)], (F * f[0] - K0 @ q[0])[heavy])
     for k in range(nt - 1):
-        V_k = Gz @ q[k] + gf * f[k] + gQ @ Q[k]
-        rhs = np.concatenate([F * f[k + 1] + M @ (a1 * q[k] + a2 * v + a) + C @ (a4 * q[k] + v),
-                              Q[k] - h * V_k - h * gf * f[k + 1]])
+        hist = sum((Kb @ (al_ * s + be_ * q[k]) for Kb, al_, be_, s in zip(Kj, al, be, S)), np.zeros(n))
+        rhs = np.concatenate([F * f[k + 1] + M @ (a1 * q[k] + a2 * v + a) + C @ (a4 * q[k] + v) + hist,
+                              Q[k] - h * (E @ q[k])])
         sol = la.lu_solve(lu, rhs)
         q[k + 1], Q[k + 1] = sol[:n], sol[n:]
+        S = [al_ * s + be_ * (q[k + 1] + q[k]) for al_, be_, s in zip(al, be, S)]
         a_new = a1 * (q[k + 1] - q[k]) - a2 * v - a
         v = v + dt * 0.5 * (a + a_new)
         a = a_new
     return q, Q
-
-
-def condense(r, C):
-    """Split the reduced model into its displacement columns (mass) and its
-    pressure/potential columns (no mass, no damping: algebraic) and condense the
-    latter statically. Returns the matrices of the dynamic part and the maps
-    back: q = Tq z + tf f + tQ Q."""
-    d = r["u_cols"]
-    eye = np.eye(len(d))
-    Ud, Ua = eye[:, d], eye[:, ~d]
-    K = sum(P for P in r["parts"].values())
-    F, Be = r["B"][:, 0], r["B"][:, 1:]
-    Kaa = Ua.T @ K @ Ua
-    X = np.linalg.solve(Kaa, np.column_stack([Ua.T @ K @ Ud, Ua.T @ F, Ua.T @ Be])) if Ua.shape[1] \
-        else np.zeros((0, d.sum() + 1 + Be.shape[1]))
-    nd = d.sum()
-    XK, XF, XB = X[:, :nd], X[:, nd], X[:, nd + 1:]
-    Kda = Ud.T @ K @ Ua
-    return dict(M=Ud.T @ r["M"] @ Ud, C=Ud.T @ C @ Ud, K=Ud.T @ K @ Ud - Kda @ XK,
-                F=Ud.T @ F - Kda @ XF, B=Ud.T @ Be - Kda @ XB,
-                Tq=Ud - Ua @ XK, tf=Ua @ XF, tQ=Ua @ XB)
 
 
 def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, tol=1e-9, max_iter=12):
@@ -87,9 +90,10 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
         v = 2/dt (x - x_n) - v_n,   R(x) = A_lin x + R_yeoh(x)   (dead load: b of force F_0)
 
     Jacobian 4/dt^2 M + 2/dt C + K_t(x). M and C act on displacements only, so the
-    massless pressure and potential stay algebraic. C: the loss factors as viscous
-    damping at the reference frequency, on the small-strain tangent. The tangent
-    is refactorized at every iteration (full Newton)."""
+    massless pressure and potential stay algebraic. Losses: the causal law of
+    fem.relaxation on the small-strain parts, + sum_j K^(j) (x - s_j) with the
+    internal variables stepped by the trapezoidal rule (as `newmark`); C the
+    Rayleigh damping. The tangent is refactorized at every iteration (full Newton)."""
     from taxel.fem.newton import NewtonError, yeoh_terms
     t0 = time.perf_counter()
     dm = model(replace(problem, hyperelastic=False))
@@ -97,12 +101,16 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
     load = force / sy.applied_force
     red = reduction(sy, eliminate_grounded=True)
     P = red.P
-    M, C = dm.M, dm.C_time()
+    M, C = dm.M, dm.C_rayleigh()
+    Kj = [dm.K_branch(j) for j in range(dm.relax.n)]
+    al, be = relaxation_weights(dm.relax.tau, t[1] - t[0])
+    Krel = sum((1 - b_) * K for b_, K in zip(be, Kj)) if Kj else 0 * M
     A_lin, b = sy.A, P.T @ sy.b
     dt = t[1] - t[0]
     a1, a2 = 4 / dt ** 2, 2 / dt
     n = red.n
     y, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
+    S = [np.zeros(n) for _ in Kj]                   # internal variables (from rest, unloaded)
     V = np.zeros((len(t), len(red.active)))
     iters = []
     for k in range(1, len(t)):
@@ -112,8 +120,9 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
             r_y, K_y = yeoh_terms(sy, xf)
             acc = a1 * (y_new - y) - a1 * dt * v - a
             vel = a2 * (y_new - y) - v
-            G = M @ acc + C @ vel + P.T @ (A_lin @ xf + r_y) - load[k] * b
-            J = (a1 * M + a2 * C + P.T @ (A_lin + K_y) @ P).tocsc()
+            G = M @ acc + C @ vel + P.T @ (A_lin @ xf + r_y) - load[k] * b \
+                + sum((K @ (y_new - al_ * s - be_ * (y_new + y)) for K, al_, be_, s in zip(Kj, al, be, S)), 0 * y)
+            J = (a1 * M + a2 * C + P.T @ (A_lin + K_y) @ P + Krel).tocsc()
             solve = linalg.scaled_solver(J, red.is_u, linalg.resolve("auto", n, dim=sy.tm.mesh.dim()))
             norm = np.linalg.norm(solve.D * G) / max(np.linalg.norm(solve.D * b), 1e-300)
             if norm < tol:
@@ -125,6 +134,7 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
         iters.append(it)
         a_new = a1 * (y_new - y) - a1 * dt * v - a
         v = a2 * (y_new - y) - v
+        S = [al_ * s + be_ * (y_new + y) for al_, be_, s in zip(al, be, S)]
         a, y = a_new, y_new
         V[k] = y[red.nf:]
     return Transient(t, force, V, np.zeros_like(V), list(red.active), n,
@@ -133,8 +143,9 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
 
 def critical_time_step(dm: DynamicModel) -> float:
     """dt_crit = 2 / omega_max of explicit central differences for a (small) model:
-    pressure and potential condensed exactly, dense generalized eigenvalues."""
-    K, M = dm.K0.toarray(), dm.M.toarray()
+    pressure and potential condensed exactly, dense generalized eigenvalues, with
+    the unrelaxed (instantaneous) stiffness."""
+    K, M = dm.K_unrelaxed().toarray(), dm.M.toarray()
     u = dm.red.is_u
     Kc = K[np.ix_(u, u)] - K[np.ix_(u, ~u)] @ np.linalg.solve(K[np.ix_(~u, ~u)], K[np.ix_(~u, u)])
     return float(2 / np.sqrt(la.eigvalsh(Kc, M[np.ix_(u, u)]).max()))
@@ -162,31 +173,31 @@ class Transient:
 
 def transient(dm: DynamicModel, t: np.ndarray, force: np.ndarray, R: float | None = None,
               basis=None, moments: int = 8) -> Transient:
-    """Response to a force history (newtons at times t, uniform step). R: a resistor from every active electrode to ground (None:
-    open circuit). Reduced model: Krylov basis at shift 0 plus one at half the
-    Nyquist frequency; the massless pressure and potential directions condensed
-    statically (`condense`), then Newmark."""
+    """Response to a force history (newtons at times t, uniform step). R: a resistor
+    from every active electrode to ground (None: open circuit). Reduced model:
+    Krylov basis at shift 0 plus one at half the Nyquist frequency, then `newmark`
+    with the internal variables of the loss law (module docstring)."""
     t0 = time.perf_counter()
     dt = t[1] - t[0]
     if basis is None:
         f_top = 0.25 / dt                          # half the Nyquist frequency
         basis = krylov(dm, [0.0, 2 * np.pi * f_top], moments)
     r = project(dm, basis)
-    c = condense(r, basis.T @ (dm.C_time() @ basis))
+    F = r["B"][:, 0]
     E = r["E"]                                        # electrode potentials: V = E q
-    coupling = None
-    if R is not None and E.shape[0]:
-        coupling = (c["B"], E @ c["Tq"], E @ c["tf"], E @ c["tQ"], R)
-    z0 = np.linalg.solve(c["K"], c["F"] * force[0])
-    z, Q = newmark(c["M"], c["C"], c["K"], c["F"], force, dt, q0=z0, coupling=coupling)
-    q = z @ c["Tq"].T + np.outer(force, c["tf"])
-    if Q.shape[1]:
-        q += Q @ c["tQ"].T
-    else:
+    K0 = sum(r["parts"].values())
+    ku = dm.relax.unrelaxed()
+    Ku = sum(ku.get(k, 1.0) * P for k, P in r["parts"].items())
+    Kj = [sum(c * r["parts"][k] for k, c in dm.relax.branch(j).items()) for j in range(dm.relax.n)]
+    C = dm.alpha * r["M"] + dm.beta * r["mech"]
+    coupling = (r["B"][:, 1:], E, R) if R is not None and E.shape[0] else None
+    q0 = np.linalg.solve(K0, F * force[0])              # static (relaxed) under force[0]
+    q, Q = newmark(r["M"], C, Ku, F, force, dt, q0=q0, coupling=coupling, relax=(Kj, dm.relax.tau))
+    if not Q.shape[1]:
         Q = np.zeros((len(t), E.shape[0]))
     if dm.charge_rows is not None:              # short circuit: V = 0, charges from the rows
         Q = q @ (dm.charge_rows @ basis).T
         V = np.zeros_like(Q)
     else:
-        V = q @ r["E"].T
+        V = q @ E.T
     return Transient(t, force, V, Q, dm.names, basis.shape[1], time.perf_counter() - t0)

@@ -20,24 +20,15 @@ import time
 from functools import cache
 from pathlib import Path
 
+from taxel.analyses.version import code_version as _code_version
 from taxel.scene import SceneError, canonical, parse
 from taxel.studies.evaluate import evaluate_safely
 
 @cache
 def code_version() -> str:
     """Hash of the sources a result depends on: the scene schema, the analyses,
-    the FEM and the meshing (and this evaluation)."""
-    import taxel.analyses
-    import taxel.fem
-    import taxel.meshing
-    import taxel.scene
-    h = hashlib.sha256()
-    for mod in (taxel.fem, taxel.meshing, taxel.analyses):
-        for f in sorted(Path(mod.__path__[0]).rglob("*.py")):
-            h.update(f.read_bytes())
-    for f in (taxel.scene.__file__, Path(__file__).parent / "evaluate.py"):
-        h.update(Path(f).read_bytes())
-    return h.hexdigest()[:16]
+    the FEM and the meshing (taxel.analyses.version), and this evaluation."""
+    return _code_version(Path(__file__).parent / "evaluate.py")
 
 
 def point_key(scene_data: dict) -> str:

@@ -128,7 +128,7 @@ class Dynamics(Strict):
     dielectric_loss: LossFactor | None = None   # default tan(delta) of the material
     rayleigh_alpha: float = Field(0.0, ge=0)          # 1/s, C = alpha M + beta K
     rayleigh_beta: float = Field(0.0, ge=0)           # s
-    reference_frequency: Frequency = "100 Hz"         # time domain: eta -> viscous eta / (2 pi f_ref)
+    reference_frequency: Frequency = "100 Hz"         # lumped models: eta -> viscous eta / (2 pi f_ref) (the FEM: fem.relaxation)
 
 
 class Analysis(Strict):

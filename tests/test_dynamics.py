@@ -86,10 +86,12 @@ def test_reduced_sweep_matches_direct_and_reports_its_error(taxel):
     f = np.geomspace(1, 1000, 40)
     red = sweep.sweep(dm, f)
     direct = sweep.sweep(dm, f[::8], method="direct")
-    assert red.error < 1e-6
+    assert red.error < 1e-3                      # the default tolerance (measured 2.7e-4 at 1 kHz)
     rel = np.abs(red.V_oc[::8] - direct.V_oc).max() / np.abs(direct.V_oc).max()
-    assert rel < 1e-6
-    np.testing.assert_allclose(red.Cinv[::8], direct.Cinv, rtol=1e-6)
+    assert rel <= 1.01 * red.error               # the reported error is the largest (at the top frequency)
+    np.testing.assert_allclose(red.Cinv[::8], direct.Cinv, rtol=red.error)
+    tight = sweep.sweep(dm, f, tol=1e-6)         # a tighter tolerance adds shifts until it holds
+    assert tight.error < 1e-6 and np.abs(tight.V_oc[::8] - direct.V_oc).max() < 1e-6 * np.abs(direct.V_oc).max()
 
 
 def lossless(scene, beta=0.0):
@@ -117,7 +119,10 @@ def test_resistive_load_coupled_equals_norton_postprocessing(taxel):
 
 
 def test_step_through_a_resistor_decays_with_tau_RC(taxel):
+    # without material losses: a lossy (relaxing, fem.relaxation) capacitance C(s) moves the
+    # pole off -1 / (R C(0)) by about 1 % (measured 1.0 %)
     scene, dm = taxel
+    dm = model(lossless(scene), tm=dm.sy.tm)
     R = 5e8
     t = np.arange(0, 4.0, 2e-3)
     f = np.clip(t / 0.02, 0, 1)
@@ -208,11 +213,15 @@ def test_lumped_equals_fem_for_a_confined_stack():
     scene = confined_stack()
     dm = model(scene)
     lm = lumped_model(scene, confined=True)
-    f = np.array([1.0, 100.0])
+    f = np.array([1e-3, 1.0, 100.0])
     fem_q = sweep.sweep(dm, f, method="direct").Q_sc[:, 0]
     lum_q = lm.Q_sc(f)
     # static limit: exact in 1-D (e33 F / c33^E); tolerance = the loss factors' phase
-    np.testing.assert_allclose(np.abs(lum_q), np.abs(fem_q), rtol=2e-3)
+    np.testing.assert_allclose(np.abs(lum_q[0]), np.abs(fem_q[0]), rtol=2e-3)
+    # dynamically the FEM's piezo stiffness follows the causal loss law (fem.relaxation),
+    # c33 kappa(w): Q_sc = e33 F / (c33 kappa(w)) (the silicone in series carries the same force)
+    kap = np.array([next(v for k, v in dm.kappa(2 * np.pi * x).items() if k.startswith("elastic")) for x in f])
+    np.testing.assert_allclose(np.abs(fem_q), np.abs(lum_q[0]) / np.abs(kap), rtol=2e-3)
 
 
 def test_lumped_and_fem_part_for_the_real_taxel():
@@ -249,7 +258,7 @@ def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_us
     dm = model(scene)
     dt_crit = timestep.critical_time_step(dm)
     assert 1e-9 < dt_crit < 2e-8                       # measured 5.5e-9 s
-    K, M, u = dm.K0.toarray(), dm.M.toarray(), dm.red.is_u
+    K, M, u = dm.K_unrelaxed().toarray(), dm.M.toarray(), dm.red.is_u     # instantaneous stiffness
     Kc = K[np.ix_(u, u)] - K[np.ix_(u, ~u)] @ np.linalg.solve(K[np.ix_(~u, ~u)], K[np.ix_(~u, u)])
     Mc = M[np.ix_(u, u)]
     kick = np.zeros(u.sum())
@@ -325,3 +334,37 @@ def test_thesis_chapter4_study_runs_and_states_its_findings(tmp_path):
     assert "first order" in text and "silicone 0 / 1 / 2 mm" in text
     for png in ("step-impulse.png", "chirp.png", "silicone-thickness.png", "fem-vs-lumped.png"):
         assert (tmp_path / png).stat().st_size > 5000
+
+
+def test_transient_and_sweep_share_the_causal_loss_law(taxel):
+    """With the default material losses (fem.relaxation), the FFT of the open-circuit
+    voltage for a windowed chirp over the FFT of the force equals the direct sweep
+    (magnitude and phase): the transient's internal variables are the sweep's law."""
+    scene, dm = taxel
+    T, dt = 4.0, 2.5e-4
+    t = np.arange(0, T, dt)
+    f = np.sin(2 * np.pi * (2 * t + (400 - 2) * t ** 2 / (2 * T))) * np.hanning(len(t))
+    tr = timestep.transient(dm, t, f)
+    F, Y = np.fft.rfft(tr.force), np.fft.rfft(tr.V[:, 0])
+    freqs = np.fft.rfftfreq(len(t), dt)
+    band = (freqs > 20) & (freqs < 300)
+    H_freq = sweep.sweep(dm, freqs[band], method="reduced").V_oc[:, 0]
+    assert np.median(np.abs(Y[band] / F[band] / H_freq - 1)) < 0.01
+    # the hysteretic law it replaces differs by about its loss angle: the check can fail
+    k = {n: (1 + 0.1j if n.startswith("shear") else 1.0) for n in dm.parts}
+    assert abs(dm.kappa(2 * np.pi * 100)["shear:silicone"] - k["shear:silicone"]) > 0.05
+
+
+def test_relaxation_law_holds_the_loss_factor_over_the_band_and_is_causal():
+    """fem.relaxation: the fitted loss within 5 % of eta over 1 Hz-2 kHz; kappa(0) = 1;
+    the real part rises through the band as Kramers-Kronig demands for a constant loss
+    (about (w2 / w1)^(2 atan(eta) / pi)); a compliance falls."""
+    from taxel.fem import relaxation as rx
+    law = rx.law({"shear:s": (0.1, False), "volumetric:s": (0.1, True), "dielectric:p": (0.02, True)})
+    for kind, eta in (("shear:s", 0.1), ("volumetric:s", 0.1), ("dielectric:p", 0.02)):
+        assert rx.ripple(law, kind, eta) < 0.05, kind
+        assert law.kappa(0.0)[kind] == pytest.approx(1.0)
+    k1, k2 = (law.kappa(2 * np.pi * f)["shear:s"] for f in (10.0, 1000.0))
+    assert k2.real / k1.real == pytest.approx(100 ** (2 * np.arctan(0.1) / np.pi), rel=0.03)
+    c1, c2 = (law.kappa(2 * np.pi * f)["volumetric:s"] for f in (10.0, 1000.0))
+    assert c2.real < c1.real and c1.imag < 0 and k1.imag > 0

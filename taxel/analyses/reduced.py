@@ -11,11 +11,13 @@ taxels pressed, the row's taxels read (3 x 3 of the 9 x 9 paths of a 3 x 3
 array; the others need a 3D model).
 
 Two views of the same reduced model (fem.reduced):
-* `frf(f)`: the reduced second-order model with the FEM's complex loss factors,
-  exactly the model the frequency analysis solves, then the readout (fem.circuits);
-* `state_space()`: its real first-order realization (fem.statespace: condensed,
-  modal, loss factors as viscous damping matched at each mode's frequency), which
-  `simulate`, and the exports (python-control, scipy.signal, MATLAB .mat) use.
+* `frf(f)`: the reduced second-order model with the FEM's causal loss law
+  (fem.relaxation), exactly the model the frequency analysis solves, then the
+  readout (fem.circuits);
+* `state_space()`: its real first-order realization (fem.statespace: the loss law's
+  internal variables, condensed, modal, truncated to the modes that matter in the
+  band with a measured error), which `simulate` and the exports (python-control,
+  scipy.signal, MATLAB .mat) use. Both agree with the direct FEM sweep.
 """
 
 from __future__ import annotations
@@ -32,11 +34,13 @@ import numpy as np
 from taxel.fem import circuits, dynamics, reduced, statespace
 from taxel.fem.assembly import elements, load_vector
 from taxel.fem.problem import PatchLoad
+from taxel.fem.relaxation import Relaxation
 from taxel.fem.sweep import PortResponse
 from taxel.scene import Scene, SceneError, parse
 from taxel.schema import to_data
 from taxel.schema import electrode_name
 from taxel.analyses import reduced_export
+from taxel.analyses.version import code_version
 from taxel.analyses.adapter import problem, readout
 from taxel.analyses.results.folders import FORMAT, write_result
 
@@ -51,8 +55,7 @@ class ReducedModel:
     output_names: list[str]        # "<quantity>:<electrode>"
     output_unit: str               # V or C
     readout: circuits.Readout | str    # a Readout, or "charge"
-    loss: str = "modal"
-    f_cut: float = 20000.0         # Hz: modes above it kept quasi-statically (fem.statespace)
+    band: tuple = (1.0, 2000.0)    # Hz: where the state space's modal truncation is measured (fem.statespace)
     seconds: float = 0.0
     provenance: dict = field(default_factory=dict)
     _ss: statespace.StateSpace | None = field(default=None, repr=False)
@@ -66,7 +69,7 @@ class ReducedModel:
 
     def frf(self, freqs) -> np.ndarray:
         """(nf, outputs, inputs) complex: readout output per newton of each input, with
-        the FEM's loss factors (the reduced second-order model)."""
+        the FEM's loss law (the reduced second-order model)."""
         freqs = np.atleast_1d(np.asarray(freqs, float))
         V, Ci = reduced.ports(self.red, freqs)
         return port_readout(freqs, V, Ci, self.red.names, self.readout)
@@ -74,7 +77,7 @@ class ReducedModel:
     def state_space(self) -> statespace.StateSpace:
         """The real first-order realization (fem.statespace), A, B, C, D in SI units."""
         if self._ss is None:
-            self._ss = statespace.realize(self.red, self.readout, self.loss, self.f_cut)
+            self._ss = statespace.realize(self.red, self.readout, self.band)
         return self._ss
 
     def simulate(self, t, force) -> np.ndarray:
@@ -103,7 +106,8 @@ class ReducedModel:
     def record(self) -> dict:
         return {"kind": self.kind, "format": FORMAT, "scene": self.scene.name, "inputs": self.input_names,
                 "outputs_named": self.output_names, "output_unit": self.output_unit, "input_unit": "N",
-                "readout": self.readout_label, "loss": self.loss, "f_cut_Hz": self.f_cut,
+                "readout": self.readout_label, "band_Hz": list(self.band),
+                "truncation_error": self.state_space().truncation_error, "loss_law": self.red.relax.to_data(),
                 "order": self.order, "basis_size": self.red.order, "measured_error": self.red.error,
                 "checks": [[f, e] for f, e in self.red.checks], "seconds": self.seconds,
                 "files": {"npz": "model.npz", "mat": "model.mat"}, "provenance": self.provenance,
@@ -124,8 +128,9 @@ class ReducedModel:
                 + ", ".join(f"{f:.4g} Hz" for f, _ in self.red.checks) + ")",
                 f"  static gain {self.input_names[j]} -> {self.output_names[i]}: {self.outputs()['static_gain']:.4g} "
                 f"{self.output_unit}/N",
-                f"  loss factors: {self.loss} viscous damping in the state space (fem.statespace); frf() keeps them "
-                "complex"]
+                f"  losses: the causal law of fem.relaxation ({self.red.relax.n} relaxation times), exact in the "
+                f"state space; its modal truncation error {self.state_space().truncation_error:.1e} over "
+                f"{self.band[0]:g}-{self.band[1]:g} Hz"]
 
     def __str__(self) -> str:
         return "\n".join(self.summary())
@@ -151,9 +156,9 @@ class ReducedModel:
         arrays = {"A": ss.A, "B": ss.B, "C": ss.C, "D": ss.D, "M": r.M, "mech": r.mech, "F": r.F, "Be": r.Be,
                   "E": r.E, "u_cols": r.u_cols, **{f"part:{k}": P for k, P in r.parts.items()}}
         meta = {"format": FORMAT, "inputs": self.input_names, "outputs": self.output_names, "output_unit": self.output_unit,
-                "readout": "charge" if self.readout == "charge" else asdict(self.readout), "loss": self.loss,
-                "f_cut": self.f_cut, "seconds": self.seconds, "names": r.names, "alpha": r.alpha, "beta": r.beta,
-                "kappa": {k: [v.real, v.imag] for k, v in r.kappa.items()}, "viscous": r.viscous,
+                "readout": "charge" if self.readout == "charge" else asdict(self.readout), "band": list(self.band),
+                "truncation_error": ss.truncation_error, "seconds": self.seconds, "names": r.names, "alpha": r.alpha,
+                "beta": r.beta, "relax": r.relax.to_data(),
                 "error": r.error, "checks": r.checks, "scene": to_data(self.scene), "provenance": self.provenance}
         return reduced_export.save_npz(path, arrays, meta)
 
@@ -163,16 +168,16 @@ class ReducedModel:
         a, m = reduced_export.load_npz(path)
         try:
             red = reduced.Reduced({k[5:]: v for k, v in a.items() if k.startswith("part:")},
-                                  {k: complex(*v) for k, v in m["kappa"].items()}, m["viscous"], a["M"], a["mech"],
+                                  Relaxation.from_data(m["relax"]), a["M"], a["mech"],
                                   m["alpha"], m["beta"], a["F"], a["Be"], a["E"], a["u_cols"], m["names"], m["error"],
                                   [tuple(c) for c in m["checks"]], m["seconds"])
             r = m["readout"] if m["readout"] == "charge" else circuits.Readout(**m["readout"])
-            model = cls(parse(m["scene"]), red, m["inputs"], m["outputs"], m["output_unit"], r, m["loss"],
-                        m["f_cut"], m["seconds"], m["provenance"])
+            model = cls(parse(m["scene"]), red, m["inputs"], m["outputs"], m["output_unit"], r, tuple(m["band"]),
+                        m["seconds"], m["provenance"])
         except (KeyError, TypeError, SceneError) as exc:
             raise ValueError(f"{path}: not a reduced model file ({exc}); write it with taxel reduce SCENE -o FILE.npz") \
                 from None
-        model._ss = statespace.StateSpace(a["A"], a["B"], a["C"], a["D"])
+        model._ss = statespace.StateSpace(a["A"], a["B"], a["C"], a["D"], float(m["truncation_error"]))
         return model
 
     def to_folder(self, out) -> list[Path]:
@@ -221,7 +226,7 @@ def taxel_loads(dm: dynamics.DynamicModel) -> tuple[np.ndarray, list[str]]:
 
 
 def reduce(scene: Scene, inputs: str | None = None, output: str = "readout", f_max: float | None = None,
-           tol: float = 1e-4, loss: str = "modal") -> ReducedModel:
+           tol: float = 1e-4) -> ReducedModel:
     """The reduced model of a scene (module docstring). inputs: "taxels" (default for
     array scenes without an indenter) or "probe"; output: "readout" or "charge";
     f_max: the highest frequency it must hold (default the scene's analysis.f_max,
@@ -255,8 +260,8 @@ def reduce(scene: Scene, inputs: str | None = None, output: str = "readout", f_m
                   .hexdigest(), "taxel_version": _version(), "built": datetime.now(timezone.utc).isoformat(
                       timespec="seconds"), "unknowns": int(dm.M.shape[0]), "inputs": inputs, "output": output}
     return ReducedModel(scene, red, names_in, [f"{quantity}:{k}" for k in red.names],
-                        "C" if output == "charge" else "V", r, loss, 10 * f_top, time.perf_counter() - t0,
-                        provenance)
+                        "C" if output == "charge" else "V", r, (max(scene.analysis.f_min, 0.1), f_top),
+                        time.perf_counter() - t0, provenance)
 
 
 def _version() -> str:
@@ -269,9 +274,11 @@ def _version() -> str:
 
 def cached(scene: Scene, inputs: str | None = None, output: str = "readout") -> ReducedModel:
     """`reduce(scene, inputs, output)`, kept in the user's cache (taxel.analyses.crosstalk.cache_dir)
-    keyed by the scene's SHA-256 and the options; rebuilt when missing or unreadable."""
+    keyed by the scene's SHA-256, the options and the code version (taxel.analyses.version:
+    a change to the FEM or the analyses rebuilds it); rebuilt when missing or unreadable."""
     from taxel.analyses.crosstalk import cache_dir
-    key = hashlib.sha256(json.dumps([to_data(scene), inputs, output, FORMAT], sort_keys=True).encode()).hexdigest()
+    key = hashlib.sha256(json.dumps([to_data(scene), inputs, output, FORMAT, code_version()],
+                                    sort_keys=True).encode()).hexdigest()
     path = cache_dir() / f"reduced-{key[:16]}.npz"
     try:
         return ReducedModel.load(path)
@@ -290,9 +297,11 @@ def cached(scene: Scene, inputs: str | None = None, output: str = "readout") -> 
 class OnePort:
     """One path of a reduced model as a one-port taxel, the interface the chain fits
     use for the lumped model (studies.measured.frf.lumped_frf, calibrate): the
-    open-circuit voltage per newton `V_oc(f)` of taxel `output` pressed on `input`
-    (the FEM's, loss factors complex), the static capacitance `C_p` of that electrode
-    (F) and `force` = 1 N. Values are remembered per frequency array (a least-squares
+    static capacitance `C_p` of electrode `output` (F), `force` = 1 N, and `V_oc(f)`
+    defined as -Q_sc(f) / C_p with Q_sc the FEM's short-circuit charge per newton of
+    taxel `output` pressed on `input`, every electrode held at 0 V (as the rig's charge
+    amplifiers hold them; the capacitance relaxes with frequency, fem.relaxation, so
+    the charge, not the open-circuit voltage, is the path's invariant). Values are remembered per frequency array (a least-squares
     fit asks for the same frequencies again and again)."""
 
     model: ReducedModel
@@ -306,7 +315,9 @@ class OnePort:
         freqs = np.asarray(freqs, float)
         key = freqs.tobytes()
         if key not in self._memo:
-            self._memo[key] = reduced.ports(self.model.red, freqs)[0][:, self.output, self.input]
+            V, Ci = reduced.ports(self.model.red, freqs)
+            Q_sc = -np.linalg.solve(Ci, V)[:, self.output, self.input]      # every electrode at 0 V
+            self._memo[key] = -Q_sc / self.C_p
         return self._memo[key]
 
     def Q_sc(self, freqs) -> np.ndarray:
