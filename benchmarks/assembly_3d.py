@@ -60,7 +60,7 @@ from taxel.fem.kinematics import Solid3D
 from taxel.fem.bilinear import STRAIN, Term, assemble_terms
 
 E, NU = 1e6, 0.3
-REPEAT = 5
+REPEAT = 9
 
 
 def interleaved(ours, theirs, repeat=REPEAT):

@@ -61,7 +61,11 @@ class YeohRegion:
         dim = kin.dim
         self.dim = dim
         sl = slice(None)
-        self.dN = scalar_quantities(ub, "grad", sl)                   # (ne, nq, dim, nb)
+        self.dN = np.ascontiguousarray(scalar_quantities(ub, "grad", sl))   # (ne, nq, dim, nb)
+        # the same gradients as (ne, nq, nb, dim) and (ne, nb, nq * dim): constant (total Lagrangian)
+        self.dNa = np.ascontiguousarray(self.dN.transpose(0, 1, 3, 2))
+        self.dNb = np.ascontiguousarray(self.dN.transpose(0, 3, 1, 2)).reshape(self.dN.shape[0], -1,
+                                                                            self.dN.shape[1] * dim)
         ne, nq, _, nb = self.dN.shape
         self.nb = nb
         self.w = np.ascontiguousarray(weights(ub, kin, sl))          # (ne, nq)
@@ -160,11 +164,10 @@ class YeohRegion:
 
         two batched products each (the vector basis's 3x-sparse B never formed):
         3x fewer operations than B^T A B for P2 tetrahedra."""
-        dN = self.dN[sl]                                          # (ne, nq, d, nb): (l, a)
+        dN, dNa, dNb = self.dN[sl], self.dNa[sl], self.dNb[sl]   # (l, a); (a, l); a, (q, l)
         ne, nq, d, nb = dN.shape
-        dNa = np.ascontiguousarray(dN.transpose(0, 1, 3, 2))     # (ne, nq, nb, d): (a, l)
         Pl = Pc.reshape(ne, nq, d, d).transpose(0, 1, 3, 2)       # (l, c)
-        r_u = np.matmul(dNa.transpose(0, 2, 1, 3).reshape(ne, nb, nq * d), Pl.reshape(ne, nq * d, d)).reshape(ne, nb * d)
+        r_u = np.matmul(dNb, Pl.reshape(ne, nq * d, d)).reshape(ne, nb * d)
         if not with_tangent:
             return Terms(r_u, r_p, None, None, None, float(J.min()))
         c = self.comps
@@ -173,10 +176,11 @@ class YeohRegion:
             Ac = Ac[:, :, c][:, :, :, c]
         # A_(cl)(dm) w as (m, c, d) x l per point (one weighted copy), times dN (l, a): the
         # product's layout (e, (q, m), (c, d, a)) is the next product's right side as is
-        Aw = np.multiply(Ac.reshape(ne, nq, d, d, d, d).transpose(0, 1, 5, 2, 4, 3),
-                         w[:, :, None, None, None, None]).reshape(ne * nq, d * d * d, d)
-        T = np.matmul(Aw, dN.reshape(ne * nq, d, nb)).reshape(ne, nq * d, d * d * nb)   # (q, m), (c, d, a)
-        K = np.matmul(dN.transpose(0, 3, 1, 2).reshape(ne, nb, nq * d), T)              # b, (c, d, a)
+        Aw = np.empty((ne, nq, d, d, d, d))
+        np.multiply(Ac.reshape(ne, nq, d, d, d, d).transpose(0, 1, 5, 2, 4, 3), w[:, :, None, None, None, None],
+                    out=Aw)
+        T = np.matmul(Aw.reshape(ne * nq, d * d * d, d), dN.reshape(ne * nq, d, nb))     # (q, m), (c, d, a)
+        K = np.matmul(dNb, T.reshape(ne, nq * d, d * d * nb))                            # b, (c, d, a)
         K_uu = K.reshape(ne, nb, d, d, nb).transpose(0, 4, 2, 1, 3).reshape(ne, nb * d, nb * d)
         Jl = (JFiT.reshape(ne, nq, 9)[:, :, c] * w[..., None]).reshape(ne * nq, d, d).transpose(0, 2, 1)   # (l, c)
         G = np.matmul(dNa.reshape(ne * nq, nb, d), Jl).reshape(ne, nq, nb * d)                   # (a, c)
