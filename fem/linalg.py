@@ -86,6 +86,16 @@ def available_memory() -> float:
     return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES"))
 
 
+def numeric_factorization(solver, A) -> None:
+    """PARDISO's numerical factorization (phase 22) after check_fits's analysis
+    (phase 11), marked as pypardiso's factorization of A (its `factorize` runs phase
+    12, which repeats the analysis: 27 % of a factorization's CPU time on the 3x3 3D
+    array's 51k-unknown quarter, 5.1 s against 3.7 s, identical factors)."""
+    solver.factorized_A = solver._hash_csr_matrix(A) if A.nnz > solver.size_limit_storage else A.copy()
+    solver.set_phase(22)
+    solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
+
+
 def check_fits(solver, A) -> None:
     """PARDISO's analysis phase (11) reports the memory the factorization will need
     (iparm 15: peak of the analysis, 16 + 17: permanent + factors, in KB); refuse
@@ -131,8 +141,8 @@ def _factorize_real(A, method):
         # pypardiso globs sys.prefix for mkl_rt on every solver (0.4 s); name the library it found
         os.environ.setdefault("PYPARDISO_MKL_RT", solver.libmkl._name)
         Ar = sp.csr_matrix(A)
-        check_fits(solver, Ar)
-        solver.factorize(Ar)
+        check_fits(solver, Ar)          # phase 11: the ordering and symbolic factorization
+        numeric_factorization(solver, Ar)
 
         def solve(B):
             return solver.solve(Ar, np.asarray(B, dtype=float))
