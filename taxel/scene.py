@@ -62,14 +62,7 @@ class Model(Strict):
 
 # The mesh a scene without mesh.size gets, per model type of an array scene: (size,
 # piezo_size; None: size / 4), measured within 0.5 % on the thesis taxel's pressed-taxel
-# voltage (benchmarks/default_mesh.py, nested references): plane strain 0.5 mm -0.40 %,
-# plane stress 0.75 mm +0.37 % (order ~1: the cheapest within 0.5 %), axisymmetric 0.5 mm
-# -0.45 %; 3D 1.5 mm / 0.6 mm (estimate.CHEAP_3D, whose error is measured over the 22
-# scenes of benchmarks/estimator_coverage.py): 8.6k unknowns on the quarter, -0.01 %
-# against docs/reference_3d.json, +0.34 % against a 79k-unknown solve; the 2D sizes in 3D
-# (the default before) are 79k unknowns and 1-2 minutes since the 3D edge fix. 2 mm / 0.8 mm
-# is cheaper and within 0.5 % on the thesis taxel but not measured on the other scenes.
-# A plate keeps 0.5 mm.
+# voltage (benchmarks/default_mesh.py, docs/benchmarks.md). 3D: estimate.CHEAP_3D's mesh.
 DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
                 "axisymmetric": (0.5e-3, None), "3d": (1.5e-3, 0.6e-3)}
 
