@@ -12,7 +12,12 @@ benchmarks/taxel_3d.py against benchmarks/reference_3d.py.
 
 Writes docs/capacitance_8x8.csv (pF, rows and columns taxel_r_c) and prints the
 numbers. Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/array_8x8.py [--full]
-(--full solves the whole array instead, for the comparison; it needs about 4x the memory).
+[--n 16] [--cap-gb 12] [--estimate-only]
+(--full solves the whole array instead, for the comparison; it needs about 4x the memory;
+--n 16: the 16 x 16 array (256 electrodes, 123 mm square, the indenter again between the
+middle four). Before meshing, the tool's own estimate of the unknowns and the solve's
+memory (taxel.analyses.adapter.cost) is printed, and the run stops there when it exceeds
+--cap-gb (default 12: the machine is shared).)
 """
 
 from __future__ import annotations
@@ -32,28 +37,42 @@ from taxel.schema import electrode_name
 OUT = Path(__file__).resolve().parents[1] / "docs" / "capacitance_8x8.csv"
 
 
-def scene(symmetry="auto"):
+def scene(symmetry="auto", n=8):
     return load("thesis-pzt-3x3-3d").replace(**{
-        "array.rows": 8, "array.cols": 8, "model.symmetry": symmetry,
-        "load.kind": "indenter", "load.radius": "2 mm", "load.taxel": [4, 3], "load.offset": ["3.5 mm", "3.5 mm"]})
+        "array.rows": n, "array.cols": n, "model.symmetry": symmetry,
+        "load.kind": "indenter", "load.radius": "2 mm", "load.taxel": [n // 2, n // 2 - 1],
+        "load.offset": ["3.5 mm", "3.5 mm"]})
+
+
+def arg(name, default):
+    return type(default)(sys.argv[sys.argv.index(name) + 1]) if name in sys.argv else default
 
 
 def main():
     full = "--full" in sys.argv
+    n, cap = arg("--n", 8), arg("--cap-gb", 12.0)
+    sc = scene("full" if full else "auto", n)
+    from taxel.analyses.adapter import check, cost, layout
+    unknowns, need = cost(sc, layout(sc, check(sc)))
+    print(f"{n}x{n} array: the tool's estimate before meshing: {unknowns:.3g} unknowns, {need / 1e9:.3g} GB "
+          f"for the solve (cap {cap:g} GB)", flush=True)
+    if need > cap * 1e9 or "--estimate-only" in sys.argv:
+        print("not solved" + (f": over the {cap:g} GB cap" if need > cap * 1e9 else ""))
+        return
     t0 = time.perf_counter()
-    res = solve_static(scene("full" if full else "auto"))
+    res = solve_static(sc)
     total = time.perf_counter() - t0
     sol = res.solution
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
     lay = sol.mesh.layout
-    print(f"8x8 3D array, {'full' if full else 'symmetric'} model (cut planes {lay.planes}), "
+    print(f"{n}x{n} 3D array, {'full' if full else 'symmetric'} model (cut planes {lay.planes}), "
           f"{len(lay.taxels)} taxels modelled, {sum(k.startswith('taxel_') for k in sol.electrodes)} reported")
     print(f"unknowns {sol.unknowns}, solver {sol.solver}, residual {sol.residual:.1e}")
     print("time: " + ", ".join(f"{k} {v:.1f} s" for k, v in res.times.items()) + f" (total {total:.1f} s)")
     print(f"peak memory (RSS) {peak:.2f} GB")
-    v = np.array([[sol.electrodes[electrode_name(r, c)].voltage for c in range(8)] for r in range(8)])
-    print("open-circuit voltages (mV), rows 0-7:")
-    for r in range(8):
+    v = np.array([[sol.electrodes[electrode_name(r, c)].voltage for c in range(n)] for r in range(n)])
+    print(f"open-circuit voltages (mV), rows 0-{n - 1}:")
+    for r in range(n):
         print("  " + " ".join(f"{1e3 * x:8.2f}" for x in v[r]))
     names, C = sol.capacitance_names, sol.capacitance_matrix
     taxels = [k for k in names if k.startswith("taxel_")]
@@ -63,7 +82,7 @@ def main():
     print(f"capacitance matrix {Ct.shape[0]} x {Ct.shape[1]}: diagonal {1e12 * Ct.diagonal().min():.2f} to "
           f"{1e12 * Ct.diagonal().max():.2f} pF, largest mutual {1e12 * np.abs(off).max():.3g} pF, "
           f"symmetric to {np.abs(Ct - Ct.T).max() / np.abs(Ct).max():.1e}")
-    if not full:
+    if not full and n == 8:
         with OUT.open("w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["pF"] + taxels)

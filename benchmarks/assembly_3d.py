@@ -20,7 +20,23 @@ Rates are displacement unknowns per second of setup + assembly.
 Also times the full coupled assembly (fem.assembly.assemble: piezo, mixed u-p
 silicone, load, supports) of the built-in 3D taxel scenes.
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/assembly_3d.py
+First table (the issue's measure): the Yeoh silicone's tangent at a deformed
+state, on the P2 tetrahedral mesh of the 3D taxel at three sizes (3, 1.5 and
+1 mm far, 0.4 x that at the taxel). Ours: fem.yeoh_terms.YeohRegion (the scalar
+shape-function gradients with the vector DOF map a * 3 + c; residual, K_uu,
+K_up, K_pp of the u-p form) scattered to CSR; FELupe: `Hyperelastic(yeoh)` in a
+`SolidBody` on a displacement field, `assemble.matrix()` (the displacement
+tangent only, so FELupe does less work than we do). The state: a smooth
+displacement (`deformed`: 10 % stretch and shear, a 20 um ripple) and p = 0, where FELupe's displacement
+tangent of the Yeoh energy equals our K_uu: the two are compared after the DOF
+mapping (max |dK| / max |K|). "setup" is the bases / YeohRegion and FELupe's
+region and field (once per mesh), "tangent" one Newton iteration's assembly
+(median of REPEAT, CPU time, the two codes alternating); "pattern" our CSR pattern
+of the tangent (once per mesh, as fem.press builds it: a Newton iteration then only
+fills values). The ratios are FELupe's time / ours (>= 1: we are faster), for the
+tangent and for the setup.
+
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/assembly_3d.py [--no-linear]
 """
 
 from __future__ import annotations
@@ -31,6 +47,7 @@ import warnings
 import time
 
 import numpy as np
+import scipy.sparse as sp
 from skfem import Basis, ElementTetP2, ElementVector
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTet
@@ -43,7 +60,24 @@ from taxel.fem.kinematics import Solid3D
 from taxel.fem.bilinear import STRAIN, Term, assemble_terms
 
 E, NU = 1e6, 0.3
-REPEAT = 3
+REPEAT = 9
+
+
+def interleaved(ours, theirs, repeat=REPEAT):
+    """((median s, result), (median s, result)) of two functions run alternately, so
+    that a change in the machine's load falls on both; CPU time (process_time: the
+    shared machine's other jobs do not count, single-threaded BLAS)."""
+    t1, t2 = [], []
+    for _ in range(repeat):
+        for fn, ts in ((ours, t1), (theirs, t2)):
+            t = time.process_time()
+            out = fn()
+            ts.append(time.process_time() - t)
+            if fn is ours:
+                r1 = out
+            else:
+                r2 = out
+    return (statistics.median(t1), r1), (statistics.median(t2), r2)
 
 
 def median_time(fn, repeat=REPEAT):
@@ -124,6 +158,94 @@ def compare(name):
           f"{t_fa / t_asm:>6.2f} {diff:>9.1e}", flush=True)
 
 
+YEOH_C = (7.83e3, 0.103e3, -0.8)          # Ecoflex 00-30 (REFERENCE.md), Pa
+YEOH_SIZES = (3e-3, 1.5e-3, 1e-3)
+
+
+def yeoh_compare(size):
+    """One row of the Yeoh table at far size `size` (piezo size 0.4 x)."""
+    import felupe as fe
+    from skfem import ElementTetP1
+    from taxel.fem.sparsity import Pattern
+    from taxel.fem.yeoh import Yeoh
+    from taxel.fem.yeoh_terms import YeohRegion
+    m = scene_mesh(taxel.load("thesis-pzt-single-3d").replace(**{"mesh.size": size,
+                                                                "mesh.piezo_size": 0.4 * size})).mesh
+    law = Yeoh(*YEOH_C, K=2000 * YEOH_C[0])
+
+    def ours_setup():
+        sb = Basis(m, ElementTetP2(), intorder=4)        # the scalar basis: 10 functions, not 30
+        pb = Basis(m, ElementTetP1(), intorder=4)
+        return sb, pb, YeohRegion(sb, pb, law, Solid3D(), 3 * sb.N)
+
+    def ours_pattern(reg, n):
+        """The CSR pattern of the tangent, built once per mesh (as fem.press does)."""
+        return Pattern(sp.identity(n, format="csr"), sp.csr_matrix((n, n)),
+                       {"uu": pair(reg.udofs, reg.udofs), "up": pair(reg.udofs, reg.pdofs),
+                        "pu": pair(reg.pdofs, reg.udofs), "pp": pair(reg.pdofs, reg.pdofs)})
+    X, W = get_quadrature(RefTet, 4)
+    warnings.filterwarnings("ignore", message="Negative volumes")
+    points, cells = felupe_points_cells(m)
+
+    def fe_setup():
+        region = fe.RegionQuadraticTetra(fe.Mesh(points, cells, "tetra10"), quadrature=fe.quadrature.Scheme(X.T, W))
+        return fe.FieldContainer([fe.Field(region, dim=3)])
+    (t_os, (sb, pb, reg)), (t_fs, field) = interleaved(ours_setup, fe_setup)
+    nu = 3 * sb.N
+    n = nu + pb.N
+    c0 = time.process_time()
+    pattern = ours_pattern(reg, n)
+    t_pat = time.process_time() - c0
+    perm = dof_map(ours_setup_basis(m), m)
+    x = np.zeros(n)
+    x[perm] = deformed(points).ravel()
+
+    def ours_tangent():
+        t = reg.terms(x)
+        return pattern.matrix({"uu": t.K_uu, "up": t.K_up, "pu": t.K_up.transpose(0, 2, 1), "pp": t.K_pp})
+    field[0].values[:] = x[perm].reshape(-1, 3)
+    umat = fe.Hyperelastic(fe.yeoh, C10=YEOH_C[0], C20=YEOH_C[1], C30=YEOH_C[2])
+    (t_ot, K), (t_ft, Kfe) = interleaved(ours_tangent, lambda: fe.SolidBody(umat, field).assemble.matrix())
+    Kuu = K[:nu, :nu]
+    diff = mapped_difference(Kuu, Kfe, perm)
+    print(f"{size * 1e3:>4g} mm {m.t.shape[1]:>7} {nu:>8} {t_os:>8.3f} {t_pat:>8.3f} {t_ot:>8.3f} {t_fs:>8.3f} "
+          f"{t_ft:>8.3f} {t_ft / t_ot:>7.2f} {t_fs / t_os:>7.2f} {diff:>9.1e}", flush=True)
+    return t_ft / t_ot
+
+
+def pair(rows, cols):
+    """(rows, columns) of every element-matrix entry, (elements, local, local) each."""
+    shape = (rows.shape[0], rows.shape[1], cols.shape[1])
+    return np.broadcast_to(rows[:, :, None], shape), np.broadcast_to(cols[:, None, :], shape)
+
+
+def deformed(points):
+    """A smooth displacement (m) at the points: 10 % homogeneous stretch and shear plus
+    a 20 um ripple, so every quadrature point has its own F."""
+    G = np.array([[0.05, 0.02, 0.0], [-0.01, 0.03, 0.02], [0.01, 0.0, -0.1]])
+    return points @ G.T + 2e-5 * np.sin(points[:, [1, 2, 0]] / 2e-3)
+
+
+def ours_setup_basis(m):
+    return Basis(m, ElementVector(ElementTetP2()), intorder=4)
+
+
+def dof_map(ub, m) -> np.ndarray:
+    """Our DOF of FELupe's DOF 3 * point + c (points: vertices, then edge midpoints)."""
+    nv = m.p.shape[1]
+    ours = np.zeros((nv + m.edges.shape[1], 3), int)
+    ours[:nv] = ub.nodal_dofs.T
+    ours[nv:] = ub.edge_dofs.T
+    return ours.ravel()
+
+
+def mapped_difference(K, Kfe, perm):
+    import scipy.sparse as sp
+    Kfe = Kfe.tocoo()
+    Kmap = sp.csr_matrix((Kfe.data, (perm[Kfe.row], perm[Kfe.col])), shape=K.shape)
+    return abs(K - Kmap).max() / abs(K).max()
+
+
 def coupled(name):
     p = problem(taxel.load(name))
     t, sy = median_time(lambda: assemble(p))
@@ -134,8 +256,17 @@ def coupled(name):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("scenes", nargs="*", default=["thesis-pzt-single-3d", "thesis-pzt-3x3-3d"])
+    ap.add_argument("--no-linear", action="store_true", help="the Yeoh table only")
     args = ap.parse_args()
     import felupe
+    print(f"FELupe {felupe.__version__}; Yeoh tangent at a deformed state, P2 tetrahedra, 11-point rule both; "
+          f"median of {REPEAT}; seconds")
+    print(f"{'mesh':>7} {'tets':>7} {'u dofs':>8} {'ours set':>8} {'pattern':>8} {'tangent':>8} {'FE set':>8} "
+          f"{'tangent':>8} {'FE/ours':>7} {'setup':>7} {'max|dK|':>9}")
+    ratios = [yeoh_compare(s) for s in YEOH_SIZES]
+    print(f"tangent ratio FELupe / ours: {min(ratios):.2f}-{max(ratios):.2f} (>= 1: ours is faster)\n")
+    if args.no_linear:
+        return
     print(f"FELupe {felupe.__version__}; P2 tetrahedra, linear elastic, 11-point rule both; "
           f"median of {REPEAT}; rates in displacement unknowns per second of setup + assembly")
     print(f"{'mesh':<22} {'tets':>7} {'dofs':>8} {'ours:setup':>7} {'asm':>7} {'FE:setup':>7} {'asm':>7} "

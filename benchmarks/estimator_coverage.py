@@ -19,14 +19,24 @@ cheapest 3D mesh's own error per output (what estimate.CHEAP_3D_ERROR holds).
 The 3D references are solved once and kept in a study store
 (`--store`, default out/bench-estimator): a rerun only re-estimates.
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/estimator_coverage.py [--fast] [--store DIR]
+`--types`: the discretisation part alone, in each model type, against the true
+discretisation error (the same model on an extrapolated fine reference: in 2D
+Richardson over four nested refinements of the mesh at the observed order, in 3D
+docs/reference_3d.json): the thesis PZT taxel at the default mesh (no [mesh]
+table) and at coarser ones, with the method the estimate used and its order.
+
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/estimator_coverage.py [--fast] [--store DIR] [--types]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
 import time
+from pathlib import Path
+
+import numpy as np
 
 from taxel.analyses import error_estimate as est
 from taxel.analyses import solve_static
@@ -107,11 +117,64 @@ def coverage(fast: bool = False, store_dir: str = "out/bench-estimator", verbose
             "both": sum(c and s for c, s in zip(covered, sharp)) / len(pairs), "cheap_3d_error": cheap}
 
 
+REFERENCE_3D_FILE = Path(__file__).resolve().parents[1] / "docs" / "reference_3d.json"
+TYPE_CASES = [("plane_strain", None), ("plane_stress", None), ("axisymmetric", None),
+              ("plane_strain", (1e-3, None)), ("plane_stress", (1e-3, None)), ("axisymmetric", (1e-3, None)),
+              ("3d", None), ("3d", (3e-3, 1.2e-3)), ("3d", (1e-3, 0.4e-3))]
+
+
+def nested_truth(sc):
+    """(result, converged sensitivity, observed order): four nested levels of sc's mesh."""
+    r = solve_static(sc)
+    q = [est.output_values(r)["sensitivity"]] + [
+        est.output_values(solve_static(sc, tagged_mesh=r.mesh.refined(k)))["sensitivity"] for k in (1, 2, 3)]
+    p = float(np.log2(abs(q[-2] - q[-3]) / abs(q[-1] - q[-2])))
+    return r, q[-1] + (q[-1] - q[-2]) / (2 ** p - 1), p
+
+
+def by_model_type(verbose: bool = True) -> list[dict]:
+    """The discretisation estimate against the true discretisation error, per model type."""
+    ref3d = json.loads(REFERENCE_3D_FILE.read_text())["single"]["reference"]
+    rows = []
+    if verbose:
+        print(f"{'model':<13} {'mesh':>13} {'unknowns':>8} {'true %':>8} {'estimate %':>10} {'ratio':>6}  method")
+    for model, sizes in TYPE_CASES:
+        sc = load("thesis-pzt-single-2d").replace(**{"model.type": model, "model.depth": None,
+                                                     "mesh.size": None, "mesh.piezo_size": None})
+        if sizes is not None:
+            sc = sc.replace(**{"mesh.size": sizes[0], "mesh.piezo_size": sizes[1]})
+        if model == "3d":
+            res = solve_static(sc)
+            q_inf, p_ref = ref3d, None
+        else:
+            res, q_inf, p_ref = nested_truth(sc)
+        true = est.relative(est.output_values(res)["sensitivity"], q_inf)
+        e = est.estimate(sc, res, model_form=False)
+        d = e.outputs["sensitivity"].discretisation
+        m = sc.mesh
+        row = {"model": model, "mesh": f"{m.size * 1e3:g}/{(m.piezo_size or m.size / 4) * 1e3:.3g} mm",
+               "default": sizes is None, "unknowns": res.unknowns, "true": true, "estimate": d,
+               "method": e.method, "order": e.order, "reference_order": p_ref, "seconds": e.seconds}
+        rows.append(row)
+        if verbose:
+            print(f"{model:<13} {row['mesh'] + (' (default)' if sizes is None else ''):>13} {res.unknowns:>8} "
+                  f"{100 * true:>8.3f} {100 * d:>10.3f} {d / true:>6.2f}  {e.method}"
+                  + ("" if e.order is None else f", order {e.order:.2f}")
+                  + ("" if p_ref is None else f" (reference's observed order {p_ref:.2f})") + f"; {e.seconds:.1f} s")
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--fast", action="store_true")
     ap.add_argument("--store", default="out/bench-estimator")
+    ap.add_argument("--types", action="store_true", help="only the per-model-type discretisation check")
     args = ap.parse_args()
+    if args.types:
+        rows = by_model_type()
+        ok = [r["true"] <= r["estimate"] <= 3 * r["true"] for r in rows]
+        print(f"\nwithin [1, 3] x the true error: {sum(ok)} of {len(rows)}")
+        return
     r = coverage(args.fast, args.store)
     print(f"\n{r['scenes']} scenes, {len(r['pairs'])} (scene, output) pairs")
     print(f"coverage (estimate >= true error): {100 * r['coverage']:.0f} %")

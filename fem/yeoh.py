@@ -199,11 +199,12 @@ def stress_tangent_batched(F, p, C, with_tangent=True):
         return P, None, J, JFiT
     N = len(J)
     f, Gf, Ff = FiT.reshape(N, 9), G.reshape(N, 9), F.reshape(N, 9)
-    X = np.einsum("nJk,nLi->niJkL", Finv, Finv).reshape(N, 9, 9)
-    ff = f[:, :, None] * f[:, None, :]
-    A = (d2 * a * a)[:, None, None] * (Gf[:, :, None] * Gf[:, None, :])
-    A += (d1 * a)[:, None, None] * (2 * np.eye(9) - (4.0 / 3.0) * f[:, :, None] * Ff[:, None, :]
-                                    + (2.0 / 3.0) * I1[:, None, None] * X
-                                    - (2.0 / 3.0) * Gf[:, :, None] * f[:, None, :])
-    A += (p * J)[:, None, None] * (ff - X)
+    # A = s2 G(x)G + s1 (2 I - 4/3 f(x)F + 2/3 I1 X - 2/3 G(x)f) + pJ (f(x)f - X), s1 = Psi' a,
+    # s2 = Psi'' a^2, grouped as two outer products, one scaled X and the diagonal
+    # (fewer N x 9 x 9 temporaries)
+    s1, s2, pJ = d1 * a, d2 * a * a, p * J
+    A = Gf[:, :, None] * (s2[:, None] * Gf - (2.0 / 3.0) * s1[:, None] * f)[:, None, :]
+    A += f[:, :, None] * (pJ[:, None] * f - (4.0 / 3.0) * s1[:, None] * Ff)[:, None, :]
+    A += np.einsum("nJk,nLi->niJkL", Finv * ((2.0 / 3.0) * s1 * I1 - pJ)[:, None, None], Finv).reshape(N, 9, 9)
+    A[:, np.arange(9), np.arange(9)] += 2 * s1[:, None]
     return P, A, J, JFiT

@@ -29,11 +29,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from skfem import ElementVector
+
 from taxel.fem.kinematics import Axisymmetric, Kinematics
 from taxel.fem.bilinear import scalar_quantities, weights
 from taxel.fem.yeoh import Yeoh, stress_tangent_batched
 
-CHUNK = 4000
+CHUNK = 512          # elements per batch: the per-point arrays stay in cache (1 mm 3D taxel: 0.09 s against 0.12 s at 4000)
 
 
 @dataclass
@@ -52,24 +54,36 @@ class YeohRegion:
     """The constant arrays of one Yeoh region (built once) and its state-dependent terms."""
 
     def __init__(self, ub, pb, law: Yeoh, kin: Kinematics, p_offset: int):
+        """`ub`: the displacement basis, vector, or its scalar element (10 functions for
+        a P2 tetrahedron instead of 30; the vector DOF map is derived, scikit-fem's
+        ElementVector numbering: dim s + c)."""
         self.law, self.kin = law, kin
         dim = kin.dim
         self.dim = dim
         sl = slice(None)
-        self.dN = scalar_quantities(ub, "grad", sl)                   # (ne, nq, dim, nb)
+        self.dN = np.ascontiguousarray(scalar_quantities(ub, "grad", sl))   # (ne, nq, dim, nb)
+        # the same gradients as (ne, nq, nb, dim) and (ne, nb, nq * dim): constant (total Lagrangian)
+        self.dNa = np.ascontiguousarray(self.dN.transpose(0, 1, 3, 2))
+        self.dNb = np.ascontiguousarray(self.dN.transpose(0, 3, 1, 2)).reshape(self.dN.shape[0], -1,
+                                                                            self.dN.shape[1] * dim)
         ne, nq, _, nb = self.dN.shape
         self.nb = nb
         self.w = np.ascontiguousarray(weights(ub, kin, sl))          # (ne, nq)
         self.M = scalar_quantities(pb, "value", sl)[:, :, 0, :]       # (ne, nq, npb)
         self.hoop = None
         comps = [3 * k + l for k in range(dim) for l in range(dim)]
+        vector = isinstance(ub.elem, ElementVector)
         if isinstance(kin, Axisymmetric):
             r = np.asarray(ub.global_coordinates())[0]
-            N = np.stack([np.asarray(ub.basis[a * dim][0].value)[0] for a in range(nb)], axis=-1)
+            N = np.stack([np.asarray(ub.basis[a * dim][0].value)[0] if vector else np.asarray(ub.basis[a][0].value)
+                          for a in range(nb)], axis=-1)
             self.hoop = N / r[..., None]                                # (ne, nq, nb): N_a / r
             comps.append(8)
         self.comps = np.array(comps)
-        self.udofs = np.ascontiguousarray(ub.element_dofs.T)          # (ne, nb*dim), (a, c) -> a*dim + c
+        if vector:                                                     # (ne, nb*dim), (a, c) -> a*dim + c
+            self.udofs = np.ascontiguousarray(ub.element_dofs.T)
+        else:                       # a scalar basis: the vector DOF of (scalar DOF s, component c) is dim s + c
+            self.udofs = (dim * ub.element_dofs.T[:, :, None] + np.arange(dim)).reshape(ne, nb * dim)
         self.pdofs = np.ascontiguousarray(pb.element_dofs.T) + p_offset
         self.ne = ne
         self._B = None                   # cached B when a single chunk holds the region
@@ -91,7 +105,7 @@ class YeohRegion:
         dN = self.dN[sl]
         ne, nq = dN.shape[:2]
         H = np.zeros((ne, nq, 3, 3))
-        H[:, :, :self.dim, :self.dim] = np.einsum("eqla,eac->eqcl", dN, ue)
+        H[:, :, :self.dim, :self.dim] = np.matmul(dN, ue[:, None]).transpose(0, 1, 3, 2)   # sum_a dN_la u_ac
         if self.hoop is not None:
             H[:, :, 2, 2] = np.einsum("eqa,ea->eq", self.hoop[sl], ue[:, :, 0])
         return H
@@ -114,19 +128,21 @@ class YeohRegion:
         nq = self.w.shape[1]
         F = self.gradient(ue, sl) + np.eye(3)
         M = self.M[sl]
-        p = np.einsum("eqb,eb->eq", M, x[self.pdofs[sl]])
+        p = np.matmul(M, x[self.pdofs[sl]][:, :, None])[..., 0]
         P, A, J, JFiT = stress_tangent_batched(F.reshape(-1, 3, 3), p.ravel(), law.C, with_tangent)
         w = self.w[sl]
+        c = self.comps
+        Pc = P.reshape(ne, nq, 9)[:, :, c] * w[..., None]
+        r_p = np.matmul(M.transpose(0, 2, 1), ((J.reshape(ne, nq) - 1 - p / law.K) * w)[:, :, None])[..., 0]
+        if self.hoop is None:            # no hoop term: through the scalar gradients, no B
+            return self._scalar_chunk(sl, Pc, A, JFiT, M, w, r_p, J, with_tangent)
         if ne == self.ne:
             if self._B is None:
                 self._B = self.B(sl)
             B = self._B
         else:
             B = self.B(sl)
-        c = self.comps
-        Pc = P.reshape(ne, nq, 9)[:, :, c] * w[..., None]
         r_u = np.einsum("eqk,eqki->ei", Pc, B)
-        r_p = np.einsum("eqb,eq->eb", M, (J.reshape(ne, nq) - 1 - p / law.K) * w)
         if not with_tangent:
             return Terms(r_u, r_p, None, None, None, float(J.min()))
         Ac = A.reshape(ne, nq, 9, 9)[:, :, c][:, :, :, c] * w[..., None, None]
@@ -136,4 +152,38 @@ class YeohRegion:
         Jc = JFiT.reshape(ne, nq, 9)[:, :, c] * w[..., None]
         K_up = np.einsum("eqki,eqk,eqb->eib", B, Jc, M)
         K_pp = -np.einsum("eqa,eqb,eq->eab", M, M, w) / law.K
+        return Terms(r_u, r_p, K_uu, K_up, K_pp, float(J.min()))
+
+    def _scalar_chunk(self, sl, Pc, A, JFiT, M, w, r_p, J, with_tangent):
+        """The terms through the scalar gradients dN (no hoop term): with F - I =
+        sum_(a,c) e_c (x) dN_a u_(a,c),
+
+            r_u[(a,c)]        = sum_q sum_l dN_la P_cl dV
+            K_uu[(a,c),(b,d)] = sum_q sum_(l,m) dN_la A_(cl)(dm) dN_mb dV
+            K_up[(a,c),b]     = sum_q sum_l dN_la (J F^-T)_cl M_b dV,
+
+        two batched products each (the vector basis's 3x-sparse B never formed):
+        3x fewer operations than B^T A B for P2 tetrahedra."""
+        dN, dNa, dNb = self.dN[sl], self.dNa[sl], self.dNb[sl]   # (l, a); (a, l); a, (q, l)
+        ne, nq, d, nb = dN.shape
+        Pl = Pc.reshape(ne, nq, d, d).transpose(0, 1, 3, 2)       # (l, c)
+        r_u = np.matmul(dNb, Pl.reshape(ne, nq * d, d)).reshape(ne, nb * d)
+        if not with_tangent:
+            return Terms(r_u, r_p, None, None, None, float(J.min()))
+        c = self.comps
+        Ac = A.reshape(ne, nq, 9, 9)
+        if len(c) < 9:                                            # 2D: the in-plane components
+            Ac = Ac[:, :, c][:, :, :, c]
+        # A_(cl)(dm) w as (m, c, d) x l per point (one weighted copy), times dN (l, a): the
+        # product's layout (e, (q, m), (c, d, a)) is the next product's right side as is
+        Aw = np.empty((ne, nq, d, d, d, d))
+        np.multiply(Ac.reshape(ne, nq, d, d, d, d).transpose(0, 1, 5, 2, 4, 3), w[:, :, None, None, None, None],
+                    out=Aw)
+        T = np.matmul(Aw.reshape(ne * nq, d * d * d, d), dN.reshape(ne * nq, d, nb))     # (q, m), (c, d, a)
+        K = np.matmul(dNb, T.reshape(ne, nq * d, d * d * nb))                            # b, (c, d, a)
+        K_uu = K.reshape(ne, nb, d, d, nb).transpose(0, 4, 2, 1, 3).reshape(ne, nb * d, nb * d)
+        Jl = (JFiT.reshape(ne, nq, 9)[:, :, c] * w[..., None]).reshape(ne * nq, d, d).transpose(0, 2, 1)   # (l, c)
+        G = np.matmul(dNa.reshape(ne * nq, nb, d), Jl).reshape(ne, nq, nb * d)                   # (a, c)
+        K_up = np.matmul(G.transpose(0, 2, 1), M)
+        K_pp = -np.matmul((M * w[..., None]).transpose(0, 2, 1), M) / self.law.K
         return Terms(r_u, r_p, K_uu, K_up, K_pp, float(J.min()))

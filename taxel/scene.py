@@ -15,7 +15,7 @@ import json
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, Field, StrictInt, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, Field, PrivateAttr, StrictInt, ValidationError, field_validator, model_validator
 
 from taxel import units
 from taxel.schema import (GEOMETRY, Capacitance, Coordinate, Duration, Force, Fraction, Frequency, Length,
@@ -60,9 +60,16 @@ class Model(Strict):
         return v
 
 
+# The mesh a scene without mesh.size gets, per model type of an array scene: (size,
+# piezo_size; None: size / 4), measured within 0.5 % on the thesis taxel's pressed-taxel
+# voltage (benchmarks/default_mesh.py, docs/benchmarks.md). 3D: estimate.CHEAP_3D's mesh.
+DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
+                "axisymmetric": (0.5e-3, None), "3d": (1.5e-3, 0.6e-3)}
+
+
 class Mesh(Strict):
-    size: MeshSize = "0.5 mm"       # element size far from the piezo
-    piezo_size: MeshSize | None = None  # in-plane element size on the taxels; default: size / 4
+    size: MeshSize | None = None    # element size far from the piezo; default: DEFAULT_MESH by model type
+    piezo_size: MeshSize | None = None  # in-plane element size on the taxels; default: DEFAULT_MESH or size / 4
     piezo_layers: StrictInt = Field(2, ge=1, le=8)   # elements through each piezo layer (2: within 0.5 %)
     order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
     formulation: Literal["mixed", "displacement"] = "mixed"   # silicone: u-p mixed, or u only (locks)
@@ -185,15 +192,31 @@ class Scene(Strict):
     analysis: Analysis = Analysis()
     readout: Readout = Readout()
     materials: dict[str, dict] = {}     # user materials (SI numbers), see fem.user_materials
+    _default_mesh: tuple[str, ...] = PrivateAttr(())    # the mesh keys filled from DEFAULT_MESH
 
     def replace(self, **changes) -> Scene:
         """A new validated scene with values changed by dotted path (see `replace`)."""
         return replace(self, **changes)
 
+    def _fill_default_mesh(self) -> None:
+        """mesh.size (and piezo_size) not given: DEFAULT_MESH for this model type."""
+        m = self.mesh
+        if m.size is not None:
+            return
+        size, piezo = DEFAULT_MESH[self.model.type] if self.array is not None else (0.5e-3, None)
+        filled = {"size": size}
+        if m.piezo_size is None and piezo is not None:
+            filled["piezo_size"] = piezo
+        elif m.piezo_size is not None and m.piezo_size > size:
+            filled["size"] = m.piezo_size * 4 if piezo is None else max(size, m.piezo_size)
+        object.__setattr__(self, "mesh", m.model_copy(update=filled))
+        self._default_mesh = tuple(filled)
+
     @model_validator(mode="after")
     def _consistent(self):
         if (self.array is None) == (self.plate is None):
             raise ValueError("give exactly one of [array] or [plate]")
+        self._fill_default_mesh()
         m = self.mesh
         if m.piezo_size is not None and m.piezo_size > m.size:
             raise ValueError(f"mesh.piezo_size ({m.piezo_size * 1e3:g} mm) is larger than mesh.size "
@@ -389,8 +412,12 @@ def scene_material_names(scene: Scene) -> list[str]:
 def replace(scene: Scene, **changes) -> Scene:
     """A new, validated scene with values changed by dotted path:
     replace(scene, **{"array.silicone_above": "0.5 mm", "load.force": 0.2}).
-    Values are strings with units or SI numbers; a table merges into the table there."""
+    Values are strings with units or SI numbers; a table merges into the table there.
+    Mesh sizes the scene took from DEFAULT_MESH are defaults again (a changed model
+    type gets its own)."""
     data = to_data(scene)
+    for key in scene._default_mesh:
+        data.get("mesh", {}).pop(key, None)
     for path, value in changes.items():
         if isinstance(value, BaseModel):
             value = to_data(value)

@@ -257,13 +257,15 @@ def test_batched_law_equals_the_pointwise_law():
     np.testing.assert_allclose(J, J0[:, 0], rtol=1e-13)
 
 
-@pytest.mark.parametrize("model", ["plane_strain", "axisymmetric"])
+@pytest.mark.parametrize("model", ["plane_strain", "axisymmetric", "3d"])
 def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
-    """fem.yeoh_terms (batched over elements) against the scikit-fem forms of
-    fem.hyperelastic at a deformed state, to 1e-12 relative."""
+    """fem.yeoh_terms (batched over elements; through the scalar gradients in plane
+    strain and 3D, through the vector B with its hoop term in axisymmetric) against
+    the scikit-fem forms of fem.hyperelastic at a deformed state, to 1e-12 relative."""
     from taxel.fem.newton import yeoh_terms_skfem
-    scene = with_(load("thesis-pzt-single-2d").replace(**{"model.type": model}), "yeoh", 0.2,
-                  size=1e-3, piezo_size=2e-4)
+    size = (3e-3, 1.2e-3) if model == "3d" else (1e-3, 2e-4)
+    scene = with_(load("thesis-pzt-single-2d").replace(**{"model.type": model, "model.depth": None}), "yeoh", 0.2,
+                  size=size[0], piezo_size=size[1])
     sy = assemble(problem(scene))
     x, _, _, _ = newton(sy)
     u = sy.offsets["u"]

@@ -13,7 +13,7 @@ with Yeoh (not offered in plane stress). Each rung's error is estimated by
 rung within tolerance is returned with its estimate and a note of what was
 tried; when none is, the most accurate one is returned and the note says so.
 Every rung is order 2: P1's two-mesh estimate is not reliable on these taxels
-(pre-asymptotic, estimate.RICHARDSON_ORDER).
+(pre-asymptotic, estimate.ASSUMED_ORDER).
 """
 
 from __future__ import annotations

@@ -71,13 +71,17 @@ class ErrorEstimate:
     outputs: dict[str, OutputError]
     how: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    # how the discretisation part was found ("three nested meshes", "two nested meshes,
+    # widened", "coarser mesh, widened", "cheapest 3D mesh, measured") and the order used
+    method: str = ""
+    order: float | None = None
 
     def within(self, tolerance: float, names=None) -> bool:
         return all(self.outputs[k].total <= tolerance for k in (names or self.outputs) if k in self.outputs)
 
     def record(self) -> dict:
         return {"outputs": {k: e.record() for k, e in self.outputs.items()}, "how": self.how,
-                "seconds": self.seconds}
+                "seconds": self.seconds, "method": self.method, "order": self.order}
 
     @classmethod
     def from_record(cls, rec: dict) -> ErrorEstimate:
@@ -85,7 +89,8 @@ class ErrorEstimate:
         short_circuit_charge, readout_output) are read with a DeprecationWarning."""
         outs = {renamed_value(k, RENAMED_OUTPUTS, "error_estimate.outputs"): OutputError.from_record(v)
                 for k, v in rec["outputs"].items()}
-        return cls(outs, list(rec.get("how", [])), float(rec.get("seconds", 0.0)))
+        return cls(outs, list(rec.get("how", [])), float(rec.get("seconds", 0.0)), rec.get("method", ""),
+                   rec.get("order"))
 
     def lines(self) -> list[str]:
         def pct(x):
@@ -94,6 +99,8 @@ class ErrorEstimate:
         for k, e in self.outputs.items():
             out.append(f"{OUTPUT_NAMES.get(k, k):<46}{pct(e.discretisation):>15}{pct(e.model_form):>12}"
                        f"{pct(e.material):>10}{pct(e.total):>10}")
+        if self.method:
+            out.append(f"  discretisation by {self.method}" + ("" if self.order is None else f", order {self.order:.3g}"))
         return out + [f"  {h}" for h in self.how] + [f"  (the estimate took {self.seconds:.2f} s)"]
 
 
