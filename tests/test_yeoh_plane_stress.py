@@ -71,7 +71,11 @@ def test_condensation_tends_to_the_incompressible_sheet_as_K_grows():
 
 def block(pressure, edges="free", K=K_TOOL):
     """A 2 x 2 mm Yeoh sheet (1 mm thick), rollers under it, a dead pressure on top."""
-    return parse({
+    return parse(block_data(pressure, edges, K))
+
+
+def block_data(pressure, edges="free", K=K_TOOL):
+    return ({
         "model": {"type": "plane_stress", "silicone": "yeoh", "depth": "1 mm"},
         "mesh": {"size": "1 mm", "piezo_layers": 2, "order": 2},
         "plate": {"shape": "rectangle", "width": "2 mm", "length": "2 mm",
@@ -203,3 +207,27 @@ def test_thesis_taxel_in_plane_stress_small_load_limit_is_linear():
     sol = solve(base.replace(**{"model.silicone": "yeoh", "load.force": 0.4}))
     assert sol.newton.converged
     assert 0.005 < abs(sol.voltages()["taxel_0_0"] / (0.4 * v_lin) - 1) < 0.1   # nonlinear, not far
+
+
+# ---------------------------------------------------------------- studies: the last converged load
+
+@pytest.mark.slow
+def test_a_study_point_past_the_laws_limit_reports_the_last_converged_load(tmp_path):
+    """A Yeoh set with C30 < 0 has a largest uniaxial nominal stress; pulled 20 % past
+    it, Newton stops short, and the study point is the solve at the last converged
+    pressure (requested load kept, stopped_at in the tidy row)."""
+    from taxel.studies.evaluate import evaluate
+    C = (7.83e3, 0.0, -60.0)
+    lam = np.linspace(1, 6, 20001)
+    P_max = H.nominal_stress("uniaxial", lam, *C).max()
+    data = block_data(f"{-1.2 * P_max} Pa")
+    data["materials"]["gel"].update(C10=C[0], C20=C[1], C30=C[2])
+    res = evaluate(data, ("voltage",))
+    reached = -res["force"] / (2e-3 * 1e-3)              # N (downward +) over the 2 mm x 1 mm top: Pa
+    assert res["requested_load"] == pytest.approx(-1.2 * P_max)
+    assert 0.9 * P_max < reached < P_max
+    from taxel.studies.store import Store, tidy_rows
+    store = Store(tmp_path)
+    store.put("k", {"pressure": "pulled"}, "done", res, None, 1.0)
+    store.close()
+    assert tidy_rows(tmp_path)[0]["stopped_at"] == res["force"]
