@@ -231,3 +231,13 @@ def test_a_study_point_past_the_laws_limit_reports_the_last_converged_load(tmp_p
     store.put("k", {"pressure": "pulled"}, "done", res, None, 1.0)
     store.close()
     assert tidy_rows(tmp_path)[0]["stopped_at"] == res["force"]
+
+
+@pytest.mark.parametrize("name,n", [("fig-2-5-thesis", 140), ("fig-2-8-thesis", 180)])
+def test_the_thesis_model_studies_pair_every_linear_point_with_a_plane_stress_yeoh_point(name, n):
+    from taxel.studies.spec import load_study
+    st = load_study(name)
+    scenes = [parse({**st.scene_data(p), "name": "p"}) for p in st.points()]
+    assert len(scenes) == n and all(s.model.type == "plane_stress" for s in scenes)
+    laws = [s.model.silicone for s in scenes]
+    assert laws.count("yeoh") == laws.count("linear") == n // 2
