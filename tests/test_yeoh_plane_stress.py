@@ -233,11 +233,14 @@ def test_a_study_point_past_the_laws_limit_reports_the_last_converged_load(tmp_p
     assert tidy_rows(tmp_path)[0]["stopped_at"] == res["force"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name,n", [("fig-2-5-thesis", 140), ("fig-2-8-thesis", 180)])
 def test_the_thesis_model_studies_pair_every_linear_point_with_a_plane_stress_yeoh_point(name, n):
     from taxel.studies.spec import load_study
     st = load_study(name)
-    scenes = [parse({**st.scene_data(p), "name": "p"}) for p in st.points()]
-    assert len(scenes) == n and all(s.model.type == "plane_stress" for s in scenes)
-    laws = [s.model.silicone for s in scenes]
-    assert laws.count("yeoh") == laws.count("linear") == n // 2
+    data = [st.scene_data(p) for p in st.points()]
+    laws = [d["model"]["silicone"] for d in data]
+    assert len(data) == n and laws.count("yeoh") == laws.count("linear") == n // 2
+    for d in (data[0], data[-1]):                      # linear and Yeoh: valid plane-stress scenes
+        scene = parse({**d, "name": "p"})
+        assert scene.model.type == "plane_stress" and scene.model.silicone in ("linear", "yeoh")
