@@ -62,11 +62,10 @@ import math
 import numpy as np
 
 from taxel.fem.kinematics import Kinematics
-from taxel.fem.yeoh import Yeoh, dpsi, stress_tangent_batched
+from taxel.fem.yeoh import Yeoh, dpsi
 from taxel.fem.yeoh_terms import Terms
 
 CHUNK = 4000
-IN_PLANE = np.array([0, 1, 3, 4])      # (00, 01, 10, 11) of a 3x3 tensor, flattened
 
 
 class CondensationError(ArithmeticError):
@@ -125,19 +124,51 @@ def stress_tangent(F2, law: Yeoh, with_tangent=True):
     N = len(F2)
     if incompressible(law):
         return (*_incompressible(F2, law.C, l3, with_tangent), l3)
-    F = np.zeros((N, 3, 3))
-    F[:, :2, :2] = F2
-    F[:, 2, 2] = l3
+    return (*_compressible(F2, law.C, law.K, l3, e, with_tangent), l3)
+
+
+def _compressible(F2, C, K, l3, e, with_tangent):
+    """(P2, A2, J) of the condensed law W = Psi(I1b) + K/2 (J - 1)^2 at lambda3 (P33 = 0),
+    written out for the block-diagonal F (fem.yeoh's dP/dF restricted to it; with
+    X_iJkL = F^-1_Jk F^-1_Li, G = 2F - 2/3 I1 F^-T, p = K (J - 1)):
+
+        A_ab,cd = Psi'' a^2 G_ab G_cd + Psi' a (2 II - 4/3 F^-T (x) F - 2/3 G (x) F^-T + 2/3 I1 X)
+                  + (p J + K J^2) F^-T (x) F^-T - p J X
+        A_ab,33 = Psi'' a^2 G_ab G33 - Psi' a (4/3 lambda3 F^-T_ab + 2/3 G_ab / lambda3)
+                  + (p J + K J^2) F^-T_ab / lambda3
+        A_33,33 = Psi'' a^2 G33^2 + Psi' a (2/3 + 2/3 I1 / lambda3^2 - 2/3 G33 / lambda3) + K J^2 / lambda3^2
+
+    (2D arrays only: 4-5 x faster than the 3x3 batched law, which the tests compare it with)."""
+    N = len(F2)
+    J = 1 + e
+    J2 = J / l3
+    Finv = np.empty_like(F2)
+    Finv[:, 0, 0], Finv[:, 1, 1] = F2[:, 1, 1] / J2, F2[:, 0, 0] / J2
+    Finv[:, 0, 1], Finv[:, 1, 0] = -F2[:, 0, 1] / J2, -F2[:, 1, 0] / J2
+    FiT = Finv.transpose(0, 2, 1)
+    I1 = np.einsum("nij,nij->n", F2, F2) + l3 * l3
     with np.errstate(invalid="ignore"):
-        P, A, J, JFiT = stress_tangent_batched(F, law.K * e, law.C, with_tangent)
-    P2 = P[:, :2, :2]
+        a = J ** (-2.0 / 3.0)
+    d1, d2 = dpsi(a * I1, C)
+    G = 2 * F2 - (2.0 / 3.0) * I1[:, None, None] * FiT
+    pJ = K * e * J
+    P2 = (d1 * a)[:, None, None] * G + pJ[:, None, None] * FiT
     if not with_tangent:
-        return P2, None, J, l3
-    f = JFiT.reshape(N, 9)
-    A = A + law.K * f[:, :, None] * f[:, None, :]       # dP/dF of W = Psi + K/2 (J - 1)^2
-    A2 = A[:, IN_PLANE][:, :, IN_PLANE] - A[:, IN_PLANE, 8][:, :, None] * A[:, 8, IN_PLANE][:, None, :] \
-        / A[:, 8, 8][:, None, None]
-    return P2, A2, J, l3
+        return P2, None, J
+    g, f, Ff = G.reshape(N, 4), FiT.reshape(N, 4), F2.reshape(N, 4)
+    X = np.einsum("nJk,nLi->niJkL", Finv, Finv).reshape(N, 4, 4)
+    ff = f[:, :, None] * f[:, None, :]
+    da, vol = d1 * a, pJ + K * J * J
+    A = (d2 * a * a)[:, None, None] * g[:, :, None] * g[:, None, :]
+    A += da[:, None, None] * (2 * np.eye(4) - (4.0 / 3.0) * f[:, :, None] * Ff[:, None, :]
+                              - (2.0 / 3.0) * g[:, :, None] * f[:, None, :] + (2.0 / 3.0) * I1[:, None, None] * X)
+    A += vol[:, None, None] * ff - pJ[:, None, None] * X
+    G33 = 2 * l3 - (2.0 / 3.0) * I1 / l3
+    c = ((d2 * a * a * G33)[:, None] * g - da[:, None] * ((4.0 / 3.0) * l3[:, None] * f + (2.0 / 3.0) * g / l3[:, None])
+         + (vol / l3)[:, None] * f)
+    A33 = d2 * a * a * G33 ** 2 + da * (2.0 / 3.0 + (2.0 / 3.0) * I1 / l3 ** 2 - (2.0 / 3.0) * G33 / l3) \
+        + K * J * J / l3 ** 2
+    return P2, A - c[:, :, None] * c[:, None, :] / A33[:, None, None], J
 
 
 def _incompressible(F2, C, l3, with_tangent):
@@ -190,25 +221,17 @@ class PlaneStressYeohRegion:
             for l in range(2):
                 B[:, :, 2 * c + l, :, c] = self.dN[:, :, l, :]
         self.B = B.reshape(self.ne, self.dN.shape[1], 4, 2 * nb)            # (ne, nq, (c, l), (a, c))
+        self._last = None                                                   # (ue, r_u, min J) of the last state
 
     def terms(self, x: np.ndarray, with_tangent=True) -> Terms:
         """Element residuals (and matrices) at the full state vector x."""
         ue = x[self.udofs]                                                  # (ne, 2 nb)
         ne, nq = self.w.shape
-        K_uu = np.empty((ne, 2 * self.nb, 2 * self.nb)) if with_tangent else None
-        r_u = np.empty((ne, 2 * self.nb))
-        min_J = np.inf
-        for s in range(0, ne, CHUNK):
-            sl = slice(s, min(s + CHUNK, ne))
-            B, w = self.B[sl], self.w[sl]
-            F2 = (np.einsum("eqki,ei->eqk", B, ue[sl]) + np.array([1.0, 0, 0, 1])).reshape(-1, 2, 2)
-            P2, A2, J, _ = stress_tangent(F2, self.law, with_tangent)
-            min_J = min(min_J, float(np.min(J)) if np.all(np.isfinite(J)) else -np.inf)
-            r_u[sl] = np.einsum("eqk,eqki->ei", P2.reshape(-1, nq, 4) * w[..., None], B)
-            if with_tangent:
-                AB = np.matmul(A2.reshape(-1, nq, 4, 4) * w[..., None, None], B)
-                n = sl.stop - sl.start
-                K_uu[sl] = np.matmul(B.transpose(0, 3, 1, 2).reshape(n, -1, nq * 4), AB.reshape(n, nq * 4, -1))
+        if not with_tangent and self._last is not None and np.array_equal(self._last[0], ue):
+            r_u, min_J = self._last[1:]          # fem.newton's line search asks twice per trial state
+        else:
+            r_u, K_uu, min_J = self._element_terms(ue, with_tangent)
+            self._last = (ue, r_u, min_J)
         npb = self.pdofs.shape[1]
         p = x[self.pdofs] if npb else np.zeros((ne, 0))
         r_p = np.einsum("eab,eb->ea", self.hold, p) if npb else p
@@ -216,3 +239,22 @@ class PlaneStressYeohRegion:
             return Terms(r_u, r_p, None, None, None, min_J)
         return Terms(r_u, r_p, K_uu, np.zeros((ne, 2 * self.nb, npb)),
                      self.hold if npb else np.zeros((ne, 0, 0)), min_J)
+
+    def _element_terms(self, ue, with_tangent):
+        """(r_u, K_uu or None, min J) from the element displacements ue (ne, 2 nb)."""
+        ne, nq = self.w.shape
+        K_uu = np.empty((ne, 2 * self.nb, 2 * self.nb)) if with_tangent else None
+        r_u = np.empty((ne, 2 * self.nb))
+        min_J = np.inf
+        for s in range(0, ne, CHUNK):
+            sl = slice(s, min(s + CHUNK, ne))
+            B, w = self.B[sl], self.w[sl]
+            F2 = (np.matmul(B, ue[sl][:, None, :, None])[..., 0] + np.array([1.0, 0, 0, 1])).reshape(-1, 2, 2)
+            P2, A2, J, _ = stress_tangent(F2, self.law, with_tangent)
+            min_J = min(min_J, float(np.min(J)) if np.all(np.isfinite(J)) else -np.inf)
+            r_u[sl] = np.matmul((P2.reshape(-1, nq, 4) * w[..., None])[:, :, None, :], B)[:, :, 0, :].sum(axis=1)
+            if with_tangent:
+                AB = np.matmul(A2.reshape(-1, nq, 4, 4) * w[..., None, None], B)
+                n = sl.stop - sl.start
+                K_uu[sl] = np.matmul(B.transpose(0, 3, 1, 2).reshape(n, -1, nq * 4), AB.reshape(n, nq * 4, -1))
+        return r_u, K_uu, min_J
