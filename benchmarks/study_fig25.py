@@ -71,7 +71,8 @@ def thesis(name: str, out: Path | None):
     key_out = "crosstalk" if "crosstalk" in rows[0] else "pressed_voltage"
     print(f"  Yeoh / linear - 1 of {key_out} (linear at the Yeoh point's reached force, V/N scaling):")
     diffs = []
-    for r in by.get("Yeoh (thesis)", []):
+    for r in sorted(by.get("Yeoh (thesis)", []), key=lambda r: (r["piezo"], *(float(str(r[k]).split()[0]) for k in
+                                                                               ("silicone_thickness", "gap", "force") if k in r))):
         ref = lin.get(_key(r))
         if r["status"] != "done" or ref is None or ref["status"] != "done" or not ref.get(key_out):
             continue
