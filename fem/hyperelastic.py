@@ -26,9 +26,10 @@ with P_iso = Psi'(I1b) dI1b/dF, and the consistent tangent
 
 Models share one 3x3 F = I + H, H from the kinematics (fem.kinematics): 3D
 Grad u; plane strain [[Grad u (2x2), 0], [0, 0]]; axisymmetric (r, z, theta)
-H_33 = u_r / r. The law itself (Psi, P, dP/dF) is fem.yeoh. Plane stress is not offered for Yeoh: an
-incompressible sheet needs F_33 = 1/J_2D and a condensed tangent; use plane
-strain or axisymmetric (the issue's "own treatment": we say no and explain).
+H_33 = u_r / r. The law itself (Psi, P, dP/dF) is fem.yeoh. Plane stress is not this form: the
+sheet's thickness stretch F_33 is condensed from P_33 = 0 at each quadrature
+point, a displacement-only form with the Schur-complement tangent
+(fem.yeoh_plane_stress).
 
 The piezo stays linear and small-strain (fem.forms): its strains are ~1e-5 at
 1 N, so geometric nonlinearity there is below 1e-5 relative; the silicone-piezo

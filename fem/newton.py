@@ -28,6 +28,8 @@ from taxel.fem import hyperelastic, linalg
 from taxel.fem.assembly import System, place
 from taxel.fem.constraints import Reduction, reduction
 from taxel.fem.linear import Solution, results
+from taxel.fem.kinematics import PlaneStress
+from taxel.fem.yeoh_plane_stress import PlaneStressYeohRegion
 from taxel.fem.yeoh_terms import YeohRegion
 
 
@@ -55,9 +57,11 @@ class NewtonResult:
 
 
 def yeoh_regions(sy: System) -> dict:
-    """The vectorised Yeoh regions of a system (fem.yeoh_terms), built once and kept on it."""
+    """The vectorised Yeoh regions of a system (fem.yeoh_terms; plane stress:
+    fem.yeoh_plane_stress), built once and kept on it."""
     if getattr(sy, "_yeoh_regions", None) is None:
-        sy._yeoh_regions = {r: YeohRegion(sy.ubases[r], sy.pbases[r], law, sy.kin, sy.offsets[("p", r)].start)
+        kind = PlaneStressYeohRegion if isinstance(sy.kin, PlaneStress) else YeohRegion   # lambda3 condensed
+        sy._yeoh_regions = {r: kind(sy.ubases[r], sy.pbases[r], law, sy.kin, sy.offsets[("p", r)].start)
                             for r, law in sy.yeoh.items()}
     return sy._yeoh_regions
 

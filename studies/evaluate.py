@@ -8,7 +8,8 @@ from typing import Any
 import numpy as np
 
 from taxel.analyses import frequency, solve_static
-from taxel.scene import parse, replace
+from taxel.fem.newton import NewtonError
+from taxel.scene import Scene, parse, replace
 
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
 
@@ -19,7 +20,7 @@ def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
     (`StaticResult.outputs()`) under "outputs"."""
     scene = parse({**scene_data, "name": "point"})
     t0 = time.perf_counter()
-    sol = solve_static(scene)
+    sol, requested = solve_reached(scene)
     res: dict[str, Any] = {}
     taxels = {k: e for k, e in sol.electrodes.items() if e.state != "reference"}
     pressed = sol.pressed
@@ -41,8 +42,30 @@ def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
     res["pressed"] = pressed
     res["force"] = sol.applied_force
     res["model_note"] = sol.model_note
+    if requested is not None:             # Newton stopped short: the outputs are at the last converged load
+        res["requested_load"] = requested
     res["seconds"] = time.perf_counter() - t0
     return res
+
+
+def solve_reached(scene: Scene, tries: int = 3):
+    """(result, requested load or None): the static solve, or, where Newton stops short
+    of the load (a Yeoh silicone under a pressure patch creases at the patch edge,
+    fem.newton), the solve at the last converged load it names (load.force, or
+    load.pressure for kind = "pressure"), with the load asked for."""
+    key = "pressure" if scene.load.kind == "pressure" else "force"
+    requested = getattr(scene.load, key)
+    for _ in range(tries):
+        try:
+            sol = solve_static(scene)
+            return sol, (None if getattr(scene.load, key) == requested else requested)
+        except NewtonError as exc:
+            last = exc.result.load_factors[-1] if exc.result is not None and exc.result.load_factors else 0.0
+            if last <= 0:
+                raise
+            scene = replace(scene, **{f"load.{key}": last * getattr(scene.load, key)})
+    raise NewtonError(f"Newton stopped short of the load {tries} times (last at {getattr(scene.load, key):.4g}); "
+                      "lower the load")
 
 
 def evaluate_safely(scene_data: dict, outputs) -> tuple[str, dict | None, str | None]:

@@ -162,6 +162,8 @@ def tidy_rows(out: Path) -> list[dict]:
         for name in ("crosstalk", "max_strain", "seconds"):
             if name in res:
                 row[name] = res[name]
+        if "requested_load" in res:       # Newton stopped short (studies.evaluate): the outputs are at this load
+            row["stopped_at"] = res["force"]
         row["error"] = r["error"] or ""
         rows.append(row)
     store.close()

@@ -100,7 +100,8 @@ def run_study(spec, out: str | Path | None = None, workers: int = 2, scheduler: 
         raise
     rows = tidy_rows(out)
     write_rows(rows, out / "results.csv")
-    files = study_plots(rows, [p.name for p in st.spec.parameters], list(plots), out / "plots", st.spec.name)
+    reached = [r for r in rows if not r.get("stopped_at")]     # a point stopped short is in the table, not the plots
+    files = study_plots(reached, [p.name for p in st.spec.parameters], list(plots), out / "plots", st.spec.name)
     return StudyRun(st.spec.name, out, s.total, s.cached, s.done, s.failed, s.seconds, rows, files)
 
 

@@ -317,9 +317,6 @@ class Scene(Strict):
                                  f"C30) to [materials.{name}] (taxel material fit-yeoh fits them to a tension "
                                  "test), or use model.silicone = 'linear'")
         if self.model.silicone != "linear":
-            if self.model.type == "plane_stress":
-                raise ValueError("model.silicone = 'yeoh' is not offered in plane stress (an incompressible "
-                                 "sheet needs its own condensation); use plane_strain, axisymmetric or 3d")
             if self.mesh.formulation != "mixed":
                 raise ValueError("model.silicone = 'yeoh' needs mesh.formulation = 'mixed'")
             if any(not isinstance(electrode_state(v), str) for v in self.electrodes.values()):

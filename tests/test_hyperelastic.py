@@ -10,7 +10,7 @@ from taxel.analyses import solve_static as solve
 from taxel.fem import yeoh as H
 from taxel.fem.assembly import assemble
 from taxel.fem.newton import NewtonError, newton, yeoh_terms
-from taxel.scene import SceneError, load, parse, refined
+from taxel.scene import load, parse, refined
 
 C_YEOH = (7.83e3, 0.103e3, -0.0008e3)       # the 300 % fit (docs/materials.md)
 
@@ -223,11 +223,6 @@ def test_pvdf_52um_under_silicone_converges():
     assert abs(v[2] - v[1]) < 0.01 * abs(v[2])
     sol = solve(with_(scene, "yeoh"))
     assert sol.newton.converged and sol.voltages()["taxel_0_0"] > 0
-
-
-def test_plane_stress_yeoh_is_refused_with_a_reason():
-    with pytest.raises(SceneError, match="plane stress"):
-        parse({"model": {"type": "plane_stress", "silicone": "yeoh"}, "array": {}})
 
 
 @pytest.mark.parametrize("force,expect", [(0.01, "linear"), (0.3, "Yeoh")])
