@@ -189,7 +189,8 @@ def interpolant(problem, designs: list[Design]):
     return ratio
 
 
-def _history(runs, problem) -> list[Design]:
+def visited_designs(runs, problem) -> list[Design]:
+    """Every design the optimizer runs visited, once each, with its cheap metrics."""
     seen, out = set(), []
     for run in runs:
         for h in run.result.history:
@@ -228,7 +229,7 @@ def verify(problem, runs: list[FrontRun], x_reference, tolerance=0.05, max_round
     """The multi-fidelity loop over a cheap front `runs` (problem.front's output,
     OptimizationResult.runs)."""
     t0 = time.perf_counter()
-    pool = _history(runs, problem)
+    pool = visited_designs(runs, problem)
     by_x = {tuple(np.round(d.x, 9)): d for d in pool}
     cheap_front = [by_x.setdefault(tuple(np.round(r.x, 9)), Design(list(map(float, r.x)),
                                                                      (r.metrics["sensitivity"], r.metrics["crosstalk"])))

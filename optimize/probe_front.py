@@ -163,10 +163,10 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
     """The probe front of `problem` (a spec with [press]) from its linear front `runs`
     (problem.linear()'s, optimize.spec.front) and their 3D verification `linear_mf`;
     with `full`, level C pressed on `fine_model` (the 3D verification mesh)."""
-    from taxel.optimize.multifidelity import _history
+    from taxel.optimize.multifidelity import visited_designs
     t0 = time.perf_counter()
     lin = problem.linear()
-    pool = _history(runs, lin)
+    pool = visited_designs(runs, lin)
     by_x = {tuple(np.round(d.x, 9)): d for d in pool}
     front_a = [by_x[k] for k in (tuple(np.round(d.x, 9)) for d in linear_mf.cheap_front) if k in by_x]
     ref = by_x.get(tuple(np.round(np.asarray(x_reference, float), 9)))
