@@ -263,7 +263,7 @@ def main(argv=None):
     p = sub.add_parser("demo", help="the main job: thesis study, optimization, dynamics and the report")
     p.add_argument("--out", default="out/demo", metavar="DIR")
     p.add_argument("--small", action="store_true", help="a reduced run (for CI)")
-    p.add_argument("--full", action="store_true", help="the probe fronts verified by 3D presses (slow)")
+    p.add_argument("--full", action="store_true", help="also the thesis-model Fig. 2.5/2.8 studies and the probe fronts verified by 3D presses (slow)")
     p.set_defaults(run=_demo)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)

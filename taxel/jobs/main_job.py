@@ -141,8 +141,9 @@ def tolerances(out: Path) -> Path:
 
 
 def run(root: Path, small: bool = False, full: bool = False) -> Path:
-    """Run the main job into `root` and return the report's index page; `full`: the probe
-    fronts verified by 3D presses (about 2 minutes a press on the verification mesh)."""
+    """Run the main job into `root` and return the report's index page; `full`: also the
+    thesis-model Fig. 2.5 and 2.8 studies (plane stress, Yeoh beside linear silicone; about
+    10 minutes each) and the probe fronts verified by 3D presses."""
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%d %H:%M:%S")
     root.mkdir(parents=True, exist_ok=True)
@@ -153,6 +154,11 @@ def run(root: Path, small: bool = False, full: bool = False) -> Path:
     summ = api.run_study(st, root / "fig-2-5", workers=1 if small else 2, progress=True, plots=STUDY_PLOTS)
     folders.append(summ.folder)
     print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
+    if full:                           # the thesis's own model: plane stress, Yeoh beside linear
+        for name in ("fig-2-5-thesis", "fig-2-8-thesis"):
+            summ = api.run_study(load_study(name), root / name, workers=2, progress=True)
+            folders.append(summ.folder)
+            print(f"      {name}: {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
         folders.append(front(root / name, name, small, full))
