@@ -99,6 +99,10 @@ class Press:
         self.res = ContactResult(ind, self.eps, self.o.method)
         self.G = symmetry.order(sy)      # a half or quarter model (fem.symmetry): forces and areas x G
         self.solver = None
+        # the tangents share one pattern (fem.sparsity): PARDISO's analysis once, a numeric
+        # factorization per Newton step (Options.reuse_analysis)
+        self._factorize = (linalg.Refactorizer(self.method) if self.o.reuse_analysis and self.o.assembly != "skfem"
+                           else lambda K, is_u, D=None: linalg.scaled_solver(K, is_u, self.method, D=D))
         self._pat, self._min_J = None, 1.0
         self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
         self._stick: Stick | None = None    # the one in use by the solve under way
@@ -201,7 +205,7 @@ class Press:
                     st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps, stick=self._stick)
                 return x, st, it
             t0 = time.process_time()
-            self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method, D=D)
+            self.solver = solver = self._factorize(K, self.red.is_u, D=D)
             self.stats["factorizations"] += 1
             self.stats["factorize_s"] += time.process_time() - t0
             seen.append(st.active.tobytes())
@@ -302,11 +306,24 @@ class Press:
         S = self.surf.dofs.ravel() + u0
         dr, dF_dd, dF_du = self.surf.travel_derivatives(st, self.eps)
         if self.solver is None:                  # converged without a Newton step: factorize here
-            self.solver = linalg.scaled_solver(self._residual(x, d, lam)[3], self.red.is_u, self.method)
+            self.solver = self._factorize(self._residual(x, d, lam)[3], self.red.is_u)
         rhs = self.red.P.T @ np.bincount(S, dr.ravel(), minlength=n)
         dy, _ = self.solver(-rhs)
         v = self.red.P @ dy[:, 0]
         return v, self.G * (dF_dd + float(dF_du.ravel() @ v[S]))
+
+    def start_rates(self):
+        """dx/dd and dF/dd at the unpressed state (self.v, self.slope), before the first
+        step: the first travel's tangent prediction, and force control's first trial. Zero
+        slope (a frictionless punch or a sphere only touching) leaves them unset."""
+        if self.v is not None or not self.o.predictor:
+            return
+        self._stick = self._sticking()
+        st = self.surf.state(self.x[self.sy.offsets["u"]], self.ind, self.d, self.lam, self.eps, stick=self._stick)
+        v, slope = self._rates(self.x, st, self.d, self.lam)
+        self._stick = None
+        if slope > 0:
+            self.v, self.slope = v, slope
 
     def _sticking(self) -> Stick | None:
         """The stick set for the next solve: with a sticking indenter, at the first solve
@@ -351,7 +368,7 @@ class Press:
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
         r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
         self._stick = self._sticking()           # the tangent at the final state (Newton stops unfactorized)
-        self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)
+        self.solver = self._factorize(self._residual(x, self.d, self.lam)[3], red.is_u)
         self._stick = None
         X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
         Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
