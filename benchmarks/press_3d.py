@@ -8,7 +8,7 @@ quantity is the pressed taxel's open-circuit voltage per newton, V/F.
 Reference (--reference): a family of meshes whose every size (size, piezo_size,
 and the contact-aware size under the punch's rounded edge, meshing.build) is
 divided by RATIO from one to the next; the observed order p from the last three
-and the Richardson value V_ref = V_2 + (V_2 - V_1) / (RATIO^p - 1), written to
+and the Richardson value (last three levels) V_ref = V_2 + (V_2 - V_1) / (RATIO^p - 1), written to
 docs/press_3d_reference.json with every level's numbers. The default run reads it.
 
 Default run: the press at the default settings (the scene's own mesh and Options),
@@ -42,7 +42,7 @@ from taxel.scene import load
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "press_3d_reference.json"
 RATIO = 2 ** 0.5
-LEVELS = (1.0, RATIO, 2.0)          # the reference family: every size divided by these (the first the default)
+LEVELS = (0.5, 0.5 * RATIO, 1.0, RATIO)   # the reference family: every size divided by these (1.0: the default)
 
 
 def scene(friction="sticking", **edit):
@@ -81,23 +81,27 @@ def run(sc, lay, opts: Options | None = None, path=()):
 
 
 def reference():
+    """Every level of the family in turn; after each from the third on, the reference
+    (Richardson over the last three) is written, so a stopped run keeps what it had."""
     sc = scene()
     rows = []
     for k in LEVELS:
         r = run(sc, layout(sc, k))
         print(f"sizes / {k:.3g}: {r}", flush=True)
         rows.append(dict(divide=k, **r))
-    v = [r["VF"] for r in rows]
-    out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
-               ratio=RATIO, levels=rows)
-    if (v[1] - v[0]) * (v[2] - v[1]) > 0:
-        p = float(np.log(abs(v[1] - v[0]) / abs(v[2] - v[1])) / np.log(RATIO))
-        out.update(order=p, VF=v[2] + (v[2] - v[1]) / (RATIO ** p - 1))
-        print(f"observed order {p:.2f}; Richardson V/F {out['VF']:.5f} V/N")
-    else:
-        out.update(order=None, VF=v[2])
-        print("not monotone: the finest value is the reference (no extrapolation)")
-    OUT.write_text(json.dumps(out, indent=1) + "\n")
+        if len(rows) < 3:
+            continue
+        v = [r["VF"] for r in rows[-3:]]
+        out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
+                   ratio=RATIO, levels=rows)
+        if (v[1] - v[0]) * (v[2] - v[1]) > 0:
+            p = float(np.log(abs(v[1] - v[0]) / abs(v[2] - v[1])) / np.log(RATIO))
+            out.update(order=p, VF=v[2] + (v[2] - v[1]) / (RATIO ** p - 1))
+            print(f"observed order {p:.2f}; Richardson V/F {out['VF']:.5f} V/N", flush=True)
+        else:
+            out.update(order=None, VF=v[2])
+            print("not monotone: the finest value is the reference (no extrapolation)", flush=True)
+        OUT.write_text(json.dumps(out, indent=1) + "\n")
 
 
 VARIANTS = {

@@ -55,12 +55,8 @@ def force(pr, F_target, max_trials=40):
             else:
                 lo = (lo[0], F_target - (F_target - lo[1]) / 2)
         last_side = side
-        if d == 0.0 and not pts and o.predictor:
-            pr.start_rates()                  # the unpressed state's stiffness (sticking punch)
-        if d == 0.0 and pr.slope is None:
+        if d == 0.0:
             d_new = o.first_travel * pr.height
-        elif d == 0.0:                       # Newton on F(d) from the unpressed state's stiffness
-            d_new = min(F_target / pr.slope, o.first_reach * pr.height)
         elif o.predictor and pr.slope is not None and pr.slope > 0:
             # Newton on F(d) with the path's own stiffness; at most twice the last step,
             # and inside the bracket once there is one

@@ -312,19 +312,6 @@ class Press:
         v = self.red.P @ dy[:, 0]
         return v, self.G * (dF_dd + float(dF_du.ravel() @ v[S]))
 
-    def start_rates(self):
-        """dx/dd and dF/dd at the unpressed state (self.v, self.slope), before the first
-        step: the first travel's tangent prediction, and force control's first trial. Zero
-        slope (a frictionless punch or a sphere only touching) leaves them unset."""
-        if self.v is not None or not self.o.predictor:
-            return
-        self._stick = self._sticking()
-        st = self.surf.state(self.x[self.sy.offsets["u"]], self.ind, self.d, self.lam, self.eps, stick=self._stick)
-        v, slope = self._rates(self.x, st, self.d, self.lam)
-        self._stick = None
-        if slope > 0:
-            self.v, self.slope = v, slope
-
     def _sticking(self) -> Stick | None:
         """The stick set for the next solve: with a sticking indenter, at the first solve
         the points touching it at the current travel (the flat of a punch at zero travel)."""

@@ -63,7 +63,6 @@ class Options:
     max_uzawa: int = 40
     force_tol: float = 1e-3         # force control: |F - target| / target
     first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
-    first_reach: float = 0.5        # force control from the unpressed stiffness: at most this fraction of the height
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
     fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
