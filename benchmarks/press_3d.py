@@ -19,8 +19,9 @@ size at twice the edge radius; the PARDISO analysis redone at every Newton step
 load path of benchmarks/contact_taxel.py) instead of one target; 6 Gauss points
 per facet (higher-order contact integration) instead of the edge midpoints.
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick]
-(--quick: the default row only)
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick] [--divide K]
+(--quick: the default row only; --divide K: the rows on the default mesh with every size divided
+by K, e.g. 0.5 for a mesh twice as coarse, to compare the variants at a quarter of the cost)
 """
 
 from __future__ import annotations
@@ -121,6 +122,7 @@ def main():
     sc = scene()
 
     def line(name, r):
+        ref = json.loads(OUT.read_text()) if OUT.exists() else None     # (a reference run may be writing it)
         if "error" in r:
             return f"| {name} | {r['n']} | stopped: {r['error']} |||||||"
         err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref else "-"
@@ -134,11 +136,13 @@ def main():
     print("| variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | "
           "factorize CPU s | CPU s | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    print(line("**default**", run(sc, layout(sc))), flush=True)
+    k = float(sys.argv[sys.argv.index("--divide") + 1]) if "--divide" in sys.argv else 1.0
+    print(line("**default**" if k == 1.0 else f"**the default's settings, sizes / {k:g}**", run(sc, layout(sc, k))),
+          flush=True)
     if "--quick" in sys.argv:
         return
     for name, v in VARIANTS.items():
-        lay = layout(sc, contact_factor=v.get("contact_factor", 1.0), grading=v.get("grading", True))
+        lay = layout(sc, k, contact_factor=v.get("contact_factor", 1.0), grading=v.get("grading", True))
         print(line(name, run(sc, lay, v.get("opts"), v.get("path", ()))), flush=True)
 
 

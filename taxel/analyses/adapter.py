@@ -188,12 +188,14 @@ def _array_layout(scene: Scene, common) -> Layout:
 
 def punch_grading(scene: Scene) -> dict:
     """The contact-aware grading of a 3D scene pressed by a flat punch (meshing.build):
-    elements of the punch's edge radius under its rounded edge and at the top surface."""
+    elements of the punch's edge radius under its rounded edge and at the top surface,
+    but not below half the taxel edges' size (a coarse `[mesh]` stays coarse)."""
     ld = scene.load
     if scene.model.type != "3d" or ld.kind != "indenter" or not ld.contact or ld.shape != "flat":
         return {}
     edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
-    return dict(contact_size=edge, rim=edge) if edge > 0 else {}
+    floor = (scene.mesh.piezo_size or scene.mesh.size / 4) / 2
+    return dict(contact_size=max(edge, floor), rim=edge) if edge > 0 else {}
 
 
 def _load_patch(scene: Scene, centre, half, model) -> Patch | None:
