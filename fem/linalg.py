@@ -219,3 +219,68 @@ def scaling(A, is_u):
     if not (s > 0).all():
         raise RuntimeError("the system has an empty row: a region without stiffness or an unconnected unknown")
     return 1.0 / np.sqrt(s)
+
+
+class Refactorizer:
+    """Scaled solves (as `scaled_solver`) of a sequence of matrices with one sparsity
+    pattern, such as the tangents of a Newton sequence: with PARDISO the analysis
+    (phase 11: fill-reducing ordering, symbolic factorization, memory check) runs
+    once per pattern and each matrix gets only its numeric factorization (phase 22);
+    other methods factorize each matrix in full. The scaling D A D multiplies the
+    stored entries, so the pattern is kept (explicit zeros included). One set of
+    factors at a time: a solve function of an earlier matrix raises once a later
+    one is factorized (benchmarks/press_3d.py measures the saving)."""
+
+    def __init__(self, method: str):
+        self.method = method
+        self._solver, self._pattern, self._generation = None, None, 0
+
+    def __call__(self, A: sp.spmatrix, is_u: np.ndarray, D=None):
+        if self.method != "pardiso":
+            return scaled_solver(A, is_u, self.method, D=D)
+        import pypardiso
+        A = sp.csr_matrix(A)
+        A.sort_indices()
+        if D is None:
+            D = scaling(A, is_u)
+        rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
+        As = sp.csr_matrix((A.data * D[rows] * D[A.indices], A.indices, A.indptr), shape=A.shape)
+        key = (A.shape[0], A.indptr.tobytes(), A.indices.tobytes())
+        if self._pattern != key:
+            if self._solver is not None:
+                self._solver.free_memory(True)
+            self._solver = pypardiso.PyPardisoSolver(mtype=11)      # as factorize: nonsymmetric pivoting
+            os.environ.setdefault("PYPARDISO_MKL_RT", self._solver.libmkl._name)
+            weakref.finalize(self, self._solver.free_memory, True)
+            check_fits(self._solver, As)                             # phase 11
+            self._pattern = key
+        s = self._solver
+        s.set_phase(22)
+        s._call_pardiso(As, np.zeros((A.shape[0], 1)))
+        self._generation += 1
+        generation = self._generation
+
+        def factor(B):
+            if generation != self._generation:
+                raise RuntimeError("a solve with factors that a later factorization replaced")
+            s.set_phase(33)
+            return s._call_pardiso(As, np.asfortranarray(np.asarray(B, dtype=float).reshape(A.shape[0], -1)))
+
+        def solve_(B):
+            B = np.asarray(B).reshape(A.shape[0], -1)
+            Bs = D[:, None] * B
+            Y = factor(Bs)
+            for _ in range(3):
+                R = Bs - As @ Y
+                norm_b = np.linalg.norm(Bs, axis=0)
+                res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)
+                if res.max() < 1e-13:
+                    break
+                Y = Y + factor(R)
+            X = D[:, None] * Y
+            if not np.all(np.isfinite(X)):
+                raise RuntimeError("linear solve produced non-finite values: the system is singular "
+                                   "(check the supports and that every piezo body touches a grounded electrode)")
+            return X, res
+        solve_.D = D
+        return solve_

@@ -99,6 +99,10 @@ class Press:
         self.res = ContactResult(ind, self.eps, self.o.method)
         self.G = symmetry.order(sy)      # a half or quarter model (fem.symmetry): forces and areas x G
         self.solver = None
+        # the tangents share one pattern (fem.sparsity): PARDISO's analysis once, a numeric
+        # factorization per Newton step (Options.reuse_analysis)
+        self._factorize = (linalg.Refactorizer(self.method) if self.o.reuse_analysis and self.o.assembly != "skfem"
+                           else lambda K, is_u, D=None: linalg.scaled_solver(K, is_u, self.method, D=D))
         self._pat, self._min_J = None, 1.0
         self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
         self._stick: Stick | None = None    # the one in use by the solve under way
@@ -201,7 +205,7 @@ class Press:
                     st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps, stick=self._stick)
                 return x, st, it
             t0 = time.process_time()
-            self.solver = solver = linalg.scaled_solver(K, self.red.is_u, self.method, D=D)
+            self.solver = solver = self._factorize(K, self.red.is_u, D=D)
             self.stats["factorizations"] += 1
             self.stats["factorize_s"] += time.process_time() - t0
             seen.append(st.active.tobytes())
@@ -302,7 +306,7 @@ class Press:
         S = self.surf.dofs.ravel() + u0
         dr, dF_dd, dF_du = self.surf.travel_derivatives(st, self.eps)
         if self.solver is None:                  # converged without a Newton step: factorize here
-            self.solver = linalg.scaled_solver(self._residual(x, d, lam)[3], self.red.is_u, self.method)
+            self.solver = self._factorize(self._residual(x, d, lam)[3], self.red.is_u)
         rhs = self.red.P.T @ np.bincount(S, dr.ravel(), minlength=n)
         dy, _ = self.solver(-rhs)
         v = self.red.P @ dy[:, 0]
@@ -351,7 +355,7 @@ class Press:
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
         r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
         self._stick = self._sticking()           # the tangent at the final state (Newton stops unfactorized)
-        self.solver = linalg.scaled_solver(self._residual(x, self.d, self.lam)[3], red.is_u, self.method)
+        self.solver = self._factorize(self._residual(x, self.d, self.lam)[3], red.is_u)
         self._stick = None
         X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
         Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))

@@ -69,4 +69,5 @@ class Options:
     rule: str = "auto"              # contact points: gauss (intorder) | nodal (P2 nodes, lumped) | auto (3D nodal)
     line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
     predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
+    reuse_analysis: bool = True     # PARDISO: one symbolic analysis for every tangent of the press (fem.linalg.Refactorizer)
     assembly: str = "vectorised"    # vectorised (fem.yeoh_terms, fem.sparsity) | skfem (the reference path)

@@ -8,9 +8,14 @@ controlled element count through the thickness, and has nodes on every patch
 edge. In-plane size: `piezo_size` at taxel and load edges (where stresses are
 singular), growing to `size` over a distance of `growth` x `size` (2), and at most
 `taxel_cap` x `piezo_size` (2) inside taxels. Plan curves are found from points
-on them, not from their bounding boxes (gmsh pads OCC boxes by 1e-7 m). Vertically: `piezo_layers` elements per piezo
+on them, not from their bounding boxes (gmsh pads OCC boxes by 1e-7 m). The plan
+mesh is extruded, so its grading holds at every height: at the piezo's bottom and
+top faces as at z = 0. Under a punch (`contact_size`, contact-aware): the in-plane
+size is `contact_size` within `rim` of the load edge (the band under the punch's
+rounded edge), growing to `size` beyond as above. Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
-`size`, ratio 1.5.
+`size`, ratio 1.5; under a punch the top layer is graded from both ends, to
+`contact_size` at the top surface.
 
 Physical groups (names), classified by the first element of each entity:
 regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
@@ -141,6 +146,9 @@ def vertical_divisions(lay: Layout, layer):
     count before this runs)."""
     if not is_graded(lay, layer):
         return [lay.piezo_layers], [1.0]
+    if lay.contact_size is not None and layer is lay.layers[-1] and layer.name != "silicone_below":
+        hs = _two_sided(layer.thickness, lay.piezo_size, min(lay.contact_size, lay.size), lay.size)
+        return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
     h, hs, total = lay.piezo_size, [], 0.0
     while total < layer.thickness * (1 - 1e-9):
         hs.append(min(h, lay.size))
@@ -154,6 +162,20 @@ def vertical_divisions(lay: Layout, layer):
     return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
 
 
+def _two_sided(thickness, h_bottom, h_top, h_max):
+    """Element heights through a layer graded by 1.5 from both ends (h_bottom next to the
+    piezo, h_top at the top surface under a punch) to at most h_max, scaled to fill it."""
+    lo, hi, a, b = [], [], h_bottom, h_top
+    while sum(lo) + sum(hi) < thickness * (1 - 1e-9):
+        if a <= b:
+            lo.append(min(a, h_max))
+            a *= 1.5
+        else:
+            hi.append(min(b, h_max))
+            b *= 1.5
+    return np.array(lo + hi[::-1]) * thickness / (sum(lo) + sum(hi))
+
+
 def _size_field(gmsh, lay: Layout):
     opt = gmsh.option
     opt.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
@@ -164,32 +186,9 @@ def _size_field(gmsh, lay: Layout):
     edges = [p for p in list(lay.taxels) + ([lay.load] if lay.load else [])]
     if not edges:
         return
-    # entities on the plan (z = 0) on patch edges
-    if lay.dim == 2:
-        xs = {round(p.x + s * p.half, 12) for p in edges for s in (-1, 1)}
-        ents = [t for _, t in gmsh.model.getEntities(0)
-                if abs(gmsh.model.getValue(0, t, [])[1]) < 1e-12
-                and round(gmsh.model.getValue(0, t, [])[0], 12) in xs]
-        kind = "PointsList"
-    else:
-        ents = []
-        for _, t in gmsh.model.getEntities(1):
-            # points on the curve, not its bounding box: gmsh pads OCC boxes by 1e-7
-            a, b = gmsh.model.getParametrizationBounds(1, t)
-            xyz = np.reshape(gmsh.model.getValue(1, t, [a[0], 0.5 * (a[0] + b[0]), b[0]]), (3, 3))
-            if np.all(np.abs(xyz[:, 2]) < 1e-12) and any(_on_edge(p, xyz[1, 0], xyz[1, 1]) for p in edges):
-                ents.append(t)
-        kind = "CurvesList"
-    dist = f.add("Distance")
-    f.setNumbers(dist, kind, ents)
-    f.setNumber(dist, "Sampling", 50)
-    thr = f.add("Threshold")
-    f.setNumber(thr, "InField", dist)
-    f.setNumber(thr, "SizeMin", lay.piezo_size)
-    f.setNumber(thr, "SizeMax", lay.size)
-    f.setNumber(thr, "DistMin", 0.0)
-    f.setNumber(thr, "DistMax", lay.growth * lay.size)
-    fields = [thr]
+    fields = [_threshold(gmsh, lay, edges, lay.piezo_size, 0.0)]
+    if lay.contact_size is not None and lay.load is not None:   # the band under the punch's rounded edge
+        fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim))
     for p in lay.taxels:                          # cap inside taxels
         box = f.add("Box")
         f.setNumber(box, "VIn", min(lay.taxel_cap * lay.piezo_size, lay.size))
@@ -204,6 +203,38 @@ def _size_field(gmsh, lay: Layout):
     mn = f.add("Min")
     f.setNumbers(mn, "FieldsList", fields)
     f.setAsBackgroundMesh(mn)
+
+
+def _threshold(gmsh, lay: Layout, patches, size_min, dist_min):
+    """A size field: `size_min` within `dist_min` of the patches' edges on the plan
+    (z = 0; the plan mesh is extruded, so this is the in-plane size at every height),
+    growing linearly to `size` over `growth` x `size` beyond."""
+    f = gmsh.model.mesh.field
+    if lay.dim == 2:
+        xs = {round(p.x + s * p.half, 12) for p in patches for s in (-1, 1)}
+        ents = [t for _, t in gmsh.model.getEntities(0)
+                if abs(gmsh.model.getValue(0, t, [])[1]) < 1e-12
+                and round(gmsh.model.getValue(0, t, [])[0], 12) in xs]
+        kind = "PointsList"
+    else:
+        ents = []
+        for _, t in gmsh.model.getEntities(1):
+            # points on the curve, not its bounding box: gmsh pads OCC boxes by 1e-7
+            a, b = gmsh.model.getParametrizationBounds(1, t)
+            xyz = np.reshape(gmsh.model.getValue(1, t, [a[0], 0.5 * (a[0] + b[0]), b[0]]), (3, 3))
+            if np.all(np.abs(xyz[:, 2]) < 1e-12) and any(_on_edge(p, xyz[1, 0], xyz[1, 1]) for p in patches):
+                ents.append(t)
+        kind = "CurvesList"
+    dist = f.add("Distance")
+    f.setNumbers(dist, kind, ents)
+    f.setNumber(dist, "Sampling", 50 if dist_min == 0 else 200)
+    thr = f.add("Threshold")
+    f.setNumber(thr, "InField", dist)
+    f.setNumber(thr, "SizeMin", size_min)
+    f.setNumber(thr, "SizeMax", lay.size)
+    f.setNumber(thr, "DistMin", dist_min)
+    f.setNumber(thr, "DistMax", dist_min + lay.growth * lay.size)
+    return thr
 
 
 def region_name(patch):

@@ -47,6 +47,10 @@ def _size(lay: Layout, x, y):
             outside = np.hypot(np.maximum(dx - p.half, 0), np.maximum(dy - p.half, 0))
             d = np.where((dx <= p.half) & (dy <= p.half), np.minimum(p.half - dx, p.half - dy), outside)
         h = np.minimum(h, lay.piezo_size + (lay.size - lay.piezo_size) * np.clip(d / (lay.growth * lay.size), 0, 1))
+    if lay.contact_size is not None and lay.load is not None:     # the band under a punch's rounded edge
+        p, hc = lay.load, min(lay.contact_size, lay.piezo_size)
+        d = np.abs(np.hypot(x - p.x, y - p.y) - p.half) if lay.dim == 3 else np.abs(np.abs(x - p.x) - p.half)
+        h = np.minimum(h, hc + (lay.size - hc) * np.clip((d - lay.rim) / (lay.growth * lay.size), 0, 1))
     for p in lay.taxels:
         inside = np.abs(x - p.x) <= p.half
         if lay.dim == 3:
@@ -60,6 +64,14 @@ def _divisions(lay: Layout, layer) -> float:
     sizes piezo_size * 1.5^k up to size, then size."""
     if not is_graded(lay, layer):
         return lay.piezo_layers
+    if lay.contact_size is not None and layer is lay.layers[-1] and layer.name != "silicone_below":
+        h = max(min(lay.contact_size, lay.size), 1e-9 * layer.thickness)   # graded from the top as well
+        extra = max(np.ceil(np.log(lay.size / h) / np.log(1.5)), 0)
+        return _one_sided(lay, layer) + extra
+    return _one_sided(lay, layer)
+
+
+def _one_sided(lay: Layout, layer) -> float:
     k = max(np.ceil(np.log(lay.size / lay.piezo_size) / np.log(1.5)), 0)
     graded = lay.piezo_size * (1.5 ** k - 1) / 0.5
     if graded >= layer.thickness:

@@ -77,6 +77,10 @@ class Layout:
     piezo_layers: int = 1
     growth: float = 2.0                 # in-plane size grows from piezo_size at patch edges to size over growth x size
     taxel_cap: float = 2.0              # largest in-plane size inside a taxel, in piezo_size
+    # contact-aware grading under a punch (None: none): the in-plane size within `rim` of the
+    # load edge (the punch's rounded edge, its radius) and the size at the top surface
+    contact_size: float | None = None
+    rim: float = 0.0                    # m, the width of the band under the punch's rounded edge
     midplane: float | None = None       # z of a simply supported mid-plane line
     planes: tuple[int, ...] = ()        # symmetry: cut at x = 0 (0) and/or y = 0 (1), keeping x, y >= 0
     # symmetry: every electrode of the full layout as (its name, the modelled electrode it

@@ -5,7 +5,7 @@ geometric growth to a far boundary."""
 import numpy as np
 import skfem
 
-from taxel.fem.kinematics import Axisymmetric, PlaneStrain
+from taxel.fem.kinematics import Axisymmetric, PlaneStrain, Solid3D
 from taxel.fem.materials import Solid
 from taxel.fem.problem import Discretization, PatchLoad, Problem
 from taxel.meshing.build import TaggedMesh
@@ -47,6 +47,75 @@ def block(width, height, fine, h, model="axisymmetric", growth=1.15):
 
 
 def problem(tm, material: Solid, indenter, hyperelastic=False, depth=1.0):
-    kin = Axisymmetric() if tm.layout.model == "axisymmetric" else PlaneStrain(depth)
+    kin = {"axisymmetric": Axisymmetric(), "3d": Solid3D()}.get(tm.layout.model, PlaneStrain(depth))
     return Problem(mesh=tm, kinematics=kin, materials={"block": material}, load=PatchLoad(force=0.0),
                    discretization=Discretization(2, True), hyperelastic=hyperelastic, indenter=indenter)
+
+
+def block3d(width, height, rim, h_rim, h_inside, slope=0.35):
+    """A quarter (x, y >= 0) of a bonded block, top at z = height, meshed by gmsh with
+    tetrahedra graded from `h_rim` at the quarter circle of radius `rim` on the top
+    (a punch's rim, a contact zone's edge) growing by `slope` x the distance, and at
+    most `h_inside` over the top inside 1.1 rim. Facets: bottom, top (= load),
+    mirror_x (x = 0), mirror_y (y = 0), edges (x or y = width)."""
+    import gmsh
+
+    fresh = not gmsh.isInitialized()
+    if fresh:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.model.add("block3d")
+    try:
+        occ = gmsh.model.occ
+        box = occ.addBox(0, 0, 0, width, width, height)
+        disk = occ.addDisk(0, 0, height, rim, rim)
+        quarter = occ.addRectangle(0, 0, height, 2 * rim, 2 * rim)
+        cut, _ = occ.intersect([(2, disk)], [(2, quarter)])
+        occ.fragment([(3, box)], cut)
+        occ.synchronize()
+        arcs = []
+        for _, t in gmsh.model.getEntities(1):
+            a, b = gmsh.model.getParametrizationBounds(1, t)
+            xyz = np.reshape(gmsh.model.getValue(1, t, [0.5 * (a[0] + b[0])]), 3)
+            if abs(xyz[2] - height) < 1e-9 * height and abs(np.hypot(xyz[0], xyz[1]) - rim) < 1e-9 * rim:
+                arcs.append(t)
+        f = gmsh.model.mesh.field
+        dist = f.add("Distance")
+        f.setNumbers(dist, "CurvesList", arcs)
+        f.setNumber(dist, "Sampling", 200)
+        thr = f.add("MathEval")
+        f.setString(thr, "F", f"{h_rim} + {slope} * F{dist}")
+        box_f = f.add("Box")
+        f.setNumber(box_f, "VIn", h_inside)
+        f.setNumber(box_f, "VOut", width)
+        for k, v in (("XMin", -1), ("XMax", 1.1 * rim), ("YMin", -1), ("YMax", 1.1 * rim),
+                     ("ZMin", height - 0.5 * rim), ("ZMax", 2 * height)):
+            f.setNumber(box_f, k, v)
+        mn = f.add("Min")
+        f.setNumbers(mn, "FieldsList", [thr, box_f])
+        f.setAsBackgroundMesh(mn)
+        for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+            gmsh.option.setNumber(f"Mesh.{opt}", 0)
+        gmsh.model.mesh.generate(3)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        _, nodes = gmsh.model.mesh.getElementsByType(4)
+    finally:
+        gmsh.model.remove()
+    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(len(tags))
+    t = index[nodes.astype(np.int64)].reshape(-1, 4).T
+    used = np.unique(t)
+    renum = np.full(len(tags), -1, dtype=np.int64)
+    renum[used] = np.arange(len(used))
+    m = skfem.MeshTet(np.ascontiguousarray(coords.reshape(-1, 3)[used].T), np.ascontiguousarray(renum[t]))
+    tol = 1e-9 * width
+    f = {"bottom": m.facets_satisfying(lambda x: np.abs(x[2]) < tol),
+         "top": m.facets_satisfying(lambda x: np.abs(x[2] - height) < tol),
+         "mirror_x": m.facets_satisfying(lambda x: np.abs(x[0]) < tol),
+         "mirror_y": m.facets_satisfying(lambda x: np.abs(x[1]) < tol),
+         "edges": m.facets_satisfying(lambda x: (np.abs(x[0] - width) < tol) | (np.abs(x[1] - width) < tol))}
+    f["load"] = f["top"]
+    regions = {"layer0": np.arange(m.nelements)}
+    lay = Layout(model="3d", plan=Patch("plan", 0.0, 0.0, width), plan_half_y=width,
+                 layers=(Layer("layer0", 0.0, height, "block"),), electrodes=(), load=None, planes=(0, 1))
+    return TaggedMesh(m.with_boundaries(f), lay, regions, f, {"layer0": ("block", 1)})

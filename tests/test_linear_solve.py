@@ -68,3 +68,37 @@ def test_a_factorization_that_cannot_fit_is_refused_before_it_starts(monkeypatch
     monkeypatch.undo()
     x = linalg.factorize(A, "pardiso")(np.ones(n))
     assert np.allclose(A @ x, 1.0)
+
+
+@pytest.mark.skipif(not linalg.available("pardiso"), reason="PARDISO not installed")
+def test_refactorizer_reuses_the_analysis_and_solves_like_a_fresh_factorization():
+    """linalg.Refactorizer: matrices of one pattern (different values, explicit zeros
+    kept) solve as a fresh scaled factorization does, one analysis for all of them; a
+    new pattern is analysed again; the solve of an earlier matrix refuses once a later
+    one is factorized (it would use the wrong factors)."""
+    rng = np.random.default_rng(3)
+    n = 400
+    base = sp.random(n, n, density=0.02, random_state=4, format="csr")
+    pattern = (base + base.T + sp.eye(n)).tocsr()
+    is_u = np.arange(n) < 300
+    ref = linalg.Refactorizer("pardiso")
+    solves = []
+    for k in range(3):
+        A = pattern.copy()
+        A.data = rng.standard_normal(A.nnz)
+        A.data[:5] = 0.0                                 # explicit zeros stay in the pattern
+        A.setdiag(20.0 + k)
+        b = rng.standard_normal(n)
+        X, res = ref(A, is_u)(b)
+        fresh, _ = linalg.scaled_solver(A, is_u, "superlu")(b)
+        np.testing.assert_allclose(X[:, 0], fresh[:, 0], rtol=1e-9, atol=1e-12 * np.abs(fresh).max())
+        assert res.max() < 1e-12
+        solves.append(ref._pattern)
+    assert solves[0] == solves[1] == solves[2]          # one analysis
+    last = ref(pattern + sp.eye(n, k=7), is_u)          # a new pattern: analysed again
+    assert ref._pattern != solves[0]
+    assert np.all(np.isfinite(last(np.ones(n))[0]))
+    stale = ref(pattern.copy(), is_u)
+    ref(pattern.copy(), is_u)
+    with pytest.raises(RuntimeError, match="later factorization"):
+        stale(np.ones(n))

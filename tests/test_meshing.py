@@ -113,3 +113,38 @@ def test_refined_3d_mesh_keeps_its_facet_sets():
         assert area(fine, name) == pytest.approx(area(tm, name), rel=1e-12)
     sol = solve(scene, tagged_mesh=fine)
     assert sol.reaction[-1] == pytest.approx(0.5, rel=1e-8)
+
+
+def test_3d_mesh_is_refined_at_taxel_edges_and_under_the_punch_rim():
+    """The 3D size field (meshing.build): on the piezo's bottom and top faces the
+    triangles at the taxel's edge are about piezo_size (0.4 mm) where those far from
+    any edge are about size (1 mm), and they are denser there; under a flat punch's
+    rounded edge (0.2 mm) the top surface's triangles and the elements below them
+    resolve the edge radius."""
+    scene = load("thesis-pzt-single-3d").replace(**{
+        "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3, "load.edge_radius": 0.2e-3,
+        "load.force": 1.0})
+    tm = mesh(scene)
+    m = tm.mesh
+    F = m.p[:, m.facets]                                          # (3, 3, facets)
+    c = F.mean(axis=1)
+    side = np.linalg.norm(F[:, [1, 2, 0]] - F, axis=0).max(axis=0)
+    flat = np.ptp(F[2], axis=0) < 1e-12
+    piezo = next(L for L in tm.layout.layers if L.name == "piezo")
+    for z in (piezo.z0, piezo.z1):                                # the piezo's faces
+        face = flat & (np.abs(c[2] - z) < 1e-9)
+        edge = face & (np.abs(c[0] - 2e-3) < 0.2e-3) & (c[1] > 1.2e-3) & (c[1] < 1.9e-3)   # clear of the rim
+        far = face & (c[0] > 3.8e-3) & (c[1] > 3.8e-3)
+        assert edge.sum() >= 10 and far.sum() >= 3
+        assert np.median(side[edge]) < 1.5 * 0.4e-3 < 0.8 * np.median(side[far])
+        density_far = far.sum() / np.ptp(c[0][far]) / np.ptp(c[1][far])
+        assert edge.sum() / (0.4e-3 * 0.7e-3) > 3 * density_far
+    # the top surface: triangles in the band under the rounded edge, against those far out
+    top = flat & (np.abs(c[2] - tm.layout.height) < 1e-9)
+    r = np.hypot(c[0], c[1])
+    rim, far = top & (np.abs(r - 2e-3) < 0.2e-3), top & (r > 4e-3)
+    assert rim.sum() >= 20
+    assert side[rim].max() < 2 * 0.2e-3 and np.median(side[far]) > 0.8e-3
+    X = m.p[:, m.t]                                               # the elements touching the band
+    under = (np.abs(np.hypot(*X[:2].mean(axis=1)) - 2e-3) < 0.2e-3) & (np.abs(X[2].max(axis=0) - tm.layout.height) < 1e-9)
+    assert under.sum() >= 20 and np.ptp(X[2][:, under], axis=0).max() < 1.5 * 0.2e-3

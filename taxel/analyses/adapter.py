@@ -183,7 +183,19 @@ def _array_layout(scene: Scene, common) -> Layout:
     depth = scene.model.depth or w
     return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
                   load=load, taxels=taxels, depth=depth,
-                  piezo_size=scene.mesh.piezo_size or scene.mesh.size / 4, **common)
+                  piezo_size=scene.mesh.piezo_size or scene.mesh.size / 4, **common, **punch_grading(scene))
+
+
+def punch_grading(scene: Scene) -> dict:
+    """The contact-aware grading of a 3D scene pressed by a flat punch (meshing.build):
+    elements of the punch's edge radius under its rounded edge and at the top surface,
+    but not below half the taxel edges' size (a coarse `[mesh]` stays coarse)."""
+    ld = scene.load
+    if scene.model.type != "3d" or ld.kind != "indenter" or not ld.contact or ld.shape != "flat":
+        return {}
+    edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
+    floor = (scene.mesh.piezo_size or scene.mesh.size / 4) / 2
+    return dict(contact_size=max(edge, floor), rim=edge) if edge > 0 else {}
 
 
 def _load_patch(scene: Scene, centre, half, model) -> Patch | None:

@@ -1,0 +1,150 @@
+"""The 3D press at the rig's probe against its nested-mesh reference, and what each
+speed and accuracy measure buys.
+
+The thesis PZT taxel (thesis-pzt-single-3d), a quarter model, pressed to 1 N by the
+rig's probe (a sticking 4 mm flat punch, 0.2 mm edge radius), Yeoh silicone. The
+quantity is the pressed taxel's open-circuit voltage per newton, V/F.
+
+Reference (--reference): a family of meshes whose every size (size, piezo_size,
+and the contact-aware size under the punch's rounded edge, meshing.build) is
+divided by RATIO from one to the next; the observed order p from the last three
+and the Richardson value (last three levels) V_ref = V_2 + (V_2 - V_1) / (RATIO^p - 1), written to
+docs/press_3d_reference.json with every level's numbers. The default run reads it.
+
+Default run: the press at the default settings (the scene's own mesh and Options),
+its error against the reference and its wall and CPU time, then the variants
+tried, side by side in the same run: the contact-aware grading off; the contact
+size at twice the edge radius; the PARDISO analysis redone at every Newton step
+(Options.reuse_analysis = False); force control through 0.25, 0.5, 0.75 N (the
+load path of benchmarks/contact_taxel.py) instead of one target; 6 Gauss points
+per facet (higher-order contact integration) instead of the edge midpoints.
+
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick] [--divide K]
+(--quick: the default row only; --divide K: the rows on the default mesh with every size divided
+by K, e.g. 0.5 for a mesh twice as coarse, to compare the variants at a quarter of the cost)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from taxel.analyses import problem
+from taxel.analyses.adapter import checked_layout, check
+from taxel.fem.assembly import assemble
+from taxel.fem.press import ContactError, Options, Press
+from taxel.meshing.build import build
+from taxel.scene import load
+
+OUT = Path(__file__).resolve().parents[1] / "docs" / "press_3d_reference.json"
+RATIO = 2 ** 0.5
+LEVELS = (0.5, 0.5 * RATIO, 1.0, RATIO)   # the reference family: every size divided by these (1.0: the default)
+
+
+def scene(friction="sticking", **edit):
+    """The thesis taxel in 3D pressed to 1 N by the rig's probe (Yeoh, sticking)."""
+    return load("thesis-pzt-single-3d").replace(**{
+        "model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3,
+        "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction, **edit})
+
+
+def layout(sc, divide=1.0, contact_factor=1.0, grading=True):
+    """The scene's layout with every size divided by `divide`; the contact size
+    `contact_factor` x the edge radius (grading False: none)."""
+    lay = checked_layout(sc, check(sc))
+    if not grading:
+        return dataclasses.replace(lay, contact_size=None, rim=0.0, size=lay.size / divide,
+                                   piezo_size=lay.piezo_size / divide)
+    return dataclasses.replace(lay, size=lay.size / divide, piezo_size=lay.piezo_size / divide,
+                               contact_size=contact_factor * lay.contact_size / divide)
+
+
+def run(sc, lay, opts: Options | None = None, path=()):
+    """Mesh, assemble and press to 1 N; the numbers of the run."""
+    w, c = time.perf_counter(), time.process_time()
+    tm = build(lay)
+    prob = problem(sc, tagged_mesh=tm)
+    pr = Press(assemble(prob), prob.indenter, opts=opts)
+    try:
+        for F in (*path, 1.0):
+            pt = pr.force(F)
+    except ContactError as exc:
+        return dict(n=pr.red.n, error=str(exc))
+    return dict(n=pr.red.n, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel, states=len(pr.res.points),
+                iterations=pr.res.total_iterations, factorizations=pr.stats["factorizations"],
+                factorize_s=pr.stats["factorize_s"], assemble_s=pr.stats["assemble_s"],
+                wall=time.perf_counter() - w, cpu=time.process_time() - c)
+
+
+def reference():
+    """Every level of the family in turn; after each from the third on, the reference
+    (Richardson over the last three) is written, so a stopped run keeps what it had."""
+    sc = scene()
+    rows = []
+    for k in LEVELS:
+        r = run(sc, layout(sc, k))
+        print(f"sizes / {k:.3g}: {r}", flush=True)
+        rows.append(dict(divide=k, **r))
+        if len(rows) < 3:
+            continue
+        v = [r["VF"] for r in rows[-3:]]
+        out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
+                   ratio=RATIO, levels=rows)
+        if (v[1] - v[0]) * (v[2] - v[1]) > 0:
+            p = float(np.log(abs(v[1] - v[0]) / abs(v[2] - v[1])) / np.log(RATIO))
+            out.update(order=p, VF=v[2] + (v[2] - v[1]) / (RATIO ** p - 1))
+            print(f"observed order {p:.2f}; Richardson V/F {out['VF']:.5f} V/N", flush=True)
+        else:
+            out.update(order=None, VF=v[2])
+            print("not monotone: the finest value is the reference (no extrapolation)", flush=True)
+        OUT.write_text(json.dumps(out, indent=1) + "\n")
+
+
+VARIANTS = {
+    "no contact-aware grading (edges at piezo_size only)": dict(grading=False),
+    "contact size 2 x edge radius": dict(contact_factor=2.0),
+    "PARDISO analysis at every Newton step": dict(opts=Options(reuse_analysis=False)),
+    "load path 0.25, 0.5, 0.75, 1 N": dict(path=(0.25, 0.5, 0.75)),
+    "6 Gauss points per facet (intorder 3)": dict(opts=Options(rule="gauss", intorder=3)),
+}
+
+
+def main():
+    if "--reference" in sys.argv:
+        reference()
+        return
+    ref = json.loads(OUT.read_text()) if OUT.exists() else None
+    sc = scene()
+
+    def line(name, r):
+        ref = json.loads(OUT.read_text()) if OUT.exists() else None     # (a reference run may be writing it)
+        if "error" in r:
+            return f"| {name} | {r['n']} | stopped: {r['error']} |||||||"
+        err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref else "-"
+        return (f"| {name} | {r['n']} | {r['VF']:.5f} | {err} | {r['states']} | {r['iterations']} | "
+                f"{r['factorizations']} | {r['factorize_s']:.1f} | {r['cpu']:.1f} | {r['wall']:.1f} |")
+
+    if ref:
+        print(f"reference: V/F {ref['VF']:.5f} V/N, observed order "
+              f"{ref['order'] if ref['order'] is None else round(ref['order'], 2)} over sizes / "
+              + ", ".join(f"{lv['divide']:.3g}" for lv in ref["levels"]) + f" ({OUT.name})")
+    print("| variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | "
+          "factorize CPU s | CPU s | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    k = float(sys.argv[sys.argv.index("--divide") + 1]) if "--divide" in sys.argv else 1.0
+    print(line("**default**" if k == 1.0 else f"**the default's settings, sizes / {k:g}**", run(sc, layout(sc, k))),
+          flush=True)
+    if "--quick" in sys.argv:
+        return
+    for name, v in VARIANTS.items():
+        lay = layout(sc, k, contact_factor=v.get("contact_factor", 1.0), grading=v.get("grading", True))
+        print(line(name, run(sc, lay, v.get("opts"), v.get("path", ()))), flush=True)
+
+
+if __name__ == "__main__":
+    main()
