@@ -271,7 +271,7 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
     order_probe = np.argsort([-r["probe sensitivity (V/N)"] for r in rows])
     ref = ref_row
     dominated = [r for r in pf.front if ref.get("sensitivity (V/N)") is not None and r["x"] != ref.get("x")
-                 and _dominates((r["sensitivity (V/N)"], r["crosstalk"]), (ref["sensitivity (V/N)"], ref["crosstalk"]))]
+                 and dominates((r["sensitivity (V/N)"], r["crosstalk"]), (ref["sensitivity (V/N)"], ref["crosstalk"]))]
     ranking = {"same order by sensitivity": bool(np.array_equal(order_lin, order_probe)),
                "linear order": order_lin.tolist(), "probe order": order_probe.tolist(),
                "thesis dominated (linear 3D)": not answer(linear_mf)["thesis_on_3d_front"],
@@ -280,7 +280,7 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
     return rows + ([thesis] if thesis else []), ranking
 
 
-def _dominates(a, b, tol=1e-3) -> bool:
+def dominates(a, b, tol=1e-3) -> bool:
     """Does (sensitivity, crosstalk) a dominate b: as sensitive within `tol` with crosstalk
     lower by more than `tol`, or more sensitive by more than `tol` with crosstalk as low
     within `tol` (relative)?"""

@@ -4,7 +4,8 @@ crosstalk, minimum detectable force and error band of each, the model they come
 from, and the trade the recommendation makes.
 
 Where the answer comes from is one function, `headline_front(folder)`: it reads
-an optimization folder's most accurate record (the 3D-confirmed front,
+an optimization folder's headline record (the front under the rig's probe,
+probe-front.json, with the linear front beside it; else the 3D-confirmed front,
 front-3d.json; else a 2D optimum, optimum.json, as `taxel demo --small` writes)
 into a `FrontAnswer`. Point it at another folder (or file) to change what the
 index leads with. Nothing is solved here.
@@ -93,6 +94,9 @@ class FrontAnswer:
     error: dict                                 # relative error band per output
     verified: bool                              # True: 3D; False: the cheap 2D model only
     notes: list[str] = field(default_factory=list)
+    error_source: str = ("the 3D model's own mesh error, measured against the converged 3D reference "
+                         "(taxel.analyses.error_estimate: CHEAP_3D_ERROR); the linear silicone holds for small "
+                         "presses (the V/N of a light touch)")
 
     @property
     def trade(self) -> str:
@@ -111,18 +115,23 @@ class FrontAnswer:
                          f"{r.pitch_mm:.2f} mm ({100 * density:+.0f} % taxels per area)")
         gain = r.sensitivity_V_per_N / t.sensitivity_V_per_N - 1
         xt = r.crosstalk / t.crosstalk - 1
-        return (f"The trade: {'; '.join(parts) or 'the same geometry'}; for {100 * gain:+.1f} % sensitivity and "
+        return (f"The trade: {'; '.join(parts) or 'the same geometry'}; for {100 * gain:+.2g} % sensitivity and "
                 f"{100 * xt:+.0f} % crosstalk (relative).")
 
 
 def headline_front(folder: Path) -> FrontAnswer | None:
-    """The answer an optimization folder holds, from its most accurate record (the
-    3D-confirmed front, else a 2D optimum); None when it holds neither."""
+    """The answer an optimization folder holds, from its headline record (the probe
+    front, else the 3D-confirmed front, else a 2D optimum); None when it holds none."""
     folder = Path(folder)
     scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
     array = scene.get("array", {})
     width = 1e3 * magnitude(array.get("taxel_width", "4 mm"))
     material = array.get("piezo", "?")
+    if (folder / "probe-front.json").exists():     # the headline under the rig's probe (issue: the rig's load)
+        linear = (_from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), width, material)
+                  if (folder / "front-3d.json").exists() else None)
+        return _from_probe_front(folder, json.loads((folder / "probe-front.json").read_text()), width, material,
+                                 linear)
     if (folder / "front-3d.json").exists():
         return _from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), width, material)
     if (folder / "optimum.json").exists():
@@ -152,6 +161,46 @@ def _from_front_3d(folder: Path, rec: dict, width: float, material: str) -> Fron
              f"crosstalk; the 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs solved "
              "in 3D."]
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes)
+
+
+def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
+                      linear: FrontAnswer | None) -> FrontAnswer:
+    """The probe front (optimize.probe_front, probe-front.json): the thesis design and the
+    most sensitive pressed front design that dominates it, under the rig's probe
+    on Yeoh silicone; the linear pressure-patch answer (`linear`) in the notes beside it.
+    The error band is the record's estimated error, on sensitivity; crosstalk carries
+    the same relative band, a lower bound (the correction's crosstalk misses are larger)."""
+    ref = rec["reference"]
+    names = [k.split(" (")[0] for k in ref if k.endswith("(mm)")]
+    thesis = _design("thesis", {n: ref[f"{n} (mm)"] for n in names}, width, material,
+                     ref["sensitivity (V/N)"], ref["crosstalk"])
+    from taxel.optimize.probe_front import dominates        # the record's own dominance rule
+    key = ("sensitivity (V/N)", "crosstalk")
+    better = [d for d in rec["front"] if d["x"] != ref["x"] and dominates([d[k] for k in key], [ref[k] for k in key])]
+    b = max(better, key=lambda d: d["sensitivity (V/N)"], default=None)
+    best = (_design("recommended", {n: b[f"{n} (mm)"] for n in names}, width, material,
+                    b["sensitivity (V/N)"], b["crosstalk"]) if b else None)
+    err = max([ref["estimated error"]] + ([b["estimated error"]] if b else []))
+    press = rec.get("press", {})
+    probe = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in press.items()
+                      if v is not None and k in ("shape", "radius", "edge_radius", "force", "silicone", "friction"))
+    notes = [f"Under the rig's probe ({probe or 'flat punch, Yeoh silicone'}): {rec['sentence']}"]
+    if err > 0.02:
+        notes.append(f"The estimated error ({100 * err:.2g} %) is above 2 %: 3D presses of these designs "
+                     "(taxel demo --full) would narrow it.")
+    if linear is not None:
+        t = linear.thesis
+        r = linear.recommended
+        notes.append("Beside it, the linear pressure-patch front (" + linear.model + "): thesis "
+                     f"{eng(t.sensitivity_V_per_N, 'V/N', 3)} at {percent(t.crosstalk)}"
+                     + (f"; recommended there: silicone {r.silicone_above_mm:.2f} / {r.silicone_below_mm:.2f} mm, "
+                        f"gap {r.gap_mm:.2f} mm, {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)}"
+                        if r else "; the thesis design is on that front") + ".")
+    model = f"3D under the rig's probe, Yeoh silicone ({rec['level']})"
+    return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel",
+                       {"sensitivity": err, "crosstalk": err}, True, notes,
+                       "the probe front's estimated error (discretisation + correction + material law, on "
+                       "sensitivity; optimize.probe_front), the same relative band drawn on crosstalk")
 
 
 def _from_optimum(folder: Path, rec: dict, scene: dict, width: float, material: str) -> FrontAnswer | None:
@@ -215,7 +264,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
                 row["crosstalk"] = percent(d.crosstalk)
             rows.append(row)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes})
-    head = answers[0]
+    head = next((a for a in answers if a.recommended), answers[0])
     r = head.recommended or head.thesis
     title = (f"Recommended: {MATERIALS.get(r.material, r.material)}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm "
              f"below, gap {r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} "
@@ -224,4 +273,5 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
     return {"title": title, "cols": cols, "rows": [[row[c] for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
             "verified": any(a.verified for a in answers),
+            "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),
             "noise_model": noise.model if noise else None}
