@@ -17,6 +17,10 @@ _FIXED = {
                   "the search evaluated (grey) and the thesis design (red star), on the cheap 2D model.",
     "pareto-3d.png": "The 2D front (blue), every design re-solved in 3D (grey), the 3D-verified front (red) and "
                      "the thesis design in 2D (hollow star) and 3D (filled star); crosstalk on a log axis.",
+    "pareto-probe.png": "The front under the rig's probe on Yeoh silicone (red) beside the linear pressure-patch "
+                        "front verified in 3D (blue); grey lines join each linear front design to the same design "
+                        "under the probe; the thesis design under each (hollow and filled star); crosstalk on a log "
+                        "axis.",
     "optimum-convergence.png": "The objective at every evaluation of the search (grey) and the best so far.",
     "noise-budget.png": "Left: the noise density at the readout output per source, stacked, with the mains lines "
                         "dotted. Right: each source's share of the band's variance.",

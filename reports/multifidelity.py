@@ -82,8 +82,23 @@ def probe_blocks(rec: dict) -> list[dict]:
               {"type": "text", "text": "Movements against the linear pressure-patch front (3D-verified), design by design:"},
               {"type": "table", "table": tables.table(rec["movements"])},
               {"type": "note", "text": "Definitions: " + "; ".join(f"{k}: {v}" for k, v in rec["definitions"].items())
-               + f". Ranking: {rec['ranking']}. Spent: {rec['spent']}."}]
+               + ". " + ranking_sentence(rec["ranking"])},
+              {"type": "table", "table": tables.table(
+                  [{"item": k.replace("seconds", "time (s)"), "value": f"{v:.3g}" if isinstance(v, float) else
+                    ("not measured" if v is None else v)} for k, v in rec["spent"].items()],
+                  title="solves spent")}]
     if over:
         blocks.append({"type": "note", "text": f"{len(over)} of {len(rec['front'])} front designs have an estimated "
                                                f"error above 2 % (column 'estimated error')."})
     return blocks
+
+
+def ranking_sentence(r: dict) -> str:
+    """The probe record's ranking (optimize.probe_front.movements) in words."""
+    order = ("The order of the linear front's designs by sensitivity is unchanged under the probe"
+             if r["same order by sensitivity"] else
+             "The order of the linear front's designs by sensitivity changes under the probe")
+    n = r.get("designs dominating the thesis (probe)", 0)
+    was = "dominated" if r["thesis dominated (linear 3D)"] else "on the front"
+    now = f"dominated by {n} front design{'s' if n != 1 else ''}" if r["thesis dominated (probe)"] else "on the front"
+    return f"{order}; the thesis design was {was} under the linear patch and is {now} under the probe."

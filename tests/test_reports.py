@@ -385,3 +385,29 @@ def test_the_answer_and_banners_of_a_3d_verified_front(tmp_path):
     kinds = {b.kind: b.text for b in front_3d_banners(rec)}
     assert "1.5x" in kinds["disagreement"]
     assert "0.00289 %" in kinds["verification"] and "2.06 %" in kinds["verification"]
+
+
+def test_probe_front_blocks_read_as_text_not_dumps():
+    """The probe front's report blocks (reports.multifidelity.probe_blocks) say the
+    ranking in words and the solves spent as a table: no dict or list repr in any text
+    block; its figure has a caption of its own."""
+    import re
+    from taxel.reports.captions import caption
+    from taxel.reports.multifidelity import probe_blocks
+    row = {"x": [1.0, 1.0, 4.0], "silicone_above (mm)": 1.0, "silicone_below (mm)": 1.0, "gap (mm)": 4.0,
+           "sensitivity (V/N)": 0.74, "crosstalk": 0.009, "how": "2D press x linear 3D/2D",
+           "estimated error": 0.0427, "within 2 %": False}
+    ref = {**row, "x": [1.0, 1.0, 3.0], "gap (mm)": 3.0, "crosstalk": 0.0125}
+    rec = {"sentence": "Under the probe the thesis design is dominated.", "front": [row], "reference": ref,
+           "movements": [{"design": "1, 1, 4", "linear sensitivity (V/N)": 0.86, "probe sensitivity (V/N)": 0.74}],
+           "definitions": {"sensitivity": "|V(F)|/F at the operating force"},
+           "ranking": {"same order by sensitivity": False, "linear order": [1, 0], "probe order": [0, 1],
+                       "thesis dominated (linear 3D)": True, "thesis dominated (probe)": True,
+                       "designs dominating the thesis (probe)": 1},
+           "spent": {"2D presses": 10, "2D press seconds": 29.0, "product error measured": False,
+                     "product estimate's largest miss (sensitivity, crosstalk)": None}}
+    blocks = probe_blocks(rec)
+    texts = " ".join(b["text"] for b in blocks if "text" in b)
+    assert not re.search(r"\{'|\[\d+, \d+", texts), texts
+    assert "changes under the probe" in texts and "dominated by 1 front design" in texts
+    assert len(caption("pareto-probe.png")) > 20
