@@ -181,23 +181,29 @@ def scaled_solver(A: sp.spmatrix, is_u: np.ndarray, method: str, scale: bool = T
     factor = factorize(As, method)
 
     def solve_(B):
-        B = np.asarray(B).reshape(n, -1)
-        Bs = D[:, None] * B
-        Y = factor(Bs).reshape(Bs.shape)
-        for _ in range(3):
-            R = Bs - As @ Y
-            norm_b = np.linalg.norm(Bs, axis=0)
-            res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)    # zero rhs: zero error
-            if res.max() < 1e-13:
-                break
-            Y = Y + factor(R).reshape(Bs.shape)
-        X = D[:, None] * Y
-        if not np.all(np.isfinite(X)):
-            raise RuntimeError("linear solve produced non-finite values: the system is singular "
-                               "(check the supports and that every piezo body touches a grounded electrode)")
-        return X, res
+        return refined_solve(factor, As, D, B)
     solve_.D = D
     return solve_
+
+
+def refined_solve(factor, As, D, B):
+    """X = D Y with (D A D) Y = D B solved by `factor` and up to three steps of iterative
+    refinement on the scaled system; returns (X, relative residuals per column)."""
+    B = np.asarray(B).reshape(As.shape[0], -1)
+    Bs = D[:, None] * B
+    Y = factor(Bs).reshape(Bs.shape)
+    for _ in range(3):
+        R = Bs - As @ Y
+        norm_b = np.linalg.norm(Bs, axis=0)
+        res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)    # zero rhs: zero error
+        if res.max() < 1e-13:
+            break
+        Y = Y + factor(R).reshape(Bs.shape)
+    X = D[:, None] * Y
+    if not np.all(np.isfinite(X)):
+        raise RuntimeError("linear solve produced non-finite values: the system is singular "
+                           "(check the supports and that every piezo body touches a grounded electrode)")
+    return X, res
 
 
 def scaling(A, is_u):
@@ -267,20 +273,6 @@ class Refactorizer:
             return s._call_pardiso(As, np.asfortranarray(np.asarray(B, dtype=float).reshape(A.shape[0], -1)))
 
         def solve_(B):
-            B = np.asarray(B).reshape(A.shape[0], -1)
-            Bs = D[:, None] * B
-            Y = factor(Bs)
-            for _ in range(3):
-                R = Bs - As @ Y
-                norm_b = np.linalg.norm(Bs, axis=0)
-                res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)
-                if res.max() < 1e-13:
-                    break
-                Y = Y + factor(R)
-            X = D[:, None] * Y
-            if not np.all(np.isfinite(X)):
-                raise RuntimeError("linear solve produced non-finite values: the system is singular "
-                                   "(check the supports and that every piezo body touches a grounded electrode)")
-            return X, res
+            return refined_solve(factor, As, D, B)
         solve_.D = D
         return solve_

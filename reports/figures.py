@@ -379,6 +379,11 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
         plotter.camera.view_up = (0.0, 0.0, 1.0)
     plotter.add_text(f"{sol.scene.name}: piezo coloured by {unit}, silicone grey; deformed x1"
                      + (f", vertical x{zscale:.2g}" if zscale != 1 else ""), font_size=11)
+    return png_of(plotter)
+
+
+def png_of(plotter) -> bytes:
+    """The PNG bytes of a pyvista plotter's view, with x, y, z axes; the plotter is closed."""
     plotter.add_axes(xlabel="x", ylabel="y", zlabel="z")
     img = plotter.screenshot(return_img=True)
     plotter.close()

@@ -3,7 +3,6 @@ silicone grey, its statistics in the title; kept beside the fields (reports.anal
 
 from __future__ import annotations
 
-import io
 import os
 
 import numpy as np
@@ -44,10 +43,5 @@ def mesh_render(sol, window=(1100, 520)) -> bytes:
     plotter.add_text(f"{sol.scene.name}: {m.t.shape[1]} elements, {m.p.shape[1]} nodes, {sol.unknowns} unknowns; "
                      f"size {1e3 * scene.mesh.size:.2g} mm, {1e3 * (scene.mesh.piezo_size or scene.mesh.size / 4):.2g} mm "
                      f"at the piezo, order {scene.mesh.order}", font_size=10)
-    plotter.add_axes(xlabel="x", ylabel="y", zlabel="z")
-    img = plotter.screenshot(return_img=True)
-    plotter.close()
-    import matplotlib.image as mpimg
-    buf = io.BytesIO()
-    mpimg.imsave(buf, img, format="png")
-    return buf.getvalue()
+    from taxel.reports.figures import png_of
+    return png_of(plotter)
