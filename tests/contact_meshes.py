@@ -96,6 +96,10 @@ def block3d(width, height, rim, h_rim, h_inside, slope=0.35):
         f.setAsBackgroundMesh(mn)
         for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
             gmsh.option.setNumber(f"Mesh.{opt}", 0)
+        # gmsh options are global to the process: a taxel mesh built before (meshing.build)
+        # leaves Mesh.MeshSizeMax at its `size`, which would mesh this 300-radii block at it
+        gmsh.option.setNumber("Mesh.MeshSizeMax", width)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
         gmsh.model.mesh.generate(3)
         tags, coords, _ = gmsh.model.mesh.getNodes()
         _, nodes = gmsh.model.mesh.getElementsByType(4)
