@@ -74,13 +74,13 @@ def probe_blocks(rec: dict) -> list[dict]:
     sentence, the front with each design's estimated error, the movements against the
     linear front, the definitions and the cost."""
     from taxel.reports import tables
-    front = [{k: v for k, v in r.items() if k != "x"} for r in rec["front"]]
-    ref = {k: v for k, v in rec["reference"].items() if k != "x"}
+    front = [_readable(r) for r in rec["front"] if r["x"] != rec["reference"]["x"]]
+    ref = _readable(rec["reference"])
     over = [r for r in rec["front"] if not r.get("within 2 %", True)]
     blocks = [{"type": "text", "text": "Headline: " + rec["sentence"]},
               {"type": "table", "table": tables.table(front + [{**ref, "how": f"thesis design ({ref.get('how', '')})"}])},
               {"type": "text", "text": "Movements against the linear pressure-patch front (3D-verified), design by design:"},
-              {"type": "table", "table": tables.table(rec["movements"])},
+              {"type": "table", "table": tables.table([_readable(m) for m in rec["movements"]])},
               {"type": "note", "text": "Definitions: " + "; ".join(f"{k}: {v}" for k, v in rec["definitions"].items())
                + ". " + ranking_sentence(rec["ranking"])},
               {"type": "table", "table": tables.table(
@@ -102,3 +102,19 @@ def ranking_sentence(r: dict) -> str:
     was = "dominated" if r["thesis dominated (linear 3D)"] else "on the front"
     now = f"dominated by {n} front design{'s' if n != 1 else ''}" if r["thesis dominated (probe)"] else "on the front"
     return f"{order}; the thesis design was {was} under the linear patch and is {now} under the probe."
+
+
+def _readable(row: dict) -> dict:
+    """A probe record's row for a table: the estimated error in %, flags in words (the
+    relative moves are put in % by reports.tables)."""
+    out = {}
+    for k, v in row.items():
+        if k == "x":
+            continue
+        if k == "estimated error" and isinstance(v, float):
+            out["estimated error (%)"] = f"{100 * v:.3g}"
+        elif isinstance(v, bool):
+            out[k] = "yes" if v else "no"
+        else:
+            out[k] = v
+    return out

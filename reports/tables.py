@@ -24,6 +24,7 @@ _COLUMNS = [
     (r"^capacitance.*", "capacitance", lambda v: eng(v, "F")),
     (r"^max_strain$", "largest silicone strain", lambda v: percent(v)),
     (r"^crosstalk_bound$", "crosstalk bound", lambda v: percent(v)),
+    (r"^(.*) moved$", "{0} moved (%)", lambda v: f"{100 * v:+.3g}"),      # a relative change
     (r"^(.*crosstalk.*)$", "{0}", lambda v: percent(v)),
     (r"^(.*)\(mm\)$", "{0}(mm)", lambda v: f"{v:.2f}"),
     (r"^(.*)\(V/N\)$", "{0}", lambda v: eng(v, "V/N")),
