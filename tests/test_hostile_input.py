@@ -91,8 +91,6 @@ SCENES = [
           "axisymmetric"),
     scene("axisym-offset", ARRAY.replace('"plane_strain"', '"axisymmetric"')
           + '[load]\nkind = "indenter"\nradius = "1 mm"\noffset = ["1 mm", "0 mm"]\n', "axisymmetric"),
-    scene("yeoh-plane-stress", ARRAY.replace('"plane_strain"', '"plane_stress"\nsilicone = "yeoh"'),
-          "plane stress"),
     scene("tolerance-2", ARRAY.replace('"plane_strain"', '"plane_strain"\ntolerance = 2'), "model.tolerance"),
     scene("fidelity-typo", ARRAY.replace('"plane_strain"', '"plane_strain"\nfidelity = "best"'), "model.fidelity"),
     scene("fidelity-auto-frequency", ARRAY.replace('"plane_strain"', '"plane_strain"\nfidelity = "auto"')

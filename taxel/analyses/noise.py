@@ -149,8 +149,10 @@ def quasi_static_noise(scene: Scene, sensitivity: float, charge_sensitivity: flo
     open-circuit voltage the static V_oc = `sensitivity` (V/N), so its capacitance is
     C_p = |Q_sc / V_oc| (with the other electrodes as in the static solve) and the
     readout output per newton is the circuit's H(f) for that source (fem.circuits.readout
-    on a one-port PortResponse of constant V_oc and C_p); the dielectric loss enters the
-    noise as C_p (1 - i tan(delta)). The noise sources, the ADC and the hum are those of
+    on a one-port PortResponse of C = C_p kappa(f) and Q_sc / kappa_c(f)); kappa and
+    kappa_c are the permittivity's and the piezo stiffness's causal laws (fem.relaxation,
+    the FEM's own): the capacitance falls with frequency and carries the dielectric loss,
+    and a stiffer piezo gives less charge per newton. The noise sources, the ADC and the hum are those of
     `noise` (fem.noise). Valid where the band sits well below the resonance (a few kHz
     and up for a silicone-covered taxel; tests/test_robust.py checks it against the FEM
     sweep of `noise` on the thesis PZT taxel). Cost: no solve beyond the static one.
@@ -161,11 +163,20 @@ def quasi_static_noise(scene: Scene, sensitivity: float, charge_sensitivity: flo
         raise SceneError("quasi-static noise: the pressed taxel has no voltage or no charge; press a taxel")
     band = band_of(scene, rig, band)
     ch = chain(scene, rig, _pressed_hint(scene))
+    from taxel.fem import relaxation
     C_p = abs(charge_sensitivity / sensitivity)
     f = np.geomspace(band[0], band[1], 200)
-    port = PortResponse(f, np.full((len(f), 1), abs(sensitivity)), np.full((len(f), 1, 1), 1 / C_p), ["taxel"],
+    # the permittivity's causal law, as the FEM's (fem.dynamics): C_p is the relaxed
+    # (static) capacitance, C(f) = C_p kappa(f), which falls with frequency and carries the loss
+    mat = scene_materials(scene)[scene.array.piezo]
+    qm_loss = scene.dynamics.piezo_loss if scene.dynamics.piezo_loss is not None else (1 / mat.Qm if mat.Qm else 0.0)
+    law = relaxation.law({"dielectric": (loss_tangent(scene), True), "elastic": (qm_loss, False)})
+    k = [law.kappa(2 * np.pi * fi) for fi in f]
+    kappa = np.array([x.get("dielectric", 1.0) for x in k])
+    stiff = np.array([x.get("elastic", 1.0) for x in k])      # the piezo stiffens: less charge per newton
+    C = (C_p * kappa)[:, None]
+    port = PortResponse(f, (abs(sensitivity) / (stiff * kappa))[:, None], (1 / C)[:, :, None], ["taxel"],
                         "quasi-static", 0.0)
     H = circuits.readout(port, ch.readout)
-    C = np.full((len(f), 1), C_p * (1 - 1j * loss_tangent(scene)))
     name = _pressed_hint(scene) or "taxel"
     return _budget(scene, rig, ch, band, f, H, C, [name], ch.readout.label + " (quasi-static)", points)
