@@ -26,10 +26,10 @@ Every front design carries its estimated relative error, the sum of
     the verification mesh's worst measured voltage error, 3.8 %);
   - the correction: for a design predicted, not pressed, the loop's last measured
     disagreement of its prediction; for level C estimated from B, the product's
-    error (PRODUCT_ERROR, measured by benchmarks/probe_front.py --full);
+    error (PRODUCT_ERROR: not measured yet, counted as 0 and recorded as
+    "product error measured": false; `full` measures it);
   - the material law: 0 against the Yeoh law (the fit's own error is the law's, stated
-    in docs/guide/silicone-and-contact.md); for the linear front beside it,
-    LINEAR_ERROR_PER_STRAIN x its largest strain.
+    in docs/guide/silicone-and-contact.md).
 
 `movements` compares, design by design, the linear verified front with the probe
 front: how far sensitivity and crosstalk moved, whether the order of the designs by
@@ -46,7 +46,6 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses.error_estimate import PRESS_3D_ERROR
-from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN
 from taxel.optimize.multifidelity import (VERIFY_3D, Design, MultiFidelity, answer, correct, fine_data,
                                           interpolant, nondominated)
 from taxel.optimize.probe import press_key, press_safely, press_scene, stored_press
@@ -177,7 +176,6 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
     pressed_2d, rounds_b = correct(lin, pool, front_a + ([ref] if ref not in front_a else []), cap, _solver(problem, None, workers),
                                    tolerance, max_rounds)
     t1 = time.perf_counter()
-    miss_b = _last_miss(rounds_b)
     score_b = {id(d): d.fine or d.predicted for d in pool}
     ratio_lin = interpolant(lin, linear_mf.verified)
     pressed_3d, rounds_c, product_miss = [], [], None
@@ -220,12 +218,6 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
                      "product estimate's largest miss (sensitivity, crosstalk)": product_miss})
     pf.movements, pf.ranking = movements(lin, linear_mf, pf, ratio_lin, score_b, pool)
     return pf
-
-
-def _last_miss(rounds) -> float | None:
-    vals = [r["largest disagreement of the corrected prediction"] for r in rounds
-            if r["largest disagreement of the corrected prediction"] is not None]
-    return vals[-1] if vals else None
 
 
 def _row(problem, x, sc, how, err) -> dict:

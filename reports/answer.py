@@ -139,6 +139,11 @@ def headline_front(folder: Path) -> FrontAnswer | None:
     return None
 
 
+def _lengths(row: dict) -> dict:
+    """A front record row's design variables in mm: {"gap": 3.0, ...} from "gap (mm)" keys."""
+    return {k.split(" (")[0]: v for k, v in row.items() if k.endswith("(mm)")}
+
+
 def _design(role, x: dict, width, material, s, c) -> Design:
     gap = x["gap"]
     return Design(role, x["silicone_above"], x["silicone_below"], gap, width + gap, material, s, c)
@@ -148,8 +153,8 @@ def _from_front_3d(folder: Path, rec: dict, width: float, material: str) -> Fron
     from taxel.analyses.error_estimate import CHEAP_3D_ERROR
     a = rec["answer"]
     ref = rec["reference"]
-    names = [k.split(" (")[0] for k in ref if k.endswith("(mm)")]
-    x_ref = {n: ref[f"{n} (mm)"] for n in names}
+    names = list(_lengths(ref))
+    x_ref = _lengths(ref)
     c = a.get("confirmed")
     t, b = (c["thesis"], c.get("best")) if c else (a["thesis_3d"], a.get("best_at_or_below_thesis_crosstalk"))
     model, _ = verified_model(rec)
@@ -171,14 +176,13 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
     The error band is the record's estimated error, on sensitivity; crosstalk carries
     the same relative band, a lower bound (the correction's crosstalk misses are larger)."""
     ref = rec["reference"]
-    names = [k.split(" (")[0] for k in ref if k.endswith("(mm)")]
-    thesis = _design("thesis", {n: ref[f"{n} (mm)"] for n in names}, width, material,
+    thesis = _design("thesis", _lengths(ref), width, material,
                      ref["sensitivity (V/N)"], ref["crosstalk"])
     from taxel.optimize.probe_front import dominates        # the record's own dominance rule
     key = ("sensitivity (V/N)", "crosstalk")
     better = [d for d in rec["front"] if d["x"] != ref["x"] and dominates([d[k] for k in key], [ref[k] for k in key])]
     b = max(better, key=lambda d: d["sensitivity (V/N)"], default=None)
-    best = (_design("recommended", {n: b[f"{n} (mm)"] for n in names}, width, material,
+    best = (_design("recommended", _lengths(b), width, material,
                     b["sensitivity (V/N)"], b["crosstalk"]) if b else None)
     err = max([ref["estimated error"]] + ([b["estimated error"]] if b else []))
     press = rec.get("press", {})

@@ -19,11 +19,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from taxel.analyses import StaticResult, lumped_model, read, scene_materials
+from taxel.analyses import StaticResult, lumped_model, read
 from taxel.analyses.results import RESULT_TYPES, result_kind
 from taxel.reports import findings, tables
 from taxel.reports.analysis import FIELD_FIGURES, FIELDS, RENDER_NOTE
-from taxel.scene import parse, scene_material_names
+from taxel.scene import parse
 from taxel.schema import to_data
 from taxel.studies.store import Store, StoreError
 from taxel.reports.tables import eng
