@@ -77,20 +77,28 @@ def test_discretisation_part_bounds_the_true_error_within_3x(model):
 
 
 @pytest.mark.slow
-def test_3d_discretisation_part_bounds_the_true_error_within_3x():
-    """A coarse 3D quarter (3 mm / 1.2 mm, 2.7k unknowns) against docs/reference_3d.json
-    (an independent nested extrapolation): the nested-and-widened estimate within 3x;
-    and the default 3D mesh (the CHEAP_3D mesh) is given its measured error."""
-    ref = json.loads((Path(__file__).parent.parent / "docs" / "reference_3d.json").read_text())["single"]
-    sc = load("thesis-pzt-single-2d").replace(**{"model.type": "3d", "model.depth": None, "mesh.size": 3e-3,
-                                                 "mesh.piezo_size": 1.2e-3})
+@pytest.mark.parametrize("sizes, method", [
+    (None, "cheapest 3D mesh, measured"),                          # the default 3D mesh (CHEAP_3D)
+    ((3e-3, 1.2e-3), "two nested meshes, widened"),
+    ((1e-3, 0.4e-3), "through and in-plane parts, widened")])
+def test_3d_discretisation_part_bounds_the_true_error_within_3x(sizes, method):
+    """The 3D quarter of the thesis taxel against docs/reference_3d.json (nested
+    chains, independent of the estimate): the default mesh, a coarse one and a fine
+    one, each by its method. The chains' extrapolations spread by about as much as
+    the default mesh's error, so the true error is the largest against any of them
+    (error_estimate's docstring): true <= estimate <= 3 x true."""
+    fits = json.loads((Path(__file__).parent.parent / "docs" / "reference_3d.json").read_text())["single"]["fits"]
+    sc = load("thesis-pzt-single-2d").replace(**{"model.type": "3d", "model.depth": None, "mesh.size": None,
+                                                 "mesh.piezo_size": None})
+    if sizes is not None:
+        sc = sc.replace(**{"mesh.size": sizes[0], "mesh.piezo_size": sizes[1]})
+    assert est.is_cheap_3d(sc) == (sizes is None)
     res = solve_static(sc)
-    true = est.relative(res.voltages()["taxel_0_0"], ref["reference"])
+    v = res.voltages()["taxel_0_0"]
+    true = max(abs(v / f["reference"] - 1) for f in fits)
     e = est.estimate(sc, res, model_form=False)
-    assert e.method == "two nested meshes, widened" and e.order == est.MEASURED_ORDER["3d"]
-    assert true <= e.outputs["sensitivity"].discretisation <= 3 * true
-    default = sc.replace(**{"mesh.size": None, "mesh.piezo_size": None})
-    assert est.is_cheap_3d(default)
+    assert e.method == method
+    assert true <= e.outputs["sensitivity"].discretisation <= 3 * true, (sizes, true, e.outputs["sensitivity"])
 
 
 def test_cli_json_carries_the_estimate(capsys, tmp_path):

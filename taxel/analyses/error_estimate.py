@@ -28,11 +28,35 @@ parts may cancel, the sum never undercounts them).
   3. "coarser mesh, widened": the scene re-meshed at twice every size
      (`refined(scene, 0.5)`, 2^dim fewer unknowns; not nested: gmsh's meshes at h
      and 2h are similar, so the estimate is noisier) with p = MEASURED_ORDER:
-     |q_h - q_2h| / (2^p - 1). This is the 3D route (a 3D refinement costs 8x
-     the unknowns and more than 8x the time).
+     |q_h - q_2h| / (2^p - 1). In 3D (a 3D refinement costs 8x the unknowns
+     and more than 8x the time) this is done per direction instead,
+     "through and in-plane parts, widened" (`_split_3d`): the same plan mesh with
+     twice the elements through the piezo, and the plan at twice every in-plane
+     size with the same elements through, each by Richardson at p, the two
+     added in absolute value. On the thesis taxel the two parts have opposite
+     signs and about equal size (two elements through the piezo: -1.0 % on the
+     voltage; the in-plane error of the 1.5 mm / 0.6 mm plan about +1.1 %), so a
+     coarsening of both at once (2 -> 1 elements through) measured the
+     one-element regime, 1.4 % off, and overstated the 1 mm / 0.4 mm mesh's error
+     13x; added in absolute value they are a bound that does not rely on the
+     cancellation.
   A 3D mesh as coarse as CHEAP_3D is given the error of that mesh measured
   against the 3D reference instead (CHEAP_3D_ERROR). The record says which
   (`ErrorEstimate.method`, `ErrorEstimate.order`).
+
+  What "bounds within 3x" means here (benchmarks/estimator_coverage.py --types,
+  tests/test_error_estimate.py): 1 <= estimate / |true| <= 3, with the true
+  error against a nested Richardson reference. In 2D that reference is good to
+  far better than the errors (four nested levels). In 3D it is not: the
+  extrapolations of docs/reference_3d.json's nested chains (benchmarks/
+  reference_3d.py, observed orders 1.0-1.4) spread by a few tenths of a percent,
+  as much as the default mesh's whole error, which is itself the small
+  difference of two ~1 % parts of opposite sign. So in 3D the true error is
+  taken as the largest |error| against any of the chains' extrapolations (the
+  error the reference cannot rule out): the estimate must be at least that and
+  at most 3x that. Against the chains' mean alone the default mesh's measured
+  error could sit near zero by cancellation (it read -0.01 % against the
+  pre-fix reference, hence the "58x").
 - **Model form** (2D plane strain/stress and axisymmetric against 3D): the same
   scene solved on the cheapest 3D model whose own voltage error is below 0.5 %
   (CHEAP_3D: 1.5 mm elements, 0.6 mm at the taxels, two through the piezo; as the
@@ -192,12 +216,39 @@ def discretisation(scene: Scene, result: StaticResult, vals: dict[str, float], s
             f"discretisation: this mesh and its uniform refinement, widened by the lowest order measured in "
             f"{scene.model.type}, {measured:g} (the three-mesh check would cost {growth ** 2 * n} "
             f"2D-equivalent unknowns, over the budget of {budget})." + p1)
+    if dim == 3:
+        return _split_3d(scene, vals, solver, measured, growth * n, budget)
     coarse = output_values(solve_model(refined(scene, 0.5), solver))
     disc = richardson(vals, coarse, measured)
     return disc, "coarser mesh, widened", measured, (
         f"discretisation: this mesh and one at twice every size (not nested), Richardson at the lowest order "
         f"measured in {scene.model.type}, {measured:g} (a nested refinement would cost {growth * n} "
         f"2D-equivalent unknowns, over the budget of {budget})." + p1)
+
+
+def _split_3d(scene: Scene, vals: dict[str, float], solver: str, order: float, cost: int,
+              budget: int) -> tuple[dict[str, float], str, float, str]:
+    """The 3D discretisation error as two parts added in absolute value: through the
+    piezo (the same plan mesh with twice the elements through the piezo: the plan is
+    extruded, so only the through-thickness size changes) and in plane (the plan at
+    twice every in-plane size, the same elements through), each by Richardson at
+    `order`. The two have opposite signs on the thesis taxels (more elements through
+    raise |V|, a finer plan lowers it), so a coarsening of both at once, as in 2D,
+    lets them cancel or, from two elements through to one, measures the one-element
+    regime (1.4 % off) instead of this mesh."""
+    m = scene.mesh
+    through = output_values(solve_model(scene.replace(**{"mesh.piezo_layers": 2 * m.piezo_layers}), solver))
+    plan = output_values(solve_model(scene.replace(**{"mesh.size": 2 * m.size,
+                                                      "mesh.piezo_size": 2 * (m.piezo_size or m.size / 4)}), solver))
+    a, b = richardson(through, vals, order), richardson(vals, plan, order)
+    disc = {k: a.get(k, 0.0) * abs(through[k] / vals[k]) + b.get(k, 0.0) for k in vals if k in through or k in plan}
+    first = next(iter(vals))
+    return disc, "through and in-plane parts, widened", order, (
+        f"discretisation: two parts added in absolute value (they have opposite signs and may cancel), each by "
+        f"Richardson at the lowest order measured in 3d, {order:g}: through the piezo (the same plan, "
+        f"{2 * m.piezo_layers} elements through: {100 * a.get(first, 0):.2g} % on {first}) and in plane (twice "
+        f"every in-plane size, not nested: {100 * b.get(first, 0):.2g} %) (a nested refinement would cost {cost} "
+        f"2D-equivalent unknowns, over the budget of {budget}).")
 
 
 def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d: StaticResult | None = None,
