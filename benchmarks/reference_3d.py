@@ -5,13 +5,16 @@ named facets of tetrahedral meshes, so the meshes are nested).
 
 For each case: the voltages of 3 levels (each refinement halves every size, 8x
 the elements), the observed order p = log2(d1 / d2), and the extrapolated value
-v2 + (v2 - v1) / (2^p - 1). Two coarse meshes per case, so the spread of the two
-extrapolations shows how far the reference itself can be trusted (one chain for
-the 3x3 array: a finer coarse mesh's third level does not fit in 10 GB). Writes
-docs/reference_3d.json (read by benchmarks/taxel_3d.py and default_mesh.py --3d).
+v2 + (v2 - v1) / (2^p - 1). Several coarse meshes per case (one and two elements
+through the piezo), so the spread of the extrapolations shows how far the reference
+itself can be trusted; the reference is their mean (one chain for the 3x3 array: a
+finer coarse mesh's third level does not fit in 10 GB). Writes docs/reference_3d.json
+(read by benchmarks/taxel_3d.py, default_mesh.py --3d, estimator_coverage.py --types
+and tests/test_error_estimate.py, which take the largest error against any chain).
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/reference_3d.py [single] [3x3]
-(~10 min; the finest single-taxel level, 242k unknowns, peaks at 10 GB)
+(single: four chains, the finest levels 117k-177k unknowns, peak 4.9 GB; about 20 min
+at load average 15 on 2 cores)
 """
 
 from __future__ import annotations
