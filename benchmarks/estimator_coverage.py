@@ -10,7 +10,9 @@ plane strain, plane stress and axisymmetric, orders 1 and 2; and the cheapest
 benchmarks/silicone_model_error.py's rule, is left out) against the true error:
 the relative difference to the 3D reference (1 mm elements, 0.4 mm at the
 taxels, two through the piezo: 0.1 % from issue 11's 297k-unknown solve on the
-thesis taxel). Each (scene, output) pair counts once.
+thesis taxel before the 3D edge fix; after it, 0.06 % from the mean of
+docs/reference_3d.json's chains and within their +-0.33 %; the coverage set was not
+re-run after the fix). Each (scene, output) pair counts once.
 
 Coverage: the share of pairs with estimate >= true error. Sharpness: the share
 with estimate <= 3 x true error, and the median ratio. It also prints the

@@ -1,7 +1,9 @@
 """Error estimates on results and `[model] fidelity = "auto"`.
 
 The estimator is checked against references it does not use: the 2D
-discretisation part against a three-level Richardson value, and (in
+discretisation part against a four-level nested Richardson value in plane strain,
+plane stress and axisymmetric, the 3D one against docs/reference_3d.json's nested
+chains (the largest error against any of them), and (in
 benchmarks/estimator_coverage.py, a fast subset here) every part against the
 3D reference.
 """
