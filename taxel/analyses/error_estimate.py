@@ -242,7 +242,9 @@ def _split_3d(scene: Scene, vals: dict[str, float], solver: str, order: float, c
     plan = output_values(solve_model(scene.replace(**{"mesh.size": 2 * m.size,
                                                       "mesh.piezo_size": 2 * (m.piezo_size or m.size / 4)}), solver))
     a, b = richardson(through, vals, order), richardson(vals, plan, order)
-    disc = {k: a.get(k, 0.0) * abs(through[k] / vals[k]) + b.get(k, 0.0) for k in vals if k in through or k in plan}
+    # a is relative to the finer value (through); rescaled to this mesh's value
+    disc = {k: a.get(k, 0.0) * (abs(through[k] / v) if k in through and v else 1.0) + b.get(k, 0.0)
+            for k, v in vals.items() if k in through or k in plan}
     first = next(iter(vals))
     return disc, "through and in-plane parts, widened", order, (
         f"discretisation: two parts added in absolute value (they have opposite signs and may cancel), each by "
