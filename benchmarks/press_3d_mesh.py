@@ -1,0 +1,99 @@
+"""The cheapest 3D mesh for the rig's press within 1 % of its nested-mesh reference.
+
+Case: benchmarks/press_3d.py (the thesis taxel quarter in 3D, a sticking 4 mm flat
+punch with a 0.2 mm edge radius, Yeoh, 1 N; the pressed taxel's V/F), against
+docs/press_3d_reference.json (Richardson over the extruded family; RESULT below).
+
+Each row: a mesh (meshing.layout.Layout choices on the scene's layout), its
+unknowns, elements (all; in the piezo; silicone above the piezo under the punch,
+r < 2.4 mm; above, beyond; below the piezo), V/F, its error against the reference,
+and CPU and wall time of mesh + assembly + press, in one run side by side.
+
+The meshes: "extruded" is the plan mesh extruded layer by layer (the in-plane
+grading at every height: the punch's rim band and the taxel edges' sizes go through
+the whole height); "free" (Layout.free) extrudes only the piezo and meshes the
+silicone with a 3D size field: piezo_size at the taxel edges on the piezo's faces,
+contact_size within `rim` of the punch's rim on the top surface, growing to size.
+
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d_mesh.py [name ...]
+(names: a subset of the rows, by their key; --list prints them)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from press_3d import OUT, layout, run, scene  # noqa: E402
+
+from taxel.meshing.build import build  # noqa: E402
+
+
+def lay_of(sc, divide=1.0, **choice):
+    """The scene's layout with every size divided by `divide`, then `choice` set
+    (sizes in mm: size, piezo_size, contact_size; and any other Layout field)."""
+    lay = layout(sc, divide)
+    mm = {k: v * 1e-3 for k, v in choice.items() if k in ("size", "piezo_size", "contact_size", "rim")}
+    return dataclasses.replace(lay, **{**choice, **mm})
+
+
+ROWS = {
+    "ext/0.5": dict(divide=0.5),
+    "free/1": dict(divide=1.0, free=True),
+    "free/0.71": dict(divide=2 ** -0.5, free=True),
+    "free/0.5": dict(divide=0.5, free=True),
+    # one size at a time from free/0.5 (size 2, piezo_size 0.8, contact_size 0.4 mm)
+    "free/0.5 contact 0.2": dict(divide=0.5, free=True, contact_size=0.2),
+    "free/0.5 piezo 0.4": dict(divide=0.5, free=True, piezo_size=0.4),
+    "free/0.5 size 1": dict(divide=0.5, free=True, size=1.0),
+    "free/0.5 1 through piezo": dict(divide=0.5, free=True, piezo_layers=1),
+}
+
+
+def regions(tm):
+    """Elements by region: piezo, silicone above it under the punch (r < 2.4 mm),
+    above it beyond, below it."""
+    m, lay = tm.mesh, tm.layout
+    X = m.p[:, m.t].mean(axis=1)
+    piezo = np.zeros(m.t.shape[1], bool)
+    for k, v in tm.regions.items():
+        if k.startswith("piezo"):
+            piezo[v] = True
+    pz = next(L for L in lay.layers if L.name == "piezo")
+    r = np.hypot(X[0], X[1])
+    above = (X[2] > pz.z1) & ~piezo
+    return dict(elements=m.t.shape[1], piezo=int(piezo.sum()), under=int((above & (r < 2.4e-3)).sum()),
+                beyond=int((above & (r >= 2.4e-3)).sum()), below=int(((X[2] < pz.z0) & ~piezo).sum()))
+
+
+def main():
+    if "--list" in sys.argv:
+        print("\n".join(f"{k}: {v}" for k, v in ROWS.items()))
+        return
+    names = [a for a in sys.argv[1:] if not a.startswith("-")] or list(ROWS)
+    ref = json.loads(OUT.read_text())
+    sc = scene()
+    print(f"reference: V/F {ref['VF']:.5f} V/N (order {ref['order']:.2f}, {OUT.name})")
+    print("| mesh | unknowns | elements | piezo | above, under punch | above, beyond | below | V/F V/N | error | "
+          "CPU s | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for name in names:
+        lay = lay_of(sc, **ROWS[name])
+        c = regions(build(lay))
+        r = run(sc, lay)
+        head = (f"| {name} | {r['n']} | {c['elements']} | {c['piezo']} | {c['under']} | {c['beyond']} | "
+                f"{c['below']} |")
+        if "error" in r:
+            print(f"{head} stopped: {r['error']} |||", flush=True)
+            continue
+        print(f"{head} {r['VF']:.5f} | {100 * (r['VF'] / ref['VF'] - 1):+.2f} % | {r['cpu']:.1f} | "
+              f"{r['wall']:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
