@@ -31,7 +31,21 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from press_3d import OUT, layout, run, scene  # noqa: E402
 
+from taxel.analyses.adapter import check, checked_layout  # noqa: E402
 from taxel.meshing.build import build  # noqa: E402
+from taxel.scene import load, parse, to_data  # noqa: E402
+
+
+def default_scene():
+    """press_3d.scene() without its [mesh]: the default mesh of a 3D press; the same
+    layout as the built-in example thesis-pzt-probe-3d (checked)."""
+    data = to_data(scene())
+    data.pop("mesh")
+    sc = parse(data, si_numbers=True)
+    ex = load("thesis-pzt-probe-3d")
+    if checked_layout(ex, check(ex)) != checked_layout(sc, check(sc)):
+        raise SystemExit("thesis-pzt-probe-3d's layout is not the default press's")
+    return sc
 
 
 def lay_of(sc, divide=1.0, **choice):
@@ -43,15 +57,25 @@ def lay_of(sc, divide=1.0, **choice):
 
 
 ROWS = {
+    "default": None,            # the scene's default mesh (no [mesh]: taxel.scene.DEFAULT_PRESS_MESH)
     "ext/0.5": dict(divide=0.5),
     "free/1": dict(divide=1.0, free=True),
     "free/0.71": dict(divide=2 ** -0.5, free=True),
     "free/0.5": dict(divide=0.5, free=True),
+    "ext/0.5 1 through piezo": dict(divide=0.5, piezo_layers=1),
+    "ext/0.71 1 through piezo": dict(divide=2 ** -0.5, piezo_layers=1),
     # one size at a time from free/0.5 (size 2, piezo_size 0.8, contact_size 0.4 mm)
     "free/0.5 contact 0.2": dict(divide=0.5, free=True, contact_size=0.2),
     "free/0.5 piezo 0.4": dict(divide=0.5, free=True, piezo_size=0.4),
     "free/0.5 size 1": dict(divide=0.5, free=True, size=1.0),
     "free/0.5 1 through piezo": dict(divide=0.5, free=True, piezo_layers=1),
+    "free/0.5 3 through piezo": dict(divide=0.5, free=True, piezo_layers=3),
+    "free/0.5 4 through piezo": dict(divide=0.5, free=True, piezo_layers=4),
+    # the free family with 1 element through the piezo: sizes / 0.5, 0.71, 1, 1.41
+    "free/0.71 1 through piezo": dict(divide=2 ** -0.5, free=True, piezo_layers=1),
+    "free/1 1 through piezo": dict(divide=1.0, free=True, piezo_layers=1),
+    "free/1.41 1 through piezo": dict(divide=2 ** 0.5, free=True, piezo_layers=1),
+    "free/1 3 through piezo": dict(divide=1.0, free=True, piezo_layers=3),
 }
 
 
@@ -83,9 +107,10 @@ def main():
           "CPU s | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
-        lay = lay_of(sc, **ROWS[name])
+        s = default_scene() if ROWS[name] is None else sc
+        lay = checked_layout(s, check(s)) if ROWS[name] is None else lay_of(sc, **ROWS[name])
         c = regions(build(lay))
-        r = run(sc, lay)
+        r = run(s, lay)
         head = (f"| {name} | {r['n']} | {c['elements']} | {c['piezo']} | {c['under']} | {c['beyond']} | "
                 f"{c['below']} |")
         if "error" in r:
