@@ -24,6 +24,7 @@ wall times are 3-6x the CPU times; the press on today's solver, fem/press.py):
 | extruded, 1 through the piezo, / 0.5 / 0.71 | 9 530 / 17 206 | +1.21 / +0.20 % | 16 / 87 |
 | free, / 0.5 / 1 | 7 068 / 15 200 | +2.91 / +1.77 % | 9 / 53 |
 | free, / 0.5, through the piezo 1 / 2 / 3 / 4 | 5 941 / 7 068 / 8 214 / 9 379 | +1.72 / +2.91 / +3.23 / +3.39 % | 7-14 |
+| free, / 1, through the piezo 1 / 2 / 3 | 12 962 / 15 200 / 17 441 | +0.72 / +1.77 / +1.92 % | 46 / 53 / 78 |
 | free, 1 through, / 0.5 / 0.71 / 1 / 1.41 | 5 941 / 8 838 / 12 962 / 23 061 | +1.72 / +0.78 / +0.72 / +0.34 % | 7 / 18 / 46 / 169 |
 | **default** (DEFAULT_PRESS_MESH: 1.4 / 0.56 mm, 1 through, free) | 8 928 | **+0.76 %** | 15 |
 
@@ -39,7 +40,8 @@ thin P2 tetrahedra of the 0.127 mm PZT are stiff in bending at in-plane sizes of
 0.4-0.8 mm and V/F converges from above; one through makes them stiffer, a negative
 error that cancels most of the positive one of the silicone's mesh (an error
 cancellation, not a converged piezo: 3 and 4 through move V/F further from the
-reference at these in-plane sizes, +0.32 and +0.16 %). Same limit: the one-through free
+reference at these in-plane sizes, +0.32 and +0.16 % at / 0.5, +0.15 % from 2 to 3 at / 1:
+the through-thickness effect shrinks as the in-plane size does). Same limit: the one-through free
 family moves towards the reference as it is refined (+0.78, +0.72, +0.34 %), but not
 in its asymptotic range (no Richardson value from it); so the default's error is
 measured, not extrapolated: +0.76 % at 8 928 unknowns, a quarter of the extruded
