@@ -15,7 +15,10 @@ size is `contact_size` within `rim` of the load edge (the band under the punch's
 rounded edge), growing to `size` beyond as above. Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
 `size`, ratio 1.5; under a punch the top layer is graded from both ends, to
-`contact_size` at the top surface.
+`contact_size` at the top surface. A free 3D layout (`Layout.free`): only the piezo
+layers are extruded; the silicone layers are meshed by gmsh's 3D mesher with a 3D size
+field, `piezo_size` at the taxel edges on the piezo's faces and `contact_size` within
+`rim` of the punch's rim on the top surface, so neither runs through the whole height.
 
 Physical groups (names), classified by the first element of each entity:
 regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
@@ -205,8 +208,7 @@ def _size_field(gmsh, lay: Layout):
     if free and lay.load is not None and lay.contact_size is None:
         fields.append(_threshold(gmsh, lay, [lay.load], lay.piezo_size, 0.0, at_top))
     if lay.contact_size is not None and lay.load is not None:   # the band under the punch's rounded edge
-        fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim, at_top,
-                                 lay.contact_growth))
+        fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim, at_top))
     zs = (min(L.z0 for L in piezo), max(L.z1 for L in piezo)) if free and piezo else (-1.0, 1.0)
     for p in lay.taxels:                          # cap inside taxels (free: inside the piezo)
         box = f.add("Box")
@@ -224,12 +226,11 @@ def _size_field(gmsh, lay: Layout):
     f.setAsBackgroundMesh(mn)
 
 
-def _threshold(gmsh, lay: Layout, patches, size_min, dist_min, heights=(0.0,), growth=None):
+def _threshold(gmsh, lay: Layout, patches, size_min, dist_min, heights=(0.0,)):
     """A size field: `size_min` within `dist_min` of the patches' edges at the given
     heights (the plan, z = 0, where it is extruded: the in-plane size at every height),
-    growing linearly to `size` over `growth` (default Layout.growth) x `size` beyond."""
+    growing linearly to `size` over `growth` x `size` beyond."""
     f = gmsh.model.mesh.field
-    growth = lay.growth if growth is None else growth
     if lay.dim == 2:
         xs = {round(p.x + s * p.half, 12) for p in patches for s in (-1, 1)}
         ents = [t for _, t in gmsh.model.getEntities(0)
@@ -254,7 +255,7 @@ def _threshold(gmsh, lay: Layout, patches, size_min, dist_min, heights=(0.0,), g
     f.setNumber(thr, "SizeMin", size_min)
     f.setNumber(thr, "SizeMax", lay.size)
     f.setNumber(thr, "DistMin", dist_min)
-    f.setNumber(thr, "DistMax", dist_min + growth * lay.size)
+    f.setNumber(thr, "DistMax", dist_min + lay.growth * lay.size)
     return thr
 
 

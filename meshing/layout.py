@@ -81,7 +81,6 @@ class Layout:
     # load edge (the punch's rounded edge, its radius) and the size at the top surface
     contact_size: float | None = None
     rim: float = 0.0                    # m, the width of the band under the punch's rounded edge
-    contact_growth: float | None = None # the size grows from contact_size to size over this x size (None: growth)
     # 3D: silicone layers meshed free (3D size field: taxel edges on the piezo's faces, the punch's
     # rim on the top surface) instead of extruded from the plan mesh (its grading at every height)
     free: bool = False
