@@ -7,6 +7,7 @@ docs/press_3d_reference.json (Richardson over the extruded family; RESULT below)
 Each row: a mesh (meshing.layout.Layout choices on the scene's layout), its
 unknowns, elements (all; in the piezo; silicone above the piezo under the punch,
 r < 2.4 mm; above, beyond; below the piezo), V/F, its error against the reference,
+the press's Newton iterations, assembly and factorization time (fem.press's counters)
 and CPU and wall time of mesh + assembly + press, in one run side by side.
 
 The meshes: "extruded" is the plan mesh extruded layer by layer (the in-plane
@@ -136,8 +137,8 @@ def main():
     sc = scene()
     print(f"reference: V/F {ref['VF']:.5f} V/N (order {ref['order']:.2f}, {OUT.name})")
     print("| mesh | unknowns | elements | piezo | above, under punch | above, beyond | below | V/F V/N | error | "
-          "CPU s | wall s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "Newton iterations | assembly s | factorize s | CPU s | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
         s = default_scene() if ROWS[name] is None else sc
         lay = checked_layout(s, check(s)) if ROWS[name] is None else lay_of(sc, **ROWS[name])
@@ -146,10 +147,10 @@ def main():
         head = (f"| {name} | {r['n']} | {c['elements']} | {c['piezo']} | {c['under']} | {c['beyond']} | "
                 f"{c['below']} |")
         if "error" in r:
-            print(f"{head} stopped: {r['error']} |||", flush=True)
+            print(f"{head} stopped: {r['error']} ||||||", flush=True)
             continue
-        print(f"{head} {r['VF']:.5f} | {100 * (r['VF'] / ref['VF'] - 1):+.2f} % | {r['cpu']:.1f} | "
-              f"{r['wall']:.1f} |", flush=True)
+        print(f"{head} {r['VF']:.5f} | {100 * (r['VF'] / ref['VF'] - 1):+.2f} % | {r['iterations']} | "
+              f"{r['assemble_s']:.1f} | {r['factorize_s']:.1f} | {r['cpu']:.1f} | {r['wall']:.1f} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -212,11 +212,12 @@ class Scene(Strict):
 
     @property
     def default_mesh(self) -> tuple[str, ...]:
-        """The mesh keys this scene took from DEFAULT_MESH (empty: its own [mesh])."""
+        """The mesh keys this scene took from DEFAULT_MESH or DEFAULT_PRESS_MESH (empty: its own [mesh])."""
         return self._default_mesh
 
     def _fill_default_mesh(self) -> None:
-        """mesh.size (and piezo_size) not given: DEFAULT_MESH for this model type."""
+        """mesh.size (and piezo_size) not given: DEFAULT_MESH for this model type, or
+        DEFAULT_PRESS_MESH (with its piezo_layers, unless given) for a 3D punch press."""
         m = self.mesh
         if m.size is not None:
             return
