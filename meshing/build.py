@@ -15,7 +15,10 @@ size is `contact_size` within `rim` of the load edge (the band under the punch's
 rounded edge), growing to `size` beyond as above. Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
 `size`, ratio 1.5; under a punch the top layer is graded from both ends, to
-`contact_size` at the top surface.
+`contact_size` at the top surface. A free 3D layout (`Layout.free`): only the piezo
+layers are extruded; the silicone layers are meshed by gmsh's 3D mesher with a 3D size
+field, `piezo_size` at the taxel edges on the piezo's faces and `contact_size` within
+`rim` of the punch's rim on the top surface, so neither runs through the whole height.
 
 Physical groups (names), classified by the first element of each entity:
 regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
@@ -87,9 +90,12 @@ def build(lay: Layout, msh_path: str | Path | None = None) -> TaggedMesh:
         plan = _plan(occ, lay)
         occ.synchronize()
         for layer in lay.layers:
-            n, heights = vertical_divisions(lay, layer)
             step = (0, layer.thickness, 0) if lay.dim == 2 else (0, 0, layer.thickness)
-            out = occ.extrude(plan, *step, numElements=n, heights=heights, recombine=False)
+            if is_free(lay, layer):          # geometry only: meshed by the 3D mesher
+                out = occ.extrude(plan, *step)
+            else:
+                n, heights = vertical_divisions(lay, layer)
+                out = occ.extrude(plan, *step, numElements=n, heights=heights, recombine=False)
             plan = [out[i - 1] for i, e in enumerate(out) if e[0] == lay.dim]
         occ.synchronize()
         _size_field(gmsh, lay)
@@ -141,6 +147,12 @@ def is_graded(lay: Layout, layer) -> bool:
     return not (layer.patch_material is not None or layer.piezo or not lay.taxels)
 
 
+def is_free(lay: Layout, layer) -> bool:
+    """A graded silicone layer of a free 3D layout (Layout.free): meshed by the 3D
+    mesher with the 3D size field, not extruded from the plan mesh."""
+    return lay.free and lay.dim == 3 and is_graded(lay, layer)
+
+
 def vertical_divisions(lay: Layout, layer):
     """(numElements, heights) for one layer's extrusion (meshing.cost checks the
     count before this runs)."""
@@ -183,13 +195,22 @@ def _size_field(gmsh, lay: Layout):
     opt.setNumber("Mesh.MeshSizeFromCurvature", 0)
     opt.setNumber("Mesh.MeshSizeMax", lay.size)
     f = gmsh.model.mesh.field
-    edges = [p for p in list(lay.taxels) + ([lay.load] if lay.load else [])]
-    if not edges:
+    free = lay.free and lay.dim == 3
+    piezo = [L for L in lay.layers if not is_graded(lay, L)]
+    # where the edges' sizes hold: the plan (extruded to every height), or in a free layout
+    # the taxel edges on the piezo's faces and the punch's rim on the top surface
+    at_piezo = sorted({z for L in piezo for z in (L.z0, L.z1)}) if free else [0.0]
+    at_top = [lay.height] if free else [0.0]
+    edges = list(lay.taxels) + ([lay.load] if lay.load and not free else [])
+    if not edges and lay.load is None:
         return
-    fields = [_threshold(gmsh, lay, edges, lay.piezo_size, 0.0)]
+    fields = [_threshold(gmsh, lay, edges, lay.piezo_size, 0.0, at_piezo)] if edges else []
+    if free and lay.load is not None and lay.contact_size is None:
+        fields.append(_threshold(gmsh, lay, [lay.load], lay.piezo_size, 0.0, at_top))
     if lay.contact_size is not None and lay.load is not None:   # the band under the punch's rounded edge
-        fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim))
-    for p in lay.taxels:                          # cap inside taxels
+        fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim, at_top))
+    zs = (min(L.z0 for L in piezo), max(L.z1 for L in piezo)) if free and piezo else (-1.0, 1.0)
+    for p in lay.taxels:                          # cap inside taxels (free: inside the piezo)
         box = f.add("Box")
         f.setNumber(box, "VIn", min(lay.taxel_cap * lay.piezo_size, lay.size))
         f.setNumber(box, "VOut", lay.size)
@@ -197,17 +218,17 @@ def _size_field(gmsh, lay: Layout):
         f.setNumber(box, "XMax", p.x + p.half)
         f.setNumber(box, "YMin", -1.0 if lay.dim == 2 else p.y - p.half)
         f.setNumber(box, "YMax", 1.0 if lay.dim == 2 else p.y + p.half)
-        f.setNumber(box, "ZMin", -1.0)
-        f.setNumber(box, "ZMax", 1.0)
+        f.setNumber(box, "ZMin", zs[0])
+        f.setNumber(box, "ZMax", zs[1])
         fields.append(box)
     mn = f.add("Min")
     f.setNumbers(mn, "FieldsList", fields)
     f.setAsBackgroundMesh(mn)
 
 
-def _threshold(gmsh, lay: Layout, patches, size_min, dist_min):
-    """A size field: `size_min` within `dist_min` of the patches' edges on the plan
-    (z = 0; the plan mesh is extruded, so this is the in-plane size at every height),
+def _threshold(gmsh, lay: Layout, patches, size_min, dist_min, heights=(0.0,)):
+    """A size field: `size_min` within `dist_min` of the patches' edges at the given
+    heights (the plan, z = 0, where it is extruded: the in-plane size at every height),
     growing linearly to `size` over `growth` x `size` beyond."""
     f = gmsh.model.mesh.field
     if lay.dim == 2:
@@ -217,12 +238,13 @@ def _threshold(gmsh, lay: Layout, patches, size_min, dist_min):
                 and round(gmsh.model.getValue(0, t, [])[0], 12) in xs]
         kind = "PointsList"
     else:
-        ents = []
+        ents, tol = [], 1e-9 * lay.height
         for _, t in gmsh.model.getEntities(1):
             # points on the curve, not its bounding box: gmsh pads OCC boxes by 1e-7
             a, b = gmsh.model.getParametrizationBounds(1, t)
             xyz = np.reshape(gmsh.model.getValue(1, t, [a[0], 0.5 * (a[0] + b[0]), b[0]]), (3, 3))
-            if np.all(np.abs(xyz[:, 2]) < 1e-12) and any(_on_edge(p, xyz[1, 0], xyz[1, 1]) for p in patches):
+            if (any(np.all(np.abs(xyz[:, 2] - z) < tol) for z in heights)
+                    and any(_on_edge(p, xyz[1, 0], xyz[1, 1]) for p in patches)):
                 ents.append(t)
         kind = "CurvesList"
     dist = f.add("Distance")

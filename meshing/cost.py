@@ -8,7 +8,9 @@ of plan elements is the integral of the element density over the plan,
 (equilateral triangles of side h), sampled on a grid. Vertices follow from
 Euler's relation (V ~ T / 2 for triangles). Good to a factor of about 1.5
 (tests/test_hostile_input.py compares it with real meshes): enough to refuse a
-request that cannot fit before it starts.
+request that cannot fit before it starts. A free 3D layout (Layout.free: the silicone
+meshed by the 3D mesher) is counted as if extruded, an overestimate (the 3D press's
+default mesh: 1.95x its elements, 1.44x its vertices), which is the safe side for a refusal.
 """
 
 from __future__ import annotations

@@ -81,6 +81,9 @@ class Layout:
     # load edge (the punch's rounded edge, its radius) and the size at the top surface
     contact_size: float | None = None
     rim: float = 0.0                    # m, the width of the band under the punch's rounded edge
+    # 3D: silicone layers meshed free (3D size field: taxel edges on the piezo's faces, the punch's
+    # rim on the top surface) instead of extruded from the plan mesh (its grading at every height)
+    free: bool = False
     midplane: float | None = None       # z of a simply supported mid-plane line
     planes: tuple[int, ...] = ()        # symmetry: cut at x = 0 (0) and/or y = 0 (1), keeping x, y >= 0
     # symmetry: every electrode of the full layout as (its name, the modelled electrode it

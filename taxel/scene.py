@@ -65,6 +65,11 @@ class Model(Strict):
 # voltage (benchmarks/default_mesh.py, docs/benchmarks.md). 3D: estimate.CHEAP_3D's mesh.
 DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
                 "axisymmetric": (0.5e-3, None), "3d": (1.5e-3, 0.6e-3)}
+# A 3D array scene pressed by a flat punch in contact (Scene.pressed_by_punch) without mesh.size:
+# (size, piezo_size, piezo_layers), the silicone meshed free (meshing.layout.Layout.free, by
+# taxel.analyses.adapter.punch_grading); within 1 % of the press's nested-mesh reference at a
+# quarter of its unknowns (benchmarks/press_3d_mesh.py, docs/benchmarks.md).
+DEFAULT_PRESS_MESH = (1.4e-3, 0.56e-3, 1)
 
 
 class Mesh(Strict):
@@ -198,13 +203,30 @@ class Scene(Strict):
         """A new validated scene with values changed by dotted path (see `replace`)."""
         return replace(self, **changes)
 
+    @property
+    def pressed_by_punch(self) -> bool:
+        """A 3D array scene pressed by a flat punch in contact (the rig's probe)."""
+        ld = self.load
+        return (self.array is not None and self.model.type == "3d" and ld.kind == "indenter" and ld.contact
+                and ld.shape == "flat")
+
+    @property
+    def default_mesh(self) -> tuple[str, ...]:
+        """The mesh keys this scene took from DEFAULT_MESH or DEFAULT_PRESS_MESH (empty: its own [mesh])."""
+        return self._default_mesh
+
     def _fill_default_mesh(self) -> None:
-        """mesh.size (and piezo_size) not given: DEFAULT_MESH for this model type."""
+        """mesh.size (and piezo_size) not given: DEFAULT_MESH for this model type, or
+        DEFAULT_PRESS_MESH (with its piezo_layers, unless given) for a 3D punch press."""
         m = self.mesh
         if m.size is not None:
             return
-        size, piezo = DEFAULT_MESH[self.model.type] if self.array is not None else (0.5e-3, None)
+        press = self.pressed_by_punch
+        size, piezo = (DEFAULT_PRESS_MESH[:2] if press else DEFAULT_MESH[self.model.type] if self.array is not None
+                       else (0.5e-3, None))
         filled = {"size": size}
+        if press and "piezo_layers" not in m.model_fields_set:
+            filled["piezo_layers"] = DEFAULT_PRESS_MESH[2]
         if m.piezo_size is None and piezo is not None:
             filled["piezo_size"] = piezo
         elif m.piezo_size is not None and m.piezo_size > size:

@@ -148,3 +148,30 @@ def test_3d_mesh_is_refined_at_taxel_edges_and_under_the_punch_rim():
     X = m.p[:, m.t]                                               # the elements touching the band
     under = (np.abs(np.hypot(*X[:2].mean(axis=1)) - 2e-3) < 0.2e-3) & (np.abs(X[2].max(axis=0) - tm.layout.height) < 1e-9)
     assert under.sum() >= 20 and np.ptp(X[2][:, under], axis=0).max() < 1.5 * 0.2e-3
+
+
+def test_default_3d_press_mesh_is_graded_at_the_rim_on_top_only():
+    """The default mesh of a 3D press (thesis-pzt-probe-3d: no [mesh], taxel.scene.
+    DEFAULT_PRESS_MESH, silicone meshed free): elements within 0.3 mm of the punch's
+    rim on the top surface are several times denser than in the same band round the
+    rim's circle at the bottom (the free mesh does not carry the rim's grading through
+    the height as an extruded one does), and the elements there resolve the 0.28 mm
+    contact size; one element through the piezo."""
+    scene = load("thesis-pzt-probe-3d")
+    tm = mesh(scene)
+    lay, m = tm.layout, tm.mesh
+    assert lay.free and lay.piezo_layers == 1 and lay.contact_size == pytest.approx(0.28e-3)
+    X = m.p[:, m.t]
+    c = X.mean(axis=1)
+    vol = np.abs(np.einsum("ij,ij->j", np.cross((X[:, 1] - X[:, 0]).T, (X[:, 2] - X[:, 0]).T).T,
+                           X[:, 3] - X[:, 0])) / 6
+    ring = np.hypot(c[0], c[1]) - 2e-3                            # plan distance from the rim circle
+    top = np.hypot(ring, c[2] - lay.height) < 0.3e-3
+    bottom = np.hypot(ring, c[2]) < 0.3e-3          # (an extruded mesh: 2.6x; this one: 8.7x)
+    assert top.sum() >= 30
+    assert top.sum() / vol[top].sum() > 5 * bottom.sum() / vol[bottom].sum()
+    h = np.ptp(X[:, :, top], axis=1).max(axis=0)                  # the elements' extents at the rim
+    assert np.median(h) < 2 * lay.contact_size
+    piezo = np.concatenate([v for k, v in tm.regions.items() if k.startswith("piezo")])
+    zs = np.unique(np.round(m.p[2, np.unique(m.t[:, piezo])], 9))
+    assert len(zs) == 2                                           # its faces only: one element through

@@ -189,13 +189,17 @@ def _array_layout(scene: Scene, common) -> Layout:
 def punch_grading(scene: Scene) -> dict:
     """The contact-aware grading of a 3D scene pressed by a flat punch (meshing.build):
     elements of the punch's edge radius under its rounded edge and at the top surface,
-    but not below half the taxel edges' size (a coarse `[mesh]` stays coarse)."""
+    but not below half the taxel edges' size (a coarse `[mesh]` stays coarse). With the
+    default mesh (taxel.scene.DEFAULT_PRESS_MESH) the silicone is meshed free
+    (meshing.layout.Layout.free: graded at the rim on the top surface and at the taxel
+    edges on the piezo's faces only; benchmarks/press_3d_mesh.py)."""
     ld = scene.load
-    if scene.model.type != "3d" or ld.kind != "indenter" or not ld.contact or ld.shape != "flat":
+    if not scene.pressed_by_punch:
         return {}
     edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
     floor = (scene.mesh.piezo_size or scene.mesh.size / 4) / 2
-    return dict(contact_size=max(edge, floor), rim=edge) if edge > 0 else {}
+    free = dict(free=True) if "size" in scene.default_mesh else {}
+    return dict(contact_size=max(edge, floor), rim=edge, **free) if edge > 0 else free
 
 
 def _load_patch(scene: Scene, centre, half, model) -> Patch | None:
