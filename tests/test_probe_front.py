@@ -236,9 +236,8 @@ def test_spread_takes_the_ends_then_the_middle():
 def test_press_over_a_force_range_is_the_worst_of_presses_at_each_force():
     """force_range = [0.5 N, 1 N], 3 forces: the range press's secant and crosstalk at
     each force equal a press to that force alone within the load-step dependence of
-    sticking contact (measured below 0.5 %; 2 % allowed), the objectives are the least
-    sensitivity and the largest crosstalk of the range, and its top state is that of the
-    press to 1 N."""
+    sticking contact (2 % allowed), the objectives are the least sensitivity and the
+    largest crosstalk of the range, and its top state is the press to 1 N's."""
     data = to_data(load("thesis-pzt-3x3-2d"))
     data["mesh"].update(size="1 mm", piezo_size="0.25 mm")
     press = Press(force_range=["0.5 N", "1 N"], range_points=3)
@@ -248,10 +247,11 @@ def test_press_over_a_force_range_is_the_worst_of_presses_at_each_force():
     assert [r["force"] for r in m["range"]] == pytest.approx([0.5, 0.75, 1.0], rel=2e-3)   # force control to 0.1 %
     assert m["sensitivity"] == min(r["sensitivity"] for r in m["range"])
     assert m["crosstalk"] == max(r["crosstalk"] for r in m["range"])
-    top = press_metrics(d)                                           # one force: the range's top
-    assert m["range"][-1]["sensitivity"] == pytest.approx(top["sensitivity"], rel=1e-9)
+    top = press_metrics(d)                         # one press to 1 N: the same force along other load steps
+    assert m["range"][-1]["sensitivity"] == pytest.approx(top["sensitivity"], rel=2e-3)     # measured 9e-5
     for r in m["range"][:-1]:
         one = press_metrics(press_scene(data, Press(force=f"{r['force']} N")))
+        print(r["force"], r["sensitivity"] / one["sensitivity"] - 1, r["crosstalk"] / one["crosstalk"] - 1)
         assert r["sensitivity"] == pytest.approx(one["sensitivity"], rel=2e-2)
         assert r["crosstalk"] == pytest.approx(one["crosstalk"], rel=2e-2)
     # Yeoh stiffens: the secant falls with force, so the worst sensitivity is the top force's
