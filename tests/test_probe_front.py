@@ -236,7 +236,7 @@ def test_spread_takes_the_ends_then_the_middle():
 def test_press_over_a_force_range_is_the_worst_of_presses_at_each_force():
     """force_range = [0.5 N, 1 N], 3 forces: the range press's secant and crosstalk at
     each force equal a press to that force alone within the load-step dependence of
-    sticking contact (2 % allowed), the objectives are the least sensitivity and the
+    sticking contact (measured 1.3e-4 at most; 2e-3 allowed), the objectives are the least sensitivity and the
     largest crosstalk of the range, and its top state is the press to 1 N's."""
     data = to_data(load("thesis-pzt-3x3-2d"))
     data["mesh"].update(size="1 mm", piezo_size="0.25 mm")
@@ -251,8 +251,7 @@ def test_press_over_a_force_range_is_the_worst_of_presses_at_each_force():
     assert m["range"][-1]["sensitivity"] == pytest.approx(top["sensitivity"], rel=2e-3)     # measured 9e-5
     for r in m["range"][:-1]:
         one = press_metrics(press_scene(data, Press(force=f"{r['force']} N")))
-        print(r["force"], r["sensitivity"] / one["sensitivity"] - 1, r["crosstalk"] / one["crosstalk"] - 1)
-        assert r["sensitivity"] == pytest.approx(one["sensitivity"], rel=2e-2)
-        assert r["crosstalk"] == pytest.approx(one["crosstalk"], rel=2e-2)
+        assert r["sensitivity"] == pytest.approx(one["sensitivity"], rel=2e-3)
+        assert r["crosstalk"] == pytest.approx(one["crosstalk"], rel=2e-3)
     # Yeoh stiffens: the secant falls with force, so the worst sensitivity is the top force's
     assert m["range"][0]["sensitivity"] > m["range"][-1]["sensitivity"]
