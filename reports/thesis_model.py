@@ -42,14 +42,26 @@ def swept(rows: list[dict]) -> str:
 
 def output(rows: list[dict]) -> str:
     """What the figure shows: crosstalk for a gap sweep (Fig. 2.8/2.9), else sensitivity (2.5/2.6)."""
-    return "crosstalk" if swept(rows) == "gap" and any(r.get("crosstalk") is not None for r in rows) else "sensitivity"
+    return "crosstalk" if swept(rows) == "gap" and any(_f(r.get("crosstalk")) is not None for r in rows) else "sensitivity"
+
+
+def _f(v) -> float | None:
+    """A row's number (rows read back from results.csv hold strings; "" is none)."""
+    try:
+        return float(v) if v not in (None, "") else None
+    except (TypeError, ValueError):
+        return None
+
+
+def _stopped(r: dict) -> float | None:
+    return _f(r.get("stopped_at"))
 
 
 def _value(r: dict, out: str) -> float | None:
-    v = r.get(out)
+    v = _f(r.get(out))
     if v is None or r.get("status") != "done":
         return None
-    return 100 * abs(float(v)) if out == "crosstalk" else abs(float(v))
+    return 100 * abs(v) if out == "crosstalk" else abs(v)
 
 
 def draw(rows: list[dict], out: Path, name: str) -> Path:
@@ -65,7 +77,7 @@ def draw(rows: list[dict], out: Path, name: str) -> Path:
     for ax, pz in zip(axes[0], piezos):
         for law, style in ((LINEAR, "--"), (YEOH, "-")):
             for i, f in enumerate(forces if law == YEOH else forces[:1]):
-                pts = sorted((_num(r[x_name]), _value(r, what), r.get("stopped_at")) for r in rows
+                pts = sorted((_num(r[x_name]), _value(r, what), _stopped(r) or 0.0) for r in rows
                              if r["piezo"] == pz and r["silicone"] == law and _num(r["force"]) == f
                              and _value(r, what) is not None)
                 c = "k" if law == LINEAR else colors(i / max(len(forces) - 1, 1))
@@ -99,7 +111,7 @@ def comparison(rows: list[dict]) -> list[dict]:
         for f in sorted({r["force"] for r in rows}, key=_num):
             ys = [r for r in rows if r["piezo"] == pz and r["force"] == f and r["silicone"] == YEOH]
             done = [r for r in ys if r.get("status") == "done"]
-            stop = [r["stopped_at"] for r in done if r.get("stopped_at")]
+            stop = [_stopped(r) for r in done if _stopped(r)]
             d = [_value(r, what) / lin[k] - 1 for r in done
                  if (lin.get(k := (pz, f, r[x_name])) or 0) > 0 and _value(r, what) is not None]
             out.append({"piezo": pz, "force": f, "Yeoh points": len(ys), "solved to the force": len(done) - len(stop),
@@ -113,7 +125,7 @@ def comparison(rows: list[dict]) -> list[dict]:
 def sentence(rows: list[dict]) -> str:
     ys = [r for r in rows if r["silicone"] == YEOH]
     done = [r for r in ys if r.get("status") == "done"]
-    stop = [r["stopped_at"] for r in done if r.get("stopped_at")]
+    stop = [_stopped(r) for r in done if _stopped(r)]
     lin = [r for r in rows if r["silicone"] == LINEAR]
     return (f"The thesis's model (plane stress, Yeoh silicone, homogeneous pressure) beside linear silicone on the "
             f"same points: {len(done)} of {len(ys)} Yeoh points solved ({len(lin)} linear)"
