@@ -128,7 +128,8 @@ def sentence(rows: list[dict]) -> str:
     stop = [_stopped(r) for r in done if _stopped(r)]
     lin = [r for r in rows if r["silicone"] == LINEAR]
     return (f"The thesis's model (plane stress, Yeoh silicone, homogeneous pressure) beside linear silicone on the "
-            f"same points: {len(done)} of {len(ys)} Yeoh points solved ({len(lin)} linear)"
+            f"same points: {len(done)} Yeoh points with a result, {len(done) - len(stop)} of them at their force "
+            f"({len(ys)} Yeoh and {len(lin)} linear points in the folder)"
             + (f"; {len(stop)} stopped short of their force (the silicone creases at the pressure patch's edge), "
                f"last converged at {min(stop):.3g}-{max(stop):.3g} N, shown at that force (crosses)" if stop else "")
             + ". Each Yeoh value is compared with the linear one of the same point.")
