@@ -193,7 +193,7 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
         if r is not None:
             notes.append(f"The {role} design's estimated error is {100 * r['estimated error']:.2g} % "
                          f"({'within' if r['estimated error'] <= 0.02 else 'above'} 2 %; {r.get('how', '')}).")
-    if err > 0.02 and not any((r or {}).get("how") == "3D press" for r in (ref, b)):
+    if err > 0.02 and not rec.get("spent", {}).get("product error measured"):
         notes.append("3D presses of these designs (taxel demo --presses-3d N, or --full) measure the estimate's "
                      "product error.")
     if linear is not None:
