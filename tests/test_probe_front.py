@@ -198,7 +198,7 @@ COARSE_3D = {"model.type": "3d", "mesh.size": "5 mm", "mesh.piezo_size": "2 mm",
 def test_3d_level_equals_pressing_every_candidate_in_3d(tmp_path):
     """Level C on a small case: three designs scored by their 2D press (level B), two on
     the level-B front and one dominated (thick silicone, small gap). The 3D level
-    presses the front in 3D (a coarse quarter mesh, Yeoh, 1 N), corrects the rest and
+    presses the front in 3D (a coarse 5 mm mesh, Yeoh, 1 N), corrects the rest and
     presses whatever the correction puts on the front; its front is the front of
     pressing all three in 3D, each pressed value is the brute-force one, and it pressed
     fewer than all. Each 3D press carries the error estimator's record."""
