@@ -9,25 +9,30 @@ Levels (each a model of the same design, cheapest first):
      loop of optimize.multifidelity (`correct`: log-linear + inverse-distance ratio
      B/A fitted at the pressed designs, every visited design re-scored, the
      corrected non-dominated set pressed next, until the prediction agrees);
-  C  the probe press in 3D (the same probe on VERIFY_3D, the verification mesh):
-     with `full`, the level-B front and the thesis design are pressed in 3D, and the
-     same loop corrects level B to C. Without `full` (the main job's default: a 3D
-     press costs about 2 minutes on this mesh), level C is estimated as
-     B x (3D / 2D of the linear patch at the same design), the linear verification's
-     ratio (optimize.multifidelity.verify, interpolated between its designs): the
-     3D/2D factor of the geometry taken from the linear model, the material law's
-     and the probe's factor from the 2D press.
+  C  the probe press in 3D (the same probe on a 3D model, VERIFY_3D unless given):
+     estimated for every pressed design as B x (3D / 2D of the linear patch at the same
+     design), the linear verification's ratio (optimize.multifidelity.verify,
+     interpolated between its designs): the 3D/2D factor of the geometry from the
+     linear model, the material law's and the probe's factor from the 2D press. Then
+     `presses_3d` designs of that estimated front, spread along it by crosstalk, are
+     pressed in 3D (`press_3d`) and their rows replaced by the 3D press's (the main
+     job's count: RUN_3D_PRESSES, 0 until the 3D press is fast); with presses_3d None
+     (`taxel demo --full`) the whole level-B front and the thesis design are pressed
+     in 3D through the same correction loop (B corrected to C), and the front is the
+     3D presses'. The estimate's largest miss against the 3D presses is the product's
+     measured error, added to every row still estimated.
 
 Every front design carries its estimated relative error, the sum of
   - discretisation: the 2D mesh's (DISCRETISATION_2D; README: the default mesh within
-    0.24-0.47 % of the converged voltage) at level B, PRESS_3D_ERROR at level C
-    (taxel.analyses.error_estimate: the default 3D mesh's press voltage is 5.4 % off),
-    and for C estimated from B the linear ratio's own 3D mesh error (VERIFY_3D_ERROR,
-    the verification mesh's worst measured voltage error, 3.8 %);
+    0.24-0.47 % of the converged voltage) at level B; for a 3D press, the project's
+    error estimator on that press (taxel.analyses.error_estimate.estimate: on a coarse
+    mesh, the same press on a mesh twice as coarse, Richardson at the lowest order
+    measured in 3D); for C estimated from B the linear ratio's own 3D mesh error
+    (VERIFY_3D_ERROR, the verification mesh's worst measured voltage error, 3.8 %);
   - the correction: for a design predicted, not pressed, the loop's last measured
     disagreement of its prediction; for level C estimated from B, the product's
-    error (PRODUCT_ERROR: not measured yet, counted as 0 and recorded as
-    "product error measured": false; `full` measures it);
+    error (PRODUCT_ERROR: the largest miss measured by this run's 3D presses, else 0
+    and recorded as "product error measured": false);
   - the material law: 0 against the Yeoh law (the fit's own error is the law's, stated
     in docs/guide/silicone-and-contact.md).
 
@@ -54,7 +59,8 @@ from taxel.studies.store import Store
 
 DISCRETISATION_2D = 0.0047        # the default 2D mesh's voltage error, worst of README's 0.24-0.47 %
 VERIFY_3D_ERROR = 0.038           # the verification mesh's voltage error, worst measured (optimize.multifidelity, 6.)
-PRODUCT_ERROR = None              # level C from B x (3D/2D linear): measured by benchmarks/probe_front.py --full
+PRODUCT_ERROR = None              # level C from B x (3D/2D linear): measured by each run's 3D presses
+RUN_3D_PRESSES = 0                # front designs the main job presses in 3D (taxel demo --presses-3d N)
 PROBE_FILE = "probe-front.json"   # the headline front, in the linear front's folder
 KIND = "probe-front"
 
@@ -71,10 +77,11 @@ class ProbeFront:
     spent: dict = field(default_factory=dict)
     movements: list[dict] = field(default_factory=list)
     ranking: dict = field(default_factory=dict)
+    fine_model: dict = field(default_factory=lambda: dict(VERIFY_3D))
 
     def record(self, problem) -> dict:
         return {"kind": KIND, "name": problem.spec.name, "level": self.level,
-                "press": problem.spec.press.model_dump(), "verify_3d": VERIFY_3D,
+                "press": problem.spec.press.model_dump(), "verify_3d": VERIFY_3D, "press_3d_model": self.fine_model,
                 "front": self.front, "reference": self.reference, "movements": self.movements,
                 "ranking": self.ranking, "rounds": self.rounds, "spent": self.spent,
                 "definitions": DEFINITIONS, "sentence": sentence(self)}
@@ -109,13 +116,16 @@ DEFINITIONS = {
     "sensitivity": "|V(F)| / F of the pressed taxel at the operating force F (secant, V/N)",
     "tangent_sensitivity": "|dV/dF| at F (small-signal slope, V/N)",
     "crosstalk": "largest neighbour |V| / pressed |V| of the same press at F",
-    "estimated error": "discretisation + correction + material law, relative, on sensitivity"}
+    "estimated error": "discretisation + correction + material law, relative, on sensitivity; a 3D-pressed "
+                       "design's is the error estimator's for its press (taxel.analyses.error_estimate)"}
 
 
-def _solver(problem, model: dict | None, workers: int):
+def _solver(problem, model: dict | None, workers: int, results: dict | None = None):
     """xs -> [(sensitivity, crosstalk) or None]: the [press] of each design on the 2D base
-    mesh (model None) or on `model` (3D), stored in the run's store."""
+    mesh (model None) or on `model` (3D, with the press's estimated error: probe.press_metrics),
+    stored in the run's store; `results` collects each design's whole press record by x."""
     press = problem.spec.press
+    estimate = model is not None
 
     def datas(xs):
         return [press_scene(problem.scene_data(x) if model is None else fine_data(problem, x, model), press)
@@ -125,88 +135,151 @@ def _solver(problem, model: dict | None, workers: int):
         ds = datas(xs)
         store = Store(problem.out)
         try:
-            got = [stored_press(store, d, press.step) if _cached(store, d, press.step) else None for d in ds]
+            got = [stored_press(store, d, press, estimate=estimate) if _cached(store, d, press, estimate) else None
+                   for d in ds]
             todo = [i for i, g in enumerate(got) if g is None]
             if workers > 1 and len(todo) > 1:
                 from dask.distributed import Client
                 cluster = local_cluster(workers)
                 client = Client(cluster)
                 try:
-                    res = client.gather([client.submit(press_safely, ds[i], press.step, pure=False) for i in todo])
+                    res = client.gather([client.submit(press_safely, ds[i], press, estimate, pure=False) for i in todo])
                 finally:
                     client.close()
                     cluster.close()
             else:
-                res = [press_safely(ds[i], press.step) for i in todo]
+                res = [press_safely(ds[i], press, estimate) for i in todo]
             for i, r in zip(todo, res):
-                _put(store, ds[i], press.step, r)
+                _put(store, ds[i], press, estimate, r)
                 got[i] = r
         finally:
             store.close()
+        if results is not None:
+            results.update({_key(x): g[1] for x, g in zip(xs, got) if g[0] == "done"})
         return [(g[1]["sensitivity"], g[1]["crosstalk"]) if g[0] == "done" else None for g in got]
     return solve
 
 
-def _cached(store, data, step) -> bool:
-    row = store.get(press_key(data, step))
+def _key(x) -> tuple:
+    return tuple(np.round(np.asarray(x, float), 9))
+
+
+def _cached(store, data, press, estimate) -> bool:
+    row = store.get(press_key(data, press, estimate))
     return row is not None and row["status"] == "done"
 
 
-def _put(store, data, step, r):
+def _put(store, data, press, estimate, r):
     status, result, error = r
-    store.put(press_key(data, step), {"probe press": True}, status, result, error, (result or {}).get("seconds", 0.0))
+    store.put(press_key(data, press, estimate), {"probe press": True}, status, result, error,
+              (result or {}).get("seconds", 0.0))
 
 
-def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False, workers=2,
-                tolerance=0.02, max_rounds=2, fine_model: dict = VERIFY_3D) -> ProbeFront:
+def spread(items: list, n: int, key) -> list:
+    """n of `items` evenly spread by `key` (both ends first; the middle one for n = 1)."""
+    ds = sorted(items, key=key)
+    if n >= len(ds):
+        return ds
+    if n == 1:
+        return [ds[len(ds) // 2]]
+    return [ds[i] for i in np.unique(np.linspace(0, len(ds) - 1, n).round().astype(int))]
+
+
+def press_3d(problem, pool_c: list[Design], candidates: list[Design], cap: int, fine_model: dict = VERIFY_3D,
+             workers: int = 2, tolerance: float = 0.02, max_rounds: int = 1):
+    """Level C: `candidates` of the level-B-scored pool `pool_c` pressed on the 3D model
+    `fine_model` through the correction loop (multifidelity.correct, at most `cap` 3D
+    presses a round); returns (designs pressed, rounds, each pressed design's press
+    record by x, with its estimated error)."""
+    records: dict = {}
+    pressed, rounds = correct(problem.linear(), pool_c, candidates, cap,
+                              _solver(problem, fine_model, workers, records), tolerance, max_rounds)
+    return pressed, rounds, records
+
+
+def _error_3d(rec: dict | None) -> tuple[float, float | None]:
+    """A 3D press's estimated error on (sensitivity, crosstalk): the estimator's total
+    (discretisation of this mesh + material law 0 on Yeoh)."""
+    e = (rec or {}).get("error") or {}
+    s, c = e.get("sensitivity", {}).get("total"), e.get("crosstalk", {}).get("total")
+    return (PRESS_3D_ERROR if s is None else s), c
+
+
+def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d: int | None = 0, workers=2,
+                tolerance=0.02, max_rounds=2, fine_model: dict = VERIFY_3D, rounds_3d: int = 1) -> ProbeFront:
     """The probe front of `problem` (a spec with [press]) from its linear front `runs`
-    (problem.linear()'s, optimize.spec.front) and their 3D verification `linear_mf`;
-    with `full`, level C pressed on `fine_model` (the 3D verification mesh)."""
+    (problem.linear()'s, optimize.spec.front) and their 3D verification `linear_mf`.
+    Level C: `presses_3d` designs of the estimated front (spread by crosstalk) pressed in
+    3D on `fine_model`, their rows replaced by the 3D press's; None: the whole level-B
+    front and the thesis design (`taxel demo --full`), corrected over `rounds_3d` rounds."""
     from taxel.optimize.multifidelity import visited_designs
     t0 = time.perf_counter()
     lin = problem.linear()
     pool = visited_designs(runs, lin)
-    by_x = {tuple(np.round(d.x, 9)): d for d in pool}
-    front_a = [by_x[k] for k in (tuple(np.round(d.x, 9)) for d in linear_mf.cheap_front) if k in by_x]
-    ref = by_x.get(tuple(np.round(np.asarray(x_reference, float), 9)))
+    by_x = {_key(d.x): d for d in pool}
+    front_a = [by_x[k] for k in (_key(d.x) for d in linear_mf.cheap_front) if k in by_x]
+    ref = by_x.get(_key(x_reference))
     if ref is None:
         ref = Design(list(map(float, x_reference)), linear_mf.reference.cheap)
         pool.append(ref)
     cap = max(len(front_a), 2)
-    pressed_2d, rounds_b = correct(lin, pool, front_a + ([ref] if ref not in front_a else []), cap, _solver(problem, None, workers),
-                                   tolerance, max_rounds)
+    pressed_2d, rounds_b = correct(lin, pool, front_a + ([ref] if ref not in front_a else []), cap,
+                                   _solver(problem, None, workers), tolerance, max_rounds)
     t1 = time.perf_counter()
     score_b = {id(d): d.fine or d.predicted for d in pool}
     ratio_lin = interpolant(lin, linear_mf.verified)
+    rows, ref_row = [], None
+    for d in pool:                      # level C estimated: the pressed designs x the linear 3D/2D ratio
+        s = score_b[id(d)]
+        if s is None or not d.fine:
+            continue
+        r = ratio_lin(d.x)
+        row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press x linear 3D/2D",
+                   DISCRETISATION_2D + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0))
+        row["sensitivity 2D press (V/N)"], row["crosstalk 2D press"] = s
+        rows.append(row)
+        if d is ref:
+            ref_row = row
     pressed_3d, rounds_c, product_miss = [], [], None
-    if full:
+    if presses_3d is None or presses_3d > 0:
         pool_c = [Design(d.x, score_b[id(d)]) for d in pool if score_b[id(d)] is not None]
         ref_c = next(d for d in pool_c if np.allclose(d.x, ref.x))
-        at_b = {tuple(np.round(d.x, 9)) for d in pressed_2d}       # level C presses the pressed level-B front
-        front_b = nondominated([d for d in pool_c if tuple(np.round(d.x, 9)) in at_b], lambda d: d.cheap)
-        pressed_3d, rounds_c = correct(lin, pool_c, front_b + ([ref_c] if ref_c not in front_b else []),
-                                       len(front_b) + 1, _solver(problem, fine_model, workers), tolerance, 1)
-        est = [(d, ratio_lin(d.x)) for d in pressed_3d if d.fine]      # the default's estimate, measured here
-        product_miss = [max(abs(d.cheap[k] * r[k] / d.fine[k] - 1) for d, r in est) for k in (0, 1)] if est else None
-        rows = [_row(lin, d.x, d.fine, "3D press", PRESS_3D_ERROR) for d in pressed_3d if d.fine]
-        ref_row = _row(lin, ref_c.x, ref_c.fine, "3D press", PRESS_3D_ERROR) if ref_c.fine else None
-    else:
-        rows, ref_row = [], None
-        for d in pool:                  # the front from pressed designs only (as the 3D front from verified)
-            s = score_b[id(d)]
-            if s is None or not d.fine:
+        if presses_3d is None:          # full: the pressed level-B front and the thesis design
+            at_b = {_key(d.x) for d in pressed_2d}
+            cand = nondominated([d for d in pool_c if _key(d.x) in at_b], lambda d: d.cheap)
+            cand, cap_c, n_rounds = cand + ([ref_c] if ref_c not in cand else []), len(cand) + 1, rounds_3d
+        else:                           # the main job: a few designs of the estimated front
+            chosen = {_key(r["x"]) for r in spread([r for r in _nondominated_rows(rows) if r is not ref_row],
+                                                    presses_3d, lambda r: r["crosstalk"])}
+            cand = [d for d in pool_c if _key(d.x) in chosen]
+            cap_c, n_rounds = len(cand), 1
+        pressed_3d, rounds_c, recs = press_3d(problem, pool_c, cand, cap_c, fine_model, workers, tolerance, n_rounds)
+        est = {_key(r["x"]): r for r in rows}
+        miss = [(abs(est[_key(d.x)]["sensitivity (V/N)"] / d.fine[0] - 1),
+                 abs(est[_key(d.x)]["crosstalk"] / d.fine[1] - 1)) for d in pressed_3d if d.fine and _key(d.x) in est]
+        product_miss = [max(m[k] for m in miss) for k in (0, 1)] if miss else None
+        for r in rows:                  # the estimated rows carry the product's measured miss
+            if product_miss and PRODUCT_ERROR is None:
+                r["estimated error"] += product_miss[0]
+                r["within 2 %"] = bool(r["estimated error"] <= 0.02)
+        for d in pressed_3d:
+            if not d.fine:
                 continue
-            r = ratio_lin(d.x)
-            err = DISCRETISATION_2D + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0)
-            row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press x linear 3D/2D", err)
-            row["sensitivity 2D press (V/N)"], row["crosstalk 2D press"] = s
-            rows.append(row)
-            if d is ref:
+            es, ec = _error_3d(recs.get(_key(d.x)))
+            row = _row(lin, d.x, d.fine, "3D press", es)
+            row["estimated crosstalk error"] = ec
+            if _key(d.x) in est:
+                row["estimate before the 3D press (V/N, crosstalk)"] = (est[_key(d.x)]["sensitivity (V/N)"],
+                                                                        est[_key(d.x)]["crosstalk"])
+            rows = [r for r in rows if _key(r["x"]) != _key(d.x)] + [row]
+            if _key(d.x) == _key(ref.x):
                 ref_row = row
     front = _nondominated_rows(rows)
     if ref_row is None:
         ref_row = {"x": ref.x, "note": "the thesis design's press failed"}
-    level = "3D press" if full else "2D press x linear 3D/2D"
+    level = ("3D press" if presses_3d is None else
+             f"2D press x linear 3D/2D, {len(pressed_3d)} verified by 3D presses" if pressed_3d else
+             "2D press x linear 3D/2D")
     pf = ProbeFront(level, pool, pressed_2d, pressed_3d, front, ref_row,
                     {"2D press": rounds_b, "3D press": rounds_c},
                     {"2D presses": len(pressed_2d),
@@ -216,6 +289,7 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, full=False
                      "linear designs visited": len(pool),
                      "product error measured": PRODUCT_ERROR is not None or product_miss is not None,
                      "product estimate's largest miss (sensitivity, crosstalk)": product_miss})
+    pf.fine_model = dict(fine_model)
     pf.movements, pf.ranking = movements(lin, linear_mf, pf, ratio_lin, score_b, pool)
     return pf
 

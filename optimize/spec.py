@@ -187,7 +187,7 @@ class Optimization:
         """The press metrics of one design under the [press] probe (optimize.probe), stored."""
         store = Store(self.out) if self.out is not None else None
         try:
-            status, result, _ = stored_press(store, press_scene(data, self.spec.press), self.spec.press.step, params)
+            status, result, _ = stored_press(store, press_scene(data, self.spec.press), self.spec.press, params)
         finally:
             if store is not None:
                 store.close()

@@ -189,9 +189,13 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
     probe = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in press.items()
                       if v is not None and k in ("shape", "radius", "edge_radius", "force", "silicone", "friction"))
     notes = [f"Under the rig's probe ({probe or 'flat punch, Yeoh silicone'}): {rec['sentence']}"]
-    if err > 0.02:
-        notes.append(f"The estimated error ({100 * err:.2g} %) is above 2 %: 3D presses of these designs "
-                     "(taxel demo --full) would narrow it.")
+    for role, r in (("thesis", ref), ("recommended", b)):
+        if r is not None:
+            notes.append(f"The {role} design's estimated error is {100 * r['estimated error']:.2g} % "
+                         f"({'within' if r['estimated error'] <= 0.02 else 'above'} 2 %; {r.get('how', '')}).")
+    if err > 0.02 and not rec.get("spent", {}).get("product error measured"):
+        notes.append("3D presses of these designs (taxel demo --presses-3d N, or --full) measure the estimate's "
+                     "product error.")
     if linear is not None:
         t = linear.thesis
         r = linear.recommended

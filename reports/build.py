@@ -120,6 +120,15 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
         {"type": "note", "text": "Each row: one curve of this study. With a linear silicone |V| is proportional "
                                  "to the force, so every force gives the same shape; the thesis's Yeoh silicone "
                                  "bends them apart at large strain (see the banner)."}]}] if claims else []
+    from taxel.reports import thesis_model
+    if rows and thesis_model.is_thesis_model(rows):
+        png = thesis_model.draw(rows, out, folder.name)
+        thesis.append({"title": "The thesis's model beside linear silicone", "blocks": [
+            {"type": "text", "text": thesis_model.sentence(rows)},
+            _figures([png], [f"{folder.name}: linear silicone (dashed) and the thesis's Yeoh at each force (solid); "
+                             "crosses: Yeoh points stopped short, at their last converged force"]),
+            {"type": "table", "table": tables.table(thesis_model.comparison(rows),
+                                                    title="Yeoh against linear silicone, per piezo and force")}]})
     return {"sections": [
         {"title": "Parameter study", "blocks": [{"type": "text", "text": spec.get("description", "")},
                                                 {"type": "note", "text": f"Model: {label}."},

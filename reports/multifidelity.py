@@ -90,6 +90,12 @@ def probe_blocks(rec: dict) -> list[dict]:
     if over:
         blocks.append({"type": "note", "text": f"{len(over)} of {len(rec['front'])} front designs have an estimated "
                                                f"error above 2 % (column 'estimated error')."})
+    pressed = [r for r in rec["front"] + [rec["reference"]] if r.get("how") == "3D press"]
+    if pressed:
+        blocks.append({"type": "note", "text": "Pressed in 3D on " + ", ".join(
+            f"{k} {v}" for k, v in (rec.get("press_3d_model") or {}).items()) + ": " + "; ".join(
+            f"{', '.join(f'{v:.3g}' for v in r['x'])} mm: estimated error {100 * r['estimated error']:.2g} % "
+            f"({'within' if r['within 2 %'] else 'above'} 2 %)" for r in pressed) + "."})
     return blocks
 
 
@@ -111,8 +117,10 @@ def _readable(row: dict) -> dict:
     for k, v in row.items():
         if k == "x":
             continue
-        if k == "estimated error" and isinstance(v, float):
-            out["estimated error (%)"] = f"{100 * v:.3g}"
+        if k in ("estimated error", "estimated crosstalk error") and isinstance(v, float):
+            out[f"{k} (%)"] = f"{100 * v:.3g}"
+        elif k == "estimate before the 3D press (V/N, crosstalk)" and v:
+            out["estimated before the 3D press"] = f"{v[0]:.4g} V/N, {100 * v[1]:.3g} %"
         elif isinstance(v, bool):
             out[k] = "yes" if v else "no"
         else:

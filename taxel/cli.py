@@ -8,7 +8,7 @@
     taxel study status DIR | taxel study export DIR --csv FILE
     taxel optimize OPT [--out DIR] [--workers N]
     taxel report DIR... --out OUT [--pdf]
-    taxel demo [--out DIR] [--small] [--full]
+    taxel demo [--out DIR] [--small] [--full] [--presses-3d N]
     taxel examples
     taxel measure capture|import|export|rebuild|simulate ...   (taxel/cli_measure.py)
 
@@ -187,7 +187,9 @@ def _demo(args):
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}: exists and is not a folder; choose another output folder")
-    run(out, small=args.small, full=args.full)
+    if args.presses_3d < 0:
+        raise InputError(f"--presses-3d {args.presses_3d}: must be 0 or more (front designs pressed in 3D)")
+    run(out, small=args.small, full=args.full, presses_3d=args.presses_3d)
 
 
 def _mesh(args):
@@ -264,6 +266,8 @@ def main(argv=None):
     p.add_argument("--out", default="out/demo", metavar="DIR")
     p.add_argument("--small", action="store_true", help="a reduced run (for CI)")
     p.add_argument("--full", action="store_true", help="also the thesis-model Fig. 2.5/2.8 studies and the probe fronts verified by 3D presses (slow)")
+    p.add_argument("--presses-3d", type=int, default=0, metavar="N",
+                   help="press N designs of each probe front in 3D (default 0; --full presses them all)")
     p.set_defaults(run=_demo)
     p = sub.add_parser("examples", help="list the built-in example scenes")
     p.set_defaults(run=_examples)

@@ -1,7 +1,8 @@
 """The rig's probe press as the optimizer's model (optimize.probe, optimize.probe_front):
 the press objective against `taxel solve` of the same scene and its tangent against
-independent presses; the multi-fidelity correction against pressing every candidate;
-an optimization under the press that must find a known optimum. Coarse 2D meshes."""
+independent presses; the objectives over a force range against presses at each force;
+the multi-fidelity correction against pressing every candidate, in 2D and in 3D; an
+optimization under the press that must find a known optimum. Coarse meshes."""
 
 import json
 
@@ -11,7 +12,7 @@ import pytest
 from taxel.cli import main
 from taxel.optimize.multifidelity import Design, correct, nondominated
 from taxel.optimize.probe import Press, press_metrics, press_scene
-from taxel.optimize.probe_front import _solver
+from taxel.optimize.probe_front import _solver, press_3d, spread
 from taxel.optimize.spec import load_optimization, optimize
 from taxel.schema import to_data
 from taxel.scene import load
@@ -178,7 +179,9 @@ force = "1 N"
 
 
 @pytest.mark.parametrize("line, words", [('radius = "2 kg"', "press.radius"), ('silicone = "rubber"', "press.silicone"),
-                                         ('force = "-1 N"', "press.force must be positive")])
+                                         ('force = "-1 N"', "press.force must be positive"),
+                                         ('force_range = ["2 N", "1 N"]', "press.force_range must be two forces"),
+                                         ('force_range = ["1 kg", "2 N"]', "press.force_range")])
 def test_a_bad_press_table_is_one_line_and_exit_2(tmp_path, capsys, line, words):
     p = tmp_path / "bad.toml"
     p.write_text('base = "thesis-pzt-3x3-2d"\n[variables]\ngap = {path = "array.gap", min = "1 mm", max = "5 mm"}\n'
@@ -186,3 +189,69 @@ def test_a_bad_press_table_is_one_line_and_exit_2(tmp_path, capsys, line, words)
     assert main(["optimize", str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and "\n" not in err and "Traceback" not in err
+
+
+COARSE_3D = {"model.type": "3d", "mesh.size": "5 mm", "mesh.piezo_size": "2 mm", "mesh.piezo_layers": 1}
+
+
+@pytest.mark.slow
+def test_3d_level_equals_pressing_every_candidate_in_3d(tmp_path):
+    """Level C on a small case: three designs scored by their 2D press (level B), two on
+    the level-B front and one dominated (thick silicone, small gap). The 3D level
+    presses the front in 3D (a coarse 5 mm mesh, Yeoh, 1 N), corrects the rest and
+    presses whatever the correction puts on the front; its front is the front of
+    pressing all three in 3D, each pressed value is the brute-force one, and it pressed
+    fewer than all. Each 3D press carries the error estimator's record."""
+    prob = _problem(tmp_path)
+    xs = [[0.5, 1.5], [0.8, 4.5], [1.0, 1.2]]                        # mm: silicone above, gap
+    b = _solver(prob, None, 1)(xs)
+    pool = [Design(x, m) for x, m in zip(xs, b)]
+    assert all(m is not None for m in b)
+    front_b = nondominated(pool, lambda d: d.cheap)
+    assert len(front_b) < len(pool)                                  # the case has a dominated design
+    pressed, rounds, recs = press_3d(prob, pool, front_b, len(pool), COARSE_3D, workers=1, tolerance=0.0,
+                                     max_rounds=3)
+    brute = _solver(prob, COARSE_3D, 1)(xs)                          # every candidate (pressed ones from the store)
+    assert all(m is not None for m in brute)
+    mf_front = nondominated([d for d in pool if d.fine or d.predicted], lambda d: d.fine or d.predicted)
+    bf_front = nondominated([Design(x, m) for x, m in zip(xs, brute)], lambda d: d.cheap)
+    assert {tuple(d.x) for d in mf_front} == {tuple(d.x) for d in bf_front}
+    assert all(d.fine is not None for d in mf_front)                # the answer's front is pressed, not predicted
+    for d in pressed:
+        assert d.fine == brute[xs.index(d.x)]
+        e = recs[tuple(np.round(d.x, 9))]["error"]["sensitivity"]
+        assert e["total"] > 0 and e["material"] == 0.0               # a coarse mesh errs; Yeoh is the law
+    assert len(pressed) < len(pool)
+
+
+def test_spread_takes_the_ends_then_the_middle():
+    items = [5, 1, 4, 2, 3]
+    assert spread(items, 1, float) == [3]
+    assert spread(items, 2, float) == [1, 5]
+    assert spread(items, 3, float) == [1, 3, 5]
+    assert spread(items, 9, float) == [1, 2, 3, 4, 5]
+
+
+@pytest.mark.slow
+def test_press_over_a_force_range_is_the_worst_of_presses_at_each_force():
+    """force_range = [0.5 N, 1 N], 3 forces: the range press's secant and crosstalk at
+    each force equal a press to that force alone within the load-step dependence of
+    sticking contact (measured 1.3e-4 at most; 2e-3 allowed), the objectives are the least sensitivity and the
+    largest crosstalk of the range, and its top state is the press to 1 N's."""
+    data = to_data(load("thesis-pzt-3x3-2d"))
+    data["mesh"].update(size="1 mm", piezo_size="0.25 mm")
+    press = Press(force_range=["0.5 N", "1 N"], range_points=3)
+    d = press_scene(data, press)
+    assert d["load"]["force"] == "1 N"
+    m = press_metrics(d, press)
+    assert [r["force"] for r in m["range"]] == pytest.approx([0.5, 0.75, 1.0], rel=2e-3)   # force control to 0.1 %
+    assert m["sensitivity"] == min(r["sensitivity"] for r in m["range"])
+    assert m["crosstalk"] == max(r["crosstalk"] for r in m["range"])
+    top = press_metrics(d)                         # one press to 1 N: the same force along other load steps
+    assert m["range"][-1]["sensitivity"] == pytest.approx(top["sensitivity"], rel=2e-3)     # measured 9e-5
+    for r in m["range"][:-1]:
+        one = press_metrics(press_scene(data, Press(force=f"{r['force']} N")))
+        assert r["sensitivity"] == pytest.approx(one["sensitivity"], rel=2e-3)
+        assert r["crosstalk"] == pytest.approx(one["crosstalk"], rel=2e-3)
+    # Yeoh stiffens: the secant falls with force, so the worst sensitivity is the top force's
+    assert m["range"][0]["sensitivity"] > m["range"][-1]["sensitivity"]

@@ -24,6 +24,7 @@ from taxel import measure
 from taxel.studies.spec import Study, load_study
 
 STUDY_PLOTS = ("pressed_voltage", "max_strain")
+THESIS_MODEL_STUDIES = ("fig-2-5-thesis", "fig-2-8-thesis")     # about an hour each on 2 workers: --full
 
 
 def small_study(st: Study) -> Study:
@@ -42,11 +43,12 @@ def small_optimization(name: str) -> O.Optimization:
     return prob
 
 
-def front(out: Path, name: str, small: bool, full: bool = False) -> Path:
+def front(out: Path, name: str, small: bool, full: bool = False, presses_3d: int = PF.RUN_3D_PRESSES) -> Path:
     """The cheap (2D) front of a built-in problem (taxel.optimize), its 3D
     verification (optimize.multifidelity), then the headline: the same designs under
     the rig's probe on Yeoh silicone (optimize.probe_front, the built-in
-    NAME-probe-front spec; 3D presses with `full`), written to OUT/probe-front.json;
+    NAME-probe-front spec; `presses_3d` of its front designs pressed in 3D, every
+    front design and the thesis design with `full`), written to OUT/probe-front.json;
     `small`: one short run, no front."""
     if small:
         api.optimize(small_optimization(name), out)
@@ -64,7 +66,8 @@ def front(out: Path, name: str, small: bool, full: bool = False) -> Path:
     print(f"      cheap front {t1 - t0:.0f} s; " + "; ".join(mf.summary()))
     print(f"      {rec['sentence']}")
     probe = O.load_optimization(name.replace("-front", "-probe-front"), out)
-    pf = PF.probe_front(probe, mf, result.runs, reference_x(prob), full=full, workers=2, max_rounds=2)
+    pf = PF.probe_front(probe, mf, result.runs, reference_x(prob), presses_3d=None if full else presses_3d,
+                        workers=2, max_rounds=2)
     prec = pf.to_folder(out, probe)
     draw_probe_front(pf, mf, probe.spec.name, out)
     s = pf.spent
@@ -140,7 +143,7 @@ def tolerances(out: Path) -> Path:
     return out
 
 
-def run(root: Path, small: bool = False, full: bool = False) -> Path:
+def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = PF.RUN_3D_PRESSES) -> Path:
     """Run the main job into `root` and return the report's index page; `full`: also the
     thesis-model Fig. 2.5 and 2.8 studies (plane stress, Yeoh beside linear silicone; about
     10 minutes each) and the probe fronts verified by 3D presses."""
@@ -154,14 +157,17 @@ def run(root: Path, small: bool = False, full: bool = False) -> Path:
     summ = api.run_study(st, root / "fig-2-5", workers=1 if small else 2, progress=True, plots=STUDY_PLOTS)
     folders.append(summ.folder)
     print(f"      {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
-    if full:                           # the thesis's own model: plane stress, Yeoh beside linear
-        for name in ("fig-2-5-thesis", "fig-2-8-thesis"):
+    for name in THESIS_MODEL_STUDIES:  # the thesis's own model: plane stress, Yeoh beside linear
+        if full:
             summ = api.run_study(load_study(name), root / name, workers=2, progress=True)
             folders.append(summ.folder)
             print(f"      {name}: {summ.total} points ({summ.cached} cached) in {summ.seconds:.1f} s")
+        elif not small and (root / name / "results.csv").exists():     # from an earlier --full (or taxel study run)
+            folders.append(root / name)
+            print(f"      {name}: from an earlier run in {root / name} (taxel demo --full runs it)")
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
-        folders.append(front(root / name, name, small, full))
+        folders.append(front(root / name, name, small, full, presses_3d))
     if not small:                      # the thesis and the recommended PZT design, deformed, in 3D
         t3 = time.perf_counter()
         folders += design_views(root / "thesis-pzt-front", "thesis-pzt-front", root)
