@@ -15,7 +15,7 @@ import json
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, Field, PrivateAttr, StrictInt, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, Field, PrivateAttr, StrictBool, StrictInt, ValidationError, field_validator, model_validator
 
 from taxel import units
 from taxel.schema import (GEOMETRY, Capacitance, Coordinate, Duration, Force, Fraction, Frequency, Length,
@@ -78,6 +78,9 @@ class Mesh(Strict):
     piezo_layers: StrictInt = Field(2, ge=1, le=8)   # elements through each piezo layer (2: within 0.5 %)
     order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
     formulation: Literal["mixed", "displacement"] = "mixed"   # silicone: u-p mixed, or u only (locks)
+    # 3D: the silicone extruded through its height (true), or meshed free, graded at the taxel edges
+    # and the punch's rim only (false); default: free for a 3D punch press on DEFAULT_PRESS_MESH
+    extruded: StrictBool | None = None
 
 
 class Array(Strict):
@@ -227,6 +230,8 @@ class Scene(Strict):
         filled = {"size": size}
         if press and "piezo_layers" not in m.model_fields_set:
             filled["piezo_layers"] = DEFAULT_PRESS_MESH[2]
+        if press and m.extruded is None:
+            filled["extruded"] = False
         if m.piezo_size is None and piezo is not None:
             filled["piezo_size"] = piezo
         elif m.piezo_size is not None and m.piezo_size > size:
@@ -451,9 +456,10 @@ def refined(scene: Scene, factor: float) -> Scene:
     """The scene with every element size divided by `factor` (in plane and through
     the piezo), for convergence studies: factor 2 halves h everywhere."""
     m = scene.mesh
+    kept = {} if m.extruded is None else {"mesh.extruded": m.extruded}   # the same mesh family
     return replace(scene, **{"mesh.size": m.size / factor,
                              "mesh.piezo_size": (m.piezo_size or m.size / 4) / factor,
-                             "mesh.piezo_layers": max(1, round(m.piezo_layers * factor))})
+                             "mesh.piezo_layers": max(1, round(m.piezo_layers * factor)), **kept})
 
 
 def canonical(scene: Scene) -> str:

@@ -128,7 +128,7 @@ def _press_pair(scene, sym, travel):
             tm = unfold(tm, layout(sc, scene_materials(sc)))
         prob = problem(sc, tm)
         prob = replace(prob, indenter=replace(prob.indenter, force=None, travel=travel))
-        out.append(press(assembly.assemble(prob), prob.indenter, "superlu"))
+        out.append(press(assembly.assemble(prob), prob.indenter))   # the default solver (PARDISO in 3D)
     return out
 
 

@@ -190,7 +190,7 @@ def punch_grading(scene: Scene) -> dict:
     """The contact-aware grading of a 3D scene pressed by a flat punch (meshing.build):
     elements of the punch's edge radius under its rounded edge and at the top surface,
     but not below half the taxel edges' size (a coarse `[mesh]` stays coarse). With the
-    default mesh (taxel.scene.DEFAULT_PRESS_MESH) the silicone is meshed free
+    default mesh (taxel.scene.DEFAULT_PRESS_MESH), or mesh.extruded = false, the silicone is meshed free
     (meshing.layout.Layout.free: graded at the rim on the top surface and at the taxel
     edges on the piezo's faces only; benchmarks/press_3d_mesh.py)."""
     ld = scene.load
@@ -198,7 +198,7 @@ def punch_grading(scene: Scene) -> dict:
         return {}
     edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
     floor = (scene.mesh.piezo_size or scene.mesh.size / 4) / 2
-    free = dict(free=True) if "size" in scene.default_mesh else {}
+    free = dict(free=True) if scene.mesh.extruded is False else {}
     return dict(contact_size=max(edge, floor), rim=edge, **free) if edge > 0 else free
 
 
