@@ -58,7 +58,7 @@ import time
 
 import numpy as np
 
-from taxel.fem import hyperelastic, linalg, loadpath, symmetry
+from taxel.fem import contact_newton, hyperelastic, linalg, loadpath, symmetry
 from taxel.fem.assembly import System, place
 from taxel.fem.constraints import reduction
 from taxel.fem.contact import Indenter, Stick, Surface
@@ -162,7 +162,7 @@ class Press:
         if not tangent:
             return r, ref, st, None
         vals["contact"] = self.surf.element_tangent(st, self.eps, frozen)
-        return r, ref, st, pat.matrix(vals).tocsc()
+        return r, ref, st, pat.matrix(vals)
 
     def _residual_skfem(self, x, d, lam, tangent=True, frozen=None, fixed=None):
         """`_residual` through scikit-fem's forms and sparse products (the path before the
@@ -182,67 +182,17 @@ class Press:
         K = (P.T @ (sy.A + K_y + Kc_full) @ P).tocsc()
         return r, ref, st, K
 
-    def _newton(self, x, d, lam):
-        o, P = self.o, self.red.P
-        seen, frozen, fixed, step_rel = [], None, None, 1.0
-        for it in range(o.max_iter):
-            r, ref, st, K = self._residual(x, d, lam, frozen=frozen, fixed=fixed)
-            key = st.active.tobytes()
-            if o.fix_cycling and fixed is None and o.active_set_update and key in seen[:-1] and key != seen[-1]:
-                fixed = st.active.copy()          # the set came back: finish on it (smooth), Uzawa decides
-                r, ref, st, K = self._residual(x, d, lam, fixed=fixed)
-            if not o.active_set_update and frozen is None:
-                frozen = st.active.copy()
-                r, ref, st, K = self._residual(x, d, lam, frozen=frozen)
-            if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
-                raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", self.res)
-            D = linalg.scaling(K, self.red.is_u)    # the scaled norm first: a converged iterate is not factorized
-            nr = np.linalg.norm(D * r)
-            norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
-            floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
-            if norm < o.tol or floor:            # floor: a full step with the same active set changed x
-                if fixed is not None:              # report the true (non-negative) pressure
-                    st = self.surf.state(x[self.sy.offsets["u"]], self.ind, d, lam, self.eps, stick=self._stick)
-                return x, st, it
-            t0 = time.process_time()
-            self.solver = solver = self._factorize(K, self.red.is_u, D=D)
-            self.stats["factorizations"] += 1
-            self.stats["factorize_s"] += time.process_time() - t0
-            seen.append(st.active.tobytes())
-            self.trace.append((d, it, norm, int(st.active.sum())))
-            dy, lres = solver(-r)
-            if float(np.max(lres)) > 1e-6:
-                raise ContactError(f"penalty too high: the scaled linear solve's relative residual is "
-                                   f"{float(np.max(lres)):.1e} (> 1e-6, ill-conditioned) with penalty "
-                                   f"{self.eps:.3g} Pa/m; lower it", self.res)
-            dx = P @ dy[:, 0]
-            alpha = 1.0
-            while True:
-                x_new = x + alpha * dx
-                r_new, *_ = self._residual(x_new, d, lam, tangent=False, fixed=fixed)
-                if self._min_J > 0:
-                    if (not o.line_search or alpha <= 1 / 64
-                            or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
-                        break
-                elif alpha <= 1 / 64:
-                    raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", self.res)
-                alpha /= 2
-            self.trace[-1] += (alpha,)
-            step_rel = alpha * np.linalg.norm(dx) / max(np.linalg.norm(x), 1e-300)
-            x = x_new
-        last = seen[-6:]
-        if len(set(last)) <= 2 and len(set(last)) < len(last) and last[-1] != last[-2]:
-            raise ContactError(f"the contact active set cycles between two sets at travel {d:.4g} m "
-                               f"({o.max_iter} Newton iterations, residual {norm:.2e}): keep the active-set "
-                               "update in the tangent, or take smaller travel steps", self.res)
-        raise ContactError(f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations "
-                           f"(residual {norm:.2e})", self.res)
+    def _newton(self, x, d, lam, tol=None):
+        """Newton at travel d, multipliers lam (fem.contact_newton)."""
+        return contact_newton.newton(self, x, d, lam, tol)
 
     def solve_at(self, d):
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
         o = self.o
         x, lam, its = self.x.copy(), self.lam.copy(), 0
         self._stick = self._sticking()
+        if o.predictor and self.v is None and not self.res.points:
+            self.start_rates()
         if o.predictor and self.v is not None:     # the tangent prediction, shortened while it inverts elements
             for frac in (1.0, 0.5, 0.25, 0.0):
                 if frac == 0.0 or self._residual(x + frac * (d - self.d) * self.v, d, lam, tangent=False) \
@@ -311,6 +261,18 @@ class Press:
         dy, _ = self.solver(-rhs)
         v = self.red.P @ dy[:, 0]
         return v, self.G * (dF_dd + float(dF_du.ravel() @ v[S]))
+
+    def start_rates(self):
+        """dx/dd and dF/dd at the unpressed state (one factorization): the first travel's
+        prediction, and force control's first trial (fem.loadpath.force)."""
+        self._stick = self._sticking()
+        _, _, st, K = self._residual(self.x, self.d, self.lam)
+        t0 = time.process_time()
+        self.solver = self._factorize(K, self.red.is_u)
+        self.stats["factorizations"] += 1
+        self.stats["factorize_s"] += time.process_time() - t0
+        self.v, self.slope = self._rates(self.x, st, self.d, self.lam)
+        return self.slope
 
     def _sticking(self) -> Stick | None:
         """The stick set for the next solve: with a sticking indenter, at the first solve

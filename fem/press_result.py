@@ -63,6 +63,8 @@ class Options:
     max_uzawa: int = 40
     force_tol: float = 1e-3         # force control: |F - target| / target
     first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
+    first_force: float | None = None  # force control with the predictor: first trial at the travel the
+    #                                   unpressed stiffness gives for this fraction of the target (None: first_travel)
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
     fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
