@@ -44,8 +44,9 @@ def newton(pr, x, d, lam, tol=None):
     o, P = pr.o, pr.red.P
     tol = o.tol if tol is None else tol
     seen, norms, frozen, fixed, step_rel = [], [], None, None, 1.0
+    trial, D = None, None          # the line search's accepted residual (r, ref, st) at x; the last scaling
     for it in range(o.max_iter):
-        r, ref, st, K = pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
+        r, ref, st, K = trial + (None,) if trial is not None else pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
         key = st.active.tobytes()
         if o.fix_cycling and fixed is None and o.active_set_update and key in seen[:-1] and key != seen[-1]:
             fixed = st.active.copy()          # the set came back: finish on it (smooth), Uzawa decides
@@ -53,16 +54,26 @@ def newton(pr, x, d, lam, tol=None):
         if not o.active_set_update and frozen is None:
             frozen = st.active.copy()
             r, ref, st, K = pr._residual(x, d, lam, frozen=frozen)
-        if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
+        if K is not None and (not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r))):
             raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
-        D = linalg.scaling(K, pr.red.is_u)    # the scaled norm first: a converged iterate is not factorized
+        if K is not None:
+            D = linalg.scaling(K, pr.red.is_u)
+        # the scaled norm first (after a line search with the last step's scaling): a converged
+        # iterate gets no tangent and no factorization
         nr = np.linalg.norm(D * r)
         norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
         floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
         if norm < tol or floor:            # floor: a full step with the same active set changed x
-            if fixed is not None:              # report the true (non-negative) pressure
+            if fixed is not None or st.H is None:   # the true (non-negative) pressure, with dn/dx
                 st = pr.surf.state(x[pr.sy.offsets["u"]], pr.ind, d, lam, pr.eps, stick=pr._stick)
             return x, st, it
+        if K is None:
+            r, ref, st, K = pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
+            if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
+                raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
+            D = linalg.scaling(K, pr.red.is_u)
+            nr = np.linalg.norm(D * r)
+            norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
         if (len(seen) >= STALL_STEPS and len(set(seen[-STALL_STEPS:] + [key])) == 1
                 and norm > STALL_CUT * norms[-STALL_STEPS]):
             raise ContactError(f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on one active set "
@@ -75,7 +86,9 @@ def newton(pr, x, d, lam, tol=None):
         seen.append(key)
         norms.append(norm)
         pr.trace.append((d, it, norm, int(st.active.sum())))
+        t0 = time.process_time()
         dy, lres = solver(-r, rtol=SOLVE_RTOL)
+        pr.stats["solve_s"] += time.process_time() - t0
         if float(np.max(lres)) > 1e-6:
             raise ContactError(f"penalty too high: the scaled linear solve's relative residual is "
                                f"{float(np.max(lres)):.1e} (> 1e-6, ill-conditioned) with penalty "
@@ -84,12 +97,13 @@ def newton(pr, x, d, lam, tol=None):
         alpha = 1.0
         while True:
             x_new = x + alpha * dx
-            r_new, *_ = pr._residual(x_new, d, lam, tangent=False, fixed=fixed)
+            trial = pr._residual(x_new, d, lam, tangent=False, frozen=frozen, fixed=fixed)[:3]
+            r_new = trial[0]
             if pr._min_J > 0:
                 if (not o.line_search or alpha <= 1 / 64
                         or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
                     break
-            elif alpha <= 1 / 64:
+            elif not np.all(np.isfinite(r_new)) or alpha <= 1 / 64:
                 raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", pr.res)
             alpha /= 2
         pr.trace[-1] += (alpha,)

@@ -58,11 +58,13 @@ class Options:
     penalty_factor: float = 100.0
     method: str = "augmented"       # augmented | penalty
     gap_tol: float = 1e-3           # largest penetration / travel
-    tol: float = 1e-9               # Newton, scaled relative residual (or round-off: see _newton)
+    tol: float = 1e-6               # Newton, scaled relative residual (or round-off: fem.contact_newton)
+    uzawa_tol: float | None = 1e-3  # Newton's tolerance while the multipliers still move (None: tol)
     max_iter: int = 25
     max_uzawa: int = 40
     force_tol: float = 1e-3         # force control: |F - target| / target
     first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
+    max_growth: float = 2.0         # force control with the predictor: a trial's travel step at most this x the last
     first_force: float | None = None  # force control with the predictor: first trial at the travel the
     #                                   unpressed stiffness gives for this fraction of the target (None: first_travel)
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
