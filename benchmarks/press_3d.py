@@ -79,7 +79,7 @@ def run(sc, lay, opts: Options | None = None, path=()):
     return dict(n=pr.red.n, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel, states=len(pr.res.points),
                 iterations=pr.res.total_iterations, factorizations=pr.stats["factorizations"],
                 factorize_s=pr.stats["factorize_s"], assemble_s=pr.stats["assemble_s"],
-                solve_s=pr.stats["solve_s"], wall=time.perf_counter() - w, cpu=time.process_time() - c)
+                solve_s=pr.stats["solve_s"], chord=pr.stats["chord_steps"], wall=time.perf_counter() - w, cpu=time.process_time() - c)
 
 
 def reference():
@@ -107,7 +107,9 @@ def reference():
 
 
 VARIANTS = {
-    "Newton to 1e-9 in every Uzawa pass (the tolerances before)": dict(opts=Options(tol=1e-9, uzawa_tol=None)),
+    "no chord steps (a factorization at every Newton step)": dict(opts=Options(chord=False)),
+    "Newton to 1e-9 in every Uzawa pass, no chord steps (the solver before)":
+        dict(opts=Options(tol=1e-9, uzawa_tol=None, chord=False)),
     "Newton to 1e-6 in every Uzawa pass (no inexact Uzawa)": dict(opts=Options(uzawa_tol=None)),
     "penetration tolerance 1 % of the travel (gap_tol 1e-2)": dict(opts=Options(gap_tol=1e-2)),
     "first trial at half the target from the unpressed stiffness (3 states)": dict(opts=Options(first_force=0.5)),
@@ -130,19 +132,19 @@ def main():
     def line(name, r):
         ref = json.loads(OUT.read_text()) if OUT.exists() else None     # (a reference run may be writing it)
         if "error" in r:
-            return f"| {name} | {r['n']} | stopped: {r['error']} |||||||| {r['cpu']:.1f} | |"
+            return f"| {name} | {r['n']} | stopped: {r['error']} ||||||||| {r['cpu']:.1f} | |"
         err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref else "-"
         return (f"| {name} | {r['n']} | {r['VF']:.5f} | {err} | {r['states']} | {r['iterations']} | "
-                f"{r['factorizations']} | {r['factorize_s']:.1f} | {r['solve_s']:.1f} | {r['assemble_s']:.1f} | "
+                f"{r['factorizations']} | {r['chord']} | {r['factorize_s']:.1f} | {r['solve_s']:.1f} | {r['assemble_s']:.1f} | "
                 f"{r['cpu']:.1f} | {r['wall']:.1f} |")
 
     if ref:
         print(f"reference: V/F {ref['VF']:.5f} V/N, observed order "
               f"{ref['order'] if ref['order'] is None else round(ref['order'], 2)} over sizes / "
               + ", ".join(f"{lv['divide']:.3g}" for lv in ref["levels"]) + f" ({OUT.name})")
-    print("| variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | "
+    print("| variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | "
           "factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     k = float(sys.argv[sys.argv.index("--divide") + 1]) if "--divide" in sys.argv else 1.0
     print(line("**default**" if k == 1.0 else f"**the default's settings, sizes / {k:g}**", run(sc, layout(sc, k))),
           flush=True)

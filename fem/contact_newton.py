@@ -35,6 +35,7 @@ from taxel.fem.press_result import ContactError
 
 STALL_STEPS = 5      # Newton steps on one active set ...
 STALL_CUT = 0.5      # ... that cut the residual by less than this factor: stagnation
+CHORD_CUT = 0.25     # a chord step (the last factorization) is kept if it cuts the residual by this
 SOLVE_RTOL = 1e-10   # a Newton step's linear solve: refinement stops here (1e-13 elsewhere)
 
 
@@ -67,6 +68,23 @@ def newton(pr, x, d, lam, tol=None):
             if fixed is not None or st.H is None:   # the true (non-negative) pressure, with dn/dx
                 st = pr.surf.state(x[pr.sy.offsets["u"]], pr.ind, d, lam, pr.eps, stick=pr._stick)
             return x, st, it
+        ckey = (key, pr.eps, None if pr._stick is None else pr._stick.mask.tobytes(), fixed is None, frozen is None)
+        if o.chord and pr.solver is not None and pr._chord_key == ckey:
+            # a chord step: the last factorization (same active set, stick set and penalty), kept if it
+            # cuts the residual by CHORD_CUT; else Newton's tangent at this iterate
+            t0 = time.process_time()
+            dy, _ = pr.solver(-r, rtol=SOLVE_RTOL)
+            pr.stats["solve_s"] += time.process_time() - t0
+            x_c = x + P @ dy[:, 0]
+            tr = pr._residual(x_c, d, lam, tangent=False, frozen=frozen, fixed=fixed)[:3]
+            if pr._min_J > 0 and np.all(np.isfinite(tr[0])) and np.linalg.norm(D * tr[0]) < CHORD_CUT * nr:
+                pr.stats["chord_steps"] += 1
+                seen.append(key)
+                norms.append(norm)
+                pr.trace.append((d, it, norm, int(st.active.sum()), "chord"))
+                step_rel = np.linalg.norm(x_c - x) / max(np.linalg.norm(x), 1e-300)
+                x, trial = x_c, tr
+                continue
         if K is None:
             r, ref, st, K = pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
             if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
@@ -81,6 +99,7 @@ def newton(pr, x, d, lam, tol=None):
                                "search steps down to 1/64: a kink in the contact zone)", pr.res)
         t0 = time.process_time()
         pr.solver = solver = pr._factorize(K, pr.red.is_u, D=D)
+        pr._chord_key = ckey
         pr.stats["factorizations"] += 1
         pr.stats["factorize_s"] += time.process_time() - t0
         seen.append(key)

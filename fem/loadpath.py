@@ -65,8 +65,7 @@ def force(pr, F_target, max_trials=40):
             # Newton on F(d) with the path's own stiffness; at most twice the last step,
             # and inside the bracket once there is one
             step = (F_target - F) / pr.slope
-            g = o.max_growth
-            d_new = d + float(np.clip(step, -g * abs(d - d_prev) - 1e-9, g * max(abs(d - d_prev), 0.25 * d)))
+            d_new = d + float(np.clip(step, -2 * abs(d - d_prev) - 1e-9, 2 * max(abs(d - d_prev), 0.25 * d)))
             if hi is not None and not min(lo[0], hi[0]) < d_new < max(lo[0], hi[0]):
                 d_new = _falsi(lo, hi, F_target)
         elif hi is None:                     # secant from the last two states, at most 1.5x the step

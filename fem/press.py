@@ -109,7 +109,9 @@ class Press:
         self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
         self._stick: Stick | None = None    # the one in use by the solve under way
         self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
-        self.stats = dict(factorizations=0, residuals=0, tangents=0, factorize_s=0.0, assemble_s=0.0, solve_s=0.0)
+        self.stats = dict(factorizations=0, residuals=0, tangents=0, factorize_s=0.0, assemble_s=0.0, solve_s=0.0,
+                          chord_steps=0)
+        self._chord_key = None           # what the last factorization was made for (fem.contact_newton)
         self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
 
     # ------------------------------------------------------------ one equilibrium
@@ -262,7 +264,7 @@ class Press:
         S = self.surf.dofs.ravel() + u0
         dr, dF_dd, dF_du = self.surf.travel_derivatives(st, self.eps)
         if self.solver is None:                  # converged without a Newton step: factorize here
-            self.solver = self._factorize(self._residual(x, d, lam)[3], self.red.is_u)
+            self.solver, self._chord_key = self._factorize(self._residual(x, d, lam)[3], self.red.is_u), None
         rhs = self.red.P.T @ np.bincount(S, dr.ravel(), minlength=n)
         dy, _ = self.solver(-rhs)
         v = self.red.P @ dy[:, 0]
@@ -274,7 +276,7 @@ class Press:
         self._stick = self._sticking()
         _, _, st, K = self._residual(self.x, self.d, self.lam)
         t0 = time.process_time()
-        self.solver = self._factorize(K, self.red.is_u)
+        self.solver, self._chord_key = self._factorize(K, self.red.is_u), None
         self.stats["factorizations"] += 1
         self.stats["factorize_s"] += time.process_time() - t0
         self.v, self.slope = self._rates(self.x, st, self.d, self.lam)
@@ -323,7 +325,7 @@ class Press:
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
         r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
         self._stick = self._sticking()           # the tangent at the final state (Newton stops unfactorized)
-        self.solver = self._factorize(self._residual(x, self.d, self.lam)[3], red.is_u)
+        self.solver, self._chord_key = self._factorize(self._residual(x, self.d, self.lam)[3], red.is_u), None
         self._stick = None
         X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
         Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))

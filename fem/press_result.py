@@ -64,7 +64,6 @@ class Options:
     max_uzawa: int = 40
     force_tol: float = 1e-3         # force control: |F - target| / target
     first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
-    max_growth: float = 2.0         # force control with the predictor: a trial's travel step at most this x the last
     first_force: float | None = None  # force control with the predictor: first trial at the travel the
     #                                   unpressed stiffness gives for this fraction of the target (None: first_travel)
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
@@ -73,5 +72,6 @@ class Options:
     rule: str = "auto"              # contact points: gauss (intorder) | nodal (P2 nodes, lumped) | auto (3D nodal)
     line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
     predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
+    chord: bool = True              # try the last factorization first (a chord step) while the active set holds
     reuse_analysis: bool = True     # PARDISO: one symbolic analysis for every tangent of the press (fem.linalg.Refactorizer)
     assembly: str = "vectorised"    # vectorised (fem.yeoh_terms, fem.sparsity) | skfem (the reference path)
