@@ -107,18 +107,18 @@ def reference():
 
 
 VARIANTS = {
-    "no chord steps (a factorization at every Newton step)": dict(opts=Options(chord=False)),
-    "Newton to 1e-9 in every Uzawa pass, no chord steps (the solver before)":
+    "Newton to 1e-9 in every Uzawa pass, no chord steps (the tolerances before)":
         dict(opts=Options(tol=1e-9, uzawa_tol=None, chord=False)),
+    "no chord steps (a factorization at every Newton step)": dict(opts=Options(chord=False)),
     "Newton to 1e-6 in every Uzawa pass (no inexact Uzawa)": dict(opts=Options(uzawa_tol=None)),
     "penetration tolerance 1 % of the travel (gap_tol 1e-2)": dict(opts=Options(gap_tol=1e-2)),
+    "frictionless punch": dict(friction="frictionless"),
     "first trial at half the target from the unpressed stiffness (3 states)": dict(opts=Options(first_force=0.5)),
     "load path 0.25, 0.5, 0.75, 1 N": dict(path=(0.25, 0.5, 0.75)),
     "PARDISO analysis at every Newton step": dict(opts=Options(reuse_analysis=False)),
     "no contact-aware grading (edges at piezo_size only)": dict(grading=False),
     "contact size 2 x edge radius": dict(contact_factor=2.0),
     "6 Gauss points per facet (intorder 3)": dict(opts=Options(rule="gauss", intorder=3)),
-    "frictionless punch": dict(friction="frictionless"),
 }
 
 
