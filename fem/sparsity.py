@@ -80,8 +80,7 @@ def _union(keys: np.ndarray, n: int) -> np.ndarray:
     structurally symmetric pattern, so a symmetric matrix is recognised as one by
     fem.linalg.Refactorizer), through scipy's COO -> CSR conversion (a counting sort by
     row, then each row's columns sorted: faster than np.unique on millions of keys)."""
-    rows, cols = keys // n, keys % n
-    one = np.ones(2 * len(keys), dtype=np.int8)
-    M = sp.csr_matrix((one, (np.concatenate([rows, cols]), np.concatenate([cols, rows]))), shape=(n, n))
-    M.sum_duplicates()
+    M = sp.csr_matrix((np.ones(len(keys), dtype=np.float32), (keys // n, keys % n)), shape=(n, n))
+    M = (M + M.T).tocsr()            # positive counts: no entry cancels
+    M.sort_indices()
     return np.repeat(np.arange(n, dtype=np.int64), np.diff(M.indptr)) * n + M.indices
