@@ -46,7 +46,8 @@ voltage-force curve. The Yeoh and contact terms are vectorised element arrays
 (fem.sparsity); Options(assembly="skfem") keeps the scikit-fem path for comparison.
 
 Failures are raised as ContactError, naming the cause: Newton not converging,
-the active set cycling (the last iterates alternate between two sets), the augmented
+Newton stagnating on one active set (fem.contact_newton), the active set cycling
+(the last iterates alternate between two sets), the augmented
 Lagrangian not reaching the penetration tolerance (the penalty is doubled, up
 to 64 x, when an update does not cut the error by 4), a penalty too low
 (penetration above tolerance with method = "penalty"), a penalty too high (the
