@@ -37,7 +37,7 @@ so a Krylov solve of more than a few iterations would cost more than the chord s
 Measured (one run each; CPU time, MKL_NUM_THREADS=1, on a machine shared at load 15-25, so wall
 times were 10-15x the CPU times). Before this work (the landed code, the same script): the
 default mesh 295 s of CPU, 62 Newton iterations, 71 factorizations (152 s), assembly 119 s;
-sizes / 0.5 18.6 s of CPU measured today beside the rows below, 38 iterations, 38 factorizations.
+sizes / 0.5 30.4 s of CPU, 38 iterations, 38 factorizations (docs/press_3d_reference.json).
 
 | run | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
@@ -49,7 +49,8 @@ sizes / 0.5 18.6 s of CPU measured today beside the rows below, 38 iterations, 3
 | penetration tolerance 1 % of the travel (gap_tol 1e-2) | 11634 | -0.80816 | +2.31 % | 6 | 30 | 15 | 16 | 3.3 | 1.1 | 3.3 | 8.9 | 81.4 |
 
 The press (mesh + assemble + press to 1 N) is 2.9x cheaper at the default mesh (102 s against
-295 s of CPU, the same V/F to 5e-5) and 2.0x at sizes / 0.5 (9.1 s against 18.6 s); the 10 s
+295 s of CPU, the same V/F to 5e-5) and 1.5x at sizes / 0.5 against the tolerances before in the
+same run (9.1 s against 14.0 s; 30.4 s in the reference run of the landed code); the 10 s
 target within 1 % is not met on these meshes: the default mesh is within 1 % but takes 102 s,
 sizes / 0.5 takes 9.1 s but is +2.3 % off. At 36 687 unknowns one numeric factorization costs
 1.6 s of CPU, so the 38 left are 60 % of the time; the cheaper mesh within 1 % (meshing) decides.
