@@ -47,6 +47,15 @@ sizes / 0.5 30.4 s of CPU, 38 iterations, 38 factorizations (docs/press_3d_refer
 | no chord steps (a factorization at every Newton step) | 11634 | -0.80802 | +2.29 % | 5 | 24 | 25 | 0 | 5.3 | 0.7 | 3.9 | 10.9 | 156.1 |
 | Newton to 1e-6 in every Uzawa pass (no inexact Uzawa) | 11634 | -0.80804 | +2.29 % | 5 | 40 | 15 | 26 | 3.3 | 1.4 | 3.7 | 9.3 | 112.6 |
 | penetration tolerance 1 % of the travel (gap_tol 1e-2) | 11634 | -0.80816 | +2.31 % | 6 | 30 | 15 | 16 | 3.3 | 1.1 | 3.3 | 8.9 | 81.4 |
+| frictionless punch | 11634 | stopped: 0.608 N reached; Newton stagnates at travel 0.0004022 m: 5 steps on one active set cut the residual from 5.76e-04 only to 2.34e-03 | | | | | | | | | 136.4 | |
+| first trial at half the target from the unpressed stiffness | 11634 | -0.81152 | +2.73 % | 4 | 30 | 18 | 15 | 3.6 | 1.2 | 3.9 | 9.5 | 59.6 |
+| load path 0.25, 0.5, 0.75, 1 N | 11634 | -0.80802 | +2.29 % | 10 | 54 | 13 | 42 | 2.5 | 1.5 | 4.4 | 9.7 | 34.6 |
+| PARDISO analysis at every Newton step | 11634 | -0.80804 | +2.29 % | 5 | 33 | 15 | 19 | 4.9 | 1.0 | 3.1 | 9.8 | 30.9 |
+| no contact-aware grading (edges at piezo_size only) | 5528 | -0.82406 | +4.32 % | 6 | 34 | 11 | 24 | 0.6 | 0.3 | 1.6 | 2.7 | 8.3 |
+| contact size 2 x edge radius | 5528 | -0.82552 | +4.51 % | 6 | 34 | 11 | 24 | 0.5 | 0.3 | 1.6 | 2.7 | 8.7 |
+
+(the default row from --quick, the others from --divide 0.5; the machine's load fell during the
+second run, so its later rows' wall times are 3x their CPU times, the first rows' 10-15x.)
 
 The press (mesh + assemble + press to 1 N) is 2.9x cheaper at the default mesh (102 s against
 295 s of CPU, the same V/F to 5e-5) and 1.5x at sizes / 0.5 against the tolerances before in the
@@ -61,11 +70,6 @@ saves nothing: the rounded edge's points slide through the step before they stic
 keeps the small first steps. The frictionless punch at sizes / 0.5 gets to 0.608 N and stops,
 named: Newton stagnates on one active set at 0.402 mm of travel (the line search's steps down to
 1/64; 136 s of CPU with the bisections); it does not reach 1 N.
-
-| run (sizes / 0.5, the same run) | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
-|---|---|---|---|---|---|---|---|---|---|---|---|---|
-| frictionless punch | 11634 | stopped: 0.608 N reached; Newton stagnates at travel 0.0004022 m: 5 steps on one active set cut the residual from 5.76e-04 only to 2.34e-03 | | | | | | | | | 136.4 | |
-| first trial at half the target from the unpressed stiffness | 11634 | -0.81152 | +2.73 % | 4 | 30 | 18 | 15 | 3.6 | 1.2 | 3.9 | 9.5 | 59.6 |
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick] [--divide K]
 (--quick: the default row only; --divide K: the rows on the default mesh with every size divided
@@ -161,7 +165,7 @@ VARIANTS = {
     "Newton to 1e-6 in every Uzawa pass (no inexact Uzawa)": dict(opts=Options(uzawa_tol=None)),
     "penetration tolerance 1 % of the travel (gap_tol 1e-2)": dict(opts=Options(gap_tol=1e-2)),
     "frictionless punch": dict(friction="frictionless"),
-    "first trial at half the target from the unpressed stiffness (3 states)": dict(opts=Options(first_force=0.5)),
+    "first trial at half the target from the unpressed stiffness": dict(opts=Options(first_force=0.5)),
     "load path 0.25, 0.5, 0.75, 1 N": dict(path=(0.25, 0.5, 0.75)),
     "PARDISO analysis at every Newton step": dict(opts=Options(reuse_analysis=False)),
     "no contact-aware grading (edges at piezo_size only)": dict(grading=False),
