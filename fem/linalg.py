@@ -180,15 +180,16 @@ def scaled_solver(A: sp.spmatrix, is_u: np.ndarray, method: str, scale: bool = T
     As = (sp.diags(D) @ A @ sp.diags(D)).tocsc()
     factor = factorize(As, method)
 
-    def solve_(B):
-        return refined_solve(factor, As, D, B)
+    def solve_(B, rtol=1e-13):
+        return refined_solve(factor, As, D, B, rtol)
     solve_.D = D
     return solve_
 
 
-def refined_solve(factor, As, D, B):
+def refined_solve(factor, As, D, B, rtol=1e-13):
     """X = D Y with (D A D) Y = D B solved by `factor` and up to three steps of iterative
-    refinement on the scaled system; returns (X, relative residuals per column)."""
+    refinement on the scaled system, until the relative residual is below `rtol`;
+    returns (X, relative residuals per column)."""
     B = np.asarray(B).reshape(As.shape[0], -1)
     Bs = D[:, None] * B
     Y = factor(Bs).reshape(Bs.shape)
@@ -196,7 +197,7 @@ def refined_solve(factor, As, D, B):
         R = Bs - As @ Y
         norm_b = np.linalg.norm(Bs, axis=0)
         res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)    # zero rhs: zero error
-        if res.max() < 1e-13:
+        if res.max() < rtol:
             break
         Y = Y + factor(R).reshape(Bs.shape)
     X = D[:, None] * Y
@@ -233,13 +234,31 @@ class Refactorizer:
     (phase 11: fill-reducing ordering, symbolic factorization, memory check) runs
     once per pattern and each matrix gets only its numeric factorization (phase 22);
     other methods factorize each matrix in full. The scaling D A D multiplies the
-    stored entries, so the pattern is kept (explicit zeros included). One set of
-    factors at a time: a solve function of an earlier matrix raises once a later
-    one is factorized (benchmarks/press_3d.py measures the saving)."""
+    stored entries, so the pattern is kept (explicit zeros included). A symmetric
+    matrix (a press's tangent: Yeoh, piezo and contact terms are all symmetric,
+    the sticking ones too) is factorized in PARDISO's symmetric-indefinite mode on
+    its upper triangle, as `factorize` does (half the factors, 0.6 x the CPU time;
+    benchmarks/press_3d.py); the triangle's and the transpose's positions in the data
+    array are found once per pattern. One set of factors at a time: a solve function
+    of an earlier matrix raises once a later one is factorized."""
 
     def __init__(self, method: str):
         self.method = method
         self._solver, self._pattern, self._generation = None, None, 0
+        self._maps = None                 # (pattern, rows, transpose permutation or None, upper mask)
+
+    def _map(self, A):
+        """Per pattern: the row of every entry, the permutation of the data array that
+        transposes it (None if the pattern is not structurally symmetric), the upper mask."""
+        key = (A.shape[0], A.indptr.tobytes(), A.indices.tobytes())
+        if self._maps is None or self._maps[0] != key:
+            rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
+            T = sp.csr_matrix((np.arange(1, A.nnz + 1, dtype=float), A.indices, A.indptr), shape=A.shape).T.tocsr()
+            T.sort_indices()
+            same = T.nnz == A.nnz and np.array_equal(T.indptr, A.indptr) and np.array_equal(T.indices, A.indices)
+            perm = (T.data - 1).astype(np.int64) if same else None
+            self._maps = (key, rows, perm, A.indices >= rows)
+        return self._maps
 
     def __call__(self, A: sp.spmatrix, is_u: np.ndarray, D=None):
         if self.method != "pardiso":
@@ -249,20 +268,29 @@ class Refactorizer:
         A.sort_indices()
         if D is None:
             D = scaling(A, is_u)
-        rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
-        As = sp.csr_matrix((A.data * D[rows] * D[A.indices], A.indices, A.indptr), shape=A.shape)
-        key = (A.shape[0], A.indptr.tobytes(), A.indices.tobytes())
+        key, rows, perm, upper = self._map(A)
+        data = A.data * D[rows] * D[A.indices]
+        As = sp.csr_matrix((data, A.indices, A.indptr), shape=A.shape)
+        symmetric = perm is not None and (np.abs(data - data[perm]).max(initial=0.0)
+                                          <= 1e-14 * np.abs(data).max(initial=0.0))
+        if symmetric:                     # the upper triangle, its pattern from the mask
+            Af = sp.csr_matrix((data[upper], A.indices[upper],
+                                np.concatenate([[0], np.cumsum(np.bincount(rows[upper], minlength=A.shape[0]))])
+                                .astype(A.indptr.dtype)), shape=A.shape)
+        else:
+            Af = As
+        key = key + (symmetric,)
         if self._pattern != key:
             if self._solver is not None:
                 self._solver.free_memory(True)
-            self._solver = pypardiso.PyPardisoSolver(mtype=11)      # as factorize: nonsymmetric pivoting
+            self._solver = pypardiso.PyPardisoSolver(mtype=-2 if symmetric else 11)
             os.environ.setdefault("PYPARDISO_MKL_RT", self._solver.libmkl._name)
             weakref.finalize(self, self._solver.free_memory, True)
-            check_fits(self._solver, As)                             # phase 11
+            check_fits(self._solver, Af)                             # phase 11
             self._pattern = key
         s = self._solver
         s.set_phase(22)
-        s._call_pardiso(As, np.zeros((A.shape[0], 1)))
+        s._call_pardiso(Af, np.zeros((A.shape[0], 1)))
         self._generation += 1
         generation = self._generation
 
@@ -270,9 +298,9 @@ class Refactorizer:
             if generation != self._generation:
                 raise RuntimeError("a solve with factors that a later factorization replaced")
             s.set_phase(33)
-            return s._call_pardiso(As, np.asfortranarray(np.asarray(B, dtype=float).reshape(A.shape[0], -1)))
+            return s._call_pardiso(Af, np.asfortranarray(np.asarray(B, dtype=float).reshape(A.shape[0], -1)))
 
-        def solve_(B):
-            return refined_solve(factor, As, D, B)
+        def solve_(B, rtol=1e-13):
+            return refined_solve(factor, As, D, B, rtol)
         solve_.D = D
         return solve_

@@ -55,7 +55,11 @@ def force(pr, F_target, max_trials=40):
             else:
                 lo = (lo[0], F_target - (F_target - lo[1]) / 2)
         last_side = side
-        if d == 0.0:
+        if d == 0.0 and o.predictor and o.first_force is not None:
+            # the unpressed state's own stiffness: the travel of first_force x the target
+            slope = pr.slope if pr.slope is not None else pr.start_rates()
+            d_new = o.first_force * F_target / slope
+        elif d == 0.0:
             d_new = o.first_travel * pr.height
         elif o.predictor and pr.slope is not None and pr.slope > 0:
             # Newton on F(d) with the path's own stiffness; at most twice the last step,

@@ -58,16 +58,20 @@ class Options:
     penalty_factor: float = 100.0
     method: str = "augmented"       # augmented | penalty
     gap_tol: float = 1e-3           # largest penetration / travel
-    tol: float = 1e-9               # Newton, scaled relative residual (or round-off: see _newton)
+    tol: float = 1e-6               # Newton, scaled relative residual (or round-off: fem.contact_newton)
+    uzawa_tol: float | None = 1e-3  # Newton's tolerance while the multipliers still move (None: tol)
     max_iter: int = 25
     max_uzawa: int = 40
     force_tol: float = 1e-3         # force control: |F - target| / target
     first_travel: float = 0.02      # force control: first trial, as a fraction of the layer height
+    first_force: float | None = None  # force control with the predictor: first trial at the travel the
+    #                                   unpressed stiffness gives for this fraction of the target (None: first_travel)
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
     fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
     rule: str = "auto"              # contact points: gauss (intorder) | nodal (P2 nodes, lumped) | auto (3D nodal)
     line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
     predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
+    chord: bool = True              # try the last factorization first (a chord step) while the active set holds
     reuse_analysis: bool = True     # PARDISO: one symbolic analysis for every tangent of the press (fem.linalg.Refactorizer)
     assembly: str = "vectorised"    # vectorised (fem.yeoh_terms, fem.sparsity) | skfem (the reference path)

@@ -47,23 +47,40 @@ class Pattern:
             keep = (rr >= 0) & (cc >= 0)
             self._keep[name] = (keep, rr[keep].astype(np.int64) * n + cc[keep])
             keys.append(self._keep[name][1])
-        uniq = np.unique(np.concatenate(keys))
+        uniq = _union(np.concatenate(keys), n)
         rows, cols = uniq // n, uniq % n
         self.indptr = np.searchsorted(rows, np.arange(n + 1)).astype(np.int32)
         self.indices = cols.astype(np.int32)
         self.nnz = len(uniq)
         self.base = np.bincount(np.searchsorted(uniq, keys[0]), weights=Ar.data, minlength=self.nnz).astype(float)
-        self.pos = {name: (keep, np.searchsorted(uniq, k)) for name, (keep, k) in self._keep.items()}
+        # each block entry's position in the data array; entries of dropped rows or columns
+        # go to a slot past its end (no masked copy of the values at every fill)
+        self.pos = {}
+        for name, (keep, k) in self._keep.items():
+            pos = np.full(keep.shape, self.nnz, dtype=np.intp)
+            pos[keep] = np.searchsorted(uniq, k)
+            self.pos[name] = pos
 
     def matrix(self, values: dict[str, np.ndarray]) -> sp.csr_matrix:
         """The reduced CSR matrix with these block values added to the constant part."""
-        data = self.base.copy()
+        data = np.append(self.base, 0.0)
         for name, v in values.items():
-            keep, pos = self.pos[name]
-            data += np.bincount(pos, weights=np.asarray(v).ravel()[keep], minlength=self.nnz)
+            data += np.bincount(self.pos[name], weights=np.asarray(v, dtype=float).ravel(), minlength=self.nnz + 1)
+        data = data[:-1]
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
 
     def reduce(self, r_full: np.ndarray) -> np.ndarray:
         """P^T r."""
         keep = self.col >= 0
         return np.bincount(self.col[keep], weights=r_full[keep], minlength=self.n)
+
+
+def _union(keys: np.ndarray, n: int) -> np.ndarray:
+    """The sorted distinct keys row * n + col of the entries and of their transposes (a
+    structurally symmetric pattern, so a symmetric matrix is recognised as one by
+    fem.linalg.Refactorizer), through scipy's COO -> CSR conversion (a counting sort by
+    row, then each row's columns sorted: faster than np.unique on millions of keys)."""
+    M = sp.csr_matrix((np.ones(len(keys), dtype=np.float32), (keys // n, keys % n)), shape=(n, n))
+    M = (M + M.T).tocsr()            # positive counts: no entry cancels
+    M.sort_indices()
+    return np.repeat(np.arange(n, dtype=np.int64), np.diff(M.indptr)) * n + M.indices

@@ -102,3 +102,31 @@ def test_refactorizer_reuses_the_analysis_and_solves_like_a_fresh_factorization(
     ref(pattern.copy(), is_u)
     with pytest.raises(RuntimeError, match="later factorization"):
         stale(np.ones(n))
+
+
+@pytest.mark.skipif(not linalg.available("pardiso"), reason="PARDISO not installed")
+def test_refactorizer_factorizes_a_symmetric_matrix_in_the_symmetric_mode():
+    """A symmetric matrix (a press tangent) goes to PARDISO's symmetric-indefinite mode on
+    its upper triangle and solves as a fresh factorization does; a nonsymmetric one of the
+    same pattern goes back to the nonsymmetric mode (analysed again)."""
+    rng = np.random.default_rng(5)
+    n = 300
+    base = sp.random(n, n, density=0.03, random_state=6, format="csr")
+    S = (base + base.T + sp.eye(n)).tocsr()
+    S.data = rng.standard_normal(S.nnz)
+    S = ((S + S.T) / 2).tocsr()
+    S.setdiag(15.0)
+    S.data[S.indices == (np.repeat(np.arange(n), np.diff(S.indptr)) + 3) % n] *= -1   # indefinite rows
+    S = ((S + S.T) / 2).tocsr()
+    is_u = np.arange(n) < 200
+    b = rng.standard_normal(n)
+    ref = linalg.Refactorizer("pardiso")
+    X, res = ref(S, is_u)(b)
+    assert ref._solver.mtype == -2 and res.max() < 1e-12
+    fresh, _ = linalg.scaled_solver(S, is_u, "superlu")(b)
+    np.testing.assert_allclose(X[:, 0], fresh[:, 0], rtol=1e-9, atol=1e-12 * np.abs(fresh).max())
+    N = S.copy()
+    N.data = N.data + 0.1 * rng.standard_normal(N.nnz)                 # same pattern, not symmetric
+    Xn, _ = ref(N, is_u)(b)
+    assert ref._solver.mtype == 11
+    np.testing.assert_allclose(N @ Xn[:, 0], b, rtol=0, atol=1e-9 * np.abs(b).max())
