@@ -1,21 +1,22 @@
 """3D assembly rate: our vectorised assembly (fem.bilinear) against FELupe, side by
 side in one run, on the same P2 tetrahedral mesh with the same law and quadrature.
 
-Mesh: the gmsh mesh of a built-in 3D scene (all its elements, one material).
-Law: isotropic linear elasticity (E = 1 MPa, nu = 0.3): ours the Voigt form
-S(v) . c S(u) of fem.forms.elastic, FELupe `LinearElastic` in a `SolidBody`.
-Quadrature: scikit-fem's order-4 tetrahedron rule (11 points), passed to FELupe
-as a `felupe.quadrature.Scheme`, so both integrate the same points (the rule has a
-negative centroid weight, which FELupe reports as a "negative volume": silenced).
-
-The two stiffness matrices are compared after mapping FELupe's tetra10 points
-(vertices, then edge midpoints; left-handed cells reordered) onto our DOFs: they
-agree to round-off, so both codes assemble the same thing.
-
-Times are medians of REPEAT runs: "setup" is the basis (skfem Basis: shape
-function gradients at the quadrature points) or region (FELupe Region) and the
-field; "assembly" the stiffness matrix from them (CSR / FELupe's sparse matrix).
-Rates are displacement unknowns per second of setup + assembly.
+Second table (the issue's measure, >= 1.0): linear elasticity (E = 1 MPa, nu =
+0.3) on the P2 tetrahedral mesh of the 3x3 3D array at three sizes (3, 1.5 and 1 mm
+far, 0.4 x that at the taxels), set-up and assembly both. Ours: the scalar P2 basis
+on the affine mesh (fem.bilinear.scalar_basis: 10 reference gradients once, J^-1
+and |det J| per element) and the vector stiffness from it with the DOF map 3 s + c
+(fem.bilinear.vector_matrix: the reference integrals once, two small products per
+element, 3x3 blocks summed on the scalar DOF pairs, BSR to CSR), the code the
+coupled assembly uses for its vector strain terms; FELupe: `RegionQuadraticTetra`,
+`FieldContainer` and `SolidBody(LinearElastic)` `assemble.matrix()`. The same
+11-point rule: scikit-fem's order-4 tetrahedron rule, passed to FELupe as a
+`felupe.quadrature.Scheme` (its negative centroid weight makes FELupe report a
+"negative volume": silenced). The matrices are compared after mapping FELupe's
+tetra10 points (vertices, then edge midpoints) onto our DOFs (max |dK| / max |K|).
+Each code runs in its own fresh processes (ROUNDS per code, alternating), REPEAT
+timed runs each after one untimed one; CPU medians. Rates are displacement
+unknowns per second of set-up + assembly; ratios FELupe time / ours.
 
 Also times the full coupled assembly (fem.assembly.assemble: piezo, mixed u-p
 silicone, load, supports) of the built-in 3D taxel scenes.
