@@ -212,14 +212,15 @@ def yeoh_compare(size):
     from skfem import ElementTetP1
     from taxel.fem.sparsity import Pattern
     from taxel.fem.yeoh import Yeoh
+    from taxel.fem.bilinear import scalar_basis
     from taxel.fem.yeoh_terms import YeohRegion
     m = scene_mesh(taxel.load("thesis-pzt-single-3d").replace(**{"mesh.size": size,
                                                                 "mesh.piezo_size": 0.4 * size})).mesh
     law = Yeoh(*YEOH_C, K=2000 * YEOH_C[0])
 
     def ours_setup():
-        sb = Basis(m, ElementTetP2(), intorder=4)        # the scalar basis: 10 functions, not 30
-        pb = Basis(m, ElementTetP1(), intorder=4)
+        sb = scalar_basis(m, ElementTetP2(), 4)           # the scalar basis: 10 functions, not 30
+        pb = scalar_basis(m, ElementTetP1(), 4)
         return sb, pb, YeohRegion(sb, pb, law, Solid3D(), 3 * sb.N)
 
     def ours_pattern(reg, n):

@@ -85,6 +85,11 @@ def operator(basis, op: Operator, kin: Kinematics, sl=slice(None)) -> np.ndarray
 
 def weights(basis, kin: Kinematics, sl=slice(None)) -> np.ndarray:
     """(elements, points) quadrature weights times |det J| times the model's measure."""
+    if isinstance(basis, ScalarBasis):
+        measure = np.asarray(kin.measure(np.zeros((kin.dim, 1, 1))))
+        if measure.size != 1:
+            raise ValueError("weights: a ScalarBasis carries no points for a varying measure (axisymmetric)")
+        return float(measure) * basis.w[sl]
     x = np.asarray(basis.global_coordinates())[..., sl, :]
     return basis.dx[sl] * np.broadcast_to(kin.measure(x), basis.dx[sl].shape)
 
@@ -136,6 +141,12 @@ def lifting(basis, op: Operator, kin: Kinematics):
 def scalar_quantities(basis, kind: str, sl) -> np.ndarray:
     """(elements, points, r, scalar functions): gradients or values of the scalar shape
     functions of a basis (component 0 of a vector basis: its functions are (a, c))."""
+    if isinstance(basis, ScalarBasis):
+        if kind == "grad":
+            return basis.dN[sl]
+        ne = len(range(basis.detJ.shape[0])[sl])
+        return np.broadcast_to(basis.values[None, :, None, :], (ne,) + basis.values.shape[:1] + (1,)
+                               + basis.values.shape[1:])
     nc = basis.elem.dim if isinstance(basis.elem, ElementVector) else 1
     fns = [basis.basis[a * nc][0] for a in range(len(basis.basis) // nc)]
     if kind == "grad":
@@ -244,12 +255,19 @@ class ScalarBasis:
     Basis of the same element, so a vector field's DOF is dim s + c). What scikit-fem's
     vector Basis evaluates for 30 functions at every point, for 10 on the reference."""
 
+    elem: object               # the scalar scikit-fem element
     ref: np.ndarray            # (dim, points, functions) reference gradients
+    values: np.ndarray         # (points, functions) values (the same on every element)
     W: np.ndarray              # (points,) reference quadrature weights
     Jinv: np.ndarray           # (elements, dim, dim)
     detJ: np.ndarray           # (elements,) |det J|
     dofs: np.ndarray           # (elements, functions)
     N: int
+
+    @property
+    def element_dofs(self) -> np.ndarray:
+        """(functions, elements), as scikit-fem's Basis."""
+        return self.dofs.T
 
     @property
     def dN(self) -> np.ndarray:
@@ -267,13 +285,15 @@ def scalar_basis(mesh, elem, intorder: int = 4) -> ScalarBasis:
     if elem.nodal_dofs != 1 or elem.edge_dofs > 1 or elem.facet_dofs or elem.interior_dofs:
         raise ValueError(f"scalar_basis: {type(elem).__name__} is not a P1/P2 Lagrange element")
     X, W = get_quadrature(elem.refdom, intorder)
-    ref = np.stack([elem.lbasis(X, i)[1] for i in range(elem.doflocs.shape[0])], axis=-1)   # (dim, nq, nb)
+    nb = elem.doflocs.shape[0]
+    ref = np.stack([elem.lbasis(X, i)[1] for i in range(nb)], axis=-1)      # (dim, nq, nb)
+    values = np.stack([elem.lbasis(X, i)[0] for i in range(nb)], axis=-1)   # (nq, nb)
     p, t = mesh.p, mesh.t
     J = np.stack([p[:, t[i + 1]] - p[:, t[0]] for i in range(p.shape[0])], axis=-1).transpose(1, 0, 2)
     t2e, nedges = (mesh.t2e, mesh.edges.shape[1]) if p.shape[0] == 3 else (mesh.t2f, mesh.facets.shape[1])
     dofs = t.T if not elem.edge_dofs else np.hstack([t.T, p.shape[1] + t2e.T])
     N = p.shape[1] + (nedges if elem.edge_dofs else 0)
-    return ScalarBasis(ref, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
+    return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
 
 
 def affine_blocks(sb: ScalarBasis, L: np.ndarray, D: np.ndarray, sl=slice(None)) -> np.ndarray:

@@ -111,3 +111,25 @@ def test_scalar_basis_stiffness_equals_felupe_and_scikit_fem():
     Kiso = vector_matrix(scalar_basis(m, ElementTetP2(), 4), bench.isotropic_c(), Solid3D())
     Kfe = bench.felupe_assemble(bench.felupe_setup(*bench.felupe_points_cells(m)))
     assert bench.matrix_difference(ub, Kiso, Kfe, m) < 1e-12
+
+
+def test_scalar_basis_serves_the_yeoh_terms_as_scikit_fem_bases_do():
+    """fem.yeoh_terms.YeohRegion on ScalarBasis objects (P2 displacement, P1 pressure)
+    gives the residual and tangent it gives on scikit-fem's scalar bases."""
+    from skfem import Basis, ElementTetP1, ElementTetP2
+    from taxel.analyses import mesh
+    from taxel.fem.bilinear import scalar_basis
+    from taxel.fem.kinematics import Solid3D
+    from taxel.fem.yeoh import Yeoh
+    from taxel.fem.yeoh_terms import YeohRegion
+    m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+    law = Yeoh(7.83e3, 0.103e3, -0.8, K=2000 * 7.83e3)
+    out = []
+    for u, p in ((scalar_basis(m, ElementTetP2(), 4), scalar_basis(m, ElementTetP1(), 4)),
+                 (Basis(m, ElementTetP2(), intorder=4), Basis(m, ElementTetP1(), intorder=4))):
+        reg = YeohRegion(u, p, law, Solid3D(), 3 * u.N)
+        x = 1e-7 * np.sin(np.arange(3 * u.N + p.N))        # strains ~1e-3 on 2 mm elements
+        out.append(reg.terms(x))
+    for k in ("r_u", "r_p", "K_uu", "K_up", "K_pp"):
+        a, b = getattr(out[0], k), getattr(out[1], k)
+        assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max(), k
