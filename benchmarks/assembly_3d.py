@@ -1,21 +1,22 @@
 """3D assembly rate: our vectorised assembly (fem.bilinear) against FELupe, side by
 side in one run, on the same P2 tetrahedral mesh with the same law and quadrature.
 
-Mesh: the gmsh mesh of a built-in 3D scene (all its elements, one material).
-Law: isotropic linear elasticity (E = 1 MPa, nu = 0.3): ours the Voigt form
-S(v) . c S(u) of fem.forms.elastic, FELupe `LinearElastic` in a `SolidBody`.
-Quadrature: scikit-fem's order-4 tetrahedron rule (11 points), passed to FELupe
-as a `felupe.quadrature.Scheme`, so both integrate the same points (the rule has a
-negative centroid weight, which FELupe reports as a "negative volume": silenced).
-
-The two stiffness matrices are compared after mapping FELupe's tetra10 points
-(vertices, then edge midpoints; left-handed cells reordered) onto our DOFs: they
-agree to round-off, so both codes assemble the same thing.
-
-Times are medians of REPEAT runs: "setup" is the basis (skfem Basis: shape
-function gradients at the quadrature points) or region (FELupe Region) and the
-field; "assembly" the stiffness matrix from them (CSR / FELupe's sparse matrix).
-Rates are displacement unknowns per second of setup + assembly.
+Second table (the issue's measure, >= 1.0): linear elasticity (E = 1 MPa, nu =
+0.3) on the P2 tetrahedral mesh of the 3x3 3D array at three sizes (3, 1.5 and 1 mm
+far, 0.4 x that at the taxels), set-up and assembly both. Ours: the scalar P2 basis
+on the affine mesh (fem.bilinear.scalar_basis: 10 reference gradients once, J^-1
+and |det J| per element) and the vector stiffness from it with the DOF map 3 s + c
+(fem.bilinear.vector_matrix: the reference integrals once, two small products per
+element, 3x3 blocks summed on the scalar DOF pairs, BSR to CSR), the code the
+coupled assembly uses for its vector strain terms; FELupe: `RegionQuadraticTetra`,
+`FieldContainer` and `SolidBody(LinearElastic)` `assemble.matrix()`. The same
+11-point rule: scikit-fem's order-4 tetrahedron rule, passed to FELupe as a
+`felupe.quadrature.Scheme` (its negative centroid weight makes FELupe report a
+"negative volume": silenced). The matrices are compared after mapping FELupe's
+tetra10 points (vertices, then edge midpoints) onto our DOFs (max |dK| / max |K|).
+Each code runs in its own fresh processes (ROUNDS per code, alternating), REPEAT
+timed runs each after one untimed one; CPU medians. Rates are displacement
+unknowns per second of set-up + assembly; ratios FELupe time / ours.
 
 Also times the full coupled assembly (fem.assembly.assemble: piezo, mixed u-p
 silicone, load, supports) of the built-in 3D taxel scenes.
@@ -42,9 +43,13 @@ Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/assembly_3d.py [--no-
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import statistics
-import warnings
+import subprocess
+import sys
 import time
+import warnings
 
 import numpy as np
 import scipy.sparse as sp
@@ -142,20 +147,59 @@ def matrix_difference(ub, K, Kfe, m):
     return abs(K - Kmap).max() / abs(K).max()
 
 
-def compare(name):
-    m = scene_mesh(taxel.load(name)).mesh
-    c = isotropic_c()
-    t_ub, ub = median_time(lambda: ours_setup(m))
-    t_asm, K = median_time(lambda: ours_assemble(ub, c))
+LINEAR_SIZES = (3e-3, 1.5e-3, 1e-3)       # the 3x3 array's mesh: far size, 0.4 x that at the taxels
+ROUNDS = 3                                 # fresh processes per code and size, alternating
+
+
+def linear_mesh(size):
+    m = scene_mesh(taxel.load("thesis-pzt-3x3-3d").replace(**{"mesh.size": size,
+                                                              "mesh.piezo_size": 0.4 * size})).mesh
+    m.t2e                                      # the P2 mesh's edges: input to both (FELupe's tetra10 cells)
+    return m
+
+
+def linear_worker(code, size):
+    """Runs in a fresh process: REPEAT (set-up, assembly) CPU times of one code, as JSON."""
+    from skfem import ElementTetP2
+    from taxel.fem.bilinear import scalar_basis, vector_matrix
+    m, c = linear_mesh(size), isotropic_c()
     points, cells = felupe_points_cells(m)
-    t_fs, field = median_time(lambda: felupe_setup(points, cells))
-    t_fa, Kfe = median_time(lambda: felupe_assemble(field))
-    diff = matrix_difference(ub, K, Kfe, m)
-    n = ub.N
-    ours_total, fe_total = t_ub + t_asm, t_fs + t_fa
-    print(f"{name:<22} {m.t.shape[1]:>7} {n:>8} {t_ub:>7.2f} {t_asm:>7.2f} {t_fs:>7.2f} {t_fa:>7.2f} "
-          f"{n / ours_total:>10.3g} {n / fe_total:>10.3g} {fe_total / ours_total:>6.2f} "
-          f"{t_fa / t_asm:>6.2f} {diff:>9.1e}", flush=True)
+    out = []
+    for _ in range(REPEAT + 1):                # the first, untimed: imports and the heap's first growth
+        t0 = time.process_time()
+        basis = scalar_basis(m, ElementTetP2(), 4) if code == "ours" else felupe_setup(points, cells)
+        t1 = time.process_time()
+        vector_matrix(basis, c, Solid3D()) if code == "ours" else felupe_assemble(basis)
+        out.append((t1 - t0, time.process_time() - t1))
+    print(json.dumps(out[1:]))
+
+
+def linear_compare(size):
+    """One row of the linear table: the 3x3 3D array's mesh at far size `size`; ours
+    (the scalar P2 basis on the affine mesh, fem.bilinear.scalar_basis, and the vector
+    stiffness from it, fem.bilinear.vector_matrix) against FELupe (region, field,
+    SolidBody assembly), set-up and assembly, CPU medians over ROUNDS fresh processes
+    per code, alternating (one code's memory state does not slow the other: measured,
+    running after FELupe in one process tripled our time, page faults), REPEAT each
+    after one untimed run (FELupe's first run in a process is several times its next)."""
+    from skfem import ElementTetP2
+    from taxel.fem.bilinear import scalar_basis, vector_matrix
+    times = {"ours": [], "felupe": []}
+    for _ in range(ROUNDS):
+        for code in times:
+            env = dict(os.environ, MKL_NUM_THREADS="1", OMP_NUM_THREADS="1")
+            run = subprocess.run([sys.executable, __file__, "--linear-worker", code, str(size)], env=env,
+                                 capture_output=True, text=True, check=True)
+            times[code] += json.loads(run.stdout.strip().splitlines()[-1])
+    (t_os, t_oa), (t_fs, t_fa) = (np.median(np.array(times[k]), axis=0) for k in ("ours", "felupe"))
+    m = linear_mesh(size)
+    K = vector_matrix(scalar_basis(m, ElementTetP2(), 4), isotropic_c(), Solid3D())
+    diff = matrix_difference(ours_setup(m), K, felupe_assemble(felupe_setup(*felupe_points_cells(m))), m)
+    n = K.shape[0]
+    ours, theirs = t_os + t_oa, t_fs + t_fa
+    print(f"{size * 1e3:>4g} mm {m.t.shape[1]:>7} {n:>8} {t_os:>8.3f} {t_oa:>8.3f} {t_fs:>8.3f} {t_fa:>8.3f} "
+          f"{n / ours:>10.3g} {n / theirs:>10.3g} {theirs / ours:>7.2f} {t_fa / t_oa:>6.2f} {diff:>9.1e}", flush=True)
+    return theirs / ours
 
 
 YEOH_C = (7.83e3, 0.103e3, -0.8)          # Ecoflex 00-30 (REFERENCE.md), Pa
@@ -168,14 +212,15 @@ def yeoh_compare(size):
     from skfem import ElementTetP1
     from taxel.fem.sparsity import Pattern
     from taxel.fem.yeoh import Yeoh
+    from taxel.fem.bilinear import scalar_basis
     from taxel.fem.yeoh_terms import YeohRegion
     m = scene_mesh(taxel.load("thesis-pzt-single-3d").replace(**{"mesh.size": size,
                                                                 "mesh.piezo_size": 0.4 * size})).mesh
     law = Yeoh(*YEOH_C, K=2000 * YEOH_C[0])
 
     def ours_setup():
-        sb = Basis(m, ElementTetP2(), intorder=4)        # the scalar basis: 10 functions, not 30
-        pb = Basis(m, ElementTetP1(), intorder=4)
+        sb = scalar_basis(m, ElementTetP2(), 4)           # the scalar basis: 10 functions, not 30
+        pb = scalar_basis(m, ElementTetP1(), 4)
         return sb, pb, YeohRegion(sb, pb, law, Solid3D(), 3 * sb.N)
 
     def ours_pattern(reg, n):
@@ -209,7 +254,8 @@ def yeoh_compare(size):
     Kuu = K[:nu, :nu]
     diff = mapped_difference(Kuu, Kfe, perm)
     print(f"{size * 1e3:>4g} mm {m.t.shape[1]:>7} {nu:>8} {t_os:>8.3f} {t_pat:>8.3f} {t_ot:>8.3f} {t_fs:>8.3f} "
-          f"{t_ft:>8.3f} {t_ft / t_ot:>7.2f} {t_fs / t_os:>7.2f} {diff:>9.1e}", flush=True)
+          f"{t_ft:>8.3f} {t_ft / t_ot:>7.2f} {t_fs / t_os:>7.2f} {(t_fs + t_ft) / (t_os + t_ot):>7.2f} "
+          f"{diff:>9.1e}", flush=True)
     return t_ft / t_ot
 
 
@@ -254,6 +300,9 @@ def coupled(name):
 
 
 def main():
+    if "--linear-worker" in sys.argv:
+        i = sys.argv.index("--linear-worker")
+        return linear_worker(sys.argv[i + 1], float(sys.argv[i + 2]))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("scenes", nargs="*", default=["thesis-pzt-single-3d", "thesis-pzt-3x3-3d"])
     ap.add_argument("--no-linear", action="store_true", help="the Yeoh table only")
@@ -262,17 +311,18 @@ def main():
     print(f"FELupe {felupe.__version__}; Yeoh tangent at a deformed state, P2 tetrahedra, 11-point rule both; "
           f"median of {REPEAT}; seconds")
     print(f"{'mesh':>7} {'tets':>7} {'u dofs':>8} {'ours set':>8} {'pattern':>8} {'tangent':>8} {'FE set':>8} "
-          f"{'tangent':>8} {'FE/ours':>7} {'setup':>7} {'max|dK|':>9}")
+          f"{'tangent':>8} {'FE/ours':>7} {'setup':>7} {'both':>7} {'max|dK|':>9}")
     ratios = [yeoh_compare(s) for s in YEOH_SIZES]
     print(f"tangent ratio FELupe / ours: {min(ratios):.2f}-{max(ratios):.2f} (>= 1: ours is faster)\n")
     if args.no_linear:
         return
-    print(f"FELupe {felupe.__version__}; P2 tetrahedra, linear elastic, 11-point rule both; "
-          f"median of {REPEAT}; rates in displacement unknowns per second of setup + assembly")
-    print(f"{'mesh':<22} {'tets':>7} {'dofs':>8} {'ours:setup':>7} {'asm':>7} {'FE:setup':>7} {'asm':>7} "
-          f"{'ours u/s':>10} {'FE u/s':>10} {'FE/ours':>6} {'asm':>6} {'max|dK|':>9}")
-    for name in args.scenes:
-        compare(name)
+    print(f"FELupe {felupe.__version__}; the 3x3 3D array's P2 tetrahedral mesh at three sizes, linear elastic, "
+          f"11-point rule both; CPU s, medians of {ROUNDS} x {REPEAT}, {ROUNDS} fresh processes per code alternating; set-up = basis (ours: scalar P2) / "
+          f"region + field; rates in displacement unknowns per second of set-up + assembly")
+    print(f"{'mesh':>7} {'tets':>7} {'dofs':>8} {'ours set':>8} {'asm':>8} {'FE set':>8} {'asm':>8} "
+          f"{'ours u/s':>10} {'FE u/s':>10} {'FE/ours':>7} {'asm':>6} {'max|dK|':>9}")
+    ratios = [linear_compare(s) for s in LINEAR_SIZES]
+    print(f"set-up + assembly ratio FELupe / ours: {min(ratios):.2f}-{max(ratios):.2f} (>= 1: ours is faster)")
     print("\nfull coupled assembly (piezo + mixed u-p silicone + load + supports):")
     for name in args.scenes:
         coupled(name)

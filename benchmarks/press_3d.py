@@ -199,8 +199,11 @@ def main():
           "factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     k = float(sys.argv[sys.argv.index("--divide") + 1]) if "--divide" in sys.argv else 1.0
-    print(line("**default**" if k == 1.0 else f"**the default's settings, sizes / {k:g}**", run(sc, layout(sc, k))),
-          flush=True)
+    if k == 1.0:    # a user's scene without [mesh]: the default press mesh (taxel.scene.DEFAULT_PRESS_MESH)
+        user = load("thesis-pzt-probe-3d")
+        print(line("**default** (thesis-pzt-probe-3d, no [mesh])", run(user, layout(user))), flush=True)
+    print(line("the reference family's mesh (extruded, sizes / 1)" if k == 1.0
+               else f"the reference family's mesh, sizes / {k:g}", run(sc, layout(sc, k))), flush=True)
     if "--quick" in sys.argv:
         return
     for name, v in VARIANTS.items():

@@ -85,6 +85,11 @@ def operator(basis, op: Operator, kin: Kinematics, sl=slice(None)) -> np.ndarray
 
 def weights(basis, kin: Kinematics, sl=slice(None)) -> np.ndarray:
     """(elements, points) quadrature weights times |det J| times the model's measure."""
+    if isinstance(basis, ScalarBasis):
+        measure = np.asarray(kin.measure(np.zeros((kin.dim, 1, 1))))
+        if measure.size != 1:
+            raise ValueError("weights: a ScalarBasis carries no points for a varying measure (axisymmetric)")
+        return float(measure) * basis.w[sl]
     x = np.asarray(basis.global_coordinates())[..., sl, :]
     return basis.dx[sl] * np.broadcast_to(kin.measure(x), basis.dx[sl].shape)
 
@@ -129,23 +134,19 @@ def lifting(basis, op: Operator, kin: Kinematics):
         return None if isinstance(basis.elem, ElementVector) else ("grad", np.eye(kin.dim)[:, None, :])
     if not isinstance(basis.elem, ElementVector):
         return None
-    d = kin.dim
-    probe = DiscreteField(value=np.ones((d, 1, 1)), grad=np.zeros((d, d, 1, 1)))
-    if np.any(kin.strain(probe, DiscreteField(value=np.ones((d, 1, 1))))):
-        return None                              # the strain depends on values too
-    L = np.zeros((kin.n_voigt, d, d))
-    for c in range(d):
-        for k in range(d):
-            g = np.zeros((d, d, 1, 1))
-            g[c, k] = 1.0
-            L[:, c, k] = kin.strain(DiscreteField(value=np.zeros((d, 1, 1)), grad=g),
-                                    DiscreteField(value=np.ones((d, 1, 1))))[:, 0, 0]
-    return "grad", L
+    L = strain_lifting(kin)
+    return None if L is None else ("grad", L)
 
 
 def scalar_quantities(basis, kind: str, sl) -> np.ndarray:
     """(elements, points, r, scalar functions): gradients or values of the scalar shape
     functions of a basis (component 0 of a vector basis: its functions are (a, c))."""
+    if isinstance(basis, ScalarBasis):
+        if kind == "grad":
+            return basis.dN[sl]
+        ne = len(range(basis.detJ.shape[0])[sl])
+        return np.broadcast_to(basis.values[None, :, None, :], (ne,) + basis.values.shape[:1] + (1,)
+                               + basis.values.shape[1:])
     nc = basis.elem.dim if isinstance(basis.elem, ElementVector) else 1
     fns = [basis.basis[a * nc][0] for a in range(len(basis.basis) // nc)]
     if kind == "grad":
@@ -164,13 +165,8 @@ def factored_matrices(term: Term, lt, lr, kin, sl, cache) -> np.ndarray:
     one small batched product per element (functions x points x functions) and
     one BLAS product with C for all elements; 3-6 x fewer operations than the
     generic path for vector P2 elements."""
-    def q(basis, kind):
-        key = (id(basis), "q", kind)
-        if key not in cache:
-            cache[key] = scalar_quantities(basis, kind, sl)
-        return cache[key]
     (kt, Lt), (kr, Lr) = lt, lr
-    Qt, Qr = q(term.test, kt), q(term.trial, kr)
+    Qt, Qr = _q(term.test, kt, sl, cache), _q(term.trial, kr, sl, cache)
     w = _weights(term.trial, kin, sl, cache)
     ne, nq, rt, na = Qt.shape
     rr, nb = Qr.shape[2], Qr.shape[3]
@@ -180,6 +176,148 @@ def factored_matrices(term: Term, lt, lr, kin, sl, cache) -> np.ndarray:
     C = np.einsum("scr,st,tdx->rxcd", Lt, term.D, Lr).reshape(rt * rr, nc * nd)
     K = H.transpose(0, 2, 4, 1, 3).reshape(ne * na * nb, rt * rr) @ C
     return K.reshape(ne, na, nb, nc, nd).transpose(0, 1, 3, 2, 4).reshape(ne, na * nc, nb * nd)
+
+
+def strain_lifting(kin: Kinematics):
+    """L (n_voigt, dim, dim) with strain_s(N_a e_c) = sum_k L[s, c, k] dN_a/dx_k, or
+    None when the strain also depends on values (the axisymmetric u_r / r)."""
+    d = kin.dim
+    probe = DiscreteField(value=np.ones((d, 1, 1)), grad=np.zeros((d, d, 1, 1)))
+    if np.any(kin.strain(probe, DiscreteField(value=np.ones((d, 1, 1))))):
+        return None
+    L = np.zeros((kin.n_voigt, d, d))
+    for c in range(d):
+        for k in range(d):
+            g = np.zeros((d, d, 1, 1))
+            g[c, k] = 1.0
+            L[:, c, k] = kin.strain(DiscreteField(value=np.zeros((d, 1, 1)), grad=g),
+                                    DiscreteField(value=np.ones((d, 1, 1))))[:, 0, 0]
+    return L
+
+
+def block_matrices(dN: np.ndarray, w: np.ndarray, L: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """(elements, a, b, c, d) element matrices of S(v)^T D S(u) for the vector field
+    u = sum u_(s, c) N_s e_c from the scalar gradients dN (elements, points, dim, a)
+    and weights w (elements, points): the 3 x 3 (dim x dim) block of every pair of
+    scalar functions,
+
+        K_e[a, b, c, d] = sum_{k, l} H_e[k, a, l, b] C[k, l, c, d],
+        H_e = sum_q w_q dN_q^T dN_q,   C[k, l, c, d] = sum_{s, t} L[s, c, k] D[s, t] L[t, d, l]."""
+    ne, nq, dim, na = dN.shape
+    G = dN.transpose(0, 2, 3, 1).reshape(ne, dim * na, nq)
+    H = np.matmul(G * w[:, None, :], G.transpose(0, 2, 1)).reshape(ne, dim, na, dim, na)
+    C = np.einsum("sck,st,tdl->klcd", L, D, L).reshape(dim * dim, dim * dim)
+    K = H.transpose(0, 2, 4, 1, 3).reshape(ne * na * na, dim * dim) @ C
+    return K.reshape(ne, na, na, dim, dim)
+
+
+def block_csr(rows: np.ndarray, cols: np.ndarray, blocks: np.ndarray, n_rows: int, n_cols: int,
+              shape=None) -> sp.csr_matrix:
+    """The CSR matrix of a vector field numbered nc * s + c (scikit-fem's ElementVector)
+    from dense blocks on the scalar DOFs: rows (elements, a), cols (elements, b) scalar
+    DOFs, blocks (elements, a, b, nc, nc). One sort of the scalar pairs (nc^2 fewer
+    keys than the vector entries), the duplicates summed block-wise, a BSR matrix
+    converted to CSR; `shape`: pad to a larger (full system) shape."""
+    nc = blocks.shape[-1]
+    keys = (rows[:, :, None].astype(np.int64) * n_cols + cols[:, None, :]).ravel()
+    order = np.argsort(keys)
+    ks = keys[order]
+    starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
+    # the sum of each run of equal keys: a 0/1 sparse matrix times the blocks (no gather copy)
+    S = sp.csr_matrix((np.ones(len(keys)), order, np.r_[starts, len(keys)]), shape=(len(starts), len(keys)))
+    vals = (S @ blocks.reshape(-1, nc * nc)).reshape(-1, nc, nc)
+    u = ks[starts]
+    indptr = np.r_[0, np.cumsum(np.bincount(u // n_cols, minlength=n_rows))]
+    A = sp.bsr_matrix((vals, u % n_cols, indptr), shape=(nc * n_rows, nc * n_cols)).tocsr()
+    if shape is not None and shape != A.shape:
+        A = sp.csr_matrix((A.data, A.indices, np.r_[A.indptr, np.full(shape[0] - A.shape[0], A.nnz)]), shape=shape)
+    return A
+
+
+def scalar_dofs(basis) -> np.ndarray | None:
+    """(elements, scalar functions) scalar DOFs s of a vector basis whose DOF of
+    (function a, component c) is nc * s + c (scikit-fem's numbering, checked), else None."""
+    if not isinstance(basis.elem, ElementVector):
+        return None
+    nc = basis.elem.dim
+    ed = basis.element_dofs
+    s = ed[0::nc]
+    if np.any(s % nc) or any(not np.array_equal(ed[c::nc], s + c) for c in range(nc)):
+        return None
+    return (s // nc).T
+
+
+@dataclass(frozen=True)
+class ScalarBasis:
+    """The scalar shape functions of a simplex element (P1 or P2) on an affine mesh,
+    evaluated directly: the reference gradients once, per element J^-1 and |det J|
+    (one 3 x 3 inverse each), DOFs vertices then edges (the numbering of scikit-fem's
+    Basis of the same element, so a vector field's DOF is dim s + c). What scikit-fem's
+    vector Basis evaluates for 30 functions at every point, for 10 on the reference."""
+
+    elem: object               # the scalar scikit-fem element
+    ref: np.ndarray            # (dim, points, functions) reference gradients
+    values: np.ndarray         # (points, functions) values (the same on every element)
+    W: np.ndarray              # (points,) reference quadrature weights
+    Jinv: np.ndarray           # (elements, dim, dim)
+    detJ: np.ndarray           # (elements,) |det J|
+    dofs: np.ndarray           # (elements, functions)
+    N: int
+
+    @property
+    def element_dofs(self) -> np.ndarray:
+        """(functions, elements), as scikit-fem's Basis."""
+        return self.dofs.T
+
+    @property
+    def dN(self) -> np.ndarray:
+        """(elements, points, dim, functions) global gradients J^-T dN_ref."""
+        return np.einsum("eki,kqa->eqia", self.Jinv, self.ref)
+
+    @property
+    def w(self) -> np.ndarray:
+        """(elements, points) quadrature weights times |det J|."""
+        return self.detJ[:, None] * self.W[None, :]
+
+
+def scalar_basis(mesh, elem, intorder: int = 4) -> ScalarBasis:
+    from skfem.quadrature import get_quadrature
+    if elem.nodal_dofs != 1 or elem.edge_dofs > 1 or elem.facet_dofs or elem.interior_dofs:
+        raise ValueError(f"scalar_basis: {type(elem).__name__} is not a P1/P2 Lagrange element")
+    X, W = get_quadrature(elem.refdom, intorder)
+    nb = elem.doflocs.shape[0]
+    ref = np.stack([elem.lbasis(X, i)[1] for i in range(nb)], axis=-1)      # (dim, nq, nb)
+    values = np.stack([elem.lbasis(X, i)[0] for i in range(nb)], axis=-1)   # (nq, nb)
+    p, t = mesh.p, mesh.t
+    J = np.stack([p[:, t[i + 1]] - p[:, t[0]] for i in range(p.shape[0])], axis=-1).transpose(1, 0, 2)
+    t2e, nedges = (mesh.t2e, mesh.edges.shape[1]) if p.shape[0] == 3 else (mesh.t2f, mesh.facets.shape[1])
+    dofs = t.T if not elem.edge_dofs else np.hstack([t.T, p.shape[1] + t2e.T])
+    N = p.shape[1] + (nedges if elem.edge_dofs else 0)
+    return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
+
+
+def affine_blocks(sb: ScalarBasis, L: np.ndarray, D: np.ndarray, sl=slice(None)) -> np.ndarray:
+    """block_matrices for affine elements without a per-point loop: J is constant per
+    element, so H_e = |det J| (J^-1 x J^-1)^T R with R the reference integrals
+    sum_q W_q dN_ref,q^T dN_ref,q (the same for every element, exact to round-off),
+    and K_e[a, b, c, d] = sum_{K, L} R[K, L, a, b] N_e[K, L, c, d],
+    N_e = |det J| sum_{k, l} Jinv[K, k] Jinv[L, l] C[k, l, c, d]: two small products per element."""
+    dim, nq, na = sb.ref.shape
+    R = np.einsum("kqa,q,lqb->klab", sb.ref, sb.W, sb.ref).reshape(dim * dim, na * na)
+    C = np.einsum("sck,st,tdl->klcd", L, D, L)
+    Jinv, det = sb.Jinv[sl], sb.detJ[sl]
+    Nmat = np.einsum("eKk,eLl,klcd->eKLcd", Jinv, Jinv, C, optimize=True) * det[:, None, None, None, None]
+    K = np.matmul(R.T[None], Nmat.reshape(-1, dim * dim, dim * dim))          # (ne, a b, c d)
+    return K.reshape(-1, na, na, dim, dim)
+
+
+def vector_matrix(sb: ScalarBasis, D: np.ndarray, kin: Kinematics, shape=None) -> sp.csr_matrix:
+    """The matrix of int S(v)^T D S(u) dV over a ScalarBasis's elements, u the vector
+    field of its element (DOF dim s + c). Not for the axisymmetric strain (u_r / r)."""
+    L = strain_lifting(kin)
+    if L is None:
+        raise ValueError("vector_matrix: this strain depends on values (axisymmetric); use assemble_terms")
+    return block_csr(sb.dofs, sb.dofs, affine_blocks(sb, L, D), sb.N, sb.N, shape)
 
 
 def _weights(basis, kin, sl, cache):
@@ -214,15 +352,30 @@ def assemble_terms(terms: list[tuple], kin: Kinematics, shape) -> dict[str, sp.c
     coupling). Terms of one region share the chunk loop and the operators."""
     coos: dict[str, Coo] = {}
     regions: dict[str, list] = {}
+    L = strain_lifting(kin)
+    blocked: dict[str, list] = {}      # vector-vector strain terms: dense blocks on the scalar DOFs
     for t in terms:
-        coos.setdefault(t[0], Coo())
+        kind, _, term, _, r0, c0, mirrored = t
+        if (L is not None and term.test is term.trial and term.test_op is STRAIN and term.trial_op is STRAIN
+                and r0 == c0 == 0 and not mirrored and scalar_dofs(term.test) is not None):
+            blocked.setdefault(kind, [])
+        else:
+            coos.setdefault(kind, Coo())
         regions.setdefault(t[1], []).append(t)
+    shared: dict = {}
     for group in regions.values():
         ne = group[0][2].trial.nelems
         for start in range(0, ne, CHUNK):
             sl = slice(start, min(start + CHUNK, ne))
             cache: dict = {}
             for kind, _, term, sign, r0, c0, mirrored in group:
+                if kind in blocked:
+                    if start == 0:
+                        blocked[kind].append(_affine_term(term, sign, L, kin, shared))
+                    if blocked[kind][0] is None:            # not affine: the points' gradients
+                        blocked[kind].append((term.test, scalar_dofs(term.test)[sl], sign * block_matrices(
+                            _q(term.trial, "grad", sl, cache), _weights(term.trial, kin, sl, cache), L, term.D)))
+                    continue
                 Ke = sign * element_matrices(term, kin, sl, cache)
                 rd = term.test.element_dofs[:, sl].T + r0        # (ne, nte)
                 cd = term.trial.element_dofs[:, sl].T + c0       # (ne, ntr)
@@ -231,4 +384,48 @@ def assemble_terms(terms: list[tuple], kin: Kinematics, shape) -> dict[str, sp.c
                 coos[kind].add(R, C, Ke)
                 if mirrored:
                     coos[kind].add(C, R, Ke)
-    return {kind: coo.csr(shape) for kind, coo in coos.items()}
+    out = {kind: coo.csr(shape) for kind, coo in coos.items()}
+    for kind, chunks in blocked.items():
+        chunks = chunks[1:] if chunks[0] is None else chunks
+        basis = chunks[0][0]
+        ns = basis.N // basis.elem.dim
+        s = np.concatenate([c[1] for c in chunks])
+        out[kind] = block_csr(s, s, np.concatenate([c[2] for c in chunks]), ns, ns, shape)
+    return out
+
+
+def _affine_term(term: Term, sign: float, L, kin: Kinematics, shared: dict):
+    """(basis, scalar DOFs, blocks) of a vector-vector strain term by affine_blocks, or
+    None where that does not apply (curved or non-simplex mesh, a measure varying over
+    the element, a numbering that differs from scalar_basis's)."""
+    b = term.test
+    m = b.mesh
+    measure = np.asarray(kin.measure(np.zeros((kin.dim, 1, 1))))
+    if not getattr(m, "affine", False) or m.t.shape[0] != m.dim() + 1 or measure.size != 1:
+        return None
+    key = (id(m), type(b.elem.elem).__name__, b.quadrature[1].size)
+    if key not in shared:
+        try:
+            shared[key] = scalar_basis(m, b.elem.elem, _intorder(b))
+        except ValueError:
+            shared[key] = None
+    sb, s = shared[key], scalar_dofs(b)
+    tind = slice(None) if b.tind is None else b.tind
+    if (sb is None or sb.W.shape != b.quadrature[1].shape or not np.allclose(sb.W, b.quadrature[1], rtol=1e-14)
+            or not np.array_equal(sb.dofs[tind], s)):
+        return None
+    return b, s, (sign * float(measure)) * affine_blocks(sb, L, term.D, tind)
+
+
+def _intorder(basis) -> int:
+    """The order of a basis's quadrature rule (its points identify it)."""
+    from skfem.quadrature import get_quadrature
+    n = basis.quadrature[1].size
+    return next(k for k in range(1, 20) if get_quadrature(basis.mesh.refdom, k)[1].size == n)
+
+
+def _q(basis, kind, sl, cache):
+    key = (id(basis), "q", kind)
+    if key not in cache:
+        cache[key] = scalar_quantities(basis, kind, sl)
+    return cache[key]

@@ -83,3 +83,53 @@ def test_3d_p2_stiffness_equals_felupe_on_the_same_mesh():
     K = bench.ours_assemble(ub, bench.isotropic_c())
     Kfe = bench.felupe_assemble(bench.felupe_setup(*bench.felupe_points_cells(m)))
     assert bench.matrix_difference(ub, K, Kfe, m) < 1e-12
+
+
+def test_scalar_basis_stiffness_equals_felupe_and_scikit_fem():
+    """The affine scalar-basis path (fem.bilinear.scalar_basis + vector_matrix: the
+    reference integrals once, J^-1 per element, blocks scattered on the scalar DOFs)
+    gives FELupe's matrix and the vector-basis assembly's on the same mesh."""
+    pytest.importorskip("felupe")
+    import importlib.util
+    from pathlib import Path
+    from skfem import ElementTetP2
+    from taxel.analyses import mesh
+    from taxel.fem.bilinear import scalar_basis, vector_matrix
+    from taxel.fem.kinematics import Solid3D
+    spec = importlib.util.spec_from_file_location(
+        "assembly_3d", Path(__file__).resolve().parents[1] / "benchmarks" / "assembly_3d.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+    ub = bench.ours_setup(m)
+    rng = np.random.default_rng(1)
+    D = rng.random((6, 6))
+    D = D @ D.T                                   # a general (anisotropic) law, not only the isotropic one
+    K = vector_matrix(scalar_basis(m, ElementTetP2(), 4), D, Solid3D())
+    R = bench.ours_assemble(ub, D)
+    assert K.shape == R.shape and abs(K - R).max() <= 1e-12 * abs(R).max()
+    Kiso = vector_matrix(scalar_basis(m, ElementTetP2(), 4), bench.isotropic_c(), Solid3D())
+    Kfe = bench.felupe_assemble(bench.felupe_setup(*bench.felupe_points_cells(m)))
+    assert bench.matrix_difference(ub, Kiso, Kfe, m) < 1e-12
+
+
+def test_scalar_basis_serves_the_yeoh_terms_as_scikit_fem_bases_do():
+    """fem.yeoh_terms.YeohRegion on ScalarBasis objects (P2 displacement, P1 pressure)
+    gives the residual and tangent it gives on scikit-fem's scalar bases."""
+    from skfem import Basis, ElementTetP1, ElementTetP2
+    from taxel.analyses import mesh
+    from taxel.fem.bilinear import scalar_basis
+    from taxel.fem.kinematics import Solid3D
+    from taxel.fem.yeoh import Yeoh
+    from taxel.fem.yeoh_terms import YeohRegion
+    m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+    law = Yeoh(7.83e3, 0.103e3, -0.8, K=2000 * 7.83e3)
+    out = []
+    for u, p in ((scalar_basis(m, ElementTetP2(), 4), scalar_basis(m, ElementTetP1(), 4)),
+                 (Basis(m, ElementTetP2(), intorder=4), Basis(m, ElementTetP1(), intorder=4))):
+        reg = YeohRegion(u, p, law, Solid3D(), 3 * u.N)
+        x = 1e-7 * np.sin(np.arange(3 * u.N + p.N))        # strains ~1e-3 on 2 mm elements
+        out.append(reg.terms(x))
+    for k in ("r_u", "r_p", "K_uu", "K_up", "K_pp"):
+        a, b = getattr(out[0], k), getattr(out[1], k)
+        assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max(), k
