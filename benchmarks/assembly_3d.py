@@ -4,7 +4,7 @@ side in one run, on the same P2 tetrahedral mesh with the same law and quadratur
 Second table (the issue's measure, >= 1.0): linear elasticity (E = 1 MPa, nu =
 0.3) on the P2 tetrahedral mesh of the 3x3 3D array at three sizes (3, 1.5 and 1 mm
 far, 0.4 x that at the taxels), set-up and assembly both. Ours: the scalar P2 basis
-on the affine mesh (fem.bilinear.scalar_basis: 10 reference gradients once, J^-1
+on the affine mesh (fem.scalar_basis.scalar_basis: 10 reference gradients once, J^-1
 and |det J| per element) and the vector stiffness from it with the DOF map 3 s + c
 (fem.bilinear.vector_matrix: the reference integrals once, two small products per
 element, 3x3 blocks summed on the scalar DOF pairs, BSR to CSR), the code the
@@ -161,7 +161,8 @@ def linear_mesh(size):
 def linear_worker(code, size):
     """Runs in a fresh process: REPEAT (set-up, assembly) CPU times of one code, as JSON."""
     from skfem import ElementTetP2
-    from taxel.fem.bilinear import scalar_basis, vector_matrix
+    from taxel.fem.bilinear import vector_matrix
+    from taxel.fem.scalar_basis import scalar_basis
     m, c = linear_mesh(size), isotropic_c()
     points, cells = felupe_points_cells(m)
     out = []
@@ -176,14 +177,15 @@ def linear_worker(code, size):
 
 def linear_compare(size):
     """One row of the linear table: the 3x3 3D array's mesh at far size `size`; ours
-    (the scalar P2 basis on the affine mesh, fem.bilinear.scalar_basis, and the vector
+    (the scalar P2 basis on the affine mesh, fem.scalar_basis.scalar_basis, and the vector
     stiffness from it, fem.bilinear.vector_matrix) against FELupe (region, field,
     SolidBody assembly), set-up and assembly, CPU medians over ROUNDS fresh processes
     per code, alternating (one code's memory state does not slow the other: measured,
     running after FELupe in one process tripled our time, page faults), REPEAT each
     after one untimed run (FELupe's first run in a process is several times its next)."""
     from skfem import ElementTetP2
-    from taxel.fem.bilinear import scalar_basis, vector_matrix
+    from taxel.fem.bilinear import vector_matrix
+    from taxel.fem.scalar_basis import scalar_basis
     times = {"ours": [], "felupe": []}
     for _ in range(ROUNDS):
         for code in times:
@@ -212,7 +214,7 @@ def yeoh_compare(size):
     from skfem import ElementTetP1
     from taxel.fem.sparsity import Pattern
     from taxel.fem.yeoh import Yeoh
-    from taxel.fem.bilinear import scalar_basis
+    from taxel.fem.scalar_basis import scalar_basis
     from taxel.fem.yeoh_terms import YeohRegion
     m = scene_mesh(taxel.load("thesis-pzt-single-3d").replace(**{"mesh.size": size,
                                                                 "mesh.piezo_size": 0.4 * size})).mesh

@@ -46,6 +46,7 @@ from skfem import ElementVector
 from skfem.element.discrete_field import DiscreteField
 
 from taxel.fem.kinematics import Kinematics
+from taxel.fem.scalar_basis import ScalarBasis, affine_blocks, block_csr, block_matrices, scalar_basis, scalar_dofs
 
 CHUNK = 4000          # elements per batch: bounds the operator arrays (30 x 6 x 11 x 8 B each)
 
@@ -193,122 +194,6 @@ def strain_lifting(kin: Kinematics):
             L[:, c, k] = kin.strain(DiscreteField(value=np.zeros((d, 1, 1)), grad=g),
                                     DiscreteField(value=np.ones((d, 1, 1))))[:, 0, 0]
     return L
-
-
-def block_matrices(dN: np.ndarray, w: np.ndarray, L: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """(elements, a, b, c, d) element matrices of S(v)^T D S(u) for the vector field
-    u = sum u_(s, c) N_s e_c from the scalar gradients dN (elements, points, dim, a)
-    and weights w (elements, points): the 3 x 3 (dim x dim) block of every pair of
-    scalar functions,
-
-        K_e[a, b, c, d] = sum_{k, l} H_e[k, a, l, b] C[k, l, c, d],
-        H_e = sum_q w_q dN_q^T dN_q,   C[k, l, c, d] = sum_{s, t} L[s, c, k] D[s, t] L[t, d, l]."""
-    ne, nq, dim, na = dN.shape
-    G = dN.transpose(0, 2, 3, 1).reshape(ne, dim * na, nq)
-    H = np.matmul(G * w[:, None, :], G.transpose(0, 2, 1)).reshape(ne, dim, na, dim, na)
-    C = np.einsum("sck,st,tdl->klcd", L, D, L).reshape(dim * dim, dim * dim)
-    K = H.transpose(0, 2, 4, 1, 3).reshape(ne * na * na, dim * dim) @ C
-    return K.reshape(ne, na, na, dim, dim)
-
-
-def block_csr(rows: np.ndarray, cols: np.ndarray, blocks: np.ndarray, n_rows: int, n_cols: int,
-              shape=None) -> sp.csr_matrix:
-    """The CSR matrix of a vector field numbered nc * s + c (scikit-fem's ElementVector)
-    from dense blocks on the scalar DOFs: rows (elements, a), cols (elements, b) scalar
-    DOFs, blocks (elements, a, b, nc, nc). One sort of the scalar pairs (nc^2 fewer
-    keys than the vector entries), the duplicates summed block-wise, a BSR matrix
-    converted to CSR; `shape`: pad to a larger (full system) shape."""
-    nc = blocks.shape[-1]
-    keys = (rows[:, :, None].astype(np.int64) * n_cols + cols[:, None, :]).ravel()
-    order = np.argsort(keys)
-    ks = keys[order]
-    starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
-    # the sum of each run of equal keys: a 0/1 sparse matrix times the blocks (no gather copy)
-    S = sp.csr_matrix((np.ones(len(keys)), order, np.r_[starts, len(keys)]), shape=(len(starts), len(keys)))
-    vals = (S @ blocks.reshape(-1, nc * nc)).reshape(-1, nc, nc)
-    u = ks[starts]
-    indptr = np.r_[0, np.cumsum(np.bincount(u // n_cols, minlength=n_rows))]
-    A = sp.bsr_matrix((vals, u % n_cols, indptr), shape=(nc * n_rows, nc * n_cols)).tocsr()
-    if shape is not None and shape != A.shape:
-        A = sp.csr_matrix((A.data, A.indices, np.r_[A.indptr, np.full(shape[0] - A.shape[0], A.nnz)]), shape=shape)
-    return A
-
-
-def scalar_dofs(basis) -> np.ndarray | None:
-    """(elements, scalar functions) scalar DOFs s of a vector basis whose DOF of
-    (function a, component c) is nc * s + c (scikit-fem's numbering, checked), else None."""
-    if not isinstance(basis.elem, ElementVector):
-        return None
-    nc = basis.elem.dim
-    ed = basis.element_dofs
-    s = ed[0::nc]
-    if np.any(s % nc) or any(not np.array_equal(ed[c::nc], s + c) for c in range(nc)):
-        return None
-    return (s // nc).T
-
-
-@dataclass(frozen=True)
-class ScalarBasis:
-    """The scalar shape functions of a simplex element (P1 or P2) on an affine mesh,
-    evaluated directly: the reference gradients once, per element J^-1 and |det J|
-    (one 3 x 3 inverse each), DOFs vertices then edges (the numbering of scikit-fem's
-    Basis of the same element, so a vector field's DOF is dim s + c). What scikit-fem's
-    vector Basis evaluates for 30 functions at every point, for 10 on the reference."""
-
-    elem: object               # the scalar scikit-fem element
-    ref: np.ndarray            # (dim, points, functions) reference gradients
-    values: np.ndarray         # (points, functions) values (the same on every element)
-    W: np.ndarray              # (points,) reference quadrature weights
-    Jinv: np.ndarray           # (elements, dim, dim)
-    detJ: np.ndarray           # (elements,) |det J|
-    dofs: np.ndarray           # (elements, functions)
-    N: int
-
-    @property
-    def element_dofs(self) -> np.ndarray:
-        """(functions, elements), as scikit-fem's Basis."""
-        return self.dofs.T
-
-    @property
-    def dN(self) -> np.ndarray:
-        """(elements, points, dim, functions) global gradients J^-T dN_ref."""
-        return np.einsum("eki,kqa->eqia", self.Jinv, self.ref)
-
-    @property
-    def w(self) -> np.ndarray:
-        """(elements, points) quadrature weights times |det J|."""
-        return self.detJ[:, None] * self.W[None, :]
-
-
-def scalar_basis(mesh, elem, intorder: int = 4) -> ScalarBasis:
-    from skfem.quadrature import get_quadrature
-    if elem.nodal_dofs != 1 or elem.edge_dofs > 1 or elem.facet_dofs or elem.interior_dofs:
-        raise ValueError(f"scalar_basis: {type(elem).__name__} is not a P1/P2 Lagrange element")
-    X, W = get_quadrature(elem.refdom, intorder)
-    nb = elem.doflocs.shape[0]
-    ref = np.stack([elem.lbasis(X, i)[1] for i in range(nb)], axis=-1)      # (dim, nq, nb)
-    values = np.stack([elem.lbasis(X, i)[0] for i in range(nb)], axis=-1)   # (nq, nb)
-    p, t = mesh.p, mesh.t
-    J = np.stack([p[:, t[i + 1]] - p[:, t[0]] for i in range(p.shape[0])], axis=-1).transpose(1, 0, 2)
-    t2e, nedges = (mesh.t2e, mesh.edges.shape[1]) if p.shape[0] == 3 else (mesh.t2f, mesh.facets.shape[1])
-    dofs = t.T if not elem.edge_dofs else np.hstack([t.T, p.shape[1] + t2e.T])
-    N = p.shape[1] + (nedges if elem.edge_dofs else 0)
-    return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
-
-
-def affine_blocks(sb: ScalarBasis, L: np.ndarray, D: np.ndarray, sl=slice(None)) -> np.ndarray:
-    """block_matrices for affine elements without a per-point loop: J is constant per
-    element, so H_e = |det J| (J^-1 x J^-1)^T R with R the reference integrals
-    sum_q W_q dN_ref,q^T dN_ref,q (the same for every element, exact to round-off),
-    and K_e[a, b, c, d] = sum_{K, L} R[K, L, a, b] N_e[K, L, c, d],
-    N_e = |det J| sum_{k, l} Jinv[K, k] Jinv[L, l] C[k, l, c, d]: two small products per element."""
-    dim, nq, na = sb.ref.shape
-    R = np.einsum("kqa,q,lqb->klab", sb.ref, sb.W, sb.ref).reshape(dim * dim, na * na)
-    C = np.einsum("sck,st,tdl->klcd", L, D, L)
-    Jinv, det = sb.Jinv[sl], sb.detJ[sl]
-    Nmat = np.einsum("eKk,eLl,klcd->eKLcd", Jinv, Jinv, C, optimize=True) * det[:, None, None, None, None]
-    K = np.matmul(R.T[None], Nmat.reshape(-1, dim * dim, dim * dim))          # (ne, a b, c d)
-    return K.reshape(-1, na, na, dim, dim)
 
 
 def vector_matrix(sb: ScalarBasis, D: np.ndarray, kin: Kinematics, shape=None) -> sp.csr_matrix:

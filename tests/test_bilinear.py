@@ -86,7 +86,7 @@ def test_3d_p2_stiffness_equals_felupe_on_the_same_mesh():
 
 
 def test_scalar_basis_stiffness_equals_felupe_and_scikit_fem():
-    """The affine scalar-basis path (fem.bilinear.scalar_basis + vector_matrix: the
+    """The affine scalar-basis path (fem.scalar_basis.scalar_basis + vector_matrix: the
     reference integrals once, J^-1 per element, blocks scattered on the scalar DOFs)
     gives FELupe's matrix and the vector-basis assembly's on the same mesh."""
     pytest.importorskip("felupe")
@@ -94,7 +94,8 @@ def test_scalar_basis_stiffness_equals_felupe_and_scikit_fem():
     from pathlib import Path
     from skfem import ElementTetP2
     from taxel.analyses import mesh
-    from taxel.fem.bilinear import scalar_basis, vector_matrix
+    from taxel.fem.bilinear import vector_matrix
+    from taxel.fem.scalar_basis import scalar_basis
     from taxel.fem.kinematics import Solid3D
     spec = importlib.util.spec_from_file_location(
         "assembly_3d", Path(__file__).resolve().parents[1] / "benchmarks" / "assembly_3d.py")
@@ -118,7 +119,7 @@ def test_scalar_basis_serves_the_yeoh_terms_as_scikit_fem_bases_do():
     gives the residual and tangent it gives on scikit-fem's scalar bases."""
     from skfem import Basis, ElementTetP1, ElementTetP2
     from taxel.analyses import mesh
-    from taxel.fem.bilinear import scalar_basis
+    from taxel.fem.scalar_basis import scalar_basis
     from taxel.fem.kinematics import Solid3D
     from taxel.fem.yeoh import Yeoh
     from taxel.fem.yeoh_terms import YeohRegion
