@@ -63,8 +63,9 @@ VERIFY_3D_ERROR = 0.038           # the verification mesh's voltage error, worst
 # The 3D model of the 3D presses (level C): the default press mesh (taxel.scene.DEFAULT_PRESS_MESH,
 # the silicone meshed free, graded at the punch's rim), +0.76 % on the thesis taxel against the
 # press's nested-mesh reference (benchmarks/press_3d.py)
-PRESS_3D = {"model.type": "3d", "mesh.size": DEFAULT_PRESS_MESH[0], "mesh.piezo_size": DEFAULT_PRESS_MESH[1],
-            "mesh.piezo_layers": DEFAULT_PRESS_MESH[2], "mesh.extruded": False}
+PRESS_3D = {"model.type": "3d", "mesh.size": f"{1e3 * DEFAULT_PRESS_MESH[0]:g} mm",
+            "mesh.piezo_size": f"{1e3 * DEFAULT_PRESS_MESH[1]:g} mm", "mesh.piezo_layers": DEFAULT_PRESS_MESH[2],
+            "mesh.extruded": False}
 PRODUCT_ERROR = None              # level C from B x (3D/2D linear): measured by each run's 3D presses
 RUN_3D_PRESSES = 0                # front designs the main job presses in 3D (taxel demo --presses-3d N)
 PROBE_FILE = "probe-front.json"   # the headline front, in the linear front's folder
