@@ -41,7 +41,9 @@ sizes / 0.5 30.4 s of CPU, 38 iterations, 38 factorizations (docs/press_3d_refer
 
 | run | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
-| **default** | 36687 | -0.79380 | +0.49 % | 8 | 62 | 38 | 32 | 60.6 | 9.8 | 27.1 | 102.2 | 1111.5 |
+| **default** (thesis-pzt-probe-3d, no [mesh]; quiet machine, load 0.8) | 8928 | -0.79594 | +0.76 % | 5 | 39 | 20 | 20 | 1.8 | 0.5 | 2.9 | 5.8 | 6.0 |
+| the reference family's mesh (extruded, sizes / 1; same quiet run) | 36687 | -0.79380 | +0.49 % | 8 | 62 | 38 | 32 | 48.0 | 8.5 | 20.9 | 81.1 | 81.1 |
+| the reference family's mesh, sizes / 1 (loaded machine) | 36687 | -0.79380 | +0.49 % | 8 | 62 | 38 | 32 | 60.6 | 9.8 | 27.1 | 102.2 | 1111.5 |
 | **the default's settings, sizes / 0.5** | 11634 | -0.80804 | +2.29 % | 5 | 33 | 15 | 19 | 3.2 | 1.2 | 3.7 | 9.1 | 110.1 |
 | Newton to 1e-9 in every Uzawa pass, no chord steps (the tolerances before) | 11634 | -0.80802 | +2.29 % | 5 | 34 | 35 | 0 | 7.1 | 0.9 | 5.0 | 14.0 | 153.4 |
 | no chord steps (a factorization at every Newton step) | 11634 | -0.80802 | +2.29 % | 5 | 24 | 25 | 0 | 5.3 | 0.7 | 3.9 | 10.9 | 156.1 |
@@ -55,7 +57,9 @@ sizes / 0.5 30.4 s of CPU, 38 iterations, 38 factorizations (docs/press_3d_refer
 | contact size 2 x edge radius | 5528 | -0.82552 | +4.51 % | 6 | 34 | 11 | 24 | 0.5 | 0.3 | 1.6 | 2.7 | 8.7 |
 | 6 Gauss points per facet (intorder 3) | 11634 | stopped: 0.00489 N reached; Newton inverts silicone elements at travel 2.825e-06 m | | | | | | | | | 34.2 | |
 
-(the default row from --quick, the others from --divide 0.5; the machine's load fell during the
+(The default is the press's default mesh, taxel.scene.DEFAULT_PRESS_MESH: free silicone, one
+element through the piezo, graded at the punch's rim; benchmarks/press_3d_mesh.py chose it. The
+first two rows from --quick on a quiet machine, the third from --quick under load, the others from --divide 0.5; the machine's load fell during the
 second run, so its later rows' wall times are 3x their CPU times, the first rows' 10-15x.)
 
 The press (mesh + assemble + press to 1 N) is 2.9x cheaper at the default mesh (102 s against

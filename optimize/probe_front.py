@@ -16,7 +16,8 @@ Levels (each a model of the same design, cheapest first):
      linear model, the material law's and the probe's factor from the 2D press. Then
      `presses_3d` designs of that estimated front, spread along it by crosstalk, are
      pressed in 3D (`press_3d`) and their rows replaced by the 3D press's (the main
-     job's count: RUN_3D_PRESSES, 0 until the 3D press is fast); with presses_3d None
+     job's count: RUN_3D_PRESSES, 0: a 3D press of a 3x3 front design with its error
+     estimate took 101-112 s, which does not fit the main job's 5 minutes); with presses_3d None
      (`taxel demo --full`) the whole level-B front and the thesis design are pressed
      in 3D through the same correction loop (B corrected to C), and the front is the
      3D presses'. The estimate's largest miss against the 3D presses is the product's
@@ -31,8 +32,8 @@ Every front design carries its estimated relative error, the sum of
     (VERIFY_3D_ERROR, the verification mesh's worst measured voltage error, 3.8 %);
   - the correction: for a design predicted, not pressed, the loop's last measured
     disagreement of its prediction; for level C estimated from B, the product's
-    error (PRODUCT_ERROR: the largest miss measured by this run's 3D presses, else 0
-    and recorded as "product error measured": false);
+    error: the larger of PRODUCT_ERROR (the largest miss measured once, below) and the
+    largest miss measured by this run's 3D presses;
   - the material law: 0 against the Yeoh law (the fit's own error is the law's, stated
     in docs/guide/silicone-and-contact.md).
 
@@ -66,7 +67,9 @@ VERIFY_3D_ERROR = 0.038           # the verification mesh's voltage error, worst
 PRESS_3D = {"model.type": "3d", "mesh.size": f"{1e3 * DEFAULT_PRESS_MESH[0]:g} mm",
             "mesh.piezo_size": f"{1e3 * DEFAULT_PRESS_MESH[1]:g} mm", "mesh.piezo_layers": DEFAULT_PRESS_MESH[2],
             "mesh.extruded": False}
-PRODUCT_ERROR = None              # level C from B x (3D/2D linear): measured by each run's 3D presses
+# level C from B x (3D/2D linear): its largest miss on sensitivity against 3D presses of front
+# designs, measured by `taxel demo --presses-3d 1` (one run: PZT 5.4 %, PVDF 7.3 %)
+PRODUCT_ERROR = 0.073
 RUN_3D_PRESSES = 0                # front designs the main job presses in 3D (taxel demo --presses-3d N)
 PROBE_FILE = "probe-front.json"   # the headline front, in the linear front's folder
 KIND = "probe-front"
@@ -242,7 +245,7 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d
             continue
         r = ratio_lin(d.x)
         row = _row(lin, d.x, (s[0] * r[0], s[1] * r[1]), "2D press x linear 3D/2D",
-                   DISCRETISATION_2D + VERIFY_3D_ERROR + (PRODUCT_ERROR or 0.0))
+                   DISCRETISATION_2D + VERIFY_3D_ERROR + PRODUCT_ERROR)
         row["sensitivity 2D press (V/N)"], row["crosstalk 2D press"] = s
         rows.append(row)
         if d is ref:
@@ -266,8 +269,8 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d
                  abs(est[_key(d.x)]["crosstalk"] / d.fine[1] - 1)) for d in pressed_3d if d.fine and _key(d.x) in est]
         product_miss = [max(m[k] for m in miss) for k in (0, 1)] if miss else None
         for r in rows:                  # the estimated rows carry the product's measured miss
-            if product_miss and PRODUCT_ERROR is None:
-                r["estimated error"] += product_miss[0]
+            if product_miss and product_miss[0] > PRODUCT_ERROR:     # this run measured a larger miss
+                r["estimated error"] += product_miss[0] - PRODUCT_ERROR
                 r["within 2 %"] = bool(r["estimated error"] <= 0.02)
         for d in pressed_3d:
             if not d.fine:
@@ -294,7 +297,7 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d
                      "3D press seconds": time.perf_counter() - t1,
                      "3D solves if every candidate were pressed in 3D": len(pool),
                      "linear designs visited": len(pool),
-                     "product error measured": PRODUCT_ERROR is not None or product_miss is not None,
+                     "product error measured": product_miss is not None,
                      "product estimate's largest miss (sensitivity, crosstalk)": product_miss})
     pf.fine_model = dict(fine_model)
     pf.movements, pf.ranking = movements(lin, linear_mf, pf, ratio_lin, score_b, pool)

@@ -194,8 +194,9 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
             notes.append(f"The {role} design's estimated error is {100 * r['estimated error']:.2g} % "
                          f"({'within' if r['estimated error'] <= 0.02 else 'above'} 2 %; {r.get('how', '')}).")
     if err > 0.02 and not rec.get("spent", {}).get("product error measured"):
-        notes.append("3D presses of these designs (taxel demo --presses-3d N, or --full) measure the estimate's "
-                     "product error.")
+        notes.append("The estimate's product error is the one measured once by 3D presses of front designs "
+                     "(optimize.probe_front.PRODUCT_ERROR); taxel demo --presses-3d N (or --full) measures it "
+                     "on this run's designs.")
     if linear is not None:
         t = linear.thesis
         r = linear.recommended

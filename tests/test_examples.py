@@ -11,7 +11,8 @@ MKL_NUM_THREADS=OMP_NUM_THREADS=1) are marked slow:
 
 The rig's probe presses (a sticking 4 mm flat punch, Yeoh silicone, to 1 N) are
 nonlinear solves: thesis-pzt-probe-2d and -axisymmetric take seconds,
-thesis-pzt-probe-3d minutes (slow; benchmarks/press_3d.py times it).
+thesis-pzt-probe-3d about 6 s on a quiet machine (benchmarks/press_3d.py), marked slow
+for its wall time on a busy one.
 """
 
 from __future__ import annotations
