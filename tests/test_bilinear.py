@@ -67,18 +67,24 @@ def test_vectorised_blocks_equal_scikit_fem_forms(name, changes):
         assert d <= 1e-12 * abs(R).max(), (kind, d / abs(R).max())
 
 
-def test_3d_p2_stiffness_equals_felupe_on_the_same_mesh():
-    """Independent code: FELupe's LinearElastic SolidBody on the same tetra10 mesh
-    and quadrature gives the same matrix (benchmarks/assembly_3d.py maps the DOFs)."""
+def _assembly_bench():
+    """benchmarks/assembly_3d.py (FELupe's assembly and the DOF map) and the 2 mm P2 mesh
+    of the 3D thesis taxel; skipped without FELupe."""
     pytest.importorskip("felupe")
     import importlib.util
     from pathlib import Path
+    from taxel.analyses import mesh
     spec = importlib.util.spec_from_file_location(
         "assembly_3d", Path(__file__).resolve().parents[1] / "benchmarks" / "assembly_3d.py")
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
-    from taxel.analyses import mesh
-    m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+    return bench, mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+
+
+def test_3d_p2_stiffness_equals_felupe_on_the_same_mesh():
+    """Independent code: FELupe's LinearElastic SolidBody on the same tetra10 mesh
+    and quadrature gives the same matrix (benchmarks/assembly_3d.py maps the DOFs)."""
+    bench, m = _assembly_bench()
     ub = bench.ours_setup(m)
     K = bench.ours_assemble(ub, bench.isotropic_c())
     Kfe = bench.felupe_assemble(bench.felupe_setup(*bench.felupe_points_cells(m)))
@@ -89,19 +95,11 @@ def test_scalar_basis_stiffness_equals_felupe_and_scikit_fem():
     """The affine scalar-basis path (fem.scalar_basis.scalar_basis + vector_matrix: the
     reference integrals once, J^-1 per element, blocks scattered on the scalar DOFs)
     gives FELupe's matrix and the vector-basis assembly's on the same mesh."""
-    pytest.importorskip("felupe")
-    import importlib.util
-    from pathlib import Path
     from skfem import ElementTetP2
-    from taxel.analyses import mesh
     from taxel.fem.bilinear import vector_matrix
     from taxel.fem.scalar_basis import scalar_basis
     from taxel.fem.kinematics import Solid3D
-    spec = importlib.util.spec_from_file_location(
-        "assembly_3d", Path(__file__).resolve().parents[1] / "benchmarks" / "assembly_3d.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
+    bench, m = _assembly_bench()
     ub = bench.ours_setup(m)
     rng = np.random.default_rng(1)
     D = rng.random((6, 6))
