@@ -96,9 +96,13 @@ def _kill(p):
 
 
 def _same_sensitivity(rows):
+    """Every point of the linear study gives the same V/F, to the solve's accuracy: the
+    direct solve refined to a 1e-13 relative residual (fem.linalg) leaves V/F at 0.1 N and
+    0.3 N 1.0e-9 apart (measured, deterministic: the rounding of the right-hand side F b
+    differs with F), so 1e-8 of it; a lost, duplicated or corrupted point is far off."""
     s = [r[2] for r in rows]
     assert all(v is not None for v in s)
-    assert max(s) - min(s) <= 1e-9 * abs(s[0]), s
+    assert max(s) - min(s) <= 1e-8 * abs(s[0]), s
 
 
 @pytest.fixture
