@@ -6,7 +6,6 @@ import signal
 import sqlite3
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
@@ -18,7 +17,7 @@ from taxel.studies.execute import run as run_study
 from taxel.studies.spec import load_study
 from taxel.studies.store import tidy_rows
 from taxel.cli import main
-from waits import CEILING
+from waits import CEILING, poll_until
 
 SMALL = """
 name = "small"
@@ -75,9 +74,7 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
     for target in (3, 7):                      # kill after some points, twice
         proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 cwd=Path(__file__).parent.parent)
-        deadline = time.time() + CEILING        # event-driven: the row count; a ceiling for a hang
-        while count(out) < target and proc.poll() is None and time.time() < deadline:
-            time.sleep(0.05)
+        poll_until(lambda: count(out) >= target, f"{target} stored points", proc)   # the row count
         proc.send_signal(signal.SIGKILL)
         proc.wait()
         assert 0 < count(out) < 12
@@ -256,9 +253,7 @@ def test_a_second_run_on_a_busy_folder_is_refused_and_the_lock_dies_with_the_fir
     env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
-        deadline = time.time() + CEILING        # event-driven: the row count; a ceiling for a hang
-        while count(out) < 2 and proc.poll() is None and time.time() < deadline:
-            time.sleep(0.05)
+        poll_until(lambda: count(out) >= 2, "2 stored points", proc)     # fails if the first run ended first
         assert proc.poll() is None, "the first run ended before the second could start"
         capsys.readouterr()
         code = main(["study", "run", str(study), "--out", str(out), "--workers", "1", "--quiet"])
