@@ -17,7 +17,9 @@ silicone with a 3D size field: piezo_size at the taxel edges on the piezo's face
 contact_size within `rim` of the punch's rim on the top surface, growing to size.
 
 RESULT (measured 2026-11-24 on the shared 2-core machine, load average 12-22, so the
-wall times are 3-6x the CPU times; the press on today's solver, fem/press.py):
+wall times are 3-6x the CPU times; the press on the solver before the chord steps and inexact
+Uzawa of fem/press.py; the extruded reference levels' CPU times are those of
+docs/press_3d_reference.json, the same solver; on the new solver see benchmarks/press_3d.py):
 
 | mesh | unknowns | error | CPU s |
 |---|---|---|---|
@@ -47,7 +49,8 @@ the through-thickness effect shrinks as the in-plane size does). Same limit: the
 family moves towards the reference as it is refined (+0.78, +0.72, +0.34 %), but not
 in its asymptotic range (no Richardson value from it); so the default's error is
 measured, not extrapolated: +0.76 % at 8 928 unknowns, a quarter of the extruded
-default's unknowns and 1/20 of its CPU time (15 s against 295 s on today's solver;
+default's unknowns and 1/20 of its CPU time (15 s against 295 s on the same, earlier solver;
+5.8 s of CPU on the new one, benchmarks/press_3d.py;
 in a second run side by side with the reference's coarsest level, 15.5 s and 45 Newton
 iterations against 21.1 s and 38 for 11 634 unknowns at +2.29 %). Neighbouring meshes
 of the family scatter by +-0.3 % (the far size 1.41, 2, 2.8 mm: +0.78, +0.46, +0.82 %;

@@ -129,10 +129,10 @@ def check(press: Press, error) -> None:
                 raise error(f"press.{key}: {exc}") from None
     if press.force_range is not None:
         try:
-            lo, hi = (U.in_unit(v, "N")[0] for v in press.force_range)
+            forces = range_forces(press)
         except U.UnitError as exc:
             raise error(f"press.force_range: {exc}") from None
-        if not 0 < lo < hi:
+        if not 0 < forces[0] < forces[-1]:
             raise error(f"press.force_range must be two forces, the lower first and above 0 N, got "
                         f"{press.force_range!r}; write e.g. [\"0.5 N\", \"2 N\"]")
 

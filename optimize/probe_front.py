@@ -298,8 +298,8 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d
                      "3D solves if every candidate were pressed in 3D": len(pool),
                      "linear designs visited": len(pool),
                      "product error measured": product_miss is not None,
-                     "product estimate's largest miss (sensitivity, crosstalk)": product_miss})
-    pf.fine_model = dict(fine_model)
+                     "product estimate's largest miss (sensitivity, crosstalk)": product_miss},
+                    fine_model=dict(fine_model))
     pf.movements, pf.ranking = movements(lin, linear_mf, pf, ratio_lin, score_b, pool)
     return pf
 
@@ -320,16 +320,16 @@ def movements(lin, linear_mf: MultiFidelity, pf: ProbeFront, ratio_lin, score_b,
     """Per design of the linear 3D-verified front: its linear 3D (s, c) and its probe
     estimate at the same design, the relative moves; the ranking by sensitivity under
     each; whether the thesis design is dominated under each."""
-    by_x = {tuple(np.round(d.x, 9)): d for d in pool}
-    pressed = {tuple(np.round(d.x, 9)): d.fine for d in pf.pressed_3d if d.fine}    # with full: the 3D press
+    by_x = {_key(d.x): d for d in pool}
+    pressed = {_key(d.x): d.fine for d in pf.pressed_3d if d.fine}    # with full: the 3D press
     rows = []
     for d in linear_mf.front_3d:
-        p = by_x.get(tuple(np.round(d.x, 9)))
+        p = by_x.get(_key(d.x))
         if p is None or score_b.get(id(p)) is None:
             continue
         s = score_b[id(p)]
         r = ratio_lin(d.x)
-        probe = pressed.get(tuple(np.round(d.x, 9))) or (s[0] * r[0], s[1] * r[1])
+        probe = pressed.get(_key(d.x)) or (s[0] * r[0], s[1] * r[1])
         rows.append({**{f"{n} ({u})": v for n, v, u in zip(lin.names, d.x, lin.units)},
                      "linear sensitivity (V/N)": d.fine[0], "probe sensitivity (V/N)": probe[0],
                      "sensitivity moved": probe[0] / d.fine[0] - 1,

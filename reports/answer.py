@@ -153,8 +153,8 @@ def _from_front_3d(folder: Path, rec: dict, width: float, material: str) -> Fron
     from taxel.analyses.error_estimate import CHEAP_3D_ERROR
     a = rec["answer"]
     ref = rec["reference"]
-    names = list(_lengths(ref))
     x_ref = _lengths(ref)
+    names = list(x_ref)
     c = a.get("confirmed")
     t, b = (c["thesis"], c.get("best")) if c else (a["thesis_3d"], a.get("best_at_or_below_thesis_crosstalk"))
     model, _ = verified_model(rec)

@@ -16,6 +16,7 @@ import statistics
 from pathlib import Path
 
 from taxel.reports.figures import pyplot
+from taxel.reports.findings import finite_number
 
 YEOH = "Yeoh (thesis)"
 LINEAR = "linear"
@@ -42,23 +43,15 @@ def swept(rows: list[dict]) -> str:
 
 def output(rows: list[dict]) -> str:
     """What the figure shows: crosstalk for a gap sweep (Fig. 2.8/2.9), else sensitivity (2.5/2.6)."""
-    return "crosstalk" if swept(rows) == "gap" and any(_f(r.get("crosstalk")) is not None for r in rows) else "sensitivity"
-
-
-def _f(v) -> float | None:
-    """A row's number (rows read back from results.csv hold strings; "" is none)."""
-    try:
-        return float(v) if v not in (None, "") else None
-    except (TypeError, ValueError):
-        return None
+    return "crosstalk" if swept(rows) == "gap" and any(finite_number(r.get("crosstalk")) is not None for r in rows) else "sensitivity"
 
 
 def _stopped(r: dict) -> float | None:
-    return _f(r.get("stopped_at"))
+    return finite_number(r.get("stopped_at"))
 
 
 def _value(r: dict, out: str) -> float | None:
-    v = _f(r.get(out))
+    v = finite_number(r.get(out))
     if v is None or r.get("status") != "done":
         return None
     return 100 * abs(v) if out == "crosstalk" else abs(v)

@@ -213,11 +213,6 @@ class Scene(Strict):
         return (self.array is not None and self.model.type == "3d" and ld.kind == "indenter" and ld.contact
                 and ld.shape == "flat")
 
-    @property
-    def default_mesh(self) -> tuple[str, ...]:
-        """The mesh keys this scene took from DEFAULT_MESH or DEFAULT_PRESS_MESH (empty: its own [mesh])."""
-        return self._default_mesh
-
     def _fill_default_mesh(self) -> None:
         """mesh.size (and piezo_size) not given: DEFAULT_MESH for this model type, or
         DEFAULT_PRESS_MESH (with its piezo_layers, unless given) for a 3D punch press."""
@@ -452,14 +447,19 @@ def replace(scene: Scene, **changes) -> Scene:
     return parse(data, si_numbers=True)
 
 
-def refined(scene: Scene, factor: float) -> Scene:
-    """The scene with every element size divided by `factor` (in plane and through
-    the piezo), for convergence studies: factor 2 halves h everywhere."""
+def refined(scene: Scene, factor: float, in_plane: bool = True, through: bool = True) -> Scene:
+    """The scene with every element size divided by `factor`, for convergence studies:
+    factor 2 halves h everywhere; `in_plane` False keeps the in-plane sizes (only the
+    elements through the piezo change), `through` False keeps those. The mesh family
+    (`mesh.extruded`, free silicone for a default 3D press) is kept."""
     m = scene.mesh
-    kept = {} if m.extruded is None else {"mesh.extruded": m.extruded}   # the same mesh family
-    return replace(scene, **{"mesh.size": m.size / factor,
-                             "mesh.piezo_size": (m.piezo_size or m.size / 4) / factor,
-                             "mesh.piezo_layers": max(1, round(m.piezo_layers * factor)), **kept})
+    changes = {"mesh.extruded": m.extruded} if m.extruded is not None else {}
+    if in_plane:
+        changes.update({"mesh.size": m.size / factor, "mesh.piezo_size": (m.piezo_size or m.size / 4) / factor})
+    else:               # the sizes as they are (defaults included: replace re-fills only what is not given)
+        changes.update({"mesh.size": m.size, "mesh.piezo_size": m.piezo_size or m.size / 4})
+    changes["mesh.piezo_layers"] = max(1, round(m.piezo_layers * factor)) if through else m.piezo_layers
+    return replace(scene, **changes)
 
 
 def canonical(scene: Scene) -> str:

@@ -19,7 +19,7 @@ import taxel
 from taxel.analyses import error_estimate as est
 from taxel.analyses import solve_static
 from taxel.cli import main
-from taxel.scene import SceneError, load, refined
+from taxel.scene import SceneError, load
 from taxel.schema import to_data
 from taxel.studies.evaluate import evaluate
 

@@ -246,9 +246,8 @@ def _split_3d(scene: Scene, vals: dict[str, float], solver: str, order: float, c
     lets them cancel or, from two elements through to one, measures the one-element
     regime (1.4 % off) instead of this mesh."""
     m = scene.mesh
-    through = output_values(solve_model(scene.replace(**{"mesh.piezo_layers": 2 * m.piezo_layers}), solver))
-    plan = output_values(solve_model(scene.replace(**{"mesh.size": 2 * m.size,
-                                                      "mesh.piezo_size": 2 * (m.piezo_size or m.size / 4)}), solver))
+    through = output_values(solve_model(refined(scene, 2, in_plane=False), solver))
+    plan = output_values(solve_model(refined(scene, 0.5, through=False), solver))
     a, b = richardson(through, vals, order), richardson(vals, plan, order)
     # a is relative to the finer value (through); rescaled to this mesh's value
     disc = {k: a.get(k, 0.0) * (abs(through[k] / v) if k in through and v else 1.0) + b.get(k, 0.0)
