@@ -97,11 +97,7 @@ def newton(pr, x, d, lam, tol=None):
             raise ContactError(f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on one active set "
                                f"cut the residual from {norms[-STALL_STEPS]:.2e} only to {norm:.2e} (line "
                                "search steps down to 1/64: a kink in the contact zone)", pr.res)
-        t0 = time.process_time()
-        pr.solver = solver = pr._factorize(K, pr.red.is_u, D=D)
-        pr._chord_key = ckey
-        pr.stats["factorizations"] += 1
-        pr.stats["factorize_s"] += time.process_time() - t0
+        solver = pr.refactor(K, D, ckey)
         seen.append(key)
         norms.append(norm)
         pr.trace.append((d, it, norm, int(st.active.sum())))

@@ -269,21 +269,29 @@ class Press:
         S = self.surf.dofs.ravel() + u0
         dr, dF_dd, dF_du = self.surf.travel_derivatives(st, self.eps)
         if self.solver is None:                  # converged without a Newton step: factorize here
-            self.solver, self._chord_key = self._factorize(self._residual(x, d, lam)[3], self.red.is_u), None
+            self.refactor(self._residual(x, d, lam)[3])
         rhs = self.red.P.T @ np.bincount(S, dr.ravel(), minlength=n)
         dy, _ = self.solver(-rhs)
         v = self.red.P @ dy[:, 0]
         return v, self.G * (dF_dd + float(dF_du.ravel() @ v[S]))
+
+    def refactor(self, K, D=None, key=None):
+        """Factorize the tangent K (row scaling D, or the solver's own) as the press's
+        solver, made for `key` (the chord steps' active set, stick set and penalty;
+        fem.contact_newton), counted in the stats."""
+        t0 = time.process_time()
+        self.solver = self._factorize(K, self.red.is_u, D=D)
+        self._chord_key = key
+        self.stats["factorizations"] += 1
+        self.stats["factorize_s"] += time.process_time() - t0
+        return self.solver
 
     def start_rates(self):
         """dx/dd and dF/dd at the unpressed state (one factorization): the first travel's
         prediction, and force control's first trial (fem.loadpath.force)."""
         self._stick = self._sticking()
         _, _, st, K = self._residual(self.x, self.d, self.lam)
-        t0 = time.process_time()
-        self.solver, self._chord_key = self._factorize(K, self.red.is_u), None
-        self.stats["factorizations"] += 1
-        self.stats["factorize_s"] += time.process_time() - t0
+        self.refactor(K)
         self.v, self.slope = self._rates(self.x, st, self.d, self.lam)
         return self.slope
 
@@ -330,7 +338,7 @@ class Press:
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
         r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
         self._stick = self._sticking()           # the tangent at the final state (Newton stops unfactorized)
-        self.solver, self._chord_key = self._factorize(self._residual(x, self.d, self.lam)[3], red.is_u), None
+        self.refactor(self._residual(x, self.d, self.lam)[3])
         self._stick = None
         X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
         Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
