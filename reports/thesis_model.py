@@ -58,9 +58,18 @@ def _value(r: dict, out: str) -> float | None:
 
 
 def draw(rows: list[dict], out: Path, name: str) -> Path:
-    """OUT/NAME-thesis-model.png: per piezo, the output over the swept parameter, linear
-    silicone (dashed, force-independent) beside Yeoh at each force (solid); crosses: Yeoh
-    points stopped short, at their last converged force."""
+    """OUT/NAME-thesis-model.png: the `figure` of the rows."""
+    fig = figure(rows, name)
+    path = Path(out) / f"{name}-thesis-model.png"
+    fig.savefig(path, dpi=110)
+    pyplot().close(fig)
+    return path
+
+
+def figure(rows: list[dict], name: str):
+    """Per piezo (one axes each), the output over the swept parameter: linear silicone
+    (dashed, force-independent) beside Yeoh at each force (solid); crosses: Yeoh points
+    stopped short, at their last converged force."""
     plt = pyplot()
     x_name, what = swept(rows), output(rows)
     piezos = list(dict.fromkeys(r["piezo"] for r in rows))
@@ -88,10 +97,7 @@ def draw(rows: list[dict], out: Path, name: str) -> Path:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle(f"{name}: the thesis's model (plane stress, Yeoh) beside linear silicone", fontsize=10)
-    path = Path(out) / f"{name}-thesis-model.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return fig
 
 
 def comparison(rows: list[dict]) -> list[dict]:

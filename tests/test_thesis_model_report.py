@@ -33,6 +33,20 @@ def test_the_comparison_counts_stopped_points_and_compares_each_point(tmp_path):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_the_figure_draws_linear_dashed_yeoh_solid_and_stopped_points_as_crosses():
+    """What the figure plots, read from its lines: linear |V|/F dashed at both thicknesses,
+    the Yeoh point solved to its force on the solid line, the stopped one a cross at its
+    own value (0.66 V/N at 2 mm), not joined to the solved ones."""
+    fig = T.figure(_rows(), "fig")
+    (ax,) = fig.axes
+    lines = {(ln.get_linestyle(), ln.get_marker()): ln for ln in ax.get_lines() if len(ln.get_xdata())}
+    lin, yeoh, stop = lines["--", "o"], lines["-", "o"], lines["None", "x"]
+    assert list(lin.get_xdata()) == [1.0, 2.0] and list(lin.get_ydata()) == [0.80, 0.60]
+    assert list(yeoh.get_xdata()) == [1.0] and list(yeoh.get_ydata()) == [0.84]
+    assert list(stop.get_xdata()) == [2.0] and list(stop.get_ydata()) == [0.66]
+    assert ax.get_ylabel().startswith("sensitivity") and "PZT" in ax.get_title()
+
+
 def test_a_gap_sweep_shows_crosstalk():
     rows = [{("gap" if k == "silicone_thickness" else k): v for k, v in r.items()} for r in _rows()]
     assert T.swept(rows) == "gap" and T.output(rows) == "crosstalk"
