@@ -76,9 +76,22 @@ keeps the small first steps. The frictionless punch at sizes / 0.5 gets to 0.608
 named: Newton stagnates on one active set at 0.402 mm of travel (the line search's steps down to
 1/64; 136 s of CPU with the bisections); it does not reach 1 N.
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick] [--divide K]
+Frictionless (--frictionless: the default press mesh, then the reference family's at sizes x 2;
+one run, load 4-5, so wall times are about 3x the CPU times; the stop's message names what the
+stalled Newton iterate measured, fem.contact_newton):
+
+| variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
+|---|---|---|---|---|---|---|---|---|---|---|---|---|
+| frictionless punch, the default press mesh | 8928 | stopped: 0.306 N reached at 0.2189 mm, V/F -0.94491 V/N; Newton stagnates at travel 0.000219 m: 5 steps on one active set cut the residual from 8.65e-05 only to 8.48e-05 (line search steps down to 1/64: a kink in the contact zone; 42 of 134 contact points on the rounded edge; the last full Newton step slides a contact point by 0.00256 mm (edge radius 0.2 mm); smallest J in the silicone 0.28) ||||||||| 152.5 | 493.8 |
+| frictionless punch, the reference family's mesh at sizes x 2 | 11634 | stopped: 0.607 N reached at 0.4018 mm, V/F -0.90858 V/N; Newton stagnates at travel 0.000402 m: 5 steps on one active set cut the residual from 7.64e-05 only to 1.68e-04 (line search steps down to 1/64: a kink in the contact zone; 31 of 98 contact points on the rounded edge; the last full Newton step slides a contact point by 1.77e-05 mm (edge radius 0.2 mm); smallest J in the silicone 0.13) ||||||||| 143.9 | 388.0 |
+
+Neither reaches 1 N; the diagnosis (what was measured at the stop, and what was ruled out) is in
+docs/guide/silicone-and-contact.md, "Frictionless presses".
+
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick] [--divide K] [--frictionless]
 (--quick: the default row only; --divide K: the rows on the default mesh with every size divided
-by K, e.g. 0.5 for a mesh twice as coarse, to compare the variants at a quarter of the cost)
+by K, e.g. 0.5 for a mesh twice as coarse, to compare the variants at a quarter of the cost;
+--frictionless: the frictionless punch on the default press mesh and at sizes x 2 only)
 """
 
 from __future__ import annotations
@@ -131,8 +144,10 @@ def run(sc, lay, opts: Options | None = None, path=()):
         for F in (*path, 1.0):
             pt = pr.force(F)
     except ContactError as exc:
-        last = pr.res.points[-1].force if pr.res.points else 0.0
-        return dict(n=pr.red.n, error=f"{last:.3g} N reached; {exc}", cpu=time.process_time() - c)
+        p = pr.res.points[-1] if pr.res.points else None
+        last = (f"{p.force:.3g} N reached at {1e3 * p.travel:.4g} mm, V/F {p.voltages['taxel_0_0'] / p.force:.5f} V/N"
+                if p else "no state reached")
+        return dict(n=pr.red.n, error=f"{last}; {exc}", cpu=time.process_time() - c, wall=time.perf_counter() - w)
     return dict(n=pr.red.n, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel, states=len(pr.res.points),
                 iterations=pr.res.total_iterations, factorizations=pr.stats["factorizations"],
                 factorize_s=pr.stats["factorize_s"], assemble_s=pr.stats["assemble_s"],
@@ -189,7 +204,7 @@ def main():
     def line(name, r):
         ref = json.loads(OUT.read_text()) if OUT.exists() else None     # (a reference run may be writing it)
         if "error" in r:
-            return f"| {name} | {r['n']} | stopped: {r['error']} ||||||||| {r['cpu']:.1f} | |"
+            return f"| {name} | {r['n']} | stopped: {r['error']} ||||||||| {r['cpu']:.1f} | {r['wall']:.1f} |"
         err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref else "-"
         return (f"| {name} | {r['n']} | {r['VF']:.5f} | {err} | {r['states']} | {r['iterations']} | "
                 f"{r['factorizations']} | {r['chord']} | {r['factorize_s']:.1f} | {r['solve_s']:.1f} | {r['assemble_s']:.1f} | "
@@ -203,6 +218,12 @@ def main():
           "factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     k = float(sys.argv[sys.argv.index("--divide") + 1]) if "--divide" in sys.argv else 1.0
+    if "--frictionless" in sys.argv:      # the frictionless punch on the default mesh and at sizes x 2
+        user = load("thesis-pzt-probe-3d").replace(**{"load.friction": "frictionless"})
+        print(line("frictionless punch, the default press mesh", run(user, layout(user))), flush=True)
+        fr = scene("frictionless")
+        print(line("frictionless punch, the reference family's mesh at sizes x 2", run(fr, layout(fr, 0.5))), flush=True)
+        return
     if k == 1.0:    # a user's scene without [mesh]: the default press mesh (taxel.scene.DEFAULT_PRESS_MESH)
         user = load("thesis-pzt-probe-3d")
         print(line("**default** (thesis-pzt-probe-3d, no [mesh])", run(user, layout(user))), flush=True)

@@ -45,6 +45,7 @@ def newton(pr, x, d, lam, tol=None):
     o, P = pr.o, pr.red.P
     tol = o.tol if tol is None else tol
     seen, norms, frozen, fixed, step_rel = [], [], None, None, 1.0
+    dx = np.zeros_like(x)           # the last full Newton step (a stagnation message measures it)
     trial, D = None, None          # the line search's accepted residual (r, ref, st) at x; the last scaling
     for it in range(o.max_iter):
         r, ref, st, K = trial + (None,) if trial is not None else pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
@@ -96,7 +97,7 @@ def newton(pr, x, d, lam, tol=None):
                 and norm > STALL_CUT * norms[-STALL_STEPS]):
             raise ContactError(f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on one active set "
                                f"cut the residual from {norms[-STALL_STEPS]:.2e} only to {norm:.2e} (line "
-                               "search steps down to 1/64: a kink in the contact zone)", pr.res)
+                               f"search steps down to 1/64: a kink in the contact zone; {_where(pr, st, x, dx)})", pr.res)
         solver = pr.refactor(K, D, ckey)
         seen.append(key)
         norms.append(norm)
@@ -131,3 +132,23 @@ def newton(pr, x, d, lam, tol=None):
                            "update in the tangent, or take smaller travel steps", pr.res)
     raise ContactError(f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations "
                        f"(residual {norm:.2e})", pr.res)
+
+
+def _where(pr, st, x, dx) -> str:
+    """What the stagnating iterate shows: its contact points on the punch's rounded edge (the
+    gap's normal turns there), how far the last full Newton step would slide a contact point
+    along the indenter (against the edge radius), and the smallest J of the Yeoh silicone."""
+    ind = pr.ind
+    nl = st.x.shape[0] - 1
+    c = np.asarray(ind.centre[:nl], float).reshape((nl,) + (1,) * (st.x.ndim - 1))
+    r = np.sqrt(((st.x[:nl] - c) ** 2).sum(axis=0))
+    act = st.active
+    rim = int((act & (r > ind.core)).sum()) if ind.rho > 0 else 0
+    u = pr.sy.offsets["u"]
+    move = np.einsum("fqic,fi->cfq", pr.surf.phi, dx[u][pr.surf.dofs])
+    slide = move - (move * st.n).sum(axis=0) * st.n
+    slide = float(np.sqrt((slide ** 2).sum(axis=0))[act].max(initial=0.0))
+    part = "the rounded edge" if ind.shape == "flat" else f"the {ind.shape}"
+    return (f"{rim} of {int(act.sum())} contact points on {part}; the last full Newton step "
+            f"slides a contact point by {1e3 * slide:.3g} mm (edge radius {1e3 * ind.rho:.3g} mm)"
+            + (f"; smallest J in the silicone {pr._min_J:.2f}" if pr.sy.yeoh else ""))

@@ -251,3 +251,30 @@ def test_bonded_thin_incompressible_layer_under_a_flat_punch():
     assert 0 < excess["sticking", 20] < 0.06
     assert 0 < excess["sticking", 20] < 0.5 * excess["sticking", 10]
     assert 0 < excess["frictionless", 20] < 0.6 * excess["frictionless", 10]
+
+
+def test_a_stagnation_names_what_it_measured():
+    """The stagnation message's measurements (fem.contact_newton._where) against closed
+    forms: a rigid lateral shift by delta slides every point under a punch's flat by delta
+    (its normal is vertical), none on a sharp punch's (absent) rounded edge; a 0.3 mm edge
+    radius pressed 50 um deep puts the active points beyond the flat's radius on the edge."""
+    from taxel.fem.contact_newton import _where
+    a = 1e-3
+    tm = block(20 * a, 20 * a, 1.2 * a, a / 8, growth=1.3)
+    for rho, d in ((0.0, 1e-3 * a), (0.3e-3, 0.05 * a)):
+        ind = Indenter("flat", a, rho, travel=d)
+        pr = Press(assemble(problem(tm, MAT, ind)), ind)
+        pr.travel(d, first=1.0)
+        st, x = pr.res.state, pr.x
+        dx = np.zeros_like(x)
+        delta = 2e-6
+        ub = next(iter(pr.sy.ubases.values()))
+        dx[pr.sy.offsets["u"].start + np.concatenate([ub.nodal_dofs[0], ub.facet_dofs[0]])] = delta   # u_r everywhere
+        msg = _where(pr, st, x, dx)
+        r = np.abs(st.x[0])
+        rim = int((st.active & (r > ind.core)).sum())
+        assert msg.startswith(f"{rim} of {int(st.active.sum())} contact points on the rounded edge")
+        if rho == 0.0:
+            assert rim == 0 and f"slides a contact point by {1e3 * delta:.3g} mm" in msg
+        else:
+            assert 0 < rim < st.active.sum()            # the flat and its rounded edge both press
