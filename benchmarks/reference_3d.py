@@ -7,14 +7,20 @@ For each case: the voltages of 3 levels (each refinement halves every size, 8x
 the elements), the observed order p = log2(d1 / d2), and the extrapolated value
 v2 + (v2 - v1) / (2^p - 1). Several coarse meshes per case (one and two elements
 through the piezo), so the spread of the extrapolations shows how far the reference
-itself can be trusted; the reference is their mean (one chain for the 3x3 array: a
-finer coarse mesh's third level does not fit in 10 GB). Writes docs/reference_3d.json
-(read by benchmarks/taxel_3d.py, default_mesh.py --3d, estimator_coverage.py --types
-and tests/test_error_estimate.py, which take the largest error against any chain).
+itself can be trusted; the reference is their mean. A chain whose differences change
+sign ("monotone": false in the JSON) has no meaningful observed order: Richardson is not
+justified there, and its value is kept only because its step is small (the finest level
+is then near the limit). Each level's wall and CPU time and the peak memory so far are
+kept with the chain. Writes docs/reference_3d.json (read by benchmarks/taxel_3d.py,
+default_mesh.py --3d, estimator_coverage.py --types, mesh_grading.py,
+cheap_3d_symmetry.py, array_mesh_error.py and tests/test_error_estimate.py, which take
+the largest error against any chain).
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/reference_3d.py [single] [3x3]
+(a case:i,j argument measures only those chains of the case, keeping the others)
 (single: four chains, the finest levels 117k-177k unknowns, peak 4.9 GB; about 20 min
-at load average 15 on 2 cores)
+at load average 15 on 2 cores. 3x3: four chains, the finest levels 132k-273k unknowns,
+peak 6.7 GB; about 10 min of CPU, 20 min wall at load average 4-5)
 """
 
 from __future__ import annotations
@@ -42,8 +48,8 @@ CASES = {
     "single": ("thesis-pzt-single-3d", "taxel_0_0", [("2 mm", "1 mm", 1), ("2.5 mm", "1.2 mm", 1),
                                                      ("2 mm", "1 mm", 2), ("3 mm", "1.5 mm", 2)]),
     # since the 3D edge fix the 4 mm / 2 mm base has 4 526 unknowns (272k at the third level, 6.7 GB);
-    # coarser bases keep the third level under 7 GB: 8 mm / 4 mm is about the pre-fix 4 mm / 2 mm mesh
-    # (the plan size there is the taxel's width, so the edge refinement hardly adds to it)
+    # coarser bases keep the third level under 7 GB; 8 mm / 4 mm / 1 gives the pre-fix 4 mm / 2 mm chain's
+    # unknowns and voltages (2 226 / 16 916 / 131 838; -0.82154 V)
     "3x3": ("thesis-pzt-3x3-3d", "taxel_1_1", [("4 mm", "2 mm", 1), ("8 mm", "4 mm", 2), ("8 mm", "4 mm", 1),
                                                ("6 mm", "3 mm", 1)]),
 }
@@ -100,6 +106,7 @@ def main():
                   f"{100 * out[case]['spread']:.3f} % apart", flush=True)
             OUT.write_text(json.dumps(out, indent=1) + "\n")
             print(f"wrote {OUT}", flush=True)
+
 
 if __name__ == "__main__":
     main()
