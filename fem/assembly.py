@@ -14,18 +14,21 @@ tangent.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import (Basis, ElementTetMini, ElementTetP1, ElementTetP2, ElementTriMini, ElementTriP1,
+from skfem import (ElementTetMini, ElementTetP1, ElementTetP2, ElementTriMini, ElementTriP1,
                    ElementTriP2, ElementVector, FacetBasis, asm)
+from skfem.assembly import Dofs
 
 from taxel.fem import constraints, forms
 from taxel.fem.kinematics import Kinematics
 from taxel.fem.laws import PiezoLaw, SolidLaw, law
 from taxel.fem.problem import Problem
 from taxel.fem.bilinear import GRAD, STRAIN, VALUE, Term, assemble_terms
+from taxel.fem.scalar_basis import LeanBasis
 from taxel.fem.yeoh import Yeoh
 from taxel.meshing.build import TaggedMesh
 
@@ -79,6 +82,9 @@ def assemble(problem: Problem) -> System:
     mesh = tm.mesh
     eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed)
     q = 4
+    # LeanBasis: no table of the shape functions at every point (32 kB per P2 tetrahedron);
+    # one DOF numbering per element for all regions
+    dofs = {e: Dofs(mesh, e) for e in {id(x): x for x in (eu, ep, ephi)}.values()}
     ubases, pbases, phibases, laws, yeoh = {}, {}, {}, {}, {}
     for region, (mname, poling) in tm.materials.items():
         try:
@@ -86,12 +92,12 @@ def assemble(problem: Problem) -> System:
         except ValueError as exc:
             raise ValueError(f"{mname}: {exc}") from None
         elems = tm.regions[region]
-        ubases[region] = Basis(mesh, eu, elements=elems, intorder=q)
+        ubases[region] = LeanBasis(mesh, eu, elems, q, dofs[eu])
         if isinstance(lw, PiezoLaw):
-            phibases[region] = Basis(mesh, ephi, elements=elems, intorder=q)
+            phibases[region] = LeanBasis(mesh, ephi, elems, q, dofs[ephi])
             continue
         if disc.mixed and lw.kappa != 0:    # kappa = 0 (plane stress, nu = 0): p = 0, nothing to constrain
-            pbases[region] = Basis(mesh, ep, elements=elems, intorder=q)
+            pbases[region] = LeanBasis(mesh, ep, elems, q, dofs[ep])
         if problem.hyperelastic and lw.yeoh is not None:
             yeoh[region] = lw.yeoh
 
@@ -135,6 +141,8 @@ def assemble(problem: Problem) -> System:
     b, force = load_vector(problem, eu, n)
     fixed_u = constraints.supports(problem, next(iter(ubases.values())))
     electrodes = constraints.electrodes(problem, phibases, offsets["phi"].start)
+    logging.getLogger(__name__).info("assembled: %d elements, %d unknowns, %d matrix entries",
+                                     mesh.nelements, n, A.nnz)
     return System(problem, A, b, offsets, ubases, pbases, phibases, laws, fixed_u, electrodes, force,
                   yeoh, parts)
 
