@@ -21,7 +21,6 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import (ElementTetMini, ElementTetP1, ElementTetP2, ElementTriMini, ElementTriP1,
                    ElementTriP2, ElementVector, FacetBasis, asm)
-from skfem.assembly import Dofs
 
 from taxel.fem import constraints, forms
 from taxel.fem.kinematics import Kinematics
@@ -83,8 +82,13 @@ def assemble(problem: Problem) -> System:
     eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed)
     q = 4
     # LeanBasis: no table of the shape functions at every point (32 kB per P2 tetrahedron);
-    # one DOF numbering per element for all regions
-    dofs = {e: Dofs(mesh, e) for e in {id(x): x for x in (eu, ep, ephi)}.values()}
+    # one DOF numbering and one set of DOF locations per element for all regions
+    first: dict[int, LeanBasis] = {}
+
+    def basis(elem, elems):
+        b = LeanBasis(mesh, elem, elems, q, first.get(id(elem)))
+        first.setdefault(id(elem), b)
+        return b
     ubases, pbases, phibases, laws, yeoh = {}, {}, {}, {}, {}
     for region, (mname, poling) in tm.materials.items():
         try:
@@ -92,12 +96,12 @@ def assemble(problem: Problem) -> System:
         except ValueError as exc:
             raise ValueError(f"{mname}: {exc}") from None
         elems = tm.regions[region]
-        ubases[region] = LeanBasis(mesh, eu, elems, q, dofs[eu])
+        ubases[region] = basis(eu, elems)
         if isinstance(lw, PiezoLaw):
-            phibases[region] = LeanBasis(mesh, ephi, elems, q, dofs[ephi])
+            phibases[region] = basis(ephi, elems)
             continue
         if disc.mixed and lw.kappa != 0:    # kappa = 0 (plane stress, nu = 0): p = 0, nothing to constrain
-            pbases[region] = LeanBasis(mesh, ep, elems, q, dofs[ep])
+            pbases[region] = basis(ep, elems)
         if problem.hyperelastic and lw.yeoh is not None:
             yeoh[region] = lw.yeoh
 

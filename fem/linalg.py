@@ -18,6 +18,11 @@ on the 2D taxel (benchmarks/taxel_2d.py), SuperLU wins on small systems (PARDISO
 has a ~0.3 s floor here) and PARDISO on large ones (33 000 unknowns: 0.43 s vs
 2.9 s). In 3D the fill makes PARDISO pay from about 3 000 unknowns (4 000: 1.7 s
 vs 2.1 s; 8 400: 1.2 s vs 2.8 s, quarter taxel models), so 3D uses PARDISO above that.
+PARDISO factorizes out of core when its analysis says the factors do not fit the
+memory budget (`check_fits`, `MEMORY_CAP`). Single-precision factors (MKL iparm[27])
+with double-precision refinement were tried and dropped: on the 3x3 3D array (33k
+unknowns) the refined residual stayed at 0.19-3.7 and the voltages were wrong (the
+scaled coupled system is too ill-conditioned for float32).
 """
 
 from __future__ import annotations
@@ -46,7 +51,9 @@ def available(method: str) -> bool:
 
 AUTO_PARDISO_ABOVE = 15_000
 AUTO_PARDISO_ABOVE_3D = 3_000   # 3D fill: PARDISO 1.2 s vs SuperLU 2.8 s at 8.4k unknowns, even at 4k (taxel_3d)
-AUTO_KRYLOV_ABOVE = 1_500_000   # static solves: even single-precision factors would not fit 24 GB (fem.krylov)
+# static solves above this go to GMRES (fem.krylov); below, PARDISO, out of core where its factors
+# do not fit (check_fits; the 16x16 array's 794k unknowns, benchmarks/array_8x8.py; was 400k)
+AUTO_KRYLOV_ABOVE = 1_500_000
 # The memory this process may use in all (bytes; None: whatever is free). A caller on a shared
 # machine sets it (benchmarks/array_8x8.py --cap-gb); a factorization that would not fit
 # in it in core goes out of core (check_fits).
@@ -104,7 +111,7 @@ def numeric_factorization(solver, A) -> None:
     (phase 11), marked as pypardiso's factorization of A (its `factorize` runs phase
     12, which repeats the analysis: 27 % of a factorization's CPU time on the 3x3 3D
     array's 51k-unknown quarter, 5.1 s against 3.7 s, identical factors)."""
-    solver.factorized_A = solver._hash_csr_matrix(A) if A.nnz > solver.size_limit_storage else A.copy()
+    solver.factorized_A = solver._hash_csr_matrix(A)      # (not a copy of A: 0.35 GB at 16x16)
     solver.set_phase(22)
     solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
     log.info("PARDISO factorized %d unknowns", A.shape[0])
@@ -232,19 +239,19 @@ def scaled_solver(A: sp.spmatrix, is_u: np.ndarray, method: str, scale: bool = T
 def refined_solve(factor, As, D, B, rtol=1e-13):
     """X = D Y with (D A D) Y = D B solved by `factor` and up to three steps of iterative
     refinement on the scaled system, until the relative residual is below `rtol`;
-    returns (X, relative residuals per column)."""
+    returns (X, relative residuals per column). (A residual that stalls above `rtol`,
+    as the 3x3 3D array's load column at 2e-12, still gets its three steps: stopping at
+    the stall moved the 2D taxel's voltage by 1e-9, past the solvers' agreement.)"""
     B = np.asarray(B).reshape(As.shape[0], -1)
     Bs = D[:, None] * B
     Y = factor(Bs).reshape(Bs.shape)
-    for step in range(3):
+    for _ in range(3):
         R = Bs - As @ Y
         norm_b = np.linalg.norm(Bs, axis=0)
         res = np.linalg.norm(R, axis=0) / np.where(norm_b > 0, norm_b, 1.0)    # zero rhs: zero error
         if res.max() < rtol:
             break
         Y = Y + factor(R).reshape(Bs.shape)
-    log.debug("refined solve: %d right-hand sides, %d refinement steps, relative residual %.2g before the last",
-              Bs.shape[1], step, res.max())
     X = D[:, None] * Y
     if not np.all(np.isfinite(X)):
         raise RuntimeError("linear solve produced non-finite values: the system is singular "
