@@ -23,6 +23,7 @@ memory (taxel.analyses.adapter.cost) is printed, and the run stops there when it
 from __future__ import annotations
 
 import csv
+import logging
 import os
 import resource
 import sys
@@ -39,10 +40,11 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "capacitance_8x8.csv"
 
 
 # The mesh: thesis-pzt-3x3-3d's with 2 mm far and 0.8 mm at the taxels (two elements
-# through the PZT). On the 3x3 array's pressed taxel against docs/reference_3d.json
-# (measured after the 3D edge fix, the quarter model): +0.165 % at 32 926 unknowns,
-# against +0.337 % at 51 018 for the example's 1.5 mm / 0.6 mm; one element through
-# the PZT was -1.1 to -1.4 %, 2.5 mm / 1 mm +4.4 %.
+# through the PZT). On the 3x3 array's pressed taxel against docs/reference_3d.json's
+# four-chain 3x3 reference (-0.82234 V, +-0.46 %; benchmarks/array_mesh_error.py prints
+# these, the quarter model): +0.067 % at 32 926 unknowns, against +0.239 % at 51 018 for
+# the example's 1.5 mm / 0.6 mm; one element through the PZT -1.49 % and -1.17 %,
+# 2.5 mm / 1 mm +4.25 %.
 MESH = {"mesh.size": "2 mm", "mesh.piezo_size": "0.8 mm", "mesh.piezo_layers": 2}
 
 
@@ -57,9 +59,31 @@ def arg(name, default):
     return type(default)(sys.argv[sys.argv.index(name) + 1]) if name in sys.argv else default
 
 
+class Phases(logging.Handler):
+    """Prints each step the solver logs (assembly, PARDISO's analysis and factorizations)
+    with the wall and CPU time since the start, the resident memory and its peak."""
+
+    def __init__(self):
+        super().__init__(logging.INFO)
+        self.t0, self.c0 = time.perf_counter(), time.process_time()
+
+    def emit(self, record):
+        with open("/proc/self/statm") as fh:
+            rss = float(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+        print(f"  [{time.perf_counter() - self.t0:7.1f} s wall, {time.process_time() - self.c0:7.1f} s CPU, "
+              f"RSS {rss / 1e9:.2f} GB, peak {peak:.2f} GB, load {os.getloadavg()[0]:.1f}] {record.getMessage()}",
+              flush=True)
+
+
 def main():
     full = "--full" in sys.argv
     n, cap = arg("--n", 8), arg("--cap-gb", 12.0)
+    from taxel.fem import linalg
+    linalg.MEMORY_CAP = cap * 1e9          # a factorization that would not fit goes out of core
+    for name in ("taxel.fem.assembly", "taxel.fem.linalg"):
+        logging.getLogger(name).setLevel(logging.INFO)
+        logging.getLogger(name).addHandler(Phases())
     sc = scene("full" if full else "auto", n)
     from taxel.analyses.adapter import check, cost, layout
     unknowns, need = cost(sc, layout(sc, check(sc)))

@@ -14,11 +14,12 @@ tangent.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import (Basis, ElementTetMini, ElementTetP1, ElementTetP2, ElementTriMini, ElementTriP1,
+from skfem import (ElementTetMini, ElementTetP1, ElementTetP2, ElementTriMini, ElementTriP1,
                    ElementTriP2, ElementVector, FacetBasis, asm)
 
 from taxel.fem import constraints, forms
@@ -26,6 +27,7 @@ from taxel.fem.kinematics import Kinematics
 from taxel.fem.laws import PiezoLaw, SolidLaw, law
 from taxel.fem.problem import Problem
 from taxel.fem.bilinear import GRAD, STRAIN, VALUE, Term, assemble_terms
+from taxel.fem.scalar_basis import LeanBasis
 from taxel.fem.yeoh import Yeoh
 from taxel.meshing.build import TaggedMesh
 
@@ -79,6 +81,14 @@ def assemble(problem: Problem) -> System:
     mesh = tm.mesh
     eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed)
     q = 4
+    # LeanBasis: no table of the shape functions at every point (32 kB per P2 tetrahedron);
+    # one DOF numbering and one set of DOF locations per element for all regions
+    first: dict[int, LeanBasis] = {}
+
+    def basis(elem, elems):
+        b = LeanBasis(mesh, elem, elems, q, first.get(id(elem)))
+        first.setdefault(id(elem), b)
+        return b
     ubases, pbases, phibases, laws, yeoh = {}, {}, {}, {}, {}
     for region, (mname, poling) in tm.materials.items():
         try:
@@ -86,12 +96,12 @@ def assemble(problem: Problem) -> System:
         except ValueError as exc:
             raise ValueError(f"{mname}: {exc}") from None
         elems = tm.regions[region]
-        ubases[region] = Basis(mesh, eu, elements=elems, intorder=q)
+        ubases[region] = basis(eu, elems)
         if isinstance(lw, PiezoLaw):
-            phibases[region] = Basis(mesh, ephi, elements=elems, intorder=q)
+            phibases[region] = basis(ephi, elems)
             continue
         if disc.mixed and lw.kappa != 0:    # kappa = 0 (plane stress, nu = 0): p = 0, nothing to constrain
-            pbases[region] = Basis(mesh, ep, elements=elems, intorder=q)
+            pbases[region] = basis(ep, elems)
         if problem.hyperelastic and lw.yeoh is not None:
             yeoh[region] = lw.yeoh
 
@@ -135,6 +145,8 @@ def assemble(problem: Problem) -> System:
     b, force = load_vector(problem, eu, n)
     fixed_u = constraints.supports(problem, next(iter(ubases.values())))
     electrodes = constraints.electrodes(problem, phibases, offsets["phi"].start)
+    logging.getLogger(__name__).info("assembled: %d elements, %d unknowns, %d matrix entries",
+                                     mesh.nelements, n, A.nnz)
     return System(problem, A, b, offsets, ubases, pbases, phibases, laws, fixed_u, electrodes, force,
                   yeoh, parts)
 

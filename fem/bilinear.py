@@ -46,7 +46,7 @@ from skfem import ElementVector
 from skfem.element.discrete_field import DiscreteField
 
 from taxel.fem.kinematics import Kinematics
-from taxel.fem.scalar_basis import ScalarBasis, affine_blocks, block_csr, block_matrices, scalar_basis, scalar_dofs
+from taxel.fem.scalar_basis import LeanBasis, ScalarBasis, affine_blocks, block_csr, block_matrices, scalar_basis, scalar_dofs
 
 CHUNK = 4000          # elements per batch: bounds the operator arrays (30 x 6 x 11 x 8 B each)
 
@@ -86,11 +86,13 @@ def operator(basis, op: Operator, kin: Kinematics, sl=slice(None)) -> np.ndarray
 
 def weights(basis, kin: Kinematics, sl=slice(None)) -> np.ndarray:
     """(elements, points) quadrature weights times |det J| times the model's measure."""
+    measure = kin.measure(np.zeros((kin.dim, 1, 1)))
     if isinstance(basis, ScalarBasis):
-        measure = np.asarray(kin.measure(np.zeros((kin.dim, 1, 1))))
-        if measure.size != 1:
+        if np.ndim(measure) != 0:
             raise ValueError("weights: a ScalarBasis carries no points for a varying measure (axisymmetric)")
         return float(measure) * basis.w[sl]
+    if np.ndim(measure) == 0:                  # a constant measure: no points needed
+        return float(measure) * basis.dx[sl]
     x = np.asarray(basis.global_coordinates())[..., sl, :]
     return basis.dx[sl] * np.broadcast_to(kin.measure(x), basis.dx[sl].shape)
 
@@ -142,9 +144,11 @@ def lifting(basis, op: Operator, kin: Kinematics):
 def scalar_quantities(basis, kind: str, sl) -> np.ndarray:
     """(elements, points, r, scalar functions): gradients or values of the scalar shape
     functions of a basis (component 0 of a vector basis: its functions are (a, c))."""
+    if isinstance(basis, LeanBasis) and basis.scalar is not None:
+        basis = basis.scalar
     if isinstance(basis, ScalarBasis):
         if kind == "grad":
-            return basis.dN[sl]
+            return basis.grads(sl)
         ne = len(range(basis.detJ.shape[0])[sl])
         return np.broadcast_to(basis.values[None, :, None, :], (ne,) + basis.values.shape[:1] + (1,)
                                + basis.values.shape[1:])
@@ -282,31 +286,29 @@ def assemble_terms(terms: list[tuple], kin: Kinematics, shape) -> dict[str, sp.c
 def _affine_term(term: Term, sign: float, L, kin: Kinematics, shared: dict):
     """(basis, scalar DOFs, blocks) of a vector-vector strain term by affine_blocks, or
     None where that does not apply (curved or non-simplex mesh, a measure varying over
-    the element, a numbering that differs from scalar_basis's)."""
+    the element, a numbering that differs from scalar_basis's). The scalar basis uses
+    the term's basis's own quadrature rule."""
     b = term.test
     m = b.mesh
-    measure = np.asarray(kin.measure(np.zeros((kin.dim, 1, 1))))
-    if not getattr(m, "affine", False) or m.t.shape[0] != m.dim() + 1 or measure.size != 1:
+    measure = kin.measure(np.zeros((kin.dim, 1, 1)))
+    if not getattr(m, "affine", False) or m.t.shape[0] != m.dim() + 1 or np.ndim(measure) != 0:
         return None
-    key = (id(m), type(b.elem.elem).__name__, b.quadrature[1].size)
+    s = scalar_dofs(b)
+    if isinstance(b, LeanBasis):
+        sb = b.scalar
+        return None if sb is None else (b, s, (sign * float(measure)) * affine_blocks(sb, L, term.D))
+    X, W = b.quadrature
+    key = (id(m), type(b.elem.elem).__name__, X.tobytes(), W.tobytes())
     if key not in shared:
         try:
-            shared[key] = scalar_basis(m, b.elem.elem, _intorder(b))
+            shared[key] = scalar_basis(m, b.elem.elem, quadrature=(X, W))
         except ValueError:
             shared[key] = None
-    sb, s = shared[key], scalar_dofs(b)
+    sb = shared[key]
     tind = slice(None) if b.tind is None else b.tind
-    if (sb is None or sb.W.shape != b.quadrature[1].shape or not np.allclose(sb.W, b.quadrature[1], rtol=1e-14)
-            or not np.array_equal(sb.dofs[tind], s)):
+    if sb is None or not np.array_equal(sb.dofs[tind], s):
         return None
     return b, s, (sign * float(measure)) * affine_blocks(sb, L, term.D, tind)
-
-
-def _intorder(basis) -> int:
-    """The order of a basis's quadrature rule (its points identify it)."""
-    from skfem.quadrature import get_quadrature
-    n = basis.quadrature[1].size
-    return next(k for k in range(1, 20) if get_quadrature(basis.mesh.refdom, k)[1].size == n)
 
 
 def _q(basis, kind, sl, cache):

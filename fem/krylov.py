@@ -34,10 +34,10 @@ Measured (benchmarks/solvers_3d.py): the mass-type Schur approximation is weak
 for the thin bonded silicone layers (the inf-sup constant of a layer falls with
 its thickness over its width), so GMRES needs hundreds of iterations and is
 slower than PARDISO wherever PARDISO fits in memory; "auto" therefore picks it
-only above AUTO_KRYLOV_ABOVE unknowns (fem.linalg), where a direct
-factorization would not fit this machine's 24 GB: PARDISO's peak was 0.72 GB at
-20.5k unknowns, 2.24 GB at 70k and 6.7 GB at 182k (the issue's run); with 3D
-fill growing like n^(4/3), 400k unknowns extrapolate to about 19 GB.
+only above AUTO_KRYLOV_ABOVE unknowns (fem.linalg). PARDISO's peak was 0.72 GB at
+20.5k unknowns, 2.24 GB at 70k and 6.7 GB at 182k (the issue's run); where its
+factors do not fit, it now factorizes out of core (fem.linalg.check_fits: the
+16x16 array of benchmarks/array_8x8.py), which moved the threshold from 400k up.
 
 Tried and not adopted (the 3D taxel at mesh.size 2 mm, 10k unknowns, exact
 displacement solves to isolate the Schur part): the block preconditioner above

@@ -18,10 +18,17 @@ on the 2D taxel (benchmarks/taxel_2d.py), SuperLU wins on small systems (PARDISO
 has a ~0.3 s floor here) and PARDISO on large ones (33 000 unknowns: 0.43 s vs
 2.9 s). In 3D the fill makes PARDISO pay from about 3 000 unknowns (4 000: 1.7 s
 vs 2.1 s; 8 400: 1.2 s vs 2.8 s, quarter taxel models), so 3D uses PARDISO above that.
+PARDISO factorizes out of core when its analysis says the factors do not fit the
+memory budget (`check_fits`, `MEMORY_CAP`). Single-precision factors (MKL iparm[27])
+with double-precision refinement were tried and dropped: on the 3x3 3D array (33k
+unknowns) the refined residual stayed at 0.19-3.7 and the voltages were wrong (the
+scaled coupled system is too ill-conditioned for float32).
 """
 
 from __future__ import annotations
 
+import ctypes
+import logging
 import os
 import weakref
 
@@ -44,7 +51,14 @@ def available(method: str) -> bool:
 
 AUTO_PARDISO_ABOVE = 15_000
 AUTO_PARDISO_ABOVE_3D = 3_000   # 3D fill: PARDISO 1.2 s vs SuperLU 2.8 s at 8.4k unknowns, even at 4k (taxel_3d)
-AUTO_KRYLOV_ABOVE = 400_000     # static solves: a direct factorization would not fit 24 GB (fem.krylov)
+# static solves above this go to GMRES (fem.krylov); below, PARDISO, out of core where its factors
+# do not fit (check_fits; the 16x16 array's 794k unknowns, benchmarks/array_8x8.py; was 400k)
+AUTO_KRYLOV_ABOVE = 1_500_000
+# The memory this process may use in all (bytes; None: whatever is free). A caller on a shared
+# machine sets it (benchmarks/array_8x8.py --cap-gb); a factorization that would not fit
+# in it in core goes out of core (check_fits).
+MEMORY_CAP: float | None = None
+log = logging.getLogger(__name__)
 
 
 def resolve(method: str, n: int = 0, iterative: bool = False, dim: int | None = None) -> str:
@@ -97,24 +111,60 @@ def numeric_factorization(solver, A) -> None:
     (phase 11), marked as pypardiso's factorization of A (its `factorize` runs phase
     12, which repeats the analysis: 27 % of a factorization's CPU time on the 3x3 3D
     array's 51k-unknown quarter, 5.1 s against 3.7 s, identical factors)."""
-    solver.factorized_A = solver._hash_csr_matrix(A) if A.nnz > solver.size_limit_storage else A.copy()
+    solver.factorized_A = solver._hash_csr_matrix(A)      # (not a copy of A: 0.35 GB at 16x16)
     solver.set_phase(22)
     solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
+    log.info("PARDISO factorized %d unknowns", A.shape[0])
+
+
+def resident_memory() -> float:
+    """This process's resident memory, bytes."""
+    with open("/proc/self/statm") as fh:
+        return float(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def budget() -> float:
+    """Bytes a new factorization may use: the free memory, and under MEMORY_CAP no more
+    than the cap less what this process already holds."""
+    have = available_memory()
+    return have if MEMORY_CAP is None else min(have, MEMORY_CAP - resident_memory())
+
+
+def _analysis(solver, A) -> float:
+    """PARDISO's analysis (phase 11); the bytes its factorization needs in core
+    (iparm 15: the analysis's peak, 16 + 17: permanent + factors, in KB)."""
+    solver.set_phase(11)
+    solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
+    return 1024.0 * max(solver.get_iparm(15), solver.get_iparm(16) + solver.get_iparm(17))
 
 
 def check_fits(solver, A) -> None:
-    """PARDISO's analysis phase (11) reports the memory the factorization will need
-    (iparm 15: peak of the analysis, 16 + 17: permanent + factors, in KB); refuse
-    before factorizing when that exceeds the free memory, instead of being killed
-    by the kernel halfway."""
-    solver.set_phase(11)
-    solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
-    need = 1024.0 * max(solver.get_iparm(15), solver.get_iparm(16) + solver.get_iparm(17))
-    have = available_memory()
-    if need > 0.9 * have:
-        raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB, "
-                               f"more than the {have / 1e9:.3g} GB free; coarsen mesh.size / mesh.piezo_size, "
-                               "use fewer elements through the piezo, or model less (2D, axisymmetric)")
+    """PARDISO's analysis phase (11) reports the memory the factorization will need;
+    when that exceeds the budget (the free memory, or MEMORY_CAP) the factorization goes
+    out of core: MKL's defaults for the matrix type (pardisoinit), iparm[59] = 2, the
+    factors in files in the working directory (deleted when freed) and at most
+    MKL_PARDISO_OOC_MAX_CORE_SIZE of them in memory (set to 0.6 x the budget), the
+    analysis redone. Refused (MemoryLimitError) before factorizing when even that does
+    not fit, instead of being killed by the kernel halfway."""
+    need, have = _analysis(solver, A), budget()
+    log.info("PARDISO analysis: %d unknowns, %.3g GB in core, %.3g GB free", A.shape[0], need / 1e9, have / 1e9)
+    if need <= 0.9 * have:
+        return
+    solver.free_memory(True)
+    solver.libmkl.pardisoinit(solver.pt.ctypes.data_as(ctypes.c_void_p), ctypes.byref(ctypes.c_int32(solver.mtype)),
+                              solver.iparm.ctypes.data_as(ctypes.c_void_p))
+    solver.iparm[34] = 0                            # one-based indices, as pypardiso passes them
+    solver.iparm[59] = 2                            # out of core
+    os.environ["MKL_PARDISO_OOC_MAX_CORE_SIZE"] = str(max(int(0.6 * have / 2**20), 1))
+    _analysis(solver, A)
+    core = 1024.0 * solver.get_iparm(16)            # what stays in memory out of core too (permanent, KB)
+    log.info("PARDISO out of core: %d unknowns, %.3g GB in core against %.3g GB free (%.3g GB permanent)",
+             A.shape[0], need / 1e9, have / 1e9, core / 1e9)
+    if core > 0.9 * have:
+        raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB in memory "
+                               f"and {core / 1e9:.3g} GB out of core, more than the {have / 1e9:.3g} GB free; coarsen "
+                               "mesh.size / mesh.piezo_size, use fewer elements through the piezo, or model less "
+                               "(2D, axisymmetric)")
 
 
 def factorize(A: sp.spmatrix, method: str = "auto"):
@@ -189,7 +239,9 @@ def scaled_solver(A: sp.spmatrix, is_u: np.ndarray, method: str, scale: bool = T
 def refined_solve(factor, As, D, B, rtol=1e-13):
     """X = D Y with (D A D) Y = D B solved by `factor` and up to three steps of iterative
     refinement on the scaled system, until the relative residual is below `rtol`;
-    returns (X, relative residuals per column)."""
+    returns (X, relative residuals per column). (A residual that stalls above `rtol`,
+    as the 3x3 3D array's load column at 2e-12, still gets its three steps: stopping at
+    the stall moved the 2D taxel's voltage by 1e-9, past the solvers' agreement.)"""
     B = np.asarray(B).reshape(As.shape[0], -1)
     Bs = D[:, None] * B
     Y = factor(Bs).reshape(Bs.shape)
@@ -245,11 +297,12 @@ class Refactorizer:
     def __init__(self, method: str):
         self.method = method
         self._solver, self._pattern, self._generation = None, None, 0
-        self._maps = None                 # (pattern, rows, transpose permutation or None, upper mask)
+        self._maps = None                 # (pattern, rows, transpose permutation or None, upper triangle)
 
     def _map(self, A):
         """Per pattern: the row of every entry, the permutation of the data array that
-        transposes it (None if the pattern is not structurally symmetric), the upper mask."""
+        transposes it (None if the pattern is not structurally symmetric), and the upper
+        triangle: the positions of its entries in the data array, its indices and indptr."""
         key = (A.shape[0], A.indptr.tobytes(), A.indices.tobytes())
         if self._maps is None or self._maps[0] != key:
             rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
@@ -257,7 +310,9 @@ class Refactorizer:
             T.sort_indices()
             same = T.nnz == A.nnz and np.array_equal(T.indptr, A.indptr) and np.array_equal(T.indices, A.indices)
             perm = (T.data - 1).astype(np.int64) if same else None
-            self._maps = (key, rows, perm, A.indices >= rows)
+            upper = np.flatnonzero(A.indices >= rows)
+            indptr = np.concatenate([[0], np.cumsum(np.bincount(rows[upper], minlength=A.shape[0]))])
+            self._maps = (key, rows, perm, (upper, A.indices[upper], indptr.astype(A.indptr.dtype)))
         return self._maps
 
     def __call__(self, A: sp.spmatrix, is_u: np.ndarray, D=None):
@@ -273,10 +328,9 @@ class Refactorizer:
         As = sp.csr_matrix((data, A.indices, A.indptr), shape=A.shape)
         symmetric = perm is not None and (np.abs(data - data[perm]).max(initial=0.0)
                                           <= 1e-14 * np.abs(data).max(initial=0.0))
-        if symmetric:                     # the upper triangle, its pattern from the mask
-            Af = sp.csr_matrix((data[upper], A.indices[upper],
-                                np.concatenate([[0], np.cumsum(np.bincount(rows[upper], minlength=A.shape[0]))])
-                                .astype(A.indptr.dtype)), shape=A.shape)
+        if symmetric:                     # the upper triangle, its pattern from the map
+            positions, indices, indptr = upper
+            Af = sp.csr_matrix((data[positions], indices, indptr), shape=A.shape)
         else:
             Af = As
         key = key + (symmetric,)

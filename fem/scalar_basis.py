@@ -16,6 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from skfem import ElementVector
+from skfem.assembly.basis.abstract_basis import AbstractBasis
+from skfem.assembly.basis.cell_basis import CellBasis
+from skfem.element.discrete_field import DiscreteField
 
 
 def block_matrices(dN: np.ndarray, w: np.ndarray, L: np.ndarray, D: np.ndarray) -> np.ndarray:
@@ -95,7 +98,11 @@ class ScalarBasis:
     @property
     def dN(self) -> np.ndarray:
         """(elements, points, dim, functions) global gradients J^-T dN_ref."""
-        return np.einsum("eki,kqa->eqia", self.Jinv, self.ref)
+        return self.grads()
+
+    def grads(self, sl=slice(None)) -> np.ndarray:
+        """dN of the elements `sl` only."""
+        return np.einsum("eki,kqa->eqia", self.Jinv[sl], self.ref)
 
     @property
     def w(self) -> np.ndarray:
@@ -103,20 +110,94 @@ class ScalarBasis:
         return self.detJ[:, None] * self.W[None, :]
 
 
-def scalar_basis(mesh, elem, intorder: int = 4) -> ScalarBasis:
+def scalar_basis(mesh, elem, intorder: int = 4, quadrature=None, elements=None) -> ScalarBasis:
+    """The ScalarBasis of a P1/P2 element on `mesh` (its `elements` only, if given) with the
+    quadrature rule (points, weights) `quadrature`, or else of order `intorder`."""
     from skfem.quadrature import get_quadrature
     if elem.nodal_dofs != 1 or elem.edge_dofs > 1 or elem.facet_dofs or elem.interior_dofs:
         raise ValueError(f"scalar_basis: {type(elem).__name__} is not a P1/P2 Lagrange element")
-    X, W = get_quadrature(elem.refdom, intorder)
+    X, W = get_quadrature(elem.refdom, intorder) if quadrature is None else quadrature
     nb = elem.doflocs.shape[0]
     ref = np.stack([elem.lbasis(X, i)[1] for i in range(nb)], axis=-1)      # (dim, nq, nb)
     values = np.stack([elem.lbasis(X, i)[0] for i in range(nb)], axis=-1)   # (nq, nb)
-    p, t = mesh.p, mesh.t
+    sel = slice(None) if elements is None else elements
+    p, t = mesh.p, mesh.t[:, sel]
     J = np.stack([p[:, t[i + 1]] - p[:, t[0]] for i in range(p.shape[0])], axis=-1).transpose(1, 0, 2)
     t2e, nedges = (mesh.t2e, mesh.edges.shape[1]) if p.shape[0] == 3 else (mesh.t2f, mesh.facets.shape[1])
-    dofs = t.T if not elem.edge_dofs else np.hstack([t.T, p.shape[1] + t2e.T])
+    dofs = t.T if not elem.edge_dofs else np.hstack([t.T, p.shape[1] + t2e[:, sel].T])
     N = p.shape[1] + (nedges if elem.edge_dofs else 0)
     return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
+
+
+class LeanBasis(CellBasis):
+    """scikit-fem's CellBasis without its eager table of every shape function at every
+    quadrature point of every element (`basis`: for vector P2 tetrahedra 30 functions x
+    (3 values + 9 gradients) x 11 points, 32 kB per element, most of an assembled 3D
+    model's memory: benchmarks/array_8x8.py). The table is built on first use of `basis`
+    (scikit-fem's own assembly, a Yeoh region's tangent) and kept; `scalar` (the
+    ScalarBasis of the same elements, numbering and quadrature rule, or None where that
+    does not apply: a curved or non-simplex mesh, a MINI element) serves the assembly
+    (fem.bilinear) and `interpolate` (u = sum_a u_(a, c) N_a, grad u from J^-T dN_ref)
+    without it. `like`: a LeanBasis of the same mesh and element whose DOF numbering and
+    DOF locations (both of the whole mesh: 3 x 8 B per DOF, 24 MB per region of the 16x16
+    array's quarter, 65 regions) this one shares."""
+
+    def __init__(self, mesh, elem, elements=None, intorder: int = 4, like: "LeanBasis | None" = None):
+        if like is not None and (like.mesh is not mesh or like.elem is not elem):
+            raise ValueError("LeanBasis: `like` must be a basis of the same mesh and element")
+        AbstractBasis.__init__(self, mesh, elem, None, intorder, None, mesh.refdom,
+                               None if like is None else like.dofs, like is not None)
+        if like is not None:
+            self.doflocs = like.doflocs
+        if elements is None:
+            self.tind, self.nelems = None, mesh.nelements
+        else:
+            self.tind = mesh.normalize_elements(elements)
+            self.nelems = len(self.tind)
+        self.dx = np.abs(self.mapping.detDF(self.X, tind=self.tind)) * np.broadcast_to(self.W, (self.nelems, len(self.W)))
+        self._table = None
+        self._scalar = ()
+
+    @property
+    def basis(self):
+        if self._table is None:
+            self._table = [self.elem.gbasis(self.mapping, self.X, j, tind=self.tind) for j in range(self.Nbfun)]
+        return self._table
+
+    @basis.setter
+    def basis(self, value):
+        self._table = value
+
+    @property
+    def scalar(self) -> ScalarBasis | None:
+        if self._scalar == ():
+            self._scalar = None
+            m = self.mesh
+            vector = isinstance(self.elem, ElementVector)
+            s = scalar_dofs(self) if vector else self.element_dofs.T
+            if getattr(m, "affine", False) and m.t.shape[0] == m.dim() + 1 and s is not None:
+                try:
+                    sb = scalar_basis(m, self.elem.elem if vector else self.elem, quadrature=self.quadrature,
+                                      elements=self.tind)
+                except ValueError:
+                    sb = None
+                if sb is not None and np.array_equal(sb.dofs, s):
+                    self._scalar = sb
+        return self._scalar
+
+    def interpolate(self, w: np.ndarray) -> DiscreteField:
+        sb = self.scalar
+        if sb is None or self._table is not None:
+            return super().interpolate(w)
+        if w.shape[0] != self.N:
+            raise ValueError("Input array has wrong size.")
+        vector = isinstance(self.elem, ElementVector)
+        nc = self.elem.dim if vector else 1
+        U = w[nc * sb.dofs[:, :, None] + np.arange(nc)]                        # (elements, a, c)
+        value = np.einsum("qa,eac->ceq", sb.values, U)
+        Gref = np.einsum("kqa,eac->eqkc", sb.ref, U)
+        grad = np.einsum("eki,eqkc->cieq", sb.Jinv, Gref)
+        return DiscreteField(value=value, grad=grad) if vector else DiscreteField(value=value[0], grad=grad[0])
 
 
 def affine_blocks(sb: ScalarBasis, L: np.ndarray, D: np.ndarray, sl=slice(None)) -> np.ndarray:

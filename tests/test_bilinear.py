@@ -132,3 +132,29 @@ def test_scalar_basis_serves_the_yeoh_terms_as_scikit_fem_bases_do():
     for k in ("r_u", "r_p", "K_uu", "K_up", "K_pp"):
         a, b = getattr(out[0], k), getattr(out[1], k)
         assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max(), k
+
+
+def test_lean_basis_interpolates_and_numbers_as_scikit_fem():
+    """fem.scalar_basis.LeanBasis (no table of the shape functions) interpolates a field
+    through the scalar functions as scikit-fem's Basis does from its table (vector P2,
+    P2, P1, on a subset of the elements), with the same DOFs; bases made `like` another
+    share its numbering and DOF locations."""
+    from skfem import Basis, ElementTetP1, ElementTetP2, ElementVector, MeshTet
+    from taxel.fem.scalar_basis import LeanBasis
+    m = MeshTet.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 2, 3), np.linspace(0, 0.5, 3))
+    rng = np.random.default_rng(1)
+    m = MeshTet(m.p + 0.05 * rng.standard_normal(m.p.shape), m.t)
+    elems = np.arange(0, m.nelements, 2)
+    for e in (ElementVector(ElementTetP2()), ElementTetP2(), ElementTetP1()):
+        ref = Basis(m, e, elements=elems, intorder=4)
+        first = LeanBasis(m, e, np.arange(1, m.nelements, 2), 4)
+        lean = LeanBasis(m, e, elems, 4, like=first)
+        assert lean.scalar is not None and lean._table is None
+        assert lean.dofs is first.dofs and lean.doflocs is first.doflocs
+        assert np.array_equal(lean.element_dofs, ref.element_dofs) and np.allclose(lean.doflocs, ref.doflocs)
+        w = rng.standard_normal(ref.N)
+        a, b = lean.interpolate(w), ref.interpolate(w)
+        assert np.allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-12 * np.abs(np.asarray(b)).max())
+        assert np.allclose(a.grad, b.grad, rtol=0, atol=1e-12 * np.abs(b.grad).max())
+        assert lean._table is None                          # interpolate did not build it
+        assert np.allclose(lean.basis[3][0].grad, ref.basis[3][0].grad)   # built on demand, as scikit-fem's

@@ -57,6 +57,29 @@ def test_thin_stiff_plate_mixed_form_solvers_agree(nu):
 
 
 @pytest.mark.skipif("pardiso" not in SOLVERS, reason="PARDISO is not installed here")
+def test_a_factorization_over_the_memory_budget_goes_out_of_core(monkeypatch, tmp_path, caplog):
+    """With 0.8 x the memory its factors need in core, PARDISO factorizes out of core
+    (linalg.check_fits: factor files in the working directory) and solves as in core."""
+    import logging
+    import pypardiso
+    monkeypatch.chdir(tmp_path)
+    m = 26
+    T = sp.diags([np.full(m, 2.0), np.full(m - 1, -1.0), np.full(m - 1, -1.0)], [0, -1, 1])
+    I = sp.eye(m)
+    A = (sp.kron(sp.kron(T, I), I) + sp.kron(sp.kron(I, T), I) + sp.kron(sp.kron(I, I), T)).tocsr()
+    b = np.linspace(-1.0, 1.0, A.shape[0])
+    x_in_core = linalg.factorize(A, "pardiso")(b)
+    probe = pypardiso.PyPardisoSolver(mtype=-2)
+    need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
+    probe.free_memory(True)
+    monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
+    with caplog.at_level(logging.INFO, logger="taxel.fem.linalg"):
+        x = linalg.factorize(A, "pardiso")(b)
+    assert "out of core" in caplog.text
+    assert np.linalg.norm(A @ x - b) < 1e-12 * np.linalg.norm(b)
+    assert np.allclose(x, x_in_core, rtol=0, atol=1e-12 * np.abs(x_in_core).max())
+
+
 def test_a_factorization_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
     """PARDISO's analysis phase gives the memory the factors need; with (pretend)
     almost no free memory the solve is refused with the estimate, not killed."""

@@ -281,12 +281,19 @@ def _split_at(layers, zc):
     return out
 
 
-# Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; issue 12's 3D
-# taxel: 6.7 GB at 182k unknowns); in 3D the fill grows about as n^(1/3) more.
+# Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; in 3D the
+# 8x8 array of benchmarks/array_8x8.py: 3.7 GB peak at 202k unknowns, with fem.scalar_basis's
+# LeanBasis); in 3D the fill grows about as n^(1/3) more. Out of core (fem.linalg.check_fits)
+# the factors go to files: what stays is the assembled and reduced matrices and the mesh
+# (1.5 GB at 202k unknowns) and the factors' share in memory.
 BYTES_PER_UNKNOWN_2D = 3e3
-BYTES_PER_UNKNOWN_3D = 37e3
-REFERENCE_UNKNOWNS_3D = 182e3
+BYTES_PER_UNKNOWN_3D = 18.3e3
+REFERENCE_UNKNOWNS_3D = 202e3
+BYTES_PER_UNKNOWN_OUT_OF_CORE = 7.5e3
 BYTES_PER_UNKNOWN_KRYLOV = 20e3
+# meshing.cost's 3D unknowns against the meshes gmsh made: 1.29 (thesis-pzt-single-3d),
+# 1.54 and 1.72 (the 3x3 array at its own and at array_8x8's mesh), 1.61 (the 8x8 array)
+UNKNOWNS_3D_PER_ESTIMATE = 1.6
 
 
 def machine_memory() -> float:
@@ -296,16 +303,19 @@ def machine_memory() -> float:
 
 def cost(scene: Scene, lay) -> tuple[float, float]:
     """(estimated unknowns, estimated bytes of the solve) of a scene's mesh: a direct
-    solve, or above linalg.AUTO_KRYLOV_ABOVE unknowns (static, linear) the Krylov
-    solver, whose memory is about linear (1.37 GB at 70k unknowns, README)."""
+    solve in memory, or out of core where that would not fit this machine (3D), or
+    above linalg.AUTO_KRYLOV_ABOVE unknowns (static, linear) the Krylov solver, whose
+    memory is about linear (1.37 GB at 70k unknowns, README)."""
     n = mesh_cost(lay).unknowns(lay.dim, scene.mesh.order)
     if lay.dim == 2:
-        per = BYTES_PER_UNKNOWN_2D
-    elif n > linalg.AUTO_KRYLOV_ABOVE and scene.analysis.type == "static" and scene.model.silicone == "linear":
-        per = BYTES_PER_UNKNOWN_KRYLOV
-    else:
-        per = BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
-    return n, n * per
+        return n, n * BYTES_PER_UNKNOWN_2D
+    n *= UNKNOWNS_3D_PER_ESTIMATE
+    if n > linalg.AUTO_KRYLOV_ABOVE and scene.analysis.type == "static" and scene.model.silicone == "linear":
+        return n, n * BYTES_PER_UNKNOWN_KRYLOV
+    need = n * BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
+    if need > 0.8 * machine_memory():
+        need = n * BYTES_PER_UNKNOWN_OUT_OF_CORE + 0.2 * machine_memory()
+    return n, need
 
 
 def checked_layout(scene: Scene, mats: dict):
