@@ -30,6 +30,8 @@ from __future__ import annotations
 import ctypes
 import logging
 import os
+import shutil
+import tempfile
 import weakref
 
 import numpy as np
@@ -142,10 +144,12 @@ def check_fits(solver, A) -> None:
     """PARDISO's analysis phase (11) reports the memory the factorization will need;
     when that exceeds the budget (the free memory, or MEMORY_CAP) the factorization goes
     out of core: MKL's defaults for the matrix type (pardisoinit), iparm[59] = 2, the
-    factors in files in the working directory (deleted when freed) and at most
-    MKL_PARDISO_OOC_MAX_CORE_SIZE of them in memory (set to 0.6 x the budget), the
-    analysis redone. Refused (MemoryLimitError) before factorizing when even that does
-    not fit, instead of being killed by the kernel halfway."""
+    factors in files in a temporary folder of its own (MKL_PARDISO_OOC_PATH; under
+    $TMPDIR, removed with the solver: never the working directory, which is the user's)
+    and at most MKL_PARDISO_OOC_MAX_CORE_SIZE of them in memory (set to 0.6 x the
+    budget), the analysis redone. Refused (MemoryLimitError) before factorizing when
+    even that does not fit, in memory or on that folder's disk, instead of being killed
+    by the kernel halfway."""
     need, have = _analysis(solver, A), budget()
     log.info("PARDISO analysis: %d unknowns, %.3g GB in core, %.3g GB free", A.shape[0], need / 1e9, have / 1e9)
     if need <= 0.9 * have:
@@ -155,6 +159,15 @@ def check_fits(solver, A) -> None:
                               solver.iparm.ctypes.data_as(ctypes.c_void_p))
     solver.iparm[34] = 0                            # one-based indices, as pypardiso passes them
     solver.iparm[59] = 2                            # out of core
+    folder = tempfile.mkdtemp(prefix="taxel-pardiso-")
+    weakref.finalize(solver, shutil.rmtree, folder, ignore_errors=True)
+    disk = shutil.disk_usage(folder).free
+    if need > 0.9 * disk:
+        raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB, more than "
+                               f"the {have / 1e9:.3g} GB free in memory and the {disk / 1e9:.3g} GB free on {folder}'s disk "
+                               "(set TMPDIR to a larger disk); coarsen mesh.size / mesh.piezo_size, use fewer elements "
+                               "through the piezo, or model less (2D, axisymmetric)")
+    os.environ["MKL_PARDISO_OOC_PATH"] = folder
     os.environ["MKL_PARDISO_OOC_MAX_CORE_SIZE"] = str(max(int(0.6 * have / 2**20), 1))
     _analysis(solver, A)
     core = 1024.0 * solver.get_iparm(16)            # what stays in memory out of core too (permanent, KB)

@@ -6,6 +6,10 @@ indefinite matrix. Scaled (fem.linalg.scaling), SuperLU and PARDISO agree to
 leave a residual of ~2e-6 (measured).
 """
 
+import gc
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -59,7 +63,8 @@ def test_thin_stiff_plate_mixed_form_solvers_agree(nu):
 @pytest.mark.skipif("pardiso" not in SOLVERS, reason="PARDISO is not installed here")
 def test_a_factorization_over_the_memory_budget_goes_out_of_core(monkeypatch, tmp_path, caplog):
     """With 0.8 x the memory its factors need in core, PARDISO factorizes out of core
-    (linalg.check_fits: factor files in the working directory) and solves as in core."""
+    (linalg.check_fits: factor files in a temporary folder of its own, none in the working
+    directory, and the folder gone with the solver) and solves as in core."""
     import logging
     import pypardiso
     monkeypatch.chdir(tmp_path)
@@ -74,8 +79,14 @@ def test_a_factorization_over_the_memory_budget_goes_out_of_core(monkeypatch, tm
     probe.free_memory(True)
     monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
     with caplog.at_level(logging.INFO, logger="taxel.fem.linalg"):
-        x = linalg.factorize(A, "pardiso")(b)
+        solve = linalg.factorize(A, "pardiso")
+        x = solve(b)
     assert "out of core" in caplog.text
+    folder = Path(os.environ["MKL_PARDISO_OOC_PATH"])
+    assert any(folder.glob("mkl_pardiso_*")) and not any(tmp_path.iterdir())
+    del solve
+    gc.collect()
+    assert not folder.exists()
     assert np.linalg.norm(A @ x - b) < 1e-12 * np.linalg.norm(b)
     assert np.allclose(x, x_in_core, rtol=0, atol=1e-12 * np.abs(x_in_core).max())
 
