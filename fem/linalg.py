@@ -20,7 +20,7 @@ has a ~0.3 s floor here) and PARDISO on large ones (33 000 unknowns: 0.43 s vs
 vs 2.1 s; 8 400: 1.2 s vs 2.8 s, quarter taxel models), so 3D uses PARDISO above that.
 PARDISO factorizes out of core when its analysis says the factors do not fit the
 memory budget (`check_fits`, `MEMORY_CAP`). Single-precision factors (MKL iparm[27])
-with double-precision refinement were tried and dropped: on the 3x3 3D array (33k
+with double-precision refinement were tried (a one-off trial, not scripted) and dropped: on the 3x3 3D array (33k
 unknowns) the refined residual stayed at 0.19-3.7 and the voltages were wrong (the
 scaled coupled system is too ill-conditioned for float32).
 """
@@ -85,6 +85,9 @@ def resolve(method: str, n: int = 0, iterative: bool = False, dim: int | None = 
     return method
 
 
+FIX = "coarsen mesh.size / mesh.piezo_size, use fewer elements through the piezo, or model less (2D, axisymmetric)"
+
+
 class MemoryLimitError(ValueError):
     """A factorization that cannot fit in this machine's free memory (found by
     PARDISO's symbolic analysis, before the numerical factorization starts)."""
@@ -113,9 +116,16 @@ def numeric_factorization(solver, A) -> None:
     (phase 11), marked as pypardiso's factorization of A (its `factorize` runs phase
     12, which repeats the analysis: 27 % of a factorization's CPU time on the 3x3 3D
     array's 51k-unknown quarter, 5.1 s against 3.7 s, identical factors)."""
+    import pypardiso
     solver.factorized_A = solver._hash_csr_matrix(A)      # (not a copy of A: 0.35 GB at 16x16)
     solver.set_phase(22)
-    solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
+    try:
+        solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
+    except pypardiso.pardiso_wrapper.PyPardisoError as exc:
+        if exc.args and exc.args[0] in (-2, -9):            # MKL: not enough memory (-9: out of core)
+            raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns ran out of memory while factorizing "
+                                   f"(PARDISO error {exc.args[0]}); {FIX}") from None
+        raise
     log.info("PARDISO factorized %d unknowns", A.shape[0])
 
 
@@ -165,8 +175,7 @@ def check_fits(solver, A) -> None:
     if need > 0.9 * disk:
         raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB, more than "
                                f"the {have / 1e9:.3g} GB free in memory and the {disk / 1e9:.3g} GB free on {folder}'s disk "
-                               "(set TMPDIR to a larger disk); coarsen mesh.size / mesh.piezo_size, use fewer elements "
-                               "through the piezo, or model less (2D, axisymmetric)")
+                               f"(set TMPDIR to a larger disk); {FIX}")
     os.environ["MKL_PARDISO_OOC_PATH"] = folder
     os.environ["MKL_PARDISO_OOC_MAX_CORE_SIZE"] = str(max(int(0.6 * have / 2**20), 1))
     _analysis(solver, A)
@@ -175,9 +184,7 @@ def check_fits(solver, A) -> None:
              A.shape[0], need / 1e9, have / 1e9, core / 1e9)
     if core > 0.9 * have:
         raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB in memory "
-                               f"and {core / 1e9:.3g} GB out of core, more than the {have / 1e9:.3g} GB free; coarsen "
-                               "mesh.size / mesh.piezo_size, use fewer elements through the piezo, or model less "
-                               "(2D, axisymmetric)")
+                               f"and {core / 1e9:.3g} GB out of core, more than the {have / 1e9:.3g} GB free; {FIX}")
 
 
 def factorize(A: sp.spmatrix, method: str = "auto"):

@@ -139,7 +139,7 @@ def test_a_point_whose_worker_keeps_dying_is_recorded_failed_and_retried_later(s
         for w in _workers(proc):
             _kill(w)
         assert time.monotonic() - t0 < CEILING, "no point failed"
-        time.sleep(0.5)
+        time.sleep(0.5)                   # a pause between kill rounds, not a wait: the loop ends on the event
     code, out, err = _finish(proc)
     n, distinct, rows = _rows(study / "o")
     assert n == distinct == len(FORCES), rows

@@ -91,6 +91,35 @@ def test_a_factorization_over_the_memory_budget_goes_out_of_core(monkeypatch, tm
     assert np.allclose(x, x_in_core, rtol=0, atol=1e-12 * np.abs(x_in_core).max())
 
 
+@pytest.mark.skipif("pardiso" not in SOLVERS, reason="PARDISO is not installed here")
+def test_two_out_of_core_factorizations_alive_at_once_each_solve_their_own(monkeypatch, tmp_path):
+    """MKL_PARDISO_OOC_PATH is process-wide and each out-of-core factorization sets its own
+    folder: a first solver still solves its own matrix after a second one moved the variable
+    on, and after the second one (and its folder) is gone."""
+    import pypardiso
+    monkeypatch.chdir(tmp_path)
+    m = 26                                 # (at 22 the out-of-core share of memory is too small for MKL: error -9)
+    T = sp.diags([np.full(m, 2.0), np.full(m - 1, -1.0), np.full(m - 1, -1.0)], [0, -1, 1])
+    I = sp.eye(m)
+    A = (sp.kron(sp.kron(T, I), I) + sp.kron(sp.kron(I, T), I) + sp.kron(sp.kron(I, I), T)).tocsr()
+    B = (A + sp.diags(np.linspace(0.5, 2.0, A.shape[0]))).tocsr()
+    b = np.linspace(-1.0, 1.0, A.shape[0])
+    xa, xb = linalg.factorize(A, "pardiso")(b), linalg.factorize(B, "pardiso")(b)
+    probe = pypardiso.PyPardisoSolver(mtype=-2)
+    need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
+    probe.free_memory(True)
+    monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
+    fa = linalg.factorize(A, "pardiso")
+    folder_a = os.environ["MKL_PARDISO_OOC_PATH"]
+    fb = linalg.factorize(B, "pardiso")
+    assert os.environ["MKL_PARDISO_OOC_PATH"] != folder_a
+    assert np.allclose(fa(b), xa, rtol=0, atol=1e-12 * np.abs(xa).max())
+    assert np.allclose(fb(b), xb, rtol=0, atol=1e-12 * np.abs(xb).max())
+    del fb
+    gc.collect()
+    assert np.allclose(fa(b), xa, rtol=0, atol=1e-12 * np.abs(xa).max()) and Path(folder_a).exists()
+
+
 def test_a_factorization_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
     """PARDISO's analysis phase gives the memory the factors need; with (pretend)
     almost no free memory the solve is refused with the estimate, not killed."""
@@ -102,6 +131,27 @@ def test_a_factorization_that_cannot_fit_is_refused_before_it_starts(monkeypatch
     monkeypatch.undo()
     x = linalg.factorize(A, "pardiso")(np.ones(n))
     assert np.allclose(A @ x, 1.0)
+
+
+@pytest.mark.skipif("pardiso" not in SOLVERS, reason="PARDISO is not installed here")
+def test_an_out_of_core_factorization_short_of_memory_is_a_memory_error(monkeypatch, tmp_path):
+    """Out of core with too small an in-memory share of the factors (a 10 648-unknown
+    Laplacian, 0.8 x its in-core need, one MKL thread) MKL stops with error -9: it reaches
+    the user as linalg.MemoryLimitError with the fix, not as a PARDISO traceback."""
+    import pypardiso
+    from threadpoolctl import threadpool_limits
+    monkeypatch.chdir(tmp_path)
+    m = 22
+    T = sp.diags([np.full(m, 2.0), np.full(m - 1, -1.0), np.full(m - 1, -1.0)], [0, -1, 1])
+    I = sp.eye(m)
+    A = (sp.kron(sp.kron(T, I), I) + sp.kron(sp.kron(I, T), I) + sp.kron(sp.kron(I, I), T)).tocsr()
+    with threadpool_limits(1):
+        probe = pypardiso.PyPardisoSolver(mtype=-2)
+        need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
+        probe.free_memory(True)
+        monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
+        with pytest.raises(linalg.MemoryLimitError, match="PARDISO error -9.*coarsen mesh.size"):
+            linalg.factorize(A, "pardiso")
 
 
 @pytest.mark.skipif(not linalg.available("pardiso"), reason="PARDISO not installed")

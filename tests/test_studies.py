@@ -55,7 +55,8 @@ def results(folder):
 
 def count(folder):
     try:
-        db = sqlite3.connect(Path(folder) / "results.sqlite", timeout=30)   # waits out a commit
+        # waits out a run's write lock (event-driven; CEILING only catches a hang, as elsewhere)
+        db = sqlite3.connect(Path(folder) / "results.sqlite", timeout=CEILING)
         n = db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
         db.close()
         return n

@@ -4,6 +4,7 @@ force, and Yeoh / linear - 1 of the figure's output, on rows shaped as
 studies.store.tidy_rows writes them."""
 
 from taxel.reports import thesis_model as T
+from taxel.reports.figures import pyplot
 
 
 def _rows():
@@ -45,6 +46,7 @@ def test_the_figure_draws_linear_dashed_yeoh_solid_and_stopped_points_as_crosses
     assert list(yeoh.get_xdata()) == [1.0] and list(yeoh.get_ydata()) == [0.84]
     assert list(stop.get_xdata()) == [2.0] and list(stop.get_ydata()) == [0.66]
     assert ax.get_ylabel().startswith("sensitivity") and "PZT" in ax.get_title()
+    pyplot().close(fig)
 
 
 def test_a_gap_sweep_shows_crosstalk():
