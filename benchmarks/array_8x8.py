@@ -68,8 +68,8 @@ class Phases(logging.Handler):
         self.t0, self.c0 = time.perf_counter(), time.process_time()
 
     def emit(self, record):
-        with open("/proc/self/statm") as fh:
-            rss = float(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+        from taxel.fem.linalg import resident_memory
+        rss = resident_memory()
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
         print(f"  [{time.perf_counter() - self.t0:7.1f} s wall, {time.process_time() - self.c0:7.1f} s CPU, "
               f"RSS {rss / 1e9:.2f} GB, peak {peak:.2f} GB, load {os.getloadavg()[0]:.1f}] {record.getMessage()}",
