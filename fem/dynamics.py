@@ -70,6 +70,12 @@ class DynamicModel:
     def K0(self):
         return sum(self.parts.values())
 
+    @property
+    def method(self) -> str:
+        """The direct solver for this model's size and dimension (fem.linalg.resolve; a complex
+        K(omega) goes to PARDISO through its real equivalent, fem.linalg._factorize_complex)."""
+        return linalg.resolve("auto", self.M.shape[0], dim=self.sy.tm.mesh.dim())
+
     def kappa(self, omega) -> dict:
         """kind -> complex multiplier of K_kind at angular frequency omega (1: no loss)."""
         k = self.relax.kappa(omega)

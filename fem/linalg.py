@@ -189,8 +189,11 @@ def check_fits(solver, A) -> None:
 
 def factorize(A: sp.spmatrix, method: str = "auto"):
     """A solve function for A (factorized once; accepts a vector or a matrix of RHS,
-    real or complex). Complex matrices use SuperLU."""
+    real or complex). A complex matrix (a damped frequency-domain operator) goes to
+    SuperLU, or with "pardiso" to its real equivalent (`_factorize_complex`)."""
     if np.iscomplexobj(A.data if sp.issparse(A) else A):
+        if resolve(method, A.shape[0]) == "pardiso":
+            return _factorize_complex(A)
         lu = spla.splu(sp.csc_matrix(A), permc_spec="COLAMD")
         return lambda B: lu.solve(np.asarray(B, dtype=complex))
     real = _factorize_real(A, method)
@@ -200,6 +203,28 @@ def factorize(A: sp.spmatrix, method: str = "auto"):
         if np.iscomplexobj(B):
             return real(B.real) + 1j * real(B.imag)
         return real(B)
+    return solve
+
+
+def _factorize_complex(A):
+    r"""A complex A = A_r + i A_i by PARDISO (pypardiso takes real matrices only) through
+    its real equivalent: A x = b with x = x_r + i x_i is
+
+        [A_r   A_i] [ x_r]   [b_r]
+        [A_i  -A_r] [-x_i] = [b_i],
+
+    symmetric when A is (a complex-symmetric damped stiffness), so the symmetric-indefinite
+    mode applies. On the 3x3 3D array's full 3 mm model, charge amplifier at 10 and 300 Hz
+    (benchmarks/complex_solve.py, one run): SuperLU takes 3.7x the wall time and 1.5x the
+    peak memory (220 s and 3.9 GB against 60 s and 2.7 GB); the outputs agree to 1.2e-9."""
+    A = sp.csr_matrix(A)
+    n = A.shape[0]
+    real = _factorize_real(sp.bmat([[A.real, A.imag], [A.imag, -A.real]], format="csr"), "pardiso")
+
+    def solve(B):
+        B = np.asarray(B, dtype=complex)
+        Y = real(np.concatenate([B.real, B.imag]))
+        return Y[:n] - 1j * Y[n:]
     return solve
 
 

@@ -69,7 +69,7 @@ class Reduced:
 def direct_ports(dm: DynamicModel, loads: np.ndarray, f_hz: float):
     """(V_oc (na, m), C^-1 (na, na)) at one frequency by a direct complex solve of the full model."""
     B = np.column_stack([loads, dm.Be]).astype(complex)
-    X, _ = linalg.scaled_solver(dm.K(2 * np.pi * f_hz), dm.red.is_u, "superlu")(B)
+    X, _ = linalg.scaled_solver(dm.K(2 * np.pi * f_hz), dm.red.is_u, dm.method)(B)
     E = X[dm.red.nf:]
     return E[:, :loads.shape[1]], E[:, loads.shape[1]:]
 
@@ -103,7 +103,7 @@ def basis(dm: DynamicModel, loads: np.ndarray, shifts_hz, moments: int, previous
     B = np.column_stack([loads, dm.Be]).astype(complex)
     cols = [] if previous is None else [previous / D[:, None]]
     for f in shifts_hz:
-        solve = linalg.scaled_solver(dm.K(2 * np.pi * f), dm.red.is_u, "superlu")
+        solve = linalg.scaled_solver(dm.K(2 * np.pi * f), dm.red.is_u, dm.method)
         W = solve(B)[0]
         for _ in range(moments):
             for Z in (W.real, W.imag):

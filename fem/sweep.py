@@ -62,7 +62,7 @@ def _ports(dm: DynamicModel, X):
 def direct(dm: DynamicModel, f_hz: float):
     """(V_oc, C^-1) at one frequency by a direct complex solve."""
     B = np.column_stack([dm.F, dm.Be]).astype(complex)
-    X, _ = linalg.scaled_solver(dm.K(2 * np.pi * f_hz), dm.red.is_u, "superlu")(B)
+    X, _ = linalg.scaled_solver(dm.K(2 * np.pi * f_hz), dm.red.is_u, dm.method)(B)
     return _ports(dm, X)
 
 
@@ -73,7 +73,7 @@ def coupled_resistor(dm: DynamicModel, f_hz: float, R: float):
     w = 2 * np.pi * f_hz
     na, nf = len(dm.names), dm.red.nf
     Y = sp.csr_matrix((np.full(na, 1j / (w * R)), (nf + np.arange(na), nf + np.arange(na))), shape=dm.M.shape)
-    X, _ = linalg.scaled_solver((dm.K(w) + Y).tocsc(), dm.red.is_u, "superlu")(dm.F.astype(complex))
+    X, _ = linalg.scaled_solver((dm.K(w) + Y).tocsc(), dm.red.is_u, dm.method)(dm.F.astype(complex))
     return X[nf:, 0]
 
 
