@@ -39,6 +39,7 @@ def force(pr, F_target, max_trials=40):
         d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
     below = [(p.travel, p.force) for p in pts if p.force < F_target]
     lo, hi, last_side = max(below, default=(0.0, 0.0)), None, None
+    failed = None                    # the last failed trial's cause, named when the target is not reached
     for _ in range(max_trials):
         if pts and abs(F - F_target) <= o.force_tol * F_target:
             pr.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
@@ -81,11 +82,12 @@ def force(pr, F_target, max_trials=40):
             except ContactError as exc:
                 if "penalty" in str(exc) or abs(d_new - pr.d) < 1e-4 * pr.height:
                     raise
+                failed = str(exc).split(' (')[0]
                 d_new = (pr.d + d_new) / 2
         d_prev, F_prev = d, F
         d, F = pt.travel, pt.force
     raise ContactError(f"force control: {F_target:.4g} N not reached in {max_trials} trials "
-                       f"(last {F:.4g} N)", pr.res)
+                       f"(last {F:.4g} N" + (f"; the last failed trial: {failed})" if failed else ")"), pr.res)
 
 
 def _falsi(lo, hi, F_target):

@@ -278,3 +278,25 @@ def test_a_stagnation_names_what_it_measured():
             assert rim == 0 and f"slides a contact point by {1e3 * delta:.3g} mm" in msg
         else:
             assert 0 < rim < st.active.sum()            # the flat and its rounded edge both press
+
+
+def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
+    """The frictionless probe press, axisymmetric at 0.25 / 0.05 mm, does not reach 1 N in
+    one target (benchmarks/frictionless_limit.py: 0.889 N): force control runs out of trials,
+    and its stop names what stopped the last failed trial (here Newton stagnating), not
+    only the count of trials."""
+    import dataclasses
+    from taxel.analyses import problem as scene_problem
+    from taxel.analyses.adapter import check, checked_layout
+    from taxel.meshing.build import build
+    from taxel.scene import load
+    sc = load("thesis-pzt-probe-axisymmetric").replace(**{"load.friction": "frictionless"})
+    lay = dataclasses.replace(checked_layout(sc, check(sc)), size=0.25e-3, piezo_size=0.05e-3)
+    prob = scene_problem(sc, tagged_mesh=build(lay))
+    pr = Press(assemble(prob), prob.indenter)
+    with pytest.raises(ContactError) as err:
+        pr.force(1.0)
+    msg = str(err.value)
+    assert msg.startswith("force control: 1 N not reached in 40 trials")
+    assert "the last failed trial: Newton stagnates at travel" in msg
+    assert 0.5 < pr.res.points[-1].force < 1.0
