@@ -19,14 +19,9 @@ import time
 import numpy as np
 import pypardiso
 import scipy.sparse as sp
+from pyamg.gallery import poisson
 
 from taxel.fem import linalg
-
-
-def laplacian(n: int) -> sp.csr_matrix:
-    T = sp.diags([np.full(n, 2.0), np.full(n - 1, -1.0), np.full(n - 1, -1.0)], [0, -1, 1])
-    eye = sp.eye(n)
-    return (sp.kron(sp.kron(T, eye), eye) + sp.kron(sp.kron(eye, T), eye) + sp.kron(sp.kron(eye, eye), T)).tocsr()
 
 
 def read_bytes() -> int:
@@ -36,10 +31,10 @@ def read_bytes() -> int:
 
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 30
-    A = laplacian(n)
+    A = poisson((n, n, n), format="csr")
     probe = pypardiso.PyPardisoSolver(mtype=-2)
     need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
-    factors = 1024.0 * probe.get_iparm(17)
+    factors = 1024.0 * probe.get_iparm(17)           # (the factors alone, besides the need)
     probe.free_memory(True)
     in_core = linalg.factorize(A, "pardiso")
     budget = linalg.budget

@@ -147,7 +147,8 @@ def run(sc, lay, opts: Options | None = None, path=()):
         p = pr.res.points[-1] if pr.res.points else None
         last = (f"{p.force:.3g} N reached at {1e3 * p.travel:.4g} mm, V/F {p.voltages['taxel_0_0'] / p.force:.5f} V/N"
                 if p else "no state reached")
-        return dict(n=pr.red.n, error=f"{last}; {exc}", cpu=time.process_time() - c, wall=time.perf_counter() - w)
+        return dict(n=pr.red.n, error=f"{last}; {exc}", force=p.force if p else 0.0, travel=p.travel if p else 0.0,
+                    cause=str(exc), cpu=time.process_time() - c, wall=time.perf_counter() - w)
     return dict(n=pr.red.n, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel, states=len(pr.res.points),
                 iterations=pr.res.total_iterations, factorizations=pr.stats["factorizations"],
                 factorize_s=pr.stats["factorize_s"], assemble_s=pr.stats["assemble_s"],

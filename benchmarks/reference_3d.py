@@ -67,8 +67,12 @@ def nested(scene, pressed, levels=3):
               f"{rows[-1][3]:.1f} s CPU  peak {peak:.2f} GB  load {os.getloadavg()[0]:.1f}", flush=True)
     v = np.array([r[1] for r in rows])
     p = float(np.log2(abs(v[0] - v[1]) / abs(v[1] - v[2])))
-    monotone = bool((v[1] - v[0]) * (v[2] - v[1]) > 0)
-    return rows, p, float(v[2] + (v[2] - v[1]) / (2 ** p - 1)), monotone
+    return rows, p, float(v[2] + (v[2] - v[1]) / (2 ** p - 1))
+
+
+def monotone(voltages) -> bool:
+    """The level-to-level differences keep their sign (Richardson's order is meaningful)."""
+    return bool(np.diff(voltages).prod() > 0)
 
 
 def main():
@@ -87,18 +91,18 @@ def main():
             scene = load(name).replace(**{"model.symmetry": "quarter", "mesh.size": size, "mesh.piezo_size": piezo,
                                           "mesh.piezo_layers": layers})
             print(f"{case}: coarse mesh {size} / {piezo} at the taxel / {layers} through the piezo", flush=True)
-            rows, p, ref, monotone = nested(scene, pressed)
-            print(f"  observed order {p:.2f}, Richardson {ref:.7f} V" + ("" if monotone else
+            rows, p, ref = nested(scene, pressed)
+            print(f"  observed order {p:.2f}, Richardson {ref:.7f} V" + ("" if monotone([r[1] for r in rows]) else
                   " (not monotone: the differences change sign, so the order and the extrapolation are not "
                   "justified; the step is small when the finest level is near the limit)"), flush=True)
             kept[(size, piezo, layers)] = dict(
                 size=size, piezo_size=piezo, piezo_layers=layers, unknowns=[r[0] for r in rows],
                 voltages=[r[1] for r in rows], wall_s=[round(r[2], 1) for r in rows],
-                cpu_s=[round(r[3], 1) for r in rows], peak_gb=[round(r[4], 2) for r in rows], order=p, monotone=monotone, reference=ref)
+                cpu_s=[round(r[3], 1) for r in rows], peak_gb=[round(r[4], 2) for r in rows], order=p, reference=ref)
             # only chains of the current CASES count (a chain measured before a mesh fix is dropped)
             fits = [kept[b] for b in bases if b in kept]
-            for f in fits:      # (kept chains measured before the flag existed get it from their voltages)
-                f["monotone"] = bool(np.diff(f["voltages"]).prod() > 0)
+            for f in fits:      # the flag, from each chain's voltages
+                f["monotone"] = monotone(f["voltages"])
             refs = [f["reference"] for f in fits]
             out[case] = dict(scene=name, pressed=pressed, reference=float(np.mean(refs)),
                              spread=float(np.ptp(refs) / abs(np.mean(refs))), fits=fits)

@@ -150,6 +150,17 @@ def _analysis(solver, A) -> float:
     return 1024.0 * max(solver.get_iparm(15), solver.get_iparm(16) + solver.get_iparm(17))
 
 
+def in_core_bytes(A: sp.spmatrix) -> float:
+    """Bytes PARDISO's analysis says a factorization of the symmetric matrix A needs in
+    core (`_analysis` on its upper triangle, symmetric-indefinite mode; nothing factorized)."""
+    import pypardiso
+    probe = pypardiso.PyPardisoSolver(mtype=-2)
+    try:
+        return _analysis(probe, sp.csr_matrix(sp.triu(A)))
+    finally:
+        probe.free_memory(True)
+
+
 def check_fits(solver, A) -> None:
     """PARDISO's analysis phase (11) reports the memory the factorization will need;
     when that exceeds the budget (the free memory, or MEMORY_CAP) the factorization goes

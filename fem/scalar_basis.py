@@ -129,6 +129,9 @@ def scalar_basis(mesh, elem, intorder: int = 4, quadrature=None, elements=None) 
     return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
 
 
+_UNSET = object()      # LeanBasis.scalar not yet looked for (None: it does not apply)
+
+
 class LeanBasis(CellBasis):
     """scikit-fem's CellBasis without its eager table of every shape function at every
     quadrature point of every element (`basis`: for vector P2 tetrahedra 30 functions x
@@ -156,7 +159,7 @@ class LeanBasis(CellBasis):
             self.nelems = len(self.tind)
         self.dx = np.abs(self.mapping.detDF(self.X, tind=self.tind)) * np.broadcast_to(self.W, (self.nelems, len(self.W)))
         self._table = None
-        self._scalar = ()
+        self._scalar = _UNSET
 
     @property
     def basis(self):
@@ -170,7 +173,7 @@ class LeanBasis(CellBasis):
 
     @property
     def scalar(self) -> ScalarBasis | None:
-        if self._scalar == ():
+        if self._scalar is _UNSET:
             self._scalar = None
             m = self.mesh
             vector = isinstance(self.elem, ElementVector)

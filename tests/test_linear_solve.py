@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from pyamg.gallery import poisson
 
 from taxel.fem import linalg
 from taxel.analyses import solve_static as solve
@@ -66,17 +67,12 @@ def test_a_factorization_over_the_memory_budget_goes_out_of_core(monkeypatch, tm
     (linalg.check_fits: factor files in a temporary folder of its own, none in the working
     directory, and the folder gone with the solver) and solves as in core."""
     import logging
-    import pypardiso
     monkeypatch.chdir(tmp_path)
     m = 26
-    T = sp.diags([np.full(m, 2.0), np.full(m - 1, -1.0), np.full(m - 1, -1.0)], [0, -1, 1])
-    I = sp.eye(m)
-    A = (sp.kron(sp.kron(T, I), I) + sp.kron(sp.kron(I, T), I) + sp.kron(sp.kron(I, I), T)).tocsr()
+    A = poisson((m, m, m), format="csr")          # the 7-point 3D Laplacian
     b = np.linspace(-1.0, 1.0, A.shape[0])
     x_in_core = linalg.factorize(A, "pardiso")(b)
-    probe = pypardiso.PyPardisoSolver(mtype=-2)
-    need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
-    probe.free_memory(True)
+    need = linalg.in_core_bytes(A)
     monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
     with caplog.at_level(logging.INFO, logger="taxel.fem.linalg"):
         solve = linalg.factorize(A, "pardiso")
@@ -96,18 +92,13 @@ def test_two_out_of_core_factorizations_alive_at_once_each_solve_their_own(monke
     """MKL_PARDISO_OOC_PATH is process-wide and each out-of-core factorization sets its own
     folder: a first solver still solves its own matrix after a second one moved the variable
     on, and after the second one (and its folder) is gone."""
-    import pypardiso
     monkeypatch.chdir(tmp_path)
     m = 26                                 # (at 22 the out-of-core share of memory is too small for MKL: error -9)
-    T = sp.diags([np.full(m, 2.0), np.full(m - 1, -1.0), np.full(m - 1, -1.0)], [0, -1, 1])
-    I = sp.eye(m)
-    A = (sp.kron(sp.kron(T, I), I) + sp.kron(sp.kron(I, T), I) + sp.kron(sp.kron(I, I), T)).tocsr()
+    A = poisson((m, m, m), format="csr")          # the 7-point 3D Laplacian
     B = (A + sp.diags(np.linspace(0.5, 2.0, A.shape[0]))).tocsr()
     b = np.linspace(-1.0, 1.0, A.shape[0])
     xa, xb = linalg.factorize(A, "pardiso")(b), linalg.factorize(B, "pardiso")(b)
-    probe = pypardiso.PyPardisoSolver(mtype=-2)
-    need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
-    probe.free_memory(True)
+    need = linalg.in_core_bytes(A)
     monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
     fa = linalg.factorize(A, "pardiso")
     folder_a = os.environ["MKL_PARDISO_OOC_PATH"]
@@ -138,17 +129,12 @@ def test_an_out_of_core_factorization_short_of_memory_is_a_memory_error(monkeypa
     """Out of core with too small an in-memory share of the factors (a 10 648-unknown
     Laplacian, 0.8 x its in-core need, one MKL thread) MKL stops with error -9: it reaches
     the user as linalg.MemoryLimitError with the fix, not as a PARDISO traceback."""
-    import pypardiso
     from threadpoolctl import threadpool_limits
     monkeypatch.chdir(tmp_path)
     m = 22
-    T = sp.diags([np.full(m, 2.0), np.full(m - 1, -1.0), np.full(m - 1, -1.0)], [0, -1, 1])
-    I = sp.eye(m)
-    A = (sp.kron(sp.kron(T, I), I) + sp.kron(sp.kron(I, T), I) + sp.kron(sp.kron(I, I), T)).tocsr()
+    A = poisson((m, m, m), format="csr")          # the 7-point 3D Laplacian
     with threadpool_limits(1):
-        probe = pypardiso.PyPardisoSolver(mtype=-2)
-        need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
-        probe.free_memory(True)
+        need = linalg.in_core_bytes(A)
         monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
         with pytest.raises(linalg.MemoryLimitError, match="PARDISO error -9.*coarsen mesh.size"):
             linalg.factorize(A, "pardiso")
