@@ -37,6 +37,12 @@ STALL_STEPS = 5      # Newton steps on one active set ...
 STALL_CUT = 0.5      # ... that cut the residual by less than this factor: stagnation
 CHORD_CUT = 0.25     # a chord step (the last factorization) is kept if it cuts the residual by this
 SOLVE_RTOL = 1e-10   # a Newton step's linear solve: refinement stops here (1e-13 elsewhere)
+TAU0 = 1e-4          # continuation: the smallest pseudo-time shift tried (relative to diag K_uu) ...
+TAU_TRIES = 12       # ... raised 4x at a time, at most this often per step (to 1.7)
+PTC_STEPS = 80       # continuation steps at one travel before it gives up
+GROW = 4.0           # ... each step may raise the residual by this factor (leaving a saddle), no more
+PATIENCE = 20        # ... and abandoned (a shorter travel step) if the residual is not below its start by then
+NEAR = 1e-1          # ... entered where Newton inverts elements only from this close to equilibrium
 
 
 def newton(pr, x, d, lam, tol=None):
@@ -95,9 +101,13 @@ def newton(pr, x, d, lam, tol=None):
             norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
         if (len(seen) >= STALL_STEPS and len(set(seen[-STALL_STEPS:] + [key])) == 1
                 and norm > STALL_CUT * norms[-STALL_STEPS]):
-            raise ContactError(f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on one active set "
-                               f"cut the residual from {norms[-STALL_STEPS]:.2e} only to {norm:.2e} (line "
-                               f"search steps down to 1/64: a kink in the contact zone; {_where(pr, st, x, dx)})", pr.res)
+            stall = (f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on one active set "
+                     f"cut the residual from {norms[-STALL_STEPS]:.2e} only to {norm:.2e} (line "
+                     f"search steps down to 1/64{_stability(pr)}; {_where(pr, st, x, dx)})")
+            if not (o.continuation and o.active_set_update):
+                raise ContactError(stall, pr.res)
+            x, st, k = continuation(pr, x, d, lam, tol, frozen, fixed, stall)
+            return x, st, it + k
         solver = pr.refactor(K, D, ckey)
         seen.append(key)
         norms.append(norm)
@@ -120,7 +130,11 @@ def newton(pr, x, d, lam, tol=None):
                         or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
                     break
             elif not np.all(np.isfinite(r_new)) or alpha <= 1 / 64:
-                raise ContactError(f"Newton inverts silicone elements at travel {d:.4g} m", pr.res)
+                inverts = f"Newton inverts silicone elements at travel {d:.4g} m"
+                if not (o.continuation and o.active_set_update) or norm > NEAR:     # far from equilibrium: a shorter travel step
+                    raise ContactError(inverts, pr.res)
+                x, st, k = continuation(pr, x, d, lam, tol, frozen, fixed, inverts)
+                return x, st, it + k
             alpha /= 2
         pr.trace[-1] += (alpha,)
         step_rel = alpha * np.linalg.norm(dx) / max(np.linalg.norm(x), 1e-300)
@@ -132,6 +146,90 @@ def newton(pr, x, d, lam, tol=None):
                            "update in the tangent, or take smaller travel steps", pr.res)
     raise ContactError(f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations "
                        f"(residual {norm:.2e})", pr.res)
+
+
+def continuation(pr, x, d, lam, tol, frozen, fixed, stall: str):
+    r"""Pseudo-transient continuation (Kelley and Keyes 1998, SIAM J. Numer. Anal. 35:508)
+    from a stagnating Newton iterate to a stable equilibrium at the same travel: steps
+
+        (K + tau M) dx = -r,   M = diag(K_uu) on the displacements (0 on pressures and potentials),
+
+    i.e. implicit Euler steps of the gradient flow M du/dt = -r_u with the pressures and
+    potentials kept in equilibrium, pseudo-time step 1/tau. Each step's tau is the smallest
+    of tau_k x 4^j (at least TAU0 once raised) that makes the shifted tangent's inertia that
+    of a stable state (as many negative eigenvalues as there are pressure and potential
+    unknowns: the condensed displacement stiffness positive definite; PARDISO's
+    symmetric-indefinite factorization reports it), keeps J > 0 in the silicone and raises
+    the residual by at most GROW; tau then shrinks with the residual (switched evolution
+    relaxation, tau <- tau min(1, |r_k| / |r_k-1|), halved after a step its first tau took),
+    so the last steps are Newton's. At an unstable state (a frictionless punch's rim, where the material squeezed
+    out loses stability: measured on the 3D press at 0.3 N, one negative eigenvalue at the
+    stalled iterate) the flow leaves the saddle that Newton was drawn to and settles on the
+    stable branch. Its fixed points are the equilibria r = 0: the shift leaves no error."""
+    P, is_u = pr.red.P, pr.red.is_u
+    if not linalg.available("pardiso"):          # no inertia to tell a stable state by
+        raise ContactError(stall, pr.res)
+    if getattr(pr, "_inertia", None) is None:    # PARDISO whatever the press's own solver (2D: SuperLU)
+        pr._inertia = linalg.Refactorizer("pardiso")
+    n_q = int((~is_u).sum())
+    tau, prev = TAU0, None
+    for k in range(PTC_STEPS):
+        r, ref, st, K = pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
+        if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
+            raise ContactError(f"continuation reached a non-finite state at travel {d:.4g} m", pr.res)
+        D = linalg.scaling(K, is_u)
+        nr = np.linalg.norm(D * r)
+        norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
+        pr.trace.append((d, k, norm, int(st.active.sum()), "continuation", tau))
+        if norm < tol:
+            if fixed is not None or st.H is None:
+                st = pr.surf.state(x[pr.sy.offsets["u"]], pr.ind, d, lam, pr.eps, stick=pr._stick)
+            pr.stats["continuation_steps"] = pr.stats.get("continuation_steps", 0) + k
+            return x, st, k
+        if k == PATIENCE and norm >= entry:
+            raise ContactError(f"{stall}; pseudo-transient continuation left the residual at {norm:.2e} "
+                               f"after {k} steps (from {entry:.2e})", pr.res)
+        entry = norm if k == 0 else entry
+        if prev is not None:                      # SER; halved after a step taken at its first tau
+            tau *= min(1.0, norm / prev) * (0.5 if first else 1.0)
+        prev = norm
+        m = np.where(is_u, np.abs(K.diagonal()), 0.0)
+        for first in [True] + [False] * (TAU_TRIES - 1):
+            Kt = K.copy()
+            Kt.setdiag(K.diagonal() + tau * m)
+            t0 = time.process_time()
+            solver = pr.solver = pr._inertia(Kt, is_u, D=D)
+            pr._chord_key = None
+            pr.stats["factorizations"] += 1
+            pr.stats["factorize_s"] += time.process_time() - t0
+            if solver.inertia is None:           # a nonsymmetric (sticking) tangent: no inertia
+                raise ContactError(stall, pr.res)
+            if solver.inertia[1] > n_q:
+                tau = max(4 * tau, TAU0)          # still unstable: a shorter pseudo-time step
+                continue
+            dy, _ = solver(-r, rtol=SOLVE_RTOL)
+            x_new = x + P @ dy[:, 0]
+            r_new = pr._residual(x_new, d, lam, tangent=False, frozen=frozen, fixed=fixed)[0]
+            if (pr._min_J > 0 and np.all(np.isfinite(r_new))
+                    and np.linalg.norm(D * r_new) <= GROW * max(nr, 1e-3 * np.linalg.norm(D * ref))):
+                break
+            tau = max(4 * tau, TAU0)              # inverted or far off: a shorter pseudo-time step
+        else:
+            raise ContactError(f"{stall}; pseudo-transient continuation found no step keeping the "
+                               f"silicone uninverted and the tangent stable (tau up to {tau:.1e})", pr.res)
+        x = x_new
+    raise ContactError(f"{stall}; pseudo-transient continuation did not settle in {PTC_STEPS} steps "
+                       f"(residual {norm:.2e})", pr.res)
+
+
+def _stability(pr) -> str:
+    """The stalled tangent's stability, where the factorization reports its inertia."""
+    inertia = getattr(pr.solver, "inertia", None)
+    if inertia is None:
+        return ""
+    extra = inertia[1] - int((~pr.red.is_u).sum())
+    return (f"; the state is unstable: {extra} negative eigenvalue{'s' if extra > 1 else ''} of the "
+            "condensed displacement stiffness" if extra > 0 else "; the state is stable: a kink in the contact zone")
 
 
 def _where(pr, st, x, dx) -> str:

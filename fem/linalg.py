@@ -413,4 +413,7 @@ class Refactorizer:
         def solve_(B, rtol=1e-13):
             return refined_solve(factor, As, D, B, rtol)
         solve_.D = D
+        # the symmetric-indefinite factorization's inertia (positive, negative eigenvalues;
+        # iparm 22 and 23): fem.contact_newton reads stability from it
+        solve_.inertia = (int(s.get_iparm(22)), int(s.get_iparm(23))) if symmetric else None
         return solve_

@@ -75,3 +75,5 @@ class Options:
     chord: bool = True              # try the last factorization first (a chord step) while the active set holds
     reuse_analysis: bool = True     # PARDISO: one symbolic analysis for every tangent of the press (fem.linalg.Refactorizer)
     assembly: str = "vectorised"    # vectorised (fem.yeoh_terms, fem.sparsity) | skfem (the reference path)
+    continuation: bool = True       # past a stagnating Newton (an unstable state): pseudo-transient continuation
+    #                                 (fem.contact_newton.continuation) to a stable equilibrium at the same travel
