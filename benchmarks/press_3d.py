@@ -82,9 +82,11 @@ stalled Newton iterate measured, fem.contact_newton):
 
 | variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
-| frictionless punch, the default press mesh | 8928 | stopped: 0.306 N reached at 0.2189 mm, V/F -0.94491 V/N; Newton stagnates at travel 0.000219 m: 5 steps on one active set cut the residual from 8.65e-05 only to 8.48e-05 (line search steps down to 1/64: a kink in the contact zone; 42 of 134 contact points on the rounded edge; the last full Newton step slides a contact point by 0.00256 mm (edge radius 0.2 mm); smallest J in the silicone 0.28) ||||||||| 152.5 | 493.8 |
-| frictionless punch, the reference family's mesh at sizes x 2 | 11634 | stopped: 0.607 N reached at 0.4018 mm, V/F -0.90858 V/N; Newton stagnates at travel 0.000402 m: 5 steps on one active set cut the residual from 7.64e-05 only to 1.68e-04 (line search steps down to 1/64: a kink in the contact zone; 31 of 98 contact points on the rounded edge; the last full Newton step slides a contact point by 1.77e-05 mm (edge radius 0.2 mm); smallest J in the silicone 0.13) ||||||||| 143.9 | 388.0 |
+| frictionless punch, the default press mesh | 8928 | stopped: 0.397 N reached at 0.2821 mm, V/F -0.93715 V/N; Newton inverts silicone elements at travel 0.0002822 m ||||||||| 132.3 | 132.5 |
+| frictionless punch, the reference family's mesh at sizes x 2 | 11634 | stopped: 0.607 N reached at 0.4019 mm, V/F -0.90856 V/N; Newton stagnates at travel 0.0004021 m: 5 steps on one active set cut the residual from 3.49e-04 only to 1.41e-03 (line search steps down to 1/64; the state is unstable: 1 negative eigenvalue of the condensed displacement stiffness; 31 of 98 contact points on the rounded edge; the last full Newton step slides a contact point by 0.000152 mm (edge radius 0.2 mm); smallest J in the silicone 0.13); pseudo-transient continuation left the residual at 7.70e-01 after 20 steps (from 1.41e-03) ||||||||| 133.6 | 141.1 |
 
+(With pseudo-transient continuation past unstable states, fem.contact_newton.continuation; one run,
+quiet machine. Before it: 0.306 N at 0.2189 mm on the default mesh, Newton stagnating, and the same 0.607 N at sizes x 2.)
 Neither reaches 1 N; the diagnosis (what was measured at the stop, and what was ruled out) is in
 docs/guide/silicone-and-contact.md, "Frictionless presses".
 
