@@ -169,8 +169,9 @@ def continuation(pr, x, d, lam, tol, frozen, fixed, stall: str):
     P, is_u = pr.red.P, pr.red.is_u
     if not linalg.available("pardiso"):          # no inertia to tell a stable state by
         raise ContactError(stall, pr.res)
-    if getattr(pr, "_inertia", None) is None:    # PARDISO whatever the press's own solver (2D: SuperLU)
-        pr._inertia = linalg.Refactorizer("pardiso")
+    if pr._inertia is None:         # PARDISO whatever the press's own solver (2D: SuperLU); in 3D the press's own
+        own = pr._factorize
+        pr._inertia = own if getattr(own, "method", None) == "pardiso" else linalg.Refactorizer("pardiso")
     n_q = int((~is_u).sum())
     tau, prev = TAU0, None
     for k in range(PTC_STEPS):

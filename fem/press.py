@@ -107,6 +107,7 @@ class Press:
         self._factorize = (linalg.Refactorizer(self.method) if self.o.reuse_analysis and self.o.assembly != "skfem"
                            else lambda K, is_u, D=None: linalg.scaled_solver(K, is_u, self.method, D=D))
         self._pat, self._min_J = None, 1.0
+        self._inertia = None             # PARDISO's factorizer for continuation's inertia (fem.contact_newton)
         self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
         self._stick: Stick | None = None    # the one in use by the solve under way
         self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
