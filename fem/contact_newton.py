@@ -38,7 +38,7 @@ STALL_CUT = 0.5      # ... that cut the residual by less than this factor: stagn
 CHORD_CUT = 0.25     # a chord step (the last factorization) is kept if it cuts the residual by this
 SOLVE_RTOL = 1e-10   # a Newton step's linear solve: refinement stops here (1e-13 elsewhere)
 TAU0 = 1e-4          # continuation: the smallest pseudo-time shift tried (relative to diag K_uu) ...
-TAU_TRIES = 12       # ... raised 4x at a time, at most this often per step (to 1.7)
+TAU_TRIES = 12       # ... raised 4x at a time, at most this often per step
 PTC_STEPS = 80       # continuation steps at one travel before it gives up
 GROW = 4.0           # ... each step may raise the residual by this factor (leaving a saddle), no more
 PATIENCE = 20        # ... and abandoned (a shorter travel step) if the residual is not below its start by then
@@ -68,13 +68,10 @@ def newton(pr, x, d, lam, tol=None):
             D = linalg.scaling(K, pr.red.is_u)
         # the scaled norm first (after a line search with the last step's scaling): a converged
         # iterate gets no tangent and no factorization
-        nr = np.linalg.norm(D * r)
-        norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
+        nr, norm = _scaled_norm(D, r, ref)
         floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
         if norm < tol or floor:            # floor: a full step with the same active set changed x
-            if fixed is not None or st.H is None:   # the true (non-negative) pressure, with dn/dx
-                st = pr.surf.state(x[pr.sy.offsets["u"]], pr.ind, d, lam, pr.eps, stick=pr._stick)
-            return x, st, it
+            return x, _true_state(pr, x, st, d, lam, fixed), it
         ckey = (key, pr.eps, None if pr._stick is None else pr._stick.mask.tobytes(), fixed is None, frozen is None)
         if o.chord and pr.solver is not None and pr._chord_key == ckey:
             # a chord step: the last factorization (same active set, stick set and penalty), kept if it
@@ -97,8 +94,7 @@ def newton(pr, x, d, lam, tol=None):
             if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
                 raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
             D = linalg.scaling(K, pr.red.is_u)
-            nr = np.linalg.norm(D * r)
-            norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
+            nr, norm = _scaled_norm(D, r, ref)
         if (len(seen) >= STALL_STEPS and len(set(seen[-STALL_STEPS:] + [key])) == 1
                 and norm > STALL_CUT * norms[-STALL_STEPS]):
             stall = (f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on one active set "
@@ -167,46 +163,36 @@ def continuation(pr, x, d, lam, tol, frozen, fixed, stall: str):
     stalled iterate) the flow leaves the saddle that Newton was drawn to and settles on the
     stable branch. Its fixed points are the equilibria r = 0: the shift leaves no error."""
     P, is_u = pr.red.P, pr.red.is_u
-    if not linalg.available("pardiso"):          # no inertia to tell a stable state by
+    if pr._inertia is None:                       # no PARDISO: no inertia to tell a stable state by
         raise ContactError(stall, pr.res)
-    if pr._inertia is None:         # PARDISO whatever the press's own solver (2D: SuperLU); in 3D the press's own
-        own = pr._factorize
-        pr._inertia = own if getattr(own, "method", None) == "pardiso" else linalg.Refactorizer("pardiso")
-    n_q = int((~is_u).sum())
-    tau, prev = TAU0, None
+    tau, prev, shrink = TAU0, None, 1.0
     for k in range(PTC_STEPS):
         r, ref, st, K = pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
         if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
             raise ContactError(f"continuation reached a non-finite state at travel {d:.4g} m", pr.res)
         D = linalg.scaling(K, is_u)
-        nr = np.linalg.norm(D * r)
-        norm = nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0
+        nr, norm = _scaled_norm(D, r, ref)
         pr.trace.append((d, k, norm, int(st.active.sum()), "continuation", tau))
         if norm < tol:
-            if fixed is not None or st.H is None:
-                st = pr.surf.state(x[pr.sy.offsets["u"]], pr.ind, d, lam, pr.eps, stick=pr._stick)
             pr.stats["continuation_steps"] = pr.stats.get("continuation_steps", 0) + k
-            return x, st, k
-        if k == PATIENCE and norm >= entry:
+            return x, _true_state(pr, x, st, d, lam, fixed), k
+        if k == 0:
+            entry = norm
+        elif k == PATIENCE and norm >= entry:
             raise ContactError(f"{stall}; pseudo-transient continuation left the residual at {norm:.2e} "
                                f"after {k} steps (from {entry:.2e})", pr.res)
-        entry = norm if k == 0 else entry
         if prev is not None:                      # SER; halved after a step taken at its first tau
-            tau *= min(1.0, norm / prev) * (0.5 if first else 1.0)
-        prev = norm
+            tau *= min(1.0, norm / prev) * shrink
+        prev, shrink = norm, 0.5
         m = np.where(is_u, np.abs(K.diagonal()), 0.0)
-        for first in [True] + [False] * (TAU_TRIES - 1):
+        for _ in range(TAU_TRIES):
             Kt = K.copy()
             Kt.setdiag(K.diagonal() + tau * m)
-            t0 = time.process_time()
-            solver = pr.solver = pr._inertia(Kt, is_u, D=D)
-            pr._chord_key = None
-            pr.stats["factorizations"] += 1
-            pr.stats["factorize_s"] += time.process_time() - t0
+            solver = pr.refactor(Kt, D, factorizer=pr._inertia)
             if solver.inertia is None:           # a nonsymmetric (sticking) tangent: no inertia
                 raise ContactError(stall, pr.res)
-            if solver.inertia[1] > n_q:
-                tau = max(4 * tau, TAU0)          # still unstable: a shorter pseudo-time step
+            if solver.inertia[1] > _stable_negatives(pr):
+                tau, shrink = max(4 * tau, TAU0), 1.0     # still unstable: a shorter pseudo-time step
                 continue
             dy, _ = solver(-r, rtol=SOLVE_RTOL)
             x_new = x + P @ dy[:, 0]
@@ -214,7 +200,7 @@ def continuation(pr, x, d, lam, tol, frozen, fixed, stall: str):
             if (pr._min_J > 0 and np.all(np.isfinite(r_new))
                     and np.linalg.norm(D * r_new) <= GROW * max(nr, 1e-3 * np.linalg.norm(D * ref))):
                 break
-            tau = max(4 * tau, TAU0)              # inverted or far off: a shorter pseudo-time step
+            tau, shrink = max(4 * tau, TAU0), 1.0         # inverted or far off: a shorter pseudo-time step
         else:
             raise ContactError(f"{stall}; pseudo-transient continuation found no step keeping the "
                                f"silicone uninverted and the tangent stable (tau up to {tau:.1e})", pr.res)
@@ -223,12 +209,32 @@ def continuation(pr, x, d, lam, tol, frozen, fixed, stall: str):
                        f"(residual {norm:.2e})", pr.res)
 
 
+def _scaled_norm(D, r, ref):
+    """(|D r|, |D r| / |D R_c|): the residual's scaled norm, absolute and relative to the contact part."""
+    nr = np.linalg.norm(D * r)
+    return nr, (nr / max(np.linalg.norm(D * ref), 1e-300) if nr > 0 else 0.0)
+
+
+def _true_state(pr, x, st, d, lam, fixed):
+    """The converged contact state: with a fixed active set or without dn/dx, re-evaluated
+    (the true, non-negative pressure, with dn/dx)."""
+    if fixed is None and st.H is not None:
+        return st
+    return pr.surf.state(x[pr.sy.offsets["u"]], pr.ind, d, lam, pr.eps, stick=pr._stick)
+
+
+def _stable_negatives(pr) -> int:
+    """The negative eigenvalues of a stable state's tangent: one per pressure and potential
+    unknown (the condensed displacement stiffness positive definite)."""
+    return int((~pr.red.is_u).sum())
+
+
 def _stability(pr) -> str:
     """The stalled tangent's stability, where the factorization reports its inertia."""
     inertia = getattr(pr.solver, "inertia", None)
     if inertia is None:
         return ""
-    extra = inertia[1] - int((~pr.red.is_u).sum())
+    extra = inertia[1] - _stable_negatives(pr)
     return (f"; the state is unstable: {extra} negative eigenvalue{'s' if extra > 1 else ''} of the "
             "condensed displacement stiffness" if extra > 0 else "; the state is stable: a kink in the contact zone")
 

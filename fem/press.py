@@ -107,7 +107,9 @@ class Press:
         self._factorize = (linalg.Refactorizer(self.method) if self.o.reuse_analysis and self.o.assembly != "skfem"
                            else lambda K, is_u, D=None: linalg.scaled_solver(K, is_u, self.method, D=D))
         self._pat, self._min_J = None, 1.0
-        self._inertia = None             # PARDISO's factorizer for continuation's inertia (fem.contact_newton)
+        # continuation's factorizer (fem.contact_newton), PARDISO for its inertia: the press's own in 3D
+        self._inertia = (self._factorize if self.method == "pardiso" and isinstance(self._factorize, linalg.Refactorizer)
+                         else linalg.Refactorizer("pardiso") if linalg.available("pardiso") else None)
         self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
         self._stick: Stick | None = None    # the one in use by the solve under way
         self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
@@ -276,12 +278,12 @@ class Press:
         v = self.red.P @ dy[:, 0]
         return v, self.G * (dF_dd + float(dF_du.ravel() @ v[S]))
 
-    def refactor(self, K, D=None, key=None):
+    def refactor(self, K, D=None, key=None, factorizer=None):
         """Factorize the tangent K (row scaling D, or the solver's own) as the press's
         solver, made for `key` (the chord steps' active set, stick set and penalty;
-        fem.contact_newton), counted in the stats."""
+        fem.contact_newton), by `factorizer` (default the press's own), counted in the stats."""
         t0 = time.process_time()
-        self.solver = self._factorize(K, self.red.is_u, D=D)
+        self.solver = (factorizer or self._factorize)(K, self.red.is_u, D=D)
         self._chord_key = key
         self.stats["factorizations"] += 1
         self.stats["factorize_s"] += time.process_time() - t0
