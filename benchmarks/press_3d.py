@@ -72,22 +72,24 @@ A looser penetration tolerance (1 % of the travel) moves V/F by 0.015 % and save
 Uzawa is inexact, so gap_tol stays 1e-3 (tests check the penetration against it). A larger first
 step (from the unpressed state's stiffness, half the target: 4 states) moves V/F by +0.43 % and
 saves nothing: the rounded edge's points slide through the step before they stick, so sticking
-keeps the small first steps. The frictionless punch at sizes / 0.5 gets to 0.608 N and stops,
+keeps the small first steps. The frictionless punch at sizes / 0.5 got to 0.608 N (before continuation; now 0.797 N, below) and stopped,
 named: Newton stagnates on one active set at 0.402 mm of travel (the line search's steps down to
 1/64; 136 s of CPU with the bisections); it does not reach 1 N.
 
 Frictionless (--frictionless: the default press mesh, then the reference family's at sizes x 2;
-one run, load 4-5, so wall times are about 3x the CPU times; the stop's message names what the
+one run, load 2-3 (three benchmarks on 2 cores), so wall times are up to 1.3x the CPU times; the stop's message names what the
 stalled Newton iterate measured, fem.contact_newton):
 
 | variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
-| frictionless punch, the default press mesh | 8928 | stopped: 0.397 N reached at 0.2821 mm, V/F -0.93715 V/N; Newton inverts silicone elements at travel 0.0002822 m ||||||||| 132.3 | 132.5 |
-| frictionless punch, the reference family's mesh at sizes x 2 | 11634 | stopped: 0.607 N reached at 0.4019 mm, V/F -0.90856 V/N; Newton stagnates at travel 0.0004021 m: 5 steps on one active set cut the residual from 3.49e-04 only to 1.41e-03 (line search steps down to 1/64; the state is unstable: 1 negative eigenvalue of the condensed displacement stiffness; 31 of 98 contact points on the rounded edge; the last full Newton step slides a contact point by 0.000152 mm (edge radius 0.2 mm); smallest J in the silicone 0.13); pseudo-transient continuation left the residual at 7.70e-01 after 20 steps (from 1.41e-03) ||||||||| 133.6 | 141.1 |
+| frictionless punch, the default press mesh | 8928 | stopped: 0.687 N reached at 0.4814 mm, V/F -0.89720 V/N; force control: 1 N not reached in 40 trials (last 0.687 N; the last failed trial: Newton inverts silicone elements at travel 0.0005006 m) ||||||||| 295.0 | 379.2 |
+| frictionless punch, the reference family's mesh at sizes x 2 | 11634 | stopped: 0.797 N reached at 0.5076 mm, V/F -0.87385 V/N; Newton inverts silicone elements at travel 0.0005077 m ||||||||| 764.0 | 938.1 |
 
-(With pseudo-transient continuation past unstable states, fem.contact_newton.continuation; one run,
-quiet machine. Before it: 0.306 N at 0.2189 mm on the default mesh, Newton stagnating, and the same 0.607 N at sizes x 2.)
-Neither reaches 1 N; the diagnosis (what was measured at the stop, and what was ruled out) is in
+(With pseudo-transient continuation past unstable states, fem.contact_newton.continuation, the
+active set free along the flow and 300 steps of patience; one run, load 2. With the set Newton fixed and
+20 steps: 0.397 N at 0.2821 mm on the default mesh, 0.607 N at sizes x 2, Newton stagnating; before continuation 0.306 N
+at 0.2189 mm, Newton stagnating, and the same 0.607 N.) Neither reaches 1 N; what stops them (the
+element: benchmarks/frictionless_3d.py) is in
 docs/guide/silicone-and-contact.md, "Frictionless presses".
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick] [--divide K] [--frictionless]

@@ -240,9 +240,9 @@ class Press:
                 self._stick = Stick(self._stick.mask, self._stick.a0, st.ts.copy())
         else:
             self.eps = eps0
-            raise ContactError(f"augmented Lagrangian: penetration {st.penetration:.3g} m after "
-                               f"{o.max_uzawa} multiplier updates at travel {d:.4g} m; raise the penalty",
-                               self.res)
+            raise ContactError(f"augmented Lagrangian: the multipliers did not settle in {o.max_uzawa} updates "
+                               f"at travel {d:.4g} m (largest penetration, or gap under pressure, {err:.3g} m "
+                               f"against {tol:.3g} m; penetration {st.penetration:.3g} m); raise the penalty", self.res)
         if o.predictor:                     # with the tangent's own penalty (before restoring it)
             self.v, self.slope = self._rates(x, st, d, lam)
         self.eps = eps0
