@@ -14,8 +14,10 @@ benchmarks/press_3d.py --frictionless's row; here one thing is changed at a time
   sticking and frictionless: does a lower-order element pass, and at what accuracy (the
   sticking press against its nested reference, docs/press_3d_reference.json)?
 
-Prints per row the force reached, the travel, V/F at the last state and the stop's cause.
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/frictionless_3d.py
+First the silicone's displacement unknowns per pressure unknown on each model's probe mesh
+(--unknowns: only that), then per row the force reached, the travel, V/F at the last state and
+the stop's cause.
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/frictionless_3d.py [--unknowns]
 """
 
 from __future__ import annotations
@@ -24,9 +26,14 @@ import json
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).parent))
-from press_3d import OUT, layout, run  # noqa: E402
+import numpy as np
 
+sys.path.insert(0, str(Path(__file__).parent))
+from press_3d import OUT, layout, run, stop  # noqa: E402
+
+from taxel.analyses.adapter import check, checked_layout, problem  # noqa: E402
+from taxel.fem.assembly import assemble  # noqa: E402
+from taxel.meshing.build import build  # noqa: E402
 from taxel.scene import load  # noqa: E402
 
 
@@ -44,18 +51,30 @@ ROWS = {      # the default P2 quarter: benchmarks/press_3d.py --frictionless
 }
 
 
+def unknowns_per_pressure():
+    """The silicone's displacement unknowns per pressure unknown on each model's probe mesh
+    (the examples' own meshes; 3D: the default press mesh): how many displacement modes the
+    P1 pressures leave the volume free in."""
+    print("| mesh | silicone displacement unknowns | pressure unknowns | ratio |\n|---|---|---|---|")
+    for name in ("thesis-pzt-probe-3d", "thesis-pzt-probe-axisymmetric", "thesis-pzt-probe-2d"):
+        sc = load(name).replace(**{"load.friction": "frictionless"})
+        sy = assemble(problem(sc, tagged_mesh=build(checked_layout(sc, check(sc)))))
+        nu = len(np.unique(sy.ubases["silicone"].element_dofs))
+        npr = len(np.unique(sy.pbases["silicone"].element_dofs))
+        print(f"| {name} | {nu} | {npr} | {nu / npr:.1f} |", flush=True)
+
+
 def main():
+    unknowns_per_pressure()
+    if "--unknowns" in sys.argv:
+        return
     ref = json.loads(OUT.read_text())["VF"]
     print(f"sticking reference (P2, nested meshes): V/F {ref:.5f} V/N")
     print("| press | unknowns | force reached (N) | travel (mm) | V/F (V/N) | sticking: error | stop | CPU s |\n"
           "|---|---|---|---|---|---|---|---|")
     for name, (sc, k) in ROWS.items():
         r = run(sc, layout(sc, k))
-        if "error" in r:
-            F, d, vf = r["force"], r["travel"], float(r["error"].split("V/F ")[1].split(" ")[0])
-            cause = r["cause"].split(" (")[0]
-        else:
-            F, d, vf, cause = 1.0, r["travel"], r["VF"], "reached 1 N"
+        F, d, vf, cause = stop(r)
         err = f"{100 * (vf / ref - 1):+.1f} %" if "sticking" in name and F == 1.0 else ""
         print(f"| {name} | {r['n']} | {F:.3f} | {1e3 * d:.3f} | {vf:.4f} | {err} | {cause} | {r['cpu']:.0f} |",
               flush=True)

@@ -21,7 +21,7 @@ from taxel.analyses.adapter import check, checked_layout
 from taxel.scene import load
 
 sys.path.insert(0, str(Path(__file__).parent))
-from press_3d import run  # noqa: E402
+from press_3d import run, stop  # noqa: E402
 
 MESHES = {"3D default press sizes, 1.4 / 0.56 mm": (1.4e-3, 0.56e-3), "the example's, 0.5 / 0.1 mm": (0.5e-3, 0.1e-3),
           "0.25 / 0.05 mm": (0.25e-3, 0.05e-3), "0.125 / 0.025 mm": (0.125e-3, 0.025e-3)}
@@ -35,12 +35,7 @@ def main():
         lay = dataclasses.replace(checked_layout(sc, check(sc)), size=h, piezo_size=hp)
         for pname, path in PATHS.items():
             r = run(sc, lay, path=path)            # press_3d.run: mesh, assemble, press to 1 N along `path`
-            if "error" in r:                         # the stop's first clause: its cause and where
-                text = r["cause"]
-                cause = text.split(":")[0] if text.startswith("Newton") else text.split(" (")[0]
-                F, d = r["force"], r["travel"]
-            else:
-                cause, F, d = "reached 1 N", 1.0, r["travel"]
+            F, d, _, cause = stop(r)
             print(f"| {name} | {pname} | {r['n']} | {F:.3f} | {1e3 * d:.3f} | {cause} | {r['cpu']:.0f} |", flush=True)
 
 

@@ -152,11 +152,21 @@ def run(sc, lay, opts: Options | None = None, path=()):
         last = (f"{p.force:.3g} N reached at {1e3 * p.travel:.4g} mm, V/F {p.voltages['taxel_0_0'] / p.force:.5f} V/N"
                 if p else "no state reached")
         return dict(n=pr.red.n, error=f"{last}; {exc}", force=p.force if p else 0.0, travel=p.travel if p else 0.0,
+                    VF=p.voltages["taxel_0_0"] / p.force if p else None,
                     cause=str(exc), cpu=time.process_time() - c, wall=time.perf_counter() - w)
     return dict(n=pr.red.n, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel, states=len(pr.res.points),
                 iterations=pr.res.total_iterations, factorizations=pr.stats["factorizations"],
                 factorize_s=pr.stats["factorize_s"], assemble_s=pr.stats["assemble_s"],
                 solve_s=pr.stats["solve_s"], chord=pr.stats["chord_steps"], wall=time.perf_counter() - w, cpu=time.process_time() - c)
+
+
+def stop(r) -> tuple[float, float, float | None, str]:
+    """(force reached, travel, V/F at the last state, cause) of a run: 1 N and "reached 1 N",
+    or where it stopped and the stop's first clause (its cause, without the measurements)."""
+    if "error" not in r:
+        return 1.0, r["travel"], r["VF"], "reached 1 N"
+    text = r["cause"]
+    return r["force"], r["travel"], r["VF"], text.split(":")[0] if text.startswith("Newton") else text.split(" (")[0]
 
 
 def reference():

@@ -282,21 +282,34 @@ def test_a_stagnation_names_what_it_measured():
             assert 0 < rim < st.active.sum()            # the flat and its rounded edge both press
 
 
-def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
-    """The frictionless probe press, axisymmetric at 0.25 / 0.05 mm, does not reach 1 N in
-    one target (benchmarks/frictionless_limit.py: 0.976 N, 0.889 N before continuation):
-    force control runs out of trials, and its stop names what stopped the last failed trial
-    (Newton inverting elements, measured; stagnating before continuation), not only the
-    count of trials."""
+def _frictionless_probe(size, piezo_size):
+    """The thesis taxel's axisymmetric probe press, frictionless, on a size / piezo_size mesh:
+    (problem, assembled system)."""
     import dataclasses
     from taxel.analyses import problem as scene_problem
     from taxel.analyses.adapter import check, checked_layout
     from taxel.meshing.build import build
     from taxel.scene import load
     sc = load("thesis-pzt-probe-axisymmetric").replace(**{"load.friction": "frictionless"})
-    lay = dataclasses.replace(checked_layout(sc, check(sc)), size=0.25e-3, piezo_size=0.05e-3)
+    lay = dataclasses.replace(checked_layout(sc, check(sc)), size=size, piezo_size=piezo_size)
     prob = scene_problem(sc, tagged_mesh=build(lay))
-    pr = Press(assemble(prob), prob.indenter)
+    return prob, assemble(prob)
+
+
+@pytest.fixture(scope="module")
+def probe_example_mesh():
+    """The frictionless probe press on the axisymmetric example's 0.5 / 0.1 mm mesh (shared)."""
+    return _frictionless_probe(0.5e-3, 0.1e-3)
+
+
+def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
+    """The frictionless probe press, axisymmetric at 0.25 / 0.05 mm, does not reach 1 N in
+    one target (benchmarks/frictionless_limit.py: 0.976 N, 0.889 N before continuation):
+    force control runs out of trials, and its stop names what stopped the last failed trial
+    (Newton inverting elements, measured; stagnating before continuation), not only the
+    count of trials."""
+    prob, sy = _frictionless_probe(0.25e-3, 0.05e-3)
+    pr = Press(sy, prob.indenter)
     with pytest.raises(ContactError) as err:
         pr.force(1.0)
     msg = str(err.value)
@@ -305,25 +318,17 @@ def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
     assert 0.5 < pr.res.points[-1].force < 1.0
 
 
-def test_continuation_takes_a_stalled_press_past_an_unstable_state():
+def test_continuation_takes_a_stalled_press_past_an_unstable_state(probe_example_mesh):
     """The frictionless probe press, axisymmetric at the example's 0.5 / 0.1 mm, along 0.2 ...
     1 N: Newton stagnates on the way (the state unstable: the tangent has more negative
     eigenvalues than there are pressure and potential unknowns), and without continuation
     the press stops there, named (measured 0.753 N); with it (the default) the press reaches
     1 N through pseudo-transient continuation, and every state it ends on is stable (the
     final tangent's inertia, PARDISO) and in equilibrium."""
-    import dataclasses
-    from taxel.analyses import problem as scene_problem
-    from taxel.analyses.adapter import check, checked_layout
     from taxel.fem import linalg
-    from taxel.meshing.build import build
-    from taxel.scene import load
     if not linalg.available("pardiso"):
         pytest.skip("continuation reads stability from PARDISO's inertia")
-    sc = load("thesis-pzt-probe-axisymmetric").replace(**{"load.friction": "frictionless"})
-    lay = dataclasses.replace(checked_layout(sc, check(sc)), size=0.5e-3, piezo_size=0.1e-3)
-    prob = scene_problem(sc, tagged_mesh=build(lay))
-    sy = assemble(prob)
+    prob, sy = probe_example_mesh
     path = (0.2, 0.4, 0.6, 0.7, 0.8, 0.9, 1.0)
     off = Press(sy, prob.indenter, opts=Options(continuation=False))
     with pytest.raises(ContactError, match="Newton stagnates"):
@@ -343,24 +348,17 @@ def test_continuation_takes_a_stalled_press_past_an_unstable_state():
     assert inertia[1] == int((~pr.red.is_u).sum())                         # stable
 
 
-def test_continuation_lets_the_contact_set_change_along_the_flow():
+def test_continuation_lets_the_contact_set_change_along_the_flow(probe_example_mesh):
     """The same press in one 1 N target: Newton stalls at an unstable state, and the flow
     out of it must be free to change the contact active set (the stable state touches the
     punch elsewhere). With the set Newton had fixed (and 20 steps of patience) continuation
     gave up and the press stopped at 0.919 N (benchmarks/frictionless_limit.py); now it
     reaches 1 N (10 continuation steps, measured)."""
-    import dataclasses
-    from taxel.analyses import problem as scene_problem
-    from taxel.analyses.adapter import check, checked_layout
     from taxel.fem import linalg
-    from taxel.meshing.build import build
-    from taxel.scene import load
     if not linalg.available("pardiso"):
         pytest.skip("continuation reads stability from PARDISO's inertia")
-    sc = load("thesis-pzt-probe-axisymmetric").replace(**{"load.friction": "frictionless"})
-    lay = dataclasses.replace(checked_layout(sc, check(sc)), size=0.5e-3, piezo_size=0.1e-3)
-    prob = scene_problem(sc, tagged_mesh=build(lay))
-    pr = Press(assemble(prob), prob.indenter)
+    prob, sy = probe_example_mesh
+    pr = Press(sy, prob.indenter)
     pt = pr.force(1.0)
     assert pt.force == pytest.approx(1.0, rel=2e-3)
     assert pr.stats["continuation_steps"] > 0
