@@ -9,8 +9,11 @@ Prints per mesh: unknowns of the quarter (after the constraints), voltage and tr
 iterations, factorizations, wall and CPU time, and the default mesh's voltage against the
 finer one. One run each (minutes on a shared 2-core machine).
 
-With --rules, the contact point rule on the 3D facets (Gauss points against the P2 edge
-midpoints): Newton iterations to the first 0.1 N.
+With --rules, the contact point rule on the 3D facets (Gauss points, the P2 edge
+midpoints, the six P2 nodes lumped): Newton iterations to the first 0.1 N; then the rig's
+probe press (thesis-pzt-probe-3d, the default press mesh) to 1 N, sticking, and
+frictionless to 0.4 mm, with the midpoints and the nodes: V/F, the deepest P2 node in
+the punch (the midpoints rule leaves the vertices free), CPU.
 
 Run: MKL_NUM_THREADS=1 python benchmarks/contact_3d.py [--frictionless [--piezo-size 0.2e-3] | --rules]
 """
@@ -41,7 +44,18 @@ def scene(friction="sticking", **mesh):
 
 RULES = {"6 Gauss points per facet (intorder 3)": dict(rule="gauss", intorder=3),
          "3 Gauss points per facet (intorder 2)": dict(rule="gauss", intorder=2),
-         "the P2 edge midpoints (rule nodal, the 3D default)": dict(rule="nodal")}
+         "the P2 edge midpoints (rule midpoints)": dict(rule="midpoints"),
+         "the six P2 nodes, HRZ-lumped (rule nodal, the 3D default)": dict(rule="nodal")}
+
+
+def deepest_node(pr) -> float:
+    """The deepest P2 node of the top surface inside the indenter (m, >= 0) at the press's
+    state: the gap at every node (the nodal rule's points), whatever rule pressed it."""
+    from taxel.fem.contact import Surface
+    tm, ub = pr.sy.tm, next(iter(pr.sy.ubases.values()))
+    nodes = Surface(tm.mesh, ub.elem, tm.facets["top"], pr.sy.kin, pr.z_top, rule="nodal")
+    st = nodes.state(pr.x[pr.sy.offsets["u"]], pr.ind, pr.d, np.zeros(nodes.shape), pr.eps)
+    return max(-float(st.g.min()), 0.0)
 
 
 def rules():
@@ -59,7 +73,23 @@ def rules():
             end = f"0.1 N reached at {1e3 * pr.d:.4f} mm"
         except ContactError as exc:
             end = f"0.1 N not reached ({exc})"
-        print(f"{name}: {len(pr.trace)} Newton iterations, {time.perf_counter() - t0:.0f} s; {end}", flush=True)
+        print(f"{name}: {len(pr.trace)} Newton iterations, {time.perf_counter() - t0:.0f} s; {end}; "
+              f"deepest node {1e6 * deepest_node(pr):.3g} um", flush=True)
+    from taxel.analyses.adapter import check, checked_layout
+    from taxel.meshing.build import build
+    print("| press | rule | unknowns | travel (mm) | force (N) | V/F (V/N) | deepest node (um) | CPU s |\n"
+          "|---|---|---|---|---|---|---|---|")
+    for friction in ("sticking", "frictionless"):
+        sc = load("thesis-pzt-probe-3d").replace(**{"load.friction": friction})
+        prob = problem(sc, tagged_mesh=build(checked_layout(sc, check(sc))))
+        sy = assemble(prob)
+        for rule in ("midpoints", "nodal"):
+            pr = Press(sy, prob.indenter, opts=Options(rule=rule))
+            c = time.process_time()
+            pt = pr.force(1.0) if friction == "sticking" else pr.travel(0.4e-3)
+            print(f"| {friction} | {rule} | {pr.red.n} | {1e3 * pt.travel:.4f} | {pt.force:.4f} | "
+                  f"{pt.voltages['taxel_0_0'] / pt.force:.5f} | {1e6 * deepest_node(pr):.3g} | "
+                  f"{time.process_time() - c:.1f} |", flush=True)
 
 
 def main():

@@ -21,11 +21,11 @@ takes it to the full tolerance on them.
 Contact points are the quadrature points of the top facets, 2 per P2 edge by
 default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
 multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
-In 3D the points are the edge midpoints of the P2 triangles (rule "nodal", shared
-by neighbouring facets): Gauss points over-constrain the about two nodes per
-facet and lock the contact zone (benchmarks/contact_3d.py --rules: a coarse thesis
-taxel quarter, sticking punch, first 0.1 N: 6 Gauss points per facet never get there,
-the multiplier loop stalling; 3 points, 54 Newton iterations; the midpoints, 5).
+In 3D the points are the P2 triangles' six nodes with lumped weights (rule "nodal",
+shared by neighbouring facets, fem.contact: one point per surface node): Gauss points
+over-constrain the about two nodes per facet and lock the contact zone; the edge
+midpoints alone (rule "midpoints") leave the vertices free to enter the punch
+(benchmarks/contact_3d.py --rules).
 
 When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking

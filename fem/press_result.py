@@ -69,7 +69,8 @@ class Options:
     active_set_update: bool = True  # False: the tangent keeps the active set of the step's start
     fix_cycling: bool = True        # when an active set comes back, finish Newton on it (False: keep updating)
     intorder: int = 3               # contact quadrature on the top facets (3: 2 points per 2D facet)
-    rule: str = "auto"              # contact points: gauss (intorder) | nodal (P2 nodes, lumped) | auto (3D nodal)
+    rule: str = "auto"              # contact points: gauss (intorder) | nodal (P2 nodes, lumped) | midpoints (3D:
+    #                                 the edge midpoints only, the vertices free: for comparison) | auto (3D nodal)
     line_search: bool = True        # backtrack on the scaled residual (else only to keep J > 0)
     predictor: bool = True          # start each travel from the tangent prediction x + (d - d0) dx/dd
     chord: bool = True              # try the last factorization first (a chord step) while the active set holds

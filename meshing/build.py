@@ -12,7 +12,9 @@ on them, not from their bounding boxes (gmsh pads OCC boxes by 1e-7 m). The plan
 mesh is extruded, so its grading holds at every height: at the piezo's bottom and
 top faces as at z = 0. Under a punch (`contact_size`, contact-aware): the in-plane
 size is `contact_size` within `rim` of the load edge (the band under the punch's
-rounded edge), growing to `size` beyond as above. Vertically: `piezo_layers` elements per piezo
+rounded edge), growing to `size` beyond as above; in 3D the rim is that size field
+only, not a plan curve (the punch's footprint is where contact puts it, and a rim circle
+touching a taxel square's side left slivers along the tangency). Vertically: `piezo_layers` elements per piezo
 (or plate) layer; silicone layers graded from `piezo_size` next to the piezo to
 `size`, ratio 1.5; under a punch the top layer is graded from both ends, to
 `contact_size` at the top surface. A free 3D layout (`Layout.free`): only the piezo
@@ -110,7 +112,7 @@ def build(lay: Layout, msh_path: str | Path | None = None) -> TaggedMesh:
 
 def _plan(occ, lay: Layout):
     """Plan entities at z = 0, fragmented at every patch edge."""
-    patches = list(lay.taxels) + ([lay.load] if lay.load else [])
+    patches = list(lay.taxels) + ([lay.load] if lay.load and not _rim_field(lay) else [])
     if lay.dim == 2:
         xs = lay.breakpoints()
         pts = [occ.addPoint(x, 0, 0) for x in xs]
@@ -201,13 +203,15 @@ def _size_field(gmsh, lay: Layout):
     # the taxel edges on the piezo's faces and the punch's rim on the top surface
     at_piezo = sorted({z for L in piezo for z in (L.z0, L.z1)}) if free else [0.0]
     at_top = [lay.height] if free else [0.0]
-    edges = list(lay.taxels) + ([lay.load] if lay.load and not free else [])
+    edges = list(lay.taxels) + ([lay.load] if lay.load and not free and not _rim_field(lay) else [])
     if not edges and lay.load is None:
         return
     fields = [_threshold(gmsh, lay, edges, lay.piezo_size, 0.0, at_piezo)] if edges else []
     if free and lay.load is not None and lay.contact_size is None:
         fields.append(_threshold(gmsh, lay, [lay.load], lay.piezo_size, 0.0, at_top))
-    if lay.contact_size is not None and lay.load is not None:   # the band under the punch's rounded edge
+    if _rim_field(lay):                                  # the band under the punch's rounded edge
+        fields.append(_rim_threshold(gmsh, lay, min(lay.contact_size, lay.piezo_size), at_top[0] if free else None))
+    elif lay.contact_size is not None and lay.load is not None:
         fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim, at_top))
     zs = (min(L.z0 for L in piezo), max(L.z1 for L in piezo)) if free and piezo else (-1.0, 1.0)
     for p in lay.taxels:                          # cap inside taxels (free: inside the piezo)
@@ -256,6 +260,33 @@ def _threshold(gmsh, lay: Layout, patches, size_min, dist_min, heights=(0.0,)):
     f.setNumber(thr, "SizeMax", lay.size)
     f.setNumber(thr, "DistMin", dist_min)
     f.setNumber(thr, "DistMax", dist_min + lay.growth * lay.size)
+    return thr
+
+
+def _rim_field(lay: Layout) -> bool:
+    """A 3D punch with a rounded edge: its rim is a size field (_rim_threshold), not a
+    plan curve. Where the punch touches is the contact's outcome, not a boundary of the
+    geometry; and a rim circle fragmented with a taxel square it touches (the thesis
+    probe: both 2 mm from the centre) leaves slivers along the tangency through every
+    height (2.8 degree dihedral angles, where the frictionless press crushed its elements)."""
+    return lay.dim == 3 and lay.contact_size is not None and lay.load is not None
+
+
+def _rim_threshold(gmsh, lay: Layout, size_min, z_top):
+    """`size_min` within `rim` of the punch's rim circle (at the top surface, z_top; None:
+    in the plan, extruded to every height), growing linearly to `size` over growth x size:
+    the distance to the circle in closed form (a MathEval field)."""
+    f = gmsh.model.mesh.field
+    p = lay.load
+    radial = f"(Sqrt((x - ({p.x!r}))^2 + (y - ({p.y!r}))^2) - {p.half!r})"
+    dist = f.add("MathEval")
+    f.setString(dist, "F", f"Sqrt({radial}^2 + (z - ({z_top!r}))^2)" if z_top is not None else f"Abs{radial}")
+    thr = f.add("Threshold")
+    f.setNumber(thr, "InField", dist)
+    f.setNumber(thr, "SizeMin", size_min)
+    f.setNumber(thr, "SizeMax", lay.size)
+    f.setNumber(thr, "DistMin", lay.rim)
+    f.setNumber(thr, "DistMax", lay.rim + lay.growth * lay.size)
     return thr
 
 
