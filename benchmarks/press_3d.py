@@ -92,7 +92,7 @@ at 0.2189 mm, Newton stagnating, and the same 0.607 N.) Neither reaches 1 N; wha
 element: benchmarks/frictionless_3d.py) is in
 docs/guide/silicone-and-contact.md, "Frictionless presses".
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference] [--quick] [--divide K] [--frictionless]
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference [--resume]] [--quick] [--divide K] [--frictionless]
 (--quick: the default row only; --divide K: the rows on the default mesh with every size divided
 by K, e.g. 0.5 for a mesh twice as coarse, to compare the variants at a quarter of the cost;
 --frictionless: the frictionless punch on the default press mesh and at sizes x 2 only)
@@ -174,8 +174,10 @@ def reference():
     (Richardson over the last three) is written, so a stopped run keeps what it had."""
     sc = scene()
     rows = []
+    done = {r["divide"]: r for r in json.loads(OUT.read_text()).get("levels", [])} if "--resume" in sys.argv else {}
     for k in LEVELS:
-        r = run(sc, layout(sc, k))
+        r = done[k] if k in done else dict(run(sc, layout(sc, k)))   # --resume: the levels OUT has
+        r.pop("divide", None)
         print(f"sizes / {k:.3g}: {r}", flush=True)
         rows.append(dict(divide=k, **r))
         if len(rows) < 3:

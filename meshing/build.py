@@ -25,7 +25,7 @@ field, `piezo_size` at the taxel edges on the piezo's faces and `contact_size` w
 Physical groups (names), classified by the first element of each entity:
 regions "silicone" and one piezo body per taxel ("piezo_0_0", ...) in arrays, one
 per layer ("layer0", ...) in plates;
-facets "bottom", "top", "load", "edges" (the outline), "axis" (r = 0), the
+facets "bottom", "top", "load" (a 3D punch: the whole top), "edges" (the outline), "axis" (r = 0), the
 symmetry planes "mirror_x" (x = 0) and "mirror_y" (y = 0) of a cut layout
 (meshing.layout.cut: the plan is fragmented by the kept quadrant or half and the
 rest removed before extrusion), and one per electrode ("taxel_0_0", "ground"; "bottom", "interface1", "top" on plates).
@@ -338,8 +338,8 @@ def _classify(gmsh, lay: Layout):
                 add(D - 1, "bottom", tag)
             if abs(zc - H) < tol:
                 add(D - 1, "top", tag)
-                if lay.load is None or lay.load.contains(xc, yc):
-                    add(D - 1, "load", tag)
+                if lay.load is None or _rim_field(lay) or lay.load.contains(xc, yc):
+                    add(D - 1, "load", tag)         # a punch (_rim_field): the contact finds where
             for el in lay.electrodes:
                 if abs(zc - el.z) < tol and (not el.patches or any(p.contains(xc, yc) for p in el.patches)):
                     add(D - 1, el.name, tag)
