@@ -14,6 +14,10 @@ benchmarks/press_3d.py --frictionless's row; here one thing is changed at a time
   sticking and frictionless: does a lower-order element pass, and at what accuracy (the
   sticking press against its nested reference, docs/press_3d_reference.json)?
 
+The rows in docs/guide/silicone-and-contact.md were measured before 2026-11-25 (the rim a plan
+curve, the edge midpoints as contact points); benchmarks/press_3d.py --frictionless has the
+default and sizes x 2 rows since.
+
 First the silicone's displacement unknowns per pressure unknown on each model's probe mesh
 (--unknowns: only that), then per row the force reached, the travel, V/F at the last state and
 the stop's cause.

@@ -8,8 +8,16 @@ quantity is the pressed taxel's open-circuit voltage per newton, V/F.
 Reference (--reference): a family of meshes whose every size (size, piezo_size,
 and the contact-aware size under the punch's rounded edge, meshing.build) is
 divided by RATIO from one to the next; the observed order p from the last three
-and the Richardson value (last three levels) V_ref = V_2 + (V_2 - V_1) / (RATIO^p - 1), written to
-docs/press_3d_reference.json with every level's numbers. The default run reads it.
+and the Richardson value (last three levels) V_ref = V_2 + (V_2 - V_1) / (RATIO^p - 1) where p is at
+least MIN_ORDER, else the finest level (not extrapolated, with its last step), written to
+docs/press_3d_reference.json with every level's numbers. The default run reads it. Measured
+2026-11-25 (the rim a size field, every P2 node of the top a contact point; CPU s, shared
+machine): sizes / 0.5, 0.71, 1, 1.41, 2: 11 472, 19 850, 34 143, 69 879, 137 853 unknowns,
+V/F -0.80351, -0.79860, -0.79485, -0.79151, -0.78836 V/N, 11, 27, 91, 246, 1 398 s: observed
+order 0.17 over the last three, not extrapolated; the reference is -0.78836 V/N, its last
+step 0.40 %. (Before, with the rim a plan curve and the edge midpoints as contact points:
+three levels, order 2.24, Richardson -0.78992 V/N, which the two finest levels now pass.)
+The tables below were measured before 2026-11-25, against that value, except where dated.
 
 Default run: the press at the default settings (the scene's own mesh and Options),
 its error against the reference and its wall and CPU time, then the variants
@@ -41,6 +49,7 @@ sizes / 0.5 30.4 s of CPU, 38 iterations, 38 factorizations (docs/press_3d_refer
 
 | run | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
+| **default, 2026-11-25** (--quick; against the finest level, -0.78836 V/N; load 0.9) | 8031 | -0.78635 | -0.25 % | 6 | 53 | 29 | 26 | 1.9 | 0.5 | 3.4 | 6.5 | 6.8 |
 | **default** (thesis-pzt-probe-3d, no [mesh]; quiet machine, load 0.8) | 8928 | -0.79594 | +0.76 % | 5 | 39 | 20 | 20 | 1.8 | 0.5 | 2.9 | 5.8 | 6.0 |
 | the reference family's mesh (extruded, sizes / 1; same quiet run) | 36687 | -0.79380 | +0.49 % | 8 | 62 | 38 | 32 | 48.0 | 8.5 | 20.9 | 81.1 | 81.1 |
 | the reference family's mesh, sizes / 1 (loaded machine) | 36687 | -0.79380 | +0.49 % | 8 | 62 | 38 | 32 | 60.6 | 9.8 | 27.1 | 102.2 | 1111.5 |
@@ -77,20 +86,22 @@ named: Newton stagnates on one active set at 0.402 mm of travel (the line search
 1/64; 136 s of CPU with the bisections); it does not reach 1 N.
 
 Frictionless (--frictionless: the default press mesh, then the reference family's at sizes x 2;
-one run, load 2-3 (three benchmarks on 2 cores), so wall times are up to 1.3x the CPU times; the stop's message names what the
-stalled Newton iterate measured, fem.contact_newton):
+one run, load 2, 2026-11-25, with every P2 node of the top a contact point and the rim a size
+field (fem.contact, meshing.build); the error column is against the sticking reference, not
+comparable, left out; the stop's message names what the stalled Newton iterate measured,
+fem.contact_newton):
 
 | variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
-| frictionless punch, the default press mesh | 8928 | stopped: 0.687 N reached at 0.4814 mm, V/F -0.89720 V/N; force control: 1 N not reached in 40 trials (last 0.687 N; the last failed trial: Newton inverts silicone elements at travel 0.0005006 m) ||||||||| 295.0 | 379.2 |
-| frictionless punch, the reference family's mesh at sizes x 2 | 11634 | stopped: 0.797 N reached at 0.5076 mm, V/F -0.87385 V/N; Newton inverts silicone elements at travel 0.0005077 m ||||||||| 764.0 | 938.1 |
+| frictionless punch, the default press mesh | 8031 | stopped: 0.749 N reached at 0.5013 mm, V/F -0.88150 V/N; Newton inverts silicone elements at travel 0.0005014 m ||||||||| 322.8 | 325.1 |
+| frictionless punch, the reference family's mesh at sizes x 2 | 11472 | -0.84074 | | 27 | 408 | 1286 | 72 | 176.9 | 14.2 | 93.2 | 305.4 | 308.4 |
 
-(With pseudo-transient continuation past unstable states, fem.contact_newton.continuation, the
-active set free along the flow and 300 steps of patience; one run, load 2. With the set Newton fixed and
-20 steps: 0.397 N at 0.2821 mm on the default mesh, 0.607 N at sizes x 2, Newton stagnating; before continuation 0.306 N
-at 0.2189 mm, Newton stagnating, and the same 0.607 N.) Neither reaches 1 N; what stops them (the
-element: benchmarks/frictionless_3d.py) is in
-docs/guide/silicone-and-contact.md, "Frictionless presses".
+The reference family's mesh at sizes x 2 reaches 1 N frictionless, through continuation (1 286
+factorizations); the default press mesh stops at 0.749 N. Before the two fixes (edge midpoints
+as contact points, the rim a plan curve): 0.687 N at 0.4814 mm on the default mesh (8 928
+unknowns) and 0.797 N at 0.5076 mm at sizes x 2 (11 634), elements inverting; with continuation's
+active set fixed and 20 steps of patience 0.397 and 0.607 N; before continuation 0.306 and
+0.607 N. What stops the default mesh: docs/guide/silicone-and-contact.md, "Frictionless presses".
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference [--resume]] [--quick] [--divide K] [--frictionless]
 (--quick: the default row only; --divide K: the rows on the default mesh with every size divided
@@ -117,7 +128,8 @@ from taxel.scene import load
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "press_3d_reference.json"
 RATIO = 2 ** 0.5
-LEVELS = (0.5, 0.5 * RATIO, 1.0, RATIO)   # the reference family: every size divided by these (1.0: the default)
+LEVELS = (0.5, 0.5 * RATIO, 1.0, RATIO, 2.0)   # the reference family: every size divided by these
+MIN_ORDER = 1.0   # an observed order below it is not extrapolated (P2 outputs converge at 1-4; 0.17 measured here)
 
 
 def scene(friction="sticking", **edit):
@@ -171,7 +183,9 @@ def stop(r) -> tuple[float, float, float | None, str]:
 
 def reference():
     """Every level of the family in turn; after each from the third on, the reference
-    (Richardson over the last three) is written, so a stopped run keeps what it had."""
+    (Richardson over the last three, where their observed order is at least MIN_ORDER;
+    else the finest level, not extrapolated, with its last step) is written, so a stopped
+    run keeps what it had."""
     sc = scene()
     rows = []
     done = {r["divide"]: r for r in json.loads(OUT.read_text()).get("levels", [])} if "--resume" in sys.argv else {}
@@ -185,13 +199,15 @@ def reference():
         v = [r["VF"] for r in rows[-3:]]
         out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
                    ratio=RATIO, levels=rows)
-        if (v[1] - v[0]) * (v[2] - v[1]) > 0:
-            p = float(np.log(abs(v[1] - v[0]) / abs(v[2] - v[1])) / np.log(RATIO))
-            out.update(order=p, VF=v[2] + (v[2] - v[1]) / (RATIO ** p - 1))
+        p = (float(np.log(abs(v[1] - v[0]) / abs(v[2] - v[1])) / np.log(RATIO))
+             if (v[1] - v[0]) * (v[2] - v[1]) > 0 else None)
+        if p is not None and p >= MIN_ORDER:
+            out.update(order=p, extrapolated=True, VF=v[2] + (v[2] - v[1]) / (RATIO ** p - 1))
             print(f"observed order {p:.2f}; Richardson V/F {out['VF']:.5f} V/N", flush=True)
-        else:
-            out.update(order=None, VF=v[2])
-            print("not monotone: the finest value is the reference (no extrapolation)", flush=True)
+        else:           # not monotone, or too slow to be the asymptotic range: no extrapolation
+            out.update(order=p, extrapolated=False, VF=v[2], last_step=abs(v[2] - v[1]))
+            print(f"observed order {p if p is None else round(p, 2)}: not in the asymptotic range; the finest "
+                  f"value is the reference (no extrapolation), its last step {abs(v[2] - v[1]):.5f} V/N", flush=True)
         OUT.write_text(json.dumps(out, indent=1) + "\n")
 
 
@@ -222,7 +238,7 @@ def main():
         ref = json.loads(OUT.read_text()) if OUT.exists() else None     # (a reference run may be writing it)
         if "error" in r:
             return f"| {name} | {r['n']} | stopped: {r['error']} ||||||||| {r['cpu']:.1f} | {r['wall']:.1f} |"
-        err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref else "-"
+        err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref and "frictionless" not in name else ""   # (sticking's)
         return (f"| {name} | {r['n']} | {r['VF']:.5f} | {err} | {r['states']} | {r['iterations']} | "
                 f"{r['factorizations']} | {r['chord']} | {r['factorize_s']:.1f} | {r['solve_s']:.1f} | {r['assemble_s']:.1f} | "
                 f"{r['cpu']:.1f} | {r['wall']:.1f} |")
