@@ -126,12 +126,13 @@ CHEAP_3D = {"mesh.size": 1.5e-3, "mesh.piezo_size": 0.6e-3, "mesh.piezo_layers":
 CHEAP_3D_ERROR = {"sensitivity": 0.005, "crosstalk": 0.05, "charge_sensitivity": 0.005}
 # Under a rigid punch: the default press mesh (taxel.scene.DEFAULT_PRESS_MESH) is 0.25 % from the
 # finest level of the press's nested family on the thesis taxel (benchmarks/press_3d.py, 1 N, Yeoh,
-# sticking; docs/press_3d_reference.json), which is not in its asymptotic range (not extrapolated):
-# that distance plus the finest level's last step (0.40 %; benchmarks/press_3d.py --quick: -0.25 %); a floor where the press has no estimate.
+# sticking; docs/press_3d_reference.json; --quick: -0.25 %), which is not in its asymptotic range
+# (not extrapolated): that distance plus the finest level's last step (0.40 %); a floor where the
+# press has no estimate of its own.
 PRESS_3D_ERROR = 0.0065
 # CHEAP_3D's mesh (extruded, 1.5 mm / 0.6 mm) under the punch lies between the reference family's
 # 1.41 / 0.57 mm and 2 / 0.8 mm levels: the latter's distance from the finest level (1.92 %) plus
-# that level's last step (0.40 %) bounds it.
+# the finest level's last step (0.40 %) bounds it.
 CHEAP_3D_PRESS_ERROR = 0.0232
 
 
