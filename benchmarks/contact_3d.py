@@ -48,16 +48,6 @@ RULES = {"6 Gauss points per facet (intorder 3)": dict(rule="gauss", intorder=3)
          "the six P2 nodes, HRZ-lumped (rule nodal, the 3D default)": dict(rule="nodal")}
 
 
-def deepest_node(pr) -> float:
-    """The deepest P2 node of the top surface inside the indenter (m, >= 0) at the press's
-    state: the gap at every node (the nodal rule's points), whatever rule pressed it."""
-    from taxel.fem.contact import Surface
-    tm, ub = pr.sy.tm, next(iter(pr.sy.ubases.values()))
-    nodes = Surface(tm.mesh, ub.elem, tm.facets["top"], pr.sy.kin, pr.z_top, rule="nodal")
-    st = nodes.state(pr.x[pr.sy.offsets["u"]], pr.ind, pr.d, np.zeros(nodes.shape), pr.eps)
-    return max(-float(st.g.min()), 0.0)
-
-
 def rules():
     """The contact points on the P2 triangle facets: the Newton iterations a quarter of the
     3D taxel (coarse mesh, linear silicone, sticking punch) takes to its first 0.1 N, with
@@ -74,7 +64,7 @@ def rules():
         except ContactError as exc:
             end = f"0.1 N not reached ({exc})"
         print(f"{name}: {len(pr.trace)} Newton iterations, {time.perf_counter() - t0:.0f} s; {end}; "
-              f"deepest node {1e6 * deepest_node(pr):.3g} um", flush=True)
+              f"deepest node {1e6 * pr.node_penetration():.3g} um", flush=True)
     from taxel.analyses.adapter import check, checked_layout
     from taxel.meshing.build import build
     print("| press | rule | unknowns | travel (mm) | force (N) | V/F (V/N) | deepest node (um) | CPU s |\n"
@@ -88,7 +78,7 @@ def rules():
             c = time.process_time()
             pt = pr.force(1.0) if friction == "sticking" else pr.travel(0.4e-3)
             print(f"| {friction} | {rule} | {pr.red.n} | {1e3 * pt.travel:.4f} | {pt.force:.4f} | "
-                  f"{pt.voltages['taxel_0_0'] / pt.force:.5f} | {1e6 * deepest_node(pr):.3g} | "
+                  f"{pt.voltages['taxel_0_0'] / pt.force:.5f} | {1e6 * pr.node_penetration():.3g} | "
                   f"{time.process_time() - c:.1f} |", flush=True)
 
 

@@ -190,7 +190,7 @@ def reference():
     rows = []
     done = {r["divide"]: r for r in json.loads(OUT.read_text()).get("levels", [])} if "--resume" in sys.argv else {}
     for k in LEVELS:
-        r = done[k] if k in done else dict(run(sc, layout(sc, k)))   # --resume: the levels OUT has
+        r = done[k] if k in done else run(sc, layout(sc, k))   # --resume: the levels OUT has
         r.pop("divide", None)
         print(f"sizes / {k:.3g}: {r}", flush=True)
         rows.append(dict(divide=k, **r))
@@ -234,11 +234,12 @@ def main():
     ref = json.loads(OUT.read_text()) if OUT.exists() else None
     sc = scene()
 
-    def line(name, r):
+    def line(name, r, sticking=True):
+        """A table row; the error column only for a sticking press (the reference is sticking's)."""
         ref = json.loads(OUT.read_text()) if OUT.exists() else None     # (a reference run may be writing it)
         if "error" in r:
             return f"| {name} | {r['n']} | stopped: {r['error']} ||||||||| {r['cpu']:.1f} | {r['wall']:.1f} |"
-        err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref and "frictionless" not in name else ""   # (sticking's)
+        err = f"{100 * (r['VF'] / ref['VF'] - 1):+.2f} %" if ref and sticking else ""
         return (f"| {name} | {r['n']} | {r['VF']:.5f} | {err} | {r['states']} | {r['iterations']} | "
                 f"{r['factorizations']} | {r['chord']} | {r['factorize_s']:.1f} | {r['solve_s']:.1f} | {r['assemble_s']:.1f} | "
                 f"{r['cpu']:.1f} | {r['wall']:.1f} |")
@@ -253,9 +254,10 @@ def main():
     k = float(sys.argv[sys.argv.index("--divide") + 1]) if "--divide" in sys.argv else 1.0
     if "--frictionless" in sys.argv:      # the frictionless punch on the default mesh and at sizes x 2
         user = load("thesis-pzt-probe-3d").replace(**{"load.friction": "frictionless"})
-        print(line("frictionless punch, the default press mesh", run(user, layout(user))), flush=True)
+        print(line("frictionless punch, the default press mesh", run(user, layout(user)), False), flush=True)
         fr = scene("frictionless")
-        print(line("frictionless punch, the reference family's mesh at sizes x 2", run(fr, layout(fr, 0.5))), flush=True)
+        print(line("frictionless punch, the reference family's mesh at sizes x 2", run(fr, layout(fr, 0.5)), False),
+              flush=True)
         return
     if k == 1.0:    # a user's scene without [mesh]: the default press mesh (taxel.scene.DEFAULT_PRESS_MESH)
         user = load("thesis-pzt-probe-3d")
@@ -267,7 +269,7 @@ def main():
     for name, v in VARIANTS.items():
         s = scene(v["friction"]) if "friction" in v else sc
         lay = layout(s, k, contact_factor=v.get("contact_factor", 1.0), grading=v.get("grading", True))
-        print(line(name, run(s, lay, v.get("opts"), v.get("path", ()))), flush=True)
+        print(line(name, run(s, lay, v.get("opts"), v.get("path", ())), "friction" not in v), flush=True)
 
 
 if __name__ == "__main__":

@@ -216,22 +216,22 @@ class Stick:
         return a
 
 
+# contact points at the P2 facets' nodes, (rule, dim) -> (reference points, weights): an edge's
+# three with Simpson's weights; a triangle's six HRZ-lumped (3/57 at a vertex, 16/57 at an edge
+# midpoint); a triangle's edge midpoints alone (exact to degree 2, the vertices free: for comparison)
+NODAL = {("nodal", 2): (np.array([[0.0, 0.5, 1.0]]), np.array([1.0, 4.0, 1.0]) / 6.0),
+         ("nodal", 3): (np.array([[0.0, 1.0, 0.0, 0.5, 0.5, 0.0], [0.0, 0.0, 1.0, 0.0, 0.5, 0.5]]),
+                        np.array([3.0, 3.0, 3.0, 16.0, 16.0, 16.0]) / 114.0),
+         ("midpoints", 3): (np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5]]), np.full(3, 1.0 / 6.0))}
+
+
 class Surface:
     """The top surface's quadrature and the contact forms for one mesh and kinematics."""
 
     def __init__(self, mesh, element, facets, kin, z_top: float, intorder=4, rule="gauss"):
-        if rule == "nodal" and mesh.dim() == 2:      # Simpson: the P2 nodes, their lumped weights
-            quad = (np.array([[0.0, 0.5, 1.0]]), np.array([1.0, 4.0, 1.0]) / 6.0)
-            self.fb = FacetBasis(mesh, element, facets=facets, quadrature=quad)
-        elif rule == "nodal":                         # P2 triangle facets: the six nodes, HRZ-lumped (3, 16 / 57)
-            quad = (np.array([[0.0, 1.0, 0.0, 0.5, 0.5, 0.0], [0.0, 0.0, 1.0, 0.0, 0.5, 0.5]]),
-                    np.array([3.0, 3.0, 3.0, 16.0, 16.0, 16.0]) / 114.0)
-            self.fb = FacetBasis(mesh, element, facets=facets, quadrature=quad)
-        elif rule == "midpoints":                     # P2 triangle facets: the edge midpoints only (for comparison)
-            quad = (np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5]]), np.full(3, 1.0 / 6.0))
-            self.fb = FacetBasis(mesh, element, facets=facets, quadrature=quad)
-        else:
-            self.fb = FacetBasis(mesh, element, facets=facets, intorder=intorder)
+        quad = NODAL.get((rule, mesh.dim()))
+        self.fb = (FacetBasis(mesh, element, facets=facets, quadrature=quad) if quad is not None
+                   else FacetBasis(mesh, element, facets=facets, intorder=intorder))
         self.kin = kin
         self.z_top = z_top
         X = np.asarray(self.fb.global_coordinates())

@@ -289,6 +289,15 @@ class Press:
         self.stats["factorize_s"] += time.process_time() - t0
         return self.solver
 
+    def node_penetration(self) -> float:
+        """m, the deepest node of the top facets inside the indenter at the current state,
+        whatever contact points pressed it (a check of the rule: points between nodes leave
+        the nodes free, fem.contact)."""
+        nodes = Surface(self.sy.tm.mesh, self.surf.fb.elem, self.sy.tm.facets["top"], self.sy.kin, self.z_top,
+                        rule="nodal")
+        st = nodes.state(self.x[self.sy.offsets["u"]], self.ind, self.d, np.zeros(nodes.shape), self.eps)
+        return st.penetration
+
     def start_rates(self):
         """dx/dd and dF/dd at the unpressed state (one factorization): the first travel's
         prediction, and force control's first trial (fem.loadpath.force)."""

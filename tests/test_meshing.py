@@ -115,16 +115,21 @@ def test_refined_3d_mesh_keeps_its_facet_sets():
     assert sol.reaction[-1] == pytest.approx(0.5, rel=1e-8)
 
 
+def _probe_on_the_3d_taxel():
+    """thesis-pzt-single-3d (its [mesh]: extruded) pressed by the rig's probe, a 2 mm flat punch
+    with a 0.2 mm edge, in contact: the reference family's scene (benchmarks/press_3d.py)."""
+    return load("thesis-pzt-single-3d").replace(**{
+        "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3, "load.edge_radius": 0.2e-3,
+        "load.force": 1.0})
+
+
 def test_3d_mesh_is_refined_at_taxel_edges_and_under_the_punch_rim():
     """The 3D size field (meshing.build): on the piezo's bottom and top faces the
     triangles at the taxel's edge are about piezo_size (0.4 mm) where those far from
     any edge are about size (1 mm), and they are denser there; under a flat punch's
     rounded edge (0.2 mm) the top surface's triangles and the elements below them
     resolve the edge radius."""
-    scene = load("thesis-pzt-single-3d").replace(**{
-        "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3, "load.edge_radius": 0.2e-3,
-        "load.force": 1.0})
-    tm = mesh(scene)
+    tm = mesh(_probe_on_the_3d_taxel())
     m = tm.mesh
     F = m.p[:, m.facets]                                          # (3, 3, facets)
     c = F.mean(axis=1)
@@ -196,12 +201,7 @@ def test_3d_punch_rim_leaves_no_slivers_where_it_meets_the_taxel_edge(name):
     along the tangency through every height. Smallest dihedral angle within 0.5 mm of the
     rim, measured: the default press mesh (free) 2.8 degrees then, 15.2 now; the reference
     family's default level (extruded) 0.86 then, 9.8 now (its prisms' tetrahedra elsewhere: 3.8)."""
-    scene = load("thesis-pzt-probe-3d")
-    if name == "reference family":                                # extruded, the scene's [mesh]
-        scene = load("thesis-pzt-single-3d").replace(**{
-            "model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3,
-            "load.edge_radius": 0.2e-3, "load.force": 1.0})
-    tm = mesh(scene)
+    tm = mesh(_probe_on_the_3d_taxel() if name == "reference family" else load(name))   # extruded; free
     X = tm.mesh.p[:, tm.mesh.t]
     c = X.mean(axis=1)
     near = np.abs(np.hypot(c[0], c[1]) - 2e-3) < 0.5e-3
