@@ -5,19 +5,20 @@ The thesis PZT taxel (thesis-pzt-single-3d), a quarter model, pressed to 1 N by 
 rig's probe (a sticking 4 mm flat punch, 0.2 mm edge radius), Yeoh silicone. The
 quantity is the pressed taxel's open-circuit voltage per newton, V/F.
 
-Reference (--reference): a family of meshes whose every size (size, piezo_size,
-and the contact-aware size under the punch's rounded edge, meshing.build) is
-divided by RATIO from one to the next; the observed order p from the last three
-and the Richardson value (last three levels) V_ref = V_2 + (V_2 - V_1) / (RATIO^p - 1) where p is at
-least MIN_ORDER, else the finest level (not extrapolated, with its last step), written to
-docs/press_3d_reference.json with every level's numbers. The default run reads it. Measured
-2026-11-25 (the rim a size field, every P2 node of the top a contact point; CPU s, shared
-machine): sizes / 0.5, 0.71, 1, 1.41, 2: 11 472, 19 850, 34 143, 69 879, 137 853 unknowns,
-V/F -0.80351, -0.79860, -0.79485, -0.79151, -0.78836 V/N, 11, 27, 91, 246, 1 398 s: observed
-order 0.17 over the last three, not extrapolated; the reference is -0.78836 V/N, its last
-step 0.40 %. (Before, with the rim a plan curve and the edge midpoints as contact points:
-three levels, order 2.24, Richardson -0.78992 V/N, which the two finest levels now pass.)
-The tables below were measured before 2026-11-25, against that value, except where dated.
+Reference (--reference): a family of meshes (Family: the silicone meshed free, sizes 1 mm far,
+0.2 mm at the piezo's edges and under the punch's rim, divided by k from level to level with the
+distances the sizes grow over fixed, so every element shrinks; 2k elements through the piezo),
+each pressed along one load path (16 travel steps of 25 um, then force control to 1 N: a sticking
+press's answer depends on its steps, --path); the observed order p from the last three levels (any
+size ratios) and the Richardson value V_ref = V_2 + (V_2 - V_1) h_2^p / (h_1^p - h_2^p), where p is
+at least MIN_ORDER, else the finest level (not extrapolated, with its last step), written to
+docs/press_3d_reference.json with every level's numbers. The default run reads it. --in-plane: the
+same family with 4 elements through the piezo at every level (docs/press_3d_reference_in_plane.json).
+--levels K,...: those levels only (runs of different levels side by side); --resume: not the levels
+the files have. --layers, --path: the piezo's elements through its thickness and the load path on
+the family's two coarsest levels; --axisymmetric: the axisymmetric probe press's family, where the
+piezo's edge can be refined far enough to converge. Measured 2026-11-25: RESULT below.
+The tables below were measured before 2026-11-25, against the superseded references, except where dated.
 
 Default run: the press at the default settings (the scene's own mesh and Options),
 its error against the reference and its wall and CPU time, then the variants
@@ -118,18 +119,62 @@ import time
 from pathlib import Path
 
 import numpy as np
+from scipy.optimize import brentq
 
 from taxel.analyses import problem
 from taxel.analyses.adapter import checked_layout, check
+from taxel.analyses.error_estimate import CHEAP_3D
 from taxel.fem.assembly import assemble
 from taxel.fem.press import ContactError, Options, Press
 from taxel.meshing.build import build
 from taxel.scene import load
 
-OUT = Path(__file__).resolve().parents[1] / "docs" / "press_3d_reference.json"
-RATIO = 2 ** 0.5
-LEVELS = (0.5, 0.5 * RATIO, 1.0, RATIO, 2.0)   # the reference family: every size divided by these
-MIN_ORDER = 1.0   # an observed order below it is not extrapolated (P2 outputs converge at 1-4; 0.17 measured here)
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+BASE = (1e-3, 0.2e-3, 0.2e-3)     # m: size, at the piezo's edges (piezo_size; inside the taxel 2x), under the rim
+STEPS = 16          # the reference's load path: travel steps of TRAVEL / STEPS, then force control to 1 N
+TRAVEL = 0.4e-3     # m, about the travel of 1 N (0.402-0.421 mm on the families measured)
+MIN_ORDER = 1.0     # an observed order below it is not extrapolated (P2 outputs converge at 1-4)
+PATH = f"{STEPS} travel steps of {1e3 * TRAVEL / STEPS:g} mm, then force control to 1 N"
+
+
+@dataclasses.dataclass(frozen=True)
+class Family:
+    """A family of meshes: the silicone meshed free (Layout.free), the piezo's edges at BASE's
+    edge size, the band under the punch's rounded edge at its contact size, far from both at
+    its size; every size divided by k from level to level and the distances over which the
+    sizes grow fixed (Layout.growth x k), so the size field itself is divided by k and every
+    element shrinks. (With the growth distances divided too, the graded zone's sizes, about
+    half the distance to the edge, did not change from level to level: such a family drifted
+    by 2.3-2.9e-3 V/N per level, observed order 0.3.) Elements through the piezo: `layers`,
+    or 2k (None: the piezo's edge refined through its thickness with the plan)."""
+
+    levels: tuple[float, ...]
+    layers: int | None
+    out: Path
+
+    def through(self, k):
+        """Elements through the piezo at level k."""
+        return self.layers or round(2 * k)
+
+    def layout(self, sc, k):
+        lay = checked_layout(sc, check(sc))
+        size, edge, rim = (v / k for v in BASE)
+        return dataclasses.replace(lay, size=size, piezo_size=edge, contact_size=rim, taxel_cap=2.0,
+                                   piezo_layers=self.through(k), free=True, growth=lay.growth * k)
+
+    @property
+    def text(self):
+        through = f"{self.layers} elements" if self.layers else "2k elements"
+        return (f"free silicone; sizes {', '.join(f'{1e3 * v:g}' for v in BASE)} mm (far, the piezo's edges, the "
+                f"rim) / k, the distances they grow over fixed; {through} through the piezo")
+
+
+# the reference: the plan refined, 4 elements through the piezo at every level (their own error, a
+# fraction of a step, by --layers: 4 -> 8 through at the family's coarsest levels)
+REFERENCE = Family((0.5 ** 0.5, 1.0, 2 ** 0.5, 2.0), 4, DOCS / "press_3d_reference.json")
+# --through: the piezo's elements through its thickness refined with the plan (2k), a check
+THROUGH = Family((0.5, 1.0, 1.5, 2.0), None, DOCS / "press_3d_reference_through.json")
+OUT = REFERENCE.out
 
 
 def scene(friction="sticking", **edit):
@@ -150,13 +195,16 @@ def layout(sc, divide=1.0, contact_factor=1.0, grading=True):
                                contact_size=contact_factor * lay.contact_size / divide)
 
 
-def run(sc, lay, opts: Options | None = None, path=()):
-    """Mesh, assemble and press to 1 N; the numbers of the run."""
+def run(sc, lay, opts: Options | None = None, path=(), travels=()):
+    """Mesh, assemble and press to 1 N (through the travels, m, then the forces of the
+    path, N); the numbers of the run."""
     w, c = time.perf_counter(), time.process_time()
     tm = build(lay)
     prob = problem(sc, tagged_mesh=tm)
     pr = Press(assemble(prob), prob.indenter, opts=opts)
     try:
+        for d in travels:
+            pr.travel(d, first=1.0)
         for F in (*path, 1.0):
             pt = pr.force(F)
     except ContactError as exc:
@@ -166,7 +214,8 @@ def run(sc, lay, opts: Options | None = None, path=()):
         return dict(n=pr.red.n, error=f"{last}; {exc}", force=p.force if p else 0.0, travel=p.travel if p else 0.0,
                     VF=p.voltages["taxel_0_0"] / p.force if p else None,
                     cause=str(exc), cpu=time.process_time() - c, wall=time.perf_counter() - w)
-    return dict(n=pr.red.n, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel, states=len(pr.res.points),
+    return dict(n=pr.red.n, layers=lay.piezo_layers, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel,
+                states=len(pr.res.points),
                 iterations=pr.res.total_iterations, factorizations=pr.stats["factorizations"],
                 factorize_s=pr.stats["factorize_s"], assemble_s=pr.stats["assemble_s"],
                 solve_s=pr.stats["solve_s"], chord=pr.stats["chord_steps"], wall=time.perf_counter() - w, cpu=time.process_time() - c)
@@ -181,34 +230,75 @@ def stop(r) -> tuple[float, float, float | None, str]:
     return r["force"], r["travel"], r["VF"], text.split(":")[0] if text.startswith("Newton") else text.split(" (")[0]
 
 
-def reference():
-    """Every level of the family in turn; after each from the third on, the reference
-    (Richardson over the last three, where their observed order is at least MIN_ORDER;
-    else the finest level, not extrapolated, with its last step) is written, so a stopped
-    run keeps what it had."""
-    sc = scene()
-    rows = []
-    done = {r["divide"]: r for r in json.loads(OUT.read_text()).get("levels", [])} if "--resume" in sys.argv else {}
-    for k in LEVELS:
-        r = done[k] if k in done else run(sc, layout(sc, k))   # --resume: the levels OUT has
-        r.pop("divide", None)
-        print(f"sizes / {k:.3g}: {r}", flush=True)
-        rows.append(dict(divide=k, **r))
-        if len(rows) < 3:
-            continue
-        v = [r["VF"] for r in rows[-3:]]
-        out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
-                   ratio=RATIO, levels=rows)
-        p = (float(np.log(abs(v[1] - v[0]) / abs(v[2] - v[1])) / np.log(RATIO))
-             if (v[1] - v[0]) * (v[2] - v[1]) > 0 else None)
+def steps(n=STEPS):
+    """The travels of a load path of n equal steps up to about 1 N (then force control)."""
+    return tuple(TRAVEL * i / n for i in range(1, n))
+
+
+def richardson(h, v):
+    """(order p, extrapolated value) of three levels at sizes h0 > h1 > h2 (any ratios) with
+    values v, from v_i = v_inf + C h_i^p; (None, None) where the steps change sign or no p
+    in (0, 12] fits."""
+    (h0, h1, h2), (v0, v1, v2) = h, v
+    ratio = lambda p: (h0 ** p - h1 ** p) / (h1 ** p - h2 ** p)    # increasing in p
+    q = (v1 - v0) / (v2 - v1) if v2 != v1 else np.inf
+    if not ratio(1e-6) < q < ratio(12.0):
+        return None, None
+    p = brentq(lambda p: ratio(p) - q, 1e-6, 12.0)
+    return p, v2 - (v1 - v2) * h2 ** p / (h1 ** p - h2 ** p)
+
+
+def levels(fam: Family) -> dict:
+    """{k: level} of the family: the levels in either family's file on the same path and sizes whose
+    elements through the piezo are this family's at k (REFERENCE's level 2, 4 through, is THROUGH's too)."""
+    rows = {}
+    for f in (REFERENCE, THROUGH):
+        ref = json.loads(f.out.read_text()) if f.out.exists() else {}
+        if ref.get("path") == PATH and ref.get("family", "").split(";")[0] == fam.text.split(";")[0]:
+            rows.update({r["divide"]: r for r in ref.get("levels", []) if r.get("layers") == fam.through(r["divide"])})
+    return rows
+
+
+def write(fam: Family):
+    """The family's file: its levels and the reference (Richardson over the last three, where
+    their observed order is at least MIN_ORDER; else the finest level, not extrapolated, with
+    its last step)."""
+    rows = [r for _, r in sorted(levels(fam).items())]
+    out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
+               family=fam.text, path=PATH, levels=rows)
+    if len(rows) >= 3:
+        h, v = [1 / r["divide"] for r in rows[-3:]], [r["VF"] for r in rows[-3:]]
+        p, vx = richardson(h, v)
+        if len(rows) >= 4:
+            out["order_coarser"] = richardson([1 / r["divide"] for r in rows[-4:-1]], [r["VF"] for r in rows[-4:-1]])[0]
         if p is not None and p >= MIN_ORDER:
-            out.update(order=p, extrapolated=True, VF=v[2] + (v[2] - v[1]) / (RATIO ** p - 1))
-            print(f"observed order {p:.2f}; Richardson V/F {out['VF']:.5f} V/N", flush=True)
+            out.update(order=p, extrapolated=True, VF=vx, last_step=abs(v[2] - v[1]))
+            print(f"observed order {p:.2f}; Richardson V/F {vx:.5f} V/N", flush=True)
         else:           # not monotone, or too slow to be the asymptotic range: no extrapolation
             out.update(order=p, extrapolated=False, VF=v[2], last_step=abs(v[2] - v[1]))
             print(f"observed order {p if p is None else round(p, 2)}: not in the asymptotic range; the finest "
                   f"value is the reference (no extrapolation), its last step {abs(v[2] - v[1]):.5f} V/N", flush=True)
-        OUT.write_text(json.dumps(out, indent=1) + "\n")
+    fam.out.write_text(json.dumps(out, indent=1) + "\n")
+
+
+def reference(fam: Family):
+    """Every level of the family (--levels K,...: those only), each pressed along steps(); the
+    family's file written after each (write), so a stopped run keeps what it had and runs of
+    different levels can go side by side (--resume: the levels it has are not run again)."""
+    sc = scene()
+    only = ([float(k) for k in sys.argv[sys.argv.index("--levels") + 1].split(",")]
+            if "--levels" in sys.argv else fam.levels)
+    for k in only:
+        if "--resume" in sys.argv and k in levels(fam):
+            continue
+        r = run(sc, fam.layout(sc, k), travels=steps())
+        print(f"sizes / {k:.3g}, {r.get('layers')} piezo layers: {r}", flush=True)
+        row = dict(divide=k, **r)
+        ref = json.loads(fam.out.read_text()) if fam.out.exists() else {}
+        same = [x for x in ref.get("levels", []) if x["divide"] != k] if ref.get("family") == fam.text else []
+        fam.out.write_text(json.dumps(dict(ref, family=fam.text, path=PATH, levels=same + [row]), indent=1) + "\n")
+        write(fam)
+    write(fam)
 
 
 VARIANTS = {
@@ -227,9 +317,48 @@ VARIANTS = {
 }
 
 
+def studies():
+    """--path: the sticking history, V/F along force control alone (the default) and along n equal
+    travel steps; --layers: the piezo's elements through its thickness (the reference's path);
+    on the family's two coarsest levels."""
+    sc = scene()
+    print("| level | piezo layers | load path | unknowns | states | V/F V/N | CPU s |\n|---|---|---|---|---|---|---|")
+    for k in REFERENCE.levels[:2]:
+        if "--path" in sys.argv:
+            cases = [(4, "force control (the default)", ())] + [(4, f"{n} steps", steps(n)) for n in (4, 8, 16, 32)]
+        else:
+            cases = [(m, f"{STEPS} steps", steps()) for m in (1, 2, 4, 8)]
+        for m, name, travels in cases:
+            r = run(sc, dataclasses.replace(REFERENCE.layout(sc, k), piezo_layers=m), travels=travels)
+            print(f"| sizes / {k:.3g} | {m} | {name} | {r['n']} | {r.get('states', '')} | "
+                  f"{r['VF']:.5f} | {r['cpu']:.1f} |", flush=True)
+
+
+def axisymmetric():
+    """--axisymmetric: the rig's probe on the axisymmetric taxel (thesis-pzt-probe-axisymmetric,
+    a disk of the taxel's width: not the 3D square's value), every size / k and the piezo's
+    elements through its thickness x k (its own 0.5 mm / 0.1 mm mesh, 2 through, at k = 1),
+    the reference's path: how fine the piezo's edges must be, at a cost 3D cannot pay."""
+    sc = load("thesis-pzt-probe-axisymmetric")
+    lay = checked_layout(sc, check(sc))
+    print("| k | piezo's edges mm | piezo layers | unknowns | V/F V/N | travel mm | CPU s |\n|---|---|---|---|---|---|---|")
+    for k in (0.5, 1, 2, 4, 8):
+        lk = dataclasses.replace(lay, size=lay.size / k, piezo_size=lay.piezo_size / k,
+                                 piezo_layers=max(1, round(lay.piezo_layers * k)))
+        r = run(sc, lk, travels=steps())
+        print(f"| {k:g} | {1e3 * lk.piezo_size:.4g} | {lk.piezo_layers} | {r['n']} | {r['VF']:.6f} | "
+              f"{1e3 * r['travel']:.4f} | {r['cpu']:.1f} |", flush=True)
+
+
 def main():
+    if "--axisymmetric" in sys.argv:
+        axisymmetric()
+        return
     if "--reference" in sys.argv:
-        reference()
+        reference(THROUGH if "--through" in sys.argv else REFERENCE)
+        return
+    if "--path" in sys.argv or "--layers" in sys.argv:
+        studies()
         return
     ref = json.loads(OUT.read_text()) if OUT.exists() else None
     sc = scene()
@@ -262,8 +391,11 @@ def main():
     if k == 1.0:    # a user's scene without [mesh]: the default press mesh (taxel.scene.DEFAULT_PRESS_MESH)
         user = load("thesis-pzt-probe-3d")
         print(line("**default** (thesis-pzt-probe-3d, no [mesh])", run(user, layout(user))), flush=True)
-    print(line("the reference family's mesh (extruded, sizes / 1)" if k == 1.0
-               else f"the reference family's mesh, sizes / {k:g}", run(sc, layout(sc, k))), flush=True)
+        # the cheapest 3D model's mesh under the punch (taxel.analyses.error_estimate.CHEAP_3D_PRESS_ERROR)
+        cheap = sc.replace(**CHEAP_3D)
+        print(line("the cheapest 3D model's mesh (error_estimate.CHEAP_3D)", run(cheap, layout(cheap))), flush=True)
+    print(line("the scene's own mesh (extruded, 1 mm / 0.4 mm, 2 through)" if k == 1.0
+               else f"the scene's own mesh, sizes / {k:g}", run(sc, layout(sc, k))), flush=True)
     if "--quick" in sys.argv:
         return
     for name, v in VARIANTS.items():

@@ -124,16 +124,16 @@ UNKNOWN_COST = {2: 1, 3: 4}
 # 3D reference, the worst over the scenes of benchmarks/estimator_coverage.py (x 1.2).
 CHEAP_3D = {"mesh.size": 1.5e-3, "mesh.piezo_size": 0.6e-3, "mesh.piezo_layers": 2}
 CHEAP_3D_ERROR = {"sensitivity": 0.005, "crosstalk": 0.05, "charge_sensitivity": 0.005}
-# Under a rigid punch: the default press mesh (taxel.scene.DEFAULT_PRESS_MESH) is 0.25 % from the
-# finest level of the press's nested family on the thesis taxel (benchmarks/press_3d.py, 1 N, Yeoh,
-# sticking; docs/press_3d_reference.json; --quick: -0.25 %), which is not in its asymptotic range
-# (not extrapolated): that distance plus the finest level's last step (0.40 %); a floor where the
-# press has no estimate of its own.
-PRESS_3D_ERROR = 0.0065
-# CHEAP_3D's mesh (extruded, 1.5 mm / 0.6 mm) under the punch lies between the reference family's
-# 1.41 / 0.57 mm and 2 / 0.8 mm levels: the latter's distance from the finest level (1.92 %) plus
-# the finest level's last step (0.40 %) bounds it.
-CHEAP_3D_PRESS_ERROR = 0.0232
+# Under a rigid punch (benchmarks/press_3d.py, the thesis taxel at the rig's probe, 1 N, Yeoh,
+# sticking; docs/press_3d_reference.json): the press's nested family (every size / 0.71 ... / 2,
+# the size field itself scaled) reads -0.79738, -0.79071, -0.78799, -0.78485 V/N, steps that do not
+# shrink steadily (not extrapolated). Its finest level's own error, at order 1 (MEASURED_ORDER) from
+# its last step: 3.14e-3 / (sqrt 2 - 1) V/N, 0.97 %. The default press mesh (taxel.scene.DEFAULT_PRESS_MESH)
+# is 0.19 % from the finest level (--quick): 0.19 + 0.97 %, a floor where the press has no estimate of its own.
+PRESS_3D_ERROR = 0.0116
+# CHEAP_3D's mesh (extruded, 1.5 mm / 0.6 mm, 2 through the piezo) under the punch: 1.87 % from the
+# finest level (--quick), plus the finest level's own error (0.97 %).
+CHEAP_3D_PRESS_ERROR = 0.0284
 
 
 def cheap_3d_error(scene: Scene) -> dict[str, float]:
