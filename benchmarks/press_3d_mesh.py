@@ -19,7 +19,7 @@ contact_size within `rim` of the punch's rim on the top surface, growing to size
 RESULT (measured before 2026-11-25, when the rim was a plan curve (slivers where it touched
 the taxel's square) and the 3D contact points the edge midpoints, against the reference of
 then, -0.78992 V/N; that reference is superseded: benchmarks/press_3d.py, where the default
-press mesh now reads -0.78635 V/N on 8 031 unknowns, 0.25 % from the family's finest level.
+press mesh now reads -0.78635 V/N on 8 031 unknowns, 0.19 % from the finest level of the re-built family.
 Measured 2026-11-24 on the shared 2-core machine, load average 12-22, so the
 wall times are 3-6x the CPU times; the press on the solver before the chord steps and inexact
 Uzawa of fem/press.py; the extruded reference levels' CPU times are those of
