@@ -164,9 +164,9 @@ class Family:
     edge size, the band under the punch's rounded edge at its contact size, far from both at
     its size; every size divided by k from level to level and the distances over which the
     sizes grow fixed (Layout.growth x k), so the size field itself is divided by k and every
-    element shrinks. (With the growth distances divided too, the graded zone's sizes, about
-    half the distance to the edge, did not change from level to level: such a family drifted
-    by 2.3-2.9e-3 V/N per level, observed order 0.3.) Elements through the piezo: `layers`,
+    element shrinks. (With the growth distances divided too, a size at a distance d from an edge,
+    e/k + (1 - e/S) d / 2, shrinks only in its first part: such a family drifted by
+    2.3-2.9e-3 V/N per level, observed order 0.3.) Elements through the piezo: `layers`,
     or 2k (None: the piezo's edge refined through its thickness with the plan)."""
 
     levels: tuple[float, ...]
@@ -346,7 +346,8 @@ def studies():
     print("| level | piezo layers | load path | unknowns | states | V/F V/N | CPU s |\n|---|---|---|---|---|---|---|")
     for k in REFERENCE.levels[:2]:
         if "--path" in sys.argv:
-            cases = [(4, "force control (the default)", ())] + [(4, f"{n} steps", steps(n)) for n in (4, 8, 16, 32)]
+            m = REFERENCE.layers
+            cases = [(m, "force control (the default)", ())] + [(m, f"{n} steps", steps(n)) for n in (4, 8, 16, 32)]
         else:
             cases = [(m, f"{STEPS} steps", steps()) for m in (1, 2, 4, 8)]
         for m, name, travels in cases:
