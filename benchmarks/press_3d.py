@@ -281,11 +281,12 @@ def levels(fam: Family) -> dict:
     return rows
 
 
-def write(fam: Family):
-    """The family's file: its levels and the reference (Richardson over the last three, where
-    their observed order is at least MIN_ORDER; else the finest level, not extrapolated, with
-    its last step)."""
-    rows = [r for _, r in sorted(levels(fam).items())]
+def write(fam: Family, new: dict | None = None):
+    """The family's file: its levels (with `new`, a level just run) and the reference (Richardson
+    over the last three, where their observed order is at least MIN_ORDER; else the finest level,
+    not extrapolated, with its last step)."""
+    done = levels(fam) | ({new["divide"]: new} if new else {})
+    rows = [r for _, r in sorted(done.items())]
     out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
                family=fam.text, path=PATH, levels=rows)
     if len(rows) >= 3:
@@ -315,12 +316,9 @@ def reference(fam: Family):
             continue
         r = run(sc, fam.layout(sc, k), travels=steps())
         print(f"sizes / {k:.3g}, {r.get('layers')} piezo layers: {r}", flush=True)
-        row = dict(divide=k, **r)
-        ref = json.loads(fam.out.read_text()) if fam.out.exists() else {}
-        same = [x for x in ref.get("levels", []) if x["divide"] != k] if ref.get("family") == fam.text else []
-        fam.out.write_text(json.dumps(dict(ref, family=fam.text, path=PATH, levels=same + [row]), indent=1) + "\n")
+        write(fam, dict(divide=k, **r))     # levels re-read: a run of other levels may have written meanwhile
+    if "--levels" not in sys.argv:
         write(fam)
-    write(fam)
 
 
 VARIANTS = {
