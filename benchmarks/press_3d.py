@@ -7,26 +7,34 @@ quantity is the pressed taxel's open-circuit voltage per newton, V/F.
 
 Reference (--reference): a family of meshes (Family: the silicone meshed free, sizes 1 mm far,
 0.2 mm at the piezo's edges and under the punch's rim, divided by k from level to level with the
-distances the sizes grow over fixed, so every element shrinks; 2k elements through the piezo),
+distances the sizes grow over fixed, so every element shrinks; 4 elements through the piezo),
 each pressed along one load path (16 travel steps of 25 um, then force control to 1 N: a sticking
-press's answer depends on its steps, --path); the observed order p from the last three levels (any
-size ratios) and the Richardson value V_ref = V_2 + (V_2 - V_1) h_2^p / (h_1^p - h_2^p), where p is
-at least MIN_ORDER, else the finest level (not extrapolated, with its last step), written to
-docs/press_3d_reference.json with every level's numbers. The default run reads it. --in-plane: the
-same family with 4 elements through the piezo at every level (docs/press_3d_reference_in_plane.json).
---levels K,...: those levels only (runs of different levels side by side); --resume: not the levels
-the files have. --layers, --path: the piezo's elements through its thickness and the load path on
-the family's two coarsest levels; --axisymmetric: the axisymmetric probe press's family, where the
-piezo's edge can be refined far enough to converge. Measured 2026-11-25: RESULT below.
+press's answer depends on its steps, --path). The reference is Richardson's V_ref from V_k = V_ref +
+C h_k^p fitted by least squares to the levels at sizes / FIT_FROM and finer (fit: four or more, so
+the residual shows the mesh noise three levels cannot), beside it V_ref at orders 1 and 2 (the
+bracket) and the three-level Richardson over the sqrt 2 levels (1.41, 2, 2.83); with fewer levels
+Richardson over the last three (any size ratios). It is extrapolated where p is at least MIN_ORDER,
+else the finest level is the reference (with its last step); written to docs/press_3d_reference.json
+with every level's numbers. The default run reads it. --through: the family with 2k elements
+through the piezo (docs/press_3d_reference_through.json). --levels K,...: those levels only (runs of
+different levels side by side); --resume: not the levels the files have (with every level there:
+the file re-written). --layers, --path: the piezo's elements through its thickness and the load
+path on the family's two coarsest levels; --axisymmetric: the axisymmetric probe press's family,
+where the piezo's edge can be refined far enough to converge. Measured 2026-11-25: RESULT below.
 The tables below were measured before 2026-11-25, against the superseded references, except where dated.
 
 RESULT (2026-11-25, one run each, CPU s on the shared 2-core machine). --reference: sizes / 0.71,
-1, 1.41, 2, 2.83: 18 114, 31 062, 59 940, 123 598, 281 493 unknowns, V/F -0.79738, -0.79071,
--0.78799, -0.78485, -0.78299 V/N (travel 0.407, 0.410, 0.415, 0.417, 0.419 mm; 32, 69, 204, 883,
-3 943 s; 3.5 and 8.8 GB at the two finest): steps 6.7, 2.7, 3.1, 1.9e-3 V/N; observed order 1.50
-over the last three, Richardson -0.78027 V/N (the reference; the triple before has no order: its
-steps grow, so the order is seen once, not confirmed). The default press mesh: +0.78 % from it,
-+0.43 % from the finest level (--quick's V/F; taxel.analyses.error_estimate.PRESS_3D_ERROR). --through: / 0.5, 1, 1.5, 2 with 1, 2, 3, 4
+1, 1.41, 1.68, 2, 2.38, 2.83: 18 114, 31 062, 59 940, 86 494, 123 598, 183 372, 281 493 unknowns,
+V/F -0.79738, -0.79071, -0.78799, -0.78656, -0.78485, -0.78388, -0.78299 V/N (travel 0.407 ...
+0.419 mm; 32, 69, 204, 425, 883, 1 756, 3 943 s; 3.5 and 8.8 GB at / 2 and / 2.83). The fit over
+the five levels from / 1.41: order 1.14, V_ref -0.77871 V/N (the reference), largest residual
+1.8e-4 V/N; at order 1 / 2: -0.77783 / -0.78147; the sqrt 2 levels' Richardson: order 1.50,
+-0.78027 V/N (the reference before / 1.68 and / 2.38 were run). Fits over four or more levels
+from / 0.71, 1.41 and 1.68 give orders 1.13, 1.14, 2.14 and V_ref -0.77947, -0.77871, -0.78131;
+three-level Richardson over the close levels scatters (orders 0.3-3.3): their steps (1.4-1.7e-3
+between / 1.41, 1.68 and 2) are within a few times the noise. The default press mesh: +0.98 % from
+the reference (+1.10 / +0.62 % at orders 1 / 2, +0.78 % from the sqrt 2 Richardson; --quick's V/F;
+taxel.analyses.error_estimate.PRESS_3D_ERROR). --through: / 0.5, 1, 1.5, 2 with 1, 2, 3, 4
 through: -0.79092, -0.78969, -0.78652, -0.78485 V/N (order 0.86, not extrapolated). --layers:
 1, 2, 4, 8 through at / 0.71: -0.78753, -0.79548, -0.79738, -0.79867; at / 1: -0.78666, -0.78969,
 -0.79071, -0.79146 V/N. --path (4 through): force control alone, 4, 8, 16, 32 steps at / 0.71:
@@ -37,7 +45,8 @@ finer. The families before this one divided the distances the sizes grow over wi
 (Family's docstring) and refined neither the piezo's thickness nor the load path: their
 Richardson value -0.78992 V/N (order 2.24) and then their finest level -0.78836 V/N (order 0.17)
 are superseded. (One-off, not scripted: a ball at the piezo's corner refined to 0.1 / 0.05 mm on the
-/ 1 mesh moves V/F to -0.78963 / -0.78973 V/N.)
+/ 1 mesh moves V/F to -0.78963 / -0.78973 V/N; on the default press mesh, one through the piezo,
+a ball of 0.2 / 0.14 / 0.1 mm at the corners moves it the other way, -0.78853 / -0.78924 / -0.78734 V/N.)
 
 Default run: the press at the default settings (the scene's own mesh and Options),
 its error against the reference and its wall and CPU time, then the variants
@@ -69,6 +78,9 @@ sizes / 0.5 30.4 s of CPU, 38 iterations, 38 factorizations (docs/press_3d_refer
 
 | run | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
+| **default, 2026-11-25, second stop** (--quick, against the five-level fit -0.77871; +0.78 % from the sqrt 2 levels' Richardson -0.78027) | 8031 | -0.78635 | +0.98 % | 6 | 53 | 29 | 26 | 1.8 | 0.5 | 2.9 | 5.7 | 5.8 |
+| the cheapest 3D model's mesh (same run) | 17214 | -0.79956 | +2.68 % | 6 | 56 | 40 | 18 | 11.6 | 2.1 | 8.0 | 23.0 | 23.0 |
+| the scene's own mesh (extruded, 1 mm / 0.4 mm, 2 through; same run) | 34143 | -0.79485 | +2.07 % | 8 | 78 | 56 | 28 | 65.5 | 8.4 | 22.9 | 101.4 | 102.2 |
 | **default, 2026-11-25** (--quick, against the finest level then, -0.78485; +0.78 % against the Richardson value -0.78027 since) | 8031 | -0.78635 | +0.19 % | 6 | 53 | 29 | 26 | 1.8 | 0.6 | 3.5 | 6.5 | 9.7 |
 | the cheapest 3D model's mesh (error_estimate.CHEAP_3D; same run; +2.47 % against -0.78027) | 17214 | -0.79956 | +1.87 % | 6 | 56 | 40 | 18 | 11.8 | 2.3 | 8.4 | 23.9 | 36.4 |
 | the scene's own mesh (extruded, 1 mm / 0.4 mm, 2 through; same run) | 34143 | -0.79485 | +1.27 % | 8 | 78 | 56 | 28 | 65.2 | 8.3 | 23.9 | 102.1 | 153.7 |
@@ -118,13 +130,17 @@ fem.contact_newton):
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
 | frictionless punch, the default press mesh | 8031 | stopped: 0.749 N reached at 0.5013 mm, V/F -0.88150 V/N; Newton inverts silicone elements at travel 0.0005014 m ||||||||| 322.8 | 325.1 |
 | frictionless punch, the reference family's mesh at sizes x 2 | 11472 | -0.84074 | | 27 | 408 | 1286 | 72 | 176.9 | 14.2 | 93.2 | 305.4 | 308.4 |
+| frictionless punch, the default press mesh, 24 travel steps of 25 um (2026-11-25, second stop) | 8031 | stopped: 0.749 N reached at 0.5016 mm, V/F -0.88150 V/N; Newton inverts silicone elements at travel 0.0005023 m ||||||||| 216.7 | |
+| frictionless punch, the default press mesh, force steps of 0.1 N (same) | 8031 | stopped: 0.748 N reached at 0.5010 mm, V/F -0.88152 V/N; Newton inverts silicone elements at travel 0.0005011 m ||||||||| 204.3 | |
 
 The reference family's mesh at sizes x 2 reaches 1 N frictionless, through continuation (1 286
 factorizations); the default press mesh stops at 0.749 N. Before the two fixes (edge midpoints
 as contact points, the rim a plan curve): 0.687 N at 0.4814 mm on the default mesh (8 928
 unknowns) and 0.797 N at 0.5076 mm at sizes x 2 (11 634), elements inverting; with continuation's
 active set fixed and 20 steps of patience 0.397 and 0.607 N; before continuation 0.306 and
-0.607 N. What stops the default mesh: docs/guide/silicone-and-contact.md, "Frictionless presses".
+0.607 N. Along 24 travel steps or nine force steps the default mesh stops where one target does
+(0.748-0.749 N, 0.501-0.502 mm): the stop is a travel, not a load path. What stops the default
+mesh: docs/guide/silicone-and-contact.md, "Frictionless presses".
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference [--resume]] [--quick] [--divide K] [--frictionless]
 (--quick: the default row only; --divide K: the rows on the default mesh with every size divided
@@ -141,7 +157,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 from taxel.analyses import problem
 from taxel.analyses.adapter import checked_layout, check
@@ -156,6 +172,8 @@ BASE = (1e-3, 0.2e-3, 0.2e-3)     # m: size, at the piezo's edges (piezo_size; i
 STEPS = 16          # the reference's load path: travel steps of TRAVEL / STEPS, then force control to 1 N
 TRAVEL = 0.4e-3     # m, about the travel of 1 N (0.402-0.421 mm on the families measured)
 MIN_ORDER = 1.0     # an observed order below it is not extrapolated (P2 outputs converge at 1-4)
+FIT_FROM = 2 ** 0.5  # the levels fitted (sizes / FIT_FROM and finer): the coarser ones' steps are irregular
+#                      (6.7, 2.7e-3 V/N; a fit from / 1 has order 0.45), the finer ones' fit residual is 5e-5 V/N
 PATH = f"{STEPS} travel steps of {1e3 * TRAVEL / STEPS:g} mm, then force control to 1 N"
 
 
@@ -193,7 +211,9 @@ class Family:
 
 # the reference: the plan refined, 4 elements through the piezo at every level (their own error, a
 # fraction of a step, by --layers: 4 -> 8 through at the family's coarsest levels)
-REFERENCE = Family((0.5 ** 0.5, 1.0, 2 ** 0.5, 2.0, 2 ** 1.5), 4, DOCS / "press_3d_reference.json")
+# (sizes / 2^0.75 and 2^1.25 between the sqrt 2 levels: four levels for a fit, and the mesh noise)
+REFERENCE = Family((0.5 ** 0.5, 1.0, 2 ** 0.5, 2 ** 0.75, 2.0, 2 ** 1.25, 2 ** 1.5), 4,
+                   DOCS / "press_3d_reference.json")
 # --through: the piezo's elements through its thickness refined with the plan (2k), a check
 THROUGH = Family((0.5, 1.0, 1.5, 2.0), None, DOCS / "press_3d_reference_through.json")
 OUT = REFERENCE.out
@@ -270,6 +290,22 @@ def richardson(h, v):
     return p, v2 - (v1 - v2) * h2 ** p / (h1 ** p - h2 ** p)
 
 
+def fit(h, v, p=None):
+    """(order p, extrapolated value, largest residual) of v_i = v_inf + C h_i^p fitted to four or more
+    levels by least squares (Richardson over more than three levels: the residual measures the mesh
+    noise that three levels cannot show); p given: v_inf and C only, at that order."""
+    h, v = np.asarray(h), np.asarray(v)
+
+    def solve(p):
+        A = np.c_[np.ones_like(h), h ** p]
+        c = np.linalg.lstsq(A, v, rcond=None)[0]
+        return c[0], v - A @ c
+    if p is None:
+        p = minimize_scalar(lambda p: float(np.sum(solve(p)[1] ** 2)), bounds=(0.1, 8.0), method="bounded").x
+    vx, res = solve(p)
+    return p, vx, float(np.abs(res).max())
+
+
 def levels(fam: Family) -> dict:
     """{k: level} of the family: the levels in either family's file on the same path and sizes whose
     elements through the piezo are this family's at k (REFERENCE's level 2, 4 through, is THROUGH's too)."""
@@ -282,21 +318,34 @@ def levels(fam: Family) -> dict:
 
 
 def write(fam: Family, new: dict | None = None):
-    """The family's file: its levels (with `new`, a level just run) and the reference (Richardson
-    over the last three, where their observed order is at least MIN_ORDER; else the finest level,
-    not extrapolated, with its last step)."""
+    """The family's file: its levels (with `new`, a level just run) and the reference: with four or
+    more levels at sizes / FIT_FROM and finer, the least-squares fit over them (fit; with V_inf at
+    orders 1 and 2 beside it, the bracket); else Richardson over the last three; extrapolated where
+    the observed order is at least MIN_ORDER, else the finest level, not extrapolated, with its last step."""
     done = levels(fam) | ({new["divide"]: new} if new else {})
     rows = [r for _, r in sorted(done.items())]
     out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
                family=fam.text, path=PATH, levels=rows)
+    fitted = [r for r in rows if r["divide"] >= FIT_FROM - 1e-9]
     if len(rows) >= 3:
         h, v = [1 / r["divide"] for r in rows[-3:]], [r["VF"] for r in rows[-3:]]
         p, vx = richardson(h, v)
         if len(rows) >= 4:
             out["order_coarser"] = richardson([1 / r["divide"] for r in rows[-4:-1]], [r["VF"] for r in rows[-4:-1]])[0]
+        sqrt2 = [r for r in rows if any(abs(r["divide"] - 2 ** e) < 1e-9 for e in (0.5, 1.0, 1.5))]
+        if len(sqrt2) == 3:         # the sqrt 2 levels' three-level Richardson, beside the fit
+            out["richardson_sqrt2"] = dict(zip(("order", "VF"), richardson(
+                [1 / r["divide"] for r in sqrt2], [r["VF"] for r in sqrt2])))
+        if len(fitted) >= 4:
+            hf, vf = [1 / r["divide"] for r in fitted], [r["VF"] for r in fitted]
+            p, vx, worst = fit(hf, vf)
+            out.update(fit_from=FIT_FROM, fit_levels=len(fitted), residual=worst,
+                       bracket={f"order {q:g}": fit(hf, vf, q)[1] for q in (1.0, 2.0)})
         if p is not None and p >= MIN_ORDER:
             out.update(order=p, extrapolated=True, VF=vx, last_step=abs(v[2] - v[1]))
-            print(f"observed order {p:.2f}; Richardson V/F {vx:.5f} V/N", flush=True)
+            print(f"observed order {p:.2f}; Richardson V/F {vx:.5f} V/N" + (
+                f" (fit over {len(fitted)} levels, largest residual {out['residual']:.1e} V/N)"
+                if "residual" in out else ""), flush=True)
         else:           # not monotone, or too slow to be the asymptotic range: no extrapolation
             out.update(order=p, extrapolated=False, VF=v[2], last_step=abs(v[2] - v[1]))
             print(f"observed order {p if p is None else round(p, 2)}: not in the asymptotic range; the finest "
@@ -395,9 +444,10 @@ def main():
                 f"{r['cpu']:.1f} | {r['wall']:.1f} |")
 
     if ref:
+        fitted = ref["levels"][-ref.get("fit_levels", 3):]
         print(f"reference: V/F {ref['VF']:.5f} V/N, observed order "
               f"{ref['order'] if ref['order'] is None else round(ref['order'], 2)} over sizes / "
-              + ", ".join(f"{lv['divide']:.3g}" for lv in ref["levels"]) + f" ({OUT.name})")
+              + ", ".join(f"{lv['divide']:.3g}" for lv in fitted) + f" ({OUT.name})")
     print("| variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | "
           "factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -405,6 +455,11 @@ def main():
     if "--frictionless" in sys.argv:      # the frictionless punch on the default mesh and at sizes x 2
         user = load("thesis-pzt-probe-3d").replace(**{"load.friction": "frictionless"})
         print(line("frictionless punch, the default press mesh", run(user, layout(user)), False), flush=True)
+        # the same mesh along load paths: the stop is a travel (about 0.502 mm), not a path
+        print(line("frictionless punch, the default press mesh, 24 travel steps of 25 um",
+                   run(user, layout(user), travels=tuple(25e-6 * i for i in range(1, 25))), False), flush=True)
+        print(line("frictionless punch, the default press mesh, force steps of 0.1 N",
+                   run(user, layout(user), path=tuple(0.1 * i for i in range(1, 10))), False), flush=True)
         fr = scene("frictionless")
         print(line("frictionless punch, the reference family's mesh at sizes x 2", run(fr, layout(fr, 0.5)), False),
               flush=True)
