@@ -31,7 +31,7 @@ the five levels from / 1.41: order 1.14, V_ref -0.77871 V/N (the reference), lar
 1.8e-4 V/N; at order 1 / 2: -0.77783 / -0.78147; the sqrt 2 levels' Richardson: order 1.50,
 -0.78027 V/N (the reference before / 1.68 and / 2.38 were run). Fits over four or more levels
 from / 0.71, 1.41 and 1.68 give orders 1.13, 1.14, 2.14 and V_ref -0.77947, -0.77871, -0.78131;
-three-level Richardson over the close levels scatters (orders 0.3-3.3): their steps (1.4-1.7e-3
+three-level Richardson over the close levels scatters (orders 0.3-3.3; --fits prints them): their steps (1.4-1.7e-3
 between / 1.41, 1.68 and 2) are within a few times the noise. The default press mesh: +0.98 % from
 the reference (+1.10 / +0.62 % at orders 1 / 2, +0.78 % from the sqrt 2 Richardson; --quick's V/F;
 taxel.analyses.error_estimate.PRESS_3D_ERROR). --through: / 0.5, 1, 1.5, 2 with 1, 2, 3, 4
@@ -142,15 +142,18 @@ active set fixed and 20 steps of patience 0.397 and 0.607 N; before continuation
 (0.748-0.749 N, 0.501-0.502 mm): the stop is a travel, not a load path. What stops the default
 mesh: docs/guide/silicone-and-contact.md, "Frictionless presses".
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference [--resume]] [--quick] [--divide K] [--frictionless]
-(--quick: the default row only; --divide K: the rows on the default mesh with every size divided
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/press_3d.py [--reference [--resume]] [--quick] [--divide K] [--frictionless] [--fits]
+(--quick: the default press mesh's, the cheapest 3D model's and the scene's own mesh's rows only; --divide K: the rows on the default mesh with every size divided
 by K, e.g. 0.5 for a mesh twice as coarse, to compare the variants at a quarter of the cost;
---frictionless: the frictionless punch on the default press mesh and at sizes x 2 only)
+--frictionless: the frictionless punch on the default press mesh (one target, travel steps, force
+steps) and at sizes x 2 only; --fits: the
+reference file's fits from each level and Richardson over each triple, no press run)
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import sys
 import time
@@ -172,8 +175,8 @@ BASE = (1e-3, 0.2e-3, 0.2e-3)     # m: size, at the piezo's edges (piezo_size; i
 STEPS = 16          # the reference's load path: travel steps of TRAVEL / STEPS, then force control to 1 N
 TRAVEL = 0.4e-3     # m, about the travel of 1 N (0.402-0.421 mm on the families measured)
 MIN_ORDER = 1.0     # an observed order below it is not extrapolated (P2 outputs converge at 1-4)
-FIT_FROM = 2 ** 0.5  # the levels fitted (sizes / FIT_FROM and finer): the coarser ones' steps are irregular
-#                      (6.7, 2.7e-3 V/N; a fit from / 1 has order 0.45), the finer ones' fit residual is 5e-5 V/N
+FIT_FROM = 2 ** 0.5  # the levels fitted (sizes / FIT_FROM and finer): a fit from / 1 has order 0.37 (the coarse
+#                      levels' steps, 6.7 then 2.7e-3 V/N, are not the asymptotic range); from / 1.41, 1.14 (--fits)
 PATH = f"{STEPS} travel steps of {1e3 * TRAVEL / STEPS:g} mm, then force control to 1 N"
 
 
@@ -317,6 +320,27 @@ def levels(fam: Family) -> dict:
     return rows
 
 
+def hv(rows):
+    """(sizes h = 1 / k, values V/F) of levels."""
+    return [1 / r["divide"] for r in rows], [r["VF"] for r in rows]
+
+
+def fits():
+    """--fits: from the reference's file, no press run: the fit from each level on (four or more
+    levels) and three-level Richardson over every triple from FIT_FROM on: how far the order and
+    the extrapolated value move with the levels chosen (the mesh noise)."""
+    rows = json.loads(OUT.read_text())["levels"]
+    for i in range(len(rows) - 3):
+        p, vx, worst = fit(*hv(rows[i:]))
+        print(f"fit from / {rows[i]['divide']:.3g} ({len(rows) - i} levels): order {p:.2f}, V_ref {vx:.5f} V/N, "
+              f"largest residual {worst:.1e}")
+    for tri in itertools.combinations([r for r in rows if r["divide"] >= FIT_FROM - 1e-9], 3):
+        p, vx = richardson(*hv(tri))
+        sizes = ", ".join(f"{r['divide']:.3g}" for r in tri)
+        print(f"Richardson over / {sizes}: "
+              + (f"order {p:.2f}, V_ref {vx:.5f} V/N" if p is not None else "no order (steps grow or change sign)"))
+
+
 def write(fam: Family, new: dict | None = None):
     """The family's file: its levels (with `new`, a level just run) and the reference: with four or
     more levels at sizes / FIT_FROM and finer, the least-squares fit over them (fit; with V_inf at
@@ -327,20 +351,18 @@ def write(fam: Family, new: dict | None = None):
     out = dict(quantity="V/F, pressed taxel, 1 N, Yeoh, sticking 4 mm punch (0.2 mm edge), 3D quarter",
                family=fam.text, path=PATH, levels=rows)
     fitted = [r for r in rows if r["divide"] >= FIT_FROM - 1e-9]
+    sqrt2 = [r for r in rows if any(abs(r["divide"] - 2 ** e) < 1e-9 for e in (0.5, 1.0, 1.5))]
+    if len(sqrt2) == 3:             # the sqrt 2 levels' three-level Richardson, beside the reference
+        out["richardson_sqrt2"] = dict(zip(("order", "VF"), richardson(*hv(sqrt2))))
     if len(rows) >= 3:
-        h, v = [1 / r["divide"] for r in rows[-3:]], [r["VF"] for r in rows[-3:]]
-        p, vx = richardson(h, v)
-        if len(rows) >= 4:
-            out["order_coarser"] = richardson([1 / r["divide"] for r in rows[-4:-1]], [r["VF"] for r in rows[-4:-1]])[0]
-        sqrt2 = [r for r in rows if any(abs(r["divide"] - 2 ** e) < 1e-9 for e in (0.5, 1.0, 1.5))]
-        if len(sqrt2) == 3:         # the sqrt 2 levels' three-level Richardson, beside the fit
-            out["richardson_sqrt2"] = dict(zip(("order", "VF"), richardson(
-                [1 / r["divide"] for r in sqrt2], [r["VF"] for r in sqrt2])))
+        v = [r["VF"] for r in rows[-3:]]
         if len(fitted) >= 4:
-            hf, vf = [1 / r["divide"] for r in fitted], [r["VF"] for r in fitted]
+            hf, vf = hv(fitted)
             p, vx, worst = fit(hf, vf)
             out.update(fit_from=FIT_FROM, fit_levels=len(fitted), residual=worst,
                        bracket={f"order {q:g}": fit(hf, vf, q)[1] for q in (1.0, 2.0)})
+        else:
+            p, vx = richardson(*hv(rows[-3:]))
         if p is not None and p >= MIN_ORDER:
             out.update(order=p, extrapolated=True, VF=vx, last_step=abs(v[2] - v[1]))
             print(f"observed order {p:.2f}; Richardson V/F {vx:.5f} V/N" + (
@@ -423,6 +445,9 @@ def axisymmetric():
 def main():
     if "--axisymmetric" in sys.argv:
         axisymmetric()
+        return
+    if "--fits" in sys.argv:
+        fits()
         return
     if "--reference" in sys.argv:
         reference(THROUGH if "--through" in sys.argv else REFERENCE)
