@@ -30,7 +30,7 @@ import time
 
 import numpy as np
 
-from taxel.fem import linalg
+from taxel.fem import hyperelastic, linalg
 from taxel.fem.press_result import ContactError
 
 STALL_STEPS = 5      # Newton steps on one active set ...
@@ -127,7 +127,7 @@ def newton(pr, x, d, lam, tol=None):
                         or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
                     break
             elif not np.all(np.isfinite(r_new)) or alpha <= 1 / 64:
-                inverts = f"Newton inverts silicone elements at travel {d:.4g} m"
+                inverts = f"Newton inverts silicone elements at travel {d:.4g} m{_crush(pr, x_new)}"
                 if not (o.continuation and o.active_set_update) or norm > NEAR:     # far from equilibrium: a shorter travel step
                     raise ContactError(inverts, pr.res)
                 x, st, k = continuation(pr, x, d, lam, tol, inverts)
@@ -241,6 +241,27 @@ def _stability(pr) -> str:
     extra = inertia[1] - _stable_negatives(pr)
     return (f"; the state is unstable: {extra} negative eigenvalue{'s' if extra > 1 else ''} of the "
             "condensed displacement stiffness" if extra > 0 else "; the state is stable: a kink in the contact zone")
+
+
+def _crush(pr, x_step) -> str:
+    """Where Newton's last line-search step inverts the silicone (its smallest J and that point's
+    reference position from the indenter's axis and below the top surface), and the smallest
+    J of the last converged state (fem.hyperelastic.smallest_jacobian)."""
+    sy = pr.sy
+    if not sy.yeoh:
+        return ""
+
+    def smallest(x):
+        u = x[sy.offsets["u"]]
+        return min((hyperelastic.smallest_jacobian(sy.ubases[r], u, sy.kin) for r in sy.yeoh), key=lambda t: t[0])
+    J, X = smallest(x_step)
+    last = f"the last converged state, at travel {pr.d:.4g} m, has J down to {smallest(pr.x)[0]:.2f}"
+    if not np.isfinite(J):
+        return f": its last line-search step leaves a non-finite state; {last}"
+    nl = len(X) - 1
+    r = float(np.linalg.norm(X[:nl] - np.asarray(pr.ind.centre[:nl], float)))
+    return (f": its last line-search step leaves J {J:.2g} at {1e3 * r:.3g} mm from the indenter's axis, "
+            f"{1e3 * (pr.z_top - X[-1]):.2g} mm below the top surface; {last}")
 
 
 def _where(pr, st, x, dx) -> str:

@@ -104,5 +104,13 @@ def tangent_blocks(ub, pb, st, law: Yeoh, kin: Kinematics):
 
 def min_jacobian(ub, u, kin: Kinematics):
     """Smallest J over the quadrature points of a basis (<= 0: an inverted element)."""
-    F = deformation_gradient(ub.interpolate(u), np.asarray(ub.global_coordinates()), kin)
-    return float(inv_det(F)[0].min())
+    return smallest_jacobian(ub, u, kin)[0]
+
+
+def smallest_jacobian(ub, u, kin: Kinematics) -> tuple[float, np.ndarray]:
+    """(J, X): the smallest J over the quadrature points of a basis and the point's
+    reference position X (m): where the silicone crushes (J <= 0: inverted)."""
+    X = np.asarray(ub.global_coordinates())
+    J = inv_det(deformation_gradient(ub.interpolate(u), X, kin))[0]
+    e, q = np.unravel_index(np.argmin(J), J.shape)
+    return float(J[e, q]), X[:, e, q]

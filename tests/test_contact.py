@@ -316,6 +316,9 @@ def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
     assert msg.startswith("force control: 1 N not reached in 40 trials")
     assert re.search(r"the last failed trial: Newton (inverts silicone elements|stagnates) at travel", msg)
     assert 0.5 < pr.res.points[-1].force < 1.0
+    if "inverts" in msg:        # and where its step inverts the silicone (fem.contact_newton)
+        m = re.search(r"last line-search step leaves J (-?[\d.e+-]+) at ([\d.]+) mm from the indenter's axis", msg)
+        assert m and float(m.group(1)) <= 0 and 0 <= float(m.group(2)) < 8
 
 
 def test_continuation_takes_a_stalled_press_past_an_unstable_state(probe_example_mesh):

@@ -269,3 +269,21 @@ def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
     r2, K2 = yeoh_terms_skfem(sy, x)
     assert np.abs(r1 - r2).max() < 1e-12 * np.abs(r2).max()
     assert abs(K1 - K2).max() < 1e-12 * abs(K2).max()
+
+
+def test_smallest_jacobian_finds_where_the_silicone_is_most_compressed():
+    """u = (-c x^2, 0, 0) on a P2 tetrahedral box, represented exactly: J = 1 - 2 c x, smallest
+    where x is largest. fem.hyperelastic.smallest_jacobian returns that J and its point (the
+    press's stop names where its elements crush, fem.contact_newton)."""
+    import skfem
+    from taxel.fem.hyperelastic import min_jacobian, smallest_jacobian
+    from taxel.fem.kinematics import Solid3D
+    m = skfem.MeshTet.init_tensor(*(np.linspace(0, 1e-3, 4),) * 3)
+    ub = skfem.Basis(m, skfem.ElementVector(skfem.ElementTetP2()))
+    c = 400.0                                            # 1/m: J from 1 down to 0.2 over the box
+    u = ub.project(lambda x: np.stack([-c * x[0] ** 2, 0 * x[0], 0 * x[0]]))
+    J, X = smallest_jacobian(ub, u, Solid3D())
+    xq = np.asarray(ub.global_coordinates())[0]
+    assert J == pytest.approx(1 - 2 * c * X[0], abs=1e-9)
+    assert X[0] == pytest.approx(xq.max())
+    assert J == min_jacobian(ub, u, Solid3D()) == pytest.approx(1 - 2 * c * xq.max(), abs=1e-9)
