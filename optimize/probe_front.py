@@ -62,8 +62,8 @@ from taxel.studies.store import Store
 DISCRETISATION_2D = 0.0047        # the default 2D mesh's voltage error, worst of README's 0.24-0.47 %
 VERIFY_3D_ERROR = 0.038           # the verification mesh's voltage error, worst measured (optimize.multifidelity, 6.)
 # The 3D model of the 3D presses (level C): the default press mesh (taxel.scene.DEFAULT_PRESS_MESH,
-# the silicone meshed free, graded at the punch's rim), 0.98 % on the thesis taxel from the press's
-# nested reference (Richardson fitted over five levels, order 1.14; benchmarks/press_3d.py; error
+# the silicone meshed free, graded at the punch's rim), 0.84 % on the thesis taxel from the press's
+# nested reference (Richardson fitted over six levels, order 1.35; benchmarks/press_3d.py; error
 # floor: PRESS_3D_ERROR)
 PRESS_3D = {"model.type": "3d", "mesh.size": f"{1e3 * DEFAULT_PRESS_MESH[0]:g} mm",
             "mesh.piezo_size": f"{1e3 * DEFAULT_PRESS_MESH[1]:g} mm", "mesh.piezo_layers": DEFAULT_PRESS_MESH[2],

@@ -125,15 +125,15 @@ UNKNOWN_COST = {2: 1, 3: 4}
 CHEAP_3D = {"mesh.size": 1.5e-3, "mesh.piezo_size": 0.6e-3, "mesh.piezo_layers": 2}
 CHEAP_3D_ERROR = {"sensitivity": 0.005, "crosstalk": 0.05, "charge_sensitivity": 0.005}
 # Under a rigid punch (benchmarks/press_3d.py, the thesis taxel at the rig's probe, 1 N, Yeoh,
-# sticking; docs/press_3d_reference.json): the press's nested family (the size field / 0.71 ... / 2.83,
-# seven levels) reads -0.79738 ... -0.78299 V/N; Richardson fitted over the five levels from / 1.41,
-# order 1.14: -0.77871 V/N (largest residual 1.8e-4 V/N; at orders 1 / 2 -0.77783 / -0.78147). The
-# default press mesh (taxel.scene.DEFAULT_PRESS_MESH, -0.78635 V/N) is 0.98 % from it: times the
+# sticking; docs/press_3d_reference.json): the press's nested family (the size field / 0.71 ... / 3.36,
+# eight levels) reads -0.79738 ... -0.78243 V/N; Richardson fitted over the six levels from / 1.41,
+# order 1.35: -0.77981 V/N (largest residual 2.2e-4 V/N; at orders 1 / 2 -0.77812 / -0.78136). The
+# default press mesh (taxel.scene.DEFAULT_PRESS_MESH, -0.78635 V/N) is 0.84 % from it: times the
 # three-mesh safety factor (SAFETY_THREE_MESH), a floor where the press has no estimate of its own.
-PRESS_3D_ERROR = 0.0123
+PRESS_3D_ERROR = 0.0105
 # CHEAP_3D's mesh (extruded, 1.5 mm / 0.6 mm, 2 through the piezo) under the punch: -0.79956 V/N,
-# 2.68 % from the Richardson value, times the same factor.
-CHEAP_3D_PRESS_ERROR = 0.0335
+# 2.53 % from the Richardson value, times the same factor.
+CHEAP_3D_PRESS_ERROR = 0.0316
 
 
 def cheap_3d_error(scene: Scene) -> dict[str, float]:
