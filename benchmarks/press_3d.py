@@ -248,13 +248,17 @@ def layout(sc, divide=1.0, contact_factor=1.0, grading=True):
                                contact_size=contact_factor * lay.contact_size / divide)
 
 
-def run(sc, lay, opts: Options | None = None, path=(), travels=()):
+def run(sc, lay, opts: Options | None = None, path=(), travels=(), edit=None):
     """Mesh, assemble and press to 1 N (through the travels, m, then the forces of the
-    path, N); the numbers of the run."""
+    path, N); the numbers of the run. `edit(system, indenter)`: a change to the assembled
+    system before the press (a one-off trial's, benchmarks/frictionless_top_layer.py)."""
     w, c = time.perf_counter(), time.process_time()
     tm = build(lay)
     prob = problem(sc, tagged_mesh=tm)
-    pr = Press(assemble(prob), prob.indenter, opts=opts)
+    sy = assemble(prob)
+    if edit is not None:
+        edit(sy, prob.indenter)
+    pr = Press(sy, prob.indenter, opts=opts)
     try:
         for d in travels:
             pr.travel(d, first=1.0)
