@@ -270,7 +270,7 @@ def run(sc, lay, opts: Options | None = None, path=(), travels=(), edit=None):
                 if p else "no state reached")
         return dict(n=pr.red.n, error=f"{last}; {exc}", force=p.force if p else 0.0, travel=p.travel if p else 0.0,
                     VF=p.voltages["taxel_0_0"] / p.force if p else None,
-                    cause=str(exc), cpu=time.process_time() - c, wall=time.perf_counter() - w)
+                    cause=exc.cause, summary=exc.summary, cpu=time.process_time() - c, wall=time.perf_counter() - w)
     return dict(n=pr.red.n, layers=lay.piezo_layers, VF=pt.voltages["taxel_0_0"] / pt.force, travel=pt.travel,
                 states=len(pr.res.points),
                 iterations=pr.res.total_iterations, factorizations=pr.stats["factorizations"],
@@ -279,12 +279,12 @@ def run(sc, lay, opts: Options | None = None, path=(), travels=(), edit=None):
 
 
 def stop(r) -> tuple[float, float, float | None, str]:
-    """(force reached, travel, V/F at the last state, cause) of a run: 1 N and "reached 1 N",
-    or where it stopped and the stop's first clause (its cause, without the measurements)."""
+    """(force reached, travel, V/F at the last state, stop) of a run: 1 N and "reached 1 N", or
+    where it stopped and why: the stop's cause and summary (fem.press_result.ContactError, without
+    the measurements)."""
     if "error" not in r:
         return 1.0, r["travel"], r["VF"], "reached 1 N"
-    text = r["cause"]
-    return r["force"], r["travel"], r["VF"], text.split(":")[0] if text.startswith("Newton") else text.split(" (")[0]
+    return r["force"], r["travel"], r["VF"], f"{r['cause']}: {r['summary']}"
 
 
 def steps(n=STEPS):

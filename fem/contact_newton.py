@@ -14,14 +14,16 @@ Convergence: |D r| / |D R_c| < tol, or round-off (the active set unchanged and a
 full step changing x by less than 1e-9 relative, with |D r| / |D R_c| < 1e-6: large
 graded meshes floor near 1e-8).
 
-Stops, as ContactError naming the cause: a non-finite state; the penalty too high (the
-scaled solve's relative residual above 1e-6); elements inverted at every line-search
-step; the active set cycling between two sets; Newton stagnating (STALL_STEPS steps
-on one active set that cut the residual by less than STALL_CUT in all, the line
-search taking short steps: a kink the iterates cannot cross; measured on the 3D
-press at sizes / 0.707, a trial 41 % beyond the last state sat at 0.027 for 20
-iterations, benchmarks/press_3d.py), so that force control bisects at once; and the
-iteration limit.
+Stops, as ContactError with its cause (fem.press_result.StopCause) and what was measured:
+a non-finite state ("non-finite"); the penalty too high, the scaled solve's relative
+residual above 1e-6 ("penalty"); elements inverted at every line-search step ("inversion":
+where, and the last converged state's smallest J); the active set cycling between two
+sets ("cycling"); Newton stagnating ("stagnation": STALL_STEPS steps on one active set
+that cut the residual by less than STALL_CUT in all, the line search taking short steps:
+a kink the iterates cannot cross, or an unstable state; measured on the 3D press at sizes
+/ 0.707, a trial 41 % beyond the last state sat at 0.027 for 20 iterations,
+benchmarks/press_3d.py), so that force control bisects at once; and the iteration limit
+("iterations").
 """
 
 from __future__ import annotations
@@ -64,7 +66,7 @@ def newton(pr, x, d, lam, tol=None):
             frozen = st.active.copy()
             r, ref, st, K = pr._residual(x, d, lam, frozen=frozen)
         if K is not None and (not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r))):
-            raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
+            raise ContactError("non-finite", f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
         if K is not None:
             D = linalg.scaling(K, pr.red.is_u)
         # the scaled norm first (after a line search with the last step's scaling): a converged
@@ -93,16 +95,16 @@ def newton(pr, x, d, lam, tol=None):
         if K is None:
             r, ref, st, K = pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
             if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
-                raise ContactError(f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
+                raise ContactError("non-finite", f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
             D = linalg.scaling(K, pr.red.is_u)
             nr, norm = _scaled_norm(D, r, ref)
         if (len(seen) >= STALL_STEPS and len(set(seen[-STALL_STEPS:] + [key])) == 1
                 and norm > STALL_CUT * norms[-STALL_STEPS]):
-            stall = (f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on one active set "
-                     f"cut the residual from {norms[-STALL_STEPS]:.2e} only to {norm:.2e} (line "
-                     f"search steps down to 1/64{_stability(pr)}; {_where(pr, st, x, dx)})")
+            stall = ContactError("stagnation", f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on "
+                                 f"one active set cut the residual from {norms[-STALL_STEPS]:.2e} only to {norm:.2e}",
+                                 pr.res, f"line search steps down to 1/64{_stability(pr)}; {_where(pr, st, x, dx)}")
             if not (o.continuation and o.active_set_update):
-                raise ContactError(stall, pr.res)
+                raise stall
             x, st, k = continuation(pr, x, d, lam, tol, stall)
             return x, st, it + k
         solver = pr.refactor(K, D, ckey)
@@ -113,7 +115,7 @@ def newton(pr, x, d, lam, tol=None):
         dy, lres = solver(-r, rtol=SOLVE_RTOL)
         pr.stats["solve_s"] += time.process_time() - t0
         if float(np.max(lres)) > 1e-6:
-            raise ContactError(f"penalty too high: the scaled linear solve's relative residual is "
+            raise ContactError("penalty", f"penalty too high: the scaled linear solve's relative residual is "
                                f"{float(np.max(lres)):.1e} (> 1e-6, ill-conditioned) with penalty "
                                f"{pr.eps:.3g} Pa/m; lower it", pr.res)
         dx = P @ dy[:, 0]
@@ -127,9 +129,10 @@ def newton(pr, x, d, lam, tol=None):
                         or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
                     break
             elif not np.all(np.isfinite(r_new)) or alpha <= 1 / 64:
-                inverts = f"Newton inverts silicone elements at travel {d:.4g} m{_crush(pr, x_new)}"
+                inverts = ContactError("inversion", f"Newton inverts silicone elements at travel {d:.4g} m",
+                                       pr.res, _crush(pr, x_new))
                 if not (o.continuation and o.active_set_update) or norm > NEAR:     # far from equilibrium: a shorter travel step
-                    raise ContactError(inverts, pr.res)
+                    raise inverts
                 x, st, k = continuation(pr, x, d, lam, tol, inverts)
                 return x, st, it + k
             alpha /= 2
@@ -138,14 +141,14 @@ def newton(pr, x, d, lam, tol=None):
         x = x_new
     last = seen[-6:]
     if len(set(last)) <= 2 and len(set(last)) < len(last) and last[-1] != last[-2]:
-        raise ContactError(f"the contact active set cycles between two sets at travel {d:.4g} m "
-                           f"({o.max_iter} Newton iterations, residual {norm:.2e}): keep the active-set "
-                           "update in the tangent, or take smaller travel steps", pr.res)
-    raise ContactError(f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations "
-                       f"(residual {norm:.2e})", pr.res)
+        raise ContactError("cycling", f"the contact active set cycles between two sets at travel {d:.4g} m: "
+                           "keep the active-set update in the tangent, or take smaller travel steps", pr.res,
+                           f"{o.max_iter} Newton iterations, residual {norm:.2e}")
+    raise ContactError("iterations", f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations",
+                       pr.res, f"residual {norm:.2e}")
 
 
-def continuation(pr, x, d, lam, tol, stall: str):
+def continuation(pr, x, d, lam, tol, stall: ContactError):
     r"""Pseudo-transient continuation (Kelley and Keyes 1998, SIAM J. Numer. Anal. 35:508)
     from a stagnating Newton iterate to a stable equilibrium at the same travel: steps
 
@@ -165,15 +168,18 @@ def continuation(pr, x, d, lam, tol, stall: str):
     stable branch. Its fixed points are the equilibria r = 0: the shift leaves no error.
     The contact active set is re-evaluated at every step (the stable state may touch the
     punch elsewhere), whatever set Newton had fixed; continuation needs the active-set
-    update (Options.active_set_update), so no set is frozen."""
+    update (Options.active_set_update), so no set is frozen. Where it gives up, the stop is
+    `stall`'s (what made Newton enter it), with what continuation measured added."""
     P, is_u = pr.red.P, pr.red.is_u
+    def stop(measured=""):
+        return ContactError(stall.cause, stall.summary, pr.res, "; ".join(m for m in (stall.detail, measured) if m))
     if pr._inertia is None:                       # no PARDISO: no inertia to tell a stable state by
-        raise ContactError(stall, pr.res)
+        raise stall
     tau, prev, shrink = TAU0, None, 1.0
     for k in range(PTC_STEPS):
         r, ref, st, K = pr._residual(x, d, lam)
         if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
-            raise ContactError(f"continuation reached a non-finite state at travel {d:.4g} m", pr.res)
+            raise ContactError("non-finite", f"continuation reached a non-finite state at travel {d:.4g} m", pr.res)
         D = linalg.scaling(K, is_u)
         nr, norm = _scaled_norm(D, r, ref)
         pr.trace.append((d, k, norm, int(st.active.sum()), "continuation", tau))
@@ -183,8 +189,8 @@ def continuation(pr, x, d, lam, tol, stall: str):
         if k == 0:
             entry = norm
         elif k == PATIENCE and norm >= entry:
-            raise ContactError(f"{stall}; pseudo-transient continuation left the residual at {norm:.2e} "
-                               f"after {k} steps (from {entry:.2e})", pr.res)
+            raise stop(f"pseudo-transient continuation left the residual at {norm:.2e} after {k} steps, "
+                       f"from {entry:.2e}")
         if prev is not None:                      # SER; halved after a step taken at its first tau
             tau *= min(1.0, norm / prev) * shrink
         prev, shrink = norm, 0.5
@@ -194,7 +200,7 @@ def continuation(pr, x, d, lam, tol, stall: str):
             Kt.setdiag(K.diagonal() + tau * m)
             solver = pr.refactor(Kt, D, factorizer=pr._inertia)
             if solver.inertia is None:           # a nonsymmetric (sticking) tangent: no inertia
-                raise ContactError(stall, pr.res)
+                raise stall
             if solver.inertia[1] > _stable_negatives(pr):
                 tau, shrink = max(4 * tau, TAU0), 1.0     # still unstable: a shorter pseudo-time step
                 continue
@@ -206,11 +212,10 @@ def continuation(pr, x, d, lam, tol, stall: str):
                 break
             tau, shrink = max(4 * tau, TAU0), 1.0         # inverted or far off: a shorter pseudo-time step
         else:
-            raise ContactError(f"{stall}; pseudo-transient continuation found no step keeping the "
-                               f"silicone uninverted and the tangent stable (tau up to {tau:.1e})", pr.res)
+            raise stop("pseudo-transient continuation found no step keeping the silicone uninverted and "
+                       f"the tangent stable (tau up to {tau:.1e})")
         x = x_new
-    raise ContactError(f"{stall}; pseudo-transient continuation did not settle in {PTC_STEPS} steps "
-                       f"(residual {norm:.2e})", pr.res)
+    raise stop(f"pseudo-transient continuation did not settle in {PTC_STEPS} steps, residual {norm:.2e}")
 
 
 def _scaled_norm(D, r, ref):
@@ -257,10 +262,10 @@ def _crush(pr, x_step) -> str:
     J, X = smallest(x_step)
     last = f"the last converged state, at travel {pr.d:.4g} m, has J down to {smallest(pr.x)[0]:.2f}"
     if not np.isfinite(J):
-        return f": its last line-search step leaves a non-finite state; {last}"
+        return f"its last line-search step leaves a non-finite state; {last}"
     nl = len(X) - 1
     r = float(np.linalg.norm(X[:nl] - np.asarray(pr.ind.centre[:nl], float)))
-    return (f": its last line-search step leaves J {J:.2g} at {1e3 * r:.3g} mm from the indenter's axis, "
+    return (f"its last line-search step leaves J {J:.2g} at {1e3 * r:.3g} mm from the indenter's axis, "
             f"{1e3 * (pr.z_top - X[-1]):.2g} mm below the top surface; {last}")
 
 

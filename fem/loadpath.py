@@ -2,7 +2,9 @@
 on failure, grown by 1.5 after an easy step) and force control (Newton on F(d) with the
 path's own stiffness dF/dd, at most twice the last step, regula falsi with the Illinois
 rule once bracketed, a failed trial bisected towards the last converged travel). Every
-converged state is a point of the press's curve (Press.res.points)."""
+converged state is a point of the press's curve (Press.res.points). A press that stops
+keeps the cause its last failed trial measured (ContactError.cause); a penalty stop is
+raised at once (no shorter step mends it)."""
 
 from __future__ import annotations
 
@@ -19,7 +21,7 @@ def travel(pr, d_target, first=0.25, min_frac=1e-3):
         try:
             pt = pr.attempt(d)
         except ContactError as exc:
-            if "penalty" in str(exc) or abs(step) / 2 < min_frac * abs(d_target):
+            if exc.cause == "penalty" or abs(step) / 2 < min_frac * abs(d_target):
                 raise
             step /= 2
             continue
@@ -39,7 +41,7 @@ def force(pr, F_target, max_trials=40):
         d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
     below = [(p.travel, p.force) for p in pts if p.force < F_target]
     lo, hi, last_side = max(below, default=(0.0, 0.0)), None, None
-    failed = None                    # the last failed trial's cause, named when the target is not reached
+    failed = None                    # the last failed trial (ContactError), named when the target is not reached
     for _ in range(max_trials):
         if pts and abs(F - F_target) <= o.force_tol * F_target:
             pr.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
@@ -80,14 +82,16 @@ def force(pr, F_target, max_trials=40):
                 pt = pr.attempt(d_new)
                 break
             except ContactError as exc:
-                if "penalty" in str(exc) or abs(d_new - pr.d) < 1e-4 * pr.height:
+                if exc.cause == "penalty" or abs(d_new - pr.d) < 1e-4 * pr.height:
                     raise
-                failed = str(exc).split(' (')[0]
+                failed = exc
                 d_new = (pr.d + d_new) / 2
         d_prev, F_prev = d, F
         d, F = pt.travel, pt.force
-    raise ContactError(f"force control: {F_target:.4g} N not reached in {max_trials} trials "
-                       f"(last {F:.4g} N" + (f"; the last failed trial: {failed})" if failed else ")"), pr.res)
+    summary = f"force control: {F_target:.4g} N not reached in {max_trials} trials, the last at {F:.4g} N"
+    if failed is None:
+        raise ContactError("trials", summary, pr.res)
+    raise ContactError(failed.cause, summary, pr.res, f"the last failed trial: {failed}")
 
 
 def _falsi(lo, hi, F_target):

@@ -19,6 +19,7 @@ below `min_step` stop with a message that names the last converged load.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -34,11 +35,13 @@ from taxel.fem.yeoh_terms import YeohRegion
 
 
 class NewtonError(RuntimeError):
-    """Newton failed; the message names the last converged load, `.result` has the history."""
+    """Newton failed; the message names the last converged load, `.result` has the history,
+    `.solution` the Solution at the last converged load (solve_yeoh; None before one)."""
 
     def __init__(self, message, result=None):
         super().__init__(message)
         self.result = result
+        self.solution: Solution | None = None
 
 
 @dataclass
@@ -50,6 +53,7 @@ class NewtonResult:
     cutbacks: int = 0
     message: str = ""
     failed: list[tuple[float, list[float]]] = field(default_factory=list)   # (load factor, residuals)
+    x: np.ndarray | None = field(default=None, repr=False)    # the state at the last converged load factor
 
     @property
     def total_iterations(self):
@@ -192,6 +196,7 @@ def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0,
                            "patch on soft silicone folds the free surface at its edge at a few C10 "
                            "of pressure (a crease a load without contact cannot follow); lower "
                            "the force, or check the Yeoh set is stable at this strain")
+            res.x = x
             raise NewtonError(res.message, res)
         res.cutbacks += 1
         step /= 2
@@ -203,12 +208,30 @@ def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0,
 def solve_yeoh(sy: System, method="auto", **kw) -> Solution:
     """The Solution of a hyperelastic scene (voltages open circuit, charges of
     grounded electrodes; capacitance and short-circuit charge linearised at the
-    final state, where the piezo is linear and the silicone's tangent is used)."""
-    x, nres, red, solver = newton(sy, method, **kw)
+    final state, where the piezo is linear and the silicone's tangent is used). Where Newton
+    stops short, the NewtonError carries the Solution at its last converged load factor."""
+    try:
+        x, nres, red, solver = newton(sy, method, **kw)
+    except NewtonError as exc:
+        nres = exc.result
+        if nres is not None and nres.load_factors:
+            red = reduction(sy, eliminate_grounded=True)
+            lam = nres.load_factors[-1]
+            K = (red.P.T @ (sy.A + yeoh_terms(sy, nres.x)[1]) @ red.P).tocsc()
+            solver = linalg.scaled_solver(K, red.is_u, linalg.resolve(method, red.n, dim=sy.tm.mesh.dim()))
+            exc.solution = _solution(sy, nres.x, lam, red, solver, method, nres)
+        raise
+    return _solution(sy, x, 1.0, red, solver, method, nres)
+
+
+def _solution(sy, x, lam, red, solver, method, nres) -> Solution:
+    """The Solution of the state x at load factor lam, with the scaled solver of its tangent."""
     r_y, _ = yeoh_terms(sy, x, with_tangent=False)
-    r = sy.A @ x + r_y - sy.b
+    r = sy.A @ x + r_y - lam * sy.b
     X, resid = solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), np.zeros(1))
     Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
     sol = results(sy, red, x, r, Cinv, linalg.resolve(method, red.n, dim=sy.tm.mesh.dim()), nres.residuals[-1][-1])
+    if lam != 1.0:
+        sol = dataclasses.replace(sol, applied_force=lam * sy.applied_force)
     sol.newton = nres
     return sol

@@ -45,7 +45,8 @@ voltage-force curve. The Yeoh and contact terms are vectorised element arrays
 (fem.yeoh_terms, Surface.element_*) scattered into a reduced CSR pattern built once
 (fem.sparsity); Options(assembly="skfem") keeps the scikit-fem path for comparison.
 
-Failures are raised as ContactError, naming the cause: Newton not converging,
+Failures are raised as ContactError with its cause (fem.press_result.StopCause) and what
+it measured: Newton not converging,
 Newton stagnating on one active set (fem.contact_newton), the active set cycling
 (the last iterates alternate between two sets), the augmented
 Lagrangian not reaching the penetration tolerance (the penalty is doubled, up
@@ -222,7 +223,7 @@ class Press:
                 err = max(err, float(np.abs(st.ts - self._stick.lam).max()) / self.eps)
             if o.method == "penalty":
                 if st.penetration > tol:
-                    raise ContactError(f"penalty too low: penetration {st.penetration:.3g} m is "
+                    raise ContactError("penalty", f"penalty too low: penetration {st.penetration:.3g} m is "
                                        f"{100 * st.penetration / max(abs(d), 1e-300):.2g} % of the travel "
                                        f"(tolerance {100 * o.gap_tol:g} %); raise the penalty "
                                        f"({self.eps:.3g} Pa/m) or use the augmented Lagrangian", self.res)
@@ -240,9 +241,10 @@ class Press:
                 self._stick = Stick(self._stick.mask, self._stick.a0, st.ts.copy())
         else:
             self.eps = eps0
-            raise ContactError(f"augmented Lagrangian: the multipliers did not settle in {o.max_uzawa} updates "
-                               f"at travel {d:.4g} m (largest penetration, or gap under pressure, {err:.3g} m "
-                               f"against {tol:.3g} m; penetration {st.penetration:.3g} m); raise the penalty", self.res)
+            raise ContactError("multipliers", f"augmented Lagrangian: the multipliers did not settle in "
+                               f"{o.max_uzawa} updates at travel {d:.4g} m; raise the penalty", self.res,
+                               f"largest penetration, or gap under pressure, {err:.3g} m against {tol:.3g} m; "
+                               f"penetration {st.penetration:.3g} m")
         if o.predictor:                     # with the tangent's own penalty (before restoring it)
             self.v, self.slope = self._rates(x, st, d, lam)
         self.eps = eps0
@@ -376,13 +378,19 @@ class Press:
 def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,
           path: list[float] | None = None) -> Solution:
     """Press to the indenter's travel or force (through the intermediate targets of
-    `path`, N or m alike), and return the final Solution with `.contact`."""
+    `path`, N or m alike), and return the final Solution with `.contact`. Where the press
+    stops, its ContactError carries the Solution of the last converged state."""
     pr = Press(sy, ind, method, opts)
-    if ind.travel is not None:
-        for d in list(path or []) + [ind.travel]:
-            pr.travel(d)
-        pr.res.message = f"travel {1e3 * ind.travel:.4g} mm: {pr.res.points[-1].force:.4g} N"
-    else:
-        for F in list(path or []) + [ind.force]:
-            pr.force(F)
+    try:
+        if ind.travel is not None:
+            for d in list(path or []) + [ind.travel]:
+                pr.travel(d)
+            pr.res.message = f"travel {1e3 * ind.travel:.4g} mm: {pr.res.points[-1].force:.4g} N"
+        else:
+            for F in list(path or []) + [ind.force]:
+                pr.force(F)
+    except ContactError as exc:
+        if pr.res.points:               # the last converged state (a failed trial restores it)
+            exc.solution = pr.solution()
+        raise
     return pr.solution()

@@ -4,18 +4,36 @@ load path, the result, and the error that names why a press stopped."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
 from taxel.fem.contact import ContactState, Indenter
 
 
-class ContactError(RuntimeError):
-    """The press could not be solved; the message says why; `.result` has the path so far."""
+# why a press stopped, as measured (fem.contact_newton, fem.press, fem.loadpath; docs/glossary.md)
+StopCause = Literal[
+    "non-finite",     # Newton or continuation reached a non-finite state
+    "penalty",        # the contact penalty: too high (ill-conditioned solve) or too low (penetration)
+    "inversion",      # every line-search step inverts silicone elements
+    "stagnation",     # Newton stagnates on one active set (a kink, or an unstable state)
+    "cycling",        # the contact active set cycles between two sets
+    "iterations",     # Newton's iteration limit
+    "multipliers",    # the augmented Lagrangian's multipliers do not settle
+    "trials",         # force control: the target not reached in its trials, none of them failing
+]
 
-    def __init__(self, message, result=None):
-        super().__init__(message)
-        self.result = result
+
+class ContactError(RuntimeError):
+    """A press stopped: `cause` the kind of stop it measured (StopCause), `summary` what
+    stopped and at which travel, `detail` what it measured there ("" if nothing); the
+    message is "summary (detail)". `.result` has the path so far (fem.press_result.ContactResult),
+    `.solution` the Solution at its last converged state (fem.press.press; None before one)."""
+
+    def __init__(self, cause: StopCause, summary: str, result=None, detail: str = ""):
+        super().__init__(f"{summary} ({detail})" if detail else summary)
+        self.cause, self.summary, self.detail, self.result = cause, summary, detail, result
+        self.solution = None
 
 
 @dataclass

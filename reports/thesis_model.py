@@ -2,8 +2,8 @@
 (studies/builtin/fig-2-5-thesis.toml, fig-2-8-thesis.toml: plane stress, Yeoh silicone,
 homogeneous pressure, every point also solved with linear silicone).
 
-A Yeoh point whose Newton stops short of its force is solved at its last converged
-force (the row's stopped_at, N; studies.evaluate); its outputs are at that force. The
+A Yeoh point whose Newton stops short of its force is its last converged state (its
+force the row's stopped_at, N; studies.evaluate); its outputs are at that force. The
 figure draws it with a cross at its value there, the table counts such points and gives
 the range of their last converged force. Per point, the Yeoh output against the linear
 one of the same point: the sensitivity |V|/F is compared as is (linear: V is

@@ -162,8 +162,10 @@ def tidy_rows(out: Path) -> list[dict]:
         for name in ("crosstalk", "max_strain", "seconds"):
             if name in res:
                 row[name] = res[name]
-        if "requested_load" in res:       # Newton stopped short (studies.evaluate): the outputs are at this load
+        if "requested_load" in res:       # stopped short (studies.evaluate): the outputs are at this load
             row["stopped_at"] = res["force"]
+            if res.get("stop"):           # and why (rows stored before it have no stop)
+                row["stop"] = res["stop"]
         row["error"] = r["error"] or ""
         rows.append(row)
     store.close()
