@@ -76,7 +76,6 @@ def _work_precision(args):
 
 def _solve(args):
     from taxel.analyses.results import output_folder
-    from taxel.meshing.build import export
     from taxel.reports import analysis
     scene = api.load(args.scene)
     if scene.analysis.type != "static":
@@ -87,9 +86,33 @@ def _solve(args):
         return
     vtu = _writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None
     with output_folder(Path(args.out)) if args.out else contextlib.nullcontext() as tmp:
-        sol = api.solve(scene, solver=args.solver, estimate=args.estimate)
+        try:
+            sol = api.solve(scene, solver=args.solver, estimate=args.estimate)
+        except RuntimeError as exc:               # stopped short of the load: its last converged state is kept
+            from taxel.analyses import stopped_result
+            sol = stopped_result(scene, exc)
+            if sol is None:
+                raise
         if tmp is not None:                       # result.json, scene.json, the field figures, summary.txt
             analysis.write(sol, tmp)
+    _print_static(sol, args, vtu)
+    if sol.stop is not None:                      # the numbers printed and written are the last converged state's
+        print(f"taxel: failed: {sol.stop.message}; the results"
+              + (f" in {args.out}" if args.out else "") + f" are its last converged state, at {_reached(sol)}",
+              file=sys.stderr)
+        return EXIT_FAILED
+
+
+def _reached(sol) -> str:
+    """The load a stopped solve reached, against the one asked for."""
+    unit = {"force": "N", "pressure": "Pa", "travel": "m"}[sol.stop.load]
+    return (f"load.{sol.stop.load} {si(getattr(sol.scene.load, sol.stop.load), unit)} of "
+            f"{si(sol.stop.requested, unit)}")
+
+
+def _print_static(sol, args, vtu):
+    """Print a static result (its summary, or --json's record) and write --vtu."""
+    from taxel.meshing.build import export
     if vtu:
         export(sol.mesh, vtu, point_data={"u": sol.fields.u, "phi": sol.fields.phi},
                cell_data={"strain": sol.fields.strain, "stress": sol.fields.stress})
@@ -97,8 +120,9 @@ def _solve(args):
         print(json.dumps(sol.record()))
         return
     print(sol)
-    print(f"times: mesh {sol.times['mesh']:.3f} s, assemble {sol.times['assemble']:.3f} s, "
-          f"solve {sol.times['solve']:.3f} s")
+    if sol.times:                                 # a stopped solve's last converged state has none
+        print(f"times: mesh {sol.times['mesh']:.3f} s, assemble {sol.times['assemble']:.3f} s, "
+              f"solve {sol.times['solve']:.3f} s")
     print(f"applied force {si(sol.applied_force, 'N')}, support reaction {si(sol.reaction[-1], 'N')} (vertical), "
           f"relative residual {sol.residual:.1e}")
     if sol.newton is not None:

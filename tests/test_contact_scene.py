@@ -2,6 +2,7 @@
 bad input, and the thesis taxel pressed by a flat punch at a small force."""
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -113,6 +114,38 @@ def test_cli_prints_and_records_the_press(tmp_path, capsys):
     assert "indenter (flat): force" in out and "Newton iterations" in out
     rows = (tmp_path / "out" / "contact-curve.csv").read_text().splitlines()
     assert rows[0].startswith("travel_m,force_N") and len(rows) == rec["load_steps"] + 1
+
+
+@pytest.mark.slow
+def test_cli_keeps_a_stopped_press_at_its_last_converged_state(tmp_path, capsys):
+    """`taxel solve --out` of a press that stops (the 2D probe example, frictionless, asked
+    for 3 N: Newton inverts silicone elements past 1.62 N) exits 1 with one line naming why,
+    and writes the last converged state, saying so: result.json's stop (the force asked for,
+    the cause, the message), the summary's first lines, a scene at the force reached; it
+    reads back with its stop, and the report's banner says it, with a fix."""
+    import json
+    import taxel
+    from taxel.cli import EXIT_FAILED
+    text = (Path(taxel.__file__).parent / "examples" / "thesis-pzt-probe-2d.toml").read_text()
+    path = tmp_path / "stops.toml"
+    path.write_text(text.replace('friction = "sticking"', 'friction = "frictionless"').replace('force = "1 N"', 'force = "3 N"'))
+    out = tmp_path / "out"
+    assert main(["solve", str(path), "--out", str(out)]) == EXIT_FAILED == 1
+    printed, err = capsys.readouterr()
+    assert len(err.strip().splitlines()) == 1 and err.startswith("taxel: failed: Newton ")
+    rec = json.loads((out / "result.json").read_text())
+    F = rec["applied_force_N"]
+    assert rec["stop"]["requested"] == 3.0 and rec["stop"]["load"] == "force"
+    assert rec["stop"]["cause"] in ("inversion", "stagnation") and rec["stop"]["message"] in err
+    assert 1.0 < F < 3.0 and rec["contact"]["force_N"] == F == rec["contact"]["curve"]["force_N"][-1]
+    assert f"at load.force {F:.4g} N of 3 N" in err
+    assert printed.splitlines()[1].startswith("STOPPED SHORT of load.force = 3 N")
+    assert "STOPPED SHORT" in (out / "summary.txt").read_text()
+    back = taxel.read(out)
+    assert back.stop == taxel.analyses.results.Stop(**rec["stop"]) and back.scene.load.force == pytest.approx(F)
+    from taxel.reports.findings import static_banners          # the report's page says so on top, with a fix
+    said = [b.text for b in static_banners(back) if b.text.startswith("Stopped short of load.force = 3 N")]
+    assert len(said) == 1 and 'friction = "sticking"' in said[0]
 
 
 @pytest.mark.slow

@@ -13,7 +13,7 @@ from taxel.scene import Scene
 from taxel.analyses.adapter import check, mesh, problem, readout, scene_materials
 from taxel.analyses.results import (AnalysisResult, FrequencyResult, LumpedResult, ResultError, StaticResult,
                                     TransientResult, read)
-from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_model
+from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_model, stopped_result
 
 _LAZY = {name: "taxel.analyses.dynamic" for name in
          ("force_history", "frequencies", "frequency", "lumped_model", "lumped_response", "transient")}
@@ -28,6 +28,7 @@ def __getattr__(name):
 __all__ = ["solve", "solve_static", "frequency", "transient", "lumped_model", "lumped_response", "problem", "mesh",
            "readout", "check", "scene_materials", "frequencies", "force_history", "linear_error",
            "LINEAR_ERROR_PER_STRAIN", "read", "ResultError", "AnalysisResult", "StaticResult", "FrequencyResult",
+           "stopped_result",
            "TransientResult", "LumpedResult"]
 
 

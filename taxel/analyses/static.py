@@ -5,6 +5,10 @@ model.silicone = "auto" solves the linear model, estimates its voltage error as
 LINEAR_ERROR_PER_STRAIN x its largest silicone strain, keeps it when the
 estimate is within model.tolerance and otherwise solves Yeoh on the same mesh;
 the choice and the estimate are in `StaticResult.model_note`.
+
+A solve that stops short of its load (a Yeoh Newton under a pressure patch, where the
+silicone creases; a press, where it measured a stop cause) raises; `stopped_result`
+makes its last converged state a result that says so (`StaticResult.stop`).
 """
 
 from __future__ import annotations
@@ -14,9 +18,9 @@ import time
 from taxel.fem import assembly, linear, newton, press
 from taxel.fem.newton import NewtonError
 from taxel.meshing.build import TaggedMesh
-from taxel.scene import Scene
+from taxel.scene import Scene, replace
 from taxel.analyses.adapter import problem, with_silicone
-from taxel.analyses.results import StaticResult
+from taxel.analyses.results import StaticResult, Stop
 
 # Linear silicone's taxel-voltage error per unit of its own largest silicone strain:
 # the worst ratio measured over the thesis PZT and PVDF taxels, 0.05 to 0.45 N
@@ -75,3 +79,25 @@ def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     t3 = time.perf_counter()
     return StaticResult(scene, sol, {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0},
                         yeoh=prob.hyperelastic)
+
+
+def stopped_result(scene: Scene, exc: BaseException) -> StaticResult | None:
+    """The last converged state of a static solve of `scene` that stopped short of its load
+    with `exc` (fem.newton.NewtonError, fem.press_result.ContactError: their `.solution`), as
+    a StaticResult whose `stop` gives the load asked for and why it stopped, and whose scene
+    carries the load reached; None for any other error or where no state converged. Not a
+    new solve to that load: a press depends on its path (the 2D probe example, frictionless,
+    asked for 3 N stops past 1.62 N, and pressed to 1.62 N in one target stops at 1.27 N)."""
+    if not isinstance(exc, (NewtonError, press.ContactError)) or exc.solution is None:
+        return None
+    ld = scene.load
+    key = "pressure" if ld.kind == "pressure" else "travel" if ld.travel is not None else "force"
+    requested = getattr(ld, key)
+    if isinstance(exc, NewtonError):
+        reached, cause = exc.result.load_factors[-1] * requested, None
+    else:
+        last = exc.result.points[-1]
+        reached, cause = (last.travel if key == "travel" else last.force), exc.cause
+    return StaticResult(replace(scene, **{f"load.{key}": reached}), exc.solution,
+                        yeoh=scene.model.silicone != "linear",
+                        stop=Stop(requested, key, str(exc).splitlines()[0], cause))

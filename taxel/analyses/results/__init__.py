@@ -8,10 +8,10 @@ from taxel.analyses.results.base import (KINDS, MEMBERS, NOT_ESTIMATED, OUTPUT_N
                                          AnalysisResult, ErrorEstimate, OutputError)
 from taxel.analyses.results.folders import FORMAT, output_folder, write_csv, write_scene
 from taxel.analyses.results.noise import NOISE_OUTPUTS, NoiseResult
-from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult
+from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult, Stop
 from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_record, result_kind
 
-__all__ = ["FrequencyResult", "LumpedResult", "TransientResult", "StaticResult", "ErrorEstimate", "OutputError",
+__all__ = ["FrequencyResult", "LumpedResult", "TransientResult", "StaticResult", "Stop", "ErrorEstimate", "OutputError",
            "OUTPUT_NAMES", "RENAMED_OUTPUTS", "NOT_ESTIMATED", "FORMAT", "output_folder", "write_csv",
            "write_scene", "KINDS", "MEMBERS", "AnalysisResult", "STATIC_OUTPUTS", "RESULT_TYPES", "ResultError",
            "read", "read_record", "result_kind", "NoiseResult", "NOISE_OUTPUTS"]

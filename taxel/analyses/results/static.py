@@ -22,6 +22,17 @@ STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_vo
                   "max_strain": ""}
 
 
+@dataclass(frozen=True)
+class Stop:
+    """Why a static solve stopped short of its load: the result is then its last converged
+    state (taxel.analyses.static.stopped_result)."""
+
+    requested: float           # the load asked for: N (load.force), Pa (load.pressure) or m (load.travel)
+    load: str                  # which: "force", "pressure" or "travel"
+    message: str               # what stopped it and what it measured there (one line)
+    cause: str | None = None   # a press's stop cause (fem.press_result.StopCause); None for a Yeoh Newton
+
+
 @dataclass
 class StaticResult:
     """A static solve of a scene: per-electrode voltage, charge, short-circuit charge
@@ -39,6 +50,7 @@ class StaticResult:
     error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.error_estimate)
     yeoh: bool = False         # the silicone was solved as Yeoh (model.silicone = "yeoh", or "auto" chose it)
     contact_data: dict | None = None       # the press record of a result read back (else from the solution)
+    stop: Stop | None = None   # the solve stopped short of its load: this is its last converged state
     kind = "static"
 
     @property
@@ -156,6 +168,8 @@ class StaticResult:
             "newton": None if n is None else {"converged": n.converged, "load_factors": n.load_factors,
                                               "iterations": n.iterations, "cutbacks": n.cutbacks,
                                               "message": n.message},
+            "stop": None if self.stop is None else {"requested": self.stop.requested, "load": self.stop.load,
+                                                    "message": self.stop.message, "cause": self.stop.cause},
         }
 
     @classmethod
@@ -170,8 +184,10 @@ class StaticResult:
         sol = Solution(els, rec["applied_force_N"], np.asarray(rec["reaction_N"], dtype=float),
                        rec["max_silicone_strain"], rec["unknowns"], rec["solver"], rec["relative_residual"],
                        None, None, newton)
+        st = rec.get("stop")
         return cls(scene, sol, dict(rec.get("times_s", {})), rec.get("model_note", ""), read_error(rec),
-                   bool(rec.get("yeoh", rec.get("silicone") == "yeoh")), rec.get("contact"))
+                   bool(rec.get("yeoh", rec.get("silicone") == "yeoh")), rec.get("contact"),
+                   None if st is None else Stop(st["requested"], st["load"], st["message"], st.get("cause")))
 
     def to_folder(self, out) -> list[Path]:
         """result.json, scene.json and, for a press, contact-curve.csv."""
@@ -199,6 +215,10 @@ class StaticResult:
             lines.append(f"{e.name:<12}{e.state:<10}{engineering(e.voltage, 'V'):>12}"
                          f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
                          f"{engineering(e.capacitance, 'F'):>14}")
+        if self.stop is not None:
+            unit = {"force": "N", "pressure": "Pa", "travel": "m"}[self.stop.load]
+            lines.insert(1, f"STOPPED SHORT of load.{self.stop.load} = {engineering(self.stop.requested, unit)}: "
+                            f"these are its last converged state's numbers ({self.stop.message})")
         c = self.contact_record()
         if c is not None:
             lines.append(f"indenter ({c['indenter']['shape']}): force {engineering(c['force_N'], 'N')} at travel "
