@@ -82,12 +82,11 @@ def static_banners(sol) -> list[Banner]:
         out.append(Banner("range", f"Newton stopped: {sol.model_note}. Fix: a smaller force, or a stiffer silicone."))
     if sol.stop is not None:
         st = sol.stop
-        unit = {"force": "N", "pressure": "Pa", "travel": "m"}[st.load]
         fix = ("the penalty as the message says" if st.cause == "penalty" else "a smaller load"
                + (", or friction = \"sticking\" (the rig's probe on tacky silicone)"
                   if scene.load.contact and scene.load.friction == "frictionless" else ""))
-        out.append(Banner("range", f"Stopped short of load.{st.load} = {eng(st.requested, unit)}: {st.message}. "
-                          f"The numbers here are its last converged state, at {eng(getattr(scene.load, st.load), unit)}. "
+        out.append(Banner("range", f"Stopped short of load.{st.load} = {eng(st.requested, st.unit)}: {st.message}. "
+                          f"The numbers here are its last converged state, at {eng(getattr(scene.load, st.load), st.unit)}. "
                           f"Fix: {fix}."))
     return out
 

@@ -105,9 +105,8 @@ def _solve(args):
 
 def _reached(sol) -> str:
     """The load a stopped solve reached, against the one asked for."""
-    unit = {"force": "N", "pressure": "Pa", "travel": "m"}[sol.stop.load]
-    return (f"load.{sol.stop.load} {si(getattr(sol.scene.load, sol.stop.load), unit)} of "
-            f"{si(sol.stop.requested, unit)}")
+    st = sol.stop
+    return f"load.{st.load} {si(getattr(sol.scene.load, st.load), st.unit)} of {si(st.requested, st.unit)}"
 
 
 def _print_static(sol, args, vtu):

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 
@@ -27,10 +28,14 @@ class Stop:
     """Why a static solve stopped short of its load: the result is then its last converged
     state (taxel.analyses.static.stopped_result)."""
 
-    requested: float           # the load asked for: N (load.force), Pa (load.pressure) or m (load.travel)
-    load: str                  # which: "force", "pressure" or "travel"
+    requested: float           # the load asked for, in `unit`
+    load: Literal["force", "pressure", "travel"]   # which: the scene's load.force, load.pressure or load.travel
     message: str               # what stopped it and what it measured there (one line)
     cause: str | None = None   # a press's stop cause (fem.press_result.StopCause); None for a Yeoh Newton
+
+    @property
+    def unit(self) -> str:
+        return {"force": "N", "pressure": "Pa", "travel": "m"}[self.load]
 
 
 @dataclass
@@ -216,9 +221,9 @@ class StaticResult:
                          f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
                          f"{engineering(e.capacitance, 'F'):>14}")
         if self.stop is not None:
-            unit = {"force": "N", "pressure": "Pa", "travel": "m"}[self.stop.load]
-            lines.insert(1, f"STOPPED SHORT of load.{self.stop.load} = {engineering(self.stop.requested, unit)}: "
-                            f"these are its last converged state's numbers ({self.stop.message})")
+            st = self.stop
+            lines.insert(1, f"STOPPED SHORT of load.{st.load} = {engineering(st.requested, st.unit)}: these are "
+                            f"its last converged state's numbers ({st.message})")
         c = self.contact_record()
         if c is not None:
             lines.append(f"indenter ({c['indenter']['shape']}): force {engineering(c['force_N'], 'N')} at travel "
