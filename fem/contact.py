@@ -92,6 +92,14 @@ class Indenter:
         return self.radius - self.rho
 
 
+def lateral_distance(x: np.ndarray, centre) -> np.ndarray:
+    """m, the lateral distance of points x (dim, ...) from an axis through `centre` (x, y)
+    (2D: |x - c|; axisymmetric: the radius)."""
+    nl = x.shape[0] - 1
+    c = np.asarray(centre[:nl], float).reshape((nl,) + (1,) * (x.ndim - 1))
+    return np.sqrt(((x[:nl] - c) ** 2).sum(axis=0))
+
+
 def gap(ind: Indenter, x: np.ndarray, z_top: float, travel: float, with_curvature=True):
     """Gap g, normal n and dn/dx at current points x (dim, ...)."""
     dim = x.shape[0]
@@ -171,9 +179,7 @@ class ContactState:
         """m, the contact radius (2D: half-width) about the lateral `centre`: midway between
         the outermost active point and the next inactive point beyond it (reference positions
         plus displacement, i.e. current)."""
-        nl = self.x.shape[0] - 1
-        c = np.asarray(centre[:nl], float).reshape((nl,) + (1,) * (self.x.ndim - 1))
-        r = np.sqrt(((self.x[:nl] - c) ** 2).sum(axis=0)).ravel()
+        r = lateral_distance(self.x, centre).ravel()
         act = self.active.ravel()
         if not act.any():
             return 0.0

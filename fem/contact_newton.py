@@ -33,6 +33,7 @@ import time
 import numpy as np
 
 from taxel.fem import hyperelastic, linalg
+from taxel.fem.contact import lateral_distance
 from taxel.fem.press_result import ContactError
 
 STALL_STEPS = 5      # Newton steps on one active set ...
@@ -263,8 +264,7 @@ def _crush(pr, x_step) -> str:
     last = f"the last converged state, at travel {pr.d:.4g} m, has J down to {smallest(pr.x)[0]:.2f}"
     if not np.isfinite(J):
         return f"its last line-search step leaves a non-finite state; {last}"
-    nl = len(X) - 1
-    r = float(np.linalg.norm(X[:nl] - np.asarray(pr.ind.centre[:nl], float)))
+    r = float(lateral_distance(X, pr.ind.centre))
     return (f"its last line-search step leaves J {J:.2g} at {1e3 * r:.3g} mm from the indenter's axis, "
             f"{1e3 * (pr.z_top - X[-1]):.2g} mm below the top surface; {last}")
 
@@ -274,9 +274,7 @@ def _where(pr, st, x, dx) -> str:
     gap's normal turns there), how far the last full Newton step would slide a contact point
     along the indenter (against the edge radius), and the smallest J of the Yeoh silicone."""
     ind = pr.ind
-    nl = st.x.shape[0] - 1
-    c = np.asarray(ind.centre[:nl], float).reshape((nl,) + (1,) * (st.x.ndim - 1))
-    r = np.sqrt(((st.x[:nl] - c) ** 2).sum(axis=0))
+    r = lateral_distance(st.x, ind.centre)
     act = st.active
     rim = int((act & (r > ind.core)).sum()) if ind.rho > 0 else 0
     u = pr.sy.offsets["u"]
@@ -287,3 +285,4 @@ def _where(pr, st, x, dx) -> str:
     return (f"{rim} of {int(act.sum())} contact points on {part}; the last full Newton step "
             f"slides a contact point by {1e3 * slide:.3g} mm (edge radius {1e3 * ind.rho:.3g} mm)"
             + (f"; smallest J in the silicone {pr._min_J:.2f}" if pr.sy.yeoh else ""))
+

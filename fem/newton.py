@@ -210,12 +210,12 @@ def solve_yeoh(sy: System, method="auto", **kw) -> Solution:
     grounded electrodes; capacitance and short-circuit charge linearised at the
     final state, where the piezo is linear and the silicone's tangent is used). Where Newton
     stops short, the NewtonError carries the Solution at its last converged load factor."""
+    red = kw.pop("red", None) or reduction(sy, eliminate_grounded=True)
     try:
-        x, nres, red, solver = newton(sy, method, **kw)
+        x, nres, red, solver = newton(sy, method, red=red, **kw)
     except NewtonError as exc:
         nres = exc.result
         if nres is not None and nres.load_factors:
-            red = reduction(sy, eliminate_grounded=True)
             lam = nres.load_factors[-1]
             K = (red.P.T @ (sy.A + yeoh_terms(sy, nres.x)[1]) @ red.P).tocsc()
             solver = linalg.scaled_solver(K, red.is_u, linalg.resolve(method, red.n, dim=sy.tm.mesh.dim()))

@@ -379,7 +379,7 @@ def test_a_study_point_whose_press_stops_short_is_the_press_at_the_force_it_reac
     the study point is its last converged state, with the force asked for and why it stopped,
     in the stored result and the tidy row: the force and voltage that state recorded when it
     converged (PressPoint), not a new press to that force (a press to 1.62 N in one target stops
-    again, at 1.27 N: the path matters)."""
+    again, at 1.27 N: the path matters; benchmarks/stopped_press.py)."""
     from taxel.analyses import solve_static
     from taxel.scene import load
     from taxel.schema import to_data

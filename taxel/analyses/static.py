@@ -87,7 +87,8 @@ def stopped_result(scene: Scene, exc: BaseException) -> StaticResult | None:
     a StaticResult whose `stop` gives the load asked for and why it stopped, and whose scene
     carries the load reached; None for any other error or where no state converged. Not a
     new solve to that load: a press depends on its path (the 2D probe example, frictionless,
-    asked for 3 N stops past 1.62 N, and pressed to 1.62 N in one target stops at 1.27 N)."""
+    asked for 3 N stops past 1.62 N, and pressed to 1.62 N in one target stops at 1.27 N:
+    benchmarks/stopped_press.py)."""
     if not isinstance(exc, (NewtonError, press.ContactError)) or exc.solution is None:
         return None
     ld = scene.load
