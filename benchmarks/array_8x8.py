@@ -5,7 +5,7 @@ The thesis taxel (4 mm PZT, 0.127 mm, 3 mm gap, 1 mm Ecoflex above and below,
 3 mm margin: a 59 mm square) pressed by a 2 mm radius flat indenter (1 N,
 uniform pressure) centred between the four middle taxels, so the scene is
 symmetric about x = 0 and y = 0 and model.symmetry = "auto" solves a quarter
-(16 taxels, four symmetry classes for the full capacitance matrix, fem.symmetry).
+(16 taxels, four symmetry classes for the full capacitance matrix, fem.static).
 The mesh is `thesis-pzt-3x3-3d`'s at 2 mm, 0.8 mm at the taxels, two elements
 through the PZT (MESH: its error on the 3x3 array against benchmarks/reference_3d.py's
 value is stated there).

@@ -4,7 +4,7 @@ the figure its comment states, against docs/reference_3d.json's "3x3" reference
 meshes; the mean of its chains, and the largest error against any chain, as the
 error-estimate checks count it).
 
-thesis-pzt-3x3-3d, the quarter model (fem.symmetry), 1 N on the middle taxel, linear
+thesis-pzt-3x3-3d, the quarter model (fem.static), 1 N on the middle taxel, linear
 silicone; the pressed taxel's open-circuit voltage at: MESH (2 mm far, 0.8 mm at the
 taxels, two elements through the PZT), the example's own mesh (1.5 mm / 0.6 mm, two
 through), each with one element through, and 2.5 mm / 1 mm. Prints unknowns, voltage,

@@ -1,12 +1,12 @@
-"""3D assembly rate: our vectorised assembly (fem.bilinear) against FELupe, side by
+"""3D assembly rate: our vectorised assembly (fem.assembly) against FELupe, side by
 side in one run, on the same P2 tetrahedral mesh with the same law and quadrature.
 
 Second table (the issue's measure, >= 1.0): linear elasticity (E = 1 MPa, nu =
 0.3) on the P2 tetrahedral mesh of the 3x3 3D array at three sizes (3, 1.5 and 1 mm
 far, 0.4 x that at the taxels), set-up and assembly both. Ours: the scalar P2 basis
-on the affine mesh (fem.scalar_basis.scalar_basis: 10 reference gradients once, J^-1
+on the affine mesh (fem.assembly.scalar_basis: 10 reference gradients once, J^-1
 and |det J| per element) and the vector stiffness from it with the DOF map 3 s + c
-(fem.bilinear.vector_matrix: the reference integrals once, two small products per
+(fem.assembly.vector_matrix: the reference integrals once, two small products per
 element, 3x3 blocks summed on the scalar DOF pairs, BSR to CSR), the code the
 coupled assembly uses for its vector strain terms; FELupe: `RegionQuadraticTetra`,
 `FieldContainer` and `SolidBody(LinearElastic)` `assemble.matrix()`. The same
@@ -23,7 +23,7 @@ silicone, load, supports) of the built-in 3D taxel scenes.
 
 First table (the issue's measure): the Yeoh silicone's tangent at a deformed
 state, on the P2 tetrahedral mesh of the 3D taxel at three sizes (3, 1.5 and
-1 mm far, 0.4 x that at the taxel). Ours: fem.yeoh_terms.YeohRegion (the scalar
+1 mm far, 0.4 x that at the taxel). Ours: fem.hyperelastic.YeohRegion (the scalar
 shape-function gradients with the vector DOF map a * 3 + c; residual, K_uu,
 K_up, K_pp of the u-p form) scattered to CSR; FELupe: `Hyperelastic(yeoh)` in a
 `SolidBody` on a displacement field, `assemble.matrix()` (the displacement
@@ -33,7 +33,7 @@ tangent of the Yeoh energy equals our K_uu: the two are compared after the DOF
 mapping (max |dK| / max |K|). "setup" is the bases / YeohRegion and FELupe's
 region and field (once per mesh), "tangent" one Newton iteration's assembly
 (median of REPEAT, CPU time, the two codes alternating); "pattern" our CSR pattern
-of the tangent (once per mesh, as fem.press builds it: a Newton iteration then only
+of the tangent (once per mesh, as fem.contact builds it: a Newton iteration then only
 fills values). The ratios are FELupe's time / ours (>= 1: we are faster), for the
 tangent and for the setup.
 
@@ -61,8 +61,8 @@ import taxel
 from taxel.analyses import mesh as scene_mesh
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.kinematics import Solid3D
-from taxel.fem.bilinear import STRAIN, Term, assemble_terms
+from taxel.fem.constitution import Solid3D
+from taxel.fem.assembly import STRAIN, Term, assemble_terms
 
 E, NU = 1e6, 0.3
 REPEAT = 9
@@ -161,8 +161,8 @@ def linear_mesh(size):
 def linear_worker(code, size):
     """Runs in a fresh process: REPEAT (set-up, assembly) CPU times of one code, as JSON."""
     from skfem import ElementTetP2
-    from taxel.fem.bilinear import vector_matrix
-    from taxel.fem.scalar_basis import scalar_basis
+    from taxel.fem.assembly import vector_matrix
+    from taxel.fem.assembly import scalar_basis
     m, c = linear_mesh(size), isotropic_c()
     points, cells = felupe_points_cells(m)
     out = []
@@ -177,15 +177,15 @@ def linear_worker(code, size):
 
 def linear_compare(size):
     """One row of the linear table: the 3x3 3D array's mesh at far size `size`; ours
-    (the scalar P2 basis on the affine mesh, fem.scalar_basis.scalar_basis, and the vector
-    stiffness from it, fem.bilinear.vector_matrix) against FELupe (region, field,
+    (the scalar P2 basis on the affine mesh, fem.assembly.scalar_basis, and the vector
+    stiffness from it, fem.assembly.vector_matrix) against FELupe (region, field,
     SolidBody assembly), set-up and assembly, CPU medians over ROUNDS fresh processes
     per code, alternating (one code's memory state does not slow the other: measured,
     running after FELupe in one process tripled our time, page faults), REPEAT each
     after one untimed run (FELupe's first run in a process is several times its next)."""
     from skfem import ElementTetP2
-    from taxel.fem.bilinear import vector_matrix
-    from taxel.fem.scalar_basis import scalar_basis
+    from taxel.fem.assembly import vector_matrix
+    from taxel.fem.assembly import scalar_basis
     times = {"ours": [], "felupe": []}
     for _ in range(ROUNDS):
         for code in times:
@@ -212,10 +212,10 @@ def yeoh_compare(size):
     """One row of the Yeoh table at far size `size` (piezo size 0.4 x)."""
     import felupe as fe
     from skfem import ElementTetP1
-    from taxel.fem.sparsity import Pattern
-    from taxel.fem.yeoh import Yeoh
-    from taxel.fem.scalar_basis import scalar_basis
-    from taxel.fem.yeoh_terms import YeohRegion
+    from taxel.fem.assembly import Pattern
+    from taxel.fem.constitution import Yeoh
+    from taxel.fem.assembly import scalar_basis
+    from taxel.fem.hyperelastic import YeohRegion
     m = scene_mesh(taxel.load("thesis-pzt-single-3d").replace(**{"mesh.size": size,
                                                                 "mesh.piezo_size": 0.4 * size})).mesh
     law = Yeoh(*YEOH_C, K=2000 * YEOH_C[0])
@@ -226,7 +226,7 @@ def yeoh_compare(size):
         return sb, pb, YeohRegion(sb, pb, law, Solid3D(), 3 * sb.N)
 
     def ours_pattern(reg, n):
-        """The CSR pattern of the tangent, built once per mesh (as fem.press does)."""
+        """The CSR pattern of the tangent, built once per mesh (as fem.contact does)."""
         return Pattern(sp.identity(n, format="csr"), sp.csr_matrix((n, n)),
                        {"uu": pair(reg.udofs, reg.udofs), "up": pair(reg.udofs, reg.pdofs),
                         "pu": pair(reg.pdofs, reg.udofs), "pp": pair(reg.pdofs, reg.pdofs)})

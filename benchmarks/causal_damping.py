@@ -1,4 +1,4 @@
-"""The FEM's causal loss law (fem.relaxation) against the constant (hysteretic) loss
+"""The FEM's causal loss law (fem.constitution) against the constant (hysteretic) loss
 factor it replaced: the fitted law, and how far the thesis taxel's responses move.
 
 1. The law: relaxation frequencies, weights, the loss factor's largest deviation from
@@ -18,13 +18,14 @@ import numpy as np
 
 import taxel
 from taxel.analyses.adapter import problem
-from taxel.fem import dynamics, relaxation, sweep
+from taxel.fem import dynamics
+from taxel.fem import constitution
 
 POINTS = [1.0, 10.0, 100.0, 1000.0]
 
 
 def hysteretic(dm):
-    """The constant loss factors of the same kinds (the law before fem.relaxation)."""
+    """The constant loss factors of the same kinds (the law before fem.constitution)."""
     k = {}
     for kind, (eta, compliance) in dm.relax.losses.items():
         k[kind] = (1 / (1 + 1j * eta) if kind.startswith("volumetric") else 1 - 1j * eta) if compliance \
@@ -36,8 +37,8 @@ def responses(dm, kappa=None):
     if kappa is not None:
         dm.kappa = kappa
     fine = np.geomspace(200.0, 5000.0, 120)
-    pr = sweep.sweep(dm, POINTS, method="direct")
-    peak = sweep.sweep(dm, fine, method="reduced", tol=1e-6)
+    pr = dynamics.sweep(dm, POINTS, method="direct")
+    peak = dynamics.sweep(dm, fine, method="reduced", tol=1e-6)
     f1 = fine[int(np.argmax(np.abs(peak.V_oc[:, 0])))]
     if kappa is not None:
         del dm.kappa
@@ -45,11 +46,11 @@ def responses(dm, kappa=None):
 
 
 def main():
-    law = relaxation.law({"shear": (0.1, False), "volumetric": (0.1, True)})
+    law = constitution.law({"shear": (0.1, False), "volumetric": (0.1, True)})
     print("the law (silicone, eta = 0.1): relaxation frequencies "
           + ", ".join(f"{1 / (2 * np.pi * t):.3g}" for t in law.tau) + " Hz")
     print("  shear weights " + ", ".join(f"{c:.3f}" for c in law.weights["shear"])
-          + f"; loss within {100 * relaxation.ripple(law, 'shear', 0.1):.1f} % of 0.1 over 1 Hz-2 kHz")
+          + f"; loss within {100 * constitution.ripple(law, 'shear', 0.1):.1f} % of 0.1 over 1 Hz-2 kHz")
     k = {f: law.kappa(2 * np.pi * f)["shear"] for f in (0.0, 1.0, 100.0, 2000.0)}
     print("  Re kappa at 0, 1, 100, 2000 Hz: " + ", ".join(f"{v.real:.3f}" for v in k.values())
           + f" (Kramers-Kronig for a constant 0.1: (2000 / 1)^(2 atan(0.1) / pi) = "

@@ -25,7 +25,7 @@ import numpy as np
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.press import ContactError, Press
+from taxel.fem.contact import ContactError, Press
 from taxel.scene import load
 
 RATIO = 1.6        # each mesh's sizes over the next one's
@@ -52,7 +52,7 @@ def rules():
     """The contact points on the P2 triangle facets: the Newton iterations a quarter of the
     3D taxel (coarse mesh, linear silicone, sticking punch) takes to its first 0.1 N, with
     a budget of 10 multiplier updates per travel and 6 force-control trials."""
-    from taxel.fem.press import Options
+    from taxel.fem.contact import Options
     coarse = {"mesh.size": 1e-3, "mesh.piezo_size": 0.5e-3, "mesh.piezo_layers": 1, "model.silicone": "linear"}
     for name, opts in RULES.items():
         prob = problem(scene(**coarse))

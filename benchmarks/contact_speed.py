@@ -6,7 +6,7 @@ one run, side by side.
               merged before issue 14's second session (scikit-fem forms for the Yeoh and
               contact terms, sparse products with the reduction P, zero-order start of each
               travel, secant force control) -- kept callable for this comparison
-  vectorised  the same Newton path, vectorised assembly (fem.yeoh_terms, fem.sparsity): same
+  vectorised  the same Newton path, vectorised assembly (fem.hyperelastic, fem.assembly): same
               iterates, so the ratio is the assembly's alone
   frictionless  vectorised, tangent predictor dx/dd, Newton on F(d) with the path
               stiffness, Newton finishing on a recurring active set (fix_cycling)
@@ -29,7 +29,7 @@ import time
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.press import ContactError, Options, Press
+from taxel.fem.contact import ContactError, Options, Press
 from taxel.scene import load
 
 VARIANTS = {      # name: (friction, model.symmetry, Options)

@@ -1,4 +1,4 @@
-"""The thesis PZT taxel pressed by a rigid flat punch (fem.contact, fem.press).
+"""The thesis PZT taxel pressed by a rigid flat punch (fem.contact, fem.contact).
 
 2D plane strain (a half section: model.symmetry auto), axisymmetric with --axisym,
 3D with --3d (the 3D taxel's default mesh, a quarter model), each model's default
@@ -6,7 +6,7 @@ mesh, a 4 mm flat punch with a 0.2 mm edge radius centred on the taxel, sticking
 (the scene default) or frictionless (--frictionless), augmented Lagrangian. Force control along
 0.1, 0.25, 0.5, 0.75, 1, 1.5, 2 N, linear and Yeoh silicone, each warm-started from the last. Prints per target: travel,
 voltage, contact half-width, Newton iterations, multiplier updates, time;
-where a press stops, the reason (fem.press.ContactError). Writes
+where a press stops, the reason (fem.contact.ContactError). Writes
 out/contact-taxel/curve-<model>-<friction>-<silicone>.csv (every converged state) and
 the voltage-force figure docs/contact-voltage-force-<model>-<friction>.png. The
 nonlinearity printed is V_Yeoh(F) / V_linear(F) - 1 at each force, and
@@ -25,7 +25,7 @@ import numpy as np
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.press import ContactError, Press
+from taxel.fem.contact import ContactError, Press
 from taxel.scene import load
 
 TARGETS = (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0)

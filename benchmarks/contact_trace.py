@@ -6,7 +6,7 @@ search step): where and how a press stops.
 Run: MKL_NUM_THREADS=1 python benchmarks/contact_trace.py MODEL FORCE [OPTIONS] [SCENE] [-s] [-v]
   MODEL   plane_strain | axisymmetric
   FORCE   N
-  OPTIONS a dict of fem.press.Options fields, e.g. "{'fix_cycling': False}"
+  OPTIONS a dict of fem.contact.Options fields, e.g. "{'fix_cycling': False}"
   SCENE   a dict of scene keys, e.g. "{'mesh.piezo_size': 5e-5}"
   -s      sticking contact (default frictionless)
 """
@@ -17,7 +17,7 @@ import time
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.press import ContactError, Options, Press
+from taxel.fem.contact import ContactError, Options, Press
 from taxel.scene import load
 
 

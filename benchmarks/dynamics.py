@@ -13,14 +13,15 @@ import numpy as np
 
 from taxel.analyses import lumped_model, problem
 from taxel.analyses import solve_static as solve
-from taxel.fem import dynamics, lumped, sweep, timestep
+from taxel.fem import dynamics
+from taxel.fem import readout
 from taxel.scene import load, parse
 from taxel_2d import median_time     # benchmarks/ is on sys.path when run as a script
 
 
 def critical_step():
     """A laterally clamped 0.127 mm PSI-5H4E column, one P2 element through it (as in the taxel mesh)."""
-    return timestep.critical_time_step(dynamics.model(problem(PZT_COLUMN)))
+    return dynamics.critical_time_step(dynamics.model(problem(PZT_COLUMN)))
 
 
 PZT_COLUMN = parse({"model": {"type": "plane_strain", "depth": "0.1 mm"}, "mesh": {"size": "0.1 mm"},
@@ -36,14 +37,14 @@ def main():
     t_static, _ = median_time(lambda: solve(scene))
     dm = dynamics.model(problem(scene))
     freqs = np.geomspace(1, 1000, 200)
-    t_direct, direct = median_time(lambda: sweep.sweep(dm, freqs, method="direct"), 1)
-    t_red, red = median_time(lambda: sweep.sweep(dm, freqs), 3)
+    t_direct, direct = median_time(lambda: dynamics.sweep(dm, freqs, method="direct"), 1)
+    t_red, red = median_time(lambda: dynamics.sweep(dm, freqs), 3)
     err = np.abs(red.V_oc - direct.V_oc).max() / np.abs(direct.V_oc).max()
     t = np.arange(0, 1.0 + 2.5e-4, 5e-4)
     f = np.clip(t / 5e-3, 0, 1)
-    t_tr, tr = median_time(lambda: timestep.transient(dm, t, f, R=5e8), 3)
+    t_tr, tr = median_time(lambda: dynamics.transient(dm, t, f, R=5e8), 3)
     lm = lumped_model(scene)
-    pps = np.median([lumped.points_per_second(lm) for _ in range(5)])
+    pps = np.median([readout.points_per_second(lm) for _ in range(5)])
     dt_crit = critical_step()
     print(f"{'what':<52} {'seconds':>9} {'x static':>9}  note")
     print(f"{'static solve (mesh + assemble + solve)':<52} {t_static:>9.3f} {1:>9.1f}")

@@ -51,7 +51,7 @@ import numpy as np
 from taxel.analyses import mesh, problem
 from taxel.analyses import solve_static as solve
 from taxel.fem.assembly import assemble
-from taxel.fem.newton import yeoh_terms
+from taxel.fem.hyperelastic import yeoh_terms
 from taxel.scene import parse
 
 C_YEOH = (7.83e3, 0.103e3, -0.8)

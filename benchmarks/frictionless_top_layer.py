@@ -3,7 +3,7 @@
 
 The thesis taxel's 3D probe press (thesis-pzt-probe-3d), frictionless, one 1 N target, on the
 default press mesh (8 031 unknowns), where it stops at 0.749 N (benchmarks/press_3d.py
---frictionless), its stop naming where (fem.contact_newton): the top layer of elements under the
+--frictionless), its stop naming where (fem.contact): the top layer of elements under the
 flat, J down to 0.05.
 
 --ripple: the contact points under the flat (r < 1.5 mm) at 0.3 and 0.6 N, by kind (a P2
@@ -42,7 +42,7 @@ from press_3d import layout, run, scene
 from taxel.analyses import problem
 from taxel.fem import contact
 from taxel.fem.assembly import assemble
-from taxel.fem.press import Press
+from taxel.fem.contact import Press
 from taxel.meshing.build import build
 from taxel.scene import load
 

@@ -4,14 +4,14 @@ Prints, per force: Newton load steps and iterations, time per iteration, total
 time, voltage, the linear model's voltage and its error, and the Yeoh voltage's
 discretization error on the default mesh against a Richardson extrapolation over
 nested refinements. 1 N is attempted too: the uniform pressure patch creases the
-free surface before it (fem.newton), and the benchmark prints where it stopped.
+free surface before it (fem.hyperelastic), and the benchmark prints where it stopped.
 
 Run: MKL_NUM_THREADS=1 python benchmarks/hyperelastic_taxel.py
 """
 
 import numpy as np
 
-from taxel.fem.newton import NewtonError
+from taxel.fem.hyperelastic import NewtonError
 from taxel.analyses import solve_static as solve
 from taxel.analyses import mesh
 from taxel.scene import load

@@ -22,6 +22,7 @@ import scipy.sparse as sp
 from pyamg.gallery import poisson
 
 from taxel.fem import linalg
+from taxel.fem.linalg._direct import _analysis
 
 
 def read_bytes() -> int:
@@ -33,7 +34,7 @@ def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 30
     A = poisson((n, n, n), format="csr")
     probe = pypardiso.PyPardisoSolver(mtype=-2)
-    need = linalg._analysis(probe, sp.csr_matrix(sp.triu(A)))
+    need = _analysis(probe, sp.csr_matrix(sp.triu(A)))
     factors = 1024.0 * probe.get_iparm(17)           # (the factors alone, besides the need)
     probe.free_memory(True)
     in_core = linalg.factorize(A, "pardiso")

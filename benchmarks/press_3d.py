@@ -61,9 +61,9 @@ instead of one target; the PARDISO analysis redone at every Newton step
 (Options.reuse_analysis = False); the contact-aware grading off; the contact size at
 twice the edge radius; 6 Gauss points per facet instead of the edge midpoints.
 
-The solver's levers (fem.press, fem.contact_newton, fem.linalg), rows of the --divide 0.5 run:
+The solver's levers (fem.contact, fem.contact, fem.linalg), rows of the --divide 0.5 run:
 the tangent is symmetric (Yeoh, piezo, contact and stick terms), so PARDISO factorizes its upper
-triangle in the symmetric-indefinite mode (the pattern made structurally symmetric, fem.sparsity);
+triangle in the symmetric-indefinite mode (the pattern made structurally symmetric, fem.assembly);
 a Newton step's solve refines to 1e-10, not 1e-13; Newton stops at 1e-6 (V/F moves by 3e-5
 relative against 1e-9) and, while the contact multipliers still move, at 1e-3 (inexact Uzawa);
 a converged iterate gets no tangent (the line search's residual is reused); a chord step tries
@@ -130,7 +130,7 @@ Frictionless (--frictionless: the default press mesh, then the reference family'
 one run, load 2, 2026-11-25, with every P2 node of the top a contact point and the rim a size
 field (fem.contact, meshing.build); the error column is against the sticking reference, not
 comparable, left out; the stop's message names what the stalled Newton iterate measured,
-fem.contact_newton):
+fem.contact):
 
 | variant | unknowns | V/F V/N | error | states | Newton iterations | factorizations | chord steps | factorize CPU s | solve CPU s | assembly CPU s | CPU s | wall s |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|
@@ -173,7 +173,7 @@ from taxel.analyses import problem
 from taxel.analyses.adapter import checked_layout, check
 from taxel.analyses.error_estimate import CHEAP_3D
 from taxel.fem.assembly import assemble
-from taxel.fem.press import ContactError, Options, Press
+from taxel.fem.contact import ContactError, Options, Press
 from taxel.meshing.build import build
 from taxel.scene import load
 
@@ -280,7 +280,7 @@ def run(sc, lay, opts: Options | None = None, path=(), travels=(), edit=None):
 
 def stop(r) -> tuple[float, float, float | None, str]:
     """(force reached, travel, V/F at the last state, stop) of a run: 1 N and "reached 1 N", or
-    where it stopped and why: the stop's cause and summary (fem.press_result.ContactError, without
+    where it stopped and why: the stop's cause and summary (fem.contact.ContactError, without
     the measurements)."""
     if "error" not in r:
         return 1.0, r["travel"], r["VF"], "reached 1 N"

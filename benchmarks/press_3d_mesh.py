@@ -7,7 +7,7 @@ docs/press_3d_reference.json (Richardson over the extruded family; RESULT below)
 Each row: a mesh (meshing.layout.Layout choices on the scene's layout), its
 unknowns, elements (all; in the piezo; silicone above the piezo under the punch,
 r < 2.4 mm; above, beyond; below the piezo), V/F, its error against the reference,
-the press's Newton iterations, assembly and factorization time (fem.press's counters)
+the press's Newton iterations, assembly and factorization time (fem.contact's counters)
 and CPU and wall time of mesh + assembly + press, in one run side by side.
 
 The meshes: "extruded" is the plan mesh extruded layer by layer (the in-plane
@@ -22,7 +22,7 @@ then, -0.78992 V/N; that reference is superseded: benchmarks/press_3d.py, where 
 press mesh now reads -0.78635 V/N on 8 031 unknowns, 0.19 % from the finest level of the re-built family.
 Measured 2026-11-24 on the shared 2-core machine, load average 12-22, so the
 wall times are 3-6x the CPU times; the press on the solver before the chord steps and inexact
-Uzawa of fem/press.py; the extruded reference levels' CPU times are those of
+Uzawa of fem/contact/_press.py; the extruded reference levels' CPU times are those of
 docs/press_3d_reference.json, the same solver; on the new solver see benchmarks/press_3d.py):
 
 | mesh | unknowns | error | CPU s |

@@ -10,8 +10,8 @@ Errors: per path, max over frequency of |H - H_direct| relative to the path's
 largest |H_direct|; the worst path is printed, over 1 Hz-2 kHz (60 log-spaced
 points) and, separately, at the 7 points of a 400-point grid around the pressed
 path's resonance peak. "frf" is the reduced second-order model with the FEM's
-causal loss law (fem.relaxation); "state space" its exact real realization with
-the law's internal variables, modally truncated (fem.statespace), which the exports
+causal loss law (fem.constitution); "state space" its exact real realization with
+the law's internal variables, modally truncated (fem.dynamics), which the exports
 (python-control, scipy.signal, .mat) carry.
 
     MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/reduced_model.py
@@ -28,8 +28,8 @@ import numpy as np
 import taxel
 from taxel.analyses import reduced as R
 from taxel.analyses.adapter import problem
-from taxel.fem import dynamics, sweep
-from taxel.fem import reduced as fr
+from taxel.fem import dynamics
+from taxel.fem import dynamics as fr
 
 FREQS = np.geomspace(1.0, 2000.0, 60)
 
@@ -50,7 +50,7 @@ def case(label, scene):
     pairs = [fr.direct_ports(dm, loads, f) for f in FREQS]
     direct = time.perf_counter() - t
     t = time.perf_counter()
-    sweep.sweep(dm, FREQS, "reduced")
+    dynamics.sweep(dm, FREQS, "reduced")
     existing = time.perf_counter() - t
     V, Ci = np.array([p[0] for p in pairs]), np.array([p[1] for p in pairs])
     Hd = R.port_readout(FREQS, V, Ci, model.red.names, model.readout)

@@ -1,6 +1,6 @@
 """Converged 3D references for the pressed-taxel voltage (1 N, linear silicone):
 Richardson extrapolation over nested uniform refinements of a coarse quarter
-model (model.symmetry = "quarter", fem.symmetry; TaggedMesh.refined keeps the
+model (model.symmetry = "quarter", fem.static; TaggedMesh.refined keeps the
 named facets of tetrahedral meshes, so the meshes are nested).
 
 For each case: the voltages of 3 levels (each refinement halves every size, 8x

@@ -6,7 +6,7 @@ The fitted slope (error per unit strain) is what `model.silicone = "auto"` uses
 (taxel.analyses.static.LINEAR_ERROR_PER_STRAIN): solve linear, estimate the error from the
 strain, and switch to Yeoh when the estimate passes the scene's tolerance.
 The uniform-pressure press on Ecoflex cannot be followed by Newton beyond
-about 0.45 N in 2D (see fem.newton; the surface folds at the load edge), so the
+about 0.45 N in 2D (see fem.hyperelastic; the surface folds at the load edge), so the
 study stops where Yeoh converges.
 
 Run: MKL_NUM_THREADS=1 python benchmarks/silicone_model_error.py
@@ -14,7 +14,7 @@ Run: MKL_NUM_THREADS=1 python benchmarks/silicone_model_error.py
 
 import numpy as np
 
-from taxel.fem.newton import NewtonError
+from taxel.fem.hyperelastic import NewtonError
 from taxel.analyses import solve_static as solve
 from taxel.scene import load
 

@@ -23,7 +23,7 @@ import sys
 import time
 
 from taxel.analyses import solve_static, stopped_result
-from taxel.fem.press import ContactError
+from taxel.fem.contact import ContactError
 from taxel.scene import load
 
 FORCE_2D = 3.0      # N: past the 2D frictionless press's stop (1.25-1.62 N, the guide's "Frictionless presses")

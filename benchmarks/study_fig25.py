@@ -4,7 +4,7 @@ workers, the speed-up, and a fully cached rerun.
 
 With --thesis: the thesis's own model instead (studies/builtin/fig-2-5-thesis.toml,
 or --study fig-2-8-thesis): the same grid with linear and Yeoh plane-stress silicone
-(fem.yeoh_plane_stress), on 2 workers; prints the wall time of the run, the solve
+(fem.hyperelastic), on 2 workers; prints the wall time of the run, the solve
 seconds of the linear and of the Yeoh points, how many Yeoh points stopped short of
 their force (and where), and the Yeoh voltage against the linear one per point.
 

@@ -3,12 +3,12 @@ built-in 3D taxel scenes, one fresh process per row (so the peak memory is the
 row's own), solvers side by side.
 
 Each row runs `taxel.analyses.adapter` (gmsh mesh), `fem.assembly.assemble`
-(vectorised, fem.bilinear) and `fem.linear.solve_linear` (reduction, scaling,
+(vectorised, fem.assembly) and `fem.static.solve_linear` (reduction, scaling,
 factorization or GMRES for the load and every unit electrode charge, fields) with the solver and
 MKL thread count of the row, and prints the pressed taxel's open-circuit voltage,
 so the solvers can be compared on the same answer.
 
-The "model" column is model.symmetry: "quarter" (fem.symmetry) or "full"; the
+The "model" column is model.symmetry: "quarter" (fem.static) or "full"; the
 error is against benchmarks/reference_3d.py's Richardson value (docs/reference_3d.json).
 
 Times are wall-clock medians; "cpu s" is the row's process CPU time (time.process_time),
@@ -32,7 +32,7 @@ import json, resource, sys, time
 import taxel
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.linear import solve_linear
+from taxel.fem.static import solve_linear
 name, solver, symmetry = sys.argv[1], sys.argv[2], sys.argv[3]
 c0 = time.process_time(); t0 = time.perf_counter(); p = problem(taxel.load(name).replace(**{"model.symmetry": symmetry}))
 t1 = time.perf_counter(); sy = assemble(p)

@@ -1,5 +1,5 @@
-"""The Yeoh residual and consistent tangent: vectorised (fem.yeoh_terms, through
-fem.newton.yeoh_terms) against scikit-fem's forms (fem.newton.yeoh_terms_skfem),
+"""The Yeoh residual and consistent tangent: vectorised (fem.hyperelastic, through
+fem.hyperelastic.yeoh_terms) against scikit-fem's forms (fem.hyperelastic.yeoh_terms_skfem),
 side by side in one run, at the same deformed state, median CPU time of 3 repeats
 (1 in 3D).
 
@@ -18,7 +18,7 @@ import numpy as np
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.newton import newton, yeoh_terms, yeoh_terms_skfem
+from taxel.fem.hyperelastic import newton, yeoh_terms, yeoh_terms_skfem
 from taxel.scene import load
 
 

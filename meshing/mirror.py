@@ -2,7 +2,7 @@
 
 Each mirror image of the cut mesh (across x = 0 and/or y = 0) is added and the
 nodes on the planes are merged, so the full mesh is exactly mirror symmetric:
-solved whole, it must give what the symmetric model (fem.symmetry) gives, to
+solved whole, it must give what the symmetric model (fem.static) gives, to
 round-off. Regions and facet sets are carried over under their mirrored names
 (piezo_0_0 mirrored across x = 0 in a 1 x 3 array is piezo_0_2); the planes'
 facets ("mirror_x", "mirror_y") are inside the full mesh and dropped. Used to

@@ -21,7 +21,7 @@ contact indenter (load.kind = "indenter", load.contact = true) as the base gives
 probe, which then wins over these defaults for every key the table does not set.
 
 Objectives of a press, for the pressed taxel's open-circuit voltage V(F) along the
-force-controlled press (fem.press, every state converged):
+force-controlled press (fem.contact, every state converged):
 
     sensitivity          = |V(F)| / F               (V/N, the secant at the operating force F)
     tangent_sensitivity  = |dV/dF| at F             (V/N, the small-signal slope there)
@@ -147,7 +147,7 @@ def press_metrics(data: dict, press: Press | None = None, estimate: bool = False
     from taxel.analyses import problem
     from taxel.analyses.results import StaticResult
     from taxel.fem.assembly import assemble
-    from taxel.fem.press import Press as FemPress
+    from taxel.fem.contact import Press as FemPress
     from taxel.scene import parse
     press = press or Press()
     step = press.step

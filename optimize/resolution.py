@@ -14,7 +14,7 @@ taxel's open-circuit sensitivity S = V_oc / F (V/N) and charge sensitivity
 Q_sc / F (C/N); their ratio is its capacitance C_p. Below the first mechanical
 resonance the readout output per newton is the circuit's transfer H(f) of that
 charge source, and each noise source's PSD depends only on the circuit and C_p
-(fem.noise). Then (taxel.analyses.results.noise):
+(fem.readout). Then (taxel.analyses.results.noise):
 
     min_detectable_force = noise_rms / S_B        (N rms, SNR 1; S_B = rms of |H| over the band)
     snr = 20 log10(force / min_detectable_force)   (dB)

@@ -13,7 +13,7 @@ import numpy as np
 
 from taxel.analyses.adapter import layout
 from taxel.analyses.adapter import scene_materials
-from taxel.fem.yeoh_fit import stability_limit
+from taxel.fem.constitution import stability_limit
 from taxel.schema import renamed_value
 from taxel.units import magnitude
 from taxel.schema import electrode_name

@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 
 from taxel.analyses import StaticResult, frequency, solve_static, stopped_result
-from taxel.fem.newton import NewtonError
-from taxel.fem.press_result import ContactError
+from taxel.fem.hyperelastic import NewtonError
+from taxel.fem.contact import ContactError
 from taxel.scene import Scene, parse, replace
 
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")

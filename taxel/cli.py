@@ -328,7 +328,7 @@ def main(argv=None):
                       else f"{exc.strerror or exc}; check the paths and their permissions")
     except (ValueError, KeyError) as exc:
         return _error(str(exc.args[0]) if exc.args else type(exc).__name__)
-    except RuntimeError as exc:          # includes fem.newton.NewtonError
+    except RuntimeError as exc:          # includes fem.hyperelastic.NewtonError
         print(f"taxel: failed: {_first_line(exc)}", file=sys.stderr)
         return EXIT_FAILED
     except MemoryError:

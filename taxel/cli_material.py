@@ -28,7 +28,7 @@ def register(sub):
 
 
 def fit_yeoh_command(args):
-    from taxel.fem.yeoh_fit import COMPRESSION_STRETCH, fit_yeoh, stability_losses
+    from taxel.fem.constitution import COMPRESSION_STRETCH, fit_yeoh, stability_losses
     from taxel.reports.figures import yeoh_fit as plot_fit
     from taxel.studies.uniaxial import read_uniaxial
     max_strain = parse_strain("--max-strain", args.max_strain)

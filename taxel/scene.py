@@ -143,7 +143,7 @@ class Dynamics(Strict):
     dielectric_loss: LossFactor | None = None   # default tan(delta) of the material
     rayleigh_alpha: float = Field(0.0, ge=0)          # 1/s, C = alpha M + beta K
     rayleigh_beta: float = Field(0.0, ge=0)           # s
-    reference_frequency: Frequency = "100 Hz"         # lumped models: eta -> viscous eta / (2 pi f_ref) (the FEM: fem.relaxation)
+    reference_frequency: Frequency = "100 Hz"         # lumped models: eta -> viscous eta / (2 pi f_ref) (the FEM: fem.constitution)
 
 
 class Analysis(Strict):
@@ -174,7 +174,7 @@ class Readout(Strict):
     notch: bool = False               # the thesis's 50 Hz second-order Butterworth band-stop
     notch_frequency: Frequency = "50 Hz"
     notch_bandwidth: Frequency = "10 Hz"
-    # noise of the chain (taxel.analyses.noise; fem.noise has the physics). The thesis does not
+    # noise of the chain (taxel.analyses.noise; fem.readout has the physics). The thesis does not
     # name its op-amp: the defaults are a TL072-class JFET op-amp (TI datasheet SLOS080: 18 nV/sqrt(Hz)
     # at 1 kHz, 0.01 pA/sqrt(Hz), +-12 V linear swing on +-15 V supplies), white (no 1/f corner).
     e_n: NoiseVoltage = "18 nV/Hz**0.5"   # op-amp (or buffer) voltage noise density
@@ -199,7 +199,7 @@ class Scene(Strict):
     dynamics: Dynamics = Dynamics()
     analysis: Analysis = Analysis()
     readout: Readout = Readout()
-    materials: dict[str, dict] = {}     # user materials (SI numbers), see fem.user_materials
+    materials: dict[str, dict] = {}     # user materials (SI numbers), see fem.constitution
     _default_mesh: tuple[str, ...] = PrivateAttr(())    # the mesh keys filled from DEFAULT_MESH
 
     def replace(self, **changes) -> Scene:

@@ -5,9 +5,9 @@ geometric growth to a far boundary."""
 import numpy as np
 import skfem
 
-from taxel.fem.kinematics import Axisymmetric, PlaneStrain, Solid3D
-from taxel.fem.materials import Solid
-from taxel.fem.problem import Discretization, PatchLoad, Problem
+from taxel.fem.constitution import Axisymmetric, PlaneStrain, Solid3D
+from taxel.fem.constitution import Solid
+from taxel.fem.assembly import Discretization, PatchLoad, Problem
 from taxel.meshing.build import TaggedMesh
 from taxel.meshing.layout import Layer, Layout, Patch
 

@@ -1,5 +1,5 @@
-"""The vectorised assembly (fem.bilinear) equals scikit-fem's BilinearForms of
-fem.forms, block by block, to round-off: every model type, both element orders,
+"""The vectorised assembly (fem.assembly) equals scikit-fem's BilinearForms of
+fem.assembly, block by block, to round-off: every model type, both element orders,
 mixed and displacement-only silicone, piezo and plate layouts."""
 
 import numpy as np
@@ -8,14 +8,14 @@ import scipy.sparse as sp
 from skfem import asm
 
 from taxel.analyses import problem
-from taxel.fem import forms
+from taxel.fem import assembly
 from taxel.fem.assembly import assemble
-from taxel.fem.laws import PiezoLaw
+from taxel.fem.constitution import PiezoLaw
 from taxel.scene import load
 
 
 def reference_parts(sy):
-    """Every block kind assembled by scikit-fem from the forms of fem.forms."""
+    """Every block kind assembled by scikit-fem from the forms of fem.assembly."""
     n, kin, off = sy.A.shape[0], sy.kin, sy.offsets
     parts = {}
 
@@ -29,18 +29,18 @@ def reference_parts(sy):
         ub = sy.ubases[region]
         if isinstance(lw, PiezoLaw):
             pb = sy.phibases[region]
-            put(f"elastic:{region}", 0, 0, asm(forms.elastic(lw.c, kin), ub))
-            put("coupling", 0, off["phi"].start, asm(forms.piezo_coupling(lw.e, kin), pb, ub), True)
-            put(f"dielectric:{region}", off["phi"].start, off["phi"].start, -asm(forms.dielectric(lw.eps, kin), pb))
+            put(f"elastic:{region}", 0, 0, asm(assembly.elastic(lw.c, kin), ub))
+            put("coupling", 0, off["phi"].start, asm(assembly.piezo_coupling(lw.e, kin), pb, ub), True)
+            put(f"dielectric:{region}", off["phi"].start, off["phi"].start, -asm(assembly.dielectric(lw.eps, kin), pb))
         elif region in sy.yeoh:
             continue
         elif region in sy.pbases:
             pb, o = sy.pbases[region], off[("p", region)].start
-            put(f"shear:{region}", 0, 0, asm(forms.deviatoric_shear(lw.mu, lw.beta, kin), ub))
-            put("constraint", 0, o, asm(forms.pressure_divergence(kin), pb, ub), True)
-            put(f"volumetric:{region}", o, o, -asm(forms.pressure_mass(lw.kappa, kin), pb))
+            put(f"shear:{region}", 0, 0, asm(assembly.deviatoric_shear(lw.mu, lw.beta, kin), ub))
+            put("constraint", 0, o, asm(assembly.pressure_divergence(kin), pb, ub), True)
+            put(f"volumetric:{region}", o, o, -asm(assembly.pressure_mass(lw.kappa, kin), pb))
         else:
-            put(f"shear:{region}", 0, 0, asm(forms.elastic(lw.c, kin), ub))
+            put(f"shear:{region}", 0, 0, asm(assembly.elastic(lw.c, kin), ub))
     return parts
 
 
@@ -92,13 +92,13 @@ def test_3d_p2_stiffness_equals_felupe_on_the_same_mesh():
 
 
 def test_scalar_basis_stiffness_equals_felupe_and_scikit_fem():
-    """The affine scalar-basis path (fem.scalar_basis.scalar_basis + vector_matrix: the
+    """The affine scalar-basis path (fem.assembly.scalar_basis + vector_matrix: the
     reference integrals once, J^-1 per element, blocks scattered on the scalar DOFs)
     gives FELupe's matrix and the vector-basis assembly's on the same mesh."""
     from skfem import ElementTetP2
-    from taxel.fem.bilinear import vector_matrix
-    from taxel.fem.scalar_basis import scalar_basis
-    from taxel.fem.kinematics import Solid3D
+    from taxel.fem.assembly import vector_matrix
+    from taxel.fem.assembly import scalar_basis
+    from taxel.fem.constitution import Solid3D
     bench, m = _assembly_bench()
     ub = bench.ours_setup(m)
     rng = np.random.default_rng(1)
@@ -113,14 +113,14 @@ def test_scalar_basis_stiffness_equals_felupe_and_scikit_fem():
 
 
 def test_scalar_basis_serves_the_yeoh_terms_as_scikit_fem_bases_do():
-    """fem.yeoh_terms.YeohRegion on ScalarBasis objects (P2 displacement, P1 pressure)
+    """fem.hyperelastic.YeohRegion on ScalarBasis objects (P2 displacement, P1 pressure)
     gives the residual and tangent it gives on scikit-fem's scalar bases."""
     from skfem import Basis, ElementTetP1, ElementTetP2
     from taxel.analyses import mesh
-    from taxel.fem.scalar_basis import scalar_basis
-    from taxel.fem.kinematics import Solid3D
-    from taxel.fem.yeoh import Yeoh
-    from taxel.fem.yeoh_terms import YeohRegion
+    from taxel.fem.assembly import scalar_basis
+    from taxel.fem.constitution import Solid3D
+    from taxel.fem.constitution import Yeoh
+    from taxel.fem.hyperelastic import YeohRegion
     m = mesh(load("thesis-pzt-single-3d").replace(**{"mesh.size": "2 mm"})).mesh
     law = Yeoh(7.83e3, 0.103e3, -0.8, K=2000 * 7.83e3)
     out = []
@@ -135,12 +135,12 @@ def test_scalar_basis_serves_the_yeoh_terms_as_scikit_fem_bases_do():
 
 
 def test_lean_basis_interpolates_and_numbers_as_scikit_fem():
-    """fem.scalar_basis.LeanBasis (no table of the shape functions) interpolates a field
+    """fem.assembly.LeanBasis (no table of the shape functions) interpolates a field
     through the scalar functions as scikit-fem's Basis does from its table (vector P2,
     P2, P1, on a subset of the elements), with the same DOFs; bases made `like` another
     share its numbering and DOF locations."""
     from skfem import Basis, ElementTetP1, ElementTetP2, ElementVector, MeshTet
-    from taxel.fem.scalar_basis import LeanBasis
+    from taxel.fem.assembly import LeanBasis
     m = MeshTet.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 2, 3), np.linspace(0, 0.5, 3))
     rng = np.random.default_rng(1)
     m = MeshTet(m.p + 0.05 * rng.standard_normal(m.p.shape), m.t)

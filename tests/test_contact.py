@@ -1,4 +1,4 @@
-"""Rigid indenter contact (fem.contact, fem.press): derivatives, closed forms
+"""Rigid indenter contact (fem.contact, fem.contact): derivatives, closed forms
 (Hertz, Boussinesq), and the failure cases that must be detected.
 
 Closed forms, linear elastic half-space, E* = E / (1 - nu^2):
@@ -20,9 +20,10 @@ import pytest
 
 from contact_meshes import block, problem
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import Indenter, Surface, gap
-from taxel.fem.materials import Solid
-from taxel.fem.press import ContactError, Options, Press
+from taxel.fem.assembly import Indenter
+from taxel.fem.contact import Surface, gap
+from taxel.fem.constitution import Solid
+from taxel.fem.contact import ContactError, Options, Press
 
 MU, NU = 10e3, 0.3
 K_BULK = 2 * MU * (1 + NU) / (3 * (1 - 2 * NU))
@@ -184,7 +185,7 @@ def test_vectorised_contact_terms_equal_the_forms_and_travel_derivatives_are_der
     S = surf.dofs
     r = np.bincount(S.ravel(), surf.element_residual(st).ravel(), minlength=ub.N)
     np.testing.assert_allclose(r, surf.residual(st), rtol=0, atol=1e-12 * np.abs(r).max())
-    from taxel.fem.newton import scatter
+    from taxel.fem.hyperelastic import scatter
     K = scatter(S, S, surf.element_tangent(st, eps), ub.N).toarray()
     Kf = surf.tangent(st, eps).toarray()
     assert np.abs(K - Kf).max() < 1e-12 * np.abs(Kf).max()
@@ -259,11 +260,11 @@ def test_bonded_thin_incompressible_layer_under_a_flat_punch():
 
 
 def test_a_stagnation_names_what_it_measured():
-    """The stagnation message's measurements (fem.contact_newton._where) against closed
+    """The stagnation message's measurements (fem.contact._where) against closed
     forms: a rigid lateral shift by delta slides every point under a punch's flat by delta
     (its normal is vertical), none on a sharp punch's (absent) rounded edge; a 0.3 mm edge
     radius pressed 50 um deep puts the active points beyond the flat's radius on the edge."""
-    from taxel.fem.contact_newton import _where
+    from taxel.fem.contact._newton import _where
     a = 1e-3
     tm = block(20 * a, 20 * a, 1.2 * a, a / 8, growth=1.3)
     for rho, d in ((0.0, 1e-3 * a), (0.3e-3, 0.05 * a)):
@@ -321,7 +322,7 @@ def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
     assert err.value.cause == ("inversion" if "inverts" in msg else "stagnation")      # typed, as measured
     assert err.value.summary == f"force control: 1 N not reached in 40 trials, the last at {pr.res.points[-1].force:.4g} N"
     assert 0.5 < pr.res.points[-1].force < 1.0
-    if "inverts" in msg:        # and where its step inverts the silicone (fem.contact_newton)
+    if "inverts" in msg:        # and where its step inverts the silicone (fem.contact)
         m = re.search(r"last line-search step leaves J (-?[\d.e+-]+) at ([\d.]+) mm from the indenter's axis", msg)
         assert m and float(m.group(1)) <= 0 and 0 <= float(m.group(2)) < 8
 

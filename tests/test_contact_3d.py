@@ -1,6 +1,6 @@
 """3D contact against closed forms, on the quarter model (two symmetry planes):
 a sphere and a flat punch pressed into a bonded linear block (fem.contact,
-fem.press with the 3D contact points, the P2 triangles' nodes, HRZ-lumped).
+fem.contact with the 3D contact points, the P2 triangles' nodes, HRZ-lumped).
 
 Closed forms, linear elastic half-space, E* = E / (1 - nu^2) (Johnson 1985, 4.2, 3.1):
   Hertz (sphere R, travel d):        F = 4/3 E* R^1/2 d^3/2,  a = sqrt(R d)
@@ -19,9 +19,9 @@ import pytest
 
 from contact_meshes import block3d, problem
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import Indenter
-from taxel.fem.materials import Solid
-from taxel.fem.press import Press
+from taxel.fem.assembly import Indenter
+from taxel.fem.constitution import Solid
+from taxel.fem.contact import Press
 
 MU, NU = 10e3, 0.3
 K_BULK = 2 * MU * (1 + NU) / (3 * (1 - 2 * NU))

@@ -4,7 +4,7 @@ frictionless plate wider than the block to 20 % (0.4 mm).
 
 FELupe: felupe.ContactRigidPlane (penalty node-to-plane contact) on the top
 nodes, its centre point moved down; NearlyIncompressible Yeoh (bulk K), mixed
-(u, p, J) Q1 fields. Here: fem.press with a flat punch of radius 20 mm (no edge
+(u, p, J) Q1 fields. Here: fem.contact with a flat punch of radius 20 mm (no edge
 radius), augmented Lagrangian, P2/P1 Taylor-Hood, the same Yeoh energy and K.
 Measured once (force per metre of depth at 0.1 / 0.2 / 0.3 / 0.4 mm):
   FELupe Q1 40 x 20:  17.68  38.16  61.71  88.92
@@ -21,9 +21,9 @@ import pytest
 
 from contact_meshes import block, problem
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import Indenter
-from taxel.fem.materials import Solid
-from taxel.fem.press import Press
+from taxel.fem.assembly import Indenter
+from taxel.fem.constitution import Solid
+from taxel.fem.contact import Press
 
 fe = pytest.importorskip("felupe")
 

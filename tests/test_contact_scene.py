@@ -10,8 +10,8 @@ import pytest
 from taxel.analyses import problem
 from taxel.analyses import solve_static as solve
 from taxel.fem.assembly import assemble
-from taxel.fem.press import Options, Press
-from taxel.fem.linear import solve_linear
+from taxel.fem.contact import Options, Press
+from taxel.fem.static import solve_linear
 from taxel.cli import EXIT_INPUT, main
 from taxel.scene import load
 
@@ -77,7 +77,7 @@ def test_small_press_voltage_is_near_the_uniform_pressure_patch(taxel_small_pres
 
 
 def test_small_press_equals_the_pressure_solution_with_the_punchs_pressure(taxel_small_press):
-    """The small-load limit: the present linear pressure solve (fem.linear), loaded by the
+    """The small-load limit: the present linear pressure solve (fem.static), loaded by the
     punch's contact traction (its nodal forces on the top; sticking, the default, adds the
     tangential part), gives the press's voltage and
     displacement: the contact solution is that pressure solution, the pressure found by
@@ -166,7 +166,7 @@ def test_dynamics_about_the_pressed_state_tends_to_the_static_curves_slope():
     voltage-force curve, taken from two static presses (central difference). Losses set
     to zero: structural loss factors do not vanish at zero frequency."""
     from taxel.fem.dynamics import model
-    from taxel.fem.sweep import direct
+    from taxel.fem.dynamics import direct
     sc = pressed("linear", 0.3).replace(**{"load.friction": "sticking", "mesh.size": 1e-3, "dynamics.silicone_loss": 0.0,
                                            "dynamics.piezo_loss": 0.0, "dynamics.dielectric_loss": 0.0,
                                            "mesh.piezo_size": 2.5e-4, "model.symmetry": "full"})

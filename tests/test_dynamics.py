@@ -5,7 +5,9 @@ import pytest
 from scipy.optimize import brentq, minimize_scalar
 
 from taxel.analyses import lumped_model, problem, readout
-from taxel.fem import circuits, dynamics, lumped, materials, sweep, timestep
+from taxel.fem import readout as circuits
+from taxel.fem import dynamics
+from taxel.fem import constitution
 from taxel.scene import load, parse
 
 
@@ -23,7 +25,7 @@ def test_newmark_one_dof_step_against_closed_form():
     dt, n = 1e-3, 2000
     t = np.arange(n + 1) * dt
     f = np.ones(n + 1)
-    q, _ = timestep.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), f, dt,
+    q, _ = dynamics.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), f, dt,
                             q0=np.zeros(1))
     wd = wn * np.sqrt(1 - zeta ** 2)
     exact = (1 - np.exp(-zeta * wn * t) * (np.cos(wd * t) + zeta / np.sqrt(1 - zeta ** 2) * np.sin(wd * t))) / k
@@ -35,7 +37,7 @@ def test_newmark_one_dof_harmonic_steady_state_against_closed_form():
     m, k, c, w = 1.0, 400.0, 2.0, 15.0
     dt = 2e-4
     t = np.arange(0, 12, dt)
-    q, _ = timestep.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), np.sin(w * t), dt)
+    q, _ = dynamics.newmark(np.array([[m]]), np.array([[c]]), np.array([[k]]), np.array([1.0]), np.sin(w * t), dt)
     amp = 1 / abs(k - m * w ** 2 + 1j * w * c)
     late = t > 8
     assert q[late, 0].max() == pytest.approx(amp, rel=2e-3)
@@ -48,7 +50,7 @@ def test_undamped_newmark_conserves_energy():
     M = np.diag(rng.uniform(1, 2, 6))
     dt, n = 0.05, 4000                             # steps far above 2 / omega_max: still stable
     q0 = rng.normal(size=6)
-    q, _ = timestep.newmark(M, np.zeros((6, 6)), K, np.zeros(6), np.zeros(n + 1), dt, q0=q0)
+    q, _ = dynamics.newmark(M, np.zeros((6, 6)), K, np.zeros(6), np.zeros(n + 1), dt, q0=q0)
     v = np.zeros(6)
     E = []
     for i in range(n + 1):                         # the scheme's velocity: v+ = 2 (q+ - q) / dt - v
@@ -65,10 +67,10 @@ def test_explicit_central_difference_is_unstable_above_its_critical_step():
     M = np.eye(5)
     w_max = np.sqrt(np.linalg.eigvalsh(K).max())
     dt_crit = 2 / w_max
-    grow = timestep.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 1.05 * dt_crit, 400)
-    stay = timestep.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 0.95 * dt_crit, 400)
+    grow = dynamics.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 1.05 * dt_crit, 400)
+    stay = dynamics.central_difference(M, K, lambda k: np.full(5, 1e-6 if k == 1 else 0.0), 0.95 * dt_crit, 400)
     assert np.abs(grow).max() > 1e6 * np.abs(stay).max()
-    implicit, _ = timestep.newmark(M, np.zeros((5, 5)), K, np.full(5, 1.0), np.r_[0, 1e-6, np.zeros(399)],
+    implicit, _ = dynamics.newmark(M, np.zeros((5, 5)), K, np.full(5, 1.0), np.r_[0, 1e-6, np.zeros(399)],
                                    100 * dt_crit)
     assert np.abs(implicit).max() < 1e-3
 
@@ -84,13 +86,13 @@ def taxel():
 def test_reduced_sweep_matches_direct_and_reports_its_error(taxel):
     scene, dm = taxel
     f = np.geomspace(1, 1000, 40)
-    red = sweep.sweep(dm, f)
-    direct = sweep.sweep(dm, f[::8], method="direct")
+    red = dynamics.sweep(dm, f)
+    direct = dynamics.sweep(dm, f[::8], method="direct")
     assert red.error < 1e-3                      # the default tolerance (measured 2.7e-4 at 1 kHz)
     rel = np.abs(red.V_oc[::8] - direct.V_oc).max() / np.abs(direct.V_oc).max()
     assert rel <= 1.01 * red.error               # the reported error is the largest (at the top frequency)
     np.testing.assert_allclose(red.Cinv[::8], direct.Cinv, rtol=red.error)
-    tight = sweep.sweep(dm, f, tol=1e-6)         # a tighter tolerance adds shifts until it holds
+    tight = dynamics.sweep(dm, f, tol=1e-6)         # a tighter tolerance adds shifts until it holds
     assert tight.error < 1e-6 and np.abs(tight.V_oc[::8] - direct.V_oc).max() < 1e-6 * np.abs(direct.V_oc).max()
 
 
@@ -103,7 +105,7 @@ def test_low_frequency_limit_is_the_static_solution(taxel):
     from taxel.analyses import solve_static as solve
     scene, dm = taxel
     static = solve(scene).electrodes["taxel_0_0"]
-    dyn = sweep.sweep(model(lossless(scene), tm=dm.sy.tm), [1e-3], method="direct")
+    dyn = dynamics.sweep(model(lossless(scene), tm=dm.sy.tm), [1e-3], method="direct")
     assert dyn.V_oc[0, 0] == pytest.approx(static.voltage, rel=1e-8)
     assert dyn.C[0, 0, 0] == pytest.approx(static.capacitance, rel=1e-8)
 
@@ -112,22 +114,22 @@ def test_resistive_load_coupled_equals_norton_postprocessing(taxel):
     scene, dm = taxel
     f = np.array([0.05, 0.5, 5.0, 50.0, 500.0])
     R = 5e8
-    port = sweep.sweep(dm, f, method="direct")
+    port = dynamics.sweep(dm, f, method="direct")
     norton = circuits.resistor(port.V_oc, port.C, 2 * np.pi * f, R)[:, 0]
-    coupled = np.array([sweep.coupled_resistor(dm, fi, R)[0] for fi in f])
+    coupled = np.array([dynamics.coupled_resistor(dm, fi, R)[0] for fi in f])
     np.testing.assert_allclose(norton, coupled, rtol=1e-8)
 
 
 def test_step_through_a_resistor_decays_with_tau_RC(taxel):
-    # without material losses: a lossy (relaxing, fem.relaxation) capacitance C(s) moves the
+    # without material losses: a lossy (relaxing, fem.constitution) capacitance C(s) moves the
     # pole off -1 / (R C(0)) by about 1 % (measured 1.0 %)
     scene, dm = taxel
     dm = model(lossless(scene), tm=dm.sy.tm)
     R = 5e8
     t = np.arange(0, 4.0, 2e-3)
     f = np.clip(t / 0.02, 0, 1)
-    tr = timestep.transient(dm, t, f, R=R)
-    C = abs(sweep.sweep(dm, [0.1], method="direct").C[0, 0, 0])
+    tr = dynamics.transient(dm, t, f, R=R)
+    C = abs(dynamics.sweep(dm, [0.1], method="direct").C[0, 0, 0])
     late = (t > 0.5) & (t < 3.5)
     tau = -1 / np.polyfit(t[late], np.log(np.abs(tr.V[late, 0])), 1)[0]
     assert tau == pytest.approx(R * C, rel=0.01)
@@ -141,20 +143,20 @@ def test_charge_amplifier_frequency_and_time_domain_agree(taxel):
     scene, dm = taxel
     scene = lossless(scene, beta=2e-4)        # Rayleigh damping: the same model in both domains
     dm = model(scene, tm=dm.sy.tm)
-    r = readout(scene.replace(**{"readout.circuit": "charge_amplifier"}))
+    r = readout(scene.replace(**{"circuits.circuit": "charge_amplifier"}))
     T, dt = 4.0, 5e-4
     t = np.arange(0, T, dt)
     f = np.sin(2 * np.pi * (2 * t + (100 - 2) * t ** 2 / (2 * T))) * np.hanning(len(t))
     short = model(scene, tm=dm.sy.tm, short=True)
-    tr = timestep.transient(short, t, f)
-    C_p = abs(sweep.sweep(dm, [1.0], method="direct").C[0, 0, 0])
+    tr = dynamics.transient(short, t, f)
+    C_p = abs(dynamics.sweep(dm, [1.0], method="direct").C[0, 0, 0])
     y = circuits.amplifier_in_time(t, tr.Q, [C_p], r)[:, 0]
     F = np.fft.rfft(tr.force)
     Y = np.fft.rfft(y)
     freqs = np.fft.rfftfreq(len(t), dt)
     band = (freqs > 15) & (freqs < 80)
     H_time = Y[band] / F[band]
-    port = sweep.sweep(dm, freqs[band])
+    port = dynamics.sweep(dm, freqs[band])
     H_freq = circuits.readout(port, r)[:, 0]
     assert np.median(np.abs(H_time / H_freq - 1)) < 0.01      # magnitude and phase
 
@@ -183,7 +185,7 @@ def test_thickness_mode_resonance_and_antiresonance_of_a_clamped_column():
         "dynamics": {"piezo_loss": 1e-5, "dielectric_loss": 0.0},
     })
     dm = model(scene)
-    m = materials.get("PZT-5H")
+    m = constitution.get("PZT-5H")
     c33D = m.c[2, 2] + m.e[2, 2] ** 2 / m.eps[2, 2]
     fa = np.sqrt(c33D / m.rho) / (2 * 2 * h)
     kt2 = m.e[2, 2] ** 2 / (m.eps[2, 2] * c33D)
@@ -193,8 +195,8 @@ def test_thickness_mode_resonance_and_antiresonance_of_a_clamped_column():
         res = minimize_scalar(lambda f: -abs(fn(f)), bracket=(0.95 * f0, f0, 1.05 * f0),
                               options={"xtol": 1e-7})
         return res.x
-    fa_fem = peak(lambda f: sweep.direct(dm, f)[1][0, 0], fa)            # C^-1 blows up: open circuit
-    fr_fem = peak(lambda f: 1 / sweep.direct(dm, f)[1][0, 0], fr)        # C blows up: short circuit
+    fa_fem = peak(lambda f: dynamics.direct(dm, f)[1][0, 0], fa)            # C^-1 blows up: open circuit
+    fr_fem = peak(lambda f: 1 / dynamics.direct(dm, f)[1][0, 0], fr)        # C blows up: short circuit
     assert fa_fem == pytest.approx(fa, rel=2e-4)
     assert fr_fem == pytest.approx(fr, rel=2e-4)
 
@@ -214,11 +216,11 @@ def test_lumped_equals_fem_for_a_confined_stack():
     dm = model(scene)
     lm = lumped_model(scene, confined=True)
     f = np.array([1e-3, 1.0, 100.0])
-    fem_q = sweep.sweep(dm, f, method="direct").Q_sc[:, 0]
+    fem_q = dynamics.sweep(dm, f, method="direct").Q_sc[:, 0]
     lum_q = lm.Q_sc(f)
     # static limit: exact in 1-D (e33 F / c33^E); tolerance = the loss factors' phase
     np.testing.assert_allclose(np.abs(lum_q[0]), np.abs(fem_q[0]), rtol=2e-3)
-    # dynamically the FEM's piezo stiffness follows the causal loss law (fem.relaxation),
+    # dynamically the FEM's piezo stiffness follows the causal loss law (fem.constitution),
     # c33 kappa(w): Q_sc = e33 F / (c33 kappa(w)) (the silicone in series carries the same force)
     kap = np.array([next(v for k, v in dm.kappa(2 * np.pi * x).items() if k.startswith("elastic")) for x in f])
     np.testing.assert_allclose(np.abs(fem_q), np.abs(lum_q[0]) / np.abs(kap), rtol=2e-3)
@@ -230,15 +232,15 @@ def test_lumped_and_fem_part_for_the_real_taxel():
     several times the lumped d33 F."""
     scene = load("thesis-pzt-single-2d")
     dm = model(scene)
-    fem_q = abs(sweep.sweep(dm, [1.0], method="direct").Q_sc[0, 0])
+    fem_q = abs(dynamics.sweep(dm, [1.0], method="direct").Q_sc[0, 0])
     lum_q = abs(lumped_model(scene).Q_sc([1.0])[0])
-    assert lum_q == pytest.approx(materials.get("PSI-5H4E").d33 * scene.load.force, rel=1e-3)
+    assert lum_q == pytest.approx(constitution.get("PSI-5H4E").d33 * scene.load.force, rel=1e-3)
     assert fem_q > 3 * lum_q
 
 
 def test_lumped_model_is_fast_and_has_consistent_forms():
     lm = lumped_model(load("thesis-pzt-single-2d"))
-    assert lumped.points_per_second(lm) > 1e5
+    assert circuits.points_per_second(lm) > 1e5
     z, p, k = lm.transfer_function()
     f = np.array([3.0, 300.0])
     s = 2j * np.pi * f
@@ -256,7 +258,7 @@ def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_us
                    "load": {"kind": "pressure", "pressure": "1 kPa"},
                    "supports": {"bottom": "rollers", "edges": "rollers"}})
     dm = model(scene)
-    dt_crit = timestep.critical_time_step(dm)
+    dt_crit = dynamics.critical_time_step(dm)
     assert 1e-9 < dt_crit < 2e-8                       # measured 5.5e-9 s
     K, M, u = dm.K_unrelaxed().toarray(), dm.M.toarray(), dm.red.is_u     # instantaneous stiffness
     Kc = K[np.ix_(u, u)] - K[np.ix_(u, ~u)] @ np.linalg.solve(K[np.ix_(~u, ~u)], K[np.ix_(~u, u)])
@@ -264,12 +266,12 @@ def test_explicit_step_for_a_thin_pzt_layer_is_tiny_and_implicit_is_stable_at_us
     kick = np.zeros(u.sum())
     kick[0] = 1e-3
     with np.errstate(over="ignore", invalid="ignore"):
-        blow = timestep.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 1.05 * dt_crit, 2000)
-    calm = timestep.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 0.95 * dt_crit, 2000)
+        blow = dynamics.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 1.05 * dt_crit, 2000)
+    calm = dynamics.central_difference(Mc, Kc, lambda k: kick if k == 1 else 0 * kick, 0.95 * dt_crit, 2000)
     growth = np.nan_to_num(np.abs(blow), nan=np.inf).max()          # overflow counts as blowing up
     assert growth > 1e6 * np.abs(calm).max()
     f = np.r_[0.0, np.ones(200)]
-    q, _ = timestep.newmark(Mc, 0 * Mc, Kc, kick, f, 1e5 * dt_crit)
+    q, _ = dynamics.newmark(Mc, 0 * Mc, Kc, kick, f, 1e5 * dt_crit)
     assert np.isfinite(q).all() and np.abs(q).max() < 10 * np.abs(np.linalg.solve(Kc, kick)).max()
 
 
@@ -310,9 +312,9 @@ def test_frequency_response_linearised_about_a_hyperelastic_preload():
     slope = (solve(_yeoh(base, F0 + dF)).voltages()["taxel_0_0"]
              - solve(_yeoh(base, F0 - dF)).voltages()["taxel_0_0"]) / (2 * dF)
     dm = model(_yeoh(base, F0))
-    incremental = sweep.sweep(dm, [1e-3], method="direct").V_oc[0, 0]          # per newton
+    incremental = dynamics.sweep(dm, [1e-3], method="direct").V_oc[0, 0]          # per newton
     assert incremental.real == pytest.approx(slope, rel=1e-6)          # measured 3e-8
-    linear = abs(sweep.sweep(model(lossless(base)), [1e-3], method="direct").V_oc[0, 0])
+    linear = abs(dynamics.sweep(model(lossless(base)), [1e-3], method="direct").V_oc[0, 0])
     assert abs(incremental) < 0.9 * linear                             # the preloaded silicone is stiffer
 
 
@@ -320,8 +322,8 @@ def test_hyperelastic_transient_small_load_equals_linear():
     base = load("thesis-pzt-single-2d")
     t = np.arange(0, 0.012 + 5e-4, 1e-3)
     f = 0.01 * np.clip(t / 0.005, 0, 1)                                     # N
-    lin = timestep.transient(model(base.replace(**{"load.force": 0.01})), t, f)
-    hyper, iters = timestep.transient_hyperelastic(problem(_yeoh(base, 0.01, lossless_=False)), t, f)
+    lin = dynamics.transient(model(base.replace(**{"load.force": 0.01})), t, f)
+    hyper, iters = dynamics.transient_hyperelastic(problem(_yeoh(base, 0.01, lossless_=False)), t, f)
     assert max(iters) <= 4
     np.testing.assert_allclose(hyper.V[-1], lin.V[-1], rtol=0.006)     # Yeoh vs linear at 10 mN: 0.37 %
 
@@ -337,18 +339,18 @@ def test_thesis_chapter4_study_runs_and_states_its_findings(tmp_path):
 
 
 def test_transient_and_sweep_share_the_causal_loss_law(taxel):
-    """With the default material losses (fem.relaxation), the FFT of the open-circuit
+    """With the default material losses (fem.constitution), the FFT of the open-circuit
     voltage for a windowed chirp over the FFT of the force equals the direct sweep
     (magnitude and phase): the transient's internal variables are the sweep's law."""
     scene, dm = taxel
     T, dt = 4.0, 2.5e-4
     t = np.arange(0, T, dt)
     f = np.sin(2 * np.pi * (2 * t + (400 - 2) * t ** 2 / (2 * T))) * np.hanning(len(t))
-    tr = timestep.transient(dm, t, f)
+    tr = dynamics.transient(dm, t, f)
     F, Y = np.fft.rfft(tr.force), np.fft.rfft(tr.V[:, 0])
     freqs = np.fft.rfftfreq(len(t), dt)
     band = (freqs > 20) & (freqs < 300)
-    H_freq = sweep.sweep(dm, freqs[band], method="reduced").V_oc[:, 0]
+    H_freq = dynamics.sweep(dm, freqs[band], method="reduced").V_oc[:, 0]
     assert np.median(np.abs(Y[band] / F[band] / H_freq - 1)) < 0.01
     # the hysteretic law it replaces differs by about its loss angle: the check can fail
     k = {n: (1 + 0.1j if n.startswith("shear") else 1.0) for n in dm.parts}
@@ -356,11 +358,11 @@ def test_transient_and_sweep_share_the_causal_loss_law(taxel):
 
 
 def test_relaxation_law_holds_the_loss_factor_over_the_band_and_is_causal():
-    """fem.relaxation: the fitted loss within 5 % of eta over 1 Hz-2 kHz; kappa(0) = 1;
+    """fem.constitution: the fitted loss within 5 % of eta over 1 Hz-2 kHz; kappa(0) = 1;
     the real part rises through the band as Kramers-Kronig demands for a constant loss
     (about (w2 / w1)^(2 atan(eta) / pi)); a compliance falls."""
-    from taxel.fem import relaxation as rx
-    law = rx.law({"shear:s": (0.1, False), "volumetric:s": (0.1, True), "dielectric:p": (0.02, True)})
+    from taxel.fem import constitution as rx
+    law = rx.relaxation_law({"shear:s": (0.1, False), "volumetric:s": (0.1, True), "dielectric:p": (0.02, True)})
     for kind, eta in (("shear:s", 0.1), ("volumetric:s", 0.1), ("dielectric:p", 0.02)):
         assert rx.ripple(law, kind, eta) < 0.05, kind
         assert law.kappa(0.0)[kind] == pytest.approx(1.0)

@@ -7,9 +7,9 @@ from scipy.optimize import fsolve
 
 from taxel.analyses import mesh, problem
 from taxel.analyses import solve_static as solve
-from taxel.fem import yeoh as H
+from taxel.fem import constitution as H
 from taxel.fem.assembly import assemble
-from taxel.fem.newton import NewtonError, newton, yeoh_terms
+from taxel.fem.hyperelastic import NewtonError, newton, yeoh_terms
 from taxel.scene import load, parse, refined
 
 C_YEOH = (7.83e3, 0.103e3, -0.0008e3)       # the 300 % fit (docs/materials.md)
@@ -236,7 +236,7 @@ def test_auto_picks_the_cheapest_model_that_is_accurate_enough(force, expect):
     assert abs(sol.voltages()["taxel_0_0"] / v_yeoh - 1) <= scene.model.tolerance
 
 
-# ---------------------------------------------------------------- vectorised assembly (fem.yeoh_terms)
+# ---------------------------------------------------------------- vectorised assembly (fem.hyperelastic)
 
 def test_batched_law_equals_the_pointwise_law():
     rng = np.random.default_rng(5)
@@ -254,10 +254,10 @@ def test_batched_law_equals_the_pointwise_law():
 
 @pytest.mark.parametrize("model", ["plane_strain", "axisymmetric", "3d"])
 def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
-    """fem.yeoh_terms (batched over elements; through the scalar gradients in plane
+    """fem.hyperelastic (batched over elements; through the scalar gradients in plane
     strain and 3D, through the vector B with its hoop term in axisymmetric) against
     the scikit-fem forms of fem.hyperelastic at a deformed state, to 1e-12 relative."""
-    from taxel.fem.newton import yeoh_terms_skfem
+    from taxel.fem.hyperelastic import yeoh_terms_skfem
     size = (3e-3, 1.2e-3) if model == "3d" else (1e-3, 2e-4)
     scene = with_(load("thesis-pzt-single-2d").replace(**{"model.type": model, "model.depth": None}), "yeoh", 0.2,
                   size=size[0], piezo_size=size[1])
@@ -274,10 +274,10 @@ def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
 def test_smallest_jacobian_finds_where_the_silicone_is_most_compressed():
     """u = (-c x^2, 0, 0) on a P2 tetrahedral box, represented exactly: J = 1 - 2 c x, smallest
     where x is largest. fem.hyperelastic.smallest_jacobian returns that J and its point (the
-    press's stop names where its elements crush, fem.contact_newton)."""
+    press's stop names where its elements crush, fem.contact)."""
     import skfem
     from taxel.fem.hyperelastic import min_jacobian, smallest_jacobian
-    from taxel.fem.kinematics import Solid3D
+    from taxel.fem.constitution import Solid3D
     m = skfem.MeshTet.init_tensor(*(np.linspace(0, 1e-3, 4),) * 3)
     ub = skfem.Basis(m, skfem.ElementVector(skfem.ElementTetP2()))
     c = 400.0                                            # 1/m: J from 1 down to 0.2 over the box

@@ -1,14 +1,14 @@
-"""The iterative solver (fem.krylov): equal to the direct one where both run, and a
+"""The iterative solver (fem.linalg): equal to the direct one where both run, and a
 failing preconditioner is an error, never a quiet answer."""
 
 import numpy as np
 import pytest
 
 from taxel.analyses import problem
-from taxel.fem import krylov, linalg
+from taxel.fem import linalg
 from taxel.fem.assembly import assemble
-from taxel.fem.constraints import reduction
-from taxel.fem.linear import solve_linear
+from taxel.fem.assembly import reduction
+from taxel.fem.static import solve_linear
 from taxel.scene import load
 
 
@@ -39,8 +39,8 @@ def test_a_failing_preconditioner_is_reported(system, options):
     """A Schur block scaled 1e7 too small, or too few iterations: KrylovError naming
     the residual reached, not a returned vector."""
     A, red = _reduced(system)
-    solve = krylov.scaled_solver(A, krylov.blocks(system, red), **options)
-    with pytest.raises(krylov.KrylovError, match="relative residual"):
+    solve = linalg.krylov_solver(A, linalg.krylov_blocks(system, red), **options)
+    with pytest.raises(linalg.KrylovError, match="relative residual"):
         solve(red.P.T @ system.b)
 
 

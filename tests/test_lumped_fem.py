@@ -1,4 +1,4 @@
-"""The FEM-informed 3-DoF lumped model (fem.lumped.identified, taxel.analyses.lumped_fem)."""
+"""The FEM-informed 3-DoF lumped model (fem.readout.identified, taxel.analyses.lumped_fem)."""
 
 import numpy as np
 
@@ -6,7 +6,7 @@ import taxel
 from taxel.analyses import lumped_fem
 from taxel.analyses.adapter import problem
 from taxel.analyses.dynamic import lumped_model
-from taxel.fem import dynamics, sweep
+from taxel.fem import dynamics
 
 
 def test_informed_lumped_static_charge_per_newton_equals_the_fems_and_the_seeds_does_not():
@@ -17,7 +17,7 @@ def test_informed_lumped_static_charge_per_newton_equals_the_fems_and_the_seeds_
     # the FEM's charge by another route: the lossless sweep's short-circuit charge at 1 mHz
     lossless = scene.replace(**{"dynamics.silicone_loss": 0.0, "dynamics.piezo_loss": 0.0,
                                 "dynamics.dielectric_loss": 0.0})
-    port = sweep.sweep(dynamics.model(problem(lossless)), [1e-3], "direct")
+    port = dynamics.sweep(dynamics.model(problem(lossless)), [1e-3], "direct")
     q_fem = abs(port.Q_sc[0, 0])
     q_lumped = abs(lm.Q_sc([1e-3])[0]) / lm.force
     assert abs(q_lumped / q_fem - 1) < 1e-2

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from taxel.fem import materials as M
-from taxel.fem import user_materials
+from taxel.fem import constitution as M
+from taxel.fem import constitution
 
 EPS0 = M.EPS0
 
@@ -135,9 +135,9 @@ def test_unknown_material_names_the_known_ones():
 
 
 def test_user_material_from_record_is_checked():
-    steel = user_materials.from_record("steel", {"kind": "solid", "E": 2e11, "nu": 0.3, "rho": 7800})
+    steel = constitution.from_record("steel", {"kind": "solid", "E": 2e11, "nu": 0.3, "rho": 7800})
     assert steel.E == pytest.approx(2e11) and steel.nu == pytest.approx(0.3)
     bad = {"kind": "piezo", "c": (-np.eye(6)).tolist(), "e": np.zeros((3, 6)).tolist(),
            "eps_S": np.eye(3).tolist(), "rho": 1000}
     with pytest.raises(ValueError, match="positive definite"):
-        user_materials.from_record("bad", bad)
+        constitution.from_record("bad", bad)

@@ -1,4 +1,4 @@
-"""The noise budget (fem.noise, taxel.analyses.noise): closed forms of the sources,
+"""The noise budget (fem.readout, taxel.analyses.noise): closed forms of the sources,
 the simulated rig's drawn noise against the integrated PSD, the result protocol."""
 
 import numpy as np
@@ -6,8 +6,8 @@ import pytest
 from scipy import integrate
 from scipy.constants import k as K_B
 
-from taxel.fem.circuits import Readout
-from taxel.fem.noise import Amplifier, Chain, Converter, Hum, band_power, grid
+from taxel.fem.readout import Readout
+from taxel.fem.readout import Amplifier, Chain, Converter, Hum, band_power, grid
 
 T = 300.0
 QUIET = Amplifier(e_n=0.0, i_n=0.0, temperature=T)

@@ -14,7 +14,7 @@ them to round-off (rtol 1e-9) with any mesh and any element order.
 import numpy as np
 import pytest
 
-from taxel.fem import materials as M
+from taxel.fem import constitution as M
 from taxel.analyses import solve_static as solve
 from taxel.scene import parse
 

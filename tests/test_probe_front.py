@@ -71,7 +71,7 @@ def test_press_objective_equals_taxel_solve_and_its_tangent_the_slope(tmp_path, 
     assert m["max_strain"] == pytest.approx(rec["max_silicone_strain"], rel=1e-12)
     from taxel.analyses import problem
     from taxel.fem.assembly import assemble
-    from taxel.fem.press import Press as FemPress
+    from taxel.fem.contact import Press as FemPress
     prob = problem(load(path))
     pr = FemPress(assemble(prob), prob.indenter)
     v = {F: (p.force, p.voltages["taxel_1_1"]) for F, p in ((F, pr.force(F)) for F in (0.9, 1.0, 1.1))}

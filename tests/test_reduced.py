@@ -1,5 +1,5 @@
-"""The reduced-order model of a scene (taxel.analyses.reduced, fem.reduced,
-fem.statespace): against the direct FEM sweep, the FEM transient, and its
+"""The reduced-order model of a scene (taxel.analyses.reduced, fem.dynamics,
+fem.dynamics): against the direct FEM sweep, the FEM transient, and its
 exports read back by python-control, scipy.signal and scipy.io."""
 
 import numpy as np
@@ -10,7 +10,7 @@ from taxel.analyses import reduced as R
 from taxel.analyses import reduced_export as X
 from taxel.analyses.adapter import problem
 from taxel.fem import dynamics
-from taxel.fem import reduced as fr
+from taxel.fem import dynamics as fr
 
 F_CHECK = np.geomspace(1.0, 2000.0, 9)
 
@@ -46,7 +46,7 @@ def near_resonances(model, n=3):
 def test_3x3_2d_frf_all_paths_within_half_a_percent_of_the_direct_sweep(array2d):
     """Both the reduced second-order model (frf) and the exported real state space,
     on every path, over 1 Hz-2 kHz and at the resonance (the causal loss law of
-    fem.relaxation has an exact real realization)."""
+    fem.constitution has an exact real realization)."""
     model, dm, loads = array2d
     assert model.input_names == [f"force:taxel_1_{c}" for c in range(3)]
     assert model.output_names == [f"voltage:taxel_1_{c}" for c in range(3)]
@@ -94,7 +94,7 @@ def test_step_response_against_the_fem_transient():
     1/40 of the first resonance's period (its period error is then below 0.1 %)."""
     scene = taxel.load("thesis-pzt-step").replace(**{"analysis.duration": "0.04 s", "analysis.dt": "0.025 ms"})
     fem = taxel.solve(scene)
-    model = R.reduce(scene, inputs="probe")        # one causal loss law in both (fem.relaxation)
+    model = R.reduce(scene, inputs="probe")        # one causal loss law in both (fem.constitution)
     y = model.simulate(fem.t, fem.force)[:, 0]
     ref = fem.output[:, 0]
     assert np.abs(y - ref).max() < 1e-2 * np.abs(ref).max()
@@ -126,7 +126,7 @@ def test_exports_read_back_give_the_same_frf(array2d, tmp_path):
     # MATLAB .mat
     m = X.load_mat(model.save_mat(tmp_path / "m.mat"))
     assert m["inputs"] == model.input_names and m["outputs"] == model.output_names
-    from taxel.fem.statespace import StateSpace
+    from taxel.fem.dynamics import StateSpace
     assert rel(StateSpace(m["A"], m["B"], m["C"], m["D"]).frf(f), H) < 1e-12
     # the project's .npz, and a folder read back by taxel.read
     back = R.ReducedModel.load(model.save(tmp_path / "m.npz"))
@@ -179,7 +179,7 @@ def test_cli_writes_npz_and_mat(tmp_path, capsys):
 
 
 def test_simulated_rig_on_the_reduced_model_has_the_fems_static_charge_and_crosstalk():
-    from taxel.fem.reduced import ports
+    from taxel.fem.dynamics import ports
     from taxel.studies.bench.rig import load_rig
     from taxel.studies.bench.simulate import Settings, simulate
     scene = taxel.load("thesis-pzt-3x3-2d")

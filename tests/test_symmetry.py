@@ -10,7 +10,8 @@ import pytest
 from taxel.analyses.adapter import layout
 from taxel.analyses.adapter import mesh, problem, scene_materials
 from taxel.analyses import solve_static
-from taxel.fem import assembly, linear
+from taxel.fem import assembly
+from taxel.fem import static
 from taxel.meshing.mirror import unfold
 from taxel.analyses.adapter import check, symmetry_planes
 from taxel.scene import SceneError, load
@@ -23,8 +24,8 @@ def _pair(scene, sym):
     tm = mesh(cut_scene)
     assert tm.layout.planes
     full_tm = unfold(tm, layout(full_scene, scene_materials(full_scene)))
-    sym_sol = linear.solve_linear(assembly.assemble(problem(cut_scene, tm)), "superlu")
-    full_sol = linear.solve_linear(assembly.assemble(problem(full_scene, full_tm)), "superlu")
+    sym_sol = static.solve_linear(assembly.assemble(problem(cut_scene, tm)), "superlu")
+    full_sol = static.solve_linear(assembly.assemble(problem(full_scene, full_tm)), "superlu")
     return sym_sol, full_sol
 
 
@@ -119,7 +120,7 @@ def _press_pair(scene, sym, travel):
     """(symmetric press, full press on the mirrored mesh), both to the same travel."""
     from dataclasses import replace
 
-    from taxel.fem.press import press
+    from taxel.fem.contact import press
     out = []
     for s in (sym, "full"):
         sc = scene.replace(**{"model.symmetry": s})

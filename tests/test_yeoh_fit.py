@@ -1,4 +1,4 @@
-"""Yeoh fit of a uniaxial tensile test (fem.yeoh_fit, `taxel material fit-yeoh`).
+"""Yeoh fit of a uniaxial tensile test (fem.constitution, `taxel material fit-yeoh`).
 
 The published Ecoflex 00-30 sets (docs/materials.md) are reproduced by a linear least-squares
 fit of the incompressible uniaxial nominal stress P = 2 (lam - lam^-2) W'(I1) to the
@@ -23,8 +23,9 @@ import json
 import numpy as np
 import pytest
 
-from taxel.fem import materials as M
-from taxel.fem import yeoh, yeoh_fit as Y
+from taxel.fem import constitution as M
+from taxel.fem import constitution
+from taxel.fem import constitution as Y
 from taxel.studies.uniaxial import read_uniaxial
 from taxel.cli import EXIT_INPUT, main
 
@@ -68,7 +69,7 @@ def test_fit_reproduces_published_sets(data, max_strain, published, decimals):
 @pytest.mark.parametrize("name,max_strain", [("Ecoflex-00-30", 3.0), ("Ecoflex-00-30-fit100", 1.0),
                                              ("Ecoflex-00-30-fit50", 0.5)])
 def test_library_records_are_the_fits_of_the_data(data, name, max_strain):
-    """The default record is the 300 % fit (the one stable set, fem.materials)."""
+    """The default record is the 300 % fit (the one stable set, fem.constitution)."""
     fit = Y.fit_yeoh(*data, max_strain)
     lib = M.get(name).yeoh
     assert np.allclose(np.array(fit.C), lib, atol=6.0)     # library carries 3 digits in kPa
@@ -117,20 +118,20 @@ def test_stress_formulas_match_finite_differences_of_the_energy():
     I1 = {"uniaxial": lambda l: l**2 + 2 / l, "equibiaxial": lambda l: 2 * l**2 + l**-4,
           "pure shear": lambda l: l**2 + 1 + l**-2}
     h = 1e-6
-    for mode in yeoh.MODES:
+    for mode in constitution.MODES:
         for lam in (0.6, 0.9, 1.2, 1.7):
             # equibiaxial: W is per unit volume, two stretched directions share it
             share = 2.0 if mode == "equibiaxial" else 1.0
             P_fd = (W(I1[mode](lam + h)) - W(I1[mode](lam - h))) / (2 * h) / share
-            assert yeoh.nominal_stress(mode, lam, *C) == pytest.approx(P_fd, rel=1e-6)
-            T_fd = (yeoh.nominal_stress(mode, lam + h, *C) - yeoh.nominal_stress(mode, lam - h, *C)) / (2 * h)
-            assert yeoh.nominal_tangent(mode, lam, *C) == pytest.approx(T_fd, rel=1e-5, abs=1e-6)
+            assert constitution.nominal_stress(mode, lam, *C) == pytest.approx(P_fd, rel=1e-6)
+            T_fd = (constitution.nominal_stress(mode, lam + h, *C) - constitution.nominal_stress(mode, lam - h, *C)) / (2 * h)
+            assert constitution.nominal_tangent(mode, lam, *C) == pytest.approx(T_fd, rel=1e-5, abs=1e-6)
 
 
 def test_stability_limit_is_a_sign_change_and_none_for_positive_coefficients():
     C = (6.7e3, 1.93e3, -1.07e3)
     lam = Y.stability_limit(C, (0.5, 3.0))["uniaxial"]["tension"]
-    assert yeoh.nominal_tangent("uniaxial", lam - 1e-6, *C) > 0 > yeoh.nominal_tangent("uniaxial", lam + 1e-6, *C)
+    assert constitution.nominal_tangent("uniaxial", lam - 1e-6, *C) > 0 > constitution.nominal_tangent("uniaxial", lam + 1e-6, *C)
     assert all(v is None for per in Y.stability_limit((5e3, 100.0, 1.0), (0.2, 10.0)).values()
                for v in per.values())
     lim = Y.stability_limit((-1.0, 0.0, 0.0), (0.5, 2.0))    # unstable at once

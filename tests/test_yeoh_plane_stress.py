@@ -1,4 +1,4 @@
-"""Yeoh silicone in plane stress (fem.yeoh_plane_stress): the condensed law against
+"""Yeoh silicone in plane stress (fem.hyperelastic): the condensed law against
 its energy and finite differences, the FE sheet against the incompressible closed
 forms to 1e-8 and against the 3D bar, the thin 3D slab, and the taxel."""
 
@@ -8,11 +8,11 @@ from scipy.optimize import brentq
 
 from taxel.analyses import problem
 from taxel.analyses import solve_static as solve
-from taxel.fem import yeoh as H
-from taxel.fem import yeoh_plane_stress as S
+from taxel.fem import constitution as H
+from taxel.fem import hyperelastic as S
 from taxel.fem.assembly import assemble
-from taxel.fem.fields import component_dofs
-from taxel.fem.newton import newton
+from taxel.fem.static import component_dofs
+from taxel.fem.hyperelastic import newton
 from taxel.scene import load, parse
 
 C_YEOH = (7.83e3, 0.103e3, -0.0008e3)       # the 300 % fit (docs/materials.md)
@@ -103,7 +103,7 @@ def incompressible_stretch(pressure_pa, edges):
 
 @pytest.mark.parametrize("pressure", [5e3, -3e3])
 def test_incompressible_sheet_uniaxial_closed_form(pressure):
-    """Free edges: uniaxial, P = 2 (l - l^-2) W'(l^2 + 2/l) (fem.yeoh.nominal_stress)."""
+    """Free edges: uniaxial, P = 2 (l - l^-2) W'(l^2 + 2/l) (fem.constitution.nominal_stress)."""
     lz = incompressible_stretch(pressure, "free")
     assert H.nominal_stress("uniaxial", lz, *C_YEOH) == pytest.approx(-pressure, rel=1e-8)
     ref = brentq(lambda l: H.nominal_stress("uniaxial", l, *C_YEOH) + pressure, 0.3, 3, xtol=1e-15)

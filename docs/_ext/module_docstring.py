@@ -1,4 +1,4 @@
-"""Sphinx extension: ``{module-docstring} taxel.fem.forms`` shows a module's
+"""Sphinx extension: ``{module-docstring} taxel.fem.assembly`` shows a module's
 docstring (its physics: weak form, equations, units, assumptions) as preformatted
 text, read at build time from the installed package, so a theory page cannot
 drift from the code it describes. A caption names the module and its file."""

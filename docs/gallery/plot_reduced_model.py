@@ -16,7 +16,7 @@ import taxel
 from taxel.analyses import reduced as R
 from taxel.analyses.adapter import problem
 from taxel.fem import dynamics
-from taxel.fem import reduced as fr
+from taxel.fem import dynamics as fr
 
 scene = taxel.load("thesis-pzt-3x3-2d").replace(**{"readout.circuit": "resistor"})
 model = taxel.reduce(scene)

@@ -45,7 +45,7 @@ from typing import Annotated, Literal
 from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, model_validator
 
 from taxel import units
-from taxel.fem.circuits import Readout
+from taxel.fem.readout import Readout
 from taxel.schema import Ratio, Strict
 from taxel.schema import one_line, read_toml
 

@@ -13,7 +13,7 @@ over the margins):
              `between` > 0 the influence functions of position, W[p, (r, c)] =
              G_r(y_p) G_c(x_p), taxel.analyses.influence, for every press) and
              g_k a per-taxel gain spread (log-normal, `gain_spread`);
-             model "fem": the FEM transient (Newmark, electrodes shorted: fem.timestep)
+             model "fem": the FEM transient (Newmark, electrodes shorted: fem.dynamics)
              of the scene under the rolled-off force on its pressed taxel gives the
              short-circuit charge of every modelled electrode; a 2D scene models the
              pressed row, and the other rows get W1[pressed row, row] of it. The FEM
@@ -30,7 +30,7 @@ over the margins):
              1.7 s and 3.1 s on two PZT taxels at 500 MOhm): open V = -Q / C_p;
              resistor V/Q = -sR/(1 + sRC_p), tau = R C_p; charge amplifier
              V/Q = -(1/C_f) sR_fC_f/(1 + sR_fC_f) / (1 + sR_i(C_p + C_c)), tau = R_f C_f;
-             bilinear-discretised at the rig's rate; then the notch (fem.circuits.notch_in_time);
+             bilinear-discretised at the rig's rate; then the notch (fem.readout.notch_in_time);
   travel     with a travel channel in the rig, the actuator's travel: the total force
              through the compliance of the lumped taxel (top displacement per newton) whose
              silicone has its moduli scaled by `modulus_scale` and loss factor
@@ -52,7 +52,7 @@ from scipy import signal
 
 from taxel.analyses.bench_model import compliance, fem_charges, loss_factor, scaled_model
 from taxel.analyses.crosstalk import profile, weights
-from taxel.fem.circuits import notch_in_time
+from taxel.fem.readout import notch_in_time
 from taxel.scene import Scene
 from taxel.studies.bench.protocol import Frames
 from taxel.studies.bench.rig import Rig
@@ -289,7 +289,7 @@ def reduced_charges(scene: Scene, t, F, positions, taxels, W1, crosstalk: bool =
     positions) by the scene's reduced model (see the module docstring), and the FEM's
     static capacitance (F) and charge per newton (C/N) of the pressed taxel."""
     from taxel.analyses.reduced import cached
-    from taxel.fem.reduced import ports
+    from taxel.fem.dynamics import ports
     rm = cached(scene, "taxels", "charge")
     where = {electrode_name(r, c): (r, c) for r, c in positions}
     ins = [where[n.split(":", 1)[1]] for n in rm.input_names]

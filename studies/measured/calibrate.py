@@ -7,7 +7,7 @@ is needed:
   s   the chain's time-constant scale: tau = s R_f C_f (charge amplifier) or
       s R C_p (resistor), from the rig's nominal components.
 Model: H(f; g, s) = g H_lumped(f; chain with R_f -> s R_f (or R -> s R)), through
-the rig's own readout (fem.circuits.readout, notch included).
+the rig's own readout (fem.readout.readout, notch included).
 Fit: scipy.optimize.least_squares of the relative magnitude residuals
 |H(f)| / |H1(f)| - 1 over the calibration frequencies (log g, log s as
 unknowns); 95 % intervals exp(p +- 1.96 sigma) with sigma^2 from s^2 (J^T J)^-1,
@@ -184,7 +184,7 @@ def calibrated_scene(scene_source: str, readout, s: float, silicone=None, piezo_
             data.setdefault("dynamics", {})["silicone_loss"] = float(silicone.loss_factor)
             what += ["silicone modulus scale and loss factor"]
         if piezo_scale is not None:
-            from taxel.fem.materials import EPS0
+            from taxel.fem.constitution import EPS0
             pz = mats[arr.piezo]
             sE, d, eps_T = pz.strain_charge()
             rec = {"kind": "piezo", "s": sE.tolist(), "d": (d * piezo_scale).tolist(), "eps_T": (eps_T / EPS0).tolist(),

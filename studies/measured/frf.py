@@ -15,7 +15,7 @@ whole chirp span (one Hann-windowed FFT), averaged in magnitude over the bins of
 each H1 frequency's resolution band. It has no phase and no noise rejection.
 
 Model against measurement: a model's FRF H_m(f) of the pressed taxel through the
-rig's own readout chain (fem.circuits.readout: the charge amplifier or resistor,
+rig's own readout chain (fem.readout.readout: the charge amplifier or resistor,
 and the notch): the lumped model, and the FEM (taxel.analyses.frequency of the
 scene pressed on that taxel, from 1 Hz to the last coherent frequency) against the measured H1 of the channel of the pressed taxel:
     RMS error = 100 % x sqrt(mean_f ((|H_m(f)| - |H1(f)|) / |H1(f)|)^2)
@@ -131,12 +131,13 @@ def rms_error(frf: FRF, model: str, min_coherence: float = 0.9) -> dict:
 
 
 def lumped_frf(lm, readout, freqs: np.ndarray) -> np.ndarray:
-    """The lumped model's V/N through a readout chain (fem.circuits), at freqs (Hz)."""
-    from taxel.fem import circuits, sweep
+    """The lumped model's V/N through a readout chain (fem.readout), at freqs (Hz)."""
+    from taxel.fem import readout
+    from taxel.fem import dynamics
     f = np.where(freqs > 0, freqs, 1e-6)
-    port = sweep.PortResponse(f, (lm.V_oc(f) / lm.force)[:, None], np.full((len(f), 1, 1), 1 / lm.C_p),
+    port = dynamics.PortResponse(f, (lm.V_oc(f) / lm.force)[:, None], np.full((len(f), 1, 1), 1 / lm.C_p),
                               ["lumped"], "lumped", 0.0)
-    return circuits.readout(port, readout)[:, 0]
+    return readout.readout(port, readout)[:, 0]
 
 
 def fem_frf(scene, readout, taxel: tuple[int, int], freqs: np.ndarray) -> np.ndarray:

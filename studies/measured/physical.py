@@ -8,11 +8,11 @@ depends on the physical scales
     gain       the taxel's own gain spread (the rig draws it; multiplies Q_sc);
     modulus    the silicone's moduli scale (shear part times it, the volumetric
                compliance part over it: no new mesh);
-    loss       the silicone's loss factor (the causal law of fem.relaxation refitted);
+    loss       the silicone's loss factor (the causal law of fem.constitution refitted);
     R_f, C_f   the charge amplifier's feedback resistor and capacitor scales,
 
 through H(f) = readout(gain * Q_sc(f; piezo, modulus, loss); R_f, C_f). `model`
-evaluates it from one dynamic model (its matrices scaled; fem.sweep on the pressed
+evaluates it from one dynamic model (its matrices scaled; fem.dynamics on the pressed
 taxel, cached per FEM parameter set), and `identifiability` (studies.measured.silicone:
 the Fisher information of log H at a relative error sigma per frequency) gives each
 scale's Cramer-Rao standard deviation and their correlations: a scale whose column
@@ -27,7 +27,9 @@ from dataclasses import replace
 import numpy as np
 
 from taxel.analyses.adapter import problem
-from taxel.fem import circuits, dynamics, relaxation, sweep
+from taxel.fem import readout
+from taxel.fem import dynamics
+from taxel.fem import constitution
 from taxel.schema import electrode_name
 from taxel.studies.measured.silicone import Identifiability, identifiability
 
@@ -56,14 +58,14 @@ class Physical:
                                 else 1 / modulus if (sil and what == "volumetric") else 1.0)
             losses = {k: ((loss, c) if (k.endswith(":silicone") and loss is not None) else (e, c))
                       for k, (e, c) in self._losses.items()}
-            dm = replace(self.dm, parts=parts, relax=relaxation.law(losses, self.dm.relax.band))
-            self._memo[key] = sweep.sweep(dm, freqs, tol=1e-7)
+            dm = replace(self.dm, parts=parts, relax=constitution.law(losses, self.dm.relax.band))
+            self._memo[key] = dynamics.sweep(dm, freqs, tol=1e-7)
         return self._memo[key]
 
     def __call__(self, freqs, piezo=1.0, gain=1.0, modulus=1.0, loss=None, R_f=1.0, C_f=1.0):
         port = self.q_sc(np.asarray(freqs, float), piezo, modulus, loss)
         r = replace(self.readout, R_f=self.readout.R_f * R_f, C_f=self.readout.C_f * C_f)
-        return gain * circuits.readout(port, r)[:, self.index]
+        return gain * readout.readout(port, r)[:, self.index]
 
 
 def physical_identifiability(scene, readout, freqs, sigma: float, theta: dict | None = None) -> Identifiability:

@@ -1,6 +1,6 @@
 """The silicone's modulus scale and loss factor, from a press with the actuator's travel recorded.
 
-Why not from the bench's chirp. In the lumped taxel (fem.lumped) the force reaches
+Why not from the bench's chirp. In the lumped taxel (fem.readout) the force reaches
 the piezo through the silicone in series, so the quasi-static charge per newton
 does not depend on the silicone, and the stack's resonances lie above 10 kHz: over
 the bench's 0-100 Hz a 1.2 x modulus changes |V / F| by 0.15 % at 100 Hz and

@@ -3,7 +3,7 @@
 scene (taxel.scene) -> materials by name (`scene_materials`) -> mirror planes
 (`symmetry_planes`) -> layered layout (`layout`, meshing.layout) -> its cost,
 refused when it cannot fit (`checked_layout`, meshing.cost) -> tagged mesh
-(meshing.build) -> kinematics, laws, load, supports, electrodes (fem.problem).
+(meshing.build) -> kinematics, laws, load, supports, electrodes (fem.assembly).
 Below this module nothing reads the scene schema; above it nothing assembles.
 The readout chain and the damping are translated here too.
 
@@ -18,7 +18,7 @@ equal area, radius (w + 2 margin) / sqrt(pi). Measured against the 3D taxel
 +0.91 % off with this outline, +1.74 % with the former radius w / sqrt(pi) +
 margin; the capacitance is the same to 1e-5 with either.
 
-Symmetry. A half or quarter model (fem.symmetry) answers for the full one when
+Symmetry. A half or quarter model (fem.static) answers for the full one when
 the array, its outline and supports are symmetric about the planes, the press
 is centred on them and the electrode states are mirror images (`mirror_planes`).
 """
@@ -29,11 +29,12 @@ import math
 import os
 from dataclasses import replace
 
-from taxel.fem import linalg, materials, user_materials
-from taxel.fem.circuits import Readout
-from taxel.fem.contact import Indenter
-from taxel.fem.kinematics import kinematics
-from taxel.fem.problem import Damping, Discretization, PatchLoad, Problem, Supports
+from taxel.fem import linalg
+from taxel.fem import constitution
+from taxel.fem.readout import Readout
+from taxel.fem.assembly import Indenter
+from taxel.fem.constitution import kinematics
+from taxel.fem.assembly import Damping, Discretization, PatchLoad, Problem, Supports
 from taxel.meshing.build import TaggedMesh, build
 from taxel.meshing.cost import mesh_cost
 from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
@@ -62,17 +63,17 @@ def scene_materials(scene: Scene) -> dict:
     user = {}
     for name, rec in scene.materials.items():
         try:
-            user[name] = user_materials.from_record(name, rec)
+            user[name] = constitution.from_record(name, rec)
         except ValueError as exc:
             raise SceneError(f"materials.{name}: {exc}") from None
     out = {}
     for name in scene_material_names(scene):
         try:
-            out[name] = materials.get(name, user)
+            out[name] = constitution.get(name, user)
         except KeyError as exc:
             raise SceneError(exc.args[0]) from None
     if scene.array is not None:
-        for key, kind in (("piezo", materials.Piezo), ("silicone", materials.Solid)):
+        for key, kind in (("piezo", constitution.Piezo), ("silicone", constitution.Solid)):
             name = getattr(scene.array, key)
             if not isinstance(out[name], kind):
                 raise SceneError(f"array.{key} = '{name}' is not a "
@@ -118,7 +119,7 @@ def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
 
 
 def symmetry_planes(scene: Scene) -> tuple[int, ...]:
-    """The planes the model is cut at (fem.symmetry): model.symmetry = "full" none;
+    """The planes the model is cut at (fem.static): model.symmetry = "full" none;
     "half" x = 0 (or y = 0); "quarter" both; "auto" all the scene allows in 3d and
     under a rigid indenter, none for other 2D presses (a linear 2D solve takes a
     second, and plots show the whole section; a press takes a few: half is 3x faster)."""
@@ -233,7 +234,7 @@ def _plate_layout(scene: Scene, common, mats) -> Layout:
     layers, z = [], 0.0
     for i, L in enumerate(p.layers):
         layers.append(Layer(f"layer{i}", z, L.thickness, L.material, 1 if L.poling == "up" else -1,
-                            piezo=isinstance(mats[L.material], materials.Piezo)))
+                            piezo=isinstance(mats[L.material], constitution.Piezo)))
         z += L.thickness
     midplane = None
     if scene.supports.edges == "simply_supported":
@@ -282,7 +283,7 @@ def _split_at(layers, zc):
 
 
 # Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; in 3D the
-# 8x8 array of benchmarks/array_8x8.py: 3.7 GB peak at 202k unknowns, with fem.scalar_basis's
+# 8x8 array of benchmarks/array_8x8.py: 3.7 GB peak at 202k unknowns, with fem.assembly's
 # LeanBasis); in 3D the fill grows about as n^(1/3) more. Out of core (fem.linalg.check_fits)
 # the factors go to files: what stays is the assembled and reduced matrices and the mesh
 # (1.5 GB at 202k unknowns) and the factors' share in memory.

@@ -1,6 +1,6 @@
 """The taxel models behind the simulated bench and the silicone fit.
 
-The lumped taxel (fem.lumped) of a scene with its silicone's moduli scaled and its
+The lumped taxel (fem.readout) of a scene with its silicone's moduli scaled and its
 loss factor set (`scaled_model`), the top of its stack per newton (`compliance`:
 what the actuator's travel sees), the loss factor a lumped model carries
 (`loss_factor`: b = eta k / (2 pi f_ref)), and the FEM transient's short-circuit
@@ -14,7 +14,8 @@ import dataclasses
 import numpy as np
 
 from taxel.analyses.adapter import damping, problem, scene_materials
-from taxel.fem import dynamics, lumped, timestep
+from taxel.fem import dynamics
+from taxel.fem import readout
 from taxel.scene import Scene
 
 __all__ = ["scaled_model", "compliance", "loss_factor", "reference_frequency", "fem_charges"]
@@ -29,7 +30,7 @@ def scaled_model(scene, modulus_scale: float = 1.0, loss: float | None = None):
     d = damping(scene)
     if loss is not None:
         d = dataclasses.replace(d, silicone_loss=loss)
-    return lumped.taxel_model(mats[a.piezo], sil, a.taxel_width, a.silicone_above, a.piezo_thickness,
+    return readout.taxel_model(mats[a.piezo], sil, a.taxel_width, a.silicone_above, a.piezo_thickness,
                               a.silicone_below, float(scene.load.force or 1.0), d)
 
 
@@ -55,5 +56,5 @@ def reference_frequency(scene) -> float:
 def fem_charges(scene: Scene, t: np.ndarray, force: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Short-circuit charges (nt, na) of the scene's electrodes under `force` (N) on its load, by FEM transient."""
     dm = dynamics.model(problem(scene), short=True)
-    tr = timestep.transient(dm, t, force)
+    tr = dynamics.transient(dm, t, force)
     return tr.Q, list(tr.names)

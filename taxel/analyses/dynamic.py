@@ -1,10 +1,10 @@
 """Frequency and transient analyses of a scene, through its readout chain.
 
-frequency: fem.sweep on the scene's dynamic model (per newton), then the readout
-(fem.circuits: resistor, charge amplifier, notch) as exact port post-processing.
+frequency: fem.dynamics on the scene's dynamic model (per newton), then the readout
+(fem.readout: resistor, charge amplifier, notch) as exact port post-processing.
 transient: the force history in newtons (step, impulse, chirp of the scene's
 force, or a CSV of time and force), then
-  - open circuit or a resistor: fem.timestep.transient (the resistor coupled in);
+  - open circuit or a resistor: fem.dynamics.transient (the resistor coupled in);
   - charge amplifier: the short-circuit charges, then the amplifier's ODE;
   - Yeoh silicone: full-order Newmark-Newton (open circuit);
 and the notch as a digital filter.
@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.fem import circuits, dynamics, lumped, sweep, timestep
+from taxel.fem import readout as circuits
+from taxel.fem import dynamics
 from taxel.fem.assembly import assemble
 from taxel.scene import Analysis, Scene, SceneError
 from taxel.analyses.adapter import damping, problem, readout, scene_materials, with_silicone
@@ -55,7 +56,7 @@ def frequency(scene: Scene, dm: dynamics.DynamicModel | None = None) -> Frequenc
     """The scene's frequency sweep through its readout chain (per newton)."""
     dm = dm or dynamics.model(problem(scene))
     a = scene.analysis
-    port = sweep.sweep(dm, frequencies(a), a.method, a.tolerance)
+    port = dynamics.sweep(dm, frequencies(a), a.method, a.tolerance)
     r = readout(scene)
     return FrequencyResult.from_port(scene, port, circuits.readout(port, r), r.label)
 
@@ -67,7 +68,7 @@ def transient(scene: Scene) -> TransientResult:
     if scene.model.silicone == "yeoh":
         amplitude = _amplitude(scene, prob)
         t, force = force_history(scene.analysis, amplitude)
-        tr, iters = timestep.transient_hyperelastic(prob, t, force)
+        tr, iters = dynamics.transient_hyperelastic(prob, t, force)
         y = tr.V
     else:
         short = r.circuit == "charge_amplifier"
@@ -75,11 +76,11 @@ def transient(scene: Scene) -> TransientResult:
         t, force = force_history(scene.analysis, dm.sy.applied_force)
         iters = None
         if short:
-            tr = timestep.transient(dm, t, force)
-            C_p = np.diag(sweep.direct(dynamics.model(prob), 1.0)[1].real)
+            tr = dynamics.transient(dm, t, force)
+            C_p = np.diag(dynamics.direct(dynamics.model(prob), 1.0)[1].real)
             y = circuits.amplifier_in_time(t, tr.Q, 1 / C_p, r)
         else:
-            tr = timestep.transient(dm, t, force, R=r.R if r.circuit == "resistor" else None)
+            tr = dynamics.transient(dm, t, force, R=r.R if r.circuit == "resistor" else None)
             y = tr.V
     if r.notch:
         y = circuits.notch_in_time(t, y, r)
@@ -93,14 +94,14 @@ def _amplitude(scene: Scene, prob) -> float:
     return assemble(with_silicone(prob, "linear")).applied_force
 
 
-def lumped_model(scene: Scene, confined: bool = False) -> lumped.Lumped:
-    """The 3-DoF lumped model of a taxel-array scene's taxel (fem.lumped)."""
+def lumped_model(scene: Scene, confined: bool = False) -> circuits.Lumped:
+    """The 3-DoF lumped model of a taxel-array scene's taxel (fem.readout)."""
     a = scene.array
     if a is None:
         raise SceneError("the lumped model describes a taxel array scene ([array])")
     mats = scene_materials(scene)
     force = scene.load.force if scene.load.kind != "pressure" else scene.load.pressure * a.taxel_width ** 2
-    return lumped.taxel_model(mats[a.piezo], mats[a.silicone], a.taxel_width, a.silicone_above,
+    return circuits.taxel_model(mats[a.piezo], mats[a.silicone], a.taxel_width, a.silicone_above,
                               a.piezo_thickness, a.silicone_below, force, damping(scene), confined)
 
 
@@ -108,7 +109,7 @@ def lumped_response(scene: Scene) -> LumpedResult:
     """The 3-DoF lumped model's answer to a single-taxel scene, through its readout."""
     lm = lumped_model(scene)
     f = frequencies(scene.analysis)
-    port = sweep.PortResponse(f, lm.V_oc(f)[:, None] / lm.force, np.full((len(f), 1, 1), 1 / lm.C_p),
+    port = dynamics.PortResponse(f, lm.V_oc(f)[:, None] / lm.force, np.full((len(f), 1, 1), 1 / lm.C_p),
                               ["lumped"], "lumped", 0.0)
     r = readout(scene)
     return LumpedResult(scene, lm, f, circuits.readout(port, r)[:, 0], r.label)

@@ -1,5 +1,5 @@
-"""The 3-DoF lumped model informed by the FEM of the scene (fem.lumped.identified),
-beside the seed's (fem.lumped.taxel_model, thesis section 3.1, errata corrected).
+"""The 3-DoF lumped model informed by the FEM of the scene (fem.readout.identified),
+beside the seed's (fem.readout.taxel_model, thesis section 3.1, errata corrected).
 
 The FEM targets, for the pressed (or only) taxel of an array scene:
 * static compliance c = F^T x / 1 N of the scene's load (open circuit, lossless K0);
@@ -16,7 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from taxel.fem import dynamics, linalg, lumped
+from taxel.fem import dynamics
+from taxel.fem import linalg
+from taxel.fem import readout
 from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name
 from taxel.analyses.adapter import problem
@@ -57,12 +59,12 @@ def targets(scene: Scene) -> FemTargets:
     return FemTargets(float(dm.F @ X[:, 0]), float(Q[i]), float(C[i, i]), float(f[peaks[0]]), float(h[peaks[0]]))
 
 
-def informed(scene: Scene, fem: FemTargets | None = None) -> lumped.Identified:
-    """The FEM-informed 3-DoF model of the scene's taxel (fem.lumped.identified)."""
+def informed(scene: Scene, fem: FemTargets | None = None) -> readout.Identified:
+    """The FEM-informed 3-DoF model of the scene's taxel (fem.readout.identified)."""
     fem = fem or targets(scene)
     seed = lumped_model(scene)
     d = scene.dynamics
     eta_p = seed.b[1] * 2 * np.pi * d.reference_frequency / seed.k[1] if d.piezo_loss is None else d.piezo_loss
     loss = np.array([d.silicone_loss, eta_p, d.silicone_loss])
-    return lumped.identified(seed, fem.compliance, fem.charge_per_newton, fem.first_resonance, fem.capacitance, loss,
+    return readout.identified(seed, fem.compliance, fem.charge_per_newton, fem.first_resonance, fem.capacitance, loss,
                               fem.peak)

@@ -5,7 +5,7 @@ each electrode's capacitance C_p(f) (complex: its imaginary part is the piezo's
 dielectric loss, -Im C_p = C' tan(delta)) come from the frequency analysis: the FEM
 sweep (taxel.analyses.dynamic.frequency, model = "fem") or the 3-DoF lumped model
 (model = "lumped", tan(delta) of the material or [dynamics] dielectric_loss). The
-noise sources, their transfer to the readout output and the ADC are fem.noise; the
+noise sources, their transfer to the readout output and the ADC are fem.readout; the
 numbers of the chain are the scene's [readout] (e_n, i_n, e_n_corner, swing,
 temperature, hum, mains_frequency), with a rig the conditioning of the pressed
 taxel's channel, the channel gain and the ADC (bits, range, rate) of the rig.
@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.fem import noise as N
-from taxel.fem.circuits import Readout
+from taxel.fem import readout as N
+from taxel.fem.readout import Readout
 from taxel.scene import Scene, SceneError
 from taxel.analyses.adapter import readout as scene_readout
 from taxel.analyses.adapter import scene_materials
@@ -148,35 +148,35 @@ def quasi_static_noise(scene: Scene, sensitivity: float, charge_sensitivity: flo
     short-circuit charge is the static Q_sc = `charge_sensitivity` (C/N) and its
     open-circuit voltage the static V_oc = `sensitivity` (V/N), so its capacitance is
     C_p = |Q_sc / V_oc| (with the other electrodes as in the static solve) and the
-    readout output per newton is the circuit's H(f) for that source (fem.circuits.readout
+    readout output per newton is the circuit's H(f) for that source (fem.readout.readout
     on a one-port PortResponse of C = C_p kappa(f) and Q_sc / kappa_c(f)); kappa and
-    kappa_c are the permittivity's and the piezo stiffness's causal laws (fem.relaxation,
+    kappa_c are the permittivity's and the piezo stiffness's causal laws (fem.constitution,
     the FEM's own): the capacitance falls with frequency and carries the dielectric loss,
     and a stiffer piezo gives less charge per newton. The noise sources, the ADC and the hum are those of
-    `noise` (fem.noise). Valid where the band sits well below the resonance (a few kHz
+    `noise` (fem.readout). Valid where the band sits well below the resonance (a few kHz
     and up for a silicone-covered taxel; tests/test_robust.py checks it against the FEM
     sweep of `noise` on the thesis PZT taxel). Cost: no solve beyond the static one.
     """
-    from taxel.fem import circuits
-    from taxel.fem.sweep import PortResponse
+    from taxel.fem import readout
+    from taxel.fem.dynamics import PortResponse
     if not sensitivity or not charge_sensitivity:
         raise SceneError("quasi-static noise: the pressed taxel has no voltage or no charge; press a taxel")
     band = band_of(scene, rig, band)
     ch = chain(scene, rig, _pressed_hint(scene))
-    from taxel.fem import relaxation
+    from taxel.fem import constitution
     C_p = abs(charge_sensitivity / sensitivity)
     f = np.geomspace(band[0], band[1], 200)
     # the permittivity's causal law, as the FEM's (fem.dynamics): C_p is the relaxed
     # (static) capacitance, C(f) = C_p kappa(f), which falls with frequency and carries the loss
     mat = scene_materials(scene)[scene.array.piezo]
     qm_loss = scene.dynamics.piezo_loss if scene.dynamics.piezo_loss is not None else (1 / mat.Qm if mat.Qm else 0.0)
-    law = relaxation.law({"dielectric": (loss_tangent(scene), True), "elastic": (qm_loss, False)})
+    law = constitution.law({"dielectric": (loss_tangent(scene), True), "elastic": (qm_loss, False)})
     k = [law.kappa(2 * np.pi * fi) for fi in f]
     kappa = np.array([x.get("dielectric", 1.0) for x in k])
     stiff = np.array([x.get("elastic", 1.0) for x in k])      # the piezo stiffens: less charge per newton
     C = (C_p * kappa)[:, None]
     port = PortResponse(f, (abs(sensitivity) / (stiff * kappa))[:, None], (1 / C)[:, :, None], ["taxel"],
                         "quasi-static", 0.0)
-    H = circuits.readout(port, ch.readout)
+    H = readout.readout(port, ch.readout)
     name = _pressed_hint(scene) or "taxel"
     return _budget(scene, rig, ch, band, f, H, C, [name], ch.readout.label + " (quasi-static)", points)

@@ -10,11 +10,11 @@ A 2D model is the section through the pressed row: its paths are the row's
 taxels pressed, the row's taxels read (3 x 3 of the 9 x 9 paths of a 3 x 3
 array; the others need a 3D model).
 
-Two views of the same reduced model (fem.reduced):
+Two views of the same reduced model (fem.dynamics):
 * `frf(f)`: the reduced second-order model with the FEM's causal loss law
-  (fem.relaxation), exactly the model the frequency analysis solves, then the
-  readout (fem.circuits);
-* `state_space()`: its real first-order realization (fem.statespace: the loss law's
+  (fem.constitution), exactly the model the frequency analysis solves, then the
+  readout (fem.readout);
+* `state_space()`: its real first-order realization (fem.dynamics: the loss law's
   internal variables, condensed, modal, truncated to the modes that matter in the
   band with a measured error), which `simulate` and the exports (python-control,
   scipy.signal, MATLAB .mat) use. Both agree with the direct FEM sweep.
@@ -31,11 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.fem import circuits, dynamics, reduced, statespace
+from taxel.fem import readout as circuits
+from taxel.fem import dynamics
 from taxel.fem.assembly import elements, load_vector
-from taxel.fem.problem import PatchLoad
-from taxel.fem.relaxation import Relaxation
-from taxel.fem.sweep import PortResponse
+from taxel.fem.assembly import PatchLoad
+from taxel.fem.constitution import Relaxation
+from taxel.fem.dynamics import PortResponse
 from taxel.scene import Scene, SceneError, parse
 from taxel.schema import to_data
 from taxel.schema import electrode_name
@@ -50,15 +51,15 @@ class ReducedModel:
     """A scene's reduced model (see the module docstring); built by `reduce(scene)`."""
 
     scene: Scene
-    red: reduced.Reduced
+    red: dynamics.Reduced
     input_names: list[str]         # "force:<taxel>" or "force:probe"
     output_names: list[str]        # "<quantity>:<electrode>"
     output_unit: str               # V or C
     readout: circuits.Readout | str    # a Readout, or "charge"
-    band: tuple = (1.0, 2000.0)    # Hz: where the state space's modal truncation is measured (fem.statespace)
+    band: tuple = (1.0, 2000.0)    # Hz: where the state space's modal truncation is measured (fem.dynamics)
     seconds: float = 0.0
     provenance: dict = field(default_factory=dict)
-    _ss: statespace.StateSpace | None = field(default=None, repr=False)
+    _ss: dynamics.StateSpace | None = field(default=None, repr=False)
     kind = "reduced"
     error = None                   # no ErrorEstimate: the reduction's own measured error is `measured_error`
 
@@ -71,13 +72,13 @@ class ReducedModel:
         """(nf, outputs, inputs) complex: readout output per newton of each input, with
         the FEM's loss law (the reduced second-order model)."""
         freqs = np.atleast_1d(np.asarray(freqs, float))
-        V, Ci = reduced.ports(self.red, freqs)
+        V, Ci = dynamics.ports(self.red, freqs)
         return port_readout(freqs, V, Ci, self.red.names, self.readout)
 
-    def state_space(self) -> statespace.StateSpace:
-        """The real first-order realization (fem.statespace), A, B, C, D in SI units."""
+    def state_space(self) -> dynamics.StateSpace:
+        """The real first-order realization (fem.dynamics), A, B, C, D in SI units."""
         if self._ss is None:
-            self._ss = statespace.realize(self.red, self.readout, self.band)
+            self._ss = dynamics.realize(self.red, self.readout, self.band)
         return self._ss
 
     def simulate(self, t, force) -> np.ndarray:
@@ -128,7 +129,7 @@ class ReducedModel:
                 + ", ".join(f"{f:.4g} Hz" for f, _ in self.red.checks) + ")",
                 f"  static gain {self.input_names[j]} -> {self.output_names[i]}: {self.outputs()['static_gain']:.4g} "
                 f"{self.output_unit}/N",
-                f"  losses: the causal law of fem.relaxation ({self.red.relax.n} relaxation times), exact in the "
+                f"  losses: the causal law of fem.constitution ({self.red.relax.n} relaxation times), exact in the "
                 f"state space; its modal truncation error {self.state_space().truncation_error:.1e} over "
                 f"{self.band[0]:g}-{self.band[1]:g} Hz"]
 
@@ -167,7 +168,7 @@ class ReducedModel:
         """A model written by `save` (ValueError, one line, for another file)."""
         a, m = reduced_export.load_npz(path)
         try:
-            red = reduced.Reduced({k[5:]: v for k, v in a.items() if k.startswith("part:")},
+            red = dynamics.Reduced({k[5:]: v for k, v in a.items() if k.startswith("part:")},
                                   Relaxation.from_data(m["relax"]), a["M"], a["mech"],
                                   m["alpha"], m["beta"], a["F"], a["Be"], a["E"], a["u_cols"], m["names"], m["error"],
                                   [tuple(c) for c in m["checks"]], m["seconds"])
@@ -177,7 +178,7 @@ class ReducedModel:
         except (KeyError, TypeError, SceneError) as exc:
             raise ValueError(f"{path}: not a reduced model file ({exc}); write it with taxel reduce SCENE -o FILE.npz") \
                 from None
-        model._ss = statespace.StateSpace(a["A"], a["B"], a["C"], a["D"], float(m["truncation_error"]))
+        model._ss = dynamics.StateSpace(a["A"], a["B"], a["C"], a["D"], float(m["truncation_error"]))
         return model
 
     def to_folder(self, out) -> list[Path]:
@@ -195,7 +196,7 @@ def read_folder(folder) -> ReducedModel:
 
 
 def port_readout(freqs, V, Ci, names, r) -> np.ndarray:
-    """The readout (fem.circuits) applied to each input's port response: (nf, na, m)."""
+    """The readout (fem.readout) applied to each input's port response: (nf, na, m)."""
     if r == "charge":
         return -np.einsum("fij,fjm->fim", np.linalg.inv(Ci), V)
     out = np.zeros_like(V)
@@ -252,7 +253,7 @@ def reduce(scene: Scene, inputs: str | None = None, output: str = "readout", f_m
     else:
         loads, names_in = dm.F[:, None], ["force:probe"]
     f_top = max(f_max or scene.analysis.f_max, 2000.0)
-    red = reduced.build(dm, loads, f_top, max(scene.analysis.f_min, 0.1), tol)
+    red = dynamics.build(dm, loads, f_top, max(scene.analysis.f_min, 0.1), tol)
     r = "charge" if output == "charge" else readout(scene)
     quantity = "charge" if output == "charge" else ("voltage" if r.circuit != "charge_amplifier" else "output")
     data = to_data(scene)
@@ -300,7 +301,7 @@ class OnePort:
     static capacitance `C_p` of electrode `output` (F), `force` = 1 N, and `V_oc(f)`
     defined as -Q_sc(f) / C_p with Q_sc the FEM's short-circuit charge per newton of
     taxel `output` pressed on `input`, every electrode held at 0 V (as the rig's charge
-    amplifiers hold them; the capacitance relaxes with frequency, fem.relaxation, so
+    amplifiers hold them; the capacitance relaxes with frequency, fem.constitution, so
     the charge, not the open-circuit voltage, is the path's invariant). Values are remembered per frequency array (a least-squares
     fit asks for the same frequencies again and again)."""
 
@@ -315,7 +316,7 @@ class OnePort:
         freqs = np.asarray(freqs, float)
         key = freqs.tobytes()
         if key not in self._memo:
-            V, Ci = reduced.ports(self.model.red, freqs)
+            V, Ci = dynamics.ports(self.model.red, freqs)
             Q_sc = -np.linalg.solve(Ci, V)[:, self.output, self.input]      # every electrode at 0 V
             self._memo[key] = -Q_sc / self.C_p
         return self._memo[key]
@@ -330,5 +331,5 @@ def one_port(model: ReducedModel, taxel: tuple[int, int] | None = None) -> OnePo
     names = model.red.names
     i = names.index(name) if name in names else 0
     j = next((k for k, n in enumerate(model.input_names) if n.endswith(":" + name)), 0)
-    C = np.linalg.inv(reduced.ports(model.red, [1e-3])[1][0]).real
+    C = np.linalg.inv(dynamics.ports(model.red, [1e-3])[1][0]).real
     return OnePort(model, i, j, float(C[i, i]))

@@ -15,8 +15,11 @@ from __future__ import annotations
 
 import time
 
-from taxel.fem import assembly, linear, newton, press
-from taxel.fem.newton import NewtonError
+from taxel.fem import assembly
+from taxel.fem import static
+from taxel.fem import hyperelastic
+from taxel.fem import contact
+from taxel.fem.hyperelastic import NewtonError
 from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene, replace
 from taxel.analyses.adapter import problem, with_silicone
@@ -33,7 +36,7 @@ def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | No
     """Solve a scene's static load case on the model it gives (model.fidelity is not
     read here: `taxel.analyses.solve_static` resolves "auto" by the model choice),
     meshing it unless `tagged_mesh` is given. With a Yeoh silicone, `newton_options`
-    go to fem.newton.newton (tol, max_iter, first_step, stepping, line_search)."""
+    go to fem.hyperelastic.newton (tol, max_iter, first_step, stepping, line_search)."""
     t0 = time.perf_counter()
     prob = problem(scene, tagged_mesh)
     t1 = time.perf_counter()
@@ -41,7 +44,7 @@ def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | No
         return _solve(scene, prob, solver, scale, newton_options, t0, t1)
     try:
         lin = _solve(scene, with_silicone(prob, "linear"), solver, scale, newton_options, t0, t1)
-    except press.ContactError as exc:      # a linear silicone under a punch can fail where Yeoh does not
+    except contact.ContactError as exc:      # a linear silicone under a punch can fail where Yeoh does not
         hyper = _solve(scene, with_silicone(prob, "yeoh"), solver, scale, newton_options, t0, t1)
         hyper.model_note = f"auto: Yeoh silicone (the linear press failed: {exc})"
         return hyper
@@ -53,7 +56,7 @@ def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | No
     t1 = time.perf_counter()
     try:
         hyper = _solve(scene, with_silicone(prob, "yeoh"), solver, scale, newton_options, t1, t1)
-    except (NewtonError, press.ContactError) as exc:
+    except (NewtonError, contact.ContactError) as exc:
         lin.model_note = (f"auto: Yeoh silicone needed (linear error about {100 * est:.2g} %) but {exc}; "
                           f"returning the LINEAR result")
         return lin
@@ -70,12 +73,12 @@ def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     sy = assembly.assemble(prob)
     t2 = time.perf_counter()
     if prob.indenter is not None:
-        opts = {k: v for k, v in (newton_options or {}).items() if k in press.Options.__dataclass_fields__}
-        sol = press.press(sy, prob.indenter, solver, press.Options(**opts))
+        opts = {k: v for k, v in (newton_options or {}).items() if k in contact.Options.__dataclass_fields__}
+        sol = contact.press(sy, prob.indenter, solver, contact.Options(**opts))
     elif prob.hyperelastic:
-        sol = newton.solve_yeoh(sy, solver, **(newton_options or {}))
+        sol = hyperelastic.solve_yeoh(sy, solver, **(newton_options or {}))
     else:
-        sol = linear.solve_linear(sy, solver, scale)
+        sol = static.solve_linear(sy, solver, scale)
     t3 = time.perf_counter()
     return StaticResult(scene, sol, {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0},
                         yeoh=prob.hyperelastic)
@@ -83,13 +86,13 @@ def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
 
 def stopped_result(scene: Scene, exc: BaseException) -> StaticResult | None:
     """The last converged state of a static solve of `scene` that stopped short of its load
-    with `exc` (fem.newton.NewtonError, fem.press_result.ContactError: their `.solution`), as
+    with `exc` (fem.hyperelastic.NewtonError, fem.contact.ContactError: their `.solution`), as
     a StaticResult whose `stop` gives the load asked for and why it stopped, and whose scene
     carries the load reached; None for any other error or where no state converged. Not a
     new solve to that load: a press depends on its path (the 2D probe example, frictionless,
     asked for 3 N stops past 1.62 N, and pressed to 1.62 N in one target stops at 1.27 N:
     benchmarks/stopped_press.py)."""
-    if not isinstance(exc, (NewtonError, press.ContactError)) or exc.solution is None:
+    if not isinstance(exc, (NewtonError, contact.ContactError)) or exc.solution is None:
         return None
     ld = scene.load
     key = "pressure" if ld.kind == "pressure" else "travel" if ld.travel is not None else "force"

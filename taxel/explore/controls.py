@@ -67,8 +67,8 @@ NUMBERS = [
 
 
 def piezo_names() -> list[str]:
-    """The piezo materials of the library (taxel.fem.materials)."""
-    from taxel.fem.materials import Piezo, library
+    """The piezo materials of the library (taxel.fem.constitution)."""
+    from taxel.fem.constitution import Piezo, library
     return [m.name for m in library().values() if isinstance(m, Piezo)]
 
 

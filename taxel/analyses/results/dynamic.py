@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.fem.lumped import Lumped
-from taxel.fem.sweep import PortResponse
-from taxel.fem.timestep import Transient
+from taxel.fem.readout import Lumped
+from taxel.fem.dynamics import PortResponse
+from taxel.fem.dynamics import Transient
 from taxel.scene import Scene
 from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, read_error
 from taxel.analyses.results.folders import FORMAT, write_csv, write_result

@@ -52,7 +52,7 @@ class NoiseResult:
     # ---------------------------------------------------------------- derived numbers
     def variance(self) -> dict[str, float]:
         """Each source's variance in the band (V^2); the hum lines under "hum residual"."""
-        from taxel.fem.noise import band_power
+        from taxel.fem.readout import band_power
         out = {k: band_power(self.freqs, v, self.band) for k, v in self.psd.items()}
         out["hum residual"] = float(sum(p for _, p in self.lines))
         return out
@@ -70,7 +70,7 @@ class NoiseResult:
     @property
     def band_sensitivity(self) -> float:
         """S_B = sqrt(mean |H|^2 over the band), V/N."""
-        from taxel.fem.noise import band_power
+        from taxel.fem.readout import band_power
         return float(np.sqrt(band_power(self.freqs, self.gain ** 2, self.band) / (self.band[1] - self.band[0])))
 
     @property

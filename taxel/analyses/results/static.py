@@ -10,8 +10,8 @@ from typing import Literal
 
 import numpy as np
 
-from taxel.fem.linear import ElectrodeResult, Solution
-from taxel.fem.newton import NewtonResult
+from taxel.fem.static import ElectrodeResult, Solution
+from taxel.fem.hyperelastic import NewtonResult
 from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene
 from taxel.units import engineering
@@ -31,7 +31,7 @@ class Stop:
     requested: float           # the load asked for, in `unit`
     load: Literal["force", "pressure", "travel"]   # which: the scene's load.force, load.pressure or load.travel
     message: str               # what stopped it and what it measured there (one line)
-    cause: str | None = None   # a press's stop cause (fem.press_result.StopCause); None for a Yeoh Newton
+    cause: str | None = None   # a press's stop cause (fem.contact.StopCause); None for a Yeoh Newton
 
     @property
     def unit(self) -> str:
@@ -135,7 +135,7 @@ class StaticResult:
 
     @property
     def contact(self):
-        """The press (fem.press.ContactResult) of an indenter scene, else None."""
+        """The press (fem.contact.ContactResult) of an indenter scene, else None."""
         return getattr(self.solution, "contact", None)
 
     def contact_record(self) -> dict | None:

@@ -1,0 +1,14 @@
+"""Contact: a rigid indenter pressing the top surface (`Press`).
+
+The indenter's gap and contact surface (augmented Lagrangian, frictionless or
+sticking), the semi-smooth Newton with its continuation, the load path (travel steps,
+then force control), and the records a press leaves (`PressPoint`, `ContactResult`,
+and `ContactError` with its typed cause when a press stops short).
+"""
+
+
+from ._geometry import Surface, gap
+from ._press import Press, press
+from ._records import ContactError, Options
+
+__all__ = ["ContactError", "Options", "Press", "Surface", "gap", "press"]
