@@ -441,3 +441,8 @@ def noise(problem: Optimization, variable: str, x=None, rel_steps=(1e-4, 3e-4, 1
         vals = [problem.evaluate(v)["sensitivity"] for v in xs]
         out[h] = abs(vals[1] - 0.5 * (vals[0] + vals[2])) / abs(vals[1])
     return out
+
+
+# The example under the optimization key reference (docs/reference/keys/optimization.md): a built-in one, whole.
+KEY_EXAMPLES = {"the built-in optimization thesis-pzt-front (`taxel optimize thesis-pzt-front`)":
+                (BUILTIN / "thesis-pzt-front.toml").read_text()}

@@ -73,6 +73,31 @@ def test_the_scene_reference_carries_units_defaults_allowed_values_and_bounds():
     assert "edge to edge" in rows["array.gap"][5]                  # the schema's own comment
 
 
+
+def test_every_table_of_a_scene_has_an_example_under_the_reference_and_each_loads(tmp_path):
+    """The key reference ends with one example per table (taxel.scene.KEY_EXAMPLES), the
+    user materials included (a silicone: C10, C20, C30, K, rho; a piezo); each is a scene."""
+    import tomllib
+    import taxel
+    from taxel.analyses.adapter import scene_materials
+    from taxel.scene import KEY_EXAMPLES, Scene
+    tables = {name for name, info in Scene.model_fields.items()
+              if name not in ("name", "description")}
+    covered = {title.split()[0] for title in KEY_EXAMPLES}
+    assert tables == covered, f"tables without an example: {tables - covered}"
+    page = markdown("scene")
+    for title, text in KEY_EXAMPLES.items():
+        assert f"### {title}" in page and text.strip() in page
+        data = tomllib.loads(text)
+        path = tmp_path / "example.toml"
+        path.write_text(text if "array" in data or "plate" in data else text + "\n[array]\n")
+        scene_materials(taxel.load(path))          # the materials are known and physical
+    silicone = KEY_EXAMPLES["materials (a user silicone)"]
+    assert all(k in silicone for k in ("C10", "C20", "C30", "K", "rho", 'kind = "solid"', "1000"))
+    for kind in ("study", "optimization", "rig"):
+        assert "## Examples" in markdown(kind)
+
+
 @pytest.mark.parametrize("kind", list(KINDS))
 def test_taxel_schema_prints_the_json_schema(kind, capsys):
     assert main(["schema", kind]) == 0
