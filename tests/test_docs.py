@@ -98,6 +98,32 @@ def test_every_table_of_a_scene_has_an_example_under_the_reference_and_each_load
         assert "## Examples" in markdown(kind)
 
 
+
+def test_every_number_the_docs_read_from_a_benchmark_json_resolves():
+    """docs/_ext/bench_json.py: each {bench} role names a value its JSON file holds and each
+    bench-table a renderer; the press reference's table reproduces the script's numbers."""
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        import bench_json
+    finally:
+        sys.path.remove(str(DOCS / "_ext"))
+    roles, tables = [], []
+    for page in DOCS.rglob("*.md"):
+        if "_build" in page.parts:
+            continue
+        text = page.read_text(encoding="utf-8")
+        roles += re.findall(r"\{bench\}`([^`]+)`", text)
+        tables += re.findall(r"^```\{bench-table\} (\S+)", text, re.M)
+    assert len(roles) >= 10 and {"reference_3d.single", "reference_3d.3x3", "press_3d_reference"} <= set(tables)
+    for spec in roles:
+        assert bench_json.value(spec), spec
+    for name in tables:
+        head, rows = bench_json.TABLES[name][1]()
+        assert rows and all(len(r) == len(head) for r in rows), name
+    assert bench_json.value("press_3d_reference.json:VF:.5f") == "-0.77981"
+    assert bench_json.value("reference_3d.json:single.spread:.2%") == "0.66 %"
+
+
 @pytest.mark.parametrize("kind", list(KINDS))
 def test_taxel_schema_prints_the_json_schema(kind, capsys):
     assert main(["schema", kind]) == 0
