@@ -336,4 +336,6 @@ def check_points(study: Study) -> None:
 
 
 # The example under the study key reference (docs/reference/keys/study.md): a built-in study, whole.
-KEY_EXAMPLES = {"the built-in study fig-2-5 (`taxel study run fig-2-5`)": (BUILTIN / "fig-2-5.toml").read_text()}
+KEY_EXAMPLES = {"the built-in study fig-2-5 (`taxel study run fig-2-5`)": (BUILTIN / "fig-2-5.toml").read_text(),
+                "the built-in tolerance study thesis-pzt-tolerances (sampling, [requirements])":
+                (BUILTIN / "thesis-pzt-tolerances.toml").read_text()}

@@ -274,3 +274,25 @@ def test_every_code_path_the_glossary_names_exists():
             break
         else:
             raise AssertionError(f"the glossary names {name}, which does not import")
+
+
+def test_the_study_optimization_and_rig_examples_cover_every_table_and_load(tmp_path):
+    """Each key reference ends with whole example files that, together, use every top-level
+    key of their schema, and each loads as its command would load it."""
+    import importlib
+    import tomllib
+    from taxel.optimize.spec import load_optimization
+    from taxel.studies.bench.rig import load_rig
+    from taxel.studies.spec import load_study
+    loaders = {"study": load_study, "optimization": load_optimization, "rig": load_rig}
+    for kind, loader in loaders.items():
+        cls = model(kind)
+        examples = importlib.import_module(cls.__module__).KEY_EXAMPLES
+        used = set()
+        for i, text in enumerate(examples.values()):
+            used |= set(tomllib.loads(text))
+            path = tmp_path / f"{kind}-{i}.toml"
+            path.write_text(text)
+            loader(path)
+        optional = {"name", "description", "samples", "seed", "sampling"}
+        assert set(cls.model_fields) - optional <= used, (kind, set(cls.model_fields) - optional - used)
