@@ -17,7 +17,8 @@ Levels (each a model of the same design, cheapest first):
      `presses_3d` designs of that estimated front, spread along it by crosstalk, are
      pressed in 3D (`press_3d`) and their rows replaced by the 3D press's (the main
      job's count: RUN_3D_PRESSES, 0: a 3D press of a 3x3 front design with its error
-     estimate took 101-112 s, which does not fit the main job's 5 minutes); with presses_3d None
+     estimate took 101-112 s, benchmarks/probe_front.py, more than a third of the main job's
+     whole time, docs/getting-started.md); with presses_3d None
      (`taxel demo --full`) the whole level-B front and the thesis design are pressed
      in 3D through the same correction loop (B corrected to C), and the front is the
      3D presses'. The estimate's largest miss against the 3D presses is the product's
