@@ -9,8 +9,9 @@ value. Two forms, in MyST Markdown:
       ```{bench-table} reference_3d.single
       ```
 
-- one number in running text, by a path into a JSON file (relative to docs/) and a
-  format (Python's format mini-language; a trailing `%` prints a fraction as percent):
+- one number in running text, by a path into a JSON file (relative to docs/), an
+  optional factor (`*0.5`) and a format (Python's format mini-language; a trailing `%`
+  prints a fraction as percent):
 
       {bench}`reference_3d.json:single.reference:.5f`
 
@@ -39,9 +40,12 @@ def value(spec: str) -> str:
     """`file.json:dotted.path[:format]` -> the formatted number. A path part that is an
     integer indexes a list; a format ending in `%` prints 100 x the value with ' %'."""
     file, path, *fmt = spec.split(":", 2)
+    path, _, factor = path.partition("*")          # `single.spread*0.5`: half the spread
     x = load(file)
     for part in path.split("."):
         x = x[int(part)] if isinstance(x, list) else x[part]
+    if factor:
+        x = x * float(factor)
     fmt = fmt[0] if fmt else ""
     if fmt.endswith("%"):
         return f"{100 * x:{fmt[:-1]}} %"
