@@ -401,9 +401,9 @@ REPORTS = [
     Case("report-out-is-a-file", ["report", "ok", "--out", "f", "--no-compare"], ("f",), {"f": "x"},
          setup=lambda p: _solved_folder(p / "ok")),
     Case("report-no-folders", ["report", "--out", "r"], ("folders",)),
-    Case("fidelity-negative-force", ["fidelity", "thesis-pzt-single-2d", "--force", "-1", "--out", "f"],
+    Case("work-precision-negative-force", ["work-precision", "thesis-pzt-single-2d", "--force", "-1", "--out", "f"],
          ("--force",), out="f"),
-    Case("fidelity-unknown-scene", ["fidelity", "nope-scene", "--out", "f"], ("nope-scene",), out="f"),
+    Case("work-precision-unknown-scene", ["work-precision", "nope-scene", "--out", "f"], ("nope-scene",), out="f"),
 ]
 
 

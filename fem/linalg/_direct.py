@@ -54,7 +54,7 @@ def available(method: str) -> bool:
 AUTO_PARDISO_ABOVE = 15_000
 AUTO_PARDISO_ABOVE_3D = 3_000   # 3D fill: PARDISO 1.2 s vs SuperLU 2.8 s at 8.4k unknowns, even at 4k (taxel_3d)
 # static solves above this go to GMRES (fem.linalg); below, PARDISO, out of core where its factors
-# do not fit (check_fits; the 16x16 array's 794k unknowns, benchmarks/array_8x8.py; was 400k)
+# do not fit (check_fits; the 16x16 array's 794k unknowns, benchmarks/array_8x8.py)
 AUTO_KRYLOV_ABOVE = 1_500_000
 # The memory this process may use in all (bytes; None: whatever is free). A caller on a shared
 # machine sets it (benchmarks/array_8x8.py --cap-gb); a factorization that would not fit
