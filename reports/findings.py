@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from taxel.analyses import linear_error
-from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN
+from taxel.analyses import LINEAR_ERROR_PER_STRAIN
 from taxel.reports.page import Banner, Headline
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude

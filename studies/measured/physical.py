@@ -26,7 +26,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from taxel.analyses.adapter import problem
+from taxel.analyses import problem
 from taxel.fem import readout
 from taxel.fem import dynamics
 from taxel.fem import constitution

@@ -42,7 +42,7 @@ from taxel.schema import to_data
 from taxel.schema import electrode_name
 from taxel.analyses import reduced_export
 from taxel.analyses.version import code_version
-from taxel.analyses.adapter import problem, readout
+from taxel.analyses.problem import problem, readout
 from taxel.analyses.results.folders import FORMAT, write_result
 
 

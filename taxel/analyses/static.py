@@ -1,14 +1,11 @@
-"""The static analysis of a scene: linear, Yeoh, or "auto" (the cheapest that is
-accurate enough).
+"""The static solve of a scene on the model it gives: linear, Yeoh, or "auto" (the
+cheapest silicone law that is accurate enough).
 
 model.silicone = "auto" solves the linear model, estimates its voltage error as
-LINEAR_ERROR_PER_STRAIN x its largest silicone strain, keeps it when the
-estimate is within model.tolerance and otherwise solves Yeoh on the same mesh;
-the choice and the estimate are in `StaticResult.model_note`.
-
-A solve that stops short of its load (a Yeoh Newton under a pressure patch, where the
-silicone creases; a press, where it measured a stop cause) raises; `stopped_result`
-makes its last converged state a result that says so (`StaticResult.stop`).
+LINEAR_ERROR_PER_STRAIN x its largest silicone strain, keeps it when the estimate
+is within model.tolerance and otherwise solves Yeoh on the same mesh; the choice and
+the estimate are in `StaticResult.model_note`. A solve that stops short of its load
+raises fem's NewtonError or ContactError (taxel.analyses.solve returns it as a result).
 """
 
 from __future__ import annotations
@@ -21,22 +18,18 @@ from taxel.fem import hyperelastic
 from taxel.fem import contact
 from taxel.fem.hyperelastic import NewtonError
 from taxel.meshing.build import TaggedMesh
-from taxel.scene import Scene, replace
-from taxel.analyses.adapter import problem, with_silicone
-from taxel.analyses.results import StaticResult, Stop
-
-# Linear silicone's taxel-voltage error per unit of its own largest silicone strain:
-# the worst ratio measured over the thesis PZT and PVDF taxels, 0.05 to 0.45 N
-# (benchmarks/silicone_model_error.py: 0.223 least squares, 0.257 worst).
-LINEAR_ERROR_PER_STRAIN = 0.257
+from taxel.scene import Scene
+from taxel.analyses.problem import problem, with_silicone
+from taxel.analyses.results import StaticResult
+from taxel.analyses.results.static import linear_error
 
 
 def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | None = None,
                 scale: bool = True, newton_options: dict | None = None) -> StaticResult:
     """Solve a scene's static load case on the model it gives (model.fidelity is not
-    read here: `taxel.analyses.solve_static` resolves "auto" by the model choice),
-    meshing it unless `tagged_mesh` is given. With a Yeoh silicone, `newton_options`
-    go to fem.hyperelastic.newton (tol, max_iter, first_step, stepping, line_search)."""
+    read here: taxel.analyses.solve_static resolves "auto" by the model choice), meshing it unless
+    `tagged_mesh` is given. With a Yeoh silicone, `newton_options` go to
+    fem.hyperelastic.newton (tol, max_iter, first_step, stepping, line_search)."""
     t0 = time.perf_counter()
     prob = problem(scene, tagged_mesh)
     t1 = time.perf_counter()
@@ -64,11 +57,6 @@ def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | No
     return hyper
 
 
-def linear_error(max_silicone_strain: float) -> float:
-    """Estimated relative voltage error of a linear silicone at this largest strain."""
-    return LINEAR_ERROR_PER_STRAIN * max_silicone_strain
-
-
 def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     sy = assembly.assemble(prob)
     t2 = time.perf_counter()
@@ -82,26 +70,3 @@ def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     t3 = time.perf_counter()
     return StaticResult(scene, sol, {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0},
                         yeoh=prob.hyperelastic)
-
-
-def stopped_result(scene: Scene, exc: BaseException) -> StaticResult | None:
-    """The last converged state of a static solve of `scene` that stopped short of its load
-    with `exc` (fem.hyperelastic.NewtonError, fem.contact.ContactError: their `.solution`), as
-    a StaticResult whose `stop` gives the load asked for and why it stopped, and whose scene
-    carries the load reached; None for any other error or where no state converged. Not a
-    new solve to that load: a press depends on its path (the 2D probe example, frictionless,
-    asked for 3 N stops past 1.62 N, and pressed to 1.62 N in one target stops at 1.27 N:
-    benchmarks/stopped_press.py)."""
-    if not isinstance(exc, (NewtonError, contact.ContactError)) or exc.solution is None:
-        return None
-    ld = scene.load
-    key = "pressure" if ld.kind == "pressure" else "travel" if ld.travel is not None else "force"
-    requested = getattr(ld, key)
-    if isinstance(exc, NewtonError):
-        reached, cause = exc.result.load_factors[-1] * requested, None
-    else:
-        last = exc.result.points[-1]
-        reached, cause = (last.travel if key == "travel" else last.force), exc.cause
-    return StaticResult(replace(scene, **{f"load.{key}": reached}), exc.solution,
-                        yeoh=scene.model.silicone != "linear",
-                        stop=Stop(requested, key, str(exc).splitlines()[0], cause))

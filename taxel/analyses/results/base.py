@@ -5,9 +5,12 @@ transient, lumped), in the spirit of scipy.optimize's OptimizeResult:
 
 - `record()`: a JSON-ready dict, SI units, unit-suffixed keys, with "kind" and "format";
 - `summary()`: lines for a person (`str(result)` joins them);
-- `to_folder(dir)`: writes result.json, scene.json and the result's CSV;
+- `to_folder(dir)`: writes the result's folder, as `taxel solve --out` leaves it:
+  result.json, scene.json, the result's CSV, its figures and summary.txt;
 - `error`: the ErrorEstimate, or None (the record's "error_note" says why);
-- `outputs()`: the named scalar outputs studies, optimization and reports use.
+- `outputs()`: the named scalar outputs studies, optimization and reports use;
+- `success` and `stop`: whether the solve reached its load and, where it did not (a
+  static solve that stopped short), what was asked, what was reached and why.
 
 `taxel.analyses.read(folder)` reads a folder's result.json back into the same type.
 
@@ -133,6 +136,7 @@ class AnalysisResult(Protocol):
     scene: Scene
     error: ErrorEstimate | None
     kind: str
+    success: bool
 
     def record(self) -> dict: ...
 

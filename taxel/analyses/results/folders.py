@@ -1,5 +1,7 @@
 """Writing a result folder: whole or not at all (`output_folder`), the CSV and
-scene files, and `result.json` with its kind and format version."""
+scene files, `result.json` with its kind and format version, and `summary.txt`.
+Each result's `to_folder` writes its whole folder with these (and its figures,
+results.figures and results.fields)."""
 
 from __future__ import annotations
 
@@ -81,3 +83,10 @@ def write_result(out, record: dict, scene: Scene) -> list[Path]:
     path = out / "result.json"
     path.write_text(json.dumps(record, indent=1))
     return [write_scene(out, scene), path]
+
+
+def write_summary(out, lines: list[str]) -> Path:
+    """summary.txt: a result's summary lines, as `taxel solve` prints them."""
+    path = Path(out) / "summary.txt"
+    path.write_text("\n".join(lines) + "\n")
+    return path
