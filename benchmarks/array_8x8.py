@@ -86,7 +86,12 @@ def main():
         logging.getLogger(name).addHandler(Phases())
     sc = scene("full" if full else "auto", n)
     from taxel.analyses import check, layout
-    unknowns, need = cost(sc, layout(sc, check(sc)))
+    from taxel.meshing.cost import estimated_unknowns, solve_cost
+    lay = layout(sc, check(sc))
+    krylov = sc.model.silicone == "linear" and linalg.resolve("auto", estimated_unknowns(lay, sc.mesh.order),
+                                                                iterative=True, dim=3) == "krylov"
+    c = solve_cost(lay, sc.mesh.order, krylov)
+    unknowns, need = c.unknowns, c.bytes
     print(f"{n}x{n} array: the tool's estimate before meshing: {unknowns:.3g} unknowns, {need / 1e9:.3g} GB "
           f"for the solve (cap {cap:g} GB)", flush=True)
     if need > cap * 1e9 or "--estimate-only" in sys.argv:

@@ -1,8 +1,7 @@
 """Figures of the report pages (matplotlib on the Agg backend, no screen needed):
 a study's output against its parameters, a scene's cross-section to scale, a Yeoh fit.
 The figures of one result (Bode, transient, the solved fields, ...) are the result
-folder's own (taxel.analyses.results), re-exported here for the report pages.
-`docs/readme_figure.py` makes the README's picture with `cross_section`.
+folder's own (taxel.analyses.results.figures and .fields); `pyplot()` is theirs.
 """
 
 from __future__ import annotations
@@ -10,8 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from taxel.analyses import layout, scene_materials
-from taxel.analyses.results.fields import cross_section, png_of, pyvista_render, taxel_heatmap
-from taxel.analyses.results.figures import bode, pyplot, readable, time_response
+from taxel.analyses.results.figures import pyplot
 from taxel.fem.constitution import stability_limit
 from taxel.schema import renamed_value
 from taxel.units import magnitude

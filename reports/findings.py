@@ -239,7 +239,7 @@ def analysis_numbers(result) -> list[Headline]:
     out = []
     if kind not in ("frequency", "transient"):
         return out
-    from taxel.reports.figures import readable
+    from taxel.analyses.results.figures import readable
     model = model_label(result.scene) + f", {readable(result.label)}"
     o = result.outputs()                  # the pressed (or first) taxel's
     if kind == "frequency":
