@@ -22,7 +22,7 @@ from pathlib import Path
 from taxel.analyses import StaticResult, lumped_model, read
 from taxel.analyses.results import RESULT_TYPES, result_kind
 from taxel.reports import findings, tables
-from taxel.analyses.results.fields import FIELD_FIGURES, FIELDS, RENDER_NOTE
+from taxel.analyses.results.figures import FIELD_FIGURES, FIELDS, RENDER_NOTE
 from taxel.scene import parse
 from taxel.schema import to_data
 from taxel.studies.store import Store, StoreError

@@ -108,7 +108,7 @@ def test_offscreen_render_is_silent_on_a_headless_machine():
     import os
     import subprocess
     import sys
-    code = ("import taxel; from taxel.analyses.results.fields import pyvista_render; "
+    code = ("import taxel; from taxel.analyses.results.figures import pyvista_render; "
             "png = pyvista_render(taxel.solve('thesis-pzt-single-2d')); assert png[:4] == b'\\x89PNG'")
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=CEILING)

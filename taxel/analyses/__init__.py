@@ -13,7 +13,7 @@ from __future__ import annotations
 import importlib
 
 from taxel.analyses.analysis import solve, solve_static
-from taxel.analyses.static import solve_model
+from taxel.analyses.problem import solve_model
 from taxel.analyses.geometry import checked_layout, layout, mirror_planes, symmetry_planes
 from taxel.analyses.problem import (check, damping, electrode_states, indenter, mesh, problem, readout,
                                     scene_materials, with_silicone)

@@ -4,13 +4,13 @@ and returns its result, whether or not a static solve reached its load.
 The static analysis resolves model.fidelity = "auto" by the model choice
 (taxel.analyses.model_choice), attaches the error estimate when asked
 (taxel.analyses.error_estimate), and otherwise solves the model as given
-(taxel.analyses.static.solve_model).
+(taxel.analyses.problem.solve_model).
 
 A static solve that stops short of its load (a Yeoh Newton under a pressure patch,
 where the silicone creases; a press, where it measured a stop cause) is returned as
 its last converged state, `success` False and `stop` saying what was asked, what was
 reached and why, like scipy.optimize's OptimizeResult. `solve_static` and
-`static.solve_model` are the building blocks that raise instead (fem's NewtonError,
+`problem.solve_model` are the building blocks that raise instead (fem's NewtonError,
 ContactError): the model choice, the error estimate and the analyses that need the
 full load use them.
 """
@@ -21,7 +21,7 @@ from taxel.fem.contact import ContactError
 from taxel.fem.hyperelastic import NewtonError
 from taxel.scene import Scene, replace
 from taxel.analyses.results import FrequencyResult, StaticResult, Stop, TransientResult
-from taxel.analyses.static import solve_model
+from taxel.analyses.problem import solve_model
 
 
 def solve(scene: Scene, estimate: bool = False, **options) -> StaticResult | FrequencyResult | TransientResult:

@@ -91,7 +91,7 @@ import numpy as np
 
 from taxel.scene import Scene, refined
 from taxel.analyses.results import ErrorEstimate, FrequencyResult, OutputError, StaticResult
-from taxel.analyses.static import solve_model
+from taxel.analyses.problem import solve_model
 from taxel.analyses.results.static import LINEAR_ERROR_PER_STRAIN, linear_error
 
 OUTPUTS = ("sensitivity", "crosstalk", "charge_sensitivity")

@@ -84,7 +84,9 @@ def layout(scene: Scene, mats: dict) -> Layout:
     m, mesh = scene.model, scene.mesh
     common = dict(model=m.type, size=mesh.size, piezo_layers=mesh.piezo_layers)
     if scene.array is not None:            # a half or quarter of a symmetric array (model.symmetry)
-        return cut(_array_layout(scene, common), symmetry_planes(scene))
+        planes = symmetry_planes(scene)
+        whole = _array_layout(scene, common)
+        return cut(whole, planes) if planes else whole
     return _plate_layout(scene, common, mats)
 
 
@@ -125,9 +127,10 @@ def _array_layout(scene: Scene, common) -> Layout:
     piezo = Layer("piezo", z, a.piezo_thickness, a.silicone, 1 if a.poling == "up" else -1,
                   a.piezo, taxels)
     layers.append(piezo)
+    top = z + a.piezo_thickness             # the taxel electrodes' height
     if a.silicone_above > 0:
-        layers.append(Layer("silicone_above", piezo.z1, a.silicone_above, a.silicone))
-    electrodes = tuple(Electrode(t.name, piezo.z1, (t,)) for t in taxels) + (
+        layers.append(Layer("silicone_above", top, a.silicone_above, a.silicone))
+    electrodes = tuple(Electrode(t.name, top, (t,)) for t in taxels) + (
         Electrode("ground", piezo.z0, taxels),)
     depth = scene.model.depth or w
     return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
@@ -236,7 +239,7 @@ def checked_layout(scene: Scene, mats: dict) -> Layout:
     for the Krylov solver (fem.linalg.resolve) is costed as one."""
     lay = layout(scene, mats)
     order = scene.mesh.order
-    krylov = (lay.dim == 3 and scene.analysis.type == "static" and scene.model.silicone == "linear"
+    krylov = (scene.model.type == "3d" and scene.analysis.type == "static" and scene.model.silicone == "linear"
               and linalg.resolve("auto", estimated_unknowns(lay, order), iterative=True, dim=3) == "krylov")
     c = solve_cost(lay, order, krylov)
     if not c.fits:

@@ -43,7 +43,7 @@ from taxel.schema import electrode_name
 from taxel.analyses import reduced_export
 from taxel.analyses.version import code_version
 from taxel.analyses.problem import problem, readout
-from taxel.analyses.results.folders import FORMAT, write_result
+from taxel.analyses.results.base import FORMAT, write_result
 
 
 @dataclass

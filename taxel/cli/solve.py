@@ -49,7 +49,7 @@ def register(sub) -> None:
 
 
 def _solve(args):
-    from taxel import api
+    import taxel.api as api
     vtu = writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None
     res = api.solve(args.scene, out=args.out, solver=args.solver, estimate=args.estimate)
     if vtu is not None and res.kind == "static":
@@ -66,7 +66,7 @@ def _solve(args):
 
 
 def _lumped(args):
-    from taxel import api
+    import taxel.api as api
     _print(api.lumped(args.scene, out=args.out), args)
 
 
@@ -81,7 +81,7 @@ def _print(res, args, details=()) -> None:
 
 
 def _mesh(args):
-    from taxel import api
+    import taxel.api as api
     import meshio
     out = writable_file(args.output, "-o", tuple(sorted({".msh", *meshio.extension_to_filetypes})))
     tm = api.mesh(args.scene, out)
@@ -96,7 +96,7 @@ def _examples(args):
 
 
 def _work_precision(args):
-    from taxel import api
+    import taxel.api as api
     from taxel.reports.work_precision import lines
     if args.command == "fidelity":
         import warnings

@@ -40,7 +40,7 @@ def register(sub) -> None:
 
 
 def _study(args):
-    from taxel import api
+    import taxel.api as api
     from pydantic import ValidationError
 
     from taxel.studies.spec import Study, StudyError, StudySpec
@@ -82,7 +82,7 @@ def _study(args):
 
 
 def _optimize(args):
-    from taxel import api
+    import taxel.api as api
     result = api.optimize(args.file, args.out, workers=args.workers)
     for line in result.summary():
         print(line)
@@ -91,7 +91,7 @@ def _optimize(args):
 
 
 def _report(args):
-    from taxel import api
+    import taxel.api as api
     index = api.report(args.folders, Path(args.out), pdf=args.pdf, compare=not args.no_compare)
     print(f"report: {index.resolve()}")
 

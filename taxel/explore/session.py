@@ -176,7 +176,7 @@ def png_data_url(fig) -> str:
 def section_image(scene: Scene) -> str:
     """The deformed section coloured by the potential (a fresh 2D solve; reports.figures)."""
     from taxel.analyses import solve
-    from taxel.analyses.results.fields import cross_section
+    from taxel.analyses.results.figures import cross_section
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "section.png"
         cross_section(solve(scene), path)

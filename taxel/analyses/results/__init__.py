@@ -6,7 +6,7 @@ reports read these and never re-derive what a result holds."""
 from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, TransientResult
 from taxel.analyses.results.base import (KINDS, MEMBERS, NOT_ESTIMATED, OUTPUT_NAMES, RENAMED_OUTPUTS,
                                          AnalysisResult, ErrorEstimate, OutputError)
-from taxel.analyses.results.folders import FORMAT, output_folder, write_csv, write_scene
+from taxel.analyses.results.base import FORMAT, output_folder, write_csv, write_scene
 from taxel.analyses.results.noise import NOISE_OUTPUTS, NoiseResult
 from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult, Stop
 from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_record, result_kind

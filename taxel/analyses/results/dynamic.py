@@ -20,7 +20,7 @@ from taxel.fem.dynamics import Transient
 from taxel.scene import Scene
 from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, read_error
 from taxel.analyses.results.figures import bode_png, lumped_png, transient_png
-from taxel.analyses.results.folders import FORMAT, write_csv, write_result, write_summary
+from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
 from taxel.schema import electrode_name
 
 

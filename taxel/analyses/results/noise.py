@@ -23,7 +23,7 @@ import numpy as np
 
 from taxel.scene import Scene
 from taxel.analyses.results.base import ErrorEstimate, error_record
-from taxel.analyses.results.folders import FORMAT, write_csv, write_result, write_summary
+from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
 from taxel import units
 
 NOISE_OUTPUTS = {"min_detectable_force": "N", "noise_rms": "V", "snr": "dB", "dynamic_range": "dB"}

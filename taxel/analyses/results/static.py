@@ -16,9 +16,8 @@ from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene
 from taxel.units import engineering
 from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, pressed_name, read_error
-from taxel.analyses.results.fields import FIELDS, field_figures
-from taxel.analyses.results.figures import contact_curves
-from taxel.analyses.results.folders import FORMAT, write_csv, write_result, write_summary
+from taxel.analyses.results.figures import FIELDS, SolvedFields, contact_curves, field_figures
+from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
 
 # Linear silicone's taxel-voltage error per unit of its own largest silicone strain:
 # the worst ratio measured over the thesis PZT and PVDF taxels, 0.05 to 0.45 N
@@ -227,7 +226,10 @@ class StaticResult:
                                    [cv["travel_m"], cv["force_N"], cv["contact_area_m2"], cv["max_pressure_Pa"]]
                                    + list(cv["voltages_V"].values())))
             paths.append(contact_curves(c, out / f"{self.scene.name}-contact.png", title=self.scene.name))
-        paths += field_figures(self, out / FIELDS)
+        sol = self.solution
+        if sol.mesh is not None:          # a fresh solve: its fields drawn (a result read back has none)
+            paths += field_figures(SolvedFields(self.scene, sol.mesh, sol.fields, sol.electrodes, sol.applied_force,
+                                                self.pressed, sol.unknowns), out / FIELDS)
         return paths + [write_summary(out, self.summary())]
 
     def summary(self) -> list[str]:
