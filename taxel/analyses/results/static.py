@@ -116,7 +116,12 @@ class StaticResult:
         return self.solution.residual
 
     def voltages(self) -> dict[str, float]:
-        return self.solution.voltages()
+        """The open-circuit voltage of every electrode but the reference, V."""
+        return {k: e.voltage for k, e in self._taxels().items()}
+
+    def _taxels(self) -> dict[str, ElectrodeResult]:
+        """The electrodes but the reference (the taxels, or a plate's electrodes)."""
+        return {k: e for k, e in self.electrodes.items() if e.state != "reference"}
 
     @property
     def pressed(self) -> str | None:
@@ -139,7 +144,7 @@ class StaticResult:
         of |applied force|); crosstalk (with a pressed taxel and a neighbour);
         max_strain (the largest principal strain in the silicone)."""
         out: dict[str, float] = {}
-        taxels = {k: e for k, e in self.electrodes.items() if e.state != "reference"}
+        taxels = self._taxels()
         if taxels:
             e = taxels[self.pressed or next(iter(taxels))]
             force = abs(self.applied_force) or 1.0
