@@ -21,8 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from taxel.meshing.build import is_graded
-from taxel.meshing.layout import Layout
+from taxel.meshing.layout import Layout, is_graded
 
 SAMPLES = 2000           # grid points per plan direction (1D: per line)
 
@@ -120,6 +119,15 @@ def machine_memory() -> float:
 
 
 @dataclass(frozen=True)
+class SolveLimit:
+    """What a mesh's solve is costed as: its element order and whether the caller's solver
+    choice (fem.linalg.resolve) is the Krylov solver."""
+
+    order: int
+    krylov: bool = False
+
+
+@dataclass(frozen=True)
 class SolveCost:
     """What the solve of a layout's mesh is estimated to need, against this machine."""
 
@@ -152,3 +160,20 @@ def solve_cost(lay: Layout, order: int, krylov: bool = False) -> SolveCost:
     if need > 0.8 * have:
         need = n * BYTES_PER_UNKNOWN_OUT_OF_CORE + 0.2 * have
     return SolveCost(n, need, have)
+
+
+class MeshTooLarge(ValueError):
+    """A mesh whose solve cannot fit this machine's memory (`cost`), refused before it is made."""
+
+    def __init__(self, cost: SolveCost):
+        self.cost = cost
+        super().__init__(f"about {cost.unknowns:.3g} unknowns, needing about {cost.bytes / 1e9:.3g} GB for the "
+                         f"solve, more than this machine's {cost.memory / 1e9:.3g} GB")
+
+
+def check_fits(lay: Layout, limit: SolveLimit) -> SolveCost:
+    """The solve cost of a layout's mesh, or MeshTooLarge where it cannot fit this machine."""
+    cost = solve_cost(lay, limit.order, limit.krylov)
+    if not cost.fits:
+        raise MeshTooLarge(cost)
+    return cost

@@ -120,6 +120,12 @@ class Layout:
         return sorted(x for x in xs if x0 - 1e-12 <= x <= x1 + 1e-12)
 
 
+def is_graded(lay: Layout, layer) -> bool:
+    """Silicone layers of an array are graded from piezo_size (next to the piezo)
+    to size; piezo and plate layers get piezo_layers elements through."""
+    return not (layer.patch_material is not None or layer.piezo or not lay.taxels)
+
+
 def group(planes: tuple[int, ...]) -> list[tuple[int, ...]]:
     """The mirror group of symmetry planes: one sign per plane (-1: mirrored across
     it), the identity first. Also its characters (a class's sign per plane)."""

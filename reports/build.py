@@ -26,7 +26,7 @@ import shutil
 import time
 from pathlib import Path
 
-from taxel.analyses.results import output_folder
+from taxel.analyses import output_folder
 from taxel.scene import SceneError
 from taxel.reports import findings, tables
 from taxel.reports.page import Headline, Page, provenance, templates

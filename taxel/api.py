@@ -41,25 +41,13 @@ def solve(scene: Scene | str | Path | dict, out: str | Path | None = None, **opt
     or not at all; a folder that cannot be made fails before the solve). Options:
     estimate (attach the error estimate); static: solver ("auto", "superlu",
     "pardiso", "krylov"), tagged_mesh, newton_options. Raises SceneError for bad input."""
-    scene = scene if isinstance(scene, Scene) else _load_scene(scene)
-    return _written(lambda: analyses.solve(scene, **options), out)
+    return analyses.solve(scene if isinstance(scene, Scene) else _load_scene(scene), out=out, **options)
 
 
 def lumped(scene: Scene | str | Path | dict, out: str | Path | None = None):
     """The 3-DoF lumped model's frequency response to a scene (a LumpedResult); with
     `out`, its folder is written there too (`result.to_folder`)."""
-    scene = scene if isinstance(scene, Scene) else _load_scene(scene)
-    return _written(lambda: analyses.lumped_response(scene), out)
-
-
-def _written(run, out):
-    """run()'s result, its folder written into `out` when given (made first: whole or not at all)."""
-    if out is None:
-        return run()
-    with analyses.output_folder(Path(out)) as tmp:
-        result = run()
-        result.to_folder(tmp)
-    return result
+    return analyses.lumped(scene if isinstance(scene, Scene) else _load_scene(scene), out)
 
 
 def mesh(scene: Scene | str | Path | dict, path: str | Path):

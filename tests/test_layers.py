@@ -19,6 +19,7 @@ SOLVER_MODULES = {"taxel.fem.dynamics", "taxel.fem.dynamics", "taxel.fem.static"
 # functions of those modules that run no model: formulas and closed forms
 NOT_A_SOLVE = {"taxel.analyses.results.static.linear_error": "a formula of the largest strain",
                "taxel.analyses.problem.scene_materials": "the scene's materials, looked up and checked",
+               "taxel.analyses.analysis.output_folder": "a folder made whole or not at all",
                "taxel.analyses.dynamic.lumped_model": "the closed-form 3-DoF model, no FEM",
                "taxel.optimize.driver.pareto_front": "the nondominated subset of given points",
                "taxel.optimize.driver.violation": "a constraint's violation at given metrics",

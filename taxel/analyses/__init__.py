@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import importlib
 
-from taxel.analyses.analysis import solve, solve_static
+from taxel.analyses.analysis import lumped, output_folder, solve, solve_static
 from taxel.analyses.problem import solve_model
 from taxel.analyses.geometry import checked_layout, layout, mirror_planes, symmetry_planes
 from taxel.analyses.problem import (check, damping, electrode_states, indenter, mesh, problem, readout,
                                     scene_materials, with_silicone)
 from taxel.analyses.results import (AnalysisResult, FrequencyResult, LumpedResult, ResultError, StaticResult, Stop,
-                                    TransientResult, output_folder, read)
+                                    TransientResult, read)
 from taxel.analyses.results.static import LINEAR_ERROR_PER_STRAIN, linear_error
 
 _LAZY = {name: "taxel.analyses.dynamic" for name in
@@ -35,4 +35,4 @@ __all__ = ["solve", "solve_static", "solve_model", "frequency", "transient", "lu
            "problem", "mesh", "readout", "check", "scene_materials", "damping", "electrode_states", "indenter",
            "with_silicone", "layout", "checked_layout", "mirror_planes", "symmetry_planes", "frequencies",
            "force_history", "linear_error", "LINEAR_ERROR_PER_STRAIN", "read", "ResultError", "AnalysisResult",
-           "StaticResult", "FrequencyResult", "Stop", "TransientResult", "LumpedResult", "output_folder"]
+           "StaticResult", "FrequencyResult", "Stop", "TransientResult", "LumpedResult", "output_folder", "lumped"]

@@ -17,6 +17,11 @@ full load use them.
 
 from __future__ import annotations
 
+import contextlib
+import shutil
+import tempfile
+from pathlib import Path
+
 from taxel.fem.contact import ContactError
 from taxel.fem.hyperelastic import NewtonError
 from taxel.scene import Scene, replace
@@ -24,12 +29,20 @@ from taxel.analyses.results import FrequencyResult, StaticResult, Stop, Transien
 from taxel.analyses.problem import solve_model
 
 
-def solve(scene: Scene, estimate: bool = False, **options) -> StaticResult | FrequencyResult | TransientResult:
+def solve(scene: Scene, estimate: bool = False, out: str | Path | None = None,
+          **options) -> StaticResult | FrequencyResult | TransientResult:
     """The scene's [analysis]: a static solve (options: solver, tagged_mesh, scale,
     newton_options; `estimate`: attach the error estimate, taxel.analyses.error_estimate),
     a frequency sweep, or a transient. A static solve that stops short of its load is
     returned as its last converged state (`success` False, `stop`); raises SceneError
-    for bad input, and RuntimeError where not even the first load step converged."""
+    for bad input, and RuntimeError where not even the first load step converged.
+    With `out`, the result's folder is written there (`result.to_folder`, whole or not
+    at all: a folder that cannot be made fails before the solve)."""
+    if out is not None:
+        with output_folder(Path(out)) as tmp:
+            res = solve(scene, estimate, **options)
+            res.to_folder(tmp)
+        return res
     kind = scene.analysis.type
     if kind == "frequency":
         from taxel.analyses.dynamic import frequency
@@ -49,6 +62,56 @@ def solve(scene: Scene, estimate: bool = False, **options) -> StaticResult | Fre
         from taxel.analyses.error_estimate import estimate as error_estimate
         res.error = error_estimate(res.scene, res, options.get("solver", "auto"))
     return res
+
+
+def lumped(scene: Scene, out: str | Path | None = None):
+    """The 3-DoF lumped model's frequency response to a scene (a LumpedResult); with
+    `out`, its folder is written there too, as `solve` writes one."""
+    from taxel.analyses.dynamic import lumped_response
+    if out is None:
+        return lumped_response(scene)
+    with output_folder(Path(out)) as tmp:
+        res = lumped_response(scene)
+        res.to_folder(tmp)
+    return res
+
+
+@contextlib.contextmanager
+def output_folder(path, replace: bool = False):
+    """A folder written whole or not at all: the work goes to a temporary sibling
+    that is renamed to `path` at the end and removed on failure, together with any
+    parent folders made for it. An existing folder is updated in place, or, with
+    `replace`, swapped for the new one only when it is complete.
+    Raises ValueError (one line) when `path` cannot be a folder."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{path}: exists and is not a folder; choose another output folder")
+    if path.is_dir() and not replace:
+        yield path
+        return
+    made = [p for p in reversed(path.parents) if not p.exists()]
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    except OSError as exc:
+        for p in reversed(made):
+            shutil.rmtree(p, ignore_errors=True)
+        raise ValueError(f"{path}: cannot create the output folder ({exc.strerror or exc}); "
+                         "choose a writable place") from None
+    try:
+        yield tmp
+        if path.is_dir():
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
+            path.rename(old / path.name)
+            tmp.rename(path)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            tmp.rename(path)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        for p in reversed(made):
+            shutil.rmtree(p, ignore_errors=True)
+        raise
 
 
 def solve_static(scene: Scene, solver: str = "auto", **options) -> StaticResult:

@@ -14,8 +14,10 @@ Symmetry. A half or quarter model (fem.static) answers for the full one when
 the array, its outline and supports are symmetric about the planes, the press
 is centred on them and the electrode states are mirror images (`mirror_planes`).
 
-Cost. `checked_layout` asks meshing.cost what the layout's solve needs in memory,
-given the solver fem.linalg.resolve picks for it, and refuses what cannot fit.
+Cost. `solve_limit` says what the layout's solve is costed as (its order, and the
+solver fem.linalg.resolve picks for it); meshing refuses a mesh that cannot fit
+(meshing.cost.check_fits, also at meshing.build.build), and `too_large` says so in
+the scene's keys.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ import math
 
 from taxel.fem import linalg
 from taxel.fem import constitution
-from taxel.meshing.cost import estimated_unknowns, solve_cost
+from taxel.meshing.cost import MeshTooLarge, SolveLimit, check_fits, estimated_unknowns
 from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
 from taxel.scene import Scene, SceneError, electrode_state
 from taxel.schema import electrode_name
@@ -233,17 +235,28 @@ def _split_at(layers, zc):
     return out
 
 
-def checked_layout(scene: Scene, mats: dict) -> Layout:
-    """The scene's layout, refused (SceneError, with the estimate) when its mesh and
-    solve cannot fit in this machine's memory. A static linear 3D solve large enough
-    for the Krylov solver (fem.linalg.resolve) is costed as one."""
-    lay = layout(scene, mats)
+def solve_limit(scene: Scene, lay: Layout) -> SolveLimit:
+    """What the solve of the layout's mesh is costed as (meshing.cost): its order, and the
+    Krylov solver where fem.linalg.resolve picks it (a static linear 3D solve that large)."""
     order = scene.mesh.order
     krylov = (scene.model.type == "3d" and scene.analysis.type == "static" and scene.model.silicone == "linear"
               and linalg.resolve("auto", estimated_unknowns(lay, order), iterative=True, dim=3) == "krylov")
-    c = solve_cost(lay, order, krylov)
-    if not c.fits:
-        raise SceneError(f"mesh: about {c.unknowns:.3g} unknowns, needing about {c.bytes / 1e9:.3g} GB for the "
-                         f"solve, more than this machine's {c.memory / 1e9:.3g} GB; coarsen mesh.size / "
-                         "mesh.piezo_size or model less (a 2D or axisymmetric model)")
+    return SolveLimit(order, krylov)
+
+
+def too_large(exc: MeshTooLarge) -> SceneError:
+    """The scene's error for a mesh whose solve cannot fit this machine, with the fix."""
+    return SceneError(f"mesh: {exc}; coarsen mesh.size / mesh.piezo_size or model less (a 2D or "
+                      "axisymmetric model)")
+
+
+def checked_layout(scene: Scene, mats: dict) -> Layout:
+    """The scene's layout, refused (SceneError, with the estimate) when its mesh and
+    solve cannot fit in this machine's memory (meshing.build refuses the same when
+    given the `solve_limit`)."""
+    lay = layout(scene, mats)
+    try:
+        check_fits(lay, solve_limit(scene, lay))
+    except MeshTooLarge as exc:
+        raise too_large(exc) from None
     return lay

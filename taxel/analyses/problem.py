@@ -33,8 +33,9 @@ from taxel.fem.assembly import Indenter
 from taxel.fem.constitution import kinematics
 from taxel.fem.assembly import Damping, Discretization, PatchLoad, Problem, Supports
 from taxel.meshing.build import TaggedMesh, build
+from taxel.meshing.cost import MeshTooLarge
 from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
-from taxel.analyses.geometry import checked_layout, mirror_planes
+from taxel.analyses.geometry import layout, mirror_planes, solve_limit, too_large
 from taxel.analyses.results import StaticResult
 from taxel.analyses.results.static import linear_error
 
@@ -82,13 +83,23 @@ def scene_materials(scene: Scene) -> dict:
 
 def mesh(scene: Scene, msh_path=None) -> TaggedMesh:
     """The tagged mesh of a scene (also written to `msh_path`, gmsh's .msh, when given)."""
-    return build(checked_layout(scene, check(scene)), msh_path=msh_path)
+    return _mesh(scene, check(scene), msh_path)
+
+
+def _mesh(scene: Scene, mats: dict, msh_path=None) -> TaggedMesh:
+    """The scene's layout meshed, refused (SceneError) before gmsh runs when its solve
+    cannot fit this machine."""
+    lay = layout(scene, mats)
+    try:
+        return build(lay, msh_path=msh_path, limit=solve_limit(scene, lay))
+    except MeshTooLarge as exc:
+        raise too_large(exc) from None
 
 
 def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
     """The finite-element Problem of a scene (meshing it unless `tagged_mesh` is given)."""
     mats = check(scene)
-    tm = tagged_mesh or build(checked_layout(scene, mats))
+    tm = tagged_mesh or _mesh(scene, mats)
     m, ld = scene.model, scene.load
     share = 2 ** len(tm.layout.planes)       # a half or quarter model carries its share of the force
     load = PatchLoad(pressure=ld.pressure) if ld.kind == "pressure" else \

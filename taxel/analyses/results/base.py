@@ -17,19 +17,16 @@ transient, lumped), in the spirit of scipy.optimize's OptimizeResult:
 Error estimate: `ErrorEstimate`, one `OutputError` per output, and the names
 of the outputs it covers.
 
-Writing a result folder: whole or not at all (`output_folder`), the CSV and scene
-files, `result.json` with its kind and format version, and `summary.txt`; each
-result's `to_folder` writes its whole folder with these and its figures
-(results.figures).
+Writing a result folder: the CSV and scene files, `result.json` with its kind and
+format version, and `summary.txt`; each result's `to_folder` writes its whole folder
+with these and its figures (results.figures). taxel.analyses.output_folder makes the
+folder whole or not at all.
 """
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import json
-import shutil
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol, runtime_checkable
@@ -168,44 +165,6 @@ def pressed_name(scene: Scene, names) -> str | None:
 # result.json's layout version: 1 adds "kind", "format", "outputs" and "error_note"
 # (a static result.json without them is format 0, read as static)
 FORMAT = 1
-
-
-@contextlib.contextmanager
-def output_folder(path, replace: bool = False):
-    """A folder written whole or not at all: the work goes to a temporary sibling
-    that is renamed to `path` at the end and removed on failure, together with any
-    parent folders made for it. An existing folder is updated in place, or, with
-    `replace`, swapped for the new one only when it is complete.
-    Raises ValueError (one line) when `path` cannot be a folder."""
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise ValueError(f"{path}: exists and is not a folder; choose another output folder")
-    if path.is_dir() and not replace:
-        yield path
-        return
-    made = [p for p in reversed(path.parents) if not p.exists()]
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
-    except OSError as exc:
-        for p in reversed(made):
-            shutil.rmtree(p, ignore_errors=True)
-        raise ValueError(f"{path}: cannot create the output folder ({exc.strerror or exc}); "
-                         "choose a writable place") from None
-    try:
-        yield tmp
-        if path.is_dir():
-            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
-            path.rename(old / path.name)
-            tmp.rename(path)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            tmp.rename(path)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        for p in reversed(made):
-            shutil.rmtree(p, ignore_errors=True)
-        raise
 
 
 def write_csv(path: Path, header, columns) -> Path:
