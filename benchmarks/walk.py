@@ -105,7 +105,7 @@ def main() -> None:
     by_folder = "--folders" in args             # one stop per folder (taxel.analyses, taxel.reports, ...)
     args = [a for a in args if a not in ("--inside-layers", "--folders")]
     if by_folder:
-        LAYER_PACKAGES.extend(("analyses", "reports", "studies", "optimize", "jobs"))
+        LAYER_PACKAGES.extend(("cli", "analyses", "reports", "studies", "optimize", "jobs"))
     with tempfile.TemporaryDirectory() as tmp:
         argv = args or ["solve", "thesis-pzt-single-2d", "--json", "--out", str(Path(tmp) / "x")]
         import contextlib
@@ -116,6 +116,7 @@ def main() -> None:
         steps = [(a, b) for a, b in steps if not (package(a) == package(b) != a)]
     if by_folder:
         steps = [(package(a), package(b)) for a, b in steps if package(a) != package(b)]
+        start = package(start)
     edges = list(dict.fromkeys(steps))            # each caller -> callee pair once, in first-call order
     seen, order, back = {start}, [start], []
     for caller, callee in edges:
