@@ -16,7 +16,7 @@ numbers. Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/array_8x8.py
 (--full solves the whole array instead, for the comparison; it needs about 4x the memory;
 --n 16: the 16 x 16 array (256 electrodes, 123 mm square, the indenter again between the
 middle four). Before meshing, the tool's own estimate of the unknowns and the solve's
-memory (taxel.analyses.adapter.cost) is printed, and the run stops there when it exceeds
+memory (taxel.meshing.cost.solve_cost) is printed, and the run stops there when it exceeds
 --cap-gb (default 12: the machine is shared).)
 """
 
@@ -85,8 +85,13 @@ def main():
         logging.getLogger(name).setLevel(logging.INFO)
         logging.getLogger(name).addHandler(Phases())
     sc = scene("full" if full else "auto", n)
-    from taxel.analyses.adapter import check, cost, layout
-    unknowns, need = cost(sc, layout(sc, check(sc)))
+    from taxel.analyses import check, layout
+    from taxel.meshing.cost import estimated_unknowns, solve_cost
+    lay = layout(sc, check(sc))
+    krylov = sc.model.silicone == "linear" and linalg.resolve("auto", estimated_unknowns(lay, sc.mesh.order),
+                                                                iterative=True, dim=3) == "krylov"
+    c = solve_cost(lay, sc.mesh.order, krylov)
+    unknowns, need = c.unknowns, c.bytes
     print(f"{n}x{n} array: the tool's estimate before meshing: {unknowns:.3g} unknowns, {need / 1e9:.3g} GB "
           f"for the solve (cap {cap:g} GB)", flush=True)
     if need > cap * 1e9 or "--estimate-only" in sys.argv:

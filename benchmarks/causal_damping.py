@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 import taxel
-from taxel.analyses.adapter import problem
+from taxel.analyses import problem
 from taxel.fem import dynamics
 from taxel.fem import constitution
 

@@ -65,7 +65,7 @@ def rules():
             end = f"0.1 N not reached ({exc})"
         print(f"{name}: {len(pr.trace)} Newton iterations, {time.perf_counter() - t0:.0f} s; {end}; "
               f"deepest node {1e6 * pr.node_penetration():.3g} um", flush=True)
-    from taxel.analyses.adapter import check, checked_layout
+    from taxel.analyses import check, checked_layout
     from taxel.meshing.build import build
     print("| press | rule | unknowns | travel (mm) | force (N) | V/F (V/N) | deepest node (um) | CPU s |\n"
           "|---|---|---|---|---|---|---|---|")

@@ -35,7 +35,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from press_3d import OUT, layout, run, stop  # noqa: E402
 
-from taxel.analyses.adapter import check, checked_layout, problem  # noqa: E402
+from taxel.analyses import check, checked_layout, problem  # noqa: E402
 from taxel.fem.assembly import assemble
 from taxel.meshing.build import build  # noqa: E402
 from taxel.scene import load  # noqa: E402

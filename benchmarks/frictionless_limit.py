@@ -17,7 +17,7 @@ import dataclasses
 import sys
 from pathlib import Path
 
-from taxel.analyses.adapter import check, checked_layout
+from taxel.analyses import check, checked_layout
 from taxel.scene import load
 
 sys.path.insert(0, str(Path(__file__).parent))

@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import solve_static as solve
-from taxel.analyses.adapter import layout
-from taxel.analyses.adapter import scene_materials
+from taxel.analyses import layout
+from taxel.analyses import scene_materials
 from taxel.meshing.build import build
 from taxel.scene import load
 

@@ -170,7 +170,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from taxel.analyses import problem
-from taxel.analyses.adapter import checked_layout, check
+from taxel.analyses import checked_layout, check
 from taxel.analyses.error_estimate import CHEAP_3D
 from taxel.fem.assembly import assemble
 from taxel.fem.contact import ContactError, Options, Press

@@ -77,7 +77,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from press_3d import OUT, layout, run, scene  # noqa: E402
 
-from taxel.analyses.adapter import check, checked_layout  # noqa: E402
+from taxel.analyses import check, checked_layout  # noqa: E402
 from taxel.meshing.build import build  # noqa: E402
 from taxel.scene import load, parse, to_data  # noqa: E402
 

@@ -27,7 +27,7 @@ import numpy as np
 
 import taxel
 from taxel.analyses import reduced as R
-from taxel.analyses.adapter import problem
+from taxel.analyses import problem
 from taxel.fem import dynamics
 from taxel.fem import dynamics as fr
 

@@ -3,7 +3,7 @@ against the Yeoh model, for the thesis PZT and PVDF taxels (2D plane strain),
 over force; and its relation to the linear solution's own largest silicone strain.
 
 The fitted slope (error per unit strain) is what `model.silicone = "auto"` uses
-(taxel.analyses.static.LINEAR_ERROR_PER_STRAIN): solve linear, estimate the error from the
+(taxel.analyses.LINEAR_ERROR_PER_STRAIN): solve linear, estimate the error from the
 strain, and switch to Yeoh when the estimate passes the scene's tolerance.
 The uniform-pressure press on Ecoflex cannot be followed by Newton beyond
 about 0.45 N in 2D (see fem.hyperelastic; the surface folds at the load edge), so the

@@ -4,7 +4,8 @@
                                         (default: solve thesis-pzt-single-2d --json --out DIR)
 
 Runs the `taxel` command in this process under a profile hook and records, from the
-moment the command's handler takes over (after argument parsing), every call
+moment the command's handler in the taxel.cli package takes over (after argument
+parsing; `_solve` in taxel.cli.solve for `solve`), every call
 from one module of the package into another (calls inside a module, and calls into
 third-party code, are not steps). Prints the modules in the order they are first
 entered, how many distinct modules the walk passes through, and how many times it
@@ -13,7 +14,10 @@ caller and was entered before). Scene validation (pydantic validators in
 taxel.scene and taxel.schema calling taxel.units) is counted like any other call. Calls from one module of
 the FEM (taxel.fem) or the meshing (taxel.meshing) into another of the same folder
 are the solver's own machinery, where the design point is no longer a scene but a
-Problem or a layout: they are left out unless --inside-layers is given.
+Problem or a layout: they are left out unless --inside-layers is given. A subpackage
+of the FEM (taxel.fem.static, taxel.fem.assembly, ...) counts as one module: its
+callers see only its surface (its __init__'s __all__), its private modules are its
+own machinery.
 --folders draws the walk one stop per folder (taxel.analyses, taxel.fem, ...).
 """
 
@@ -24,8 +28,10 @@ import tempfile
 from pathlib import Path
 
 
-def trace(argv: list[str]) -> list[tuple[str, str]]:
+def trace(argv: list[str]) -> tuple[str, list[tuple[str, str]]]:
+    """The handler's module, and every (caller, callee) call between modules, in order."""
     from taxel import cli
+    cli_folder = Path(cli.__file__).resolve().parent
     roots = {}
     import importlib
     for sub in ("taxel", "taxel.fem", "taxel.meshing", "taxel.optimize", "taxel.studies", "taxel.reports"):
@@ -40,7 +46,10 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
         if best is None:
             return None
         rel = p.relative_to(best[0]).with_suffix("")
-        return ".".join([best[1], *rel.parts]).removesuffix(".__init__")
+        parts = [best[1], *rel.parts]
+        if best[1] == "taxel.fem" and len(parts) > 2:       # a FEM subpackage is one module
+            parts = parts[:2]
+        return ".".join(parts).removesuffix(".__init__")
 
     steps: list[tuple[str, str]] = []
 
@@ -54,16 +63,17 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
         return False
     cache: dict[str, str | None] = {}
 
-    active = [False]
+    active: list[str] = []
     handler = "_" + argv[0].replace("-", "_")     # the command's handler in taxel.cli (_solve for solve)
 
     def hook(frame, event, arg):
-        if not active[0] and frame.f_code.co_name == handler and frame.f_code.co_filename == cli.__file__:
-            active[0] = True                      # the command line is parsed: the walk begins
-        if not active[0] or event != "call" or frame.f_code.co_name == "<module>" or at_import(frame):
+        if not active and frame.f_code.co_name == handler and \
+                Path(frame.f_code.co_filename).resolve().parent == cli_folder:
+            active.append(module_of(frame.f_code.co_filename))   # the command line is parsed: the walk begins
+        if not active or event != "call" or frame.f_code.co_name == "<module>" or at_import(frame):
             return
         callee = cache.setdefault(frame.f_code.co_filename, module_of(frame.f_code.co_filename))
-        if callee is None or callee == "taxel.cli" and not steps:
+        if callee is None or callee == active[0] and not steps:
             return
         back = frame.f_back
         while back is not None and cache.setdefault(back.f_code.co_filename, module_of(back.f_code.co_filename)) is None:
@@ -77,7 +87,7 @@ def trace(argv: list[str]) -> list[tuple[str, str]]:
         cli.main(argv)
     finally:
         sys.setprofile(None)
-    return steps
+    return (active[0] if active else "taxel.cli"), steps
 
 
 def package(module: str) -> str:
@@ -95,19 +105,20 @@ def main() -> None:
     by_folder = "--folders" in args             # one stop per folder (taxel.analyses, taxel.reports, ...)
     args = [a for a in args if a not in ("--inside-layers", "--folders")]
     if by_folder:
-        LAYER_PACKAGES.extend(("analyses", "reports", "studies", "optimize", "jobs"))
+        LAYER_PACKAGES.extend(("cli", "analyses", "reports", "studies", "optimize", "jobs"))
     with tempfile.TemporaryDirectory() as tmp:
         argv = args or ["solve", "thesis-pzt-single-2d", "--json", "--out", str(Path(tmp) / "x")]
         import contextlib
         import io
         with contextlib.redirect_stdout(io.StringIO()):
-            steps = trace(argv)
+            start, steps = trace(argv)
     if not inside:     # the design point's walk: within the FEM and the meshing (which never see the scene)
         steps = [(a, b) for a, b in steps if not (package(a) == package(b) != a)]
     if by_folder:
         steps = [(package(a), package(b)) for a, b in steps if package(a) != package(b)]
+        start = package(start)
     edges = list(dict.fromkeys(steps))            # each caller -> callee pair once, in first-call order
-    seen, order, back = {"taxel.cli"}, ["taxel.cli"], []
+    seen, order, back = {start}, [start], []
     for caller, callee in edges:
         if callee in seen:
             back.append((caller, callee))

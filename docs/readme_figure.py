@@ -8,7 +8,7 @@ Run: python docs/readme_figure.py   (writes docs/thesis-pzt-3x3-2d.png and print
 from pathlib import Path
 
 import taxel
-from taxel.reports.figures import cross_section
+from taxel.analyses.results.figures import cross_section
 
 result = taxel.solve("thesis-pzt-3x3-2d")
 cross_section(result, Path(__file__).parent / "thesis-pzt-3x3-2d.png")

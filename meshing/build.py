@@ -41,7 +41,8 @@ from pathlib import Path
 import numpy as np
 import skfem
 
-from taxel.meshing.layout import Layout
+from taxel.meshing.cost import SolveLimit, check_fits
+from taxel.meshing.layout import Layout, is_graded
 
 
 @dataclass
@@ -82,11 +83,15 @@ def _gmsh_model(name="taxel"):
         gmsh.model.remove()
 
 
-def build(lay: Layout, msh_path: str | Path | None = None) -> TaggedMesh:
+def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | None = None) -> TaggedMesh:
     """Mesh a layout with gmsh and return the tagged scikit-fem mesh.
 
-    `msh_path`: also write the gmsh mesh (with physical groups) there.
+    `msh_path`: also write the gmsh mesh (with physical groups) there. `limit`: refuse
+    first (MeshTooLarge, before gmsh runs) a mesh whose solve cannot fit this machine
+    (meshing.cost.check_fits).
     """
+    if limit is not None:
+        check_fits(lay, limit)
     with _gmsh_model() as gmsh:
         occ = gmsh.model.occ
         plan = _plan(occ, lay)
@@ -141,12 +146,6 @@ def _plan(occ, lay: Layout):
         occ.synchronize()
         faces = [e for e in faces if e not in drop]
     return faces
-
-
-def is_graded(lay: Layout, layer) -> bool:
-    """Silicone layers of an array are graded from piezo_size (next to the piezo)
-    to size; piezo and plate layers get piezo_layers elements through."""
-    return not (layer.patch_material is not None or layer.piezo or not lay.taxels)
 
 
 def is_free(lay: Layout, layer) -> bool:

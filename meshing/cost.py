@@ -8,19 +8,20 @@ of plan elements is the integral of the element density over the plan,
 (equilateral triangles of side h), sampled on a grid. Vertices follow from
 Euler's relation (V ~ T / 2 for triangles). Good to a factor of about 1.5
 (tests/test_hostile_input.py compares it with real meshes): enough to refuse a
-request that cannot fit before it starts. A free 3D layout (Layout.free: the silicone
+request that cannot fit before it starts (`solve_cost`: the memory of the solve of
+those unknowns, direct or Krylov as the caller's solver choice says). A free 3D layout (Layout.free: the silicone
 meshed by the 3D mesher) is counted as if extruded, an overestimate (the 3D press's
 default mesh: 1.95x its elements, 1.44x its vertices), which is the safe side for a refusal.
 """
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
 
-from taxel.meshing.build import is_graded
-from taxel.meshing.layout import Layout
+from taxel.meshing.layout import Layout, is_graded
 
 SAMPLES = 2000           # grid points per plan direction (1D: per line)
 
@@ -95,3 +96,84 @@ def mesh_cost(lay: Layout) -> MeshCost:
     area_factor = np.pi / 4 if lay.plan.shape == "disk" else 1.0       # (symmetry cuts: rectangles only)
     triangles = float(density.mean() * (x1 - x0) * (y1 - y0) * area_factor)
     return MeshCost(triangles / 2 * (layers + 1), 3 * triangles * layers)
+
+
+# Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; in 3D the
+# 8x8 array of benchmarks/array_8x8.py: 3.7 GB peak at 202k unknowns, with fem.assembly's
+# LeanBasis); in 3D the fill grows about as n^(1/3) more. Out of core (fem.linalg)
+# the factors go to files: what stays is the assembled and reduced matrices and the mesh
+# (1.5 GB at 202k unknowns) and the factors' share in memory.
+BYTES_PER_UNKNOWN_2D = 3e3
+BYTES_PER_UNKNOWN_3D = 18.3e3
+REFERENCE_UNKNOWNS_3D = 202e3
+BYTES_PER_UNKNOWN_OUT_OF_CORE = 7.5e3
+BYTES_PER_UNKNOWN_KRYLOV = 20e3      # the Krylov solver's memory is about linear (benchmarks/array_8x8.py)
+# mesh_cost's 3D unknowns against the meshes gmsh made: 1.29 (thesis-pzt-single-3d),
+# 1.54 and 1.72 (the 3x3 array at its own and at array_8x8's mesh), 1.61 (the 8x8 array)
+UNKNOWNS_3D_PER_ESTIMATE = 1.6
+
+
+def machine_memory() -> float:
+    """Physical memory of this machine, bytes."""
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+
+
+@dataclass(frozen=True)
+class SolveLimit:
+    """What a mesh's solve is costed as: its element order and whether the caller's solver
+    choice (fem.linalg.resolve) is the Krylov solver."""
+
+    order: int
+    krylov: bool = False
+
+
+@dataclass(frozen=True)
+class SolveCost:
+    """What the solve of a layout's mesh is estimated to need, against this machine."""
+
+    unknowns: float
+    bytes: float
+    memory: float            # this machine's physical memory, bytes
+
+    @property
+    def fits(self) -> bool:
+        return self.bytes <= 0.8 * self.memory
+
+
+def estimated_unknowns(lay: Layout, order: int) -> float:
+    """The unknowns of the layout's mesh at element order `order` (3D: scaled to what
+    gmsh makes, UNKNOWNS_3D_PER_ESTIMATE)."""
+    n = mesh_cost(lay).unknowns(lay.dim, order)
+    return n if lay.dim == 2 else n * UNKNOWNS_3D_PER_ESTIMATE
+
+
+def solve_cost(lay: Layout, order: int, krylov: bool = False) -> SolveCost:
+    """The estimated unknowns and bytes of the solve of a layout's mesh: a direct solve
+    in memory, or out of core where that would not fit this machine (3D), or with
+    `krylov` (the caller's solver choice, fem.linalg.resolve) the Krylov solver."""
+    n, have = estimated_unknowns(lay, order), machine_memory()
+    if lay.dim == 2:
+        return SolveCost(n, n * BYTES_PER_UNKNOWN_2D, have)
+    if krylov:
+        return SolveCost(n, n * BYTES_PER_UNKNOWN_KRYLOV, have)
+    need = n * BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
+    if need > 0.8 * have:
+        need = n * BYTES_PER_UNKNOWN_OUT_OF_CORE + 0.2 * have
+    return SolveCost(n, need, have)
+
+
+class MeshTooLarge(ValueError):
+    """A mesh whose solve cannot fit this machine's memory (`cost`), refused before it is made."""
+
+    def __init__(self, cost: SolveCost):
+        self.cost = cost
+        super().__init__(f"about {cost.unknowns:.3g} unknowns, needing about {cost.bytes / 1e9:.3g} GB for the "
+                         f"solve, more than this machine's {cost.memory / 1e9:.3g} GB")
+
+
+def check_fits(lay: Layout, limit: SolveLimit) -> SolveCost:
+    """The solve cost of a layout's mesh, or MeshTooLarge where it cannot fit this machine."""
+    cost = solve_cost(lay, limit.order, limit.krylov)
+    if not cost.fits:
+        raise MeshTooLarge(cost)
+    return cost

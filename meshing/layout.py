@@ -6,7 +6,7 @@ Every scene this tool takes is a layered stack: bottom silicone, the piezo layer
 for verification plates, full-width layers. Pure geometry, no gmsh.
 
 Plan coordinates: x (and y in 3D), centred on the array or plate. A 2D model is
-the x-z cross-section through the loaded taxel's row. taxel.analyses.adapter
+the x-z cross-section through the loaded taxel's row. taxel.analyses.geometry
 makes the layout of a scene.
 """
 
@@ -118,6 +118,12 @@ class Layout:
         for p in self.taxels + ((self.load,) if self.load else ()):
             xs.update((p.x - p.half, p.x + p.half))
         return sorted(x for x in xs if x0 - 1e-12 <= x <= x1 + 1e-12)
+
+
+def is_graded(lay: Layout, layer) -> bool:
+    """Silicone layers of an array are graded from piezo_size (next to the piezo)
+    to size; piezo and plate layers get piezo_layers elements through."""
+    return not (layer.patch_material is not None or layer.piezo or not lay.taxels)
 
 
 def group(planes: tuple[int, ...]) -> list[tuple[int, ...]]:

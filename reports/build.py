@@ -26,7 +26,7 @@ import shutil
 import time
 from pathlib import Path
 
-from taxel.analyses.results import output_folder
+from taxel.analyses import output_folder
 from taxel.scene import SceneError
 from taxel.reports import findings, tables
 from taxel.reports.page import Headline, Page, provenance, templates
@@ -229,7 +229,7 @@ def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:
     """The folder's figures, with its Bode or time plot drawn again from the stored
     result (the current figure style, whatever release wrote the folder)."""
     from taxel.analyses import FrequencyResult, TransientResult
-    from taxel.reports.analysis import bode_png, transient_png
+    from taxel.analyses.results.figures import bode_png, transient_png
     imgs = sorted(folder.glob("*.png"))
     if isinstance(result, (FrequencyResult, TransientResult)):
         suffix = "-bode.png" if isinstance(result, FrequencyResult) else "-transient.png"

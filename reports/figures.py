@@ -1,133 +1,17 @@
-"""Figures (matplotlib on the Agg backend, no screen needed; pyvista off-screen).
-
-`pyplot()` is the one place the backend is chosen. `docs/readme_figure.py`
-makes the landing picture (docs/thesis-pzt-3x3-2d.png) with
-`cross_section`.
+"""Figures of the report pages (matplotlib on the Agg backend, no screen needed):
+a study's output against its parameters, a scene's cross-section to scale, a Yeoh fit.
+The figures of one result (Bode, transient, the solved fields, ...) are the result
+folder's own (taxel.analyses.results.figures and .fields); `pyplot()` is theirs.
 """
 
 from __future__ import annotations
 
-import io
-import os
-
 import numpy as np
 
-from taxel.analyses.adapter import layout
-from taxel.analyses.adapter import scene_materials
+from taxel.analyses import layout, scene_materials
+from taxel.analyses.results.figures import pyplot
 from taxel.fem.constitution import stability_limit
 from taxel.units import magnitude
-from taxel.schema import electrode_name
-
-
-def pyplot():
-    """matplotlib.pyplot on the Agg backend."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def cross_section(sol, path, exaggerate=None):
-    plt = pyplot()
-    from matplotlib.tri import Triangulation
-
-    mesh = sol.mesh.mesh
-    if mesh.dim() != 2:
-        raise ValueError("cross_section draws 2D and axisymmetric scenes")
-    p, u = mesh.p * 1e3, sol.fields.u * 1e3                       # mm
-    scale = exaggerate or max(1.0, round(0.1 * np.ptp(p[1]) / max(np.abs(u).max(), 1e-30)))
-    deformed = p + scale * u.T
-    fig, axes = plt.subplots(2, 1, figsize=(9, 6), constrained_layout=True)
-    piezo = np.zeros(mesh.nelements, bool)
-    for region in sol.mesh.materials:
-        if region != "silicone":
-            piezo[sol.mesh.regions[region]] = True
-    ax = axes[0]
-    ax.tripcolor(Triangulation(*deformed, mesh.t[:, ~piezo].T), np.zeros((~piezo).sum()),
-                 cmap="Greys", vmin=-1, vmax=4, edgecolors="0.75", linewidth=0.1)
-    pc = ax.tripcolor(Triangulation(*deformed, mesh.t[:, piezo].T), sol.fields.phi,
-                      shading="gouraud", cmap="coolwarm")
-    fig.colorbar(pc, ax=ax, label="electric potential (V)")
-    ax.set_xlim(p[0].min() / 2, p[0].max() / 2)
-    ax.set_title(f"{sol.scene.name}: potential in the piezo (silicone grey), deformation x{scale:g}")
-    ax = axes[1]
-    pc = ax.tripcolor(Triangulation(*p, mesh.t.T), u[:, 1] * 1e3, shading="gouraud", cmap="viridis")
-    fig.colorbar(pc, ax=ax, label="vertical displacement (µm)")
-    volts = ", ".join(f"{k}: {e.voltage * 1e3:.0f} mV" for k, e in sol.electrodes.items() if e.state != "reference")
-    ax.set_title(f"{sol.applied_force:g} N on the taxel; open-circuit {volts}")
-    axes[1].set_aspect("equal")
-    for a in axes:
-        a.set_xlabel("x (mm)")
-        a.set_ylabel("z (mm)")
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-
-
-def readable(label: str) -> str:
-    """A readout label for a person: resistances with an SI prefix ("voltage across
-    5e+08 ohm" -> "voltage across 500 MΩ")."""
-    import re
-    from taxel.reports.tables import eng
-    return re.sub(r"(\d[\d.]*(?:e[+-]?\d+)?) ?ohm", lambda m: eng(float(m.group(1)), "Ω"), label)
-
-
-def bode(freqs, H, names, label, path, title="", notch: float | None = None):
-    """Magnitude and phase (unwrapped) of H (nf, na) against frequency, with the
-    resonance (the largest |H| above the lowest decade) and the notch marked."""
-    plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.2), sharex=True, layout="constrained")
-    freqs = np.asarray(freqs)
-    for k, name in enumerate(names):
-        a1.loglog(freqs, np.abs(H[:, k]), label=name.replace("_", " "))
-        a2.semilogx(freqs, np.degrees(np.unwrap(np.angle(H[:, k]))), label=name.replace("_", " "))
-    mag = np.abs(H[:, 0])
-    upper = freqs >= 10 * freqs[0]
-    if upper.any():
-        i = int(np.argmax(np.where(upper, mag, -np.inf)))
-        if 0 < i < len(freqs) - 1:              # a peak inside the sweep, not its edge
-            for a in (a1, a2):
-                a.axvline(freqs[i], color="tab:red", lw=0.8, ls="--")
-            a1.annotate(f"resonance {freqs[i]:.3g} Hz", (freqs[i], mag[i]), xytext=(-8, -4),
-                        textcoords="offset points", ha="right", va="top", fontsize=8, color="tab:red")
-    if notch:
-        for a in (a1, a2):
-            a.axvline(notch, color="tab:purple", lw=0.8, ls=":")
-        a1.annotate(f"notch {notch:g} Hz", (notch, mag.min()), xytext=(6, 0), textcoords="offset points",
-                    fontsize=8, color="tab:purple")
-    a1.set_ylabel("|output per newton| (V/N)")
-    a2.set_ylabel("phase, unwrapped (deg)")
-    a2.set_xlabel("frequency (Hz)")
-    a1.set_title(f"{title}: {readable(label)}" if title else readable(label), fontsize=10)
-    if len(names) > 1:
-        a1.legend(fontsize=8, loc="upper left")
-    for a in (a1, a2):
-        a.grid(True, which="both", alpha=0.3)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
-
-
-def time_response(t, force, y, names, label, path, title=""):
-    """Force and output voltages over time."""
-    plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True, layout="constrained")
-    a1.plot(t, force, color="k")
-    a1.set_ylabel("force (N)")
-    a1.set_title(f"{title}: {readable(label)}" if title else readable(label), fontsize=10)
-    y = np.asarray(y)
-    big = float(np.nanmax(np.abs(y))) if y.size else 1.0
-    scale, unit = (1e3, "mV") if big < 1 else (1.0, "V")
-    for k, name in enumerate(names):
-        a2.plot(t, scale * y[:, k], label=name.replace("_", " "))
-    a2.set_ylabel(f"output ({unit})")
-    a2.set_xlabel("time (s)")
-    if len(names) > 1:
-        a2.legend(fontsize=8, loc="best")
-    for a in (a1, a2):
-        a.grid(True, alpha=0.3)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
 
 
 # outputs of a study: (axis label, scale from SI, absolute value?)
@@ -194,7 +78,7 @@ def study_plots(rows, parameters, outputs, folder, title=""):
                                       for q, v in zip(others, k)) or None
                     ax.plot([_param_value(r[p])[0] for r in grp], ys, "o-", ms=3, color=colour[k], label=label)
                 if out == "max_strain":       # the linear silicone's range (2 % voltage error), drawn
-                    from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN
+                    from taxel.analyses import LINEAR_ERROR_PER_STRAIN
                     lim = 100 * 0.02 / LINEAR_ERROR_PER_STRAIN
                     ax.axhline(lim, color="tab:red", lw=0.9, ls="--")
                     ax.axhspan(lim, ax.get_ylim()[1], color="tab:red", alpha=0.06)
@@ -214,38 +98,6 @@ def study_plots(rows, parameters, outputs, folder, title=""):
             plt.close(fig)
             files.append(path)
     return files
-
-
-def taxel_heatmap(sol):
-    """The open-circuit voltage of every taxel for the press, as a rows x cols map
-    in mV (the 2D section shows its one row); None for a single taxel."""
-    import re
-    plt = pyplot()
-    cells = {}
-    for name, e in sol.electrodes.items():
-        m = re.fullmatch(r"taxel_(\d+)_(\d+)", name)
-        if m:
-            cells[int(m.group(1)), int(m.group(2))] = e.voltage * 1e3
-    if len(cells) < 2:
-        return None
-    r0, r1 = min(r for r, _ in cells), max(r for r, _ in cells)
-    c0, c1 = min(c for _, c in cells), max(c for _, c in cells)
-    grid = np.full((r1 - r0 + 1, c1 - c0 + 1), np.nan)
-    for (r, c), v in cells.items():
-        grid[r - r0, c - c0] = v
-    lim = np.nanmax(np.abs(grid))
-    fig, ax = plt.subplots(figsize=(1.3 * grid.shape[1] + 2.5, 1.3 * grid.shape[0] + 1.2), layout="constrained")
-    im = ax.imshow(grid, cmap="coolwarm", vmin=-lim, vmax=lim)
-    for (r, c), v in cells.items():
-        ax.text(c - c0, r - r0, f"{v:.0f}", ha="center", va="center", fontsize=10,
-                fontweight="bold" if electrode_name(r, c) == sol.pressed else "normal")
-    ax.set_xticks(range(grid.shape[1]), [str(c) for c in range(c0, c1 + 1)])
-    ax.set_yticks(range(grid.shape[0]), [str(r) for r in range(r0, r1 + 1)])
-    ax.set_xlabel("column (index)")
-    ax.set_ylabel("row (index)")
-    fig.colorbar(im, ax=ax, label="open-circuit voltage (mV)")
-    ax.set_title(f"{sol.applied_force:g} N on {sol.pressed or 'the array'}", fontsize=9)
-    return fig
 
 
 def scene_layout(scene):
@@ -303,91 +155,6 @@ def scene_drawing(scene):
     ax.set_title(f"{scene.name}: {lay.model.replace('_', ' ')}"
                  + (f", depth {lay.depth * 1e3:g} mm" if lay.model.startswith("plane") else ""), fontsize=9)
     return fig
-
-
-def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
-    """Off-screen pyvista render of the deformed mesh coloured by a field (the
-    potential by default), framed on the pressed taxel and its neighbours; 2D
-    meshes are drawn in their x-z plane, 3D ones clipped through the pressed row.
-    PNG bytes."""
-    if not os.environ.get("DISPLAY"):      # headless: EGL directly, not X first (which warns on stderr)
-        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import pyvista as pv
-    pv.OFF_SCREEN = True
-    m = sol.mesh.mesh
-    pts = m.p.T * 1e3
-    u = sol.fields.u * 1e3
-    if m.dim() == 2:
-        pts = np.column_stack([pts[:, 0], np.zeros(len(pts)), pts[:, 1]])
-        u = np.column_stack([u[:, 0], np.zeros(len(u)), u[:, 1]])
-        cells = np.hstack([np.full((m.t.shape[1], 1), 3), m.t.T]).ravel()
-        grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TRIANGLE), pts + u)
-    else:
-        cells = np.hstack([np.full((m.t.shape[1], 1), 4), m.t.T]).ravel()
-        grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TETRA), pts + u)
-    grid.point_data[field] = getattr(sol.fields, field)
-    piezo = np.zeros(m.t.shape[1], bool)
-    for region in sol.mesh.materials:
-        if region != "silicone":
-            piezo[sol.mesh.regions[region]] = True
-    grid.cell_data["piezo"] = piezo.astype(float)
-    lay = sol.mesh.layout               # the solved layout (cut, for a symmetric model)
-    centre = (lay.load.x if lay.load is not None else float(np.mean(pts[:, 0])) * 1e-3) * 1e3
-    half = (3 * lay.taxels[0].half + getattr(sol.scene.array, "gap", 0.0)) * 1e3 if lay.taxels else None
-    y_load = (lay.load.y * 1e3) if lay.load is not None else float(np.median(pts[:, 1]))
-    if m.dim() == 3:                  # a symmetric cut (quarter or half) mirrored back to the whole for the view
-        for axis, at in ((0, centre), (1, y_load)):
-            if float(pts[:, axis].min()) >= at - 1e-6 * max(1.0, abs(at)):
-                normal = [0.0, 0.0, 0.0]
-                normal[axis] = 1.0
-                point = [0.0, 0.0, 0.0]
-                point[axis] = at
-                grid = grid.merge(grid.reflect(normal, point=point))
-        grid = grid.clip(normal="-y", origin=(0.0, y_load, 0.0))   # cut through the pressed row
-    plotter = pv.Plotter(off_screen=True, window_size=window)
-    unit = "potential (V)" if field == "phi" else field
-    piezo_part = grid.threshold(0.5, scalars="piezo")
-    silicone_part = grid.threshold(0.5, scalars="piezo", invert=True)
-    plotter.add_mesh(silicone_part, color="#d9d9d9", opacity=0.45, show_edges=m.dim() == 2,
-                     edge_color="#bbbbbb", line_width=0.3)
-    plotter.add_mesh(piezo_part, scalars=field, cmap="coolwarm",
-                     scalar_bar_args={"title": unit, "title_font_size": 20, "label_font_size": 16,
-                                      "fmt": "%.2g", "vertical": True, "position_x": 0.88,
-                                      "position_y": 0.15, "height": 0.7})
-    span = np.ptp(pts, axis=0)
-    zscale = float(np.clip(span[0] / (4 * span[2]), 1.0, 3.0)) if m.dim() == 2 else 1.0
-    if m.dim() == 2:                  # vertical x3: the 0.1 mm piezo and the 1 mm silicone readable
-        plotter.set_scale(zscale=zscale)
-        plotter.view_xz()
-        if half:                          # frame the pressed taxel and its neighbours' edges
-            z0, z1 = float(pts[:, 2].min()), float(pts[:, 2].max())
-            plotter.camera.parallel_projection = True
-            plotter.camera.focal_point = (centre, 0.0, zscale * (z0 + z1) / 2)
-            plotter.camera.position = (centre, -100.0, zscale * (z0 + z1) / 2)
-            plotter.camera.parallel_scale = max(0.55 * zscale * (z1 - z0),
-                                                min(half, 0.5 * np.ptp(pts[:, 0])) * window[1] / window[0])
-    else:                             # looking at the cut face, from the front and above, on the press
-        plotter.view_isometric()
-        z0, z1 = float(pts[:, 2].min()), float(pts[:, 2].max())
-        h = half or 0.5 * float(np.ptp(pts[:, 0]))
-        focus = (centre, y_load, (z0 + z1) / 2)
-        plotter.camera.focal_point = focus
-        plotter.camera.position = (centre + 0.6 * h, y_load - 2.2 * h, z1 + 1.4 * h)
-        plotter.camera.view_up = (0.0, 0.0, 1.0)
-    plotter.add_text(f"{sol.scene.name}: piezo coloured by {unit}, silicone grey; deformed x1"
-                     + (f", vertical x{zscale:.2g}" if zscale != 1 else ""), font_size=11)
-    return png_of(plotter)
-
-
-def png_of(plotter) -> bytes:
-    """The PNG bytes of a pyvista plotter's view, with x, y, z axes; the plotter is closed."""
-    plotter.add_axes(xlabel="x", ylabel="y", zlabel="z")
-    img = plotter.screenshot(return_img=True)
-    plotter.close()
-    import matplotlib.image as mpimg
-    buf = io.BytesIO()
-    mpimg.imsave(buf, img, format="png")
-    return buf.getvalue()
 
 
 def yeoh_fit(strain, stress, fit, out, check_strain: float | None = None, title: str = ""):

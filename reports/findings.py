@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from taxel.analyses import linear_error
-from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN
+from taxel.analyses import LINEAR_ERROR_PER_STRAIN
 from taxel.reports.page import Banner, Headline
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
@@ -239,7 +239,7 @@ def analysis_numbers(result) -> list[Headline]:
     out = []
     if kind not in ("frequency", "transient"):
         return out
-    from taxel.reports.figures import readable
+    from taxel.analyses.results.figures import readable
     model = model_label(result.scene) + f", {readable(result.label)}"
     o = result.outputs()                  # the pressed (or first) taxel's
     if kind == "frequency":

@@ -4,7 +4,7 @@ comparison, with the headline numbers and the validity banners of the solve.
 
 Nothing is solved here. The static solve is read from the folder's result.json
 (`taxel.analyses.read`) and its fields are the figures drawn when the folder was
-written (reports.analysis.write: `fields/`); a folder without them (a study, an
+written (the result's `to_folder`: `fields/`); a folder without them (a study, an
 optimization, a dynamic analysis) shows the scene only. The model comparison's
 points go through a study store in the folder (`Store.get_or_compute`,
 report-cache/results.sqlite, apart from a study's own points), so a second build
@@ -22,7 +22,7 @@ from pathlib import Path
 from taxel.analyses import StaticResult, lumped_model, read
 from taxel.analyses.results import RESULT_TYPES, result_kind
 from taxel.reports import findings, tables
-from taxel.reports.analysis import FIELD_FIGURES, FIELDS, RENDER_NOTE
+from taxel.analyses.results.figures import FIELD_FIGURES, FIELDS, RENDER_NOTE
 from taxel.scene import parse
 from taxel.schema import to_data
 from taxel.studies.store import Store, StoreError

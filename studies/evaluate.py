@@ -7,10 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from taxel.analyses import StaticResult, frequency, solve_static, stopped_result
-from taxel.fem.hyperelastic import NewtonError
-from taxel.fem.contact import ContactError
-from taxel.scene import Scene, parse, replace
+from taxel.analyses import frequency, solve
+from taxel.scene import parse, replace
 
 OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
 
@@ -21,7 +19,8 @@ def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
     (`StaticResult.outputs()`) under "outputs"."""
     scene = parse({**scene_data, "name": "point"})
     t0 = time.perf_counter()
-    sol = solve_reached(scene)
+    # a point that stops short of its load is kept at its last converged state (sol.stop)
+    sol = solve(scene if scene.analysis.type == "static" else replace(scene, **{"analysis.type": "static"}))
     res: dict[str, Any] = {}
     taxels = {k: e for k, e in sol.electrodes.items() if e.state != "reference"}
     pressed = sol.pressed
@@ -48,20 +47,6 @@ def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
         res["stop"] = sol.stop.message
     res["seconds"] = time.perf_counter() - t0
     return res
-
-
-def solve_reached(scene: Scene) -> StaticResult:
-    """The static solve or, where it stops short of the load (a Yeoh silicone under a
-    pressure patch creases at the patch edge; a press stops where it measured a cause), its
-    last converged state, saying so (`StaticResult.stop`: the load asked for, why it
-    stopped; taxel.analyses.stopped_result)."""
-    try:
-        return solve_static(scene)
-    except (NewtonError, ContactError) as exc:
-        reached = stopped_result(scene, exc)
-        if reached is None:
-            raise
-        return reached
 
 
 def evaluate_safely(scene_data: dict, outputs) -> tuple[str, dict | None, str | None]:

@@ -2,7 +2,7 @@
 
 The public API, whatever subpackages have been imported:
 
-- functions: `load`, `solve`, `read`, `run_study`, `optimize`, `report`,
+- functions: `load`, `solve`, `lumped`, `mesh`, `read`, `run_study`, `optimize`, `report`,
   `work_precision` (taxel.api) and the measurement API `taxel.measure`;
 - types: `Scene`, the result types (`StaticResult`, `FrequencyResult`,
   `TransientResult`, `LumpedResult`) and the error types (`SceneError`,
@@ -24,7 +24,7 @@ import types
 _PUBLIC = {
     "load": "taxel.api", "solve": "taxel.api", "read": "taxel.api", "run_study": "taxel.api",
     "optimize": "taxel.api", "report": "taxel.api", "work_precision": "taxel.api",
-    "explore": "taxel.api",
+    "explore": "taxel.api", "lumped": "taxel.api", "mesh": "taxel.api",
     "reduce": "taxel.api",
     "Scene": "taxel.scene", "SceneError": "taxel.scene",
     "StaticResult": "taxel.analyses", "FrequencyResult": "taxel.analyses",

@@ -197,7 +197,7 @@ DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
                 "axisymmetric": (0.5e-3, None), "3d": (1.5e-3, 0.6e-3)}
 # A 3D array scene pressed by a flat punch in contact (Scene.pressed_by_punch) without mesh.size:
 # (size, piezo_size, piezo_layers), the silicone meshed free (meshing.layout.Layout.free, by
-# taxel.analyses.adapter.punch_grading); within 1 % of the press's nested-mesh reference at a
+# taxel.analyses.geometry.punch_grading); within 1 % of the press's nested-mesh reference at a
 # quarter of its unknowns (benchmarks/press_3d_mesh.py, docs/benchmarks.md).
 DEFAULT_PRESS_MESH = (1.4e-3, 0.56e-3, 1)
 

@@ -291,7 +291,7 @@ def _frictionless_probe(size, piezo_size):
     (problem, assembled system)."""
     import dataclasses
     from taxel.analyses import problem as scene_problem
-    from taxel.analyses.adapter import check, checked_layout
+    from taxel.analyses import check, checked_layout
     from taxel.meshing.build import build
     from taxel.scene import load
     sc = load("thesis-pzt-probe-axisymmetric").replace(**{"load.friction": "frictionless"})

@@ -187,8 +187,7 @@ def test_dynamics_about_the_pressed_state_tends_to_the_static_curves_slope():
 
 
 def test_solve_page_has_the_contact_curve(tmp_path, taxel_small_press):
-    from taxel.reports import analysis
-    files, summary = analysis.write(taxel_small_press, tmp_path)
+    files, summary = taxel_small_press.to_folder(tmp_path), taxel_small_press.summary()
     png = [f for f in files if f.name.endswith("-contact.png")]
     assert len(png) == 1 and png[0].stat().st_size > 10_000
     assert any(line.startswith("indenter (flat)") for line in summary)

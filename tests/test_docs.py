@@ -21,7 +21,7 @@ from waits import CEILING
 from pydantic import BaseModel
 
 from taxel.cli import main
-from taxel.cli_schema import KINDS, json_schema, markdown, model
+from taxel.cli.schema import KINDS, json_schema, markdown, model
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"

@@ -4,7 +4,7 @@ import numpy as np
 
 import taxel
 from taxel.analyses import lumped_fem
-from taxel.analyses.adapter import problem
+from taxel.analyses import problem
 from taxel.analyses.dynamic import lumped_model
 from taxel.fem import dynamics
 

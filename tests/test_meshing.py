@@ -5,7 +5,7 @@ import pytest
 
 from taxel.analyses import solve_static as solve
 from taxel.analyses import mesh, scene_materials
-from taxel.analyses.adapter import layout as scene_layout
+from taxel.analyses import layout as scene_layout
 from taxel.scene import load, parse
 
 
@@ -86,7 +86,7 @@ def test_round_indenter_has_the_hertz_resultant_in_axisymmetry():
 def test_the_cost_estimate_is_within_a_factor_two_of_the_real_mesh(name):
     """meshing.cost counts a layout's mesh before gmsh makes it (it decides what
     is refused as too large): vertices and elements within a factor 2."""
-    from taxel.analyses.adapter import scene_materials
+    from taxel.analyses import scene_materials
     from taxel.meshing.cost import mesh_cost
     scene = load(name)
     lay = scene_layout(scene, scene_materials(scene))

@@ -8,7 +8,7 @@ import pytest
 import taxel
 from taxel.analyses import reduced as R
 from taxel.analyses import reduced_export as X
-from taxel.analyses.adapter import problem
+from taxel.analyses import problem
 from taxel.fem import dynamics
 from taxel.fem import dynamics as fr
 

@@ -108,7 +108,7 @@ def test_offscreen_render_is_silent_on_a_headless_machine():
     import os
     import subprocess
     import sys
-    code = ("import taxel; from taxel.reports.figures import pyvista_render; "
+    code = ("import taxel; from taxel.analyses.results.figures import pyvista_render; "
             "png = pyvista_render(taxel.solve('thesis-pzt-single-2d')); assert png[:4] == b'\\x89PNG'")
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=CEILING)
@@ -160,7 +160,6 @@ def _axis_labels_checked(monkeypatch):
 def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeypatch):
 
     import taxel
-    from taxel.reports import analysis
     from taxel.reports.figures import study_plots
     from taxel.optimize.driver import Result
     from taxel.optimize.result import FrontRun, OptimizationResult
@@ -176,7 +175,7 @@ def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeyp
     # Bode and time plots, the optimization's convergence and front
     for name, change in (("thesis-pzt-frequency", {"analysis.points": 8}),
                          ("thesis-pzt-step", {"analysis.duration": 0.02})):
-        analysis.write(taxel.solve(taxel.load(name).replace(**change)), tmp_path / name)
+        taxel.solve(taxel.load(name).replace(**change)).to_folder(tmp_path / name)
     run = Result([1.0, 3.0], -0.8, {"sensitivity": 0.8, "crosstalk": 0.07}, {}, 1, True, "ok",
                  [{"x": [1.0, 3.0], "metrics": {"sensitivity": 0.8, "crosstalk": 0.07}, "phase": "local"}])
     res = OptimizationResult("p", ["silicone_above", "gap"], ["mm", "mm"], "maximize", "sensitivity",
@@ -185,7 +184,7 @@ def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeyp
     res.optimum, res.runs = None, [FrontRun(0.1, run)]
     optimization.front(res, tmp_path / "pareto.png")
     # the report's own figures: scene drawing, fields, the taxel heat map of an array
-    analysis.write(taxel.solve("thesis-pzt-3x3-2d"), tmp_path / "array")     # draws the fields
+    taxel.solve("thesis-pzt-3x3-2d", out=tmp_path / "array")     # draws the fields
     build([tmp_path / "array"], tmp_path / "r", compare=False)
     labels = [lbl for _, lbl in seen]
     assert len(seen) >= 25 and "open-circuit voltage (mV)" in labels and "row (index)" in labels

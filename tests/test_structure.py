@@ -109,8 +109,8 @@ def cycles(g: dict[str, set[str]]) -> list[list[str]]:
 
 def test_the_graph_sees_the_layers():
     g = graph()
-    assert "taxel.fem.static" in g and "taxel.analyses.adapter" in g
-    assert "taxel.fem.assembly" in g["taxel.analyses.adapter"]       # a real edge is found
+    assert "taxel.fem.static" in g and "taxel.analyses.problem" in g
+    assert "taxel.fem.assembly" in g["taxel.analyses.problem"]       # a real edge is found
 
 
 def test_the_checks_see_a_cycle_and_an_underscore_import(tmp_path):
@@ -119,9 +119,9 @@ def test_the_checks_see_a_cycle_and_an_underscore_import(tmp_path):
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
     assert cycles({"a": {"b"}, "b": set()}) == []
     bad = tmp_path / "bad.py"
-    bad.write_text("from taxel.fem.static import _private\nfrom taxel.analyses import adapter\n")
+    bad.write_text("from taxel.fem.static import _private\nfrom taxel.analyses import problem\n")
     found = imports("taxel.fake", bad, modules())
-    assert ("taxel.fem.static", 1, "_private") in found and ("taxel.analyses.adapter", 2, None) in found
+    assert ("taxel.fem.static", 1, "_private") in found and ("taxel.analyses.problem", 2, None) in found
 
 
 def test_no_import_cycles():

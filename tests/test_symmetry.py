@@ -7,13 +7,13 @@ charges, capacitances and displacements must agree to round-off (1e-8)."""
 import numpy as np
 import pytest
 
-from taxel.analyses.adapter import layout
-from taxel.analyses.adapter import mesh, problem, scene_materials
+from taxel.analyses import layout
+from taxel.analyses import mesh, problem, scene_materials
 from taxel.analyses import solve_static
 from taxel.fem import assembly
 from taxel.fem import static
 from taxel.meshing.mirror import unfold
-from taxel.analyses.adapter import check, symmetry_planes
+from taxel.analyses import check, symmetry_planes
 from taxel.scene import SceneError, load
 
 

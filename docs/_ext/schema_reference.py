@@ -2,14 +2,14 @@
 
 At every build (before Sphinx reads the sources) it writes
 `reference/keys/<kind>.md` from the pydantic schemas through
-`taxel.cli_schema.markdown`, the generator behind `taxel schema`: the pages
+`taxel.cli.schema.markdown`, the generator behind `taxel schema`: the pages
 cannot drift from the code. A page is rewritten only when its text changed (so an
 unchanged schema does not force a rebuild).
 """
 
 from pathlib import Path
 
-from taxel.cli_schema import KINDS, markdown
+from taxel.cli.schema import KINDS, markdown
 
 
 def write_pages(app) -> None:

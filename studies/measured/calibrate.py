@@ -170,7 +170,7 @@ def calibrated_scene(scene_source: str, readout, s: float, silicone=None, piezo_
     data["readout"] = ro
     what = ["readout"]
     if silicone is not None or piezo_scale is not None:
-        from taxel.analyses.adapter import scene_materials
+        from taxel.analyses import scene_materials
         scene = load(str(path))
         mats, arr = scene_materials(scene), scene.array
         user = data.setdefault("materials", {})

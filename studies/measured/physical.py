@@ -26,7 +26,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from taxel.analyses.adapter import problem
+from taxel.analyses import problem
 from taxel.fem import constitution, dynamics
 from taxel.fem import readout as circuits
 from taxel.schema import electrode_name

@@ -1,5 +1,8 @@
-"""Analyses of a scene: the adapter to the finite-element model, the static,
-frequency and transient analyses, and their result objects.
+"""Analyses of a scene: the scene made into the finite-element model (problem,
+geometry), the static, frequency and transient analyses (analysis, dynamic), and
+their result objects (results).
+
+    solve(scene) -> StaticResult | FrequencyResult | TransientResult   (success, stop)
 
 The dynamic analyses (taxel.analyses.dynamic: the frequency and transient
 solvers) are imported on first use, so a static solve does not load them.
@@ -9,11 +12,14 @@ from __future__ import annotations
 
 import importlib
 
-from taxel.scene import Scene
-from taxel.analyses.adapter import check, mesh, problem, readout, scene_materials
-from taxel.analyses.results import (AnalysisResult, FrequencyResult, LumpedResult, ResultError, StaticResult,
+from taxel.analyses.analysis import lumped, output_folder, solve, solve_static
+from taxel.analyses.problem import solve_model
+from taxel.analyses.geometry import checked_layout, layout, mirror_planes, symmetry_planes
+from taxel.analyses.problem import (check, damping, electrode_states, indenter, mesh, problem, readout,
+                                    scene_materials, with_silicone)
+from taxel.analyses.results import (AnalysisResult, FrequencyResult, LumpedResult, ResultError, StaticResult, Stop,
                                     TransientResult, read)
-from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_model, stopped_result
+from taxel.analyses.results.static import LINEAR_ERROR_PER_STRAIN, linear_error
 
 _LAZY = {name: "taxel.analyses.dynamic" for name in
          ("force_history", "frequencies", "frequency", "lumped_model", "lumped_response", "transient")}
@@ -25,41 +31,8 @@ def __getattr__(name):
     raise AttributeError(f"module 'taxel.analyses' has no attribute {name!r}")
 
 
-__all__ = ["solve", "solve_static", "frequency", "transient", "lumped_model", "lumped_response", "problem", "mesh",
-           "readout", "check", "scene_materials", "frequencies", "force_history", "linear_error",
-           "LINEAR_ERROR_PER_STRAIN", "read", "ResultError", "AnalysisResult", "StaticResult", "FrequencyResult",
-           "stopped_result",
-           "TransientResult", "LumpedResult"]
-
-
-def solve(scene: Scene, estimate: bool = False, **options) -> StaticResult | FrequencyResult | TransientResult:
-    """The scene's [analysis]: a static solve (options: solver, tagged_mesh, scale,
-    newton_options; `estimate`: attach the error estimate, taxel.analyses.error_estimate),
-    a frequency sweep, or a transient."""
-    kind = scene.analysis.type
-    if kind != "static":
-        from taxel.analyses.dynamic import frequency, transient
-    if kind == "frequency":
-        res = frequency(scene)
-        if estimate:
-            from taxel.analyses.error_estimate import estimate_frequency
-            res.error = estimate_frequency(scene, res)
-        return res
-    if kind == "transient":
-        return transient(scene)
-    res = solve_static(scene, **options)
-    if estimate and res.error is None:
-        from taxel.analyses.error_estimate import estimate as error_estimate
-        res.error = error_estimate(res.scene, res, options.get("solver", "auto"))
-    return res
-
-
-def solve_static(scene: Scene, solver: str = "auto", **options) -> StaticResult:
-    """The static analysis of a scene on the model it asks for: with model.fidelity =
-    "auto" the cheapest adequate model (taxel.analyses.model_choice), else the model
-    as given (taxel.analyses.static.solve_model; options: tagged_mesh, scale,
-    newton_options)."""
-    if scene.model.fidelity == "auto" and options.get("tagged_mesh") is None:
-        from taxel.analyses.model_choice import choose
-        return choose(scene, solver)
-    return solve_model(scene, solver, **options)
+__all__ = ["solve", "solve_static", "solve_model", "frequency", "transient", "lumped_model", "lumped_response",
+           "problem", "mesh", "readout", "check", "scene_materials", "damping", "electrode_states", "indenter",
+           "with_silicone", "layout", "checked_layout", "mirror_planes", "symmetry_planes", "frequencies",
+           "force_history", "linear_error", "LINEAR_ERROR_PER_STRAIN", "read", "ResultError", "AnalysisResult",
+           "StaticResult", "FrequencyResult", "Stop", "TransientResult", "LumpedResult", "output_folder", "lumped"]

@@ -73,7 +73,8 @@ import numpy as np
 
 from taxel.scene import Scene, refined
 from taxel.analyses.results import ErrorEstimate, FrequencyResult, OutputError, StaticResult
-from taxel.analyses.static import LINEAR_ERROR_PER_STRAIN, linear_error, solve_model
+from taxel.analyses.problem import solve_model
+from taxel.analyses.results.static import LINEAR_ERROR_PER_STRAIN, linear_error
 
 OUTPUTS = ("sensitivity", "crosstalk", "charge_sensitivity")
 
@@ -185,7 +186,7 @@ def discretisation(scene: Scene, result: StaticResult, vals: dict[str, float], s
     if growth * n <= budget:
         tm = result.mesh
         if tm is None:
-            from taxel.analyses.adapter import mesh     # a stored result has no mesh: mesh the scene again
+            from taxel.analyses.problem import mesh     # a stored result has no mesh: mesh the scene again
             tm = mesh(scene)
     p1 = " P1 is pre-asymptotic on the thesis taxels (the differences grow under refinement): use order 2." \
         if scene.mesh.order == 1 else ""

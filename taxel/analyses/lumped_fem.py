@@ -21,7 +21,7 @@ from taxel.fem import linalg
 from taxel.fem import readout
 from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name
-from taxel.analyses.adapter import problem
+from taxel.analyses.problem import problem
 from taxel.analyses.dynamic import lumped_model
 from taxel.analyses.reduced import cached
 

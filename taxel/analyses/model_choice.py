@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from taxel.scene import Scene
 from taxel.analyses import error_estimate as est
 from taxel.analyses.results import StaticResult
-from taxel.analyses.static import solve_model
+from taxel.analyses.problem import solve_model
 
 
 @dataclass(frozen=True)

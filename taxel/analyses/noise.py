@@ -22,8 +22,8 @@ import numpy as np
 from taxel.fem import readout as N
 from taxel.fem.readout import Readout
 from taxel.scene import Scene, SceneError
-from taxel.analyses.adapter import readout as scene_readout
-from taxel.analyses.adapter import scene_materials
+from taxel.analyses.problem import readout as scene_readout
+from taxel.analyses.problem import scene_materials
 from taxel.analyses.results.noise import NoiseResult
 from taxel.analyses.results.base import pressed_name
 

@@ -42,8 +42,8 @@ from taxel.schema import to_data
 from taxel.schema import electrode_name
 from taxel.analyses import reduced_export
 from taxel.analyses.version import code_version
-from taxel.analyses.adapter import problem, readout
-from taxel.analyses.results.folders import FORMAT, write_result
+from taxel.analyses.problem import problem, readout
+from taxel.analyses.results.base import FORMAT, write_result
 
 
 @dataclass

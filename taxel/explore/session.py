@@ -176,7 +176,7 @@ def png_data_url(fig) -> str:
 def section_image(scene: Scene) -> str:
     """The deformed section coloured by the potential (a fresh 2D solve; reports.figures)."""
     from taxel.analyses import solve
-    from taxel.reports.figures import cross_section
+    from taxel.analyses.results.figures import cross_section
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "section.png"
         cross_section(solve(scene), path)
@@ -193,7 +193,7 @@ def error_lines(scene: Scene) -> list[str]:
 def frequency_image(scene: Scene) -> str:
     """The frequency response through the scene's readout (a reduced sweep)."""
     from taxel.analyses import frequency
-    from taxel.reports.figures import bode
+    from taxel.analyses.results.figures import bode
     fr = frequency(replace(scene, **{"analysis.type": "frequency", "analysis.method": "reduced",
                                      "analysis.points": 60}))
     with tempfile.TemporaryDirectory() as tmp:

@@ -18,7 +18,6 @@ from taxel.optimize import multifidelity as MF
 from taxel.optimize import probe_front as PF
 from taxel.optimize import spec as O
 from taxel.optimize.run import reference_x
-from taxel.reports import analysis
 from taxel.reports.multifidelity import draw as draw_verified_front, draw_probe as draw_probe_front
 from taxel import measure
 from taxel.studies.spec import Study, load_study
@@ -83,7 +82,7 @@ def front(out: Path, name: str, small: bool, full: bool = False, presses_3d: int
 def design_views(front_dir: Path, name: str, root: Path) -> list[Path]:
     """The thesis and the recommended design of a verified front (reports.answer.headline_front)
     solved once more in 3D on the verification's mesh (MF.VERIFY_3D) and written with their
-    fields and off-screen renders (reports.analysis.write): two solve folders for the report."""
+    fields and off-screen renders (`taxel.solve(..., out=...)`): two solve folders for the report."""
     from taxel.reports.answer import headline_front
     from taxel.scene import parse
     a = headline_front(front_dir)
@@ -95,7 +94,7 @@ def design_views(front_dir: Path, name: str, root: Path) -> list[Path]:
         x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
         data = MF.fine_data(prob, [x[n] for n in prob.names], MF.VERIFY_3D)
         data["name"] = f"{name.removesuffix('-front')}-{d.role}-3d"
-        analysis.write(api.solve(parse(data)), root / data["name"])
+        api.solve(parse(data), out=root / data["name"])
         out.append(root / data["name"])
     return out
 
@@ -178,8 +177,7 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         if small:
             scene = scene.replace(**{"analysis.points": 20, "analysis.duration": 0.05})
         out = root / name
-        files, summary = analysis.write(api.solve(scene), out)
-        for line in summary:
+        for line in api.solve(scene, out=out).summary():
             print(line)
         folders.append(out)
     folders.append(noise_budget(root / "noise-budget", small))

@@ -5,24 +5,34 @@ transient, lumped), in the spirit of scipy.optimize's OptimizeResult:
 
 - `record()`: a JSON-ready dict, SI units, unit-suffixed keys, with "kind" and "format";
 - `summary()`: lines for a person (`str(result)` joins them);
-- `to_folder(dir)`: writes result.json, scene.json and the result's CSV;
+- `to_folder(dir)`: writes the result's folder, as `taxel solve --out` leaves it:
+  result.json, scene.json, the result's CSV, its figures and summary.txt;
 - `error`: the ErrorEstimate, or None (the record's "error_note" says why);
-- `outputs()`: the named scalar outputs studies, optimization and reports use.
+- `outputs()`: the named scalar outputs studies, optimization and reports use;
+- `success` and `stop`: whether the solve reached its load and, where it did not (a
+  static solve that stopped short), what was asked, what was reached and why.
 
 `taxel.analyses.read(folder)` reads a folder's result.json back into the same type.
 
 Error estimate: `ErrorEstimate`, one `OutputError` per output, and the names
 of the outputs it covers.
+
+Writing a result folder: the CSV and scene files, `result.json` with its kind and
+format version, and `summary.txt`; each result's `to_folder` writes its whole folder
+with these and its figures (results.figures). taxel.analyses.output_folder makes the
+folder whole or not at all.
 """
 
 from __future__ import annotations
 
+import csv
+import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 from taxel.scene import Scene
-from taxel.schema import electrode_name
+from taxel.schema import electrode_name, to_data
 
 OUTPUT_NAMES = {"sensitivity": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
                 "charge_sensitivity": "pressed-taxel short-circuit charge per newton",
@@ -128,6 +138,7 @@ class AnalysisResult(Protocol):
     scene: Scene
     error: ErrorEstimate | None
     kind: str
+    success: bool
 
     def record(self) -> dict: ...
 
@@ -144,3 +155,42 @@ def pressed_name(scene: Scene, names) -> str | None:
         return None
     name = electrode_name(scene.load.taxel[0], scene.load.taxel[1])
     return name if name in names else None
+
+
+# result.json's layout version: 1 adds "kind", "format", "outputs" and "error_note"
+# (a static result.json without them is format 0, read as static)
+FORMAT = 1
+
+
+def write_csv(path: Path, header, columns) -> Path:
+    """A CSV of equally long columns, 9 significant digits."""
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        for row in zip(*columns):
+            w.writerow([f"{v:.9g}" for v in row])
+    return path
+
+
+def write_scene(out: Path, scene: Scene) -> Path:
+    """scene.json: the validated scene with units, readable by taxel.scene.parse."""
+    path = Path(out) / "scene.json"
+    path.write_text(json.dumps(to_data(scene), indent=1))
+    return path
+
+
+def write_result(out, record: dict, scene: Scene) -> list[Path]:
+    """Make `out` and write the two files every result folder holds: result.json (a
+    result's `record()`) and scene.json. Returns their paths."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "result.json"
+    path.write_text(json.dumps(record, indent=1))
+    return [write_scene(out, scene), path]
+
+
+def write_summary(out, lines: list[str]) -> Path:
+    """summary.txt: a result's summary lines, as `taxel solve` prints them."""
+    path = Path(out) / "summary.txt"
+    path.write_text("\n".join(lines) + "\n")
+    return path

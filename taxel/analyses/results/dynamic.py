@@ -19,7 +19,8 @@ from taxel.fem.dynamics import PortResponse
 from taxel.fem.dynamics import Transient
 from taxel.scene import Scene
 from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, read_error
-from taxel.analyses.results.folders import FORMAT, write_csv, write_result
+from taxel.analyses.results.figures import bode_png, lumped_png, transient_png
+from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
 from taxel.schema import electrode_name
 
 
@@ -47,6 +48,8 @@ class FrequencyResult:
     error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.error_estimate)
     port: PortResponse | None = None       # open-circuit voltages and capacitances (None when read back)
     kind = "frequency"
+    success = True             # no load to stop short of
+    stop = None
 
     @classmethod
     def from_port(cls, scene: Scene, port: PortResponse, output: np.ndarray, label: str) -> FrequencyResult:
@@ -102,14 +105,15 @@ class FrequencyResult:
         return "\n".join(self.summary())
 
     def to_folder(self, out) -> list[Path]:
-        """result.json, scene.json and <scene>-frequency.csv."""
+        """result.json, scene.json, <scene>-frequency.csv, <scene>-bode.png and summary.txt."""
         out = Path(out)
         paths = write_result(out, self.record(), self.scene)
         header, cols = ["frequency_Hz"], [self.freqs]
         for k, name in enumerate(self.names):
             header += [f"{name}_mag_V_per_N", f"{name}_phase_deg"]
             cols += [np.abs(self.output[:, k]), np.degrees(np.angle(self.output[:, k]))]
-        return paths + [write_csv(out / f"{self.scene.name}-frequency.csv", header, cols)]
+        return paths + [write_csv(out / f"{self.scene.name}-frequency.csv", header, cols),
+                        bode_png(self, out / f"{self.scene.name}-bode.png"), write_summary(out, self.summary())]
 
 
 @dataclass
@@ -128,6 +132,8 @@ class TransientResult:
     transient: Transient | None = None            # electrode voltages and charges (None when read back)
     error: ErrorEstimate | None = None            # no estimate for a transient yet: always None
     kind = "transient"
+    success = True             # no load to stop short of
+    stop = None
 
     @classmethod
     def from_transient(cls, scene: Scene, tr: Transient, output: np.ndarray, label: str,
@@ -169,14 +175,16 @@ class TransientResult:
         return "\n".join(self.summary())
 
     def to_folder(self, out) -> list[Path]:
-        """result.json, scene.json and <scene>-transient.csv."""
+        """result.json, scene.json, <scene>-transient.csv, <scene>-transient.png and summary.txt."""
         out = Path(out)
         paths = write_result(out, self.record(), self.scene)
         header, cols = ["time_s", "force_N"], [self.t, self.force]
         for k, name in enumerate(self.names):
             header.append(f"{name}_V")
             cols.append(self.output[:, k])
-        return paths + [write_csv(out / f"{self.scene.name}-transient.csv", header, cols)]
+        return paths + [write_csv(out / f"{self.scene.name}-transient.csv", header, cols),
+                        transient_png(self, out / f"{self.scene.name}-transient.png"),
+                        write_summary(out, self.summary())]
 
 
 @dataclass
@@ -190,6 +198,8 @@ class LumpedResult:
     label: str
     error: ErrorEstimate | None = None     # no estimate for the lumped model: always None
     kind = "lumped"
+    success = True             # no load to stop short of
+    stop = None
 
     def resonances(self) -> list[float]:
         """The damped natural frequencies, Hz (empty when overdamped)."""
@@ -238,8 +248,9 @@ class LumpedResult:
         return cls(scene, lm, np.asarray(rec["frequency_Hz"], dtype=float), out, rec["output"], read_error(rec))
 
     def to_folder(self, out) -> list[Path]:
-        """result.json, scene.json and <scene>-lumped.csv."""
+        """result.json, scene.json, <scene>-lumped.csv, <scene>-lumped.png and summary.txt."""
         out = Path(out)
         return write_result(out, self.record(), self.scene) + [
             write_csv(out / f"{self.scene.name}-lumped.csv", ["frequency_Hz", "mag_V_per_N", "phase_deg"],
-                      [self.freqs, np.abs(self.output), np.degrees(np.angle(self.output))])]
+                      [self.freqs, np.abs(self.output), np.degrees(np.angle(self.output))]),
+            lumped_png(self, out / f"{self.scene.name}-lumped.png"), write_summary(out, self.summary())]

@@ -23,7 +23,7 @@ import numpy as np
 
 from taxel.scene import Scene
 from taxel.analyses.results.base import ErrorEstimate, error_record
-from taxel.analyses.results.folders import FORMAT, write_csv, write_result
+from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
 from taxel import units
 
 NOISE_OUTPUTS = {"min_detectable_force": "N", "noise_rms": "V", "snr": "dB", "dynamic_range": "dB"}
@@ -48,6 +48,8 @@ class NoiseResult:
     rig: str | None = None
     error: ErrorEstimate | None = None    # no error estimate for a noise budget: None
     kind = "noise"
+    success = True             # no load to stop short of
+    stop = None
 
     # ---------------------------------------------------------------- derived numbers
     def variance(self) -> dict[str, float]:
@@ -131,9 +133,9 @@ class NoiseResult:
         return "\n".join(self.summary())
 
     def to_folder(self, out) -> list[Path]:
-        """result.json, scene.json and <scene>-noise.csv (the PSD per source)."""
+        """result.json, scene.json, <scene>-noise.csv (the PSD per source) and summary.txt."""
         out = Path(out)
         paths = write_result(out, self.record(), self.scene)
         header = ["frequency_Hz", "gain_V_per_N"] + [f"{k.replace(' ', '_')}_V2_per_Hz" for k in self.psd]
         cols = [self.freqs, self.gain] + list(self.psd.values())
-        return paths + [write_csv(out / f"{self.scene.name}-noise.csv", header, cols)]
+        return paths + [write_csv(out / f"{self.scene.name}-noise.csv", header, cols), write_summary(out, self.summary())]

@@ -16,7 +16,19 @@ from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene
 from taxel.units import engineering
 from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, pressed_name, read_error
-from taxel.analyses.results.folders import FORMAT, write_csv, write_result
+from taxel.analyses.results.figures import FIELDS, SolvedFields, contact_curves, field_figures
+from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
+
+# Linear silicone's taxel-voltage error per unit of its own largest silicone strain:
+# the worst ratio measured over the thesis PZT and PVDF taxels, 0.05 to 0.45 N
+# (benchmarks/silicone_model_error.py: 0.223 least squares, 0.257 worst).
+LINEAR_ERROR_PER_STRAIN = 0.257
+
+
+def linear_error(max_silicone_strain: float) -> float:
+    """Estimated relative voltage error of a linear silicone at this largest strain."""
+    return LINEAR_ERROR_PER_STRAIN * max_silicone_strain
+
 
 # the outputs of a static result (`StaticResult.outputs`), SI units
 STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
@@ -26,7 +38,7 @@ STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_vo
 @dataclass(frozen=True)
 class Stop:
     """Why a static solve stopped short of its load: the result is then its last converged
-    state (taxel.analyses.static.stopped_result)."""
+    state (`StaticResult.success` is False; taxel.analyses.solve)."""
 
     requested: float           # the load asked for, in `unit`
     load: Literal["force", "pressure", "travel"]   # which: the scene's load.force, load.pressure or load.travel
@@ -57,6 +69,11 @@ class StaticResult:
     contact_data: dict | None = None       # the press record of a result read back (else from the solution)
     stop: Stop | None = None   # the solve stopped short of its load: this is its last converged state
     kind = "static"
+
+    @property
+    def success(self) -> bool:
+        """The solve reached its load (else `stop` says how far it got and why)."""
+        return self.stop is None
 
     @property
     def electrodes(self) -> dict[str, ElectrodeResult]:
@@ -99,7 +116,12 @@ class StaticResult:
         return self.solution.residual
 
     def voltages(self) -> dict[str, float]:
-        return self.solution.voltages()
+        """The open-circuit voltage of every electrode but the reference, V."""
+        return {k: e.voltage for k, e in self._taxels().items()}
+
+    def _taxels(self) -> dict[str, ElectrodeResult]:
+        """The electrodes but the reference (the taxels, or a plate's electrodes)."""
+        return {k: e for k, e in self.electrodes.items() if e.state != "reference"}
 
     @property
     def pressed(self) -> str | None:
@@ -122,7 +144,7 @@ class StaticResult:
         of |applied force|); crosstalk (with a pressed taxel and a neighbour);
         max_strain (the largest principal strain in the silicone)."""
         out: dict[str, float] = {}
-        taxels = {k: e for k, e in self.electrodes.items() if e.state != "reference"}
+        taxels = self._taxels()
         if taxels:
             e = taxels[self.pressed or next(iter(taxels))]
             force = abs(self.applied_force) or 1.0
@@ -195,7 +217,9 @@ class StaticResult:
                    None if st is None else Stop(st["requested"], st["load"], st["message"], st.get("cause")))
 
     def to_folder(self, out) -> list[Path]:
-        """result.json, scene.json and, for a press, contact-curve.csv."""
+        """The result's folder, as `taxel solve --out` leaves it: result.json, scene.json,
+        for a press contact-curve.csv and <scene>-contact.png, the figures of the solved
+        fields (`fields/`, a fresh solve only) and summary.txt."""
         out = Path(out)
         paths = write_result(out, self.record(), self.scene)
         c = self.contact_record()
@@ -206,7 +230,12 @@ class StaticResult:
                                    + [f"{k}_V" for k in cv["voltages_V"]],
                                    [cv["travel_m"], cv["force_N"], cv["contact_area_m2"], cv["max_pressure_Pa"]]
                                    + list(cv["voltages_V"].values())))
-        return paths
+            paths.append(contact_curves(c, out / f"{self.scene.name}-contact.png", title=self.scene.name))
+        sol = self.solution
+        if sol.mesh is not None:          # a fresh solve: its fields drawn (a result read back has none)
+            paths += field_figures(SolvedFields(self.scene, sol.mesh, sol.fields, sol.electrodes, sol.applied_force,
+                                                self.pressed, sol.unknowns), out / FIELDS)
+        return paths + [write_summary(out, self.summary())]
 
     def summary(self) -> list[str]:
         """The electrodes' table, the press and the error estimate, for a person."""
@@ -237,6 +266,34 @@ class StaticResult:
                 lines.append(f"{engineering(d, 'm'):>12}{engineering(cv['force_N'][i], 'N'):>12}"
                              + "".join(f"{engineering(v[i], 'V'):>14}" for v in cv["voltages_V"].values()))
         return lines + error_lines(self.error, self.kind)
+
+    def details(self) -> list[str]:
+        """What `taxel solve` prints below the summary: times, force and reaction, the Newton
+        solve, the model note and, for an array, the largest silicone strain with the error a
+        linear silicone makes there."""
+        lines = []
+        if self.times:                        # a stopped solve's last converged state has none
+            lines.append(f"times: mesh {self.times['mesh']:.3f} s, assemble {self.times['assemble']:.3f} s, "
+                         f"solve {self.times['solve']:.3f} s")
+        lines.append(f"applied force {engineering(self.applied_force, 'N')}, support reaction "
+                     f"{engineering(self.reaction[-1], 'N')} (vertical), relative residual {self.residual:.1e}")
+        if self.newton is not None:
+            lines.append(f"Newton: {self.newton.message}")
+        if self.model_note:
+            lines.append(self.model_note)
+        if self.mesh is not None and self.mesh.layout.taxels:
+            est = linear_error(self.max_silicone_strain)
+            lines.append(f"largest silicone strain {100 * self.max_silicone_strain:.1f} %"
+                         + (f" (a linear silicone errs by about {100 * est:.2g} % here; model.silicone = 'auto' "
+                            "or 'yeoh' to do better)" if not self.yeoh and est > 0.02 else ""))
+        return lines
+
+    def to_vtu(self, path) -> Path:
+        """The displacement, potential, strain and stress fields of a fresh solve, as .vtu."""
+        from taxel.meshing.build import export
+        f = self.fields
+        export(self.mesh, path, point_data={"u": f.u, "phi": f.phi}, cell_data={"strain": f.strain, "stress": f.stress})
+        return Path(path)
 
     def __str__(self) -> str:
         return "\n".join(self.summary())

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from taxel.scene import SceneError, parse
 from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, TransientResult
-from taxel.analyses.results.folders import FORMAT
+from taxel.analyses.results.base import FORMAT
 from taxel.analyses.results.noise import NoiseResult
 from taxel.analyses.results.static import StaticResult
 

@@ -1,85 +1,35 @@
-"""The adapter: a scene becomes the finite-element model's Problem, once.
-
-scene (taxel.scene) -> materials by name (`scene_materials`) -> mirror planes
-(`symmetry_planes`) -> layered layout (`layout`, meshing.layout) -> its cost,
-refused when it cannot fit (`checked_layout`, meshing.cost) -> tagged mesh
-(meshing.build) -> kinematics, laws, load, supports, electrodes (fem.assembly).
-Below this module nothing reads the scene schema; above it nothing assembles.
-The readout chain and the damping are translated here too.
-
-Geometry.From a scene to its layered layout (meshing.layout): the geometry half of the
-adapter from the scene schema to the finite-element model.
+"""From a scene to its layered layout (meshing.layout), refused when its solve cannot
+fit this machine: the geometry half of the translation from the scene schema to the
+finite-element model (taxel.analyses.problem makes the other half).
 
 A 2D model is the x-z cross-section through the loaded taxel's row. An
 axisymmetric model turns a square taxel of width w into a disk of equal area
 (radius w / sqrt(pi)) and the square outline (w + 2 margin) into the disk of
 equal area, radius (w + 2 margin) / sqrt(pi). Measured against the 3D taxel
 (benchmarks/axisymmetric_radius.py, 297k unknowns): the pressed-taxel voltage is
-+0.91 % off with this outline, +1.74 % with the former radius w / sqrt(pi) +
-margin; the capacitance is the same to 1e-5 with either.
++0.91 % off with this outline, +1.74 % with the radius w / sqrt(pi) + margin; the
+capacitance is the same to 1e-5 with either.
 
 Symmetry. A half or quarter model (fem.static) answers for the full one when
 the array, its outline and supports are symmetric about the planes, the press
 is centred on them and the electrode states are mirror images (`mirror_planes`).
+
+Cost. `solve_limit` says what the layout's solve is costed as (its order, and the
+solver fem.linalg.resolve picks for it); meshing refuses a mesh that cannot fit
+(meshing.cost.check_fits, also at meshing.build.build), and `too_large` says so in
+the scene's keys.
 """
 
 from __future__ import annotations
 
 import math
-import os
-from dataclasses import replace
 
 from taxel.fem import linalg
 from taxel.fem import constitution
-from taxel.fem.readout import Readout
-from taxel.fem.assembly import Indenter
-from taxel.fem.constitution import kinematics
-from taxel.fem.assembly import Damping, Discretization, PatchLoad, Problem, Supports
-from taxel.meshing.build import TaggedMesh, build
-from taxel.meshing.cost import mesh_cost
+from taxel.meshing.cost import MeshTooLarge, SolveLimit, check_fits, estimated_unknowns
 from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
-from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
+from taxel.scene import Scene, SceneError, electrode_state
 from taxel.schema import electrode_name
-
-
-def check(scene: Scene) -> dict:
-    """Everything about a scene that the schema alone cannot check: its materials
-    (returned by name) and the mirror planes its model.symmetry asks for. Raises
-    SceneError with one line."""
-    mats = scene_materials(scene)
-    sym = scene.model.symmetry
-    if sym in ("half", "quarter"):
-        if sym == "quarter" and scene.model.type != "3d":
-            raise SceneError("model.symmetry = 'quarter' needs a 3d model (a 2D section has one mirror "
-                             "plane); use 'half' or 'auto'")
-        planes, why = mirror_planes(scene)
-        if len(planes) < (2 if sym == "quarter" else 1):
-            raise SceneError(f"model.symmetry = '{sym}': {why}; use 'auto' or 'full'")
-    return mats
-
-def scene_materials(scene: Scene) -> dict:
-    """Every material the scene names (its own [materials] first, then the library),
-    checked: raises SceneError (one line) for an unknown or unphysical material."""
-    user = {}
-    for name, rec in scene.materials.items():
-        try:
-            user[name] = constitution.from_record(name, rec)
-        except ValueError as exc:
-            raise SceneError(f"materials.{name}: {exc}") from None
-    out = {}
-    for name in scene_material_names(scene):
-        try:
-            out[name] = constitution.get(name, user)
-        except KeyError as exc:
-            raise SceneError(exc.args[0]) from None
-    if scene.array is not None:
-        for key, kind in (("piezo", constitution.Piezo), ("silicone", constitution.Solid)):
-            name = getattr(scene.array, key)
-            if not isinstance(out[name], kind):
-                raise SceneError(f"array.{key} = '{name}' is not a "
-                                 f"{'piezoelectric' if key == 'piezo' else 'passive solid'} material; pick one "
-                                 f"that is (e.g. '{'PSI-5H4E' if key == 'piezo' else 'Ecoflex-00-30'}')")
-    return out
 
 
 def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
@@ -136,7 +86,9 @@ def layout(scene: Scene, mats: dict) -> Layout:
     m, mesh = scene.model, scene.mesh
     common = dict(model=m.type, size=mesh.size, piezo_layers=mesh.piezo_layers)
     if scene.array is not None:            # a half or quarter of a symmetric array (model.symmetry)
-        return cut(_array_layout(scene, common), symmetry_planes(scene))
+        planes = symmetry_planes(scene)
+        whole = _array_layout(scene, common)
+        return cut(whole, planes) if planes else whole
     return _plate_layout(scene, common, mats)
 
 
@@ -177,9 +129,10 @@ def _array_layout(scene: Scene, common) -> Layout:
     piezo = Layer("piezo", z, a.piezo_thickness, a.silicone, 1 if a.poling == "up" else -1,
                   a.piezo, taxels)
     layers.append(piezo)
+    top = z + a.piezo_thickness             # the taxel electrodes' height
     if a.silicone_above > 0:
-        layers.append(Layer("silicone_above", piezo.z1, a.silicone_above, a.silicone))
-    electrodes = tuple(Electrode(t.name, piezo.z1, (t,)) for t in taxels) + (
+        layers.append(Layer("silicone_above", top, a.silicone_above, a.silicone))
+    electrodes = tuple(Electrode(t.name, top, (t,)) for t in taxels) + (
         Electrode("ground", piezo.z0, taxels),)
     depth = scene.model.depth or w
     return Layout(plan=plan, plan_half_y=half_y, layers=tuple(layers), electrodes=electrodes,
@@ -282,124 +235,28 @@ def _split_at(layers, zc):
     return out
 
 
-# Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; in 3D the
-# 8x8 array of benchmarks/array_8x8.py: 3.7 GB peak at 202k unknowns, with fem.assembly's
-# LeanBasis); in 3D the fill grows about as n^(1/3) more. Out of core (fem.linalg.check_fits)
-# the factors go to files: what stays is the assembled and reduced matrices and the mesh
-# (1.5 GB at 202k unknowns) and the factors' share in memory.
-BYTES_PER_UNKNOWN_2D = 3e3
-BYTES_PER_UNKNOWN_3D = 18.3e3
-REFERENCE_UNKNOWNS_3D = 202e3
-BYTES_PER_UNKNOWN_OUT_OF_CORE = 7.5e3
-BYTES_PER_UNKNOWN_KRYLOV = 20e3
-# meshing.cost's 3D unknowns against the meshes gmsh made: 1.29 (thesis-pzt-single-3d),
-# 1.54 and 1.72 (the 3x3 array at its own and at array_8x8's mesh), 1.61 (the 8x8 array)
-UNKNOWNS_3D_PER_ESTIMATE = 1.6
+def solve_limit(scene: Scene, lay: Layout) -> SolveLimit:
+    """What the solve of the layout's mesh is costed as (meshing.cost): its order, and the
+    Krylov solver where fem.linalg.resolve picks it (a static linear 3D solve that large)."""
+    order = scene.mesh.order
+    krylov = (scene.model.type == "3d" and scene.analysis.type == "static" and scene.model.silicone == "linear"
+              and linalg.resolve("auto", estimated_unknowns(lay, order), iterative=True, dim=3) == "krylov")
+    return SolveLimit(order, krylov)
 
 
-def machine_memory() -> float:
-    """Physical memory of this machine, bytes."""
-    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+def too_large(exc: MeshTooLarge) -> SceneError:
+    """The scene's error for a mesh whose solve cannot fit this machine, with the fix."""
+    return SceneError(f"mesh: {exc}; coarsen mesh.size / mesh.piezo_size or model less (a 2D or "
+                      "axisymmetric model)")
 
 
-def cost(scene: Scene, lay) -> tuple[float, float]:
-    """(estimated unknowns, estimated bytes of the solve) of a scene's mesh: a direct
-    solve in memory, or out of core where that would not fit this machine (3D), or
-    above linalg.AUTO_KRYLOV_ABOVE unknowns (static, linear) the Krylov solver, whose
-    memory is about linear (1.37 GB at 70k unknowns: benchmarks/taxel_3d.py,
-    docs/benchmarks.md)."""
-    n = mesh_cost(lay).unknowns(lay.dim, scene.mesh.order)
-    if lay.dim == 2:
-        return n, n * BYTES_PER_UNKNOWN_2D
-    n *= UNKNOWNS_3D_PER_ESTIMATE
-    if n > linalg.AUTO_KRYLOV_ABOVE and scene.analysis.type == "static" and scene.model.silicone == "linear":
-        return n, n * BYTES_PER_UNKNOWN_KRYLOV
-    need = n * BYTES_PER_UNKNOWN_3D * max(n / REFERENCE_UNKNOWNS_3D, 1e-3) ** (1 / 3)
-    if need > 0.8 * machine_memory():
-        need = n * BYTES_PER_UNKNOWN_OUT_OF_CORE + 0.2 * machine_memory()
-    return n, need
-
-
-def checked_layout(scene: Scene, mats: dict):
+def checked_layout(scene: Scene, mats: dict) -> Layout:
     """The scene's layout, refused (SceneError, with the estimate) when its mesh and
-    solve cannot fit in this machine's memory."""
+    solve cannot fit in this machine's memory (meshing.build refuses the same when
+    given the `solve_limit`)."""
     lay = layout(scene, mats)
-    n, need = cost(scene, lay)
-    have = machine_memory()
-    if need > 0.8 * have:
-        raise SceneError(f"mesh: about {n:.3g} unknowns, needing about {need / 1e9:.3g} GB for the solve, "
-                         f"more than this machine's {have / 1e9:.3g} GB; coarsen mesh.size / mesh.piezo_size "
-                         "or model less (a 2D or axisymmetric model)")
+    try:
+        check_fits(lay, solve_limit(scene, lay))
+    except MeshTooLarge as exc:
+        raise too_large(exc) from None
     return lay
-
-
-def mesh(scene: Scene) -> TaggedMesh:
-    """The tagged mesh of a scene."""
-    return build(checked_layout(scene, check(scene)))
-
-
-def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
-    """The finite-element Problem of a scene (meshing it unless `tagged_mesh` is given)."""
-    mats = check(scene)
-    tm = tagged_mesh or build(checked_layout(scene, mats))
-    m, ld = scene.model, scene.load
-    share = 2 ** len(tm.layout.planes)       # a half or quarter model carries its share of the force
-    load = PatchLoad(pressure=ld.pressure) if ld.kind == "pressure" else \
-        PatchLoad(force=ld.force / share, profile=ld.profile if ld.kind == "indenter" else "flat")
-    return Problem(
-        mesh=tm,
-        kinematics=kinematics(m.type, tm.layout.depth),
-        materials=mats,
-        load=load,
-        supports=Supports(scene.supports.bottom, scene.supports.edges),
-        electrodes=electrode_states(scene, tm),
-        discretization=Discretization(scene.mesh.order, scene.mesh.formulation == "mixed"),
-        hyperelastic=m.silicone == "yeoh",
-        damping=damping(scene),
-        indenter=indenter(scene, tm),
-    )
-
-
-def indenter(scene: Scene, tm: TaggedMesh) -> Indenter | None:
-    """The rigid indenter of a `[load] kind = "indenter"`, `contact = true` scene, centred
-    on the layout's load patch."""
-    ld = scene.load
-    if ld.kind != "indenter" or not ld.contact:
-        return None
-    edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
-    return Indenter(ld.shape, ld.radius, edge if ld.shape == "flat" else 0.0,
-                    (tm.layout.load.x, tm.layout.load.y), ld.travel, None if ld.travel is not None else ld.force,
-                    ld.friction or "sticking")
-
-
-def with_silicone(p: Problem, silicone: str) -> Problem:
-    """The same problem (same mesh) with a linear or a Yeoh silicone."""
-    return replace(p, hyperelastic=silicone == "yeoh")
-
-
-def electrode_states(scene: Scene, tm: TaggedMesh) -> dict:
-    """Each electrode's state: "taxels" sets every taxel electrode, a name sets one;
-    unset electrodes keep the FEM's default (common ground grounded, others open)."""
-    names = [e.name for e in tm.layout.electrodes]
-    every = [full for full, _, _ in tm.layout.images] or names    # a symmetric model: every taxel's name
-    for key in scene.electrodes:
-        if key not in every and key != "taxels":
-            raise SceneError(f"electrodes.{key}: no such electrode; this scene has: {', '.join(every)}")
-    states = {}
-    for name in names:
-        if name.startswith("taxel_") and "taxels" in scene.electrodes:
-            states[name] = electrode_state(scene.electrodes["taxels"])
-        if name in scene.electrodes:
-            states[name] = electrode_state(scene.electrodes[name])
-    return states
-
-
-def damping(scene: Scene) -> Damping:
-    d = scene.dynamics
-    return Damping(d.silicone_loss, d.piezo_loss, d.dielectric_loss, d.rayleigh_alpha, d.rayleigh_beta,
-                   d.reference_frequency)
-
-
-def readout(scene: Scene) -> Readout:
-    r = scene.readout
-    return Readout(r.circuit, r.R, r.C_f, r.R_f, r.R_i, r.C_c, r.notch, r.notch_frequency, r.notch_bandwidth)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import socket
 import sys
 
-from taxel.cli_files import InputError
+from taxel.cli.files import InputError
 
 
 def register(sub) -> None:

@@ -8,7 +8,7 @@ import math
 import sys
 from pathlib import Path
 
-from taxel.cli_files import InputError, writable_file
+from taxel.cli.files import InputError, writable_file
 from taxel.units import engineering as si
 
 

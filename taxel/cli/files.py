@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+EXIT_INPUT, EXIT_FAILED = 2, 1     # bad input (one line naming the problem and the fix); a run that failed
+
 
 class InputError(ValueError):
     """Bad command-line input; one line with the fix."""

@@ -1,0 +1,147 @@
+"""One analysis of a scene: `solve` runs its [analysis] (static, frequency, transient)
+and returns its result, whether or not a static solve reached its load.
+
+The static analysis resolves model.fidelity = "auto" by the model choice
+(taxel.analyses.model_choice), attaches the error estimate when asked
+(taxel.analyses.error_estimate), and otherwise solves the model as given
+(taxel.analyses.problem.solve_model).
+
+A static solve that stops short of its load (a Yeoh Newton under a pressure patch,
+where the silicone creases; a press, where it measured a stop cause) is returned as
+its last converged state, `success` False and `stop` saying what was asked, what was
+reached and why, like scipy.optimize's OptimizeResult. `solve_static` and
+`problem.solve_model` are the building blocks that raise instead (fem's NewtonError,
+ContactError): the model choice, the error estimate and the analyses that need the
+full load use them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import shutil
+import tempfile
+from pathlib import Path
+
+from taxel.fem.contact import ContactError
+from taxel.fem.hyperelastic import NewtonError
+from taxel.scene import Scene, replace
+from taxel.analyses.results import FrequencyResult, StaticResult, Stop, TransientResult
+from taxel.analyses.problem import solve_model
+
+
+def solve(scene: Scene, estimate: bool = False, out: str | Path | None = None,
+          **options) -> StaticResult | FrequencyResult | TransientResult:
+    """The scene's [analysis]: a static solve (options: solver, tagged_mesh, scale,
+    newton_options; `estimate`: attach the error estimate, taxel.analyses.error_estimate),
+    a frequency sweep, or a transient. A static solve that stops short of its load is
+    returned as its last converged state (`success` False, `stop`); raises SceneError
+    for bad input, and RuntimeError where not even the first load step converged.
+    With `out`, the result's folder is written there (`result.to_folder`, whole or not
+    at all: a folder that cannot be made fails before the solve)."""
+    if out is not None:
+        with output_folder(Path(out)) as tmp:
+            res = solve(scene, estimate, **options)
+            res.to_folder(tmp)
+        return res
+    kind = scene.analysis.type
+    if kind == "frequency":
+        from taxel.analyses.dynamic import frequency
+        res = frequency(scene)
+        if estimate:
+            from taxel.analyses.error_estimate import estimate_frequency
+            res.error = estimate_frequency(scene, res)
+        return res
+    if kind == "transient":
+        from taxel.analyses.dynamic import transient
+        return transient(scene)
+    try:
+        res = solve_static(scene, **options)
+    except (NewtonError, ContactError) as exc:
+        return _stopped(scene, exc)
+    if estimate and res.error is None:
+        from taxel.analyses.error_estimate import estimate as error_estimate
+        res.error = error_estimate(res.scene, res, options.get("solver", "auto"))
+    return res
+
+
+def lumped(scene: Scene, out: str | Path | None = None):
+    """The 3-DoF lumped model's frequency response to a scene (a LumpedResult); with
+    `out`, its folder is written there too, as `solve` writes one."""
+    from taxel.analyses.dynamic import lumped_response
+    if out is None:
+        return lumped_response(scene)
+    with output_folder(Path(out)) as tmp:
+        res = lumped_response(scene)
+        res.to_folder(tmp)
+    return res
+
+
+@contextlib.contextmanager
+def output_folder(path, replace: bool = False):
+    """A folder written whole or not at all: the work goes to a temporary sibling
+    that is renamed to `path` at the end and removed on failure, together with any
+    parent folders made for it. An existing folder is updated in place, or, with
+    `replace`, swapped for the new one only when it is complete.
+    Raises ValueError (one line) when `path` cannot be a folder."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{path}: exists and is not a folder; choose another output folder")
+    if path.is_dir() and not replace:
+        yield path
+        return
+    made = [p for p in reversed(path.parents) if not p.exists()]
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    except OSError as exc:
+        for p in reversed(made):
+            shutil.rmtree(p, ignore_errors=True)
+        raise ValueError(f"{path}: cannot create the output folder ({exc.strerror or exc}); "
+                         "choose a writable place") from None
+    try:
+        yield tmp
+        if path.is_dir():
+            old = Path(tempfile.mkdtemp(prefix=f".{path.name}.old.", dir=path.parent))
+            path.rename(old / path.name)
+            tmp.rename(path)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            tmp.rename(path)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        for p in reversed(made):
+            shutil.rmtree(p, ignore_errors=True)
+        raise
+
+
+def solve_static(scene: Scene, solver: str = "auto", **options) -> StaticResult:
+    """The static analysis of a scene to its full load on the model it asks for: with
+    model.fidelity = "auto" the cheapest adequate model (taxel.analyses.model_choice),
+    else the model as given (`solve_model`; options: tagged_mesh, scale, newton_options).
+    Raises fem's NewtonError or ContactError where it stops short (`solve` returns that)."""
+    if scene.model.fidelity == "auto" and options.get("tagged_mesh") is None:
+        from taxel.analyses.model_choice import choose
+        return choose(scene, solver)
+    return solve_model(scene, solver, **options)
+
+
+def _stopped(scene: Scene, exc: NewtonError | ContactError) -> StaticResult:
+    """The last converged state of a static solve of `scene` that stopped short of its load
+    with `exc` (its `.solution`), as a StaticResult whose `stop` gives the load asked for and
+    why it stopped, and whose scene carries the load reached; `exc` is raised again where no
+    state converged. Not a new solve to that load: a press depends on its path (the 2D probe
+    example, frictionless, asked for 3 N stops past 1.62 N, and pressed to 1.62 N in one
+    target stops at 1.27 N: benchmarks/stopped_press.py)."""
+    if exc.solution is None:
+        raise exc
+    ld = scene.load
+    key = "pressure" if ld.kind == "pressure" else "travel" if ld.travel is not None else "force"
+    requested = getattr(ld, key)
+    if isinstance(exc, NewtonError):
+        reached, cause = exc.result.load_factors[-1] * requested, None
+    else:
+        last = exc.result.points[-1]
+        reached, cause = (last.travel if key == "travel" else last.force), exc.cause
+    return StaticResult(replace(scene, **{f"load.{key}": reached}), exc.solution,
+                        yeoh=scene.model.silicone != "linear",
+                        stop=Stop(requested, key, str(exc).splitlines()[0], cause))
