@@ -1,9 +1,13 @@
-"""Material library: sourced values, form conversions, rotations and 2D reductions."""
+"""Material library: sourced values, form conversions, rotations and 2D reductions; a
+user material (a [materials] table) as the silicone of a scene, solved."""
+
+import json
 
 import numpy as np
 import pytest
 
 from taxel.fem import constitution as M
+from taxel.cli import main
 from taxel.fem import constitution
 
 EPS0 = M.EPS0
@@ -141,3 +145,52 @@ def test_user_material_from_record_is_checked():
            "eps_S": np.eye(3).tolist(), "rho": 1000}
     with pytest.raises(ValueError, match="positive definite"):
         constitution.from_record("bad", bad)
+
+
+USER_SILICONE = '''[model]
+type = "plane_strain"
+[mesh]
+size = "1 mm"
+piezo_size = "0.25 mm"
+[array]
+silicone = "soft-gel"
+
+[materials.soft-gel]
+kind = "solid"
+E = 60000.0
+nu = 0.49
+rho = 1050.0
+'''
+
+
+def test_user_material_as_silicone(tmp_path, capsys):
+    path = tmp_path / "user.toml"
+    path.write_text(USER_SILICONE)
+    assert main(["solve", str(path), "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert err == ""
+    user = json.loads(out)
+
+    # the same scene with the library silicone: the user material must change the answer
+    ref_path = tmp_path / "ref.toml"
+    ref_path.write_text(USER_SILICONE.split('silicone = ')[0] + 'silicone = "Ecoflex-00-30"\n')
+    assert main(["solve", str(ref_path), "--json"]) == 0
+    ref = json.loads(capsys.readouterr().out)
+
+    v_user = user["electrodes"]["taxel_0_0"]["voltage_V"]
+    v_ref = ref["electrodes"]["taxel_0_0"]["voltage_V"]
+    assert v_user < 0 and v_ref < 0             # PZT pressed: negative open-circuit voltage
+    assert abs(v_user - v_ref) > 1e-3 * abs(v_ref)
+    assert user["applied_force_N"] == pytest.approx(1.0)
+    # a silicone given as E and nu has its strain reported too (it decides linear vs Yeoh)
+    assert user["max_silicone_strain"] > 0.01
+    assert user["max_silicone_strain"] == pytest.approx(ref["max_silicone_strain"], rel=0.8)
+
+
+def test_user_material_as_silicone_plain_output(tmp_path, capsys):
+    path = tmp_path / "user.toml"
+    path.write_text(USER_SILICONE)
+    assert main(["solve", str(path)]) == 0
+    out, err = capsys.readouterr()
+    assert err == ""
+    assert "taxel_0_0" in out and "applied force" in out

@@ -70,11 +70,6 @@ def test_study_page_has_the_parameter_curves_scene_and_renders(demo):
     assert "3D render unavailable" not in static                   # the pyvista render is there
 
 
-def test_not_a_result_folder_is_a_clear_error(tmp_path, capsys):
-    assert main(["report", str(tmp_path), "--out", str(tmp_path / "r")]) == 2
-    assert "not a study, optimization or solve folder" in capsys.readouterr().err
-
-
 @pytest.mark.skipif(chromium() is None, reason="Chromium is not installed (CI installs it)")
 def test_pages_open_in_headless_chromium_without_errors_and_are_not_blank(demo):
     import matplotlib.image as mpimg
