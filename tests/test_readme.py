@@ -4,7 +4,7 @@ PAGES).
 
 - ```python blocks are executed (their own asserts hold);
 - ```sh blocks: every `taxel ...` line runs as a command and must exit 0; the
-  two set-up commands (`make demo`, `make test`) run as `make -n` (their recipes
+  set-up commands (`make demo`, `make test`, `make test-all`) run as `make -n` (their recipes
   resolve: running them here would run this suite inside itself, and the main job
   has its own test in test_reports.py);
 - ```toml blocks are scenes: they load, materials included.
@@ -67,7 +67,7 @@ def test_shell_blocks_run(body):
     for cmd in _commands(body):
         argv = shlex.split(cmd)
         if argv[0] == "make":
-            assert argv[1:] in (["demo"], ["test"]), f"an unexpected make target in the README: {cmd}"
+            assert argv[1:] in (["demo"], ["test"], ["test-all"]), f"an unexpected make target in the README: {cmd}"
             run = subprocess.run(["make", "-n", *argv[1:]], cwd=ROOT, capture_output=True, text=True)
         else:
             assert argv[0] == "taxel", f"README command not run by this test: {cmd}"
