@@ -243,6 +243,7 @@ def test_work_precision_pareto_cheapest_and_page(tmp_path):
     assert index.exists() and "3d P2 x1 linear" in page and "Work against precision" in page
 
 
+@pytest.mark.slow      # 7.5 s of CPU: a Yeoh press estimated on nested meshes
 def test_estimate_of_a_yeoh_press_has_no_linear_law_part_and_the_punch_floor():
     """A Yeoh silicone pressed by a rigid punch: the material part is zero (Yeoh is the
     reference law; the press's Solution has no Newton record, so the result says which

@@ -43,6 +43,7 @@ def near_resonances(model, n=3):
     return np.unique(np.concatenate([F_CHECK, f[max(k - n, 0):k + n + 1]]))
 
 
+@pytest.mark.slow      # 17 s of CPU: every reduction path against a direct sweep
 def test_3x3_2d_frf_all_paths_within_half_a_percent_of_the_direct_sweep(array2d):
     """Both the reduced second-order model (frf) and the exported real state space,
     on every path, over 1 Hz-2 kHz and at the resonance (the causal loss law of

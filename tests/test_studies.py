@@ -196,6 +196,7 @@ def test_a_root_parameter_merges_tables_deeply():
     assert data == {"model": {"type": "3d", "silicone": "linear"}, "mesh": {"size": "1 mm", "order": 2}}
 
 
+@pytest.mark.slow      # 14 s of CPU, 17 s wall: a study run beside another
 def test_a_second_run_on_a_busy_folder_is_refused_and_the_lock_dies_with_the_first(tmp_path, capsys):
     """Two `taxel study run` on one folder: the second is refused at once (one line,
     exit 2) instead of computing every point again; once the first is killed
