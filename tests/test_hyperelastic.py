@@ -252,7 +252,8 @@ def test_batched_law_equals_the_pointwise_law():
     np.testing.assert_allclose(J, J0[:, 0], rtol=1e-13)
 
 
-@pytest.mark.parametrize("model", ["plane_strain", "axisymmetric", "3d"])
+@pytest.mark.parametrize("model", ["plane_strain", "axisymmetric",
+                                   pytest.param("3d", marks=pytest.mark.slow)])     # 3D: 5.6 s of CPU
 def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
     """fem.hyperelastic (batched over elements; through the scalar gradients in plane
     strain and 3D, through the vector B with its hoop term in axisymmetric) against

@@ -35,8 +35,13 @@ BLOCKS = [(page, kind, body) for page in PAGES
                                        re.S | re.M)]
 
 
+# a block naming one of these runs a solve marked slow in test_examples.py: the block is slow too
+SLOW_SCENES = ("thesis-pzt-probe-3d", "thesis-pzt-3x3-3d", "thesis-pvdf-3x3-3d")
+
+
 def blocks(lang):
-    return [pytest.param(body, id=f"{Path(page).stem}-{lang}-{i}")
+    return [pytest.param(body, id=f"{Path(page).stem}-{lang}-{i}",
+                         marks=[pytest.mark.slow] if any(s in body for s in SLOW_SCENES) else [])
             for i, (page, kind, body) in enumerate(BLOCKS) if kind == lang]
 
 

@@ -64,6 +64,7 @@ def count(folder):
         return 0
 
 
+@pytest.mark.slow      # 4 s of CPU and three study processes
 def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
     study = write_study(tmp_path)
     ref = tmp_path / "ref"
