@@ -125,6 +125,7 @@ def test_auto_chooses_2d_when_it_is_within_tolerance():
     assert point["voltage"]["taxel_0_0"] == pytest.approx(res.voltages()["taxel_0_0"], rel=1e-9)
 
 
+@pytest.mark.slow      # 8 s wall: a 3D solve; test_auto_chooses_2d stays in the fast tier
 def test_auto_leaves_2d_for_a_crosstalk_it_cannot_meet():
     """2D overstates crosstalk 2-4x: a 20 % crosstalk tolerance needs 3D."""
     sc = small(**ROW, **{"model.fidelity": "auto", "model.tolerance": 0.2,

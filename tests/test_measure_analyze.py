@@ -300,6 +300,7 @@ def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     # taxel centre line inside a gap, where one direction has no slope of G)
 
 
+@pytest.mark.slow      # 18 s wall: a simulated press session; test_measure_api localizes in the fast tier
 def test_presses_between_taxels_both_estimators_scored_apart(tmp_path, cache):
     """Half the presses at random points of the array (between taxels and over the margins), at the
     simulator's default noise: the model-based estimator places presses in the gaps about as well as

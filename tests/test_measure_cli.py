@@ -20,6 +20,7 @@ from waits import CEILING
 BENCH = Path(__file__).parents[1] / "studies" / "bench" / "builtin" / "thesis-bench.toml"
 
 
+@pytest.mark.slow      # 26 s wall: the simulator in its own process over TCP; the pty loop stays in the fast tier
 def test_simulate_on_loopback_port_then_capture(tmp_path):
     env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
     cmd = [sys.executable, "-m", "taxel.cli", "measure", "simulate", "thesis-bench", "--scene", "thesis-pzt-3x3-2d",

@@ -35,13 +35,24 @@ BLOCKS = [(page, kind, body) for page in PAGES
                                        re.S | re.M)]
 
 
-# a block naming one of these runs a solve marked slow in test_examples.py: the block is slow too
+def _commands(body):
+    for line in body.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            yield line
+
+
+# slow: a block naming a scene whose solve is slow in test_examples.py, and a tour of more than
+# three commands (each its own process: the getting-started tour takes 25 s on a busy machine)
 SLOW_SCENES = ("thesis-pzt-probe-3d", "thesis-pzt-3x3-3d", "thesis-pvdf-3x3-3d")
 
 
+def _slow(lang, body):
+    return any(s in body for s in SLOW_SCENES) or (lang == "sh" and len(list(_commands(body))) > 3)
+
+
 def blocks(lang):
-    return [pytest.param(body, id=f"{Path(page).stem}-{lang}-{i}",
-                         marks=[pytest.mark.slow] if any(s in body for s in SLOW_SCENES) else [])
+    return [pytest.param(body, id=f"{Path(page).stem}-{lang}-{i}", marks=[pytest.mark.slow] if _slow(lang, body) else [])
             for i, (page, kind, body) in enumerate(BLOCKS) if kind == lang]
 
 
@@ -57,13 +68,6 @@ def test_the_readme_and_its_pages_have_the_blocks_this_test_runs():
 def test_python_blocks_run(body, monkeypatch):
     monkeypatch.chdir(ROOT)
     exec(compile(body, "README.md", "exec"), {"__name__": "readme"})
-
-
-def _commands(body):
-    for line in body.splitlines():
-        line = line.split("#", 1)[0].strip()
-        if line:
-            yield line
 
 
 @pytest.mark.parametrize("body", blocks("sh"))

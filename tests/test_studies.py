@@ -90,6 +90,7 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
         assert ra["voltage"] == rb["voltage"] and ra["charge"] == rb["charge"]
 
 
+@pytest.mark.slow      # 13 s wall: a local Dask cluster of two worker processes
 def test_dask_two_workers_equal_in_process(tmp_path):
     """Two local Dask workers give the in-process results, run through the Python API
     from this long-lived test process while another of its threads holds a lock.
