@@ -80,7 +80,7 @@ def main():
     full = "--full" in sys.argv
     n, cap = arg("--n", 8), arg("--cap-gb", 12.0)
     from taxel.fem import linalg
-    linalg.MEMORY_CAP = cap * 1e9          # a factorization that would not fit goes out of core
+    linalg.set_memory_cap(cap * 1e9)         # a factorization that would not fit goes out of core
     for name in ("taxel.fem.assembly", "taxel.fem.linalg"):
         logging.getLogger(name).setLevel(logging.INFO)
         logging.getLogger(name).addHandler(Phases())

@@ -46,7 +46,7 @@ def responses(dm, kappa=None):
 
 
 def main():
-    law = constitution.law({"shear": (0.1, False), "volumetric": (0.1, True)})
+    law = constitution.relaxation_law({"shear": (0.1, False), "volumetric": (0.1, True)})
     print("the law (silicone, eta = 0.1): relaxation frequencies "
           + ", ".join(f"{1 / (2 * np.pi * t):.3g}" for t in law.tau) + " Hz")
     print("  shear weights " + ", ".join(f"{c:.3f}" for c in law.weights["shear"])

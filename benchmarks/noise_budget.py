@@ -1,5 +1,5 @@
-"""The noise floor of the thesis PZT taxel, chain by chain: the README's and the noise
-guide's table.
+"""The noise floor of the thesis PZT taxel, chain by chain: the noise guide's table
+(docs/guide/noise-and-tolerances.md).
 
     python benchmarks/noise_budget.py
 

@@ -22,7 +22,6 @@ import scipy.sparse as sp
 from pyamg.gallery import poisson
 
 from taxel.fem import linalg
-from taxel.fem.linalg._direct import _analysis
 
 
 def read_bytes() -> int:
@@ -34,14 +33,13 @@ def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 30
     A = poisson((n, n, n), format="csr")
     probe = pypardiso.PyPardisoSolver(mtype=-2)
-    need = _analysis(probe, sp.csr_matrix(sp.triu(A)))
+    need = linalg.analysis_bytes(probe, sp.csr_matrix(sp.triu(A)))
     factors = 1024.0 * probe.get_iparm(17)           # (the factors alone, besides the need)
     probe.free_memory(True)
     in_core = linalg.factorize(A, "pardiso")
-    budget = linalg.budget
-    linalg.budget = lambda: 0.8 * need
+    linalg.set_memory_cap(linalg.resident_memory() + 0.8 * need)    # the budget: 80 % of the need
     out_of_core = linalg.factorize(A, "pardiso")
-    linalg.budget = budget
+    linalg.set_memory_cap(None)
     print(f"{A.shape[0]} unknowns, factors {factors / 1e6:.0f} MB")
     print("right-hand sides | in core s | out of core s | ratio | out-of-core reads of the factors")
     rng = np.random.default_rng(0)

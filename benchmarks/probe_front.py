@@ -6,7 +6,7 @@ front and the thesis design pressed in 3D), each step timed. Prints each probe
 front with its estimated errors (per 3D-pressed design its estimator's error and
 whether it is within 2 %), the movements of the linear front's designs, the
 solves spent against pressing every candidate in 3D, and the wall time of each front
-step (the main job's budget). The README's probe-front table is this output.
+step (the main job's budget). The probe-front table of docs/guide/optimization.md is this output.
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/probe_front.py [--full | --presses-3d N]
      [--only thesis-pzt-front] [--out DIR]

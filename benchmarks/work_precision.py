@@ -1,4 +1,4 @@
-"""The README's work-precision figures (docs/work-precision-<output>.png, one per
+"""The work-precision figures (docs/work-precision-<output>.png, one per
 output; the every-panel grid docs/work-precision.png with --grid) and table: the four
 thesis scenes at 0.2 N and 1 N, from the caches `taxel work-precision` filled
 (out/work-precision-store; a first run solves everything: about 10-20 minutes, the

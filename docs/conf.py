@@ -28,6 +28,7 @@ extensions = [
     "sphinx_gallery.gen_gallery",
     "schema_reference",
     "module_docstring",
+    "bench_json",
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"

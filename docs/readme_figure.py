@@ -1,4 +1,5 @@
-"""The README's picture: the thesis PZT 3x3 array in 2D, 1 N on the middle taxel,
+"""The landing picture (docs/thesis-pzt-3x3-2d.png, on the front page and the docs index):
+the thesis PZT 3x3 array in 2D, 1 N on the middle taxel,
 deformed cross-section coloured by the potential, and the vertical displacement.
 
 Run: python docs/readme_figure.py   (writes docs/thesis-pzt-3x3-2d.png and prints the numbers)

@@ -17,15 +17,16 @@ Levels (each a model of the same design, cheapest first):
      `presses_3d` designs of that estimated front, spread along it by crosstalk, are
      pressed in 3D (`press_3d`) and their rows replaced by the 3D press's (the main
      job's count: RUN_3D_PRESSES, 0: a 3D press of a 3x3 front design with its error
-     estimate took 101-112 s, which does not fit the main job's 5 minutes); with presses_3d None
+     estimate took 101-112 s, benchmarks/probe_front.py, more than a third of the main job's
+     whole time, docs/getting-started.md); with presses_3d None
      (`taxel demo --full`) the whole level-B front and the thesis design are pressed
      in 3D through the same correction loop (B corrected to C), and the front is the
      3D presses'. The estimate's largest miss against the 3D presses is the product's
      measured error, added to every row still estimated.
 
 Every front design carries its estimated relative error, the sum of
-  - discretisation: the 2D mesh's (DISCRETISATION_2D; README: the default mesh within
-    0.24-0.47 % of the converged voltage) at level B; for a 3D press, the project's
+  - discretisation: the 2D mesh's (DISCRETISATION_2D: the default mesh's voltage error
+    against nested references, docs/benchmarks.md) at level B; for a 3D press, the project's
     error estimator on that press (taxel.analyses.error_estimate.estimate: on a coarse
     mesh, the same press on a mesh twice as coarse, Richardson at the lowest order
     measured in 3D); for C estimated from B the linear ratio's own 3D mesh error
@@ -59,7 +60,9 @@ from taxel.optimize.probe import press_key, press_safely, press_scene, stored_pr
 from taxel.studies.execute import local_cluster
 from taxel.studies.store import Store
 
-DISCRETISATION_2D = 0.0047        # the default 2D mesh's voltage error, worst of README's 0.24-0.47 %
+# The default 2D mesh's voltage error, the worst measured against nested references: 0.47 %
+# (axisymmetric, two elements through the piezo; benchmarks/default_mesh.py, docs/benchmarks.md)
+DISCRETISATION_2D = 0.0047
 VERIFY_3D_ERROR = 0.038           # the verification mesh's voltage error, worst measured (optimize.multifidelity, 6.)
 # The 3D model of the 3D presses (level C): the default press mesh (taxel.scene.DEFAULT_PRESS_MESH,
 # the silicone meshed free, graded at the punch's rim), 0.84 % on the thesis taxel from the press's

@@ -441,3 +441,44 @@ def noise(problem: Optimization, variable: str, x=None, rel_steps=(1e-4, 3e-4, 1
         vals = [problem.evaluate(v)["sensitivity"] for v in xs]
         out[h] = abs(vals[1] - 0.5 * (vals[0] + vals[2])) / abs(vals[1])
     return out
+
+
+# The example under the optimization key reference (docs/reference/keys/optimization.md): a built-in one, whole.
+KEY_EXAMPLES = {"the built-in optimization thesis-pzt-front (`taxel optimize thesis-pzt-front`)":
+                (BUILTIN / "thesis-pzt-front.toml").read_text(),
+                "the built-in probe front thesis-pzt-probe-front ([press])":
+                (BUILTIN / "thesis-pzt-probe-front.toml").read_text(),
+                "a robust optimum ([robust], [requirements], [resolution], noise)": """\
+# the thesis PZT array's robust optimum: the 5th percentile of sensitivity under fabrication
+# spread, at a yield of at least 90 % (docs/guide/noise-and-tolerances.md)
+base = "thesis-pzt-3x3-2d"
+noise = "1 mV"                     # localization_error: white noise on each taxel peak
+
+[variables]
+silicone_above = {path = "array.silicone_above", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
+gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
+
+[objective]
+maximize = "robust_sensitivity"
+
+[constraints]
+yield = ">= 0.9"
+
+[requirements]                     # what a good part is (the yield's spec)
+crosstalk = "<= 8 %"
+
+[resolution]                       # the noise metrics' chain
+rig = "thesis-bench"
+band = ["1 Hz", "100 Hz"]
+force = "10 mN"
+
+[robust]
+percentile = 5
+samples = 16                       # parts per design
+seed = 0
+
+[[robust.parameters]]
+path = "array.silicone_above"
+tolerance = "0.1 mm"
+distribution = "uniform"
+"""}

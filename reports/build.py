@@ -87,7 +87,7 @@ def _csv_link(src: Path, out: Path, folder: Path) -> str | None:
     return name
 
 
-_PRESSED = ("pressed_voltage", "voltage_pressed")     # the key plot's output (its name before this release)
+_PRESSED = "pressed_voltage"      # the key plot's output
 
 
 def _study(folder: Path, out: Path, scene_data) -> dict:

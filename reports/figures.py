@@ -1,7 +1,8 @@
 """Figures (matplotlib on the Agg backend, no screen needed; pyvista off-screen).
 
 `pyplot()` is the one place the backend is chosen. `docs/readme_figure.py`
-makes the README's picture with `cross_section`.
+makes the landing picture (docs/thesis-pzt-3x3-2d.png) with
+`cross_section`.
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ import numpy as np
 from taxel.analyses.adapter import layout
 from taxel.analyses.adapter import scene_materials
 from taxel.fem.constitution import stability_limit
-from taxel.schema import renamed_value
 from taxel.units import magnitude
 from taxel.schema import electrode_name
 
@@ -133,8 +133,6 @@ def time_response(t, force, y, names, label, path, title=""):
 # outputs of a study: (axis label, scale from SI, absolute value?)
 _OUTPUT_AXES = {"pressed_voltage": ("pressed taxel |V|", "V"), "sensitivity": ("pressed taxel |V| per newton", "V/N"),
                 "max_strain": ("largest silicone strain", "%"), "crosstalk": ("crosstalk", "%")}
-# study columns renamed this release: a caller naming the old one is read with a DeprecationWarning
-_RENAMED_COLUMNS = {"voltage_pressed": "pressed_voltage"}
 _PREFIX = [(1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p")]
 
 
@@ -170,7 +168,6 @@ def study_plots(rows, parameters, outputs, folder, title=""):
     carry the unit. Returns the files written."""
     plt = pyplot()
     folder.mkdir(parents=True, exist_ok=True)
-    outputs = [renamed_value(out, _RENAMED_COLUMNS, "study plot output") for out in outputs]
     done = [r for r in rows if r["status"] == "done"]
     numeric = [p for p in parameters if done and all(_param_value(r.get(p)) is not None for r in done)]
     facets = [p for p in parameters if p not in numeric]

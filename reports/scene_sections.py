@@ -173,6 +173,6 @@ def comparison(folder: Path, scene) -> tuple[list[dict], list]:
             {"type": "note", "text": (
                 f"Open-circuit voltage of the pressed taxel per newton, linear silicone, at {F:g} N. Deviation "
                 "from the 3D model (1 mm mesh, 0.4 mm at the taxel; its own mesh error is about 1 %). The Yeoh "
-                "silicone changes these by the strain-dependent amount in the README (7 % at 0.2 N). Cost: the "
+                "silicone changes these by a strain-dependent amount (7 % at 0.2 N on the thesis taxel: benchmarks/hyperelastic_taxel.py, docs/benchmarks.md). Cost: the "
                 "wall seconds of the solve when it was first computed; the results are kept in the folder's "
                 "report-cache/results.sqlite and reused.")}], banners

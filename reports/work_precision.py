@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import json
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -184,16 +183,10 @@ def lines(rec: dict) -> list[str]:
 
 def chart_files(folder: Path) -> tuple[Path, Path] | None:
     """(work-precision.json, work-precision.csv) of a folder, or None when it holds no
-    chart. A folder written before this release (fidelity.json, fidelity.csv) is read
-    for one release, with a DeprecationWarning."""
+    chart."""
     folder = Path(folder)
-    for stem in ("work-precision", "fidelity"):
-        if (folder / f"{stem}.json").is_file():
-            if stem == "fidelity":
-                warnings.warn(f"{folder}: fidelity.json and fidelity.csv are now work-precision.json and "
-                              "work-precision.csv; the old names are read for one release", DeprecationWarning,
-                              stacklevel=2)
-            return folder / f"{stem}.json", folder / f"{stem}.csv"
+    if (folder / "work-precision.json").is_file():
+        return folder / "work-precision.json", folder / "work-precision.csv"
     return None
 
 

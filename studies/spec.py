@@ -78,7 +78,6 @@ class Parameter(Strict):
 
 
 class StudySpec(Strict):
-    renamed = {"fidelity": "overrides"}
     name: Name = "study"
     description: str = ""
     base: str
@@ -334,3 +333,9 @@ def check_points(study: Study) -> None:
             which = "first point" if i == 0 else f"point {i + 1} of {len(points)}"
             values = ", ".join(f"{k} = {_value(v)!r}" for k, v in pt.items())[:160]
             raise StudyError(f"the study's {which} ({values}) is not a valid scene: {exc}") from None
+
+
+# The example under the study key reference (docs/reference/keys/study.md): a built-in study, whole.
+KEY_EXAMPLES = {"the built-in study fig-2-5 (`taxel study run fig-2-5`)": (BUILTIN / "fig-2-5.toml").read_text(),
+                "the built-in tolerance study thesis-pzt-tolerances (sampling, [requirements])":
+                (BUILTIN / "thesis-pzt-tolerances.toml").read_text()}

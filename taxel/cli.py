@@ -53,10 +53,6 @@ def _print_written(out: Path, files, summary):
 
 def _work_precision(args):
     from taxel.reports.work_precision import lines
-    if args.command == "fidelity":
-        import warnings
-        warnings.warn("'taxel fidelity' is now 'taxel work-precision'; the old name works for one release",
-                      DeprecationWarning, stacklevel=1)
     forces = args.force or [0.2, 1.0]
     for f in forces:
         if not (0 < f <= 100):
@@ -249,7 +245,7 @@ def main(argv=None):
     p.add_argument("--out", metavar="DIR", help="folder for the outputs (scene.json, result.json; CSV and PNG "
                    "of frequency/transient analyses; default for those: out/SCENE)")
     p.set_defaults(run=_solve)
-    p = sub.add_parser("work-precision", aliases=["fidelity"], help="the work-precision chart: wall time against error of every model and mesh")
+    p = sub.add_parser("work-precision", help="the work-precision chart: wall time against error of every model and mesh")
     p.add_argument("scenes", nargs="+", help="scene TOML files or built-in example names")
     p.add_argument("--force", type=float, action="append", metavar="N", help="force in newtons (repeat; "
                    "default 0.2 and 1)")

@@ -271,7 +271,13 @@ def markdown(kind: str) -> str:
         lines.append("| " + " | ".join(_cell(c) for c in (
             f"`{k.path}`", k.type, k.unit, f"`{k.default}`" if k.default not in ("required", "(table)") else k.default,
             k.allowed, k.bounds, k.doc)) + " |")
-    return "\n".join(lines) + "\n"
+    # one example per table: the schema module's KEY_EXAMPLES ({title: TOML text})
+    examples = getattr(importlib.import_module(cls.__module__), "KEY_EXAMPLES", {})
+    if examples:
+        lines += ["", "## Examples", ""]
+        for title, text in examples.items():
+            lines += [f"### {title}", "", "```toml", text.strip("\n"), "```", ""]
+    return "\n".join(lines).rstrip("\n") + "\n"
 
 
 def _print(args) -> int:

@@ -15,12 +15,12 @@ import json
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, Field, PrivateAttr, StrictBool, StrictInt, ValidationError, field_validator, model_validator
+from pydantic import AfterValidator, BaseModel, Field, PrivateAttr, StrictBool, StrictInt, ValidationError, model_validator
 
 from taxel import units
 from taxel.schema import (GEOMETRY, Capacitance, Coordinate, Duration, Force, Fraction, Frequency, Length,
                           LossFactor, MeshSize, Name, NoiseCurrent, NoiseVoltage, Pressure, Resistance, Strict,
-                          Temperature, Thickness, Voltage, dimensionless, one_line, read_toml, renamed_value,
+                          Temperature, Thickness, Voltage, dimensionless, one_line, read_toml,
                           safe_name, set_path, to_data)
 
 EXAMPLES = Path(__file__).parent / "examples"
@@ -28,15 +28,152 @@ EXAMPLES = Path(__file__).parent / "examples"
 
 
 
+# The unit of each key of a user material table ([materials.NAME]) that has one; a
+# value is a string with its unit ("27.5 kPa") or a number in SI. The scene converts
+# the strings here, so the FEM (fem.constitution.from_record) reads SI numbers only.
+# Keys not listed (kind, nu, eps_r, eps_T, eps_S, Qm, tan_delta) are plain numbers.
+MATERIAL_UNITS = {"E": ("Pa", "modulus"), "mu": ("Pa", "shear modulus"), "K": ("Pa", "bulk modulus"),
+                  "C10": ("Pa", "Yeoh constant"), "C20": ("Pa", "Yeoh constant"), "C30": ("Pa", "Yeoh constant"),
+                  "rho": ("kg/m^3", "density"), "s": ("1/Pa", "compliance"), "d": ("C/N", "piezoelectric constant"),
+                  "c": ("Pa", "stiffness"), "e": ("C/m^2", "piezoelectric stress constant")}
+
+
+def material_in_si(rec):
+    """A user material table with every unit string converted to its SI number
+    (MATERIAL_UNITS; entries of the matrices s, d, c, e one by one); numbers are SI
+    and kept. Raises ValueError (one line, naming the key) for a wrong unit."""
+    if not isinstance(rec, dict):
+        return rec
+
+    def si(key, v):
+        unit, what = MATERIAL_UNITS[key]
+        if isinstance(v, list):
+            return [si(key, x) for x in v]
+        if not isinstance(v, str):
+            return v
+        try:
+            return units.to_si(v, unit, what, si_numbers=True)
+        except units.UnitError as exc:
+            raise ValueError(f"{key}: {exc} (in {unit})") from None
+    return {k: si(k, v) if k in MATERIAL_UNITS else v for k, v in rec.items()}
+
+
+UserMaterial = Annotated[dict, AfterValidator(material_in_si)]
+
+
+# One example per table of a scene, shown under the key reference (`taxel schema`'s page in
+# the docs, docs/reference/keys/scene.md); each loads as a scene (tests/test_docs.py).
+KEY_EXAMPLES = {
+    "model": """[model]
+type = "3d"                 # or plane_strain, plane_stress, axisymmetric
+silicone = "yeoh"           # the Yeoh law of the silicone (needs its C10, C20, C30)
+symmetry = "auto"           # solve the quarter of a mirror-symmetric 3D array
+outputs = ["sensitivity", "crosstalk"]
+
+[array]
+rows = 3
+cols = 3""",
+    "mesh": """[mesh]
+size = "0.5 mm"             # far from the taxels
+piezo_size = "0.1 mm"       # on the taxels
+piezo_layers = 2            # elements through each piezo layer""",
+    "array": """[array]
+rows = 3
+cols = 3
+taxel_width = "4 mm"
+piezo = "PSI-5H4E"
+piezo_thickness = "0.127 mm"
+gap = "3 mm"
+silicone = "Ecoflex-00-30"
+silicone_above = "1 mm"
+silicone_below = "1 mm\"""",
+    "plate": """[plate]                     # a layered plate instead of an [array]
+shape = "disk"
+radius = "10 mm"
+
+[[plate.layers]]
+material = "PSI-5H4E"
+thickness = "0.2 mm"
+
+[[plate.layers]]
+material = "Ecoflex-00-30"
+thickness = "1 mm"
+
+[load]                      # a plate is pressed by a pressure or an indenter
+kind = "pressure"
+pressure = "1 kPa\"""",
+    "load": """[load]                      # the rig's probe: a rigid 4 mm flat punch pressed to 1 N
+kind = "indenter"
+contact = true
+shape = "flat"
+radius = "2 mm"
+edge_radius = "0.2 mm"
+force = "1 N"
+friction = "sticking\"""",
+    "supports": """[supports]
+bottom = "bonded"
+edges = "free\"""",
+    "electrodes": """[electrodes]
+taxels = "open"             # or "ground", or a voltage such as "10 V\"""",
+    "dynamics": """[dynamics]
+silicone_loss = 0.1         # structural loss factor of the silicone
+reference_frequency = "100 Hz\"""",
+    "analysis": """[analysis]
+type = "frequency"
+f_min = "1 Hz"
+f_max = "1 kHz"
+points = 200""",
+    "readout": """[readout]
+circuit = "charge_amplifier"
+C_f = "820 pF"
+R_f = "10 Mohm"
+notch = true""",
+    "materials (a user silicone)": """# A user silicone: the Yeoh constants C10, C20, C30 (the small-strain shear modulus is
+# mu = 2 C10; `taxel material fit-yeoh` fits them to a tension test), the bulk modulus K
+# (a silicone is nearly incompressible: K / mu about 1000, here 1000 x 2 x 27.5 kPa;
+# or give E and nu instead of K, or mu and K for a linear law only) and the density rho.
+# Any value: a string with its unit or a number in SI.
+[materials.my-silicone]
+kind = "solid"
+C10 = "27.5 kPa"
+C20 = "0.4 kPa"
+C30 = "0 Pa"
+K = "55 MPa"
+rho = "1070 kg/m^3"
+eps_r = 2.8                 # relative permittivity (default 1)
+
+[array]
+silicone = "my-silicone\"""",
+    "materials (a user piezo)": """# A user piezo in the strain-charge form: the compliance s (6 x 6, 1/Pa), the piezoelectric
+# constants d (3 x 6, C/N; d31 is d[2][0]) and the relative permittivity eps_T (3 x 3), with
+# the density rho; or the stress-charge form: c (Pa), e (C/m^2), eps_S. Optional: Qm and
+# tan_delta (the losses). A matrix entry is a number in SI or a string with its unit.
+[materials.my-pvdf]
+kind = "piezo"
+rho = "1780 kg/m^3"
+s = [[3.333e-10, -1.133e-10, -1.133e-10, 0, 0, 0],
+     [-1.133e-10, 3.333e-10, -1.133e-10, 0, 0, 0],
+     [-1.133e-10, -1.133e-10, 3.333e-10, 0, 0, 0],
+     [0, 0, 0, 8.933e-10, 0, 0],
+     [0, 0, 0, 0, 8.933e-10, 0],
+     [0, 0, 0, 0, 0, 8.933e-10]]
+d = [[0, 0, 0, 0, 0, 0],
+     [0, 0, 0, 0, 0, 0],
+     ["23 pC/N", "3 pC/N", "-33 pC/N", 0, 0, 0]]
+eps_T = [[12, 0, 0], [0, 12, 0], [0, 0, 12]]
+Qm = 10
+tan_delta = 0.02
+
+[array]
+piezo = "my-pvdf"
+piezo_thickness = "52 um\"""",
+}
+
 class SceneError(ValueError):
     """A scene that cannot be solved; the message is one line with the fix."""
 
 
 MAX_TIME_STEPS = 1_000_000     # a transient beyond this is refused before it starts
-
-
-# model.outputs renamed this release (read for one release with a DeprecationWarning)
-RENAMED_OUTPUTS = {"voltage_per_newton": "sensitivity", "short_circuit_charge": "charge_sensitivity"}
 
 
 class Model(Strict):
@@ -51,13 +188,6 @@ class Model(Strict):
     fidelity: Literal["fixed", "auto"] = "fixed"
     outputs: tuple[Literal["sensitivity", "crosstalk", "charge_sensitivity"], ...] = ("sensitivity",)
 
-    @field_validator("outputs", mode="before")
-    @classmethod
-    def _renamed_outputs(cls, v):
-        """Old output names (voltage_per_newton, short_circuit_charge) read with a warning."""
-        if isinstance(v, (list, tuple)):
-            return tuple(renamed_value(x, RENAMED_OUTPUTS, "model.outputs") if isinstance(x, str) else x for x in v)
-        return v
 
 
 # The mesh a scene without mesh.size gets, per model type of an array scene: (size,
@@ -199,7 +329,9 @@ class Scene(Strict):
     dynamics: Dynamics = Dynamics()
     analysis: Analysis = Analysis()
     readout: Readout = Readout()
-    materials: dict[str, dict] = {}     # user materials (SI numbers), see fem.constitution
+    # user materials by name, each a piezo or a solid (see the examples below); a value is a
+    # string with its unit ("27.5 kPa") or an SI number
+    materials: dict[str, UserMaterial] = {}
     _default_mesh: tuple[str, ...] = PrivateAttr(())    # the mesh keys filled from DEFAULT_MESH
 
     def replace(self, **changes) -> Scene:

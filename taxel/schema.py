@@ -2,9 +2,6 @@
 pydantic model, typed quantities and safe names.
 
 `Strict`: unknown keys are refused, models are frozen, defaults are validated.
-A key renamed in a release is listed in the model's `renamed` ({old: new}): a
-document that still uses the old key is read, with a DeprecationWarning naming
-both, for one release.
 
 Quantities: pydantic field types that read a string with a unit ("0.5 mm")
 through taxel.units, or an SI number when the model is validated from Python
@@ -18,12 +15,10 @@ import math
 import re
 import tomllib
 import typing
-import warnings
 from pathlib import Path
-from typing import Annotated, ClassVar
+from typing import Annotated
 
-from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, ValidationError, ValidationInfo,
-                      model_validator)
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, ValidationError, ValidationInfo
 
 from taxel import units
 
@@ -32,31 +27,6 @@ class Strict(BaseModel):
     """The strict base of every schema model (see the module docstring)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
-    renamed: ClassVar[dict[str, str]] = {}
-
-    @model_validator(mode="before")
-    @classmethod
-    def _renamed_keys(cls, data):
-        if cls.renamed and isinstance(data, dict):
-            for old, new in cls.renamed.items():
-                if old in data:
-                    if new in data:
-                        raise ValueError(f"'{old}' and '{new}' are both given; '{old}' is the old name of "
-                                         f"'{new}': keep '{new}' only")
-                    warnings.warn(f"'{old}' is now called '{new}'; the old name is read for one release",
-                                  DeprecationWarning, stacklevel=2)
-                    data = {(new if k == old else k): v for k, v in data.items()}
-        return data
-
-
-def renamed_value(value: str, renamed: dict[str, str], key: str) -> str:
-    """A value (such as an output name) under its current name, with a
-    DeprecationWarning when an old one was given."""
-    if value in renamed:
-        warnings.warn(f"{key} = '{value}' is now called '{renamed[value]}'; the old name is read for one "
-                      "release", DeprecationWarning, stacklevel=2)
-        return renamed[value]
-    return value
 
 
 def _quantity(unit: str, what: str, positive=False, nonnegative=False, scale: tuple[float, float] | None = None):

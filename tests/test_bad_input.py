@@ -198,6 +198,11 @@ MORE_SCENES = [
           'kind = "solid"\nE = 3.0e4\nnu = 0.45\n', "materials.soft", "rho"),
     scene("user-material-bad-kind", ARRAY + 'silicone = "soft"\n[materials.soft]\n'
           'kind = "gel"\nrho = 1000.0\n', "materials.soft", "kind"),
+    scene("user-material-wrong-unit", ARRAY + 'silicone = "soft"\n[materials.soft]\n'
+          'kind = "solid"\nC10 = "27.5 kg"\nK = "55 MPa"\nrho = "1070 kg/m^3"\n', "materials.soft", "C10", "Pa"),
+    scene("user-material-wrong-unit-in-a-matrix", ARRAY + 'piezo = "film"\n[materials.film]\nkind = "piezo"\n'
+          'rho = 1780\nd = [[0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 0], ["23 pC/m", 0, 0, 0, 0, 0]]\n',
+          "materials.film", "d:", "C/N"),
     scene("axisymmetric-pvdf", AXISYM + 'piezo = "PVDF"\n',
           "PVDF", "transversely isotropic"),
     # ---- load
@@ -508,9 +513,9 @@ REPORTS = [
     Case("report-out-is-a-file", ["report", "ok", "--out", "f", "--no-compare"], ("f",), {"f": "x"},
          setup=lambda p: _solved_folder(p / "ok")),
     Case("report-no-folders", ["report", "--out", "r"], ("folders",)),
-    Case("fidelity-negative-force", ["fidelity", "thesis-pzt-single-2d", "--force", "-1", "--out", "f"],
+    Case("work-precision-negative-force", ["work-precision", "thesis-pzt-single-2d", "--force", "-1", "--out", "f"],
          ("--force",), out="f"),
-    Case("fidelity-unknown-scene", ["fidelity", "nope-scene", "--out", "f"], ("nope-scene",), out="f"),
+    Case("work-precision-unknown-scene", ["work-precision", "nope-scene", "--out", "f"], ("nope-scene",), out="f"),
 ]
 
 
@@ -652,7 +657,7 @@ def test_the_table_is_large_covers_every_command_and_has_no_duplicate():
     assert len(CASES) >= 300
     commands = {c.argv[0] for c in CASES if c.argv}
     assert {"solve", "mesh", "lumped", "study", "optimize", "material", "report", "demo", "examples",
-            "measure", "fidelity"} <= commands
+            "measure", "work-precision"} <= commands
     assert len({c.id for c in CASES}) == len(CASES)
     inputs = [(tuple(c.argv), tuple(sorted(c.files.items()))) for c in CASES if c.setup is None]
     assert len(set(inputs)) == len(inputs), "two rows with the same command and files"

@@ -73,6 +73,57 @@ def test_the_scene_reference_carries_units_defaults_allowed_values_and_bounds():
     assert "edge to edge" in rows["array.gap"][5]                  # the schema's own comment
 
 
+
+def test_every_table_of_a_scene_has_an_example_under_the_reference_and_each_loads(tmp_path):
+    """The key reference ends with one example per table (taxel.scene.KEY_EXAMPLES), the
+    user materials included (a silicone: C10, C20, C30, K, rho; a piezo); each is a scene."""
+    import tomllib
+    import taxel
+    from taxel.analyses.adapter import scene_materials
+    from taxel.scene import KEY_EXAMPLES, Scene
+    tables = {name for name, info in Scene.model_fields.items()
+              if name not in ("name", "description")}
+    covered = {title.split()[0] for title in KEY_EXAMPLES}
+    assert tables == covered, f"tables without an example: {tables - covered}"
+    page = markdown("scene")
+    for title, text in KEY_EXAMPLES.items():
+        assert f"### {title}" in page and text.strip() in page
+        data = tomllib.loads(text)
+        path = tmp_path / "example.toml"
+        path.write_text(text if "array" in data or "plate" in data else text + "\n[array]\n")
+        scene_materials(taxel.load(path))          # the materials are known and physical
+    silicone = KEY_EXAMPLES["materials (a user silicone)"]
+    assert all(k in silicone for k in ("C10", "C20", "C30", "K", "rho", 'kind = "solid"', "1000"))
+    for kind in ("study", "optimization", "rig"):
+        assert "## Examples" in markdown(kind)
+
+
+
+def test_every_number_the_docs_read_from_a_benchmark_json_resolves():
+    """docs/_ext/bench_json.py: each {bench} role names a value its JSON file holds and each
+    bench-table a renderer; the press reference's table reproduces the script's numbers."""
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        import bench_json
+    finally:
+        sys.path.remove(str(DOCS / "_ext"))
+    roles, tables = [], []
+    for page in DOCS.rglob("*.md"):
+        if "_build" in page.parts:
+            continue
+        text = page.read_text(encoding="utf-8")
+        roles += re.findall(r"\{bench\}`([^`]+)`", text)
+        tables += re.findall(r"^```\{bench-table\} (\S+)", text, re.M)
+    assert len(roles) >= 10 and {"reference_3d.single", "reference_3d.3x3", "press_3d_reference"} <= set(tables)
+    for spec in roles:
+        assert bench_json.value(spec), spec
+    for name in tables:
+        head, rows = bench_json.TABLES[name][1]()
+        assert rows and all(len(r) == len(head) for r in rows), name
+    assert bench_json.value("press_3d_reference.json:VF:.5f") == "-0.77981"
+    assert bench_json.value("reference_3d.json:single.spread:.2%") == "0.66 %"
+
+
 @pytest.mark.parametrize("kind", list(KINDS))
 def test_taxel_schema_prints_the_json_schema(kind, capsys):
     assert main(["schema", kind]) == 0
@@ -183,3 +234,65 @@ def test_index_and_a_gallery_page_open_in_headless_chromium(site, tmp_path):
             if not urlsplit(src).scheme:
                 assert (page.parent / unquote(src)).exists(), src
         assert dom.count("<img") >= 1
+
+
+def _glossary_paths():
+    """The code paths the glossary's tables name in their `where` column: files and folders
+    (`fem/static/_linear.py`, `taxel/explore/`) and dotted names (`taxel.fem.static.Solution`)."""
+    text = (DOCS / "glossary.md").read_text(encoding="utf-8")
+    files, dotted = set(), set()
+    for line in text.splitlines():
+        if not line.startswith("| ") or line.startswith(("| name", "|---")):
+            continue
+        where = line.rstrip(" |").rsplit(" | ", 1)[-1]
+        for token in re.findall(r"`([^`]+)`", where):
+            if re.fullmatch(r"[\w./-]+\.(py|toml|json)|[\w-]+(/[\w.-]+)*/", token) and "/" in token:
+                files.add(token)
+            elif re.fullmatch(r"(taxel|fem)(\.\w+)+", token):
+                dotted.add(token if token.startswith("taxel.") else "taxel." + token)
+    return files, dotted
+
+
+def test_every_code_path_the_glossary_names_exists():
+    import importlib
+    files, dotted = _glossary_paths()
+    assert len(files) >= 20 and len(dotted) >= 20
+    generated = {"probe-front.json"}
+    missing = [f for f in files if f not in generated and not (ROOT / f).exists()
+               and not (ROOT / f.removeprefix("taxel/")).exists()]
+    assert not missing, f"the glossary names files that do not exist: {missing}"
+    for name in sorted(dotted):
+        parts = name.split(".")
+        for i in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:i]))
+            except ImportError:
+                continue
+            for attr in parts[i:]:
+                assert hasattr(obj, attr), f"the glossary names {name}: {'.'.join(parts[:i])} has no {attr}"
+                obj = getattr(obj, attr)
+            break
+        else:
+            raise AssertionError(f"the glossary names {name}, which does not import")
+
+
+def test_the_study_optimization_and_rig_examples_cover_every_table_and_load(tmp_path):
+    """Each key reference ends with whole example files that, together, use every top-level
+    key of their schema, and each loads as its command would load it."""
+    import importlib
+    import tomllib
+    from taxel.optimize.spec import load_optimization
+    from taxel.studies.bench.rig import load_rig
+    from taxel.studies.spec import load_study
+    loaders = {"study": load_study, "optimization": load_optimization, "rig": load_rig}
+    for kind, loader in loaders.items():
+        cls = model(kind)
+        examples = importlib.import_module(cls.__module__).KEY_EXAMPLES
+        used = set()
+        for i, text in enumerate(examples.values()):
+            used |= set(tomllib.loads(text))
+            path = tmp_path / f"{kind}-{i}.toml"
+            path.write_text(text)
+            loader(path)
+        optional = {"name", "description", "samples", "seed", "sampling"}
+        assert set(cls.model_fields) - optional <= used, (kind, set(cls.model_fields) - optional - used)

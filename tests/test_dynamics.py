@@ -143,7 +143,7 @@ def test_charge_amplifier_frequency_and_time_domain_agree(taxel):
     scene, dm = taxel
     scene = lossless(scene, beta=2e-4)        # Rayleigh damping: the same model in both domains
     dm = model(scene, tm=dm.sy.tm)
-    r = readout(scene.replace(**{"circuits.circuit": "charge_amplifier"}))
+    r = readout(scene.replace(**{"readout.circuit": "charge_amplifier"}))
     T, dt = 4.0, 5e-4
     t = np.arange(0, T, dt)
     f = np.sin(2 * np.pi * (2 * t + (100 - 2) * t ** 2 / (2 * T))) * np.hanning(len(t))

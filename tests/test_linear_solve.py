@@ -16,6 +16,7 @@ import scipy.sparse as sp
 from pyamg.gallery import poisson
 
 from taxel.fem import linalg
+from taxel.fem.linalg import _direct as direct      # white-box: the memory budget check_fits reads
 from taxel.analyses import solve_static as solve
 from taxel.scene import load, parse
 
@@ -73,7 +74,7 @@ def test_a_factorization_over_the_memory_budget_goes_out_of_core(monkeypatch, tm
     b = np.linspace(-1.0, 1.0, A.shape[0])
     x_in_core = linalg.factorize(A, "pardiso")(b)
     need = linalg.in_core_bytes(A)
-    monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
+    monkeypatch.setattr(direct, "budget", lambda: 0.8 * need)
     with caplog.at_level(logging.INFO, logger="taxel.fem.linalg"):
         solve = linalg.factorize(A, "pardiso")
         x = solve(b)
@@ -99,7 +100,7 @@ def test_two_out_of_core_factorizations_alive_at_once_each_solve_their_own(monke
     b = np.linspace(-1.0, 1.0, A.shape[0])
     xa, xb = linalg.factorize(A, "pardiso")(b), linalg.factorize(B, "pardiso")(b)
     need = linalg.in_core_bytes(A)
-    monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
+    monkeypatch.setattr(direct, "budget", lambda: 0.8 * need)
     fa = linalg.factorize(A, "pardiso")
     folder_a = os.environ["MKL_PARDISO_OOC_PATH"]
     fb = linalg.factorize(B, "pardiso")
@@ -116,7 +117,7 @@ def test_a_factorization_that_cannot_fit_is_refused_before_it_starts(monkeypatch
     almost no free memory the solve is refused with the estimate, not killed."""
     n = 2000
     A = sp.diags([np.full(n, 4.0), np.full(n - 1, -1.0), np.full(n - 1, -1.0)], [0, -1, 1]).tocsc()
-    monkeypatch.setattr(linalg, "available_memory", lambda: 1.0e3)
+    monkeypatch.setattr(direct, "available_memory", lambda: 1.0e3)
     with pytest.raises(linalg.MemoryLimitError, match="GB"):
         linalg.factorize(A, "pardiso")
     monkeypatch.undo()
@@ -135,7 +136,7 @@ def test_an_out_of_core_factorization_short_of_memory_is_a_memory_error(monkeypa
     A = poisson((m, m, m), format="csr")          # the 7-point 3D Laplacian
     with threadpool_limits(1):
         need = linalg.in_core_bytes(A)
-        monkeypatch.setattr(linalg, "budget", lambda: 0.8 * need)
+        monkeypatch.setattr(direct, "budget", lambda: 0.8 * need)
         with pytest.raises(linalg.MemoryLimitError, match="PARDISO error -9.*coarsen mesh.size"):
             linalg.factorize(A, "pardiso")
 

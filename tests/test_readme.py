@@ -29,7 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 # The README and the pages holding the blocks that moved out of it (a page added here has
 # its ```python, ```sh and ```toml blocks run; a ```toml block must be a scene).
 PAGES = ["README.md", "docs/getting-started.md", "docs/guide/scenes.md", "docs/guide/measured-data.md",
-         "docs/guide/silicone-and-contact.md", "docs/guide/meshes-and-accuracy.md"]
+         "docs/guide/silicone-and-contact.md", "docs/guide/meshes-and-accuracy.md",
+         "docs/guide/materials.md"]
 BLOCKS = [(page, kind, body) for page in PAGES
           for kind, body in re.findall(r"^```(\w+)\n(.*?)^```", (ROOT / page).read_text(encoding="utf-8"),
                                        re.S | re.M)]

@@ -17,7 +17,7 @@ from waits import CEILING
 
 @pytest.fixture(scope="module")
 def demo(tmp_path_factory):
-    """The README's main job at a reduced size, plus a static solve folder."""
+    """The main job (`taxel demo`) at a reduced size, plus a static solve folder."""
     root = tmp_path_factory.mktemp("demo")
     assert main(["demo", "--small", "--out", str(root)]) == 0
     assert main(["solve", "thesis-pzt-single-2d", "--out", str(root / "static")]) == 0

@@ -94,32 +94,21 @@ def test_every_result_type_has_the_five_protocol_members():
     assert isinstance(_scenes()["lumped"](), AnalysisResult)
 
 
-def test_an_old_key_result_json_reads_with_a_warning(tmp_path):
+def test_a_result_json_without_its_kind_is_refused_in_one_line(tmp_path):
+    """Nothing was released: a result.json taxel did not write (no "kind") is refused, not guessed."""
     res = _scenes()["static"]()
-    from taxel.analyses.error_estimate import estimate
-    res.error = estimate(res.scene, res, model_form=False)
     res.to_folder(tmp_path)
     rec = json.loads((tmp_path / "result.json").read_text())
-    outs = rec["error_estimate"]["outputs"]
-    outs["voltage_per_newton"] = outs.pop("sensitivity")
-    outs["short_circuit_charge"] = outs.pop("charge_sensitivity")
-    for k in ("kind", "format", "outputs", "error_note", "yeoh"):      # an older release's static result.json
-        rec.pop(k)
+    rec.pop("kind")
     (tmp_path / "result.json").write_text(json.dumps(rec))
-    with pytest.warns(DeprecationWarning) as seen:
-        back = read(tmp_path)
-    text = " ".join(str(w.message) for w in seen)
-    assert "voltage_per_newton" in text and "short_circuit_charge" in text and "kind" in text
-    assert set(back.error.outputs) == {"sensitivity", "charge_sensitivity", "crosstalk"}
-    assert back.error.outputs["sensitivity"].total == pytest.approx(res.error.outputs["sensitivity"].total)
-    _close(res.outputs(), back.outputs())
+    with pytest.raises(ResultError, match="kind") as e:
+        read(tmp_path)
+    assert "\n" not in str(e.value)
 
 
-def test_old_output_names_in_a_scene_read_with_a_warning():
-    with pytest.warns(DeprecationWarning, match="short_circuit_charge"):
-        s = taxel.load("thesis-pzt-single-2d").replace(**{"model.outputs": ("voltage_per_newton",
-                                                                            "short_circuit_charge")})
-    assert s.model.outputs == ("sensitivity", "charge_sensitivity")
+def test_an_unknown_output_name_in_a_scene_is_refused():
+    with pytest.raises(taxel.SceneError, match="voltage_per_newton"):
+        taxel.load("thesis-pzt-single-2d").replace(**{"model.outputs": ("voltage_per_newton",)})
 
 
 def test_a_folder_without_a_result_is_one_line(tmp_path):

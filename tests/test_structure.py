@@ -158,6 +158,61 @@ def test_no_underscore_names_across_modules():
     assert not bad, "\n".join(bad)
 
 
+FEM_SUBPACKAGES = ("constitution", "linalg", "assembly", "static", "readout", "hyperelastic", "contact", "dynamics")
+
+
+def private_reach_ins(mod: str, path: Path, mods: dict) -> list[str]:
+    """Imports by `mod` of a private module (`_name`) of a package it is not inside."""
+    out = []
+    for t, line, _ in imports(mod, path, mods):
+        head, _, last = t.rpartition(".")
+        if last.startswith("_") and not last.startswith("__") and not (mod == head or mod.startswith(head + ".")):
+            out.append(f"{path.relative_to(ROOT) if path.is_relative_to(ROOT) else path.name}:{line} imports {t}")
+    return out
+
+
+def test_the_private_module_check_sees_a_reach_in(tmp_path):
+    mods = modules()
+    bad = tmp_path / "bad.py"
+    bad.write_text("from taxel.fem.contact._press import Press\nfrom taxel.fem.contact import Press\n")
+    assert private_reach_ins("taxel.analyses.fake", bad, mods) == ["bad.py:1 imports taxel.fem.contact._press"]
+    assert private_reach_ins("taxel.fem.contact.fake", bad, mods) == []       # inside its own package
+
+
+def test_no_module_imports_another_packages_private_module():
+    """Callers import from a subpackage (its `__all__`), never from its private modules:
+    the package's own modules, the benchmarks and the docs' scripts. (Tests may reach in:
+    they test the private modules themselves.)"""
+    mods = modules()
+    bad = []
+    for mod, path in mods.items():
+        bad += private_reach_ins(mod, path, mods)
+    for path in [*ROOT.glob("benchmarks/*.py"), *ROOT.glob("docs/**/*.py")]:
+        bad += private_reach_ins("outside", path, mods)
+    assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize("sub", FEM_SUBPACKAGES)
+def test_each_fem_subpackage_has_a_docstring_and_a_curated_all(sub):
+    """fem/ is its modelling chain: every subpackage says what it is and exports a list of
+    public names, each of which resolves."""
+    pkg = importlib.import_module(f"taxel.fem.{sub}")
+    assert pkg.__doc__ and len(pkg.__doc__.split()) > 20, f"taxel.fem.{sub} has no package docstring"
+    assert pkg.__all__ and all(not n.startswith("_") for n in pkg.__all__)
+    for name in pkg.__all__:
+        assert getattr(pkg, name) is not None, f"taxel.fem.{sub}.{name}"
+    folder = package_dirs()[f"taxel.fem.{sub}"]
+    assert all(f.name.startswith("_") for f in folder.glob("*.py")), f"{sub}: a module without an underscore"
+
+
+def test_the_fem_import_contract_follows_the_chain():
+    """The import contract names every fem subpackage, in at most 9 tiers."""
+    cfg = tomllib.loads((ROOT / ".ci" / "importlinter.toml").read_text())
+    chain = next(c for c in cfg["tool"]["importlinter"]["contracts"] if c.get("containers") == ["taxel.fem"])
+    named = {n.strip() for tier in chain["layers"] for n in tier.split("|")}
+    assert named == set(FEM_SUBPACKAGES) and len(chain["layers"]) <= 9
+
+
 def test_every_package_folder_is_installed():
     """A folder with an __init__.py under a layer folder is listed in pyproject's packages
     (an unlisted one works editable and is missing from a real install)."""

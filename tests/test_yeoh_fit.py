@@ -29,7 +29,7 @@ from taxel.fem import constitution as Y
 from taxel.studies.uniaxial import read_uniaxial
 from taxel.cli import main
 
-DATA = M.ECOFLEX_UNIAXIAL_CSV      # vendored with its source (fem/data/README.md)
+DATA = M.ECOFLEX_UNIAXIAL_CSV      # vendored with its source (fem/data/SOURCES.md)
 
 # docs/materials.md, "Ecoflex 00-30": (max strain, (C10, C20, C30) in kPa, printed decimals of each)
 PUBLISHED = [

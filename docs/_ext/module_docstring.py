@@ -23,7 +23,8 @@ class ModuleDocstring(SphinxDirective):
             raise self.error(f"{name} has no docstring")
         where = Path(inspect.getfile(module))
         parts = where.parts
-        rel = "/".join(parts[-2:])
+        top = max(i for i, p in enumerate(parts) if p in ("fem", "meshing", "taxel", "optimize", "studies", "reports"))
+        rel = "/".join(parts[top:])
         caption = nodes.paragraph()
         caption += nodes.strong(text=name)
         caption += nodes.Text(f" ({rel}), from its docstring:")

@@ -29,7 +29,7 @@ import numpy as np
 
 EPS0 = 8.8541878128e-12  # F/m, CODATA 2018
 
-# Marechal et al. (2021) uniaxial test of Ecoflex 00-30, the data behind the Yeoh sets (fem/data/README.md)
+# Marechal et al. (2021) uniaxial test of Ecoflex 00-30, the data behind the Yeoh sets (fem/data/SOURCES.md)
 ECOFLEX_UNIAXIAL_CSV = Path(__file__).parent.parent / "data" / "ecoflex-00-30-uniaxial.csv"
 
 # Voigt index pairs, IEEE order.

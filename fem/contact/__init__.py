@@ -9,6 +9,6 @@ and `ContactError` with its typed cause when a press stops short).
 
 from ._geometry import Surface, gap
 from ._press import Press, press
-from ._records import ContactError, Options
+from ._records import ContactError, Options, StopCause
 
-__all__ = ["ContactError", "Options", "Press", "Surface", "gap", "press"]
+__all__ = ["ContactError", "Options", "Press", "StopCause", "Surface", "gap", "press"]

@@ -179,7 +179,7 @@ class Press:
         return r, ref, st, pat.matrix(vals)
 
     def _residual_skfem(self, x, d, lam, tangent=True, frozen=None, fixed=None):
-        """`_residual` through scikit-fem's forms and sparse products (the path before the
+        """`_residual` through scikit-fem's forms and sparse products (the reference path beside the
         vectorisation; benchmarks/contact_speed.py compares the two)."""
         sy, P = self.sy, self.red.P
         u = x[sy.offsets["u"]]

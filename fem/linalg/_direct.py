@@ -54,12 +54,19 @@ def available(method: str) -> bool:
 AUTO_PARDISO_ABOVE = 15_000
 AUTO_PARDISO_ABOVE_3D = 3_000   # 3D fill: PARDISO 1.2 s vs SuperLU 2.8 s at 8.4k unknowns, even at 4k (taxel_3d)
 # static solves above this go to GMRES (fem.linalg); below, PARDISO, out of core where its factors
-# do not fit (check_fits; the 16x16 array's 794k unknowns, benchmarks/array_8x8.py; was 400k)
+# do not fit (check_fits; the 16x16 array's 794k unknowns, benchmarks/array_8x8.py)
 AUTO_KRYLOV_ABOVE = 1_500_000
 # The memory this process may use in all (bytes; None: whatever is free). A caller on a shared
 # machine sets it (benchmarks/array_8x8.py --cap-gb); a factorization that would not fit
 # in it in core goes out of core (check_fits).
 MEMORY_CAP: float | None = None
+
+
+def set_memory_cap(cap: float | None) -> None:
+    """Bytes this process may hold in all (None: no cap beyond the free memory); a
+    factorization that would not fit under it runs out of core (`check_fits`)."""
+    global MEMORY_CAP
+    MEMORY_CAP = cap
 log = logging.getLogger(__name__)
 
 
@@ -142,7 +149,7 @@ def budget() -> float:
     return have if MEMORY_CAP is None else min(have, MEMORY_CAP - resident_memory())
 
 
-def _analysis(solver, A) -> float:
+def analysis_bytes(solver, A) -> float:
     """PARDISO's analysis (phase 11); the bytes its factorization needs in core
     (iparm 15: the analysis's peak, 16 + 17: permanent + factors, in KB)."""
     solver.set_phase(11)
@@ -152,11 +159,11 @@ def _analysis(solver, A) -> float:
 
 def in_core_bytes(A: sp.spmatrix) -> float:
     """Bytes PARDISO's analysis says a factorization of the symmetric matrix A needs in
-    core (`_analysis` on its upper triangle, symmetric-indefinite mode; nothing factorized)."""
+    core (`analysis_bytes` on its upper triangle, symmetric-indefinite mode; nothing factorized)."""
     import pypardiso
     probe = pypardiso.PyPardisoSolver(mtype=-2)
     try:
-        return _analysis(probe, sp.csr_matrix(sp.triu(A)))
+        return analysis_bytes(probe, sp.csr_matrix(sp.triu(A)))
     finally:
         probe.free_memory(True)
 
@@ -171,7 +178,7 @@ def check_fits(solver, A) -> None:
     budget), the analysis redone. Refused (MemoryLimitError) before factorizing when
     even that does not fit, in memory or on that folder's disk, instead of being killed
     by the kernel halfway."""
-    need, have = _analysis(solver, A), budget()
+    need, have = analysis_bytes(solver, A), budget()
     log.info("PARDISO analysis: %d unknowns, %.3g GB in core, %.3g GB free", A.shape[0], need / 1e9, have / 1e9)
     if need <= 0.9 * have:
         return
@@ -189,7 +196,7 @@ def check_fits(solver, A) -> None:
                                f"(set TMPDIR to a larger disk); {FIX}")
     os.environ["MKL_PARDISO_OOC_PATH"] = folder
     os.environ["MKL_PARDISO_OOC_MAX_CORE_SIZE"] = str(max(int(0.6 * have / 2**20), 1))
-    _analysis(solver, A)
+    analysis_bytes(solver, A)
     core = 1024.0 * solver.get_iparm(16)            # what stays in memory out of core too (permanent, KB)
     log.info("PARDISO out of core: %d unknowns, %.3g GB in core against %.3g GB free (%.3g GB permanent)",
              A.shape[0], need / 1e9, have / 1e9, core / 1e9)

@@ -30,14 +30,14 @@ residual |A_s y - b_s| / |b_s| of the scaled system, which is recomputed at the
 end and reported; if it is not reached within `maxiter` iterations a
 KrylovError names the residual reached, never a quiet wrong answer.
 
-Measured (benchmarks/solvers_3d.py): the mass-type Schur approximation is weak
+Measured (benchmarks/taxel_3d.py --solvers pardiso superlu krylov): the mass-type Schur approximation is weak
 for the thin bonded silicone layers (the inf-sup constant of a layer falls with
 its thickness over its width), so GMRES needs hundreds of iterations and is
 slower than PARDISO wherever PARDISO fits in memory; "auto" therefore picks it
-only above AUTO_KRYLOV_ABOVE unknowns (fem.linalg). PARDISO's peak was 0.72 GB at
-20.5k unknowns, 2.24 GB at 70k and 6.7 GB at 182k (the issue's run); where its
-factors do not fit, it now factorizes out of core (fem.linalg.check_fits: the
-16x16 array of benchmarks/array_8x8.py), which moved the threshold from 400k up.
+only above AUTO_KRYLOV_ABOVE unknowns (fem.linalg): PARDISO's memory grows about as
+n^(4/3) (docs/benchmarks.md, benchmarks/taxel_3d.py), and where its factors do not fit
+it factorizes out of core (fem.linalg.check_fits: the 16x16 array of
+benchmarks/array_8x8.py).
 
 Tried and not adopted (the 3D taxel at mesh.size 2 mm, 10k unknowns, exact
 displacement solves to isolate the Schur part): the block preconditioner above

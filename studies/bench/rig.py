@@ -230,7 +230,7 @@ class Rig(Strict):
 
 
 def _rig_line(err: ValidationError) -> str:
-    return one_line(err).replace("the scene reference in README.md", "the rig reference in studies/bench/rig.py")
+    return one_line(err)
 
 
 def parse_rig(data: dict, source: str = "rig", si_numbers: bool = False) -> Rig:
@@ -257,3 +257,7 @@ def load_rig(path: str | Path) -> Rig:
         raise RigError(f"{path}: no such rig file; give the path of a rig TOML file "
                        f"or a built-in rig ({', '.join(builtin_rigs())})")
     return parse_rig(read_toml(path, RigError), str(path))
+
+
+# The example under the rig key reference (docs/reference/keys/rig.md): a built-in rig, whole.
+KEY_EXAMPLES = {"the built-in rig thesis-bench": (BUILTIN / "thesis-bench.toml").read_text()}

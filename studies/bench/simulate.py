@@ -18,7 +18,7 @@ over the margins):
              short-circuit charge of every modelled electrode; a 2D scene models the
              pressed row, and the other rows get W1[pressed row, row] of it. The FEM
              charge is about 4.5 x the lumped one for the thesis taxel (lateral flow,
-             README); step, impulse and chirp only;
+             docs/verification.md); step, impulse and chirp only;
              model "reduced": the scene's reduced model (taxel.analyses.reduced, inputs a
              force on each taxel, outputs the short-circuit charges; cached), MIMO, so
              the crosstalk within the modelled row (2D) or array (3D) is the FEM's own and

@@ -132,12 +132,12 @@ def rms_error(frf: FRF, model: str, min_coherence: float = 0.9) -> dict:
 
 def lumped_frf(lm, readout, freqs: np.ndarray) -> np.ndarray:
     """The lumped model's V/N through a readout chain (fem.readout), at freqs (Hz)."""
-    from taxel.fem import readout
     from taxel.fem import dynamics
+    from taxel.fem import readout as circuits
     f = np.where(freqs > 0, freqs, 1e-6)
     port = dynamics.PortResponse(f, (lm.V_oc(f) / lm.force)[:, None], np.full((len(f), 1, 1), 1 / lm.C_p),
                               ["lumped"], "lumped", 0.0)
-    return readout.readout(port, readout)[:, 0]
+    return circuits.readout(port, readout)[:, 0]
 
 
 def fem_frf(scene, readout, taxel: tuple[int, int], freqs: np.ndarray) -> np.ndarray:

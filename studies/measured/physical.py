@@ -27,9 +27,8 @@ from dataclasses import replace
 import numpy as np
 
 from taxel.analyses.adapter import problem
-from taxel.fem import readout
-from taxel.fem import dynamics
-from taxel.fem import constitution
+from taxel.fem import constitution, dynamics
+from taxel.fem import readout as circuits
 from taxel.schema import electrode_name
 from taxel.studies.measured.silicone import Identifiability, identifiability
 
@@ -58,14 +57,14 @@ class Physical:
                                 else 1 / modulus if (sil and what == "volumetric") else 1.0)
             losses = {k: ((loss, c) if (k.endswith(":silicone") and loss is not None) else (e, c))
                       for k, (e, c) in self._losses.items()}
-            dm = replace(self.dm, parts=parts, relax=constitution.law(losses, self.dm.relax.band))
+            dm = replace(self.dm, parts=parts, relax=constitution.relaxation_law(losses, self.dm.relax.band))
             self._memo[key] = dynamics.sweep(dm, freqs, tol=1e-7)
         return self._memo[key]
 
     def __call__(self, freqs, piezo=1.0, gain=1.0, modulus=1.0, loss=None, R_f=1.0, C_f=1.0):
         port = self.q_sc(np.asarray(freqs, float), piezo, modulus, loss)
         r = replace(self.readout, R_f=self.readout.R_f * R_f, C_f=self.readout.C_f * C_f)
-        return gain * readout.readout(port, r)[:, self.index]
+        return gain * circuits.readout(port, r)[:, self.index]
 
 
 def physical_identifiability(scene, readout, freqs, sigma: float, theta: dict | None = None) -> Identifiability:

@@ -306,7 +306,8 @@ def cost(scene: Scene, lay) -> tuple[float, float]:
     """(estimated unknowns, estimated bytes of the solve) of a scene's mesh: a direct
     solve in memory, or out of core where that would not fit this machine (3D), or
     above linalg.AUTO_KRYLOV_ABOVE unknowns (static, linear) the Krylov solver, whose
-    memory is about linear (1.37 GB at 70k unknowns, README)."""
+    memory is about linear (1.37 GB at 70k unknowns: benchmarks/taxel_3d.py,
+    docs/benchmarks.md)."""
     n = mesh_cost(lay).unknowns(lay.dim, scene.mesh.order)
     if lay.dim == 2:
         return n, n * BYTES_PER_UNKNOWN_2D

@@ -11,12 +11,10 @@ parts may cancel, the sum never undercounts them).
 - **Discretisation** (`discretisation`): Richardson, q_h = q + C h^p, with the
   order p taken from the meshes where the assumed order (ASSUMED_ORDER, 2 for P2)
   is not reached. The thesis taxels are not in the assumed regime: the piezo's
-  edges make the fields singular and the voltage converges at order 1.0-1.2 in
-  2D (nested refinements of the default mesh, plane stress 0.98, plane strain and
-  axisymmetric 1.22: benchmarks/estimator_coverage.py prints them), so a
-  two-mesh estimate at order 2 undercounts (15x in plane stress). The method
-  follows the cost of refining (each nested refinement multiplies the unknowns by
-  2^dim), against NESTED_BUDGET unknowns for the finest mesh:
+  edges make the fields singular and the voltage converges at order about 1
+  (MEASURED_ORDER), so a two-mesh estimate at order 2 would undercount. The
+  method follows the cost of refining (each nested refinement multiplies the
+  unknowns by 2^dim), against NESTED_BUDGET unknowns for the finest mesh:
   1. "three nested meshes": this mesh and its two uniform refinements (h, h/2,
      h/4, `TaggedMesh.refined`). The observed order p_obs = log2(d1 / d2) of the
      differences d1 = q_h - q_h/2, d2 = q_h/2 - q_h/4; p = min(ASSUMED, p_obs),
@@ -33,51 +31,35 @@ parts may cancel, the sum never undercounts them).
      "through and in-plane parts, widened" (`_split_3d`): the same plan mesh with
      twice the elements through the piezo, and the plan at twice every in-plane
      size with the same elements through, each by Richardson at p, the two
-     added in absolute value. On the thesis taxel the two parts have opposite
-     signs and about equal size (two elements through the piezo: -1.0 % on the
-     voltage; the in-plane error of the 1.5 mm / 0.6 mm plan about +1 %), so a
-     coarsening of both at once (2 -> 1 elements through) measured the
-     one-element regime, 1.4 % off, and overstated the 1 mm / 0.4 mm mesh's error
-     13x; added in absolute value they are a bound that does not rely on the
-     cancellation. Cost: solves of about 1.4x and 0.25x this mesh's unknowns.
+     added in absolute value. The reason: on the thesis taxel the two parts have
+     opposite signs and about equal size, so coarsening both at once measures
+     the one-element-through regime instead of this mesh; added in absolute
+     value they are a bound that does not rely on the cancellation. Cost: solves
+     of about 1.4x and 0.25x this mesh's unknowns.
   A 3D mesh as coarse as CHEAP_3D is given the error of that mesh measured
   against the 3D reference instead (CHEAP_3D_ERROR). The record says which
   (`ErrorEstimate.method`, `ErrorEstimate.order`).
 
-  What "bounds within 3x" means here (benchmarks/estimator_coverage.py --types,
-  tests/test_error_estimate.py): 1 <= estimate / |true| <= 3, with the true
-  error against a nested Richardson reference. In 2D that reference is good to
-  far better than the errors (four nested levels). In 3D it is not: the
-  extrapolations of docs/reference_3d.json's nested chains (benchmarks/
-  reference_3d.py, observed orders 0.96-1.56) spread by 0.66 %, more than the
-  default mesh's whole error, which is itself the small
-  difference of two ~1 % parts of opposite sign. So in 3D the true error is
-  taken as the largest |error| against any of the chains' extrapolations (the
-  error the reference cannot rule out): the estimate must be at least that and
-  at most 3x that. Against the chains' mean alone the default mesh's measured
-  error could sit near zero by cancellation (it read -0.01 % against the
-  pre-fix reference, hence the "58x"). Measured so (estimator_coverage.py --types):
-  every model type within 1.09-1.67x, the 3D default 1.19x, 3 mm / 1.2 mm 1.09x,
-  1 mm / 0.4 mm 1.67x (it was 13x with the coarsening of both directions at once).
-  Not fixed: an in-plane coarsening below about 6k unknowns (the 4 mm plan of a
-  2 mm / 0.8 mm mesh) is pre-asymptotic and scatters by +-1 %, so such a mesh is
-  over-estimated (6.1 % against the 0.34 % the chains allow). (The +-1 % scatter was
-  measured before the 3D edge fix; the re-run grading grid, benchmarks/mesh_grading.py,
-  starts at 6 916 unknowns and no longer tests it.)
+  "Bounds within 3x" means 1 <= estimate / |true| <= 3, with the true error
+  against a nested Richardson reference (benchmarks/estimator_coverage.py --types,
+  tests/test_error_estimate.py). In 2D that reference is far better than the
+  errors. In 3D the extrapolations of docs/reference_3d.json's nested chains
+  (benchmarks/reference_3d.py) spread by more than the default mesh's whole
+  error, so the true error is taken as the largest |error| against any of the
+  chains' extrapolations (the error the reference cannot rule out): against the
+  chains' mean alone a mesh's error can sit near zero by cancellation. The
+  measured coverage, per model type and over 22 scenes, is in
+  docs/guide/meshes-and-accuracy.md ("The estimator, checked"); its history in CHANGELOG.md.
 - **Model form** (2D plane strain/stress and axisymmetric against 3D): the same
   scene solved on the cheapest 3D model whose own voltage error is below 0.5 %
-  (CHEAP_3D: 1.5 mm elements, 0.6 mm at the taxels, two through the piezo; as the
-  quarter model that model.symmetry = "auto" picks, 0.8 s for a single taxel and 12 s
-  for the 3x3 array, full 1.8 s and 29 s, within 0.07-0.32 % of the re-measured references
-  (benchmarks/cheap_3d_symmetry.py; the 3x3's +0.24 % is up to +0.71 % against its lowest
-  nested chain, above CHEAP_3D_ERROR's 0.5 %: not changed); a 3 mm / 1.2 mm mesh costs 0.7 s and
-  6 s but errs by 0.2-3.8 % depending on the silicone thickness, which swamps a
-  1 % model-form difference, measured on the thesis PZT taxel). The estimate is |q_2D / q_3D,cheap - 1| + CHEAP_3D_ERROR[output]: the
-  measured difference on this very geometry, widened by how far the cheapest 3D
-  mesh itself may be from the converged 3D value (measured by
-  benchmarks/estimator_coverage.py over its scenes). Both solves use the linear
-  silicone (a Yeoh 3D solve would cost minutes): the model-form ratio is taken
-  as independent of the law.
+  (CHEAP_3D: 1.5 mm elements, 0.6 mm at the taxels, two through the piezo, as the
+  quarter model that model.symmetry = "auto" picks; benchmarks/cheap_3d_symmetry.py;
+  a coarser 3D mesh errs by more than the model-form difference it would measure).
+  The estimate is |q_2D / q_3D,cheap - 1| + CHEAP_3D_ERROR[output]: the measured
+  difference on this very geometry, widened by how far the cheapest 3D mesh itself
+  may be from the converged 3D value (measured by benchmarks/estimator_coverage.py
+  over its scenes). Both solves use the linear silicone (a Yeoh 3D solve would cost
+  minutes): the model-form ratio is taken as independent of the law.
 - **Material law** (linear silicone against Yeoh): the existing strain rule,
   LINEAR_ERROR_PER_STRAIN x the largest silicone strain
   (benchmarks/silicone_model_error.py), on every output; zero for a Yeoh result.

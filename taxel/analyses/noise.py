@@ -170,7 +170,7 @@ def quasi_static_noise(scene: Scene, sensitivity: float, charge_sensitivity: flo
     # (static) capacitance, C(f) = C_p kappa(f), which falls with frequency and carries the loss
     mat = scene_materials(scene)[scene.array.piezo]
     qm_loss = scene.dynamics.piezo_loss if scene.dynamics.piezo_loss is not None else (1 / mat.Qm if mat.Qm else 0.0)
-    law = constitution.law({"dielectric": (loss_tangent(scene), True), "elastic": (qm_loss, False)})
+    law = constitution.relaxation_law({"dielectric": (loss_tangent(scene), True), "elastic": (qm_loss, False)})
     k = [law.kappa(2 * np.pi * fi) for fi in f]
     kappa = np.array([x.get("dielectric", 1.0) for x in k])
     stiff = np.array([x.get("elastic", 1.0) for x in k])      # the piezo stiffens: less charge per newton

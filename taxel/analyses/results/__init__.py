@@ -4,7 +4,7 @@ reads a folder's result.json back into the same type. The CLI, studies and
 reports read these and never re-derive what a result holds."""
 
 from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, TransientResult
-from taxel.analyses.results.base import (KINDS, MEMBERS, NOT_ESTIMATED, OUTPUT_NAMES, RENAMED_OUTPUTS,
+from taxel.analyses.results.base import (KINDS, MEMBERS, NOT_ESTIMATED, OUTPUT_NAMES,
                                          AnalysisResult, ErrorEstimate, OutputError)
 from taxel.analyses.results.folders import FORMAT, output_folder, write_csv, write_scene
 from taxel.analyses.results.noise import NOISE_OUTPUTS, NoiseResult
@@ -12,6 +12,6 @@ from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult, Stop
 from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_record, result_kind
 
 __all__ = ["FrequencyResult", "LumpedResult", "TransientResult", "StaticResult", "Stop", "ErrorEstimate", "OutputError",
-           "OUTPUT_NAMES", "RENAMED_OUTPUTS", "NOT_ESTIMATED", "FORMAT", "output_folder", "write_csv",
+           "OUTPUT_NAMES", "NOT_ESTIMATED", "FORMAT", "output_folder", "write_csv",
            "write_scene", "KINDS", "MEMBERS", "AnalysisResult", "STATIC_OUTPUTS", "RESULT_TYPES", "ResultError",
            "read", "read_record", "result_kind", "NoiseResult", "NOISE_OUTPUTS"]

@@ -21,15 +21,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
-from taxel.scene import RENAMED_OUTPUTS as SCENE_RENAMED_OUTPUTS, Scene
-from taxel.schema import electrode_name, renamed_value
+from taxel.scene import Scene
+from taxel.schema import electrode_name
 
 OUTPUT_NAMES = {"sensitivity": "pressed-taxel voltage per newton", "crosstalk": "crosstalk",
                 "charge_sensitivity": "pressed-taxel short-circuit charge per newton",
                 "readout_sensitivity": "readout output per newton, largest over the sweep"}
-
-# output names renamed this release: read for one release with a DeprecationWarning
-RENAMED_OUTPUTS = {**SCENE_RENAMED_OUTPUTS, "readout_output": "readout_sensitivity"}
 
 # why a result has no error estimate, per analysis kind
 NOT_ESTIMATED = {"static": "not estimated (taxel solve --estimate)",
@@ -85,10 +82,8 @@ class ErrorEstimate:
 
     @classmethod
     def from_record(cls, rec: dict) -> ErrorEstimate:
-        """The estimate of a result.json; old output names (voltage_per_newton,
-        short_circuit_charge, readout_output) are read with a DeprecationWarning."""
-        outs = {renamed_value(k, RENAMED_OUTPUTS, "error_estimate.outputs"): OutputError.from_record(v)
-                for k, v in rec["outputs"].items()}
+        """The estimate of a result.json."""
+        outs = {k: OutputError.from_record(v) for k, v in rec["outputs"].items()}
         return cls(outs, list(rec.get("how", [])), float(rec.get("seconds", 0.0)), rec.get("method", ""),
                    rec.get("order"))
 

@@ -5,7 +5,6 @@ mesh and fields (see each type's docstring)."""
 from __future__ import annotations
 
 import json
-import warnings
 from pathlib import Path
 
 from taxel.scene import SceneError, parse
@@ -47,16 +46,11 @@ def result_kind(folder) -> str | None:
 
 
 def read_record(folder) -> dict:
-    """The folder's result.json, its old keys read with a DeprecationWarning (a
-    format-0 static result.json: no "kind")."""
+    """The folder's result.json, checked for its kind and format."""
     path = Path(folder) / "result.json"
     rec = _json(path)
     if "kind" not in rec:
-        if "electrodes" not in rec:
-            raise ResultError(f"{path}: no \"kind\" and not a static result; write the folder again")
-        warnings.warn(f"{path}: a result.json without \"kind\" (an older release's static result) is read for "
-                      "one release; write the folder again", DeprecationWarning, stacklevel=3)
-        rec = {**rec, "kind": "static", "format": 0}
+        raise ResultError(f"{path}: no \"kind\": not a result taxel wrote; write the folder again")
     if rec["kind"] not in RESULT_TYPES:
         raise ResultError(f"{path}: kind = '{rec['kind']}' is not one of {', '.join(RESULT_TYPES)}")
     if rec.get("format", 0) > FORMAT:
