@@ -199,7 +199,7 @@ def _record(folder):
     return events.record(read(folder))
 
 
-@pytest.mark.slow      # 3.3 s of CPU; localization stays in the fast tier (presses between taxels)
+@pytest.mark.slow      # 3.3 s of CPU; localization stays in the fast tier (test_measure_api)
 def test_largest_taxel_localization_degrades_with_noise(tmp_path, cache):
     rig = load_rig("thesis-bench")
     rates = []
