@@ -1,5 +1,7 @@
-# Two entry points: `make demo` (set up, run the main job, build the report) and `make test`;
-# `make docs` builds the documentation site into docs/_build/html (warnings are errors).
+# Two entry points: `make demo` (set up, run the main job, build the report) and `make test`
+# (the fast tier: every test not marked slow, a few minutes on 2 cores); `make test-all` runs
+# every test, slow ones too (CI runs it); `make docs` builds the documentation site into
+# docs/_build/html (warnings are errors).
 PY ?= python3
 VENV := .venv
 STAMP := $(VENV)/.installed
@@ -16,6 +18,9 @@ demo: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/taxel demo --out out/demo
 
 test: $(STAMP)
+	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q -m "not slow" $(PYTEST_ARGS)
+
+test-all: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q $(PYTEST_ARGS)
 
 docs: $(STAMP)
@@ -29,4 +34,4 @@ bench: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/taxel_2d.py
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/default_mesh.py
 
-.PHONY: setup demo test docs lint bench
+.PHONY: setup demo test test-all docs lint bench

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 
 from taxel.studies.bench import wire as W
@@ -16,6 +18,20 @@ def rig_dict(url="loop://", protocol="taxel-cobs", rows=3, cols=3, rate="2 kHz")
             "sampling": {"rate": rate}, "adc": {"bits": 16, "range": ["-10 V", "10 V"]},
             "channels": chans, "conditioning": {"circuit": "charge_amplifier", "C_f": "820 pF", "R_f": "10 MOhm",
                                                 "notch": True}}
+
+
+def rig_toml(d: dict) -> str:
+    """A rig file's TOML text from its dict (as `rig_dict` gives)."""
+    lines = [f'name = "{d["name"]}"', "[port]"] + [f"{k} = {json.dumps(v)}" for k, v in d["port"].items()]
+    lines += ["[sampling]"] + [f"{k} = {json.dumps(v)}" for k, v in d["sampling"].items()]
+    for c in d["channels"]:
+        lines += ["[[channels]]"] + [f"{k} = {json.dumps(v)}" for k, v in c.items()]
+    lines += ["[conditioning]"] + [f"{k} = {json.dumps(v)}" for k, v in d.get("conditioning", {}).items()
+                                   if not isinstance(v, dict)]
+    for name, sub in d.get("conditioning", {}).items():
+        if isinstance(sub, dict):
+            lines += [f"[conditioning.{name}]"] + [f"{k} = {json.dumps(v)}" for k, v in sub.items()]
+    return "\n".join(lines) + "\n"
 
 
 def rig(url="loop://", protocol="taxel-cobs", **kw) -> Rig:

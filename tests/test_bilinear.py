@@ -1,6 +1,13 @@
-"""The vectorised assembly (fem.assembly) equals scikit-fem's BilinearForms of
-fem.assembly, block by block, to round-off: every model type, both element orders,
-mixed and displacement-only silicone, piezo and plate layouts."""
+"""The vectorised assembly (fem.assembly) equals scikit-fem's BilinearForms, block by
+block, to round-off: every model type, both element orders, mixed and
+displacement-only silicone, piezo and plate layouts.
+
+The oracle is fem/assembly/_reference_forms.py: the weak forms written once more as
+scikit-fem BilinearForms (exported as fem.assembly.elastic, piezo_coupling,
+dielectric, deviatoric_shear, pressure_divergence, pressure_mass, mass) and
+assembled by scikit-fem's own `asm`; the library assembles with the vectorised forms
+of fem/assembly/_bilinear.py, so the two are independent codes of one weak form.
+FELupe is the second oracle for the 3D elastic matrix (benchmarks/assembly_3d.py)."""
 
 import numpy as np
 import pytest

@@ -306,6 +306,7 @@ def probe_example_mesh():
     return _frictionless_probe(0.5e-3, 0.1e-3)
 
 
+@pytest.mark.slow      # 37 s of CPU: 40 force-control trials on a 0.25 mm axisymmetric mesh
 def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
     """The frictionless probe press, axisymmetric at 0.25 / 0.05 mm, does not reach 1 N in
     one target (benchmarks/frictionless_limit.py: 0.976 N, 0.889 N before continuation):
@@ -327,6 +328,7 @@ def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
         assert m and float(m.group(1)) <= 0 and 0 <= float(m.group(2)) < 8
 
 
+@pytest.mark.slow      # 28 s of CPU: a continuation through an unstable press
 def test_continuation_takes_a_stalled_press_past_an_unstable_state(probe_example_mesh):
     """The frictionless probe press, axisymmetric at the example's 0.5 / 0.1 mm, along 0.2 ...
     1 N: Newton stagnates on the way (the state unstable: the tangent has more negative
@@ -357,6 +359,7 @@ def test_continuation_takes_a_stalled_press_past_an_unstable_state(probe_example
     assert inertia[1] == int((~pr.red.is_u).sum())                         # stable
 
 
+@pytest.mark.slow      # 6 s of CPU; test_hertz and the examples' presses stay in the fast tier
 def test_continuation_lets_the_contact_set_change_along_the_flow(probe_example_mesh):
     """The same press in one 1 N target: Newton stalls at an unstable state, and the flow
     out of it must be free to change the contact active set (the stable state touches the

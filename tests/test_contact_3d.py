@@ -55,6 +55,7 @@ def test_boussinesq_flat_punch_in_3d():
     assert pr.res.state.half_width() == pytest.approx(a, rel=0.02)                     # measured +1.04 %
 
 
+@pytest.mark.slow      # 10 s of CPU; the 3D Boussinesq punch stays in the fast tier
 def test_no_node_of_the_top_enters_the_punch_on_the_probe_press():
     """The rig's probe press in 3D (thesis-pzt-probe-3d, sticking, 1 N): every P2 node of
     the top surface stays out of the punch to the penetration tolerance (1e-3 of the travel),

@@ -53,6 +53,7 @@ def felupe_plate(n=(81, 41)):
     return -np.array([f[1] for f in job.y[1:]])
 
 
+@pytest.mark.slow      # 5 s of CPU: FELupe's contact on four meshes
 def test_yeoh_block_under_a_rigid_plate_agrees_with_felupe():
     mat = Solid("block", 2 * C10, K, 1000.0, yeoh=(C10, C20, C30))
     tm = block(W / 2, H, H, H / 10, model="plane_strain", growth=1.0)

@@ -1,5 +1,6 @@
 """A scene pressed by a rigid indenter ([load] kind = "indenter", contact = true):
-bad input, and the thesis taxel pressed by a flat punch at a small force."""
+the thesis taxel pressed by a flat punch at a small force. Its bad input is in
+test_bad_input.py (rows "scene-contact-*")."""
 
 from dataclasses import replace
 from pathlib import Path
@@ -12,7 +13,7 @@ from taxel.analyses import solve_static as solve
 from taxel.fem.assembly import assemble
 from taxel.fem.contact import Options, Press
 from taxel.fem.static import solve_linear
-from taxel.cli import EXIT_INPUT, main
+from taxel.cli import main
 from taxel.scene import load
 
 FAST = '''
@@ -31,22 +32,6 @@ radius = "1 mm"
 contact = true
 {extra}
 '''
-
-
-@pytest.mark.parametrize("model,kind,extra,words", [
-    ("plane_strain", "taxel", "", "load.contact = true needs load.kind = 'indenter'"),
-    ("plane_strain", "indenter", 'shape = "sphere"', "load.shape = 'sphere'"),
-    ("axisymmetric", "indenter", 'shape = "cylinder"', "load.shape = 'cylinder'"),
-    ("plane_strain", "indenter", 'edge_radius = "2 mm"', "load.edge_radius"),
-    ("plane_strain", "indenter", 'friction = "coulomb"', "load.friction"),
-])
-def test_bad_contact_input_exits_2_with_one_line(tmp_path, capsys, model, kind, extra, words):
-    path = tmp_path / "bad.toml"
-    path.write_text(FAST.format(model=model, kind=kind, extra=extra))
-    assert main(["solve", str(path)]) == EXIT_INPUT == 2
-    out, err = capsys.readouterr()
-    assert len(err.strip().splitlines()) == 1 and words in err, err
-
 
 def pressed(silicone, force, model="plane_strain"):
     return load("thesis-pzt-single-2d").replace(**{

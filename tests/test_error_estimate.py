@@ -125,6 +125,7 @@ def test_auto_chooses_2d_when_it_is_within_tolerance():
     assert point["voltage"]["taxel_0_0"] == pytest.approx(res.voltages()["taxel_0_0"], rel=1e-9)
 
 
+@pytest.mark.slow      # 8 s wall: a 3D solve; test_auto_chooses_2d stays in the fast tier
 def test_auto_leaves_2d_for_a_crosstalk_it_cannot_meet():
     """2D overstates crosstalk 2-4x: a 20 % crosstalk tolerance needs 3D."""
     sc = small(**ROW, **{"model.fidelity": "auto", "model.tolerance": 0.2,
@@ -243,6 +244,7 @@ def test_work_precision_pareto_cheapest_and_page(tmp_path):
     assert index.exists() and "3d P2 x1 linear" in page and "Work against precision" in page
 
 
+@pytest.mark.slow      # 7.5 s of CPU: a Yeoh press estimated on nested meshes
 def test_estimate_of_a_yeoh_press_has_no_linear_law_part_and_the_punch_floor():
     """A Yeoh silicone pressed by a rigid punch: the material part is zero (Yeoh is the
     reference law; the press's Solution has no Newton record, so the result says which

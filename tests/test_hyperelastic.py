@@ -252,11 +252,14 @@ def test_batched_law_equals_the_pointwise_law():
     np.testing.assert_allclose(J, J0[:, 0], rtol=1e-13)
 
 
-@pytest.mark.parametrize("model", ["plane_strain", "axisymmetric", "3d"])
+@pytest.mark.parametrize("model", ["plane_strain", "axisymmetric",
+                                   pytest.param("3d", marks=pytest.mark.slow)])     # 3D: 5.6 s of CPU
 def test_vectorised_residual_and_tangent_equal_scikit_fem_forms(model):
     """fem.hyperelastic (batched over elements; through the scalar gradients in plane
     strain and 3D, through the vector B with its hoop term in axisymmetric) against
-    the scikit-fem forms of fem.hyperelastic at a deformed state, to 1e-12 relative."""
+    its test oracle, the scikit-fem forms of fem/hyperelastic/_reference_forms.py
+    (`yeoh_terms_skfem`: the same Yeoh energy written as scikit-fem forms), at a
+    deformed state, to 1e-12 relative."""
     from taxel.fem.hyperelastic import yeoh_terms_skfem
     size = (3e-3, 1.2e-3) if model == "3d" else (1e-3, 2e-4)
     scene = with_(load("thesis-pzt-single-2d").replace(**{"model.type": model, "model.depth": None}), "yeoh", 0.2,

@@ -204,6 +204,7 @@ def test_refactorizer_factorizes_a_symmetric_matrix_in_the_symmetric_mode():
 
 
 @pytest.mark.skipif("pardiso" not in SOLVERS, reason="PARDISO is not installed here")
+@pytest.mark.slow      # 18 s of CPU: complex SuperLU beside PARDISO
 def test_a_complex_damped_operator_solves_through_pardisos_real_equivalent_like_superlu():
     """fem.linalg._factorize_complex against SuperLU's complex LU on the damped dynamic
     stiffness of a coarse 3D taxel (complex symmetric, lossy silicone), near and far from

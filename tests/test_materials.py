@@ -1,9 +1,13 @@
-"""Material library: sourced values, form conversions, rotations and 2D reductions."""
+"""Material library: sourced values, form conversions, rotations and 2D reductions; a
+user material (a [materials] table) as the silicone of a scene, solved."""
+
+import json
 
 import numpy as np
 import pytest
 
 from taxel.fem import constitution as M
+from taxel.cli import main
 from taxel.fem import constitution
 
 EPS0 = M.EPS0
@@ -141,3 +145,77 @@ def test_user_material_from_record_is_checked():
            "eps_S": np.eye(3).tolist(), "rho": 1000}
     with pytest.raises(ValueError, match="positive definite"):
         constitution.from_record("bad", bad)
+
+
+USER_SILICONE = '''[model]
+type = "plane_strain"
+[mesh]
+size = "1 mm"
+piezo_size = "0.25 mm"
+[array]
+silicone = "soft-gel"
+
+[materials.soft-gel]
+kind = "solid"
+E = 60000.0
+nu = 0.49
+rho = 1050.0
+'''
+
+
+def test_user_material_as_silicone(tmp_path, capsys):
+    path = tmp_path / "user.toml"
+    path.write_text(USER_SILICONE)
+    assert main(["solve", str(path), "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert err == ""
+    user = json.loads(out)
+
+    # the same scene with the library silicone: the user material must change the answer
+    ref_path = tmp_path / "ref.toml"
+    ref_path.write_text(USER_SILICONE.split('silicone = ')[0] + 'silicone = "Ecoflex-00-30"\n')
+    assert main(["solve", str(ref_path), "--json"]) == 0
+    ref = json.loads(capsys.readouterr().out)
+
+    v_user = user["electrodes"]["taxel_0_0"]["voltage_V"]
+    v_ref = ref["electrodes"]["taxel_0_0"]["voltage_V"]
+    assert v_user < 0 and v_ref < 0             # PZT pressed: negative open-circuit voltage
+    assert abs(v_user - v_ref) > 1e-3 * abs(v_ref)
+    assert user["applied_force_N"] == pytest.approx(1.0)
+    # a silicone given as E and nu has its strain reported too (it decides linear vs Yeoh)
+    assert user["max_silicone_strain"] > 0.01
+    assert user["max_silicone_strain"] == pytest.approx(ref["max_silicone_strain"], rel=0.8)
+
+
+def test_user_material_as_silicone_plain_output(tmp_path, capsys):
+    path = tmp_path / "user.toml"
+    path.write_text(USER_SILICONE)
+    assert main(["solve", str(path)]) == 0
+    out, err = capsys.readouterr()
+    assert err == ""
+    assert "taxel_0_0" in out and "applied force" in out
+
+
+SILICONE_IN_UNITS = {"kind": '"solid"', "C10": '"27.5 kPa"', "C20": '"0.4 kPa"', "C30": '"0 Pa"',
+                     "K": '"55 MPa"', "rho": '"1070 kg/m^3"'}
+SILICONE_IN_SI = {"kind": '"solid"', "C10": "27500.0", "C20": "400.0", "C30": "0.0", "K": "55e6", "rho": "1070.0"}
+
+
+@pytest.mark.parametrize("silicone", ["linear", "yeoh"])
+def test_a_user_silicone_in_unit_strings_solves_as_in_si_numbers(tmp_path, capsys, silicone):
+    """[materials.NAME] takes unit strings as every other table of a scene does: the scene
+    converts them (taxel.scene.material_in_si), so the same silicone in SI numbers gives the
+    same solve, to the last digit; it differs from the library's Ecoflex."""
+    fast = '[model]\ntype = "plane_strain"\n[mesh]\nsize = "1 mm"\npiezo_size = "0.25 mm"\n'
+    answers = []
+    for name, table in (("units", SILICONE_IN_UNITS), ("si", SILICONE_IN_SI)):
+        path = tmp_path / f"{name}.toml"
+        force = '[load]\nforce = "0.1 N"\n' if silicone == "yeoh" else ""
+        path.write_text(fast.replace('type = "plane_strain"', f'type = "plane_strain"\nsilicone = "{silicone}"')
+                        + '\n[array]\nsilicone = "my-silicone"\n' + force + "\n[materials.my-silicone]\n"
+                        + "".join(f"{k} = {v}\n" for k, v in table.items()))
+        assert main(["solve", str(path), "--json"]) == 0
+        out, err = capsys.readouterr()
+        assert err == ""
+        answers.append(json.loads(out)["electrodes"]["taxel_0_0"]["voltage_V"])
+    assert answers[0] == answers[1] and answers[0] < 0

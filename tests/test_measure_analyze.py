@@ -91,6 +91,7 @@ def test_step_recovers_the_time_constant_within_2_percent_on_a_quiet_bench(tmp_p
     assert fit.R_eff_ohm == pytest.approx(R, rel=0.02)
 
 
+@pytest.mark.slow      # 12 s of CPU: fits over many seeds
 def test_step_interval_covers_the_truth_over_seeds_where_the_white_fit_does_not():
     """16 seeded steps at the default 20 mV drift: the drift-robust 95 % interval contains
     the drawn tau in at least 13 (the white-residual fit's in at most 4)."""
@@ -198,6 +199,7 @@ def _record(folder):
     return events.record(read(folder))
 
 
+@pytest.mark.slow      # 3.3 s of CPU; localization stays in the fast tier (test_measure_api)
 def test_largest_taxel_localization_degrades_with_noise(tmp_path, cache):
     rig = load_rig("thesis-bench")
     rates = []
@@ -269,6 +271,7 @@ def test_calibration_recovers_gain_and_time_constant_cross_validated(tmp_path):
     assert main(["solve", str(folder / "calibrated-scene.toml"), "--json"]) == 0        # taxel solve reads it
 
 
+@pytest.mark.slow      # 6.5 s of CPU: model-based localization over many presses
 def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     """At the simulator's default noise (the level assumed for the thesis bench: 1 mV white,
     5 mV hum, 20 mV drift, 5 mN on the load cell), presses on the taxels."""
@@ -297,6 +300,7 @@ def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     # taxel centre line inside a gap, where one direction has no slope of G)
 
 
+@pytest.mark.slow      # 18 s wall: a simulated press session; test_measure_api localizes in the fast tier
 def test_presses_between_taxels_both_estimators_scored_apart(tmp_path, cache):
     """Half the presses at random points of the array (between taxels and over the margins), at the
     simulator's default noise: the model-based estimator places presses in the gaps about as well as

@@ -81,6 +81,7 @@ def test_shipped_lvm_example(tmp_path):
     assert force[:100].mean() < 0.05 and force[-50:].mean() > 0.5          # a 1 N step at 0.1 s
 
 
+@pytest.mark.slow      # 12 s wall: taxel measure simulate through the CLI
 def test_simulate_cli_physics(tmp_path, monkeypatch):
     """The simulated rig through the CLI with the lumped model (--model lumped; the
     default, the reduced model, is tested in tests/test_reduced.py): the stream holds

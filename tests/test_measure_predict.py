@@ -35,6 +35,7 @@ def fresh_cache(tmp_path, monkeypatch):
     return new
 
 
+@pytest.mark.slow      # 26 s of CPU: an optimization of the localization error
 def test_localization_error_optimization_and_its_store(tmp_path, fresh_cache):
     """The predicted position error has an interior optimum in the gap (0.064 mm at 1.5 mm,
     0.044 at 3 mm, 0.13 at 5 mm: a narrow gap blurs the neighbours' slopes, a wide one

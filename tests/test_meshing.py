@@ -49,13 +49,18 @@ def test_gap_smaller_than_the_mesh_size():
     assert abs(v["taxel_0_0"]) > abs(v["taxel_0_1"]) > 0
 
 
-@pytest.mark.parametrize("load", [
+LOADS = [
     {"kind": "between", "taxel": [0, 0], "neighbour": [0, 1], "force": "0.5 N"},
     {"kind": "indenter", "profile": "round", "radius": "1 mm", "force": "0.5 N"},
     {"kind": "indenter", "profile": "flat", "radius": "1 mm", "offset": ["1 mm", "0 mm"], "force": "0.5 N"},
     {"kind": "pressure", "pressure": "1 kPa"},
-])
-@pytest.mark.parametrize("model", ["plane_strain", "3d"])
+]
+
+
+# every load in 2D in the fast tier; in 3D (5-9 s of CPU each) slow
+@pytest.mark.parametrize("load, model", [pytest.param(load, model, id=f"{model}-load{i}",
+                                                      marks=[pytest.mark.slow] if model == "3d" else [])
+                                         for model in ("plane_strain", "3d") for i, load in enumerate(LOADS)])
 def test_every_load_kind_balances(load, model):
     data = array_scene(model) | {"load": load, "mesh": {"size": "1.5 mm" if model == "3d" else "0.5 mm"}}
     sol = solve(parse(data))

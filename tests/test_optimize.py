@@ -93,29 +93,6 @@ def test_cli_writes_optimum_history_and_plots(tmp_path, capsys):
     assert len((tmp_path / "o" / "optimum-history.csv").read_text().splitlines()) == rec["evaluations"] + 1
 
 
-BAD = [
-    ("infeasible", ('[constraints]\ntotal_thickness = "<= 2.127 mm"', '[constraints]\ntotal_thickness = "<= 0.1 mm"'),
-     "cannot be met"),
-    ("empty-bounds", ('min = "0.2 mm", max = "1.8 mm"', 'min = "1.8 mm", max = "0.2 mm"'), "empty bounds"),
-    ("unknown-path", ('path = "array.silicone_above"', 'path = "arry.silicone_above"'), "unknown scene path"),
-    ("unit-mismatch", ('max = "1.8 mm"', 'max = "1.8 N"'), "unit mismatch"),
-    ("start-outside", ('start = "1 mm"', 'start = "3 mm"'), "outside"),
-    ("bad-constraint", ('"<= 2.127 mm"', '"< 2.127 mm"'), "<="),
-    ("unknown-metric", ("max_strain = \"<= 5\"", "stiffness = \"<= 5\""), "constraints.stiffness"),
-    ("crosstalk-one-taxel", ('max_strain = "<= 5"', 'crosstalk = "<= 0.05"'), "two modelled taxels"),
-    ("unknown-algorithm", ('local = "COBYLA"', 'local = "NEWUOA"'), "algorithm.local"),
-]
-
-
-@pytest.mark.parametrize("change,words", [pytest.param(c, w, id=i) for i, c, w in BAD])
-def test_bad_optimization_files_exit_2(tmp_path, capsys, change, words):
-    path = coarse_problem(tmp_path)
-    path.write_text(path.read_text().replace(*change))
-    assert main(["optimize", str(path), "--out", str(tmp_path / "o")]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("taxel: error:") and words in err[0]
-
-
 def test_api_optimize_returns_one_result_type_for_an_optimum(tmp_path):
     """An optimum: the result holds it, writes result.json beside optimum.json and
     the history, reads back equal, and its summary names the optimum."""

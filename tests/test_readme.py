@@ -4,7 +4,7 @@ PAGES).
 
 - ```python blocks are executed (their own asserts hold);
 - ```sh blocks: every `taxel ...` line runs as a command and must exit 0; the
-  two set-up commands (`make demo`, `make test`) run as `make -n` (their recipes
+  set-up commands (`make demo`, `make test`, `make test-all`) run as `make -n` (their recipes
   resolve: running them here would run this suite inside itself, and the main job
   has its own test in test_reports.py);
 - ```toml blocks are scenes: they load, materials included.
@@ -36,8 +36,24 @@ BLOCKS = [(page, kind, body) for page in PAGES
                                        re.S | re.M)]
 
 
+def _commands(body):
+    for line in body.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            yield line
+
+
+# slow: a block naming a scene whose solve is slow in test_examples.py, and a tour of more than
+# three commands (each its own process: the getting-started tour takes 25 s on a busy machine)
+SLOW_SCENES = ("thesis-pzt-probe-3d", "thesis-pzt-3x3-3d", "thesis-pvdf-3x3-3d")
+
+
+def _slow(lang, body):
+    return any(s in body for s in SLOW_SCENES) or (lang == "sh" and len(list(_commands(body))) > 3)
+
+
 def blocks(lang):
-    return [pytest.param(body, id=f"{Path(page).stem}-{lang}-{i}")
+    return [pytest.param(body, id=f"{Path(page).stem}-{lang}-{i}", marks=[pytest.mark.slow] if _slow(lang, body) else [])
             for i, (page, kind, body) in enumerate(BLOCKS) if kind == lang]
 
 
@@ -55,20 +71,13 @@ def test_python_blocks_run(body, monkeypatch):
     exec(compile(body, "README.md", "exec"), {"__name__": "readme"})
 
 
-def _commands(body):
-    for line in body.splitlines():
-        line = line.split("#", 1)[0].strip()
-        if line:
-            yield line
-
-
 @pytest.mark.parametrize("body", blocks("sh"))
 def test_shell_blocks_run(body):
     bindir = Path(sys.executable).parent
     for cmd in _commands(body):
         argv = shlex.split(cmd)
         if argv[0] == "make":
-            assert argv[1:] in (["demo"], ["test"]), f"an unexpected make target in the README: {cmd}"
+            assert argv[1:] in (["demo"], ["test"], ["test-all"]), f"an unexpected make target in the README: {cmd}"
             run = subprocess.run(["make", "-n", *argv[1:]], cwd=ROOT, capture_output=True, text=True)
         else:
             assert argv[0] == "taxel", f"README command not run by this test: {cmd}"

@@ -43,6 +43,7 @@ def near_resonances(model, n=3):
     return np.unique(np.concatenate([F_CHECK, f[max(k - n, 0):k + n + 1]]))
 
 
+@pytest.mark.slow      # 17 s of CPU: every reduction path against a direct sweep
 def test_3x3_2d_frf_all_paths_within_half_a_percent_of_the_direct_sweep(array2d):
     """Both the reduced second-order model (frf) and the exported real state space,
     on every path, over 1 Hz-2 kHz and at the resonance (the causal loss law of
@@ -67,6 +68,7 @@ def test_3x3_2d_frf_all_paths_within_half_a_percent_of_the_direct_sweep(array2d)
     assert rel(H[low, 0, 1], H[low, 2, 1]) < 1e-2 and rel(H[low, 1, 1], H[low, 0, 1]) > 5
 
 
+@pytest.mark.slow      # the 3x3 array's reduced model (array2d: 12 s of CPU)
 def test_taxel_load_vectors_carry_one_newton_each(array2d):
     _, dm, loads = array2d
     # static open-circuit response of the middle taxel's load equals the scene's own (same footprint)
@@ -100,6 +102,7 @@ def test_step_response_against_the_fem_transient():
     assert np.abs(y - ref).max() < 1e-2 * np.abs(ref).max()
 
 
+@pytest.mark.slow      # the 3x3 array's reduced model (array2d); test_cli_writes_npz_and_mat stays fast
 def test_exports_read_back_give_the_same_frf(array2d, tmp_path):
     import control
     from scipy import signal
@@ -137,6 +140,7 @@ def test_exports_read_back_give_the_same_frf(array2d, tmp_path):
     assert again.kind == "reduced" and again.outputs() == pytest.approx(model.outputs())
 
 
+@pytest.mark.slow      # the 3x3 array's reduced model (array2d)
 def test_simulate_equals_scipy_lsim(array2d):
     from scipy import signal
     ss = array2d[0].state_space()

@@ -24,6 +24,7 @@ def demo(tmp_path_factory):
     return root
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_main_job_writes_a_report_for_every_folder_kind(demo):
     index = demo / "report" / "index.html"
     assert index.exists()
@@ -45,6 +46,7 @@ def pages(demo):
     return sorted((demo / "report").glob("*.html")) + sorted((demo / "report2").glob("*.html"))
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_pages_are_well_formed_and_images_embedded_and_non_empty(demo):
     for page in pages(demo):
         text = page.read_text(encoding="utf-8")
@@ -59,6 +61,7 @@ def test_pages_are_well_formed_and_images_embedded_and_non_empty(demo):
             assert len(srcs) >= 2 and "Provenance" in text
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_study_page_has_the_parameter_curves_scene_and_renders(demo):
     text = (demo / "report" / "fig-2-5.html").read_text()
     for section in ("Parameter study", "Results", "Scene", "Provenance"):
@@ -70,12 +73,8 @@ def test_study_page_has_the_parameter_curves_scene_and_renders(demo):
     assert "3D render unavailable" not in static                   # the pyvista render is there
 
 
-def test_not_a_result_folder_is_a_clear_error(tmp_path, capsys):
-    assert main(["report", str(tmp_path), "--out", str(tmp_path / "r")]) == 2
-    assert "not a study, optimization or solve folder" in capsys.readouterr().err
-
-
 @pytest.mark.skipif(chromium() is None, reason="Chromium is not installed (CI installs it)")
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_pages_open_in_headless_chromium_without_errors_and_are_not_blank(demo):
     import matplotlib.image as mpimg
     for page in (demo / "report" / "index.html", demo / "report" / "fig-2-5.html"):
@@ -97,6 +96,7 @@ def test_pages_open_in_headless_chromium_without_errors_and_are_not_blank(demo):
 
 
 @pytest.mark.skipif(chromium() is None, reason="Chromium is not installed (CI installs it)")
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_pdf_option(demo, tmp_path):
     build([demo / "thesis-pzt-step"], tmp_path / "r", pdf=True, compare=False)
     pdf = tmp_path / "r" / "thesis-pzt-step.pdf"
@@ -129,6 +129,7 @@ def _text(el) -> str:
     return "".join(el.itertext()).strip()
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_index_is_a_summary_with_a_number_per_card(demo):
     root = _xml(demo / "report" / "index.html")
     cards = [d for d in root.iter("{http://www.w3.org/1999/xhtml}div") if d.get("class") == "card"]
@@ -157,6 +158,7 @@ def _axis_labels_checked(monkeypatch):
     return seen
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_every_plot_axis_label_has_a_unit_in_parentheses(demo, tmp_path, monkeypatch):
 
     import taxel
@@ -203,6 +205,7 @@ def _cells(page: Path):
             yield from zip(head, [_text(td) for td in tr])
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_tables_show_engineering_units_sorted_and_link_the_csv(demo):
     exponent = re.compile(r"\d[eE][+-]?\d")
     for page in pages(demo):
@@ -239,11 +242,13 @@ def test_out_of_range_page_shows_the_banner_and_an_in_range_one_does_not(tmp_pat
     assert "1 result(s) outside their model" in index and "press-1N (analysis):" in index
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_a_study_out_of_range_shows_the_banner(demo):
     text = (demo / "report" / "fig-2-5.html").read_text()
     assert "Linear silicone outside its range at 2 of 4 points" in text
 
 
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_building_twice_solves_nothing_the_second_time(demo, tmp_path, monkeypatch):
     import shutil
 
@@ -306,6 +311,7 @@ def _artifacts(tmp_path_factory) -> Path:
 
 
 @pytest.mark.skipif(chromium() is None, reason="Chromium is not installed (CI installs it)")
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
 def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path_factory):
     """Each page of the main job's report, rendered in headless Chromium at 1280x800:
     no Python dict or repr text, a caption under every figure, a model beside every

@@ -93,6 +93,7 @@ def test_noise_and_robust_metrics_of_one_design(tmp_path):
         store.close()
 
 
+@pytest.mark.slow      # 10 s of CPU: two robust optimizations
 def test_robust_optimum_is_reproducible(tmp_path):
     """Two runs from empty stores (the same seed) give the same optimum."""
     text = HEAD + '[objective]\nmaximize = "robust_sensitivity"\n[constraints]\nyield = ">= 0.5"\n' \

@@ -66,10 +66,12 @@ def _compare(sym_sol, full_sol):
 
 @pytest.mark.parametrize("name,sym,edit", [
     ("thesis-pzt-single-3d", "quarter", {"mesh.size": "2 mm", "mesh.piezo_size": "1 mm", "mesh.piezo_layers": 1}),
-    ("thesis-pzt-3x3-3d", "quarter", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm", "mesh.piezo_layers": 1}),
-    ("thesis-pzt-3x3-3d", "half", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm", "mesh.piezo_layers": 1,
-                                   "load.taxel": [0, 1], "electrodes.taxel_2_0": "ground",
-                                   "electrodes.taxel_2_2": "ground"}),
+    # the 3x3 arrays in 3D: 19-25 s of CPU each, slow (the single 3D taxel and the 2D half stay fast)
+    pytest.param("thesis-pzt-3x3-3d", "quarter", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm",
+                                                  "mesh.piezo_layers": 1}, marks=pytest.mark.slow),
+    pytest.param("thesis-pzt-3x3-3d", "half", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm", "mesh.piezo_layers": 1,
+                                               "load.taxel": [0, 1], "electrodes.taxel_2_0": "ground",
+                                               "electrodes.taxel_2_2": "ground"}, marks=pytest.mark.slow),
     ("thesis-pzt-3x3-2d", "half", {"electrodes.taxel_1_0": "ground", "electrodes.taxel_1_2": "ground"}),
 ])
 def test_symmetric_model_equals_the_mirrored_full_model(name, sym, edit):
@@ -134,10 +136,13 @@ def _press_pair(scene, sym, travel):
 
 
 @pytest.mark.parametrize("name,sym,edit,travel", [
-    ("thesis-pzt-single-3d", "quarter", {"mesh.size": "2 mm", "mesh.piezo_size": "1 mm", "mesh.piezo_layers": 1,
-                                         "model.silicone": "yeoh", "load.friction": "sticking"}, 0.3e-3),
-    ("thesis-pzt-3x3-3d", "quarter", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm", "mesh.piezo_layers": 1,
-                                      "load.friction": "sticking"}, 0.1e-3),
+    # the 3D presses: 18 s (single taxel, Yeoh) and 57 s (3x3) of CPU, slow; the 2D half press stays fast
+    pytest.param("thesis-pzt-single-3d", "quarter", {"mesh.size": "2 mm", "mesh.piezo_size": "1 mm",
+                                                     "mesh.piezo_layers": 1, "model.silicone": "yeoh",
+                                                     "load.friction": "sticking"}, 0.3e-3, marks=pytest.mark.slow),
+    pytest.param("thesis-pzt-3x3-3d", "quarter", {"mesh.size": "3 mm", "mesh.piezo_size": "1.5 mm",
+                                                  "mesh.piezo_layers": 1, "load.friction": "sticking"}, 0.1e-3,
+                 marks=pytest.mark.slow),
     ("thesis-pzt-single-2d", "half", {"model.silicone": "yeoh"}, 0.2e-3),
 ])
 def test_symmetric_press_equals_the_mirrored_full_press(name, sym, edit, travel):
