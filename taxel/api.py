@@ -33,21 +33,8 @@ def load(source: str | Path | dict) -> Scene:
     return scene
 
 
-def solve(scene: Scene | str | Path | dict, out: str | Path | None = None, **options):
-    """The scene's analysis ([analysis] type): StaticResult, FrequencyResult or
-    TransientResult, returned whether or not a static solve reached its load
-    (`result.success`; `result.stop` says what was asked, what was reached and why).
-    With `out`, the result's folder is written there too (`result.to_folder`, whole
-    or not at all; a folder that cannot be made fails before the solve). Options:
-    estimate (attach the error estimate); static: solver ("auto", "superlu",
-    "pardiso", "krylov"), tagged_mesh, newton_options. Raises SceneError for bad input."""
-    return analyses.solve(scene if isinstance(scene, Scene) else _load_scene(scene), out=out, **options)
-
-
-def lumped(scene: Scene | str | Path | dict, out: str | Path | None = None):
-    """The 3-DoF lumped model's frequency response to a scene (a LumpedResult); with
-    `out`, its folder is written there too (`result.to_folder`)."""
-    return analyses.lumped(scene if isinstance(scene, Scene) else _load_scene(scene), out)
+solve = analyses.solve          # the analyses' own: the API adds nothing to a solve
+lumped = analyses.lumped
 
 
 def mesh(scene: Scene | str | Path | dict, path: str | Path):

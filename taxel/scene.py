@@ -333,6 +333,7 @@ class Scene(Strict):
     # string with its unit ("27.5 kPa") or an SI number
     materials: dict[str, UserMaterial] = {}
     _default_mesh: tuple[str, ...] = PrivateAttr(())    # the mesh keys filled from DEFAULT_MESH
+    _checked: dict | None = PrivateAttr(None)            # its materials once checked (taxel.analyses.check)
 
     def replace(self, **changes) -> Scene:
         """A new validated scene with values changed by dotted path (see `replace`)."""

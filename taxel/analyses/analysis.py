@@ -24,20 +24,24 @@ from pathlib import Path
 
 from taxel.fem.contact import ContactError
 from taxel.fem.hyperelastic import NewtonError
-from taxel.scene import Scene, replace
+from taxel.scene import Scene, load, replace
 from taxel.analyses.results import FrequencyResult, StaticResult, Stop, TransientResult
 from taxel.analyses.problem import solve_model
 
 
-def solve(scene: Scene, estimate: bool = False, out: str | Path | None = None,
+def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | Path | None = None,
           **options) -> StaticResult | FrequencyResult | TransientResult:
-    """The scene's [analysis]: a static solve (options: solver, tagged_mesh, scale,
-    newton_options; `estimate`: attach the error estimate, taxel.analyses.error_estimate),
-    a frequency sweep, or a transient. A static solve that stops short of its load is
-    returned as its last converged state (`success` False, `stop`); raises SceneError
-    for bad input, and RuntimeError where not even the first load step converged.
-    With `out`, the result's folder is written there (`result.to_folder`, whole or not
-    at all: a folder that cannot be made fails before the solve)."""
+    """The scene's analysis ([analysis] type): StaticResult, FrequencyResult or
+    TransientResult, returned whether or not a static solve reached its load
+    (`result.success`; `result.stop` says what was asked, what was reached and why).
+    `scene`: a Scene, a TOML file, a built-in example name or a dict (SI numbers).
+    With `out`, the result's folder is written there too (`result.to_folder`, whole or
+    not at all: a folder that cannot be made fails before the solve). Options:
+    estimate (attach the error estimate, taxel.analyses.error_estimate); static:
+    solver ("auto", "superlu", "pardiso", "krylov"), tagged_mesh, scale,
+    newton_options. Raises SceneError for bad input, and RuntimeError where not even
+    the first load step of a static solve converged (there is no state to return)."""
+    scene = scene if isinstance(scene, Scene) else load(scene)
     if out is not None:
         with output_folder(Path(out)) as tmp:
             res = solve(scene, estimate, **options)
@@ -64,10 +68,11 @@ def solve(scene: Scene, estimate: bool = False, out: str | Path | None = None,
     return res
 
 
-def lumped(scene: Scene, out: str | Path | None = None):
+def lumped(scene: Scene | str | Path | dict, out: str | Path | None = None):
     """The 3-DoF lumped model's frequency response to a scene (a LumpedResult); with
     `out`, its folder is written there too, as `solve` writes one."""
     from taxel.analyses.dynamic import lumped_response
+    scene = scene if isinstance(scene, Scene) else load(scene)
     if out is None:
         return lumped_response(scene)
     with output_folder(Path(out)) as tmp:

@@ -43,7 +43,10 @@ from taxel.analyses.results.static import linear_error
 def check(scene: Scene) -> dict:
     """Everything about a scene that the schema alone cannot check: its materials
     (returned by name) and the mirror planes its model.symmetry asks for. Raises
-    SceneError with one line."""
+    SceneError with one line. A scene is checked once: a second call returns the
+    materials the first one checked (a changed scene, `scene.replace`, is a new scene)."""
+    if scene._checked is not None:
+        return scene._checked
     mats = scene_materials(scene)
     sym = scene.model.symmetry
     if sym in ("half", "quarter"):
@@ -53,6 +56,7 @@ def check(scene: Scene) -> dict:
         planes, why = mirror_planes(scene)
         if len(planes) < (2 if sym == "quarter" else 1):
             raise SceneError(f"model.symmetry = '{sym}': {why}; use 'auto' or 'full'")
+    scene._checked = mats
     return mats
 
 
