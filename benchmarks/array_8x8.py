@@ -51,7 +51,7 @@ MESH = {"mesh.size": "2 mm", "mesh.piezo_size": "0.8 mm", "mesh.piezo_layers": 2
 def scene(symmetry="auto", n=8):
     return load("thesis-pzt-3x3-3d").replace(**{
         **MESH, "array.rows": n, "array.cols": n, "model.symmetry": symmetry,
-        "load.kind": "indenter", "load.radius": "2 mm", "load.taxel": [n // 2, n // 2 - 1],
+        "load.kind": "probe", "load.radius": "2 mm", "load.taxel": [n // 2, n // 2 - 1],
         "load.offset": ["3.5 mm", "3.5 mm"]})
 
 

@@ -25,7 +25,7 @@ import numpy as np
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import ContactError, Press
+from taxel.fem.contact import PressError, Press
 from taxel.scene import load
 
 RATIO = 1.6        # each mesh's sizes over the next one's
@@ -38,7 +38,7 @@ MESHES = {"default (1 mm, 0.4 mm on the taxel, 2 through the PZT)": {},
 
 def scene(friction="sticking", **mesh):
     return load("thesis-pzt-single-3d").replace(**{
-        "model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3,
+        "model.silicone": "yeoh", "load.kind": "probe", "load.contact": True, "load.radius": 2e-3,
         "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction, **mesh})
 
 
@@ -61,7 +61,7 @@ def rules():
         try:
             pr.force(0.1, max_trials=6)
             end = f"0.1 N reached at {1e3 * pr.d:.4f} mm"
-        except ContactError as exc:
+        except PressError as exc:
             end = f"0.1 N not reached ({exc})"
         print(f"{name}: {len(pr.trace)} Newton iterations, {time.perf_counter() - t0:.0f} s; {end}; "
               f"deepest node {1e6 * pr.node_penetration():.3g} um", flush=True)
@@ -95,7 +95,7 @@ def main():
         try:
             pr.travel(0.45e-3, first=0.1, min_frac=0.02)
             print("frictionless: reached 0.45 mm")
-        except ContactError as exc:
+        except PressError as exc:
             pt = pr.res.points[-1] if pr.res.points else None
             print(f"frictionless, 3D mesh {edit or 'default'}, {pr.red.n} unknowns: stopped ({exc}); last converged state "
                   f"{1e3 * pt.travel:.3f} mm, {pt.force:.3f} N, {pt.voltages['taxel_0_0']:.4f} V"

@@ -4,7 +4,7 @@ one run, side by side.
 
   before      Options(assembly="skfem", predictor=False, fix_cycling=False): the path as
               merged before issue 14's second session (scikit-fem forms for the Yeoh and
-              contact terms, sparse products with the reduction P, zero-order start of each
+              contact terms, sparse products with the elimination P, zero-order start of each
               travel, secant force control) -- kept callable for this comparison
   vectorised  the same Newton path, vectorised assembly (fem.hyperelastic, fem.assembly): same
               iterates, so the ratio is the assembly's alone
@@ -29,7 +29,7 @@ import time
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import ContactError, Options, Press
+from taxel.fem.contact import PressError, Options, Press
 from taxel.scene import load
 
 VARIANTS = {      # name: (friction, model.symmetry, Options)
@@ -43,7 +43,7 @@ VARIANTS = {      # name: (friction, model.symmetry, Options)
 
 def scene(force, model="plane_strain", friction="sticking", symmetry="auto"):
     return load("thesis-pzt-single-2d").replace(**{
-        "model.type": model, "model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True,
+        "model.type": model, "model.silicone": "yeoh", "load.kind": "probe", "load.contact": True,
         "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": force, "load.friction": friction,
         "model.symmetry": symmetry})
 
@@ -58,7 +58,7 @@ def run(force, variant, model="plane_strain"):
     try:
         pt = pr.force(force)
         V = pt.voltages["taxel_0_0"]
-    except ContactError as exc:
+    except PressError as exc:
         stop, V = str(exc), float("nan")
     return time.perf_counter() - t0, pr, V, stop, time.process_time() - c0
 

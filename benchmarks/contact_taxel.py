@@ -6,7 +6,7 @@ mesh, a 4 mm flat punch with a 0.2 mm edge radius centred on the taxel, sticking
 (the scene default) or frictionless (--frictionless), augmented Lagrangian. Force control along
 0.1, 0.25, 0.5, 0.75, 1, 1.5, 2 N, linear and Yeoh silicone, each warm-started from the last. Prints per target: travel,
 voltage, contact half-width, Newton iterations, multiplier updates, time;
-where a press stops, the reason (fem.contact.ContactError). Writes
+where a press stops, the reason (fem.contact.PressError). Writes
 out/contact-taxel/curve-<model>-<friction>-<silicone>.csv (every converged state) and
 the voltage-force figure docs/contact-voltage-force-<model>-<friction>.png. The
 nonlinearity printed is V_Yeoh(F) / V_linear(F) - 1 at each force, and
@@ -25,14 +25,14 @@ import numpy as np
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import ContactError, Press
+from taxel.fem.contact import PressError, Press
 from taxel.scene import load
 
 TARGETS = (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0)
 
 
 def scene(silicone, model, friction="sticking", symmetry="auto"):
-    up = {"model.type": model, "model.silicone": silicone, "load.kind": "indenter", "load.contact": True,
+    up = {"model.type": model, "model.silicone": silicone, "load.kind": "probe", "load.contact": True,
           "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction,
           "model.symmetry": symmetry}
     # 3D: the 3D taxel's default mesh (thesis-pzt-single-3d), a quarter model (model.symmetry auto)
@@ -48,7 +48,7 @@ def run(silicone, model, friction="sticking", symmetry="auto"):
         n0 = len(pr.res.points)
         try:
             pt = pr.force(F)
-        except ContactError as exc:
+        except PressError as exc:
             stop = f"stopped before {F} N: {exc}"
             break
         its = sum(p.iterations for p in pr.res.points[n0:])

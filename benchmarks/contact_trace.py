@@ -17,7 +17,7 @@ import time
 
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import ContactError, Options, Press
+from taxel.fem.contact import PressError, Options, Press
 from taxel.scene import load
 
 
@@ -27,7 +27,7 @@ def main():
     opts = ast.literal_eval(args[2]) if len(args) > 2 else {}
     extra = ast.literal_eval(args[3]) if len(args) > 3 else {}
     sc = load("thesis-pzt-single-2d").replace(**{
-        "model.type": model, "model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True,
+        "model.type": model, "model.silicone": "yeoh", "load.kind": "probe", "load.contact": True,
         "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": force,
         "load.friction": "sticking" if "-s" in sys.argv else "frictionless", **extra})
     prob = problem(sc)
@@ -35,7 +35,7 @@ def main():
     t = time.perf_counter()
     try:
         pr.force(force)
-    except ContactError as exc:
+    except PressError as exc:
         print("stopped:", exc)
     print(f"{time.perf_counter() - t:.2f} s wall, {len(pr.res.points)} states, {pr.res.total_iterations} Newton "
           f"iterations, {pr.res.failed_trials} failed trials, {len(pr.trace)} Newton steps in all; {pr.stats}")

@@ -40,7 +40,7 @@ CANDIDATES = {"2d": [(1.0, None), (0.75, None), (0.5, None), (0.5, 0.1)],
 TOLERANCE = 0.005
 
 
-PUNCH = {"load.kind": "indenter", "load.contact": True, "load.radius": 2e-3, "load.edge_radius": 0.2e-3,
+PUNCH = {"load.kind": "probe", "load.contact": True, "load.radius": 2e-3, "load.edge_radius": 0.2e-3,
          "load.force": 1.0, "load.friction": "sticking", "model.silicone": "yeoh"}
 
 

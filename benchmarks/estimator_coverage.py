@@ -83,11 +83,11 @@ def scenes(fast: bool = False) -> list[tuple[str, Scene]]:
 def reference(scene: Scene, store: Store) -> dict[str, float]:
     """The 3D reference outputs of a scene (cached in the store)."""
     ref = scene.replace(**REFERENCE_3D)
-    status, res, err = store.get_or_compute(to_data(ref), ("voltage", "charge", "crosstalk"))
+    status, res, err = store.get_or_compute(to_data(ref), ("voltage", "short_circuit_charge", "crosstalk"))
     if status != "done":
         raise RuntimeError(err)
     p, f = res["pressed"], abs(res["force"])
-    out = {"sensitivity": res["voltage"][p] / f, "charge_sensitivity": res["charge"][p] / f}
+    out = {"sensitivity": res["voltage"][p] / f, "charge_sensitivity": res["short_circuit_charge"][p] / f}
     if res.get("crosstalk") is not None:
         out["crosstalk"] = res["crosstalk"]
     return out

@@ -5,7 +5,7 @@ the thesis taxel (thesis-pzt-probe-axisymmetric), Yeoh, a 4 mm flat punch with a
 and along 0.2, 0.4, 0.6, 0.7, 0.8, 0.9, 1 N, on four meshes: the 3D default press
 mesh's sizes (1.4 / 0.56 mm), the example's (0.5 / 0.1 mm), and that halved twice.
 Prints per mesh and path the force reached, its travel, and the cause of the stop
-(fem.contact.ContactError's cause and summary), so the 3D press's stop (benchmarks/press_3d.py
+(fem.contact.PressError's cause and summary), so the 3D press's stop (benchmarks/press_3d.py
 --frictionless) can be read against the same physics on finer meshes.
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/frictionless_limit.py

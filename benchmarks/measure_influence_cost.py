@@ -65,7 +65,7 @@ def _no_mirror(I, sc, solve):
     V = []
     for x in xs:
         c = int(np.clip(np.round(x / pitch), 0, arr.cols - 1))
-        s = sc.replace(**{"load.kind": "indenter", "load.taxel": [arr.rows // 2, c], "load.radius": arr.taxel_width / 2,
+        s = sc.replace(**{"load.kind": "probe", "load.taxel": [arr.rows // 2, c], "load.radius": arr.taxel_width / 2,
                           "load.offset": [float(x - c * pitch), 0.0], "load.profile": "flat"})
         v = solve(s)
         V.append([v[electrode_name(arr.rows // 2, k)] for k in range(arr.cols)])

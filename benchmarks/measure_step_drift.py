@@ -25,7 +25,7 @@ import taxel
 from taxel.analyses import lumped_model
 from taxel.studies.measured import events
 from taxel.studies.bench.rig import load_rig, parse_rig
-from taxel.studies.bench.simulate import Settings, simulate
+from taxel.studies.bench.signals import Settings, simulate
 from taxel.studies.measured.step import fit_step
 
 

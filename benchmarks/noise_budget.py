@@ -18,7 +18,7 @@ import time
 from taxel import load
 from taxel.analyses.noise import noise
 from taxel.studies.bench.rig import load_rig
-from taxel.studies.bench.simulate import Settings
+from taxel.studies.bench.signals import Settings
 
 
 def main() -> None:

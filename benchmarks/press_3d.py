@@ -173,7 +173,7 @@ from taxel.analyses import problem
 from taxel.analyses import checked_layout, check
 from taxel.analyses.error_estimate import CHEAP_3D
 from taxel.fem.assembly import assemble
-from taxel.fem.contact import ContactError, Options, Press
+from taxel.fem.contact import PressError, Options, Press
 from taxel.meshing.build import build
 from taxel.scene import load
 
@@ -233,7 +233,7 @@ OUT = REFERENCE.out
 def scene(friction="sticking", **edit):
     """The thesis taxel in 3D pressed to 1 N by the rig's probe (Yeoh, sticking)."""
     return load("thesis-pzt-single-3d").replace(**{
-        "model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3,
+        "model.silicone": "yeoh", "load.kind": "probe", "load.contact": True, "load.radius": 2e-3,
         "load.edge_radius": 0.2e-3, "load.force": 1.0, "load.friction": friction, **edit})
 
 
@@ -264,7 +264,7 @@ def run(sc, lay, opts: Options | None = None, path=(), travels=(), edit=None):
             pr.travel(d, first=1.0)
         for F in (*path, 1.0):
             pt = pr.force(F)
-    except ContactError as exc:
+    except PressError as exc:
         p = pr.res.points[-1] if pr.res.points else None
         last = (f"{p.force:.3g} N reached at {1e3 * p.travel:.4g} mm, V/F {p.voltages['taxel_0_0'] / p.force:.5f} V/N"
                 if p else "no state reached")
@@ -280,7 +280,7 @@ def run(sc, lay, opts: Options | None = None, path=(), travels=(), edit=None):
 
 def stop(r) -> tuple[float, float, float | None, str]:
     """(force reached, travel, V/F at the last state, stop) of a run: 1 N and "reached 1 N", or
-    where it stopped and why: the stop's cause and summary (fem.contact.ContactError, without
+    where it stopped and why: the stop's cause and summary (fem.contact.PressError, without
     the measurements)."""
     if "error" not in r:
         return 1.0, r["travel"], r["VF"], "reached 1 N"

@@ -36,7 +36,7 @@ def study(name):
             print(f"  {name} {F} N: Yeoh did not converge ({exc.args[0][:60]}...)")
             break
         vl, vy = lin.voltages()["taxel_0_0"], yeoh.voltages()["taxel_0_0"]
-        rows.append((F, vl, vy, abs(vl / vy - 1), lin.max_silicone_strain))
+        rows.append((F, vl, vy, abs(vl / vy - 1), lin.max_strain))
     return rows
 
 

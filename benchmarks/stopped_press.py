@@ -2,7 +2,7 @@
 (taxel.analyses.stopped_result), against pressing again to the force it reached.
 
 The probe example (thesis-pzt-probe-2d; --3d: thesis-pzt-probe-3d, the default press mesh),
-frictionless, asked for FORCE_2D (3 N; 3D: 1 N): where it stops and why (ContactError.cause),
+frictionless, asked for FORCE_2D (3 N; 3D: 1 N): where it stops and why (PressError.cause),
 the kept state's force, travel and V/F, and the CPU time; then a press of the same scene to
 the force it reached, in one target: where that one ends. A study point or `taxel solve`
 keeps the first press's state rather than solving again, because a press depends on its

@@ -14,4 +14,4 @@ result = taxel.solve("thesis-pzt-3x3-2d")
 cross_section(result, Path(__file__).parent / "thesis-pzt-3x3-2d.png")
 v = result.voltages()
 print({k: f"{x * 1e3:.1f} mV" for k, x in v.items()}, f"crosstalk {100 * result.crosstalk:.2f} %",
-      f"largest silicone strain {100 * result.max_silicone_strain:.0f} %")
+      f"largest silicone strain {100 * result.max_strain:.0f} %")

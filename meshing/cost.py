@@ -100,7 +100,7 @@ def mesh_cost(lay: Layout) -> MeshCost:
 
 # Memory of a sparse direct solve per unknown, measured (benchmarks/taxel_2d.py; in 3D the
 # 8x8 array of benchmarks/array_8x8.py: 3.7 GB peak at 202k unknowns, with fem.assembly's
-# LeanBasis); in 3D the fill grows about as n^(1/3) more. Out of core (fem.linalg)
+# LazyBasis); in 3D the fill grows about as n^(1/3) more. Out of core (fem.linalg)
 # the factors go to files: what stays is the assembled and reduced matrices and the mesh
 # (1.5 GB at 202k unknowns) and the factors' share in memory.
 BYTES_PER_UNKNOWN_2D = 3e3

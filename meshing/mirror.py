@@ -34,7 +34,7 @@ def _image(lay: Layout, name: str, g) -> str:
     return full.replace("taxel_", "piezo_", 1) if prefix else full
 
 
-def unfold(tm: TaggedMesh, full: Layout) -> TaggedMesh:
+def unfold_mesh(tm: TaggedMesh, full: Layout) -> TaggedMesh:
     """The full, mirror-symmetric mesh of the cut mesh `tm`, tagged for the `full` layout."""
     lay, m = tm.layout, tm.mesh
     D, n = m.dim(), m.p.shape[1]

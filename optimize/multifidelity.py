@@ -66,7 +66,7 @@ CONFIRM_3D = {"model.type": "3d", "mesh.size": f"{1e3 * CHEAP_3D['mesh.size']:g}
 
 
 @dataclass
-class Design:
+class ScoredDesign:
     x: list[float]
     cheap: tuple[float, float]                 # (sensitivity V/N, crosstalk) on the cheap model
     fine: tuple[float, float] | None = None    # the same in 3D
@@ -75,10 +75,10 @@ class Design:
 
 @dataclass
 class MultiFidelity:
-    cheap_front: list[Design]
-    verified: list[Design]
-    front_3d: list[Design]
-    reference: Design
+    cheap_front: list[ScoredDesign]
+    verified: list[ScoredDesign]
+    front_3d: list[ScoredDesign]
+    reference: ScoredDesign
     rounds: list[dict] = field(default_factory=list)
     plan: dict = field(default_factory=dict)
     spent: dict = field(default_factory=dict)
@@ -163,7 +163,7 @@ def solve_3d(problem, xs, workers=2, model: dict = VERIFY_3D) -> list[tuple[floa
         store.close()
 
 
-def interpolant(problem, designs: list[Design]):
+def interpolant(problem, designs: list[ScoredDesign]):
     """The correction (r_s, r_c) at x: log r fitted linear in the normalised design
     variables (least squares; the 2D/3D crosstalk ratio falls about exponentially
     with the gap) plus an inverse-distance interpolation of the fit's residuals,
@@ -189,7 +189,7 @@ def interpolant(problem, designs: list[Design]):
     return ratio
 
 
-def visited_designs(runs, problem) -> list[Design]:
+def visited_designs(runs, problem) -> list[ScoredDesign]:
     """Every design the optimizer runs visited, once each, with its cheap metrics."""
     seen, out = set(), []
     for run in runs:
@@ -200,11 +200,11 @@ def visited_designs(runs, problem) -> list[Design]:
                 continue
             if all(violation(m, c) <= 1e-9 for c in problem.constraints):
                 seen.add(key)
-                out.append(Design(list(map(float, h["x"])), (m["sensitivity"], m["crosstalk"])))
+                out.append(ScoredDesign(list(map(float, h["x"])), (m["sensitivity"], m["crosstalk"])))
     return out
 
 
-def nondominated(designs: list[Design], score) -> list[Design]:
+def nondominated(designs: list[ScoredDesign], score) -> list[ScoredDesign]:
     """The non-dominated designs (sensitivity up, crosstalk down), one per score."""
     keep = {(round(s, 12), round(c, 12)) for s, c in pareto_front([score(d) for d in designs])}
     out = []
@@ -231,13 +231,13 @@ def verify(problem, runs: list[FrontRun], x_reference, tolerance=0.05, max_round
     t0 = time.perf_counter()
     pool = visited_designs(runs, problem)
     by_x = {tuple(np.round(d.x, 9)): d for d in pool}
-    cheap_front = [by_x.setdefault(tuple(np.round(r.x, 9)), Design(list(map(float, r.x)),
+    cheap_front = [by_x.setdefault(tuple(np.round(r.x, 9)), ScoredDesign(list(map(float, r.x)),
                                                                      (r.metrics["sensitivity"], r.metrics["crosstalk"])))
                    for r in (run.result for run in runs) if r.success and r.metrics.get("sensitivity") is not None]
     cheap_front = nondominated(cheap_front, lambda d: d.cheap)
     cap = max(len(cheap_front), 2)
     ref_cheap = problem.evaluate(np.asarray(x_reference))
-    reference = Design(list(map(float, x_reference)), (ref_cheap["sensitivity"], ref_cheap["crosstalk"]))
+    reference = ScoredDesign(list(map(float, x_reference)), (ref_cheap["sensitivity"], ref_cheap["crosstalk"]))
     verified, rounds = correct(problem, pool, cheap_front + [reference], cap,
                                lambda xs: solve_3d(problem, xs, workers), tolerance, max_rounds)
     n3d = sum(r["verified"] for r in rounds)
@@ -246,8 +246,8 @@ def verify(problem, runs: list[FrontRun], x_reference, tolerance=0.05, max_round
     return MultiFidelity(cheap_front, verified, front_3d, reference, rounds, plan(problem), spent)
 
 
-def correct(problem, pool: list[Design], candidates: list[Design], cap: int, solve, tolerance=0.05,
-            max_rounds=3) -> tuple[list[Design], list[dict]]:
+def correct(problem, pool: list[ScoredDesign], candidates: list[ScoredDesign], cap: int, solve, tolerance=0.05,
+            max_rounds=3) -> tuple[list[ScoredDesign], list[dict]]:
     """The correction loop (3.-4. above) over the cheap designs `pool`: solve the
     `candidates` on the expensive level (`solve(xs)` -> [(sensitivity, crosstalk) or
     None], at most `cap` a round), fit the correction (`interpolant`) to every design
@@ -255,7 +255,7 @@ def correct(problem, pool: list[Design], candidates: list[Design], cap: int, sol
     set as the next candidates. Sets each design's `fine` or `predicted`; returns the
     designs solved and one record per round."""
     rounds: list[dict] = []
-    verified: list[Design] = []
+    verified: list[ScoredDesign] = []
     for k in range(max_rounds):
         new = [d for d in candidates if d.fine is None]
         if not new:
@@ -285,7 +285,7 @@ def correct(problem, pool: list[Design], candidates: list[Design], cap: int, sol
     return verified, rounds
 
 
-def best_below(mf: MultiFidelity) -> Design | None:
+def best_below(mf: MultiFidelity) -> ScoredDesign | None:
     """The most sensitive 3D-front design at or below the reference's 3D crosstalk."""
     c0 = mf.reference.fine[1]
     below = [d for d in mf.front_3d if d.fine[1] <= c0 and d is not mf.reference]

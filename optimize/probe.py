@@ -17,7 +17,7 @@ The default probe is the one the project's contact benchmarks and the thesis ben
 press use (benchmarks/contact_taxel.py): a 4 mm flat punch with a 0.2 mm edge radius,
 centred on the pressed taxel (the base scene's load.taxel), sticking, on Yeoh silicone.
 The rig file (studies/bench) describes the electronics, not the probe; a scene with a
-contact indenter (load.kind = "indenter", load.contact = true) as the base gives its own
+contact indenter (load.kind = "probe", load.contact = true) as the base gives its own
 probe, which then wins over these defaults for every key the table does not set.
 
 Objectives of a press, for the pressed taxel's open-circuit voltage V(F) along the
@@ -68,7 +68,7 @@ from taxel.schema import Strict
 PROBE_METRICS = ("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain")
 
 
-class Press(Strict):
+class ProbePress(Strict):
     """The [press] table of an optimization: the rigid probe, its force and the silicone."""
     shape: Literal["flat", "sphere", "cylinder"] | None = None
     radius: Any = None
@@ -81,7 +81,7 @@ class Press(Strict):
     range_points: int = Field(4, ge=2, le=20)
 
 
-def range_forces(press: Press) -> list[float] | None:
+def range_forces(press: ProbePress) -> list[float] | None:
     """The forces (N) of the press's force range, lowest first; None at one force."""
     if press.force_range is None:
         return None
@@ -92,13 +92,13 @@ def range_forces(press: Press) -> list[float] | None:
 DEFAULT_PROBE = {"shape": "flat", "radius": "2 mm", "edge_radius": "0.2 mm", "friction": "sticking"}
 
 
-def press_scene(data: dict, press: Press) -> dict:
+def press_scene(data: dict, press: ProbePress) -> dict:
     """The scene data `data` pressed by the [press] probe at its force: load.kind =
-    "indenter", contact = true, centred on the scene's pressed taxel; the silicone law
+    "probe", contact = true, centred on the scene's pressed taxel; the silicone law
     set; static. A base scene's own contact indenter keeps what the table leaves unset."""
     data = json.loads(json.dumps(data))
     load = data.setdefault("load", {})
-    own = load.get("kind") == "indenter" and load.get("contact")
+    own = load.get("kind") == "probe" and load.get("contact")
     for key, default in DEFAULT_PROBE.items():
         value = getattr(press, key)
         if value is not None:
@@ -109,7 +109,7 @@ def press_scene(data: dict, press: Press) -> dict:
         load["force"] = press.force_range[1]
     elif press.force is not None:
         load["force"] = press.force
-    load.update(kind="indenter", contact=True)
+    load.update(kind="probe", contact=True)
     load.pop("pressure", None)
     load.pop("profile", None)
     data.setdefault("model", {})["silicone"] = press.silicone
@@ -117,7 +117,7 @@ def press_scene(data: dict, press: Press) -> dict:
     return data
 
 
-def check(press: Press, error) -> None:
+def check(press: ProbePress, error) -> None:
     """One-line `error` when the table's lengths or force are not quantities."""
     for key, unit in (("radius", "m"), ("edge_radius", "m"), ("force", "N")):
         v = getattr(press, key)
@@ -137,7 +137,7 @@ def check(press: Press, error) -> None:
                         f"{press.force_range!r}; write e.g. [\"0.5 N\", \"2 N\"]")
 
 
-def press_metrics(data: dict, press: Press | None = None, estimate: bool = False) -> dict:
+def press_metrics(data: dict, press: ProbePress | None = None, estimate: bool = False) -> dict:
     """PROBE_METRICS of a pressed scene's data (press_scene's output) under the [press]
     table `press` (its tangent step and force range; defaults without), the voltage-force
     states of the press, its force and the seconds it took (JSON-ready, SI). With
@@ -147,14 +147,14 @@ def press_metrics(data: dict, press: Press | None = None, estimate: bool = False
     from taxel.analyses import problem
     from taxel.analyses.results import StaticResult
     from taxel.fem.assembly import assemble
-    from taxel.fem.contact import Press as FemPress
+    from taxel.fem.contact import Press
     from taxel.scene import parse
-    press = press or Press()
+    press = press or ProbePress()
     step = press.step
     t0 = time.perf_counter()
     scene = parse({**data, "name": "press"})
     prob = problem(scene)
-    pr = FemPress(assemble(prob), prob.indenter)
+    pr = Press(assemble(prob), prob.indenter)
     F = float(scene.load.force)
     span = []
     for Fi in range_forces(press) or []:        # a force range: one press through its forces
@@ -203,7 +203,7 @@ def tangent(states) -> float:
     return float(c[1])
 
 
-def press_safely(data: dict, press: Press | None = None, estimate: bool = False) -> tuple[str, dict | None, str | None]:
+def press_safely(data: dict, press: ProbePress | None = None, estimate: bool = False) -> tuple[str, dict | None, str | None]:
     """(status, result, error) of press_metrics: a failed press is recorded, the search goes on."""
     try:
         return "done", press_metrics(data, press, estimate), None
@@ -211,18 +211,18 @@ def press_safely(data: dict, press: Press | None = None, estimate: bool = False)
         return "failed", None, f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
 
 
-def press_key(data: dict, press: Press | None = None, estimate: bool = False) -> str:
+def press_key(data: dict, press: ProbePress | None = None, estimate: bool = False) -> str:
     """The store key of a press: the pressed scene's point key with the tangent's step
     (and the force range and the error estimate, when asked)."""
     import hashlib
     from taxel.studies.store import point_key
-    press = press or Press()
+    press = press or ProbePress()
     forces = range_forces(press)
     tail = (f" range {','.join(f'{f:.9g}' for f in forces)}" if forces else "") + (" estimate" if estimate else "")
     return hashlib.sha256(f"{point_key(data)} probe-press step {press.step:g}{tail}".encode()).hexdigest()
 
 
-def stored_press(store, data: dict, press: Press | None = None, params=None,
+def stored_press(store, data: dict, press: ProbePress | None = None, params=None,
                  estimate: bool = False) -> tuple[str, dict | None, str | None]:
     """press_safely through a study store (studies.store.Store): the key is the pressed
     scene's point key with the press's step and range, so a design is pressed once."""

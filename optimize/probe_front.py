@@ -53,7 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses.error_estimate import PRESS_3D_ERROR
-from taxel.optimize.multifidelity import (VERIFY_3D, Design, MultiFidelity, answer, correct, fine_data,
+from taxel.optimize.multifidelity import (VERIFY_3D, ScoredDesign, MultiFidelity, answer, correct, fine_data,
                                           interpolant, nondominated)
 from taxel.scene import DEFAULT_PRESS_MESH
 from taxel.optimize.probe import press_key, press_safely, press_scene, stored_press
@@ -82,9 +82,9 @@ KIND = "probe-front"
 @dataclass
 class ProbeFront:
     level: str                                  # "3D press" (full) or "2D press x linear 3D/2D"
-    pool: list[Design]                          # every visited design: cheap = linear 2D
-    pressed_2d: list[Design]                    # designs pressed in 2D (fine = 2D press)
-    pressed_3d: list[Design]                    # designs pressed in 3D (full only)
+    pool: list[ScoredDesign]                          # every visited design: cheap = linear 2D
+    pressed_2d: list[ScoredDesign]                    # designs pressed in 2D (fine = 2D press)
+    pressed_3d: list[ScoredDesign]                    # designs pressed in 3D (full only)
     front: list[dict]                           # the headline front's rows
     reference: dict                             # the thesis design's row
     rounds: dict = field(default_factory=dict)
@@ -199,7 +199,7 @@ def spread(items: list, n: int, key) -> list:
     return [ds[i] for i in np.unique(np.linspace(0, len(ds) - 1, n).round().astype(int))]
 
 
-def press_3d(problem, pool_c: list[Design], candidates: list[Design], cap: int, fine_model: dict = PRESS_3D,
+def press_3d(problem, pool_c: list[ScoredDesign], candidates: list[ScoredDesign], cap: int, fine_model: dict = PRESS_3D,
              workers: int = 2, tolerance: float = 0.02, max_rounds: int = 1):
     """Level C: `candidates` of the level-B-scored pool `pool_c` pressed on the 3D model
     `fine_model` through the correction loop (multifidelity.correct, at most `cap` 3D
@@ -234,7 +234,7 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d
     front_a = [by_x[k] for k in (_key(d.x) for d in linear_mf.cheap_front) if k in by_x]
     ref = by_x.get(_key(x_reference))
     if ref is None:
-        ref = Design(list(map(float, x_reference)), linear_mf.reference.cheap)
+        ref = ScoredDesign(list(map(float, x_reference)), linear_mf.reference.cheap)
         pool.append(ref)
     cap = max(len(front_a), 2)
     pressed_2d, rounds_b = correct(lin, pool, front_a + ([ref] if ref not in front_a else []), cap,
@@ -256,7 +256,7 @@ def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d
             ref_row = row
     pressed_3d, rounds_c, product_miss = [], [], None
     if presses_3d is None or presses_3d > 0:
-        pool_c = [Design(d.x, score_b[id(d)]) for d in pool if score_b[id(d)] is not None]
+        pool_c = [ScoredDesign(d.x, score_b[id(d)]) for d in pool if score_b[id(d)] is not None]
         ref_c = next(d for d in pool_c if np.allclose(d.x, ref.x))
         if presses_3d is None:          # full: the pressed level-B front and the thesis design
             at_b = {_key(d.x) for d in pressed_2d}

@@ -60,7 +60,7 @@ from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
 from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN
-from taxel.optimize.probe import PROBE_METRICS, Press, press_scene, stored_press
+from taxel.optimize.probe import PROBE_METRICS, ProbePress, press_scene, stored_press
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel.optimize.result import FrontRun
@@ -112,7 +112,7 @@ class OptimizationSpec(Strict):
     resolution: Resolution = Resolution()     # the noise metrics' rig, band and force (optimize.resolution)
     robust: Robust | None = None              # the robust metrics' tolerances (optimize.robust)
     requirements: dict[Literal[METRICS], str] = {}   # the yield's spec, e.g. crosstalk = "<= 8 %"
-    press: Press | None = None                # the rig's probe press as the model (optimize.probe)
+    press: ProbePress | None = None                # the rig's probe press as the model (optimize.probe)
 
     @model_validator(mode="after")
     def _check(self):

@@ -47,7 +47,7 @@ def _band(value: float, rel: float, unit: str) -> str:
 
 
 @dataclass
-class Design:
+class AnswerDesign:
     """One design of the answer, in engineering units (lengths in mm)."""
     role: str                                   # "recommended" or "thesis"
     silicone_above_mm: float
@@ -79,7 +79,7 @@ class NoiseFloor(NamedTuple):
     silicone_above_mm: float
     silicone_below_mm: float
 
-    def of(self, d: Design) -> bool:
+    def of(self, d: AnswerDesign) -> bool:
         return (d.material == self.piezo and abs(d.silicone_above_mm - self.silicone_above_mm) < 0.005
                 and abs(d.silicone_below_mm - self.silicone_below_mm) < 0.005)
 
@@ -88,8 +88,8 @@ class NoiseFloor(NamedTuple):
 class FrontAnswer:
     """The answer of one optimization folder: the recommended and the thesis design."""
     folder: str
-    recommended: Design | None
-    thesis: Design
+    recommended: AnswerDesign | None
+    thesis: AnswerDesign
     model: str                                  # the model both designs' numbers come from
     error: dict                                 # relative error band per output
     verified: bool                              # True: 3D; False: the cheap 2D model only
@@ -144,9 +144,9 @@ def _lengths(row: dict) -> dict:
     return {k.split(" (")[0]: v for k, v in row.items() if k.endswith("(mm)")}
 
 
-def _design(role, x: dict, width, material, s, c) -> Design:
+def _design(role, x: dict, width, material, s, c) -> AnswerDesign:
     gap = x["gap"]
-    return Design(role, x["silicone_above"], x["silicone_below"], gap, width + gap, material, s, c)
+    return AnswerDesign(role, x["silicone_above"], x["silicone_below"], gap, width + gap, material, s, c)
 
 
 def _from_front_3d(folder: Path, rec: dict, width: float, material: str) -> FrontAnswer:

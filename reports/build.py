@@ -97,7 +97,7 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
     cols = list(rows[0]) if rows else []
     params = cols[:cols.index("status")] if "status" in cols else []
     shown = params + [c for c in cols if c in ("pressed_voltage", "voltage_pressed", "max_strain", "stopped_at")
-                      or c.startswith("charge_")]
+                      or c.startswith("short_circuit_charge_")]
     if any(r.get("status") != "done" for r in rows):
         shown += ["status", "error"]
     plots = sorted((folder / "plots").glob("*.png"), key=lambda p: (not p.name.startswith(_PRESSED), p.name))

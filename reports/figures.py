@@ -23,7 +23,7 @@ _PREFIX = [(1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p")]
 def _axis(out, values):
     """(label with unit, scale) for an output: volts and coulombs with the SI prefix
     that suits the largest value, strains and ratios in %."""
-    label, unit = _OUTPUT_AXES.get(out, (out.replace("_", " "), "C" if out.startswith("charge") else "V"))
+    label, unit = _OUTPUT_AXES.get(out, (out.replace("_", " "), "C" if out.startswith(("charge", "short_circuit_charge")) else "V"))
     if unit == "%":
         return f"{label} (%)", 100.0
     big = max([abs(v) for v in values if np.isfinite(v)] or [1.0])
@@ -160,23 +160,23 @@ def scene_drawing(scene):
 def yeoh_fit(strain, stress, fit, out, check_strain: float | None = None, title: str = ""):
     """PNG of the data, the fit over its range (solid) and beyond it (dashed).
 
-    The fit range 0 < strain <= max_strain is shaded; the plot extends to
-    max(3 max_strain, check_strain); where the uniaxial fit loses stability within
+    The fit range 0 < strain <= fit_strain is shaded; the plot extends to
+    max(3 fit_strain, check_strain); where the uniaxial fit loses stability within
     it, a marker shows the point.
     """
     plt = pyplot()
 
     strain, stress = np.asarray(strain, float), np.asarray(stress, float)
-    x_hi = max(3.0 * fit.max_strain, check_strain or 0.0)
+    x_hi = max(3.0 * fit.fit_strain, check_strain or 0.0)
     show = (strain >= 0) & (strain <= x_hi)
     order = np.argsort(strain[show])
     xs, ys = strain[show][order], stress[show][order]
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
-    ax.axvspan(0, 100 * fit.max_strain, color="0.9", label=f"fit range (<= {100 * fit.max_strain:g} %)")
+    ax.axvspan(0, 100 * fit.fit_strain, color="0.9", label=f"fit range (<= {100 * fit.fit_strain:g} %)")
     ax.plot(100 * xs, ys / 1e3, ".", ms=4, color="k", label="test data")
-    x_in = np.linspace(0, fit.max_strain, 200)
-    x_out = np.linspace(fit.max_strain, x_hi, 400)
+    x_in = np.linspace(0, fit.fit_strain, 200)
+    x_out = np.linspace(fit.fit_strain, x_hi, 400)
     lbl = (f"Yeoh: C10 {fit.C10 / 1e3:.3g}, C20 {fit.C20 / 1e3:.3g}, C30 {fit.C30 / 1e3:.3g} kPa"
            f" (R² {fit.r2:.4f})")
     ax.plot(100 * x_in, fit.stress(x_in) / 1e3, "-", color="C0", lw=2, label=lbl)

@@ -63,7 +63,7 @@ def static_numbers(sol) -> list[Headline]:
         if sol.crosstalk is not None:
             out.append(Headline("crosstalk", percent(sol.crosstalk), model))
         out.append(Headline("capacitance", eng(e.capacitance, "F"), model))
-    out.append(Headline("largest silicone strain", percent(sol.max_silicone_strain), model))
+    out.append(Headline("largest silicone strain", percent(sol.max_strain), model))
     return out
 
 
@@ -72,9 +72,9 @@ def static_banners(sol) -> list[Banner]:
     out = []
     tol = scene.model.tolerance
     linear = scene.model.silicone == "linear" or "returning the LINEAR" in sol.model_note
-    est = linear_error(sol.max_silicone_strain)
+    est = linear_error(sol.max_strain)
     if linear and est > tol:
-        out.append(Banner("range", f"Linear silicone outside its range: largest strain {100 * sol.max_silicone_strain:.3g} % "
+        out.append(Banner("range", f"Linear silicone outside its range: largest strain {100 * sol.max_strain:.3g} % "
                    f"(estimated voltage error {100 * est:.2g} % > tolerance {100 * tol:g} %; the linear model "
                    f"holds below {100 * _linear_limit(tol):.2g} % strain). Fix: set model.silicone = \"yeoh\" "
                    "(or \"auto\"), or a smaller force."))
@@ -104,7 +104,7 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[Banner]:
             worst = max(bad, key=lambda r: finite_number(r["max_strain"]))
             s = finite_number(worst["max_strain"])
             where = ", ".join(str(v) for k, v in worst.items() if k not in _OUTPUT_KEYS and not k.startswith(
-                ("voltage_", "charge_")))
+                ("voltage_", "short_circuit_charge_")))
             out.append(Banner("range", f"Linear silicone outside its range at {len(bad)} of {len(done)} points: up to "
                        f"{100 * s:.3g} % strain ({where}), an estimated voltage error of {100 * linear_error(s):.2g} % "
                        f"against a tolerance of {100 * tol:g} % (valid below {100 * _linear_limit(tol):.2g} % strain). "

@@ -6,7 +6,7 @@ A table is a plain dict the page template draws: {"cols": [...], "rows": [[cell,
 unformatted rows}. Every row is shown (the page scrolls a long table); every table
 gets a CSV beside the page (`write_csvs`: its own full-precision file when it has
 one, else its rows as given). The column's unit comes from its name (the CSV's SI
-column names: voltage_*, charge_*, max_strain, ..., or a unit in parentheses:
+column names: voltage_*, short_circuit_charge_*, max_strain, ..., or a unit in parentheses:
 "gap (mm)"). Conventions: crosstalk in %, lengths to 0.01 mm, 3 significant figures.
 """
 
@@ -20,7 +20,7 @@ from taxel.units import engineering, magnitude
 _COLUMNS = [
     (r"^(pressed_voltage|voltage_pressed)$", "V pressed taxel (signed)", lambda v: eng(v, "V")),
     (r"^voltage_(.+)$", "V {0}", lambda v: eng(v, "V")),
-    (r"^charge_(.+)$", "Q {0}", lambda v: eng(v, "C")),
+    (r"^short_circuit_charge_(.+)$", "Q {0}", lambda v: eng(v, "C")),
     (r"^capacitance.*", "capacitance", lambda v: eng(v, "F")),
     (r"^max_strain$", "largest silicone strain", lambda v: percent(v)),
     (r"^crosstalk_bound$", "crosstalk bound", lambda v: percent(v)),

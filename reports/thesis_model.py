@@ -36,7 +36,7 @@ def _num(v) -> float:
 
 def swept(rows: list[dict]) -> str:
     """The geometric parameter the study sweeps (silicone_thickness for Fig. 2.5, gap for 2.8)."""
-    params = [k for k in rows[0] if k != "status" and not k.startswith(("voltage_", "charge_"))]
+    params = [k for k in rows[0] if k != "status" and not k.startswith(("voltage_", "short_circuit_charge_"))]
     return next(k for k in params if k not in FIXED and k not in ("pressed_voltage", "sensitivity", "crosstalk",
                                                                    "max_strain", "seconds", "error", "stopped_at"))
 

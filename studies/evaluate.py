@@ -10,7 +10,7 @@ import numpy as np
 from taxel.analyses import frequency, solve
 from taxel.scene import parse, replace
 
-OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
+OUTPUTS = ("voltage", "short_circuit_charge", "crosstalk", "max_strain", "frequency_response")
 
 
 def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
@@ -26,8 +26,8 @@ def evaluate(scene_data: dict, outputs: tuple[str, ...]) -> dict:
     pressed = sol.pressed
     if "voltage" in outputs:
         res["voltage"] = {k: e.voltage for k, e in taxels.items()}
-    if "charge" in outputs:
-        res["charge"] = {k: e.short_circuit_charge for k, e in taxels.items()}
+    if "short_circuit_charge" in outputs:
+        res["short_circuit_charge"] = {k: e.short_circuit_charge for k, e in taxels.items()}
     named = sol.outputs()
     if "crosstalk" in outputs and "crosstalk" in named and pressed in taxels and len(taxels) > 1:
         res["crosstalk"] = named["crosstalk"]

@@ -6,7 +6,7 @@ list, Latin hypercube), fixed overrides (`[overrides]`), and the outputs to keep
     name = "fig-2-5"
     base = "thesis-pzt-single-2d"            # built-in example or a path (relative to this file)
     sampling = "grid"                        # grid (all combinations) | lhs
-    outputs = ["voltage", "charge", "crosstalk", "max_strain"]
+    outputs = ["voltage", "short_circuit_charge", "crosstalk", "max_strain"]
 
     [overrides]                              # fixed values, by dotted scene path
     "model.type" = "plane_stress"
@@ -44,7 +44,7 @@ from taxel.schema import Name, Strict, safe_name
 from taxel.scene import EXAMPLES, Scene, SceneError, parse
 from taxel.schema import one_line, read_toml, set_path
 
-OUTPUTS = ("voltage", "charge", "crosstalk", "max_strain", "frequency_response")
+OUTPUTS = ("voltage", "short_circuit_charge", "crosstalk", "max_strain", "frequency_response")
 BUILTIN = Path(__file__).parent / "builtin"
 
 
@@ -93,7 +93,7 @@ class StudySpec(Strict):
         return v
     overrides: dict[str, Any] = {}       # fixed values, by dotted scene path
     parameters: list[Parameter] = Field(min_length=1)
-    outputs: list[Literal[OUTPUTS]] = ["voltage", "charge", "crosstalk", "max_strain"]
+    outputs: list[Literal[OUTPUTS]] = ["voltage", "short_circuit_charge", "crosstalk", "max_strain"]
     requirements: dict[str, str] = {}    # tolerance studies: output = ">= 0.7 V/N" (the yield)
 
     @model_validator(mode="after")

@@ -134,7 +134,7 @@ class Store:
 
 def tidy_rows(out: Path) -> list[dict]:
     """One flat row per point: parameters, status, the outputs per taxel
-    (voltage_<taxel>, charge_<taxel>), then the named outputs: pressed_voltage (V)
+    (voltage_<taxel>, short_circuit_charge_<taxel>), then the named outputs: pressed_voltage (V)
     and sensitivity (V/N) of the pressed taxel, crosstalk, max_strain, and the
     seconds. Rows stored by an older release (no "outputs") read the same."""
     store = Store(out)
@@ -149,7 +149,7 @@ def tidy_rows(out: Path) -> list[dict]:
             row[k] = v
         row["status"] = r["status"]
         res = r["result"] or {}
-        for name in ("voltage", "charge"):
+        for name in ("voltage", "short_circuit_charge"):
             for taxel, val in (res.get(name) or {}).items():
                 row[f"{name}_{taxel}"] = val
         named = res.get("outputs") or {}

@@ -32,7 +32,7 @@ from taxel.studies.bench.capture import CaptureResult
 from taxel.studies.bench.export import CsvExport
 from taxel.studies.bench.folder import Measurement, MeasurementError
 from taxel.studies.bench.rig import Rig, RigError
-from taxel.studies.bench.simulation import Simulation
+from taxel.studies.bench.simulated_run import Simulation
 from taxel.studies.measured.analysis import Analysis
 from taxel.studies.measured.calibrate import FolderCalibration
 from taxel.studies.measured.localize import Localization, PressEvent
@@ -178,15 +178,15 @@ def simulate(rig: Rig | str | Path, scene: Scene | str | Path, input: str = "ste
     corrupt : float
         The probability that each byte is flipped or dropped.
     **settings
-        Any other field of studies.bench.simulate.Settings (seed, crosstalk, model, between, ...).
+        Any other field of studies.bench.signals.Settings (seed, crosstalk, model, between, ...).
 
     Returns
     -------
     Simulation
         The truth and the byte stream; `to_folder(dir)` writes stream.bin, truth.npz, truth.json, rig.json.
     """
-    from taxel.studies.bench.simulate import INPUTS, Settings
-    from taxel.studies.bench.simulation import run
+    from taxel.studies.bench.signals import INPUTS, Settings
+    from taxel.studies.bench.simulated_run import run
     if input not in INPUTS:
         raise ValueError(f"input {input!r}: choose one of {', '.join(INPUTS)}")
     sc, _ = _scene(scene)

@@ -103,7 +103,7 @@ thickness = "1 mm"
 kind = "pressure"
 pressure = "1 kPa\"""",
     "load": """[load]                      # the rig's probe: a rigid 4 mm flat punch pressed to 1 N
-kind = "indenter"
+kind = "probe"
 contact = true
 shape = "flat"
 radius = "2 mm"
@@ -176,7 +176,7 @@ class SceneError(ValueError):
 MAX_TIME_STEPS = 1_000_000     # a transient beyond this is refused before it starts
 
 
-class Model(Strict):
+class ModelTable(Strict):
     type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
     depth: Length | None = None     # out-of-plane depth of a 2D model; default: the taxel or plate width
     silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
@@ -202,7 +202,7 @@ DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
 DEFAULT_PRESS_MESH = (1.4e-3, 0.56e-3, 1)
 
 
-class Mesh(Strict):
+class MeshTable(Strict):
     size: MeshSize | None = None    # element size far from the piezo; default: DEFAULT_MESH by model type
     piezo_size: MeshSize | None = None  # in-plane element size on the taxels; default: DEFAULT_MESH or size / 4
     piezo_layers: StrictInt = Field(2, ge=1, le=8)   # elements through each piezo layer (2: within 0.5 %)
@@ -213,7 +213,7 @@ class Mesh(Strict):
     extruded: StrictBool | None = None
 
 
-class Array(Strict):
+class ArrayTable(Strict):
     rows: StrictInt = Field(1, ge=1, le=16)
     cols: StrictInt = Field(1, ge=1, le=16)
     taxel_width: Length = "4 mm"
@@ -227,30 +227,30 @@ class Array(Strict):
     silicone_below: Thickness = "1 mm"
 
 
-class Layer(Strict):
+class LayerTable(Strict):
     material: str
     thickness: Length
     poling: Literal["up", "down"] = "up"
 
 
-class Plate(Strict):
+class PlateTable(Strict):
     shape: Literal["rectangle", "disk"] = "rectangle"
     width: Length | None = None     # rectangle, along x
     length: Length | None = None    # rectangle, along y (3D)
     radius: Length | None = None    # disk
-    layers: list[Layer] = Field(min_length=1)
+    layers: list[LayerTable] = Field(min_length=1)
 
 
-class Load(Strict):
-    kind: Literal["taxel", "between", "indenter", "pressure"] = "taxel"
+class LoadTable(Strict):
+    kind: Literal["taxel", "between", "probe", "pressure"] = "taxel"
     force: Force | None = "1 N"
     pressure: Pressure | None = None   # kind = "pressure" only
-    taxel: tuple[StrictInt, StrictInt] = (0, 0)    # [row, col] of the pressed taxel or indenter centre
+    taxel: tuple[StrictInt, StrictInt] = (0, 0)    # [row, col] of the pressed taxel or the probe's centre
     neighbour: tuple[StrictInt, StrictInt] | None = None   # kind = "between": the other taxel
-    profile: Literal["flat", "round"] = "flat"  # indenter pressure: uniform, or Hertzian sqrt(1-r^2/a^2)
-    radius: Length | None = None       # indenter contact radius (half-width in 2D)
-    offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # indenter centre from the taxel centre
-    # kind = "indenter", contact = true: a rigid indenter pressed to `force` (or to
+    profile: Literal["flat", "round"] = "flat"  # probe without contact, its pressure patch: uniform, or Hertzian sqrt(1-r^2/a^2)
+    radius: Length | None = None       # the probe's radius (half-width in 2D)
+    offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # the probe's centre from the taxel centre
+    # kind = "probe": a pressure patch under the probe; contact = true: a rigid indenter pressed to `force` (or to
     # `travel`, displacement control); radius: punch half-width/radius, or sphere radius
     contact: bool = False
     shape: Literal["flat", "sphere", "cylinder"] = "flat"
@@ -261,12 +261,12 @@ class Load(Strict):
     travel: Length | None = None       # prescribed indenter travel (instead of force)
 
 
-class Supports(Strict):
+class SupportsTable(Strict):
     bottom: Literal["bonded", "rollers", "free"] = "bonded"
     edges: Literal["free", "clamped", "simply_supported", "rollers"] = "free"
 
 
-class Dynamics(Strict):
+class DynamicsTable(Strict):
     """Damping. No sourced damping data exists for Ecoflex: loss factors are parameters."""
     silicone_loss: Annotated[float, dimensionless("loss factor", ge=0, lt=2)] = 0.1     # structural loss factor eta of the silicone
     piezo_loss: LossFactor | None = None        # default 1/Qm of the material
@@ -276,7 +276,7 @@ class Dynamics(Strict):
     reference_frequency: Frequency = "100 Hz"         # lumped models: eta -> viscous eta / (2 pi f_ref) (the FEM: fem.constitution)
 
 
-class Analysis(Strict):
+class AnalysisTable(Strict):
     type: Literal["static", "frequency", "transient"] = "static"
     f_min: Frequency = "1 Hz"
     f_max: Frequency = "1000 Hz"
@@ -294,7 +294,7 @@ class Analysis(Strict):
     file: str | None = None           # csv: columns time (s), force (N)
 
 
-class Readout(Strict):
+class ReadoutTable(Strict):
     circuit: Literal["open", "resistor", "charge_amplifier"] = "open"
     R: Resistance = "500 Mohm"        # resistor: the input resistance (thesis tau 1.7-3.1 s at ~4 nF)
     C_f: Capacitance = "820 pF"       # charge amplifier, TI SLOA033A
@@ -319,16 +319,16 @@ class Readout(Strict):
 class Scene(Strict):
     name: Name = "scene"
     description: str = ""
-    model: Model = Model()
-    mesh: Mesh = Mesh()
-    array: Array | None = None
-    plate: Plate | None = None
-    load: Load = Load()
-    supports: Supports = Supports()
+    model: ModelTable = ModelTable()
+    mesh: MeshTable = MeshTable()
+    array: ArrayTable | None = None
+    plate: PlateTable | None = None
+    load: LoadTable = LoadTable()
+    supports: SupportsTable = SupportsTable()
     electrodes: dict[str, str] = {}     # name (or "taxels") -> "open" | "ground" | "<value> V"
-    dynamics: Dynamics = Dynamics()
-    analysis: Analysis = Analysis()
-    readout: Readout = Readout()
+    dynamics: DynamicsTable = DynamicsTable()
+    analysis: AnalysisTable = AnalysisTable()
+    readout: ReadoutTable = ReadoutTable()
     # user materials by name, each a piezo or a solid (see the examples below); a value is a
     # string with its unit ("27.5 kPa") or an SI number
     materials: dict[str, UserMaterial] = {}
@@ -343,7 +343,7 @@ class Scene(Strict):
     def pressed_by_punch(self) -> bool:
         """A 3D array scene pressed by a flat punch in contact (the rig's probe)."""
         ld = self.load
-        return (self.array is not None and self.model.type == "3d" and ld.kind == "indenter" and ld.contact
+        return (self.array is not None and self.model.type == "3d" and ld.kind == "probe" and ld.contact
                 and ld.shape == "flat")
 
     def _fill_default_mesh(self) -> None:
@@ -391,9 +391,9 @@ class Scene(Strict):
                                      f"use rows 0..{a.rows - 1}, cols 0..{a.cols - 1}")
         if self.plate is not None:
             p = self.plate
-            if self.load.kind not in ("pressure", "indenter"):
+            if self.load.kind not in ("pressure", "probe"):
                 raise ValueError(f"load.kind = '{self.load.kind}' needs taxels; a plate takes "
-                                 "'pressure' or 'indenter'")
+                                 "'pressure' or 'probe'")
             if p.shape == "rectangle" and p.width is None:
                 raise ValueError("plate.width is missing; give the rectangle's width, e.g. \"20 mm\"")
             if p.shape == "rectangle" and self.model.type == "3d" and p.length is None:
@@ -402,8 +402,8 @@ class Scene(Strict):
                 raise ValueError("plate.radius is missing; give the disk's radius, e.g. \"10 mm\"")
             if self.model.type == "axisymmetric" and p.shape != "disk":
                 raise ValueError("model.type = 'axisymmetric' needs plate.shape = 'disk'")
-            if self.load.kind == "indenter" and self.load.radius is not None:
-                _indenter_on_plate(self.load, p)
+            if self.load.kind == "probe" and self.load.radius is not None:
+                _probe_on_plate(self.load, p)
         ld = self.load
         if ld.kind == "pressure" and ld.pressure is None:
             raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
@@ -422,13 +422,13 @@ class Scene(Strict):
             dr, dc = ld.neighbour[0] - ld.taxel[0], ld.neighbour[1] - ld.taxel[1]
             if abs(dr) + abs(dc) != 1:
                 raise ValueError("load.neighbour must be next to load.taxel (one row or column apart)")
-        if ld.kind == "indenter" and ld.radius is None:
-            raise ValueError("load.radius is missing for kind = 'indenter'; e.g. \"1 mm\"")
+        if ld.kind == "probe" and ld.radius is None:
+            raise ValueError("load.radius is missing for kind = 'probe'; e.g. \"1 mm\"")
         if ld.friction is not None and not ld.contact:
             raise ValueError("load.friction needs load.contact = true (a rigid indenter)")
         if ld.contact:
-            if ld.kind != "indenter":
-                raise ValueError("load.contact = true needs load.kind = 'indenter'")
+            if ld.kind != "probe":
+                raise ValueError("load.contact = true needs load.kind = 'probe'")
             two_d = self.model.type in ("plane_strain", "plane_stress")
             if (ld.shape == "cylinder") != two_d and ld.shape != "flat":
                 raise ValueError(f"load.shape = '{ld.shape}' does not fit model.type = '{self.model.type}'; "
@@ -487,8 +487,8 @@ def _user_solids_without_yeoh(scene: Scene) -> list[str]:
             and scene.materials[n].get("kind") == "solid" and "C10" not in scene.materials[n]]
 
 
-def _indenter_on_plate(load: Load, plate: Plate):
-    """An indenter's footprint (radius about its offset centre) must lie on the plate."""
+def _probe_on_plate(load: LoadTable, plate: PlateTable):
+    """A probe's footprint (radius about its offset centre) must lie on the plate."""
     half = [plate.radius] * 2 if plate.shape == "disk" else [plate.width / 2, (plate.length or plate.width) / 2]
     reach = [abs(load.offset[0]) + load.radius, abs(load.offset[1]) + load.radius]
     if plate.shape == "disk":
@@ -496,13 +496,13 @@ def _indenter_on_plate(load: Load, plate: Plate):
         if far > half[0] * (1 + 1e-9):
             raise ValueError(f"load.radius = {load.radius * 1e3:g} mm (offset included) reaches "
                              f"{far * 1e3:g} mm from the centre of a disk of radius {plate.radius * 1e3:g} mm; "
-                             "make the indenter smaller than the plate (or the offset smaller)")
+                             "make the probe smaller than the plate (or the offset smaller)")
         return
     for axis, r, h, key in ((0, reach[0], half[0], "width"), (1, reach[1], half[1], "length")):
         if r > h * (1 + 1e-9):
             raise ValueError(f"load.radius = {load.radius * 1e3:g} mm (offset included) reaches {r * 1e3:g} mm "
                              f"from the centre, beyond the plate's half-{key} {h * 1e3:g} mm; make the "
-                             "indenter smaller than the plate (or the offset smaller)")
+                             "probe smaller than the plate (or the offset smaller)")
 
 
 def electrode_state(state: str, key="electrode"):

@@ -79,8 +79,8 @@ SCENES = [
     scene("force-zero", ARRAY + '[load]\nforce = "0 N"\n', "load.force"),
     scene("taxel-out-of-range", ARRAY + "[load]\ntaxel = [3, 0]\n", "load.taxel"),
     scene("taxel-three-numbers", ARRAY + "[load]\ntaxel = [0, 0, 0]\n", "load.taxel"),
-    scene("indenter-wider-than-part", ARRAY + '[load]\nkind = "indenter"\nradius = "50 mm"\n', "load"),
-    scene("indenter-offset-outside", ARRAY + '[load]\nkind = "indenter"\nradius = "1 mm"\n'
+    scene("indenter-wider-than-part", ARRAY + '[load]\nkind = "probe"\nradius = "50 mm"\n', "load"),
+    scene("indenter-offset-outside", ARRAY + '[load]\nkind = "probe"\nradius = "1 mm"\n'
           'offset = ["40 mm", "0 mm"]\n', "load"),
     scene("both-array-and-plate", ARRAY + '[plate]\nwidth = "1 mm"\nlayers = [{material = "PVDF", '
           'thickness = "1 mm"}]\n', "[array]", "[plate]"),
@@ -136,15 +136,15 @@ SCENES = [
     scene("sweep-tolerance-hz", ARRAY + '[analysis]\ntype = "frequency"\ntolerance = "1 Hz"\n',
           "analysis.tolerance"),
     scene("plate-indenter-wider", FAST + '[plate]\nwidth = "10 mm"\nlayers = [{material = "PVDF", '
-          'thickness = "1 mm"}]\n[load]\nkind = "indenter"\nradius = "20 mm"\n', "load.radius", "plate"),
+          'thickness = "1 mm"}]\n[load]\nkind = "probe"\nradius = "20 mm"\n', "load.radius", "plate"),
     scene("plate-indenter-offset-off", FAST + '[plate]\nwidth = "10 mm"\nlayers = [{material = "PVDF", '
-          'thickness = "1 mm"}]\n[load]\nkind = "indenter"\nradius = "2 mm"\noffset = ["4 mm", "0 mm"]\n',
+          'thickness = "1 mm"}]\n[load]\nkind = "probe"\nradius = "2 mm"\noffset = ["4 mm", "0 mm"]\n',
           "load.radius", "offset"),
     scene("disk-indenter-wider", FAST.replace('"plane_strain"', '"axisymmetric"') + '[plate]\nshape = "disk"\n'
-          'radius = "5 mm"\nlayers = [{material = "PVDF", thickness = "1 mm"}]\n[load]\nkind = "indenter"\n'
+          'radius = "5 mm"\nlayers = [{material = "PVDF", thickness = "1 mm"}]\n[load]\nkind = "probe"\n'
           'radius = "6 mm"\n', "load.radius", "disk"),
     scene("3d-plate-indenter-longer", FAST.replace('"plane_strain"', '"3d"') + '[plate]\nwidth = "20 mm"\n'
-          'length = "4 mm"\nlayers = [{material = "PVDF", thickness = "1 mm"}]\n[load]\nkind = "indenter"\n'
+          'length = "4 mm"\nlayers = [{material = "PVDF", thickness = "1 mm"}]\n[load]\nkind = "probe"\n'
           'radius = "3 mm"\n', "load.radius", "length"),
     scene("yeoh-without-constants", ARRAY.replace('"plane_strain"', '"plane_strain"\nsilicone = "yeoh"')
           + 'silicone = "gel"\n[materials.gel]\nkind = "solid"\nE = 1e5\nnu = 0.45\nrho = 1000\n',
@@ -176,12 +176,12 @@ MORE_SCENES = [
     scene("missing-unit-string", ARRAY + 'taxel_width = "4"\n', "array.taxel_width", "missing unit"),
     scene("unit-mismatch-force-in-mm", ARRAY + '[load]\nforce = "1 mm"\n', "load.force", "unit mismatch"),
     scene("unit-mismatch-force-in-kPa", ARRAY + '[load]\nforce = "10 kPa"\n', "load.force", "unit mismatch"),
-    scene("friction-without-contact", ARRAY + '[load]\nkind = "indenter"\nradius = "1 mm"\nfriction = "sticking"\n',
+    scene("friction-without-contact", ARRAY + '[load]\nkind = "probe"\nradius = "1 mm"\nfriction = "sticking"\n',
           "load.friction", "load.contact = true"),
     scene("unreadable-quantity", ARRAY + 'taxel_width = "abc mm"\n', "array.taxel_width", "abc mm"),
     # ---- geometry
     scene("overlapping-taxels", ARRAY + 'cols = 2\ngap = "-1 mm"\n', "array.gap", "overlap"),
-    scene("plate-and-array-with-indenter", PLATE + "\n[array]\n[load]\nkind = \"indenter\"\nradius = \"1 mm\"\n",
+    scene("plate-and-array-with-indenter", PLATE + "\n[array]\n[load]\nkind = \"probe\"\nradius = \"1 mm\"\n",
           "[array]", "[plate]"),
     scene("neither-array-nor-plate-with-force", FAST + '[load]\nforce = "1 N"\n', "[array]", "[plate]"),
     scene("axisymmetric-3x3", AXISYM + "rows = 3\ncols = 3\n[load]\ntaxel = [1, 1]\n",
@@ -209,19 +209,19 @@ MORE_SCENES = [
     scene("load-taxel-outside-array", ARRAY + "rows = 2\ncols = 2\n[load]\ntaxel = [2, 0]\n",
           "load.taxel", "outside"),
     scene("load-taxel-negative", ARRAY + "[load]\ntaxel = [-1, 0]\n", "load.taxel", "outside"),
-    scene("load-footprint-outside-sensor", ARRAY + '[load]\nkind = "indenter"\nradius = "1 mm"\n'
+    scene("load-footprint-outside-sensor", ARRAY + '[load]\nkind = "probe"\nradius = "1 mm"\n'
           'offset = ["20 mm", "0 mm"]\n', "load", "outside the sensor"),
     scene("between-without-neighbour", ARRAY + 'cols = 2\n[load]\nkind = "between"\n', "load.neighbour"),
     scene("neighbour-not-adjacent", ARRAY + 'cols = 3\n[load]\nkind = "between"\nneighbour = [0, 2]\n',
           "load.neighbour", "next to"),
     scene("between-rows-in-2d", ARRAY + 'rows = 2\n[load]\nkind = "between"\nneighbour = [1, 0]\n',
           "load.neighbour", "row"),
-    scene("indenter-without-radius", ARRAY + '[load]\nkind = "indenter"\n', "load.radius"),
+    scene("indenter-without-radius", ARRAY + '[load]\nkind = "probe"\n', "load.radius"),
     scene("pressure-without-pressure", PLATE + '[load]\nkind = "pressure"\n', "load.pressure"),
     scene("pressure-without-pressure-array", ARRAY + '[load]\nkind = "pressure"\n', "load.pressure"),
     scene("plate-with-taxel-load", PLATE, "load.kind", "taxel"),
     scene("axisymmetric-offset-load",
-          AXISYM + '[load]\nkind = "indenter"\nradius = "1 mm"\noffset = ["1 mm", "0 mm"]\n',
+          AXISYM + '[load]\nkind = "probe"\nradius = "1 mm"\noffset = ["1 mm", "0 mm"]\n',
           "axisymmetric", "load.offset"),
     # ---- supports and electrodes
     scene("bottom-and-edges-free", ARRAY + '[supports]\nbottom = "free"\nedges = "free"\n',
@@ -239,7 +239,7 @@ MORE_SCENES = [
 
     # ---- once bugs: a bare 0 skipped the positive check, NaN, wrong material kind, odd paths
     scene("zero-taxel-width-bare-number", ARRAY + "taxel_width = 0\n", "array.taxel_width"),
-    scene("zero-indenter-radius-bare-number", ARRAY + '[load]\nkind = "indenter"\nradius = 0\n',
+    scene("zero-indenter-radius-bare-number", ARRAY + '[load]\nkind = "probe"\nradius = 0\n',
           "load.radius"),
     scene("zero-piezo-thickness-bare-number", ARRAY + "piezo_thickness = 0\n", "array.piezo_thickness"),
     scene("nan-force", ARRAY + '[load]\nforce = "nan N"\n', "load.force"),
@@ -260,9 +260,9 @@ MORE_SCENES = [
     scene("loss-factor-as-frequency", ARRAY + '[dynamics]\npiezo_loss = "1 Hz"\n', "dynamics.piezo_loss"),
     scene("dielectric-loss-100-percent", ARRAY + '[dynamics]\ndielectric_loss = "100 %"\n',
           "dynamics.dielectric_loss"),
-    scene("plate-indenter-beyond-edge", PLATE + '[load]\nkind = "indenter"\nradius = "8 mm"\n'
+    scene("plate-indenter-beyond-edge", PLATE + '[load]\nkind = "probe"\nradius = "8 mm"\n'
           'offset = ["5 mm", "0 mm"]\n', "load.radius", "half-width"),
-    scene("plate-indenter-wider-than-the-plate", PLATE + '[load]\nkind = "indenter"\nradius = "30 mm"\n', "load.radius"),
+    scene("plate-indenter-wider-than-the-plate", PLATE + '[load]\nkind = "probe"\nradius = "30 mm"\n', "load.radius"),
     scene("yeoh-user-silicone-without-c10", ARRAY.replace("[model]\n", '[model]\nsilicone = "yeoh"\n')
           + 'silicone = "gel"\n[materials.gel]\nkind = "solid"\nE = 1e5\nnu = 0.45\nrho = 1000\n',
           "materials.gel", "C10", "fit-yeoh"),
@@ -468,7 +468,7 @@ OPTIMIZE = [
 GOOD_CSV = "strain,stress_Pa\n" + "".join(f"{e},{2e4 * e}\n" for e in (0.1, 0.2, 0.3, 0.4, 0.5))
 
 
-def fit(id, content, *words, args=("--max-strain", "0.5")):
+def fit(id, content, *words, args=("--fit-strain", "0.5")):
     return Case(f"fit-{id}", ["material", "fit-yeoh", "t.csv", *args], words, {"t.csv": content})
 
 
@@ -479,10 +479,10 @@ FIT = [
     fit("one-strain-value", "strain,stress_Pa\n" + "0.1,1000\n" * 10, "t.csv", "strain"),
     fit("invalid-rows", "strain,stress_Pa\n0.1,1\nabc,2\n0.2,x\n0.3,3\n0.4,4\n", "t.csv", "row"),
     fit("too-few", "strain,stress_Pa\n0.1,1\n0.2,2\n", "t.csv"),
-    fit("negative-max-strain", GOOD_CSV, "--max-strain", args=("--max-strain", "-1")),
-    fit("abc-max-strain", GOOD_CSV, "--max-strain", args=("--max-strain", "abc")),
-    fit("nan-max-strain", GOOD_CSV, "--max-strain", args=("--max-strain", "nan")),
-    fit("plot-missing-folder", GOOD_CSV, "no/dir", args=("--max-strain", "0.5", "--plot", "no/dir/p.png")),
+    fit("negative-max-strain", GOOD_CSV, "--fit-strain", args=("--fit-strain", "-1")),
+    fit("abc-max-strain", GOOD_CSV, "--fit-strain", args=("--fit-strain", "abc")),
+    fit("nan-max-strain", GOOD_CSV, "--fit-strain", args=("--fit-strain", "nan")),
+    fit("plot-missing-folder", GOOD_CSV, "no/dir", args=("--fit-strain", "0.5", "--plot", "no/dir/p.png")),
     fit("binary", b"\x00\xff\xfe", "t.csv"),
     fit("mixed-signs", "strain,stress_Pa\n-0.2,-4000\n-0.1,-2000\n0.1,2000\n0.2,4000\n0.3,6000\n0.4,8000\n",
         "t.csv", "compressive", "tension"),
@@ -532,11 +532,11 @@ def contact(id, model, kind, extra, *words):
 
 
 CONTACT = [
-    contact("on-a-taxel-load", "plane_strain", "taxel", "", "load.contact = true needs load.kind = 'indenter'"),
-    contact("sphere-in-2d", "plane_strain", "indenter", 'shape = "sphere"', "load.shape = 'sphere'"),
-    contact("cylinder-axisymmetric", "axisymmetric", "indenter", 'shape = "cylinder"', "load.shape = 'cylinder'"),
-    contact("edge-radius-too-big", "plane_strain", "indenter", 'edge_radius = "2 mm"', "load.edge_radius"),
-    contact("coulomb-friction", "plane_strain", "indenter", 'friction = "coulomb"', "load.friction"),
+    contact("on-a-taxel-load", "plane_strain", "taxel", "", "load.contact = true needs load.kind = 'probe'"),
+    contact("sphere-in-2d", "plane_strain", "probe", 'shape = "sphere"', "load.shape = 'sphere'"),
+    contact("cylinder-axisymmetric", "axisymmetric", "probe", 'shape = "cylinder"', "load.shape = 'cylinder'"),
+    contact("edge-radius-too-big", "plane_strain", "probe", 'edge_radius = "2 mm"', "load.edge_radius"),
+    contact("coulomb-friction", "plane_strain", "probe", 'friction = "coulomb"', "load.friction"),
 ]
 
 # ------------------------------------------------------------------------- more study files (was test_studies.py)
@@ -592,9 +592,9 @@ OPTIMIZE_FILES = [opt(f"file-{id}", replace_in(COARSE_OPT, *change), words) for 
 STRAIN_ONLY = "Time (s);Engineering Strain\n" + "".join(f"{i};{0.1 * i}\n" for i in range(1, 9))
 FIT_MORE = [
     fit("no-stress-column", STRAIN_ONLY, "no stress column", args=()),
-    fit("max-strain-0", STRAIN_ONLY, "--max-strain", args=("--max-strain", "0")),
-    fit("max-strain-negative", STRAIN_ONLY, "--max-strain", args=("--max-strain", "-0.5")),
-    fit("max-strain-text", STRAIN_ONLY, "--max-strain", args=("--max-strain", "half")),
+    fit("fit-strain-0", STRAIN_ONLY, "--fit-strain", args=("--fit-strain", "0")),
+    fit("fit-strain-negative", STRAIN_ONLY, "--fit-strain", args=("--fit-strain", "-0.5")),
+    fit("fit-strain-text", STRAIN_ONLY, "--fit-strain", args=("--fit-strain", "half")),
 ]
 
 # ------------------------------------------------------------------------- measure (was test_measure_cli.py)

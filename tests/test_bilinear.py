@@ -142,20 +142,20 @@ def test_scalar_basis_serves_the_yeoh_terms_as_scikit_fem_bases_do():
 
 
 def test_lean_basis_interpolates_and_numbers_as_scikit_fem():
-    """fem.assembly.LeanBasis (no table of the shape functions) interpolates a field
+    """fem.assembly.LazyBasis (no table of the shape functions) interpolates a field
     through the scalar functions as scikit-fem's Basis does from its table (vector P2,
     P2, P1, on a subset of the elements), with the same DOFs; bases made `like` another
     share its numbering and DOF locations."""
     from skfem import Basis, ElementTetP1, ElementTetP2, ElementVector, MeshTet
-    from taxel.fem.assembly import LeanBasis
+    from taxel.fem.assembly import LazyBasis
     m = MeshTet.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 2, 3), np.linspace(0, 0.5, 3))
     rng = np.random.default_rng(1)
     m = MeshTet(m.p + 0.05 * rng.standard_normal(m.p.shape), m.t)
     elems = np.arange(0, m.nelements, 2)
     for e in (ElementVector(ElementTetP2()), ElementTetP2(), ElementTetP1()):
         ref = Basis(m, e, elements=elems, intorder=4)
-        first = LeanBasis(m, e, np.arange(1, m.nelements, 2), 4)
-        lean = LeanBasis(m, e, elems, 4, like=first)
+        first = LazyBasis(m, e, np.arange(1, m.nelements, 2), 4)
+        lean = LazyBasis(m, e, elems, 4, like=first)
         assert lean.scalar is not None and lean._table is None
         assert lean.dofs is first.dofs and lean.doflocs is first.doflocs
         assert np.array_equal(lean.element_dofs, ref.element_dofs) and np.allclose(lean.doflocs, ref.doflocs)

@@ -23,7 +23,7 @@ from taxel.fem.assembly import assemble
 from taxel.fem.assembly import Indenter
 from taxel.fem.contact import Surface, gap
 from taxel.fem.constitution import Solid
-from taxel.fem.contact import ContactError, Options, Press
+from taxel.fem.contact import PressError, Options, Press
 
 MU, NU = 10e3, 0.3
 K_BULK = 2 * MU * (1 + NU) / (3 * (1 - 2 * NU))
@@ -138,7 +138,7 @@ def small_sphere():
 
 def test_penalty_too_low_is_reported_with_its_penetration(small_sphere):
     sy, ind, d = small_sphere
-    with pytest.raises(ContactError, match="penalty too low: penetration .* % of the travel") as err:
+    with pytest.raises(PressError, match="penalty too low: penetration .* % of the travel") as err:
         Press(sy, ind, opts=Options(method="penalty", penalty_factor=1.0)).travel(d, first=1.0)
     assert err.value.cause == "penalty"          # raised at once: a shorter travel step does not mend it
     # the same penalty inside the augmented Lagrangian reaches the tolerance
@@ -158,7 +158,7 @@ def test_penalty_error_falls_as_one_over_the_penalty(small_sphere):
 
 def test_penalty_too_high_is_reported_as_ill_conditioning(small_sphere):
     sy, ind, d = small_sphere
-    with pytest.raises(ContactError, match="penalty too high") as err:
+    with pytest.raises(PressError, match="penalty too high") as err:
         Press(sy, ind, opts=Options(penalty_factor=1e14)).travel(d, first=1.0)
     assert err.value.cause == "penalty"
 
@@ -171,7 +171,7 @@ def test_newton_without_the_active_set_update_fails_and_says_so(small_sphere):
     sy, ind, d = small_sphere
     pt = Press(sy, ind).solve_at(d)
     assert pt.iterations <= 15 and pt.penetration <= 1e-3 * d
-    with pytest.raises(ContactError, match="did not converge|cycles|stagnates") as err:
+    with pytest.raises(PressError, match="did not converge|cycles|stagnates") as err:
         Press(sy, ind, opts=Options(active_set_update=False)).solve_at(d)
     assert err.value.cause in ("iterations", "cycling", "stagnation")
 
@@ -315,7 +315,7 @@ def test_force_control_that_gives_up_names_the_last_failed_trials_cause():
     count of trials."""
     prob, sy = _frictionless_probe(0.25e-3, 0.05e-3)
     pr = Press(sy, prob.indenter)
-    with pytest.raises(ContactError) as err:
+    with pytest.raises(PressError) as err:
         pr.force(1.0)
     msg = str(err.value)
     assert msg.startswith("force control: 1 N not reached in 40 trials")
@@ -342,7 +342,7 @@ def test_continuation_takes_a_stalled_press_past_an_unstable_state(probe_example
     prob, sy = probe_example_mesh
     path = (0.2, 0.4, 0.6, 0.7, 0.8, 0.9, 1.0)
     off = Press(sy, prob.indenter, opts=Options(continuation=False))
-    with pytest.raises(ContactError, match="Newton stagnates"):
+    with pytest.raises(PressError, match="Newton stagnates"):
         for F in path:
             off.force(F)
     assert off.res.points[-1].force < 0.95
@@ -390,7 +390,7 @@ def test_a_study_point_whose_press_stops_short_is_the_press_at_the_force_it_reac
     from taxel.studies.evaluate import evaluate
     from taxel.studies.store import Store, tidy_rows
     sc = load("thesis-pzt-probe-2d").replace(**{"load.friction": "frictionless", "load.force": 3.0})
-    with pytest.raises(ContactError) as err:
+    with pytest.raises(PressError) as err:
         solve_static(sc)
     assert err.value.cause in ("inversion", "stagnation")
     last = err.value.result.points[-1]

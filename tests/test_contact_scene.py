@@ -1,4 +1,4 @@
-"""A scene pressed by a rigid indenter ([load] kind = "indenter", contact = true):
+"""A scene pressed by a rigid indenter ([load] kind = "probe", contact = true):
 the thesis taxel pressed by a flat punch at a small force. Its bad input is in
 test_bad_input.py (rows "scene-contact-*")."""
 
@@ -35,7 +35,7 @@ contact = true
 
 def pressed(silicone, force, model="plane_strain"):
     return load("thesis-pzt-single-2d").replace(**{
-        "model.type": model, "model.silicone": silicone, "load.kind": "indenter", "load.contact": True,
+        "model.type": model, "model.silicone": silicone, "load.kind": "probe", "load.contact": True,
         "load.radius": 2e-3, "load.edge_radius": 0.2e-3, "load.force": force})
 
 
@@ -85,7 +85,7 @@ def test_cli_prints_and_records_the_press(tmp_path, capsys):
     writes contact-curve.csv."""
     import json
     path = tmp_path / "press.toml"
-    path.write_text(FAST.format(model="plane_strain", kind="indenter", extra='force = "0.05 N"\nedge_radius = "0.2 mm"'))
+    path.write_text(FAST.format(model="plane_strain", kind="probe", extra='force = "0.05 N"\nedge_radius = "0.2 mm"'))
     assert main(["solve", str(path), "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)["contact"]
     assert rec["force_N"] == pytest.approx(0.05, rel=2e-3)

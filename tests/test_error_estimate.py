@@ -162,7 +162,7 @@ def test_multifidelity_correction_is_exact_at_verified_designs_and_recovers_a_lo
     ratios are exp(a + b.x): exact there, and the same law in between."""
     import numpy as np
     from types import SimpleNamespace
-    from taxel.optimize.multifidelity import Design, interpolant, nondominated
+    from taxel.optimize.multifidelity import ScoredDesign, interpolant, nondominated
     prob = SimpleNamespace(lo=np.array([0.0, 1.0]), hi=np.array([1.0, 5.0]))
     rng = np.random.default_rng(1)
 
@@ -172,13 +172,13 @@ def test_multifidelity_correction_is_exact_at_verified_designs_and_recovers_a_lo
     designs = []
     for x in rng.uniform(prob.lo, prob.hi, (6, 2)):
         r = law(x)
-        designs.append(Design(list(x), (1.0, 0.1), (r[0], 0.1 * r[1])))
+        designs.append(ScoredDesign(list(x), (1.0, 0.1), (r[0], 0.1 * r[1])))
     ratio = interpolant(prob, designs)
     for d in designs:
         assert np.allclose(ratio(d.x) * [1.0, 0.1], d.fine)
     x = [0.5, 3.0]
     assert np.allclose(ratio(x), law(x), rtol=1e-9)
-    front = nondominated(designs + [Design([0, 1], (0.5, 0.5), (0.1, 0.9))], lambda d: d.fine)
+    front = nondominated(designs + [ScoredDesign([0, 1], (0.5, 0.5), (0.1, 0.9))], lambda d: d.fine)
     assert all(d.fine != (0.1, 0.9) for d in front)
 
 
@@ -200,15 +200,15 @@ def test_multifidelity_confirms_the_answer_on_the_finer_3d_mesh(tmp_path):
     import numpy as np
     from taxel.analyses import solve_static
     from taxel.optimize import spec as O
-    from taxel.optimize.multifidelity import CONFIRM_3D, Design, MultiFidelity, confirm, fine_data
+    from taxel.optimize.multifidelity import CONFIRM_3D, ScoredDesign, MultiFidelity, confirm, fine_data
     from taxel.optimize.multifidelity import answer, sentence
     from taxel.scene import parse
     prob = O.load_optimization("thesis-pzt-front")
     prob.out = tmp_path
     x_ref = np.array([1.0, 1.0, 3.0])
-    ref = Design(list(x_ref), (0.81, 0.075), (0.87, 0.024))
-    worse = Design([1.0, 1.0, 1.5], (0.9, 0.2), (0.95, 0.06))                # more crosstalk: not chosen
-    best = Design([0.9, 1.1, 4.5], (0.8, 0.03), (0.88, 0.012))
+    ref = ScoredDesign(list(x_ref), (0.81, 0.075), (0.87, 0.024))
+    worse = ScoredDesign([1.0, 1.0, 1.5], (0.9, 0.2), (0.95, 0.06))                # more crosstalk: not chosen
+    best = ScoredDesign([0.9, 1.1, 4.5], (0.8, 0.03), (0.88, 0.012))
     mf = confirm(prob, MultiFidelity([], [ref, worse, best], [ref, worse, best], ref), workers=1)
     assert set(mf.confirmed) == {"reference", "best"}
     direct = solve_static(parse({**fine_data(prob, x_ref, CONFIRM_3D), "name": "direct"}))
@@ -250,7 +250,7 @@ def test_estimate_of_a_yeoh_press_has_no_linear_law_part_and_the_punch_floor():
     reference law; the press's Solution has no Newton record, so the result says which
     law was solved), and the model form is widened by at least the 3D mesh's measured
     press error (estimate.CHEAP_3D_PRESS_ERROR), not the pressure patch's 0.5 %."""
-    sc = small(**{"model.silicone": "yeoh", "load.kind": "indenter", "load.contact": True,
+    sc = small(**{"model.silicone": "yeoh", "load.kind": "probe", "load.contact": True,
                   "load.radius": "2 mm", "load.edge_radius": "0.2 mm", "load.force": 0.3})
     res = taxel.solve(sc, estimate=True)
     assert res.yeoh

@@ -94,7 +94,7 @@ def toml_doc(d: dict) -> str:
 TYPED = ["1 mm", "0.5 mm", "3 mm", "-1 mm", "0 mm", "1 nm", "1e300 m", "inf mm", "nan mm", "1 N", "0.2 N", "-1 N",
          "0 N", "10 kPa", "1 %", "0.02", "150 %", "2 Hz", "1 kHz", "1 ms", "1 s", "500 Mohm", "820 pF", "5 V",
          "abc", "", " ", "1 parsec", "PSI-5H4E", "PVDF", "Ecoflex-00-30", "unobtainium", "linear", "yeoh", "open",
-         "ground", "short", "taxel", "indenter", "pressure", "between", "flat", "round", "sphere", "cylinder",
+         "ground", "short", "taxel", "probe", "pressure", "between", "flat", "round", "sphere", "cylinder",
          "up", "down", "bonded", "free", "rollers", "clamped", "simply_supported", "static", "log", "linear",
          "step", "impulse", "chirp", "csv", "fixed", "half", "quarter", "full", "auto", "sensitivity",
          "crosstalk", "charge_sensitivity", "voltage_per_newton", "resistor", "charge_amplifier", "../x", "a/b"]
@@ -120,7 +120,7 @@ VALID = {"model.tolerance": ["1 %", "0.02", 0.05, "5 percent"], "model.silicone"
          "array.taxel_width": ["2 mm", "4 mm", "6 mm"], "array.piezo": ["PSI-5H4E", "PVDF"],
          "array.piezo_thickness": ["0.127 mm", "52 um"], "array.silicone_above": ["0.5 mm", "2 mm", "0 mm"],
          "array.silicone_below": ["0.5 mm", "2 mm"], "array.margin": ["1 mm", "5 mm"], "array.poling": ["down"],
-         "load.force": ["0.2 N", "5 N", "-1 N"], "load.kind": ["taxel", "indenter"], "load.radius": ["1 mm", "2 mm"],
+         "load.force": ["0.2 N", "5 N", "-1 N"], "load.kind": ["taxel", "probe"], "load.radius": ["1 mm", "2 mm"],
          "load.profile": ["flat", "round"], "load.offset": [["0.5 mm", "0 mm"]],
          "supports.bottom": ["bonded", "rollers", "free"], "supports.edges": ["free", "clamped", "rollers"],
          "electrodes.taxel_0_0": ["open", "ground", "5 V"], "readout.circuit": ["open", "resistor"],
@@ -214,7 +214,7 @@ SCENE_BASE = {"model": {"type": "plane_strain"}, "mesh": {"size": "1 mm", "piezo
 @settings(max_examples=SCENE_EXAMPLES, **SETTINGS)
 @given(mutations(SCENE_LEAVES, BOUNDED, VALID))
 @example([("model.tolerance", "1 %")])                                  # round three: percent strings
-@example([("load.kind", "indenter"), ("load.radius", "50 mm")])          # an indenter wider than the part
+@example([("load.kind", "probe"), ("load.radius", "50 mm")])          # an indenter wider than the part
 @example([("dynamics.silicone_loss", "10 %"), ("analysis.tolerance", "0.02")])
 @example([("model.silicone", "yeoh"), ("array.silicone", "gel"),
           ("materials.gel", {"kind": "solid", "E": 1e5, "nu": 0.45, "rho": 1000})])

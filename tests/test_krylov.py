@@ -7,7 +7,7 @@ import pytest
 from taxel.analyses import problem
 from taxel.fem import linalg
 from taxel.fem.assembly import assemble
-from taxel.fem.assembly import reduction
+from taxel.fem.assembly import elimination
 from taxel.fem.static import solve_linear
 from taxel.scene import load
 
@@ -44,7 +44,7 @@ def _krylov_equals_direct(system):
 
 
 def _reduced(sy):
-    red = reduction(sy)
+    red = elimination(sy)
     return (red.P.T @ sy.A @ red.P).tocsc(), red
 
 

@@ -23,7 +23,7 @@ from taxel.studies.bench.importers import import_file
 from taxel.studies.measured.localize import largest_taxel
 from taxel.studies.bench.protocol import encode_frames
 from taxel.studies.bench.rig import load_rig, parse_rig
-from taxel.studies.bench.simulate import Settings, conditioning_tf, save_truth, simulate
+from taxel.studies.bench.signals import Settings, conditioning_tf, save_truth, simulate
 
 SCENE = "thesis-pzt-3x3-2d"
 

@@ -128,7 +128,7 @@ def test_simulator_fem_transient_settles_on_the_static_fem_charge(tmp_path, monk
     import taxel
     from taxel.analyses import solve_static
     from taxel.studies.bench.rig import load_rig
-    from taxel.studies.bench.simulate import Settings, simulate
+    from taxel.studies.bench.signals import Settings, simulate
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     scene = taxel.load("thesis-pzt-3x3-2d")
     bench = load_rig("thesis-bench")

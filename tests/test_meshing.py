@@ -51,8 +51,8 @@ def test_gap_smaller_than_the_mesh_size():
 
 LOADS = [
     {"kind": "between", "taxel": [0, 0], "neighbour": [0, 1], "force": "0.5 N"},
-    {"kind": "indenter", "profile": "round", "radius": "1 mm", "force": "0.5 N"},
-    {"kind": "indenter", "profile": "flat", "radius": "1 mm", "offset": ["1 mm", "0 mm"], "force": "0.5 N"},
+    {"kind": "probe", "profile": "round", "radius": "1 mm", "force": "0.5 N"},
+    {"kind": "probe", "profile": "flat", "radius": "1 mm", "offset": ["1 mm", "0 mm"], "force": "0.5 N"},
     {"kind": "pressure", "pressure": "1 kPa"},
 ]
 
@@ -80,7 +80,7 @@ def test_every_load_kind_balances(load, model):
 def test_round_indenter_has_the_hertz_resultant_in_axisymmetry():
     """p = p0 sqrt(1 - r^2/a^2) integrates to 2/3 p0 pi a^2: the solver normalises
     the profile numerically, so the applied force must be exactly the asked one."""
-    data = array_scene("axisymmetric", cols=1) | {"load": {"kind": "indenter", "profile": "round",
+    data = array_scene("axisymmetric", cols=1) | {"load": {"kind": "probe", "profile": "round",
                                                            "radius": "1.5 mm", "force": "0.3 N"}}
     sol = solve(parse(data))
     assert sol.applied_force == pytest.approx(0.3)
@@ -124,7 +124,7 @@ def _probe_on_the_3d_taxel():
     """thesis-pzt-single-3d (its [mesh]: extruded) pressed by the rig's probe, a 2 mm flat punch
     with a 0.2 mm edge, in contact: the reference family's scene (benchmarks/press_3d.py)."""
     return load("thesis-pzt-single-3d").replace(**{
-        "load.kind": "indenter", "load.contact": True, "load.radius": 2e-3, "load.edge_radius": 0.2e-3,
+        "load.kind": "probe", "load.contact": True, "load.radius": 2e-3, "load.edge_radius": 0.2e-3,
         "load.force": 1.0})
 
 

@@ -83,7 +83,7 @@ def test_simulated_rig_noise_matches_the_integrated_psd():
     are whole periods in the record (no leakage). Accepted: 4 standard deviations."""
     from taxel.scene import load
     from taxel.studies.bench.rig import load_rig
-    from taxel.studies.bench.simulate import Settings, simulate
+    from taxel.studies.bench.signals import Settings, simulate
     rig = load_rig("thesis-bench")
     scene = load("thesis-pzt-single-2d")
     hum = (2e-3, 0.6e-3, 0.2e-3)

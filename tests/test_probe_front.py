@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from taxel.cli import main
-from taxel.optimize.multifidelity import Design, correct, nondominated
-from taxel.optimize.probe import Press, press_metrics, press_scene
+from taxel.optimize.multifidelity import ScoredDesign, correct, nondominated
+from taxel.optimize.probe import ProbePress, press_metrics, press_scene
 from taxel.optimize.probe_front import _solver, press_3d, spread
 from taxel.optimize.spec import load_optimization, optimize
 from taxel.schema import to_data
@@ -40,7 +40,7 @@ silicone = "Ecoflex-00-30"
 silicone_above = "1 mm"
 silicone_below = "1 mm"
 [load]
-kind = "indenter"
+kind = "probe"
 contact = true
 shape = "flat"
 radius = "2 mm"
@@ -68,12 +68,12 @@ def test_press_objective_equals_taxel_solve_and_its_tangent_the_slope(tmp_path, 
     m = press_metrics(data)
     assert m["sensitivity"] == pytest.approx(abs(rec["outputs"]["sensitivity"]), rel=1e-12)
     assert m["crosstalk"] == pytest.approx(rec["outputs"]["crosstalk"], rel=1e-12)
-    assert m["max_strain"] == pytest.approx(rec["max_silicone_strain"], rel=1e-12)
+    assert m["max_strain"] == pytest.approx(rec["max_strain"], rel=1e-12)
     from taxel.analyses import problem
     from taxel.fem.assembly import assemble
-    from taxel.fem.contact import Press as FemPress
+    from taxel.fem.contact import Press
     prob = problem(load(path))
-    pr = FemPress(assemble(prob), prob.indenter)
+    pr = Press(assemble(prob), prob.indenter)
     v = {F: (p.force, p.voltages["taxel_1_1"]) for F, p in ((F, pr.force(F)) for F in (0.9, 1.0, 1.1))}
     slope = abs((v[1.1][1] - v[0.9][1]) / (v[1.1][0] - v[0.9][0]))      # central, along one press
     assert m["tangent_sensitivity"] == pytest.approx(slope, rel=1.5e-2)   # the load steps: ~1 % (sticking)
@@ -92,8 +92,8 @@ def test_press_objective_equals_taxel_solve_and_its_tangent_the_slope(tmp_path, 
 
 def test_press_scene_puts_the_probe_on_the_pressed_taxel():
     data = to_data(load("thesis-pzt-3x3-2d"))
-    d = press_scene(data, Press(radius="1.5 mm", force="0.5 N"))
-    assert d["load"] | {} == {**d["load"], "kind": "indenter", "contact": True, "radius": "1.5 mm",
+    d = press_scene(data, ProbePress(radius="1.5 mm", force="0.5 N"))
+    assert d["load"] | {} == {**d["load"], "kind": "probe", "contact": True, "radius": "1.5 mm",
                              "force": "0.5 N", "shape": "flat", "edge_radius": "0.2 mm", "friction": "sticking"}
     assert d["model"]["silicone"] == "yeoh" and list(d["load"]["taxel"]) == [1, 1]
 
@@ -137,13 +137,13 @@ def test_multifidelity_front_equals_pressing_every_candidate(tmp_path):
     pool = []
     for x in xs:
         m = lin.evaluate(x)
-        pool.append(Design(list(x), (m["sensitivity"], m["crosstalk"])))
+        pool.append(ScoredDesign(list(x), (m["sensitivity"], m["crosstalk"])))
     solve = _solver(prob, None, 1)
     front_lin = nondominated(pool, lambda d: d.cheap)
     verified, rounds = correct(lin, pool, front_lin, 2, solve, tolerance=0.01, max_rounds=6)
     brute = solve([d.x for d in pool])                       # from the store where the loop pressed
     mf_front = nondominated([d for d in pool if d.fine or d.predicted], lambda d: d.fine or d.predicted)
-    bf_front = nondominated([Design(d.x, b) for d, b in zip(pool, brute)], lambda d: d.cheap)
+    bf_front = nondominated([ScoredDesign(d.x, b) for d, b in zip(pool, brute)], lambda d: d.cheap)
     assert {tuple(d.x) for d in mf_front} == {tuple(d.x) for d in bf_front}
     for d in verified:
         assert d.fine == brute[[tuple(p.x) for p in pool].index(tuple(d.x))]
@@ -205,7 +205,7 @@ def test_3d_level_equals_pressing_every_candidate_in_3d(tmp_path):
     prob = _problem(tmp_path)
     xs = [[0.5, 1.5], [0.8, 4.5], [1.0, 1.2]]                        # mm: silicone above, gap
     b = _solver(prob, None, 1)(xs)
-    pool = [Design(x, m) for x, m in zip(xs, b)]
+    pool = [ScoredDesign(x, m) for x, m in zip(xs, b)]
     assert all(m is not None for m in b)
     front_b = nondominated(pool, lambda d: d.cheap)
     assert len(front_b) < len(pool)                                  # the case has a dominated design
@@ -214,7 +214,7 @@ def test_3d_level_equals_pressing_every_candidate_in_3d(tmp_path):
     brute = _solver(prob, COARSE_3D, 1)(xs)                          # every candidate (pressed ones from the store)
     assert all(m is not None for m in brute)
     mf_front = nondominated([d for d in pool if d.fine or d.predicted], lambda d: d.fine or d.predicted)
-    bf_front = nondominated([Design(x, m) for x, m in zip(xs, brute)], lambda d: d.cheap)
+    bf_front = nondominated([ScoredDesign(x, m) for x, m in zip(xs, brute)], lambda d: d.cheap)
     assert {tuple(d.x) for d in mf_front} == {tuple(d.x) for d in bf_front}
     assert all(d.fine is not None for d in mf_front)                # the answer's front is pressed, not predicted
     for d in pressed:
@@ -240,14 +240,14 @@ def test_press_over_a_force_range_is_the_worst_of_presses_at_each_force():
     largest crosstalk of the range, and its top state is the press to 1 N's."""
     data = to_data(load("thesis-pzt-3x3-2d"))
     data["mesh"].update(size="1 mm", piezo_size="0.25 mm")
-    press = Press(force_range=["0.5 N", "1 N"], range_points=3)
+    press = ProbePress(force_range=["0.5 N", "1 N"], range_points=3)
     d = press_scene(data, press)
     assert d["load"]["force"] == "1 N"
     m = press_metrics(d, press)
     assert [r["force"] for r in m["range"]] == pytest.approx([0.5, 0.75, 1.0], rel=2e-3)   # force control to 0.1 %
     # each force pressed alone, independently of the range press (the top one with the range's
     # own scene: the same force along other load steps; measured 9e-5)
-    singles = [press_metrics(press_scene(data, Press(force=f"{r['force']} N"))) for r in m["range"][:-1]]
+    singles = [press_metrics(press_scene(data, ProbePress(force=f"{r['force']} N"))) for r in m["range"][:-1]]
     singles.append(press_metrics(d))
     for r, one in zip(m["range"], singles):
         assert r["sensitivity"] == pytest.approx(one["sensitivity"], rel=2e-3)

@@ -185,7 +185,7 @@ def test_cli_writes_npz_and_mat(tmp_path, capsys):
 def test_simulated_rig_on_the_reduced_model_has_the_fems_static_charge_and_crosstalk():
     from taxel.fem.dynamics import ports
     from taxel.studies.bench.rig import load_rig
-    from taxel.studies.bench.simulate import Settings, simulate
+    from taxel.studies.bench.signals import Settings, simulate
     scene = taxel.load("thesis-pzt-3x3-2d")
     truth = simulate(load_rig("thesis-bench"), scene, Settings(input="step", seconds=1.0, model="reduced",
                                                                gain_spread=0.0, tau_spread=0.0))

@@ -73,7 +73,7 @@ def test_static_outputs_are_named_by_the_vocabulary():
     e = res.electrodes[res.pressed]
     assert out["pressed_voltage"] == e.voltage
     assert out["sensitivity"] == pytest.approx(e.voltage / abs(res.applied_force))
-    assert out["crosstalk"] == res.crosstalk and out["max_strain"] == res.max_silicone_strain
+    assert out["crosstalk"] == res.crosstalk and out["max_strain"] == res.max_strain
 
 
 def test_read_back_has_no_mesh_or_fields(tmp_path):

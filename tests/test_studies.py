@@ -22,7 +22,7 @@ from waits import CEILING, poll_until
 SMALL = """
 name = "small"
 base = "{base}"
-outputs = ["voltage", "charge", "max_strain"]
+outputs = ["voltage", "short_circuit_charge", "max_strain"]
 
 [overrides]
 "mesh.size" = "1 mm"
@@ -87,7 +87,7 @@ def test_kill_minus_nine_twice_then_resume_gives_every_point_once(tmp_path):
     import json
     for (_, _, a), (_, _, b) in zip(got, want):
         ra, rb = json.loads(a), json.loads(b)
-        assert ra["voltage"] == rb["voltage"] and ra["charge"] == rb["charge"]
+        assert ra["voltage"] == rb["voltage"] and ra["short_circuit_charge"] == rb["short_circuit_charge"]
 
 
 @pytest.mark.slow      # 13 s wall: a local Dask cluster of two worker processes

@@ -12,7 +12,7 @@ from taxel.analyses import mesh, problem, scene_materials
 from taxel.analyses import solve_static
 from taxel.fem import assembly
 from taxel.fem import static
-from taxel.meshing.mirror import unfold
+from taxel.meshing.mirror import unfold_mesh
 from taxel.analyses import check, symmetry_planes
 from taxel.scene import SceneError, load
 
@@ -23,7 +23,7 @@ def _pair(scene, sym):
     full_scene = scene.replace(**{"model.symmetry": "full"})
     tm = mesh(cut_scene)
     assert tm.layout.planes
-    full_tm = unfold(tm, layout(full_scene, scene_materials(full_scene)))
+    full_tm = unfold_mesh(tm, layout(full_scene, scene_materials(full_scene)))
     sym_sol = static.solve_linear(assembly.assemble(problem(cut_scene, tm)), "superlu")
     full_sol = static.solve_linear(assembly.assemble(problem(full_scene, full_tm)), "superlu")
     return sym_sol, full_sol
@@ -111,7 +111,7 @@ def test_auto_solves_a_quarter_and_reports_every_taxel():
 
 
 def test_an_indenter_centred_between_four_taxels_is_a_quarter():
-    four = load("thesis-pzt-3x3-3d").replace(**{"array.rows": 2, "array.cols": 2, "load.kind": "indenter",
+    four = load("thesis-pzt-3x3-3d").replace(**{"array.rows": 2, "array.cols": 2, "load.kind": "probe",
                                                 "load.radius": "2 mm", "load.taxel": [1, 0]})
     assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "3.5 mm"]})) == (0, 1)
     assert symmetry_planes(four.replace(**{"load.offset": ["3.5 mm", "-3.5 mm"]})) == (0,)
@@ -128,7 +128,7 @@ def _press_pair(scene, sym, travel):
         sc = scene.replace(**{"model.symmetry": s})
         tm = mesh(scene.replace(**{"model.symmetry": sym}))
         if s == "full":
-            tm = unfold(tm, layout(sc, scene_materials(sc)))
+            tm = unfold_mesh(tm, layout(sc, scene_materials(sc)))
         prob = problem(sc, tm)
         prob = replace(prob, indenter=replace(prob.indenter, force=None, travel=travel))
         out.append(press(assembly.assemble(prob), prob.indenter))   # the default solver (PARDISO in 3D)
@@ -150,7 +150,7 @@ def test_symmetric_press_equals_the_mirrored_full_press(name, sym, edit, travel)
     half or quarter press (force and contact area x |G|, the capacitance matrix from the
     antisymmetric classes linearised with the pressed state's tangent) equals the full
     press on the mirrored mesh, to the Newton and multiplier tolerances."""
-    scene = load(name).replace(**{"load.kind": "indenter", "load.contact": True, "load.radius": "2 mm",
+    scene = load(name).replace(**{"load.kind": "probe", "load.contact": True, "load.radius": "2 mm",
                                   "load.edge_radius": "0.2 mm"}, **edit)
     s, f = _press_pair(scene, sym, travel)
     vmax = max(abs(e.voltage) for e in f.electrodes.values())

@@ -56,21 +56,21 @@ def test_reads_engineering_columns_in_pa(data):
     assert np.interp(1.0, strain, stress) == pytest.approx(29.7e3, abs=50)
 
 
-@pytest.mark.parametrize("max_strain, published, decimals", PUBLISHED, ids=["50%", "100%", "300%"])
-def test_fit_reproduces_published_sets(data, max_strain, published, decimals):
-    fit = Y.fit_yeoh(*data, max_strain)
+@pytest.mark.parametrize("fit_strain, published, decimals", PUBLISHED, ids=["50%", "100%", "300%"])
+def test_fit_reproduces_published_sets(data, fit_strain, published, decimals):
+    fit = Y.fit_yeoh(*data, fit_strain)
     for got, ref, nd in zip(fit.C, published, decimals):
         assert abs(got / 1e3 - ref) <= 0.5 * 10.0 ** -nd, (fit, published)
     assert fit.r2 > 0.99
-    assert fit.n_points == {0.5: 20, 1.0: 42, 3.0: 130}[max_strain]
+    assert fit.n_points == {0.5: 20, 1.0: 42, 3.0: 130}[fit_strain]
     assert 300 < fit.rms_Pa < 400
 
 
-@pytest.mark.parametrize("name,max_strain", [("Ecoflex-00-30", 3.0), ("Ecoflex-00-30-fit100", 1.0),
+@pytest.mark.parametrize("name,fit_strain", [("Ecoflex-00-30", 3.0), ("Ecoflex-00-30-fit100", 1.0),
                                              ("Ecoflex-00-30-fit50", 0.5)])
-def test_library_records_are_the_fits_of_the_data(data, name, max_strain):
+def test_library_records_are_the_fits_of_the_data(data, name, fit_strain):
     """The default record is the 300 % fit (the one stable set, fem.constitution)."""
-    fit = Y.fit_yeoh(*data, max_strain)
+    fit = Y.fit_yeoh(*data, fit_strain)
     lib = M.get(name).yeoh
     assert np.allclose(np.array(fit.C), lib, atol=6.0)     # library carries 3 digits in kPa
 
@@ -97,10 +97,10 @@ def test_stability_50_percent_fit_lost_300_percent_fit_kept(data):
 # --------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("C", [(6.7e3, 1.93e3, -1.07e3), (7.83e3, 103.0, -0.8), (1e5, -2e3, 50.0)])
-@pytest.mark.parametrize("max_strain", [0.3, 1.0, 5.0])
-def test_synthetic_data_recovers_coefficients(C, max_strain):
-    strain = np.linspace(0.0, max_strain, 57)          # includes 0, which the fit skips
-    fit = Y.fit_yeoh(strain, Y.uniaxial_stress(strain, *C), max_strain)
+@pytest.mark.parametrize("fit_strain", [0.3, 1.0, 5.0])
+def test_synthetic_data_recovers_coefficients(C, fit_strain):
+    strain = np.linspace(0.0, fit_strain, 57)          # includes 0, which the fit skips
+    fit = Y.fit_yeoh(strain, Y.uniaxial_stress(strain, *C), fit_strain)
     assert fit.n_points == 56
     for got, ref in zip(fit.C, C):
         assert abs(got - ref) <= 1e-10 * max(abs(c) for c in C)
@@ -199,7 +199,7 @@ def test_fit_needs_positive_max_strain_and_enough_points():
 # --------------------------------------------------------------------------------------
 
 def test_cli_prints_coefficients_and_warning(capsys):
-    assert main(["material", "fit-yeoh", str(DATA), "--max-strain", "0.5"]) == 0
+    assert main(["material", "fit-yeoh", str(DATA), "--fit-strain", "0.5"]) == 0
     out = capsys.readouterr().out
     assert "C10 = 6.697 kPa, C20 = 1.933 kPa, C30 = -1.065 kPa" in out
     assert "R^2 = 0.99337" in out and "20 points" in out and "RMS error 357.2 Pa" in out
@@ -207,7 +207,7 @@ def test_cli_prints_coefficients_and_warning(capsys):
 
 
 def test_cli_300_percent_stable_within_its_range(capsys):
-    assert main(["material", "fit-yeoh", str(DATA), "--max-strain", "300%", "--check-strain", "3"]) == 0
+    assert main(["material", "fit-yeoh", str(DATA), "--fit-strain", "300%", "--check-strain", "3"]) == 0
     out = capsys.readouterr().out
     assert "C10 = 7.83 kPa, C20 = 0.1034 kPa, C30 = -0.0008065 kPa" in out
     assert "WARNING" not in out and "stable in uniaxial, equibiaxial and pure shear" in out
@@ -215,7 +215,7 @@ def test_cli_300_percent_stable_within_its_range(capsys):
 
 def test_cli_json_and_plot(tmp_path, capsys):
     png = tmp_path / "fit.png"
-    assert main(["material", "fit-yeoh", str(DATA), "--max-strain", "1", "--json", "--plot", str(png)]) == 0
+    assert main(["material", "fit-yeoh", str(DATA), "--fit-strain", "1", "--json", "--plot", str(png)]) == 0
     cap = capsys.readouterr()
     rec = json.loads(cap.out)
     assert rec["C10_Pa"] == pytest.approx(7180.3, abs=0.1) and rec["n_points"] == 42

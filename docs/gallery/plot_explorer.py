@@ -18,17 +18,17 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import taxel
-from taxel.explore.controls import Design, scene_of
+from taxel.explore.controls import ControlValues, scene_of
 from taxel.explore.session import Session
 
 base = taxel.load("thesis-pzt-single-2d")
-design = Design.of(base)
+design = ControlValues.of(base)
 session = Session()                       # a fresh store in a temporary folder
 
 thickness = np.round(np.arange(0.5, 2.01, 0.25), 2)
 volts, first, again = [], [], []
 for t in list(thickness) + list(thickness[::-1]):          # there and back
-    scene = scene_of(base, Design({**design.numbers, "silicone_above": f"{t:g}"}, design.piezo))
+    scene = scene_of(base, ControlValues({**design.numbers, "silicone_above": f"{t:g}"}, design.piezo))
     t0 = time.perf_counter()
     a = session.answer(scene)
     (again if a.cached else first).append(time.perf_counter() - t0)

@@ -3,7 +3,7 @@ A press with a probe
 ====================
 
 The thesis's rig presses a rigid probe, not a pressure patch. ``[load] kind =
-"indenter"`` with ``contact = true`` solves the contact of a rigid indenter (here a
+"probe"`` with ``contact = true`` solves the contact of a rigid indenter (here a
 cylinder of 2 mm radius on the 2D section) with the silicone, to a force; each
 converged load step is a point of the voltage-force and force-travel curves.
 Sticking friction is the default (a dry probe on tacky silicone).
@@ -15,7 +15,7 @@ import numpy as np
 import taxel
 
 scene = taxel.load("thesis-pzt-single-2d").replace(**{
-    "load.kind": "indenter", "load.contact": True, "load.shape": "cylinder",
+    "load.kind": "probe", "load.contact": True, "load.shape": "cylinder",
     "load.radius": "2 mm", "load.force": "0.5 N",
 })
 result = taxel.solve(scene)

@@ -21,7 +21,7 @@ folder = Path(tempfile.mkdtemp(prefix="taxel-study-"))
 (folder / "fig-2-5-small.toml").write_text('''
 description = "Fig. 2.5, small: pressed-taxel voltage vs silicone thickness"
 base = "thesis-pzt-single-2d"
-outputs = ["voltage", "charge", "max_strain"]
+outputs = ["voltage", "short_circuit_charge", "max_strain"]
 
 [overrides]
 "model.type" = "plane_stress"

@@ -46,7 +46,7 @@ from skfem import ElementVector
 from skfem.element.discrete_field import DiscreteField
 
 from taxel.fem.constitution import Kinematics
-from ._scalar_basis import LeanBasis, ScalarBasis, affine_blocks, block_csr, block_matrices, scalar_basis, scalar_dofs
+from ._scalar_basis import LazyBasis, ScalarBasis, affine_blocks, block_csr, block_matrices, scalar_basis, scalar_dofs
 
 CHUNK = 4000          # elements per batch: bounds the operator arrays (30 x 6 x 11 x 8 B each)
 
@@ -144,7 +144,7 @@ def lifting(basis, op: Operator, kin: Kinematics):
 def scalar_quantities(basis, kind: str, sl) -> np.ndarray:
     """(elements, points, r, scalar functions): gradients or values of the scalar shape
     functions of a basis (component 0 of a vector basis: its functions are (a, c))."""
-    if isinstance(basis, LeanBasis) and basis.scalar is not None:
+    if isinstance(basis, LazyBasis) and basis.scalar is not None:
         basis = basis.scalar
     if isinstance(basis, ScalarBasis):
         if kind == "grad":
@@ -294,7 +294,7 @@ def _affine_term(term: Term, sign: float, L, kin: Kinematics, shared: dict):
     if not getattr(m, "affine", False) or m.t.shape[0] != m.dim() + 1 or np.ndim(measure) != 0:
         return None
     s = scalar_dofs(b)
-    if isinstance(b, LeanBasis):
+    if isinstance(b, LazyBasis):
         sb = b.scalar
         return None if sb is None else (b, s, (sign * float(measure)) * affine_blocks(sb, L, term.D))
     X, W = b.quadrature

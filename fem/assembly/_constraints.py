@@ -1,10 +1,10 @@
-"""Supports, electrodes, and the reduction to the unknowns that are solved for.
+"""Supports, electrodes, and the elimination of the constrained unknowns.
 
 Supports fix displacement DOFs (all homogeneous). Electrodes: one is the
 reference (phi = 0: the common bottom "ground" of an array when it is grounded,
 else the first grounded electrode, as on a plate). Every other electrode is *active*: its potential DOFs
 collapse into one unknown V_k whose equation is the electrode's charge balance
-(the sum of its rows), right-hand side -Q_k. The reduction x_full = P y drops
+(the sum of its rows), right-hand side -Q_k. The elimination x_full = P y drops
 fixed displacements, unused pressure/potential DOFs and the reference electrode
 (and, if asked, every grounded electrode), and collapses active electrodes.
 """
@@ -138,7 +138,7 @@ def electrodes(problem: Problem, phibases, offset) -> Electrodes:
 
 
 @dataclass
-class Reduction:
+class Elimination:
     """The constrained, collapsed unknowns: x_full = P y. Columns: free DOFs, then
     one potential per active electrode (whose equation is its charge balance)."""
 
@@ -159,9 +159,9 @@ class Reduction:
         return B
 
 
-def reduction(sy, eliminate_grounded: bool = False, fixed: np.ndarray | None = None,
-              grounded: tuple[str, ...] = ()) -> Reduction:
-    """The Reduction of an assembled fem.assembly.System.
+def elimination(sy, eliminate_grounded: bool = False, fixed: np.ndarray | None = None,
+              grounded: tuple[str, ...] = ()) -> Elimination:
+    """The Elimination of an assembled fem.assembly.System.
 
     `fixed`: full DOFs held at zero instead of sy.fixed_u (any block); `grounded`:
     electrodes held at 0 V and eliminated (fem.static's antisymmetric classes)."""
@@ -188,4 +188,4 @@ def reduction(sy, eliminate_grounded: bool = False, fixed: np.ndarray | None = N
         col[edofs[k]] = nf + i
     rows = np.flatnonzero(col >= 0)
     P = sp.csr_matrix((np.ones(len(rows)), (rows, col[rows])), shape=(n, nf + len(active)))
-    return Reduction(P, nf, active, ref, np.append(free < sy.offsets["u"].stop, np.zeros(len(active), bool)))
+    return Elimination(P, nf, active, ref, np.append(free < sy.offsets["u"].stop, np.zeros(len(active), bool)))

@@ -129,10 +129,10 @@ def scalar_basis(mesh, elem, intorder: int = 4, quadrature=None, elements=None) 
     return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
 
 
-_UNSET = object()      # LeanBasis.scalar not yet looked for (None: it does not apply)
+_UNSET = object()      # LazyBasis.scalar not yet looked for (None: it does not apply)
 
 
-class LeanBasis(CellBasis):
+class LazyBasis(CellBasis):
     """scikit-fem's CellBasis without its eager table of every shape function at every
     quadrature point of every element (`basis`: for vector P2 tetrahedra 30 functions x
     (3 values + 9 gradients) x 11 points, 32 kB per element, most of an assembled 3D
@@ -141,13 +141,13 @@ class LeanBasis(CellBasis):
     ScalarBasis of the same elements, numbering and quadrature rule, or None where that
     does not apply: a curved or non-simplex mesh, a MINI element) serves the assembly
     (fem.assembly) and `interpolate` (u = sum_a u_(a, c) N_a, grad u from J^-T dN_ref)
-    without it. `like`: a LeanBasis of the same mesh and element whose DOF numbering and
+    without it. `like`: a LazyBasis of the same mesh and element whose DOF numbering and
     DOF locations (both of the whole mesh: 3 x 8 B per DOF, 24 MB per region of the 16x16
     array's quarter, 65 regions) this one shares."""
 
-    def __init__(self, mesh, elem, elements=None, intorder: int = 4, like: "LeanBasis | None" = None):
+    def __init__(self, mesh, elem, elements=None, intorder: int = 4, like: "LazyBasis | None" = None):
         if like is not None and (like.mesh is not mesh or like.elem is not elem):
-            raise ValueError("LeanBasis: `like` must be a basis of the same mesh and element")
+            raise ValueError("LazyBasis: `like` must be a basis of the same mesh and element")
         AbstractBasis.__init__(self, mesh, elem, None, intorder, None, mesh.refdom,
                                None if like is None else like.dofs, like is not None)
         if like is not None:

@@ -1,6 +1,6 @@
 """The reduced sparse matrix of a nonlinear solve, its pattern built once.
 
-The reduction of fem.assembly maps every full unknown to at most one reduced
+The elimination of fem.assembly maps every full unknown to at most one reduced
 unknown with weight 1 (x_full = P y, P a 0/1 matrix with one entry per row at
 most), so P^T K P is K with its rows and columns relabelled by `col` (full ->
 reduced, -1 dropped) and duplicates summed. The pattern is the union of the
@@ -20,11 +20,11 @@ import scipy.sparse as sp
 
 
 def column_map(P: sp.csr_matrix) -> np.ndarray:
-    """col[i]: the reduced unknown of full unknown i, or -1 (P a 0/1 reduction)."""
+    """col[i]: the reduced unknown of full unknown i, or -1 (P a 0/1 elimination)."""
     Pc = sp.csr_matrix(P)
     counts = np.diff(Pc.indptr)
     if counts.max(initial=0) > 1 or not np.all(Pc.data == 1):
-        raise ValueError("pattern: the reduction is not a 0/1 relabelling")
+        raise ValueError("pattern: the elimination is not a 0/1 relabelling")
     col = np.full(P.shape[0], -1)
     rows = np.flatnonzero(counts)
     col[rows] = Pc.indices[Pc.indptr[rows]]

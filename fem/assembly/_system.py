@@ -28,7 +28,7 @@ from taxel.fem.constitution import Kinematics
 from taxel.fem.constitution import PiezoLaw, SolidLaw, law
 from ._problem import Problem
 from ._bilinear import GRAD, STRAIN, VALUE, Term, assemble_terms
-from ._scalar_basis import LeanBasis
+from ._scalar_basis import LazyBasis
 from taxel.fem.constitution import Yeoh
 from taxel.meshing.build import TaggedMesh
 
@@ -82,12 +82,12 @@ def assemble(problem: Problem) -> System:
     mesh = tm.mesh
     eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed)
     q = 4
-    # LeanBasis: no table of the shape functions at every point (32 kB per P2 tetrahedron);
+    # LazyBasis: no table of the shape functions at every point (32 kB per P2 tetrahedron);
     # one DOF numbering and one set of DOF locations per element for all regions
-    first: dict[int, LeanBasis] = {}
+    first: dict[int, LazyBasis] = {}
 
     def basis(elem, elems):
-        b = LeanBasis(mesh, elem, elems, q, first.get(id(elem)))
+        b = LazyBasis(mesh, elem, elems, q, first.get(id(elem)))
         first.setdefault(id(elem), b)
         return b
     ubases, pbases, phibases, laws, yeoh = {}, {}, {}, {}, {}

@@ -10,10 +10,10 @@ the loss factors over a band. Nothing here knows a mesh.
 
 from ._kinematics import (Axisymmetric, Kinematics, PlaneStrain, PlaneStress, Solid3D, kinematics)
 from ._laws import PiezoLaw, SolidLaw, law
-from ._materials import (ECOFLEX_UNIAXIAL_CSV, EPS0, Piezo, Solid, get, library, poling_rotation, reduced, rotate, strain_to_stress_charge)
+from ._materials import (ECOFLEX_UNIAXIAL_CSV, EPS0, Piezo, Solid, get, library, poling_rotation, model_tensors, rotate, strain_to_stress_charge)
 from ._relaxation import Relaxation, relaxation_law, ripple
 from ._user_materials import from_record
 from ._yeoh import (I3, MODES, Yeoh, dpsi, inv_det, nominal_stress, nominal_tangent, psi, stress, stress_tangent_batched, tangent)
 from ._yeoh_fit import (COMPRESSION_STRETCH, fit_yeoh, stability_limit, stability_losses, uniaxial_stress)
 
-__all__ = ["Axisymmetric", "COMPRESSION_STRETCH", "ECOFLEX_UNIAXIAL_CSV", "EPS0", "I3", "Kinematics", "MODES", "Piezo", "PiezoLaw", "PlaneStrain", "PlaneStress", "Relaxation", "Solid", "Solid3D", "SolidLaw", "Yeoh", "dpsi", "fit_yeoh", "from_record", "get", "inv_det", "kinematics", "law", "library", "nominal_stress", "nominal_tangent", "poling_rotation", "psi", "reduced", "relaxation_law", "ripple", "rotate", "stability_limit", "stability_losses", "strain_to_stress_charge", "stress", "stress_tangent_batched", "tangent", "uniaxial_stress"]
+__all__ = ["Axisymmetric", "COMPRESSION_STRETCH", "ECOFLEX_UNIAXIAL_CSV", "EPS0", "I3", "Kinematics", "MODES", "Piezo", "PiezoLaw", "PlaneStrain", "PlaneStress", "Relaxation", "Solid", "Solid3D", "SolidLaw", "Yeoh", "dpsi", "fit_yeoh", "from_record", "get", "inv_det", "kinematics", "law", "library", "model_tensors", "nominal_stress", "nominal_tangent", "poling_rotation", "psi", "relaxation_law", "ripple", "rotate", "stability_limit", "stability_losses", "strain_to_stress_charge", "stress", "stress_tangent_batched", "tangent", "uniaxial_stress"]

@@ -62,7 +62,7 @@ class Kinematics:
 
     def reduce(self, material):
         """(c, e, eps) of a material in this model (fem.constitution, exact reductions)."""
-        return materials.reduced(material, self.name)
+        return materials.model_tensors(material, self.name)
 
 
 @dataclass(frozen=True)

@@ -196,7 +196,7 @@ PLANE_STRAIN_IDX = ([0, 2, 4], [0, 2])     # S: xx, zz, 2xz;  E: x, z
 AXISYM_IDX = ([0, 1, 2, 4], [0, 2])        # S: rr, tt, zz, 2rz;  E: r, z
 
 
-def reduce_plane_strain(c, e, eps):
+def plane_strain_tensors(c, e, eps):
     """Plane strain in x-z: S_yy = S_yz = S_xy = 0, E_y = 0.
 
     With those strains and field zero, T = c S - e^T E keeps only the columns of
@@ -207,7 +207,7 @@ def reduce_plane_strain(c, e, eps):
     return c[np.ix_(s, s)], e[np.ix_(f, s)], eps[np.ix_(f, f)]
 
 
-def reduce_plane_stress(c, e, eps):
+def plane_stress_tensors(c, e, eps):
     """Plane stress in x-z: T_yy = T_yz = T_xy = 0 and E_y = 0 (thin in y, no field across it).
 
     In strain-charge form S = s T + d^T E, D = d T + eps^T E the out-of-plane
@@ -220,7 +220,7 @@ def reduce_plane_stress(c, e, eps):
     return strain_to_stress_charge(s[np.ix_(k, k)], d[np.ix_(f, k)], eps_T[np.ix_(f, f)])
 
 
-def reduce_axisymmetric(c, e, eps):
+def axisymmetric_tensors(c, e, eps):
     """Axisymmetric (r, theta, z): torsion-free, S_rt = S_tz = 0, E_t = 0.
 
     Exact for a material transversely isotropic about z (then the tensors are the
@@ -238,20 +238,20 @@ def reduce_axisymmetric(c, e, eps):
     return c[np.ix_(s, s)], e[np.ix_(f, s)], eps[np.ix_(f, f)]
 
 
-REDUCTIONS = {
+MODEL_TENSORS = {
     "3d": lambda c, e, eps: (c, e, eps),
-    "plane_strain": reduce_plane_strain,
-    "plane_stress": reduce_plane_stress,
-    "axisymmetric": reduce_axisymmetric,
+    "plane_strain": plane_strain_tensors,
+    "plane_stress": plane_stress_tensors,
+    "axisymmetric": axisymmetric_tensors,
 }
 
 
-def reduced(material, model: str):
+def model_tensors(material, model: str):
     """(c, e, eps) of `material` for `model`; a Solid has e = 0 and eps = eps_r eps0."""
     if isinstance(material, Piezo):
-        return REDUCTIONS[model](material.c, material.e, material.eps)
+        return MODEL_TENSORS[model](material.c, material.e, material.eps)
     c = material.stiffness()
-    return REDUCTIONS[model](c, np.zeros((3, 6)), material.eps_r * EPS0 * np.eye(3))
+    return MODEL_TENSORS[model](c, np.zeros((3, 6)), material.eps_r * EPS0 * np.eye(3))
 
 
 # --------------------------------------------------------------------------------------

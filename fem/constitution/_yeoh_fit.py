@@ -4,7 +4,7 @@ The law and its homogeneous modes are in fem.constitution (the same law the solv
 uses). Uniaxial nominal stress P = 2 (lam - lam^-2) W'(lam^2 + 2/lam); with lam = 1 + engineering strain, P is linear in (C10, C20, C30), so the fit is a
 linear least-squares problem on the engineering (nominal) stress. This is how the
 published Ecoflex 00-30 sets in docs/materials.md were obtained: engineering strain and
-engineering stress of the Marechal et al. test, points with 0 < strain <= max_strain
+engineering stress of the Marechal et al. test, points with 0 < strain <= fit_strain
 (tests/test_yeoh_fit.py reproduces them to their last printed digit).
 
 Units: strain is a fraction (0.5 = 50 %), stresses and coefficients in Pa.
@@ -48,14 +48,14 @@ class YeohFit:
     """Least-squares Yeoh coefficients (Pa) and the quality of the fit on its points.
 
     r2 = 1 - SS_res / SS_tot, rms_Pa = sqrt(SS_res / n_points), both over the points
-    used (0 < strain <= max_strain).
+    used (0 < strain <= fit_strain).
     """
 
     C10: float
     C20: float
     C30: float
     r2: float
-    max_strain: float
+    fit_strain: float
     n_points: int
     rms_Pa: float
 
@@ -71,27 +71,27 @@ class YeohFit:
         return asdict(self)
 
 
-def fit_yeoh(strain, stress, max_strain: float) -> YeohFit:
+def fit_yeoh(strain, stress, fit_strain: float) -> YeohFit:
     """Fit C10, C20, C30 to uniaxial (engineering strain, nominal stress Pa) data.
 
     Minimises sum (P(strain_i; C) - stress_i)^2 over the points with
-    0 < strain_i <= max_strain, with numpy.linalg.lstsq on the basis of yeoh_basis
+    0 < strain_i <= fit_strain, with numpy.linalg.lstsq on the basis of yeoh_basis
     (P is linear in C, so this is the exact least-squares optimum).
     """
-    max_strain = float(max_strain)
-    if not math.isfinite(max_strain) or max_strain <= 0:
-        raise ValueError(f"max strain must be a positive fraction (0.5 = 50 %), got {max_strain:g}")
+    fit_strain = float(fit_strain)
+    if not math.isfinite(fit_strain) or fit_strain <= 0:
+        raise ValueError(f"the fit strain must be a positive fraction (0.5 = 50 %), got {fit_strain:g}")
     strain = np.asarray(strain, float)
     stress = np.asarray(stress, float)
-    _check_tension(strain, stress, max_strain)
-    ok = np.isfinite(strain) & np.isfinite(stress) & (strain > 0) & (strain <= max_strain)
+    _check_tension(strain, stress, fit_strain)
+    ok = np.isfinite(strain) & np.isfinite(stress) & (strain > 0) & (strain <= fit_strain)
     n = int(ok.sum())
     if n < 4:
-        raise ValueError(f"only {n} data points with 0 < strain <= {max_strain:g} "
+        raise ValueError(f"only {n} data points with 0 < strain <= {fit_strain:g} "
                          f"(at least 4 are needed for 3 coefficients): raise the max strain")
     e, P = strain[ok], stress[ok]
     if len(np.unique(e)) < 4:
-        raise ValueError(f"only {len(np.unique(e))} distinct strain values with 0 < strain <= {max_strain:g}; "
+        raise ValueError(f"only {len(np.unique(e))} distinct strain values with 0 < strain <= {fit_strain:g}; "
                          "three coefficients need a test that spans strains (at least 4 distinct values)")
     A = yeoh_basis(e)
     # column scaling keeps lstsq well conditioned at large strain ((I1-3)^2 grows fast)
@@ -103,14 +103,14 @@ def fit_yeoh(strain, stress, max_strain: float) -> YeohFit:
     ss_res = float(res @ res)
     ss_tot = float(((P - P.mean()) ** 2).sum())
     r2 = 1.0 - ss_res / ss_tot if ss_tot > 0 else (1.0 if ss_res == 0 else -math.inf)
-    return YeohFit(float(c[0]), float(c[1]), float(c[2]), r2, max_strain, n, math.sqrt(ss_res / n))
+    return YeohFit(float(c[0]), float(c[1]), float(c[2]), r2, fit_strain, n, math.sqrt(ss_res / n))
 
 
 # --------------------------------------------------------------------------------------
 # stability
 # --------------------------------------------------------------------------------------
 
-def _check_tension(strain: np.ndarray, stress: np.ndarray, max_strain: float) -> None:
+def _check_tension(strain: np.ndarray, stress: np.ndarray, fit_strain: float) -> None:
     """Refuse data that is not one uniaxial tension test: a stretch 1 + strain <= 0,
     compression (strain < 0) mixed with tension (strain > 0), no tension at all, or a
     compressive stress at every tensile strain (a sign convention flipped). One line each."""
@@ -126,7 +126,7 @@ def _check_tension(strain: np.ndarray, stress: np.ndarray, max_strain: float) ->
     if neg and not pos:
         raise ValueError("every strain is negative (compression); fit-yeoh fits uniaxial tension: give the "
                          "tension test, strain positive")
-    inside = (e > 0) & (e <= max_strain)
+    inside = (e > 0) & (e <= fit_strain)
     if np.any(inside) and np.all(P[inside] < 0):
         raise ValueError("every stress at a positive strain is negative; in tension both are positive: check "
                          "the sign convention of the stress column")

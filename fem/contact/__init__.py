@@ -2,13 +2,13 @@
 
 The indenter's gap and contact surface (augmented Lagrangian, frictionless or
 sticking), the semi-smooth Newton with its continuation, the load path (travel steps,
-then force control), and the records a press leaves (`PressPoint`, `ContactResult`,
-and `ContactError` with its typed cause when a press stops short).
+then force control), and the records a press leaves (`PressPoint`, `PressResult`,
+and `PressError` with its typed cause when a press stops short).
 """
 
 
 from ._geometry import Surface, gap
 from ._press import Press, press
-from ._records import ContactError, Options, StopCause
+from ._records import PressError, Options, StopCause
 
-__all__ = ["ContactError", "Options", "Press", "StopCause", "Surface", "gap", "press"]
+__all__ = ["Options", "Press", "PressError", "StopCause", "Surface", "gap", "press"]

@@ -3,14 +3,14 @@ on failure, grown by 1.5 after an easy step) and force control (Newton on F(d) w
 path's own stiffness dF/dd, at most twice the last step, regula falsi with the Illinois
 rule once bracketed, a failed trial bisected towards the last converged travel). Every
 converged state is a point of the press's curve (Press.res.points). A press that stops
-keeps the cause its last failed trial measured (ContactError.cause); a penalty stop is
+keeps the cause its last failed trial measured (PressError.cause); a penalty stop is
 raised at once (no shorter step mends it)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._records import ContactError
+from ._records import PressError
 
 
 def travel(pr, d_target, first=0.25, min_frac=1e-3):
@@ -20,7 +20,7 @@ def travel(pr, d_target, first=0.25, min_frac=1e-3):
         d = pr.d + step if abs(step) < abs(d_target - pr.d) else d_target
         try:
             pt = pr.attempt(d)
-        except ContactError as exc:
+        except PressError as exc:
             if exc.cause == "penalty" or abs(step) / 2 < min_frac * abs(d_target):
                 raise
             step /= 2
@@ -41,7 +41,7 @@ def force(pr, F_target, max_trials=40):
         d, F, d_prev, F_prev = 0.0, 0.0, 0.0, 0.0
     below = [(p.travel, p.force) for p in pts if p.force < F_target]
     lo, hi, last_side = max(below, default=(0.0, 0.0)), None, None
-    failed = None                    # the last failed trial (ContactError), named when the target is not reached
+    failed = None                    # the last failed trial (PressError), named when the target is not reached
     for _ in range(max_trials):
         if pts and abs(F - F_target) <= o.force_tol * F_target:
             pr.res.message = (f"{F:.4g} N at travel {1e3 * d:.4g} mm; {len(pts)} states, "
@@ -81,7 +81,7 @@ def force(pr, F_target, max_trials=40):
             try:
                 pt = pr.attempt(d_new)
                 break
-            except ContactError as exc:
+            except PressError as exc:
                 if exc.cause == "penalty" or abs(d_new - pr.d) < 1e-4 * pr.height:
                     raise
                 failed = exc
@@ -90,8 +90,8 @@ def force(pr, F_target, max_trials=40):
         d, F = pt.travel, pt.force
     summary = f"force control: {F_target:.4g} N not reached in {max_trials} trials, the last at {F:.4g} N"
     if failed is None:
-        raise ContactError("trials", summary, pr.res)
-    raise ContactError(failed.cause, summary, pr.res, f"the last failed trial: {failed}")
+        raise PressError("trials", summary, pr.res)
+    raise PressError(failed.cause, summary, pr.res, f"the last failed trial: {failed}")
 
 
 def _falsi(lo, hi, F_target):

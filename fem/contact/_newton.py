@@ -14,7 +14,7 @@ Convergence: |D r| / |D R_c| < tol, or round-off (the active set unchanged and a
 full step changing x by less than 1e-9 relative, with |D r| / |D R_c| < 1e-6: large
 graded meshes floor near 1e-8).
 
-Stops, as ContactError with its cause (fem.contact.StopCause) and what was measured:
+Stops, as PressError with its cause (fem.contact.StopCause) and what was measured:
 a non-finite state ("non-finite"); the penalty too high, the scaled solve's relative
 residual above 1e-6 ("penalty"); elements inverted at every line-search step ("inversion":
 where, and the last converged state's smallest J); the active set cycling between two
@@ -35,7 +35,7 @@ import numpy as np
 from taxel.fem import hyperelastic
 from taxel.fem import linalg
 from ._geometry import lateral_distance
-from ._records import ContactError
+from ._records import PressError
 
 STALL_STEPS = 5      # Newton steps on one active set ...
 STALL_CUT = 0.5      # ... that cut the residual by less than this factor: stagnation
@@ -68,7 +68,7 @@ def newton(pr, x, d, lam, tol=None):
             frozen = st.active.copy()
             r, ref, st, K = pr._residual(x, d, lam, frozen=frozen)
         if K is not None and (not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r))):
-            raise ContactError("non-finite", f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
+            raise PressError("non-finite", f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
         if K is not None:
             D = linalg.scaling(K, pr.red.is_u)
         # the scaled norm first (after a line search with the last step's scaling): a converged
@@ -97,12 +97,12 @@ def newton(pr, x, d, lam, tol=None):
         if K is None:
             r, ref, st, K = pr._residual(x, d, lam, frozen=frozen, fixed=fixed)
             if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
-                raise ContactError("non-finite", f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
+                raise PressError("non-finite", f"Newton reached a non-finite state at travel {d:.4g} m", pr.res)
             D = linalg.scaling(K, pr.red.is_u)
             nr, norm = _scaled_norm(D, r, ref)
         if (len(seen) >= STALL_STEPS and len(set(seen[-STALL_STEPS:] + [key])) == 1
                 and norm > STALL_CUT * norms[-STALL_STEPS]):
-            stall = ContactError("stagnation", f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on "
+            stall = PressError("stagnation", f"Newton stagnates at travel {d:.4g} m: {STALL_STEPS} steps on "
                                  f"one active set cut the residual from {norms[-STALL_STEPS]:.2e} only to {norm:.2e}",
                                  pr.res, f"line search steps down to 1/64{_stability(pr)}; {_where(pr, st, x, dx)}")
             if not (o.continuation and o.active_set_update):
@@ -117,7 +117,7 @@ def newton(pr, x, d, lam, tol=None):
         dy, lres = solver(-r, rtol=SOLVE_RTOL)
         pr.stats["solve_s"] += time.process_time() - t0
         if float(np.max(lres)) > 1e-6:
-            raise ContactError("penalty", f"penalty too high: the scaled linear solve's relative residual is "
+            raise PressError("penalty", f"penalty too high: the scaled linear solve's relative residual is "
                                f"{float(np.max(lres)):.1e} (> 1e-6, ill-conditioned) with penalty "
                                f"{pr.eps:.3g} Pa/m; lower it", pr.res)
         dx = P @ dy[:, 0]
@@ -131,7 +131,7 @@ def newton(pr, x, d, lam, tol=None):
                         or np.linalg.norm(D * r_new) < (1 - 1e-4 * alpha) * np.linalg.norm(D * r)):
                     break
             elif not np.all(np.isfinite(r_new)) or alpha <= 1 / 64:
-                inverts = ContactError("inversion", f"Newton inverts silicone elements at travel {d:.4g} m",
+                inverts = PressError("inversion", f"Newton inverts silicone elements at travel {d:.4g} m",
                                        pr.res, _crush(pr, x_new))
                 if not (o.continuation and o.active_set_update) or norm > NEAR:     # far from equilibrium: a shorter travel step
                     raise inverts
@@ -143,14 +143,14 @@ def newton(pr, x, d, lam, tol=None):
         x = x_new
     last = seen[-6:]
     if len(set(last)) <= 2 and len(set(last)) < len(last) and last[-1] != last[-2]:
-        raise ContactError("cycling", f"the contact active set cycles between two sets at travel {d:.4g} m: "
+        raise PressError("cycling", f"the contact active set cycles between two sets at travel {d:.4g} m: "
                            "keep the active-set update in the tangent, or take smaller travel steps", pr.res,
                            f"{o.max_iter} Newton iterations, residual {norm:.2e}")
-    raise ContactError("iterations", f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations",
+    raise PressError("iterations", f"Newton did not converge at travel {d:.4g} m in {o.max_iter} iterations",
                        pr.res, f"residual {norm:.2e}")
 
 
-def continuation(pr, x, d, lam, tol, stall: ContactError):
+def continuation(pr, x, d, lam, tol, stall: PressError):
     r"""Pseudo-transient continuation (Kelley and Keyes 1998, SIAM J. Numer. Anal. 35:508)
     from a stagnating Newton iterate to a stable equilibrium at the same travel: steps
 
@@ -174,14 +174,14 @@ def continuation(pr, x, d, lam, tol, stall: ContactError):
     `stall`'s (what made Newton enter it), with what continuation measured added."""
     P, is_u = pr.red.P, pr.red.is_u
     def stop(measured=""):
-        return ContactError(stall.cause, stall.summary, pr.res, "; ".join(m for m in (stall.detail, measured) if m))
+        return PressError(stall.cause, stall.summary, pr.res, "; ".join(m for m in (stall.detail, measured) if m))
     if pr._inertia is None:                       # no PARDISO: no inertia to tell a stable state by
         raise stall
     tau, prev, shrink = TAU0, None, 1.0
     for k in range(PTC_STEPS):
         r, ref, st, K = pr._residual(x, d, lam)
         if not np.all(np.isfinite(K.data)) or not np.all(np.isfinite(r)):
-            raise ContactError("non-finite", f"continuation reached a non-finite state at travel {d:.4g} m", pr.res)
+            raise PressError("non-finite", f"continuation reached a non-finite state at travel {d:.4g} m", pr.res)
         D = linalg.scaling(K, is_u)
         nr, norm = _scaled_norm(D, r, ref)
         pr.trace.append((d, k, norm, int(st.active.sum()), "continuation", tau))

@@ -2,7 +2,7 @@
 contact problem (fem.contact), monolithic with the piezo and the (linear or Yeoh)
 silicone.
 
-Equilibrium at a travel d (reduced unknowns of fem.assembly.reduction, grounded
+Equilibrium at a travel d (reduced unknowns of fem.assembly.elimination, grounded
 electrodes eliminated, open electrodes one potential each with zero net charge):
 
     r(x) = A_lin x + R_yeoh(x) + R_c(x; d, lambda) = 0
@@ -45,7 +45,7 @@ voltage-force curve. The Yeoh and contact terms are vectorised element arrays
 (fem.hyperelastic, Surface.element_*) scattered into a reduced CSR pattern built once
 (fem.assembly); Options(assembly="skfem") keeps the scikit-fem path for comparison.
 
-Failures are raised as ContactError with its cause (fem.contact.StopCause) and what
+Failures are raised as PressError with its cause (fem.contact.StopCause) and what
 it measured: Newton not converging,
 Newton stagnating on one active set (fem.contact), the active set cycling
 (the last iterates alternate between two sets), the augmented
@@ -68,15 +68,15 @@ from taxel.fem import linalg
 from . import _loadpath as loadpath
 from taxel.fem import static
 from taxel.fem.assembly import System, place
-from taxel.fem.assembly import reduction
+from taxel.fem.assembly import elimination
 from taxel.fem.assembly import Indenter
 from ._geometry import Stick, Surface
 from taxel.fem.hyperelastic import scatter, yeoh_regions, yeoh_terms, yeoh_terms_skfem
 from taxel.fem.assembly import Pattern
-from ._records import ContactError, ContactResult, Options, PressPoint
-from taxel.fem.static import Solution, results, unfold
+from ._records import PressError, PressResult, Options, PressPoint
+from taxel.fem.static import Solution, results, unfold_solution
 
-__all__ = ["ContactError", "ContactResult", "Options", "Press", "PressPoint", "press"]
+__all__ = ["PressError", "PressResult", "Options", "Press", "PressPoint", "press"]
 
 
 class Press:
@@ -86,7 +86,7 @@ class Press:
         self.sy, self.ind = sy, ind
         self.o = opts or Options()
         tm = sy.tm
-        self.red = reduction(sy, eliminate_grounded=True)
+        self.red = elimination(sy, eliminate_grounded=True)
         self.method = linalg.resolve(method, self.red.n, dim=tm.mesh.dim())   # PARDISO for 3D sizes
         p = tm.mesh.p
         top = tm.facets["top"]
@@ -105,7 +105,7 @@ class Press:
         self.lam = np.zeros(self.surf.shape)
         self.d = 0.0
         self.prev = None                 # (travel, x) of the state before the last converged one
-        self.res = ContactResult(ind, self.eps, self.o.method)
+        self.res = PressResult(ind, self.eps, self.o.method)
         self.G = static.symmetry_order(sy)      # a half or quarter model (fem.static): forces and areas x G
         self.solver = None
         # the tangents share one pattern (fem.assembly): PARDISO's analysis once, a numeric
@@ -228,7 +228,7 @@ class Press:
                 err = max(err, float(np.abs(st.ts - self._stick.lam).max()) / self.eps)
             if o.method == "penalty":
                 if st.penetration > tol:
-                    raise ContactError("penalty", f"penalty too low: penetration {st.penetration:.3g} m is "
+                    raise PressError("penalty", f"penalty too low: penetration {st.penetration:.3g} m is "
                                        f"{100 * st.penetration / max(abs(d), 1e-300):.2g} % of the travel "
                                        f"(tolerance {100 * o.gap_tol:g} %); raise the penalty "
                                        f"({self.eps:.3g} Pa/m) or use the augmented Lagrangian", self.res)
@@ -246,7 +246,7 @@ class Press:
                 self._stick = Stick(self._stick.mask, self._stick.a0, st.ts.copy())
         else:
             self.eps = eps0
-            raise ContactError("multipliers", f"augmented Lagrangian: the multipliers did not settle in "
+            raise PressError("multipliers", f"augmented Lagrangian: the multipliers did not settle in "
                                f"{o.max_uzawa} updates at travel {d:.4g} m; raise the penalty", self.res,
                                f"largest penetration, or gap under pressure, {err:.3g} m against {tol:.3g} m; "
                                f"penetration {st.penetration:.3g} m")
@@ -332,7 +332,7 @@ class Press:
         saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick)
         try:
             return self.solve_at(d)
-        except ContactError:
+        except PressError:
             self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick = saved
             self._stick = None
             self.res.failed_trials += 1
@@ -363,7 +363,7 @@ class Press:
         Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
         sol = results(sy, red, x, r, Cinv, self.method, self.o.tol)
         if sy.tm.layout.planes:            # the full sensor's electrodes, linearised at the pressed state
-            sol = unfold(sy, sol, red, Cinv, self.method, K=self._full_tangent())
+            sol = unfold_solution(sy, sol, red, Cinv, self.method, K=self._full_tangent())
         sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
         sol.contact = self.res
         return sol
@@ -384,7 +384,7 @@ def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,
           path: list[float] | None = None) -> Solution:
     """Press to the indenter's travel or force (through the intermediate targets of
     `path`, N or m alike), and return the final Solution with `.contact`. Where the press
-    stops, its ContactError carries the Solution of the last converged state."""
+    stops, its PressError carries the Solution of the last converged state."""
     pr = Press(sy, ind, method, opts)
     try:
         if ind.travel is not None:
@@ -394,7 +394,7 @@ def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,
         else:
             for F in list(path or []) + [ind.force]:
                 pr.force(F)
-    except ContactError as exc:
+    except PressError as exc:
         if pr.res.points:               # the last converged state (a failed trial restores it)
             exc.solution = pr.solution()
         raise

@@ -25,10 +25,10 @@ StopCause = Literal[
 ]
 
 
-class ContactError(RuntimeError):
+class PressError(RuntimeError):
     """A press stopped: `cause` the kind of stop it measured (StopCause), `summary` what
     stopped and at which travel, `detail` what it measured there ("" if nothing); the
-    message is "summary (detail)". `.result` has the path so far (fem.contact.ContactResult),
+    message is "summary (detail)". `.result` has the path so far (fem.contact.PressResult),
     `.solution` the Solution at its last converged state (fem.contact.press; None before one)."""
 
     def __init__(self, cause: StopCause, summary: str, result=None, detail: str = ""):
@@ -51,7 +51,7 @@ class PressPoint:
 
 
 @dataclass
-class ContactResult:
+class PressResult:
     indenter: Indenter
     penalty: float                          # Pa/m
     method: str

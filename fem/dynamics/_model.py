@@ -1,6 +1,6 @@
 r"""The linear dynamic model of a problem: mass, stiffness by kind, loss factors.
 
-Equation of motion on the reduced unknowns x of fem.assembly.reduction (supports
+Equation of motion on the reduced unknowns x of fem.assembly.elimination (supports
 and the reference electrode eliminated; each other electrode one potential
 whose row is its charge balance, right-hand side -Q_k):
 
@@ -47,7 +47,7 @@ from taxel.fem import assembly
 from taxel.fem import linalg
 from taxel.fem import constitution as rx
 from taxel.fem.assembly import System, assemble
-from taxel.fem.assembly import Reduction, reduction
+from taxel.fem.assembly import Elimination, elimination
 from taxel.fem.hyperelastic import newton, yeoh_terms
 from taxel.fem.contact import Press
 from taxel.fem.assembly import Problem
@@ -56,7 +56,7 @@ from taxel.fem.assembly import Problem
 @dataclass
 class DynamicModel:
     sy: System
-    red: Reduction
+    red: Elimination
     parts: dict          # kind -> reduced real sparse matrix
     relax: rx.Relaxation # the causal loss law of the lossy kinds (fem.constitution)
     M: sp.csr_matrix
@@ -127,7 +127,7 @@ def model(problem: Problem, short: bool = False) -> DynamicModel:
     names = [k for k, st in states.items() if st != "reference"]
     if short:
         sy.electrodes.states = {k: ("reference" if st == "reference" else "ground") for k, st in states.items()}
-    red = reduction(sy, eliminate_grounded=True)
+    red = elimination(sy, eliminate_grounded=True)
     P = red.P
     dyn = problem.damping
     parts, losses = {}, {}

@@ -46,7 +46,7 @@ import numpy as np
 import scipy.linalg as la
 
 from taxel.fem.readout import Readout
-from ._reduced import Reduced
+from ._projection import ProjectedModel
 
 
 @dataclass
@@ -126,7 +126,7 @@ class StateSpace:
         return y
 
 
-def exact_port_model(red: Reduced) -> StateSpace:
+def exact_port_model(red: ProjectedModel) -> StateSpace:
     """Steps 1-3 of the module docstring: inputs [f (m), Q (na)], outputs V (na)."""
     d, a = red.u_cols, ~red.u_cols
     rel = red.relax
@@ -183,7 +183,7 @@ def exact_port_model(red: Reduced) -> StateSpace:
     return StateSpace(A, B, C, D)
 
 
-def port_model(red: Reduced, band=(1.0, 2000.0), tol: float = 1e-3, points: int = 200,
+def port_model(red: ProjectedModel, band=(1.0, 2000.0), tol: float = 1e-3, points: int = 200,
                compress: float = 0.5) -> tuple[StateSpace, float]:
     """The exact port model truncated to its dominant modes (step 4); returns it and
     the measured truncation error over the band (max over paths of the largest
@@ -329,7 +329,7 @@ def with_readout(port: StateSpace, m: int, readout: Readout | str = "open") -> S
     return ss
 
 
-def realize(red: Reduced, readout: Readout | str = "open", band=(1.0, 2000.0), tol: float = 1e-3) -> StateSpace:
+def realize(red: ProjectedModel, readout: Readout | str = "open", band=(1.0, 2000.0), tol: float = 1e-3) -> StateSpace:
     """The real state space from the inputs (N) to the readout's outputs at every
     electrode (V; C for readout "charge"); see the module docstring. The port
     model's measured truncation error is `.truncation_error` of the result."""

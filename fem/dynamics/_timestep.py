@@ -23,7 +23,7 @@ import scipy.linalg as la
 
 from taxel.fem import linalg
 from taxel.fem.assembly import assemble
-from taxel.fem.assembly import reduction
+from taxel.fem.assembly import elimination
 from ._model import DynamicModel, model
 from taxel.fem.assembly import Problem
 from ._sweep import krylov, project
@@ -99,7 +99,7 @@ def transient_hyperelastic(problem: Problem, t: np.ndarray, force: np.ndarray, t
     dm = model(replace(problem, hyperelastic=False))
     sy = assemble(replace(problem, hyperelastic=True))
     load = force / sy.applied_force
-    red = reduction(sy, eliminate_grounded=True)
+    red = elimination(sy, eliminate_grounded=True)
     P = red.P
     M, C = dm.M, dm.C_rayleigh()
     Kj = [dm.K_branch(j) for j in range(dm.relax.n)]

@@ -5,7 +5,7 @@ Residual at load factor lam (fem.hyperelastic for the Yeoh part):
 
     r(x, lam) = A_lin x + R_yeoh(x) - lam b,     tangent K(x) = A_lin + K_yeoh(x)
 
-on the reduced unknowns of fem.assembly.reduction (supports and grounded
+on the reduced unknowns of fem.assembly.elimination (supports and grounded
 electrodes eliminated; each open electrode one potential with zero net charge).
 
 Each Newton step solves K dy = -r with the scaled direct solver, then backtracks
@@ -28,7 +28,7 @@ import scipy.sparse as sp
 from . import _reference_forms as hyperelastic
 from taxel.fem import linalg
 from taxel.fem.assembly import System, place
-from taxel.fem.assembly import Reduction, reduction
+from taxel.fem.assembly import Elimination, elimination
 from taxel.fem.static import Solution, results
 from taxel.fem.constitution import PlaneStress
 from ._plane_stress import PlaneStressYeohRegion
@@ -128,13 +128,13 @@ def _min_jacobian(sy: System, x):
 
 
 def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0, min_step=1e-2,
-           stepping=True, line_search=True, red: Reduction | None = None):
-    """Solve r(x, 1) = 0. Returns (x, NewtonResult, reduction, last scaled solver).
+           stepping=True, line_search=True, red: Elimination | None = None):
+    """Solve r(x, 1) = 0. Returns (x, NewtonResult, elimination, last scaled solver).
 
     Raises NewtonError when the load cannot be reached (with stepping off: at the
     first failure).
     """
-    red = red or reduction(sy, eliminate_grounded=True)
+    red = red or elimination(sy, eliminate_grounded=True)
     method = linalg.resolve(method, red.n, dim=sy.tm.mesh.dim())     # PARDISO for 3D sizes
     P = red.P
     b = P.T @ sy.b
@@ -211,7 +211,7 @@ def solve_yeoh(sy: System, method="auto", **kw) -> Solution:
     grounded electrodes; capacitance and short-circuit charge linearised at the
     final state, where the piezo is linear and the silicone's tangent is used). Where Newton
     stops short, the NewtonError carries the Solution at its last converged load factor."""
-    red = kw.pop("red", None) or reduction(sy, eliminate_grounded=True)
+    red = kw.pop("red", None) or elimination(sy, eliminate_grounded=True)
     try:
         x, nres, red, solver = newton(sy, method, red=red, **kw)
     except NewtonError as exc:

@@ -80,7 +80,7 @@ def _stiffness(lw) -> float:
 
 
 def krylov_blocks(sy, red) -> Blocks:
-    """The block split of an assembled System and its Reduction."""
+    """The block split of an assembled System and its Elimination."""
     ub = next(iter(sy.ubases.values()))
     Pc = red.P.tocsc()
     full = Pc.indices[Pc.indptr[: red.nf]]                 # full index of each free unknown

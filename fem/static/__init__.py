@@ -7,7 +7,7 @@ unfolds its results to the whole.
 
 
 from ._fields import component_dofs
-from ._linear import ElectrodeResult, Solution, results, solve_linear, unfold
+from ._linear import ElectrodeResult, Solution, results, solve_linear, unfold_solution
 from ._symmetry import symmetry_order
 
-__all__ = ["ElectrodeResult", "Solution", "component_dofs", "results", "solve_linear", "symmetry_order", "unfold"]
+__all__ = ["ElectrodeResult", "Solution", "component_dofs", "results", "solve_linear", "symmetry_order", "unfold_solution"]

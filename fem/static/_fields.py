@@ -22,7 +22,7 @@ class Fields:
     phi: np.ndarray          # (nvertices,) vertex potential, V (0 outside the piezo)
     strain: np.ndarray       # (nelements, n_voigt) element-mean Voigt strain (engineering shear)
     stress: np.ndarray       # (nelements, n_voigt) element-mean stress, Pa
-    max_solid_strain: float  # largest |principal strain| of element means in the passive solids
+    max_strain: float  # largest |principal strain| of element means in the passive solids
     x: np.ndarray            # the full solution vector [u, p..., phi]
 
 def component_dofs(ub, c):

@@ -23,7 +23,7 @@ import numpy as np
 from taxel.fem import linalg
 from . import _symmetry as symmetry
 from taxel.fem.assembly import System
-from taxel.fem.assembly import Reduction, reduction
+from taxel.fem.assembly import Elimination, elimination
 from ._fields import Fields, component_dofs, fields
 from taxel.fem.constitution import Axisymmetric
 from taxel.meshing.build import TaggedMesh
@@ -44,14 +44,14 @@ class Solution:
     electrodes: dict[str, ElectrodeResult]
     applied_force: float          # N, total downward load
     reaction: np.ndarray          # N, total support reaction (x, [y,] z); axisymmetric: (0, z)
-    max_solid_strain: float       # largest |principal strain| of element means in the passive solids
+    max_strain: float       # largest |principal strain| of element means in the passive solids
     unknowns: int
     solver: str
     residual: float               # relative residual |A x - b| / |b| of the scaled system
     mesh: TaggedMesh
     fields: Fields = field(repr=False)
     newton: object = None         # fem.hyperelastic.NewtonResult for a hyperelastic solve
-    contact: object = None        # fem.contact.ContactResult for a press by a rigid indenter
+    contact: object = None        # fem.contact.PressResult for a press by a rigid indenter
     # the Maxwell capacitance matrix (F) of the non-reference electrodes, in this order
     capacitance_names: list[str] = field(default_factory=list)
     capacitance_matrix: np.ndarray | None = field(default=None, repr=False)
@@ -60,7 +60,7 @@ class Solution:
         return {k: e.voltage for k, e in self.electrodes.items() if e.state != "reference"}
 
 
-def _solve(sy: System, red: Reduction, method: str, scale: bool, rhs, K=None):
+def _solve(sy: System, red: Elimination, method: str, scale: bool, rhs, K=None):
     A = (red.P.T @ (sy.A if K is None else K) @ red.P).tocsc()
     solver = linalg.krylov_solver(A, linalg.krylov_blocks(sy, red)) if method == "krylov" else \
         linalg.scaled_solver(A, red.is_u, method, scale)
@@ -70,7 +70,7 @@ def _solve(sy: System, red: Reduction, method: str, scale: bool, rhs, K=None):
 def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Solution:
     """The linear static Solution of an assembled system (of a cut, mirror-symmetric
     layout: the full sensor's electrodes, see fem.static)."""
-    red = reduction(sy)
+    red = elimination(sy)
     nf, na = red.nf, len(red.active)
     method = linalg.resolve(method, red.n, iterative=True, dim=sy.tm.mesh.dim())
     X, res = _solve(sy, red, method, scale, np.column_stack([red.P.T @ sy.b, red.unit_charges()]))
@@ -85,28 +85,28 @@ def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Soluti
     x = red.P @ (X[:, 0] + X[:, 1:] @ Q)
     r = sy.A @ x - sy.b
     sol = results(sy, red, x, r, Cinv, method, float(res.max()))
-    return unfold(sy, sol, red, Cinv, method, scale) if sy.tm.layout.planes else sol
+    return unfold_solution(sy, sol, red, Cinv, method, scale) if sy.tm.layout.planes else sol
 
 
-def unfold(sy: System, sol: Solution, red: Reduction, Cinv, method, scale=True, K=None) -> Solution:
+def unfold_solution(sy: System, sol: Solution, red: Elimination, Cinv, method, scale=True, K=None) -> Solution:
     """The full sensor's Solution from a symmetric (half or quarter) model's. `K`: the
     full (unreduced) matrix the capacitance is linearised with (default the linear
     sy.A; a pressed state's tangent, fem.contact)."""
     blocks = {symmetry.group(sy.tm.layout.planes)[0]: (red.active, np.linalg.inv(Cinv))}
     residual = sol.residual
     for cls in symmetry.classes(sy):
-        rc = reduction(sy, fixed=cls.fixed, grounded=cls.grounded)
+        rc = elimination(sy, fixed=cls.fixed, grounded=cls.grounded)
         X, res = _solve(sy, rc, method, scale, rc.unit_charges(), K)
         blocks[cls.signs] = (rc.active, np.linalg.inv(X[rc.nf:, :]))
         residual = max(residual, float(res.max()))
     names, C = symmetry.capacitance(sy, blocks)
-    return replace(sol, electrodes=symmetry.unfold(sy, sol.electrodes, C, names),
+    return replace(sol, electrodes=symmetry.unfold_electrodes(sy, sol.electrodes, C, names),
                    capacitance_names=names, capacitance_matrix=C,
                    applied_force=symmetry.symmetry_order(sy) * sol.applied_force,
                    reaction=symmetry.unfold_reaction(sy, sol.reaction), residual=residual)
 
 
-def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float) -> Solution:
+def results(sy: System, red: Elimination, x, r, Cinv, solver: str, residual: float) -> Solution:
     """Per-electrode numbers, reactions and fields from a solved state.
 
     x: full solution; r: full residual (A x - b: reactions at supports, charges at
@@ -136,5 +136,5 @@ def results(sy: System, red: Reduction, x, r, Cinv, solver: str, residual: float
     if isinstance(sy.kin, Axisymmetric):
         reaction[0] = 0.0           # radial support forces cancel around the circle
     f = fields(sy, x)
-    return Solution(electrodes, sy.applied_force, reaction, f.max_solid_strain, red.n, solver, residual,
+    return Solution(electrodes, sy.applied_force, reaction, f.max_strain, red.n, solver, residual,
                     sy.tm, f, capacitance_names=list(red.active), capacitance_matrix=C)

@@ -55,7 +55,7 @@ from taxel.fem.assembly import System
 from taxel.fem.assembly import supports
 from taxel.meshing.layout import group
 
-__all__ = ["MirrorClass", "capacitance", "classes", "group", "symmetry_order", "unfold", "unfold_reaction"]
+__all__ = ["MirrorClass", "capacitance", "classes", "group", "symmetry_order", "unfold_electrodes", "unfold_reaction"]
 
 
 @dataclass(frozen=True)
@@ -130,7 +130,7 @@ def capacitance(sy: System, blocks: dict) -> tuple[list[str], np.ndarray]:
     return [r[0] for r in rows], C
 
 
-def unfold(sy: System, electrodes: dict, C: np.ndarray, names: list[str]) -> dict:
+def unfold_electrodes(sy: System, electrodes: dict, C: np.ndarray, names: list[str]) -> dict:
     """Every electrode of the full array from the modelled ones (ElectrodeResult
     objects of fem.static): mirror images get the voltage, s_a times the charges,
     and their own diagonal of the full capacitance matrix."""

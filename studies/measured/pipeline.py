@@ -46,7 +46,7 @@ from taxel.studies.bench.folder import write_json
 from taxel.studies.measured.localize import localize_folder
 from taxel.studies.bench.protocol import encode_frames
 from taxel.studies.bench.rig import Rig, load_rig, parse_rig
-from taxel.studies.bench.simulate import Settings, save_truth, simulate
+from taxel.studies.bench.signals import Settings, save_truth, simulate
 from taxel.studies.bench.wire import Player, assemble
 
 THESIS = {"tau_s": [1.7, 3.1], "linearity_R": {"PZT": 0.9942, "PVDF": 0.9933},

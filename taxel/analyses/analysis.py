@@ -11,7 +11,7 @@ where the silicone creases; a press, where it measured a stop cause) is returned
 its last converged state, `success` False and `stop` saying what was asked, what was
 reached and why, like scipy.optimize's OptimizeResult. `solve_static` and
 `problem.solve_model` are the building blocks that raise instead (fem's NewtonError,
-ContactError): the model choice, the error estimate and the analyses that need the
+PressError): the model choice, the error estimate and the analyses that need the
 full load use them.
 """
 
@@ -22,7 +22,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from taxel.fem.contact import ContactError
+from taxel.fem.contact import PressError
 from taxel.fem.hyperelastic import NewtonError
 from taxel.scene import Scene, load, replace
 from taxel.analyses.results import FrequencyResult, StaticResult, Stop, TransientResult
@@ -60,7 +60,7 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
         return transient(scene)
     try:
         res = solve_static(scene, **options)
-    except (NewtonError, ContactError) as exc:
+    except (NewtonError, PressError) as exc:
         return _stopped(scene, exc)
     if estimate and res.error is None:
         from taxel.analyses.error_estimate import estimate as error_estimate
@@ -123,14 +123,14 @@ def solve_static(scene: Scene, solver: str = "auto", **options) -> StaticResult:
     """The static analysis of a scene to its full load on the model it asks for: with
     model.fidelity = "auto" the cheapest adequate model (taxel.analyses.model_choice),
     else the model as given (`solve_model`; options: tagged_mesh, scale, newton_options).
-    Raises fem's NewtonError or ContactError where it stops short (`solve` returns that)."""
+    Raises fem's NewtonError or PressError where it stops short (`solve` returns that)."""
     if scene.model.fidelity == "auto" and options.get("tagged_mesh") is None:
         from taxel.analyses.model_choice import choose
         return choose(scene, solver)
     return solve_model(scene, solver, **options)
 
 
-def _stopped(scene: Scene, exc: NewtonError | ContactError) -> StaticResult:
+def _stopped(scene: Scene, exc: NewtonError | PressError) -> StaticResult:
     """The last converged state of a static solve of `scene` that stopped short of its load
     with `exc` (its `.solution`), as a StaticResult whose `stop` gives the load asked for and
     why it stopped, and whose scene carries the load reached; `exc` is raised again where no

@@ -17,19 +17,19 @@ import numpy as np
 from taxel.fem import readout as circuits
 from taxel.fem import dynamics
 from taxel.fem.assembly import assemble
-from taxel.scene import Analysis, Scene, SceneError
+from taxel.scene import AnalysisTable, Scene, SceneError
 from taxel.analyses.problem import damping, problem, readout, scene_materials, with_silicone
 from taxel.analyses.results import FrequencyResult, LumpedResult, TransientResult
 
 
-def frequencies(a: Analysis) -> np.ndarray:
+def frequencies(a: AnalysisTable) -> np.ndarray:
     """The sweep frequencies of a scene's [analysis] table, Hz."""
     if a.spacing == "log":
         return np.geomspace(a.f_min, a.f_max, a.points)
     return np.linspace(a.f_min, a.f_max, a.points)
 
 
-def force_history(a: Analysis, amplitude: float) -> tuple[np.ndarray, np.ndarray]:
+def force_history(a: AnalysisTable, amplitude: float) -> tuple[np.ndarray, np.ndarray]:
     """(t in s, force in N) of the scene's [analysis] input: a step (smooth ramp over
     `rise`), a half-sine impulse of `width`, a chirp from f0 to f1 over the duration
     (phase 2 pi (f0 t + (f1 - f0) t^2 / (2 T))), all of peak `amplitude`; or the

@@ -285,9 +285,9 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
                    + (f" (under a punch at least {100 * CHEAP_3D_PRESS_ERROR:g} %)" if scene.load.contact else ""))
     else:
         how.append("model form: not estimated" + ("" if model_form else " (not asked)"))
-    mat = linear_error(result.max_silicone_strain) if law == "linear" else 0.0
+    mat = linear_error(result.max_strain) if law == "linear" else 0.0
     how.append(f"material: linear silicone, {LINEAR_ERROR_PER_STRAIN} x largest strain "
-               f"{100 * result.max_silicone_strain:.2g} %" if law == "linear" else "material: Yeoh (the reference law)")
+               f"{100 * result.max_strain:.2g} %" if law == "linear" else "material: Yeoh (the reference law)")
     outs = {k: OutputError(v, disc.get(k), form.get(k), mat) for k, v in vals.items()}
     return ErrorEstimate(outs, how, time.perf_counter() - t0, method, order)
 

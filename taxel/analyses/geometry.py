@@ -55,7 +55,7 @@ def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
         n, i = (a.cols, 1) if k == 0 else (a.rows, 0)      # x runs along columns, y along rows
         pos = ld.taxel[i] + (ld.neighbour[i] if ld.kind == "between" else ld.taxel[i])
         centre = (pos - (n - 1)) / 2 * (a.taxel_width + a.gap) * (1 if k == 0 else -1) + (
-            ld.offset[k] if ld.kind == "indenter" else 0)              # the press's x or y
+            ld.offset[k] if ld.kind == "probe" else 0)              # the press's x or y
         rows = range(a.rows) if m.type == "3d" else (ld.taxel[0],)
         mirrored = all(state(r, c) == (state(r, a.cols - 1 - c) if k == 0 else state(a.rows - 1 - r, c))
                        for r in rows for c in range(a.cols))
@@ -170,7 +170,7 @@ def _load_patch(scene: Scene, centre, half, model) -> Patch | None:
         x, y = (x + x2) / 2, (y + y2) / 2
     if model != "3d":
         y = 0.0
-    if ld.kind == "indenter":
+    if ld.kind == "probe":
         return Patch("load", x + ld.offset[0], y + (ld.offset[1] if model == "3d" else 0.0),
                      ld.radius, "disk" if model in ("3d", "axisymmetric") else "square")
     return Patch("load", x, y, half, shape)
@@ -194,7 +194,7 @@ def _plate_layout(scene: Scene, common, mats) -> Layout:
         midplane = z / 2
         layers = _split_at(layers, midplane)
     load = None
-    if scene.load.kind == "indenter":
+    if scene.load.kind == "probe":
         ld = scene.load
         load = Patch("load", ld.offset[0], ld.offset[1] if model == "3d" else 0.0, ld.radius,
                      "disk" if model in ("3d", "axisymmetric") else "square")

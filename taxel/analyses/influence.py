@@ -117,7 +117,7 @@ def influence(scene: Scene, per_pitch: int = 8, edges: bool = True, solve: Solve
             V[i] = V[mirror][::-1]                     # solved already (x <= L/2 come first)
             continue
         c = int(np.clip(np.round(x / pitch), 0, n - 1))
-        s = scene.replace(**{"load.kind": "indenter", "load.taxel": [row, c], "load.radius": arr.taxel_width / 2,
+        s = scene.replace(**{"load.kind": "probe", "load.taxel": [row, c], "load.radius": arr.taxel_width / 2,
                              "load.offset": [float(x - c * pitch), 0.0], "load.profile": "flat"})
         v = solve(s)
         V[i] = [v[electrode_name(row, k)] for k in range(n)]

@@ -72,7 +72,7 @@ def accuracy_map(infl: Influence, rows: int, cols: int, sensitivity: float, nois
     return AccuracyMap(1e3 * xs, 1e3 * ys, pos, frc, noise_V, sensitivity, force)
 
 
-NOISE_V = 1e-3      # the simulated thesis bench's white noise at the ADC (studies.bench.simulate.Settings)
+NOISE_V = 1e-3      # the simulated thesis bench's white noise at the ADC (studies.bench.signals.Settings)
 
 
 @dataclass

@@ -13,7 +13,7 @@ accurate enough): model.silicone = "auto" solves the linear model, estimates its
 voltage error as LINEAR_ERROR_PER_STRAIN x its largest silicone strain, keeps it when
 the estimate is within model.tolerance and otherwise solves Yeoh on the same mesh;
 the choice and the estimate are in `StaticResult.model_note`. A solve that stops short
-of its load raises fem's NewtonError or ContactError (taxel.analyses.solve returns it
+of its load raises fem's NewtonError or PressError (taxel.analyses.solve returns it
 as a result).
 """
 
@@ -107,7 +107,7 @@ def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
     m, ld = scene.model, scene.load
     share = 2 ** len(tm.layout.planes)       # a half or quarter model carries its share of the force
     load = PatchLoad(pressure=ld.pressure) if ld.kind == "pressure" else \
-        PatchLoad(force=ld.force / share, profile=ld.profile if ld.kind == "indenter" else "flat")
+        PatchLoad(force=ld.force / share, profile=ld.profile if ld.kind == "probe" else "flat")
     return Problem(
         mesh=tm,
         kinematics=kinematics(m.type, tm.layout.depth),
@@ -123,10 +123,10 @@ def problem(scene: Scene, tagged_mesh: TaggedMesh | None = None) -> Problem:
 
 
 def indenter(scene: Scene, tm: TaggedMesh) -> Indenter | None:
-    """The rigid indenter of a `[load] kind = "indenter"`, `contact = true` scene, centred
+    """The rigid indenter of a `[load] kind = "probe"`, `contact = true` scene, centred
     on the layout's load patch."""
     ld = scene.load
-    if ld.kind != "indenter" or not ld.contact:
+    if ld.kind != "probe" or not ld.contact:
         return None
     edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
     return Indenter(ld.shape, ld.radius, edge if ld.shape == "flat" else 0.0,
@@ -180,19 +180,19 @@ def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | No
         return _solve(scene, prob, solver, scale, newton_options, t0, t1)
     try:
         lin = _solve(scene, with_silicone(prob, "linear"), solver, scale, newton_options, t0, t1)
-    except contact.ContactError as exc:      # a linear silicone under a punch can fail where Yeoh does not
+    except contact.PressError as exc:      # a linear silicone under a punch can fail where Yeoh does not
         hyper = _solve(scene, with_silicone(prob, "yeoh"), solver, scale, newton_options, t0, t1)
         hyper.model_note = f"auto: Yeoh silicone (the linear press failed: {exc})"
         return hyper
-    est, tol = linear_error(lin.max_silicone_strain), scene.model.tolerance
+    est, tol = linear_error(lin.max_strain), scene.model.tolerance
     if est <= tol:
-        lin.model_note = (f"auto: linear silicone (largest strain {100 * lin.max_silicone_strain:.1f} %, "
+        lin.model_note = (f"auto: linear silicone (largest strain {100 * lin.max_strain:.1f} %, "
                           f"estimated voltage error {100 * est:.2g} % <= {100 * tol:g} %)")
         return lin
     t1 = time.perf_counter()
     try:
         hyper = _solve(scene, with_silicone(prob, "yeoh"), solver, scale, newton_options, t1, t1)
-    except (NewtonError, contact.ContactError) as exc:
+    except (NewtonError, contact.PressError) as exc:
         lin.model_note = (f"auto: Yeoh silicone needed (linear error about {100 * est:.2g} %) but {exc}; "
                           f"returning the LINEAR result")
         return lin

@@ -51,7 +51,7 @@ class ReducedModel:
     """A scene's reduced model (see the module docstring); built by `reduce(scene)`."""
 
     scene: Scene
-    red: dynamics.Reduced
+    red: dynamics.ProjectedModel
     input_names: list[str]         # "force:<taxel>" or "force:probe"
     output_names: list[str]        # "<quantity>:<electrode>"
     output_unit: str               # V or C
@@ -168,7 +168,7 @@ class ReducedModel:
         """A model written by `save` (ValueError, one line, for another file)."""
         a, m = reduced_export.load_npz(path)
         try:
-            red = dynamics.Reduced({k[5:]: v for k, v in a.items() if k.startswith("part:")},
+            red = dynamics.ProjectedModel({k[5:]: v for k, v in a.items() if k.startswith("part:")},
                                   Relaxation.from_data(m["relax"]), a["M"], a["mech"],
                                   m["alpha"], m["beta"], a["F"], a["Be"], a["E"], a["u_cols"], m["names"], m["error"],
                                   [tuple(c) for c in m["checks"]], m["seconds"])
@@ -236,7 +236,7 @@ def reduce(scene: Scene, inputs: str | None = None, output: str = "readout", f_m
     if scene.model.symmetry != "full":          # dynamic models are solved on the full mesh
         scene = scene.replace(**{"model.symmetry": "full"})
     arr = scene.array
-    pressed_by_indenter = scene.load.kind == "indenter" and scene.load.contact
+    pressed_by_indenter = scene.load.kind == "probe" and scene.load.contact
     if inputs is None:
         inputs = "taxels" if arr is not None and not pressed_by_indenter else "probe"
     if inputs not in ("taxels", "probe"):

@@ -1,4 +1,4 @@
-"""`taxel material fit-yeoh FILE --max-strain S [--plot P] [--json]`: Yeoh
+"""`taxel material fit-yeoh FILE --fit-strain S [--plot P] [--json]`: Yeoh
 coefficients from a uniaxial tensile test, with the fitted law's stability range."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ def register(sub):
     msub = p.add_subparsers(dest="material_command", required=True)
     p = msub.add_parser("fit-yeoh", help="fit an incompressible Yeoh law to a uniaxial tensile test")
     p.add_argument("file", help="CSV with engineering strain and engineering (nominal) stress columns")
-    p.add_argument("--max-strain", default="0.5", metavar="S",
+    p.add_argument("--fit-strain", default="0.5", metavar="S",
                    help="fit points with 0 < strain <= S (fraction, or percent as '50%%'); default 0.5")
     p.add_argument("--check-strain", metavar="S", default=None,
                    help="check stability up to this tensile strain (default 2 x max strain) "
@@ -31,13 +31,13 @@ def fit_yeoh_command(args):
     from taxel.fem.constitution import COMPRESSION_STRETCH, fit_yeoh, stability_losses
     from taxel.reports.figures import yeoh_fit as plot_fit
     from taxel.studies.uniaxial import read_uniaxial
-    max_strain = parse_strain("--max-strain", args.max_strain)
+    fit_strain = parse_strain("--fit-strain", args.fit_strain)
     if args.plot:
         writable_file(args.plot, "--plot", (".png", ".pdf", ".svg"))
-    check = parse_strain("--check-strain", args.check_strain) if args.check_strain else 2.0 * max_strain
+    check = parse_strain("--check-strain", args.check_strain) if args.check_strain else 2.0 * fit_strain
     strain, stress = read_uniaxial(args.file)
     try:
-        fit = fit_yeoh(strain, stress, max_strain)
+        fit = fit_yeoh(strain, stress, fit_strain)
     except ValueError as exc:
         raise InputError(f"{args.file}: {exc}") from None
     lost = stability_losses(fit, (COMPRESSION_STRETCH, 1.0 + check))
@@ -48,12 +48,12 @@ def fit_yeoh_command(args):
     if args.plot:
         try:
             plot_fit(strain, stress, fit, args.plot, check_strain=check,
-                     title=f"{Path(args.file).name}: Yeoh fit to {100 * max_strain:g} %")
+                     title=f"{Path(args.file).name}: Yeoh fit to {100 * fit_strain:g} %")
         except OSError as exc:
             raise ValueError(f"cannot write plot {args.plot}: {exc.strerror or exc}") from None
     if args.json:
         rec = {"file": str(args.file), "C10_Pa": fit.C10, "C20_Pa": fit.C20, "C30_Pa": fit.C30,
-               "r2": fit.r2, "n_points": fit.n_points, "rms_Pa": fit.rms_Pa, "max_strain": fit.max_strain,
+               "r2": fit.r2, "n_points": fit.n_points, "rms_Pa": fit.rms_Pa, "fit_strain": fit.fit_strain,
                "check_strain": check, "check_stretch_min": COMPRESSION_STRETCH,
                "stability_lost": lost, "plot": args.plot}
         print(json.dumps(rec))
@@ -61,7 +61,7 @@ def fit_yeoh_command(args):
             print(w, file=sys.stderr)
         return
     print(f"Yeoh fit to {args.file}: engineering strain vs nominal stress, "
-          f"{fit.n_points} points with 0 < strain <= {100 * max_strain:g} %")
+          f"{fit.n_points} points with 0 < strain <= {100 * fit_strain:g} %")
     print(f"C10 = {fit.C10 / 1e3:.4g} kPa, C20 = {fit.C20 / 1e3:.4g} kPa, C30 = {fit.C30 / 1e3:.4g} kPa"
           f"  (mu = 2 C10 = {2 * fit.C10 / 1e3:.4g} kPa)")
     print(f"R^2 = {fit.r2:.5f}, RMS error {si(fit.rms_Pa, 'Pa')} over {fit.n_points} points")

@@ -24,7 +24,7 @@ from trame.widgets import html, vuetify3 as v3
 
 from taxel.explore import session as S
 from taxel.explore.front import Front
-from taxel.explore.controls import LAWS, LOADS, MODELS, NUMBERS, READOUTS, Design, FieldError, piezo_names, scene_of
+from taxel.explore.controls import LAWS, LOADS, MODELS, NUMBERS, READOUTS, ControlValues, FieldError, piezo_names, scene_of
 from taxel.scene import Scene
 from taxel.schema import to_data
 from taxel.units import engineering
@@ -51,13 +51,13 @@ class Explorer:
         self.generation = 0
         self.job3d: S.Job3D | None = None
         self.scene: Scene | None = None
-        self._init_state(Design.of(scene))
+        self._init_state(ControlValues.of(scene))
         self._build()
         keys = [f"t_{n.name}" for n in NUMBERS] + ["piezo", "load", "law", "model", "readout"]
         self.state.change(*keys)(self._changed)
 
     # -- state ---------------------------------------------------------------------------------
-    def _init_state(self, d: Design):
+    def _init_state(self, d: ControlValues):
         st = self.state
         for n in NUMBERS:
             st[f"t_{n.name}"] = d.numbers[n.name]
@@ -73,9 +73,9 @@ class Explorer:
                    "front_note": (f"no control for {', '.join(self.front.unmatched)}: not loaded"
                                   if self.front and self.front.unmatched else "")})
 
-    def design(self) -> Design:
+    def design(self) -> ControlValues:
         st = self.state
-        return Design({n.name: str(st[f"t_{n.name}"]) for n in NUMBERS}, st.piezo, st.load, st.law,
+        return ControlValues({n.name: str(st[f"t_{n.name}"]) for n in NUMBERS}, st.piezo, st.load, st.law,
                       st.model, st.readout)
 
     # -- updates -------------------------------------------------------------------------------

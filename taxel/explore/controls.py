@@ -16,8 +16,8 @@ from taxel.scene import Scene, SceneError
 # load kinds as the explorer names them -> the scene's [load] table
 LOADS = {
     "pressure": {"kind": "taxel", "contact": False},
-    "probe": {"kind": "indenter", "contact": True, "shape": "flat", "radius": "1 mm"},
-    "sphere": {"kind": "indenter", "contact": True, "shape": "sphere", "radius": "5 mm"},
+    "probe": {"kind": "probe", "contact": True, "shape": "flat", "radius": "1 mm"},
+    "sphere": {"kind": "probe", "contact": True, "shape": "sphere", "radius": "5 mm"},
 }
 MODELS = {"2D": "plane_strain", "axisymmetric": "axisymmetric"}   # 3D: on demand, a button
 LAWS = ["linear", "yeoh", "auto"]
@@ -73,7 +73,7 @@ def piezo_names() -> list[str]:
 
 
 @dataclass(frozen=True)
-class Design:
+class ControlValues:
     """What the controls say: the typed numbers (text, display unit) and the choices."""
 
     numbers: dict[str, str]
@@ -84,9 +84,9 @@ class Design:
     readout: str = "open"
 
     @classmethod
-    def of(cls, scene: Scene) -> Design:
+    def of(cls, scene: Scene) -> ControlValues:
         """The controls' values of a scene (an array scene)."""
-        load = "pressure" if scene.load.kind != "indenter" else ("sphere" if scene.load.shape == "sphere"
+        load = "pressure" if scene.load.kind != "probe" else ("sphere" if scene.load.shape == "sphere"
                                                                   else "probe")
         model = "axisymmetric" if scene.model.type == "axisymmetric" else "2D"
         return cls({n.name: f"{n.value(scene):g}" for n in NUMBERS}, scene.array.piezo, load,
@@ -101,7 +101,7 @@ class FieldError(SceneError):
         self.field = field
 
 
-def scene_of(base: Scene, design: Design) -> Scene:
+def scene_of(base: Scene, design: ControlValues) -> Scene:
     """The base scene with the design applied (a validated Scene). Raises FieldError
     carrying the scene's one-line message and the control it names."""
     if base.array is None:

@@ -107,7 +107,7 @@ def noise_budget(out: Path, small: bool = False) -> Path:
     from taxel.reports.noise import figure
     from taxel.studies.bench.rig import load_rig
     t0 = time.perf_counter()
-    from taxel.studies.bench.simulate import Settings
+    from taxel.studies.bench.signals import Settings
     scene = api.load("thesis-pzt-frequency").replace(**{"readout.hum": list(Settings().hum_V)})   # the rig's hum
     res = noise(scene, load_rig("thesis-bench"), model="lumped" if small else "fem")
     shutil.rmtree(out, ignore_errors=True)

@@ -151,7 +151,7 @@ class AnalysisResult(Protocol):
 
 def pressed_name(scene: Scene, names) -> str | None:
     """The electrode of the pressed taxel when the load presses one of `names`."""
-    if scene.array is None or scene.load.kind not in ("taxel", "indenter"):
+    if scene.array is None or scene.load.kind not in ("taxel", "probe"):
         return None
     name = electrode_name(scene.load.taxel[0], scene.load.taxel[1])
     return name if name in names else None

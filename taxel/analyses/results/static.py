@@ -25,9 +25,9 @@ from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_s
 LINEAR_ERROR_PER_STRAIN = 0.257
 
 
-def linear_error(max_silicone_strain: float) -> float:
+def linear_error(max_strain: float) -> float:
     """Estimated relative voltage error of a linear silicone at this largest strain."""
-    return LINEAR_ERROR_PER_STRAIN * max_silicone_strain
+    return LINEAR_ERROR_PER_STRAIN * max_strain
 
 
 # the outputs of a static result (`StaticResult.outputs`), SI units
@@ -88,8 +88,8 @@ class StaticResult:
         return self.solution.reaction
 
     @property
-    def max_silicone_strain(self) -> float:
-        return self.solution.max_solid_strain
+    def max_strain(self) -> float:
+        return self.solution.max_strain
 
     @property
     def mesh(self) -> TaggedMesh | None:
@@ -152,12 +152,12 @@ class StaticResult:
                    "pressed_voltage": e.voltage}
             if self.crosstalk is not None:
                 out["crosstalk"] = self.crosstalk
-        out["max_strain"] = self.max_silicone_strain
+        out["max_strain"] = self.max_strain
         return out
 
     @property
     def contact(self):
-        """The press (fem.contact.ContactResult) of an indenter scene, else None."""
+        """The press (fem.contact.PressResult) of an indenter scene, else None."""
         return getattr(self.solution, "contact", None)
 
     def contact_record(self) -> dict | None:
@@ -188,7 +188,7 @@ class StaticResult:
                                "short_circuit_charge_C": e.short_circuit_charge,
                                "capacitance_F": e.capacitance} for k, e in self.electrodes.items()},
             "applied_force_N": self.applied_force, "reaction_N": np.asarray(self.reaction).tolist(),
-            "max_silicone_strain": self.max_silicone_strain, "unknowns": self.unknowns,
+            "max_strain": self.max_strain, "unknowns": self.unknowns,
             "solver": self.solver, "relative_residual": self.residual,
             "times_s": self.times, "silicone": self.scene.model.silicone, "model_note": self.model_note,
             "yeoh": self.yeoh, "outputs": self.outputs(), **error_record(self.error, self.kind),
@@ -209,7 +209,7 @@ class StaticResult:
                                                      list(n["iterations"]), cutbacks=n["cutbacks"],
                                                      message=n["message"])
         sol = Solution(els, rec["applied_force_N"], np.asarray(rec["reaction_N"], dtype=float),
-                       rec["max_silicone_strain"], rec["unknowns"], rec["solver"], rec["relative_residual"],
+                       rec["max_strain"], rec["unknowns"], rec["solver"], rec["relative_residual"],
                        None, None, newton)
         st = rec.get("stop")
         return cls(scene, sol, dict(rec.get("times_s", {})), rec.get("model_note", ""), read_error(rec),
@@ -282,8 +282,8 @@ class StaticResult:
         if self.model_note:
             lines.append(self.model_note)
         if self.mesh is not None and self.mesh.layout.taxels:
-            est = linear_error(self.max_silicone_strain)
-            lines.append(f"largest silicone strain {100 * self.max_silicone_strain:.1f} %"
+            est = linear_error(self.max_strain)
+            lines.append(f"largest silicone strain {100 * self.max_strain:.1f} %"
                          + (f" (a linear silicone errs by about {100 * est:.2g} % here; model.silicone = 'auto' "
                             "or 'yeoh' to do better)" if not self.yeoh and est > 0.02 else ""))
         return lines

@@ -21,7 +21,7 @@ from taxel.scene import Scene
 from taxel.studies.bench.folder import RIG, MeasurementError, read_rig
 from taxel.studies.bench.protocol import Frames, encode_frames
 from taxel.studies.bench.rig import Rig
-from taxel.studies.bench.simulate import Settings, Truth, save_truth, simulate
+from taxel.studies.bench.signals import Settings, Truth, save_truth, simulate
 from taxel.studies.bench.wire import Wire, corrupt
 
 STREAM = "stream.bin"
@@ -88,7 +88,7 @@ class Simulation:
 
 
 def run(rig: Rig, scene: Scene, settings: Settings, corrupt_p: float = 0.0) -> Simulation:
-    """Simulate the rig (studies.bench.simulate) and encode its frames in the rig's protocol, each byte
+    """Simulate the rig (studies.bench.signals) and encode its frames in the rig's protocol, each byte
     flipped or dropped with probability `corrupt_p` (studies.bench.wire.corrupt, seeded by settings.seed + 1)."""
     if not 0 <= corrupt_p < 1:
         raise ValueError(f"corrupt must be a probability in [0, 1), got {corrupt_p}")

@@ -34,7 +34,7 @@ from ._sweep import project
 
 
 @dataclass
-class Reduced:
+class ProjectedModel:
     """The projected second-order model (all matrices dense, basis coordinates)."""
 
     parts: dict            # kind -> (r, r) real
@@ -74,7 +74,7 @@ def direct_ports(dm: DynamicModel, loads: np.ndarray, f_hz: float):
     return E[:, :loads.shape[1]], E[:, loads.shape[1]:]
 
 
-def ports(red: Reduced, freqs) -> tuple[np.ndarray, np.ndarray]:
+def ports(red: ProjectedModel, freqs) -> tuple[np.ndarray, np.ndarray]:
     """Reduced (V_oc (nf, na, m), C^-1 (nf, na, na)) over frequencies (Hz)."""
     freqs = np.atleast_1d(np.asarray(freqs, float))
     m = red.F.shape[1]
@@ -122,7 +122,7 @@ def basis(dm: DynamicModel, loads: np.ndarray, shifts_hz, moments: int, previous
     return D[:, None] * np.hstack(blocks)
 
 
-def residuals(dm: DynamicModel, red: "Reduced", V: np.ndarray, loads: np.ndarray, freqs) -> np.ndarray:
+def residuals(dm: DynamicModel, red: "ProjectedModel", V: np.ndarray, loads: np.ndarray, freqs) -> np.ndarray:
     """Relative residual ||K(w) V q - b|| / ||b|| of the reduced solution in the full
     model (scaled rows), the worst column, at each frequency: where to look next."""
     D = linalg.scaling(dm.K0, dm.red.is_u)
@@ -138,7 +138,7 @@ def residuals(dm: DynamicModel, red: "Reduced", V: np.ndarray, loads: np.ndarray
 
 
 def build(dm: DynamicModel, loads: np.ndarray, f_max: float, f_min: float = 1.0, tol: float = 1e-4,
-          moments: int = 4, max_rounds: int = 8, grid: int = 40) -> Reduced:
+          moments: int = 4, max_rounds: int = 8, grid: int = 40) -> ProjectedModel:
     """The reduced model of `dm` driven by the columns of `loads` (n, m). Greedy: shifts
     at 0 Hz and f_max, then, each round, the frequency of the largest residual
     (`residuals`, on `grid` log-spaced points over [f_min, f_max]) is solved
@@ -165,9 +165,9 @@ def build(dm: DynamicModel, loads: np.ndarray, f_max: float, f_min: float = 1.0,
     return red
 
 
-def _project(dm: DynamicModel, loads: np.ndarray, V: np.ndarray) -> Reduced:
+def _project(dm: DynamicModel, loads: np.ndarray, V: np.ndarray) -> ProjectedModel:
     r = project(replace(dm, F=loads), V)
     m = loads.shape[1]
-    return Reduced(r["parts"], dm.relax, r["M"], r["mech"] if not np.isscalar(r["mech"]) else
+    return ProjectedModel(r["parts"], dm.relax, r["M"], r["mech"] if not np.isscalar(r["mech"]) else
                    np.zeros_like(r["M"]), dm.alpha, dm.beta, r["B"][:, :m], r["B"][:, m:], r["E"], r["u_cols"],
                    list(dm.names), np.inf)
