@@ -1,5 +1,5 @@
 """A press that stops short of its force, kept as its last converged state
-(taxel.analyses.stopped_result), against pressing again to the force it reached.
+(taxel.solve returns it: success False, its stop), against pressing again to the force it reached.
 
 The probe example (thesis-pzt-probe-2d; --3d: thesis-pzt-probe-3d, the default press mesh),
 frictionless, asked for FORCE_2D (3 N; 3D: 1 N): where it stops and why (PressError.cause),

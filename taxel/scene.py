@@ -62,112 +62,11 @@ UserMaterial = Annotated[dict, AfterValidator(material_in_si)]
 
 
 # One example per table of a scene, shown under the key reference (`taxel schema`'s page in
-# the docs, docs/reference/keys/scene.md); each loads as a scene (tests/test_docs.py).
-KEY_EXAMPLES = {
-    "model": """[model]
-type = "3d"                 # or plane_strain, plane_stress, axisymmetric
-silicone = "yeoh"           # the Yeoh law of the silicone (needs its C10, C20, C30)
-symmetry = "auto"           # solve the quarter of a mirror-symmetric 3D array
-outputs = ["sensitivity", "crosstalk"]
+# the docs, docs/reference/keys/scene.md); each loads as a scene (tests/test_docs.py). Each is
+# a file of taxel/examples/keys/, its first line the title ("# materials (a user silicone)").
+KEY_EXAMPLES = {title.removeprefix("# "): text.rstrip("\n") for title, _, text in
+                (f.read_text().partition("\n") for f in sorted((EXAMPLES / "keys").glob("*.toml")))}
 
-[array]
-rows = 3
-cols = 3""",
-    "mesh": """[mesh]
-size = "0.5 mm"             # far from the taxels
-piezo_size = "0.1 mm"       # on the taxels
-piezo_layers = 2            # elements through each piezo layer""",
-    "array": """[array]
-rows = 3
-cols = 3
-taxel_width = "4 mm"
-piezo = "PSI-5H4E"
-piezo_thickness = "0.127 mm"
-gap = "3 mm"
-silicone = "Ecoflex-00-30"
-silicone_above = "1 mm"
-silicone_below = "1 mm\"""",
-    "plate": """[plate]                     # a layered plate instead of an [array]
-shape = "disk"
-radius = "10 mm"
-
-[[plate.layers]]
-material = "PSI-5H4E"
-thickness = "0.2 mm"
-
-[[plate.layers]]
-material = "Ecoflex-00-30"
-thickness = "1 mm"
-
-[load]                      # a plate is pressed by a pressure or an indenter
-kind = "pressure"
-pressure = "1 kPa\"""",
-    "load": """[load]                      # the rig's probe: a rigid 4 mm flat punch pressed to 1 N
-kind = "probe"
-contact = true
-shape = "flat"
-radius = "2 mm"
-edge_radius = "0.2 mm"
-force = "1 N"
-friction = "sticking\"""",
-    "supports": """[supports]
-bottom = "bonded"
-edges = "free\"""",
-    "electrodes": """[electrodes]
-taxels = "open"             # or "ground", or a voltage such as "10 V\"""",
-    "dynamics": """[dynamics]
-silicone_loss = 0.1         # structural loss factor of the silicone
-reference_frequency = "100 Hz\"""",
-    "analysis": """[analysis]
-type = "frequency"
-f_min = "1 Hz"
-f_max = "1 kHz"
-points = 200""",
-    "readout": """[readout]
-circuit = "charge_amplifier"
-C_f = "820 pF"
-R_f = "10 Mohm"
-notch = true""",
-    "materials (a user silicone)": """# A user silicone: the Yeoh constants C10, C20, C30 (the small-strain shear modulus is
-# mu = 2 C10; `taxel material fit-yeoh` fits them to a tension test), the bulk modulus K
-# (a silicone is nearly incompressible: K / mu about 1000, here 1000 x 2 x 27.5 kPa;
-# or give E and nu instead of K, or mu and K for a linear law only) and the density rho.
-# Any value: a string with its unit or a number in SI.
-[materials.my-silicone]
-kind = "solid"
-C10 = "27.5 kPa"
-C20 = "0.4 kPa"
-C30 = "0 Pa"
-K = "55 MPa"
-rho = "1070 kg/m^3"
-eps_r = 2.8                 # relative permittivity (default 1)
-
-[array]
-silicone = "my-silicone\"""",
-    "materials (a user piezo)": """# A user piezo in the strain-charge form: the compliance s (6 x 6, 1/Pa), the piezoelectric
-# constants d (3 x 6, C/N; d31 is d[2][0]) and the relative permittivity eps_T (3 x 3), with
-# the density rho; or the stress-charge form: c (Pa), e (C/m^2), eps_S. Optional: Qm and
-# tan_delta (the losses). A matrix entry is a number in SI or a string with its unit.
-[materials.my-pvdf]
-kind = "piezo"
-rho = "1780 kg/m^3"
-s = [[3.333e-10, -1.133e-10, -1.133e-10, 0, 0, 0],
-     [-1.133e-10, 3.333e-10, -1.133e-10, 0, 0, 0],
-     [-1.133e-10, -1.133e-10, 3.333e-10, 0, 0, 0],
-     [0, 0, 0, 8.933e-10, 0, 0],
-     [0, 0, 0, 0, 8.933e-10, 0],
-     [0, 0, 0, 0, 0, 8.933e-10]]
-d = [[0, 0, 0, 0, 0, 0],
-     [0, 0, 0, 0, 0, 0],
-     ["23 pC/N", "3 pC/N", "-33 pC/N", 0, 0, 0]]
-eps_T = [[12, 0, 0], [0, 12, 0], [0, 0, 12]]
-Qm = 10
-tan_delta = 0.02
-
-[array]
-piezo = "my-pvdf"
-piezo_thickness = "52 um\"""",
-}
 
 class SceneError(ValueError):
     """A scene that cannot be solved; the message is one line with the fix."""

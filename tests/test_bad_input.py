@@ -524,7 +524,7 @@ def _solved_folder(folder):
 
 
 
-# ------------------------------------------------------------------------- contact (was test_contact_scene.py)
+# ------------------------------------------------------------------------- contact
 def contact(id, model, kind, extra, *words):
     text = (f'[model]\ntype = "{model}"\n[mesh]\nsize = "1 mm"\npiezo_size = "0.25 mm"\n[array]\n'
             f'[load]\nkind = "{kind}"\nradius = "1 mm"\ncontact = true\n{extra}\n')
@@ -539,7 +539,7 @@ CONTACT = [
     contact("coulomb-friction", "plane_strain", "probe", 'friction = "coulomb"', "load.friction"),
 ]
 
-# ------------------------------------------------------------------------- more study files (was test_studies.py)
+# ------------------------------------------------------------------------- more study files
 STUDY_FILES = [study(f"file-{id}", 'base = "thesis-pzt-single-2d"\n' + extra, *words) for id, extra, words in [
     ("unknown-path", '[[parameters]]\npath = "arrya.gap"\nvalues = ["1 mm"]\n', ("unknown scene path",)),
     ("unknown-leaf", '[[parameters]]\npath = "array.gapp"\nvalues = ["1 mm"]\n', ("array.gapp",)),
@@ -561,7 +561,7 @@ STUDY_FILES = [study(f"file-{id}", 'base = "thesis-pzt-single-2d"\n' + extra, *w
     study("file-base-nope", 'base = "nope"\n[[parameters]]\npath = "array.gap"\nvalues = ["1 mm"]\n', "base = 'nope'"),
 ]
 
-# ------------------------------------------------------------------------- more optimizations (was test_optimize.py)
+# ------------------------------------------------------------------------- more optimizations
 COARSE_OPT = '''base = "thesis-pzt-single-2d"
 [variables]
 silicone_above = {path = "array.silicone_above", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
@@ -588,7 +588,7 @@ OPTIMIZE_FILES = [opt(f"file-{id}", replace_in(COARSE_OPT, *change), words) for 
     ("unknown-algorithm", ('local = "COBYLA"', 'local = "NEWUOA"'), "algorithm.local"),
 ]]
 
-# ------------------------------------------------------------------------- more Yeoh fits (was test_yeoh_fit.py)
+# ------------------------------------------------------------------------- more Yeoh fits
 STRAIN_ONLY = "Time (s);Engineering Strain\n" + "".join(f"{i};{0.1 * i}\n" for i in range(1, 9))
 FIT_MORE = [
     fit("no-stress-column", STRAIN_ONLY, "no stress column", args=()),
@@ -597,7 +597,7 @@ FIT_MORE = [
     fit("fit-strain-text", STRAIN_ONLY, "--fit-strain", args=("--fit-strain", "half")),
 ]
 
-# ------------------------------------------------------------------------- measure (was test_measure_cli.py)
+# ------------------------------------------------------------------------- measure
 BENCH = str(Path(__file__).parents[1] / "studies" / "bench" / "builtin" / "thesis-bench.toml")
 
 

@@ -79,7 +79,7 @@ def test_every_table_of_a_scene_has_an_example_under_the_reference_and_each_load
     user materials included (a silicone: C10, C20, C30, K, rho; a piezo); each is a scene."""
     import tomllib
     import taxel
-    from taxel.analyses.adapter import scene_materials
+    from taxel.analyses import scene_materials
     from taxel.scene import KEY_EXAMPLES, Scene
     tables = {name for name, info in Scene.model_fields.items()
               if name not in ("name", "description")}

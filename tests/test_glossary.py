@@ -2,7 +2,7 @@
 
 A code path is a dotted name inside backticks whose first part is the package or one
 of its layer folders (`taxel.fem.contact.Press`, `fem.contact.StopCause`,
-`studies.evaluate.solve_reached`); a call's arguments are dropped (`taxel.read(folder)`).
+`studies.evaluate.evaluate`); a call's arguments are dropped (`taxel.read(folder)`).
 It resolves by importing its longest module prefix and getting the rest as attributes
 (a dataclass or pydantic field counts). A repository file path in backticks
 (`fem/contact/_press.py`) must exist. So a rename that forgets the glossary fails here.
