@@ -1,6 +1,6 @@
 """The walk of one design point through the package, module by module, as it runs.
 
-    python benchmarks/walk.py [--inside-layers | --folders] [ARGS...]
+    python benchmarks/walk.py [--inside-layers] [--files | --folders] [ARGS...]
                                         (default: solve thesis-pzt-single-2d --json --out DIR)
 
 Runs the `taxel` command in this process under a profile hook and records, from the
@@ -18,6 +18,7 @@ Problem or a layout: they are left out unless --inside-layers is given. A subpac
 of the FEM (taxel.fem.static, taxel.fem.assembly, ...) counts as one module: its
 callers see only its surface (its __init__'s __all__), its private modules are its
 own machinery.
+--files counts every file as its own module, a FEM subpackage's private modules too.
 --folders draws the walk one stop per folder (taxel.analyses, taxel.fem, ...).
 """
 
@@ -26,6 +27,9 @@ from __future__ import annotations
 import sys
 import tempfile
 from pathlib import Path
+
+
+FILES = False          # --files
 
 
 def trace(argv: list[str]) -> tuple[str, list[tuple[str, str]]]:
@@ -47,7 +51,7 @@ def trace(argv: list[str]) -> tuple[str, list[tuple[str, str]]]:
             return None
         rel = p.relative_to(best[0]).with_suffix("")
         parts = [best[1], *rel.parts]
-        if best[1] == "taxel.fem" and len(parts) > 2:       # a FEM subpackage is one module
+        if best[1] == "taxel.fem" and len(parts) > 2 and not FILES:   # a FEM subpackage is one module
             parts = parts[:2]
         return ".".join(parts).removesuffix(".__init__")
 
@@ -103,7 +107,9 @@ def main() -> None:
     args = sys.argv[1:]
     inside = "--inside-layers" in args          # also count calls inside the fem and meshing folders
     by_folder = "--folders" in args             # one stop per folder (taxel.analyses, taxel.reports, ...)
-    args = [a for a in args if a not in ("--inside-layers", "--folders")]
+    global FILES
+    FILES = "--files" in args                   # every file its own module, a FEM subpackage's private ones too
+    args = [a for a in args if a not in ("--inside-layers", "--folders", "--files")]
     if by_folder:
         LAYER_PACKAGES.extend(("cli", "analyses", "reports", "studies", "optimize", "jobs"))
     with tempfile.TemporaryDirectory() as tmp:
