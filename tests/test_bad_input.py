@@ -562,20 +562,7 @@ STUDY_FILES = [study(f"file-{id}", 'base = "thesis-pzt-single-2d"\n' + extra, *w
 ]
 
 # ------------------------------------------------------------------------- more optimizations
-COARSE_OPT = '''base = "thesis-pzt-single-2d"
-[variables]
-silicone_above = {path = "array.silicone_above", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
-[objective]
-maximize = "sensitivity"
-[constraints]
-total_thickness = "<= 2.127 mm"
-max_strain = "<= 5"
-[algorithm]
-global = "none"
-local = "COBYLA"
-max_evaluations = 15
-xtol = 0.01
-'''
+from test_optimize import COARSE_OPT      # noqa: E402  (the file the optimization tests use)
 OPTIMIZE_FILES = [opt(f"file-{id}", replace_in(COARSE_OPT, *change), words) for id, change, words in [
     ("infeasible", ('total_thickness = "<= 2.127 mm"', 'total_thickness = "<= 0.1 mm"'), "cannot be met"),
     ("empty-bounds", ('min = "0.2 mm", max = "1.8 mm"', 'min = "1.8 mm", max = "0.2 mm"'), "empty bounds"),

@@ -236,46 +236,6 @@ def test_index_and_a_gallery_page_open_in_headless_chromium(site, tmp_path):
         assert dom.count("<img") >= 1
 
 
-def _glossary_paths():
-    """The code paths the glossary's tables name in their `where` column: files and folders
-    (`fem/static/_linear.py`, `taxel/explore/`) and dotted names (`taxel.fem.static.Solution`)."""
-    text = (DOCS / "glossary.md").read_text(encoding="utf-8")
-    files, dotted = set(), set()
-    for line in text.splitlines():
-        if not line.startswith("| ") or line.startswith(("| name", "|---")):
-            continue
-        where = line.rstrip(" |").rsplit(" | ", 1)[-1]
-        for token in re.findall(r"`([^`]+)`", where):
-            if re.fullmatch(r"[\w./-]+\.(py|toml|json)|[\w-]+(/[\w.-]+)*/", token) and "/" in token:
-                files.add(token)
-            elif re.fullmatch(r"(taxel|fem)(\.\w+)+", token):
-                dotted.add(token if token.startswith("taxel.") else "taxel." + token)
-    return files, dotted
-
-
-def test_every_code_path_the_glossary_names_exists():
-    import importlib
-    files, dotted = _glossary_paths()
-    assert len(files) >= 20 and len(dotted) >= 20
-    generated = {"probe-front.json"}
-    missing = [f for f in files if f not in generated and not (ROOT / f).exists()
-               and not (ROOT / f.removeprefix("taxel/")).exists()]
-    assert not missing, f"the glossary names files that do not exist: {missing}"
-    for name in sorted(dotted):
-        parts = name.split(".")
-        for i in range(len(parts), 0, -1):
-            try:
-                obj = importlib.import_module(".".join(parts[:i]))
-            except ImportError:
-                continue
-            for attr in parts[i:]:
-                assert hasattr(obj, attr), f"the glossary names {name}: {'.'.join(parts[:i])} has no {attr}"
-                obj = getattr(obj, attr)
-            break
-        else:
-            raise AssertionError(f"the glossary names {name}, which does not import")
-
-
 def test_the_study_optimization_and_rig_examples_cover_every_table_and_load(tmp_path):
     """Each key reference ends with whole example files that, together, use every top-level
     key of their schema, and each loads as its command would load it."""

@@ -47,9 +47,8 @@ def test_epsilon_constraint_recovers_a_known_front():
     assert len(driver.pareto_front(pts)) == len(pts)
 
 
-def coarse_problem(tmp_path):
-    text = """
-base = "thesis-pzt-single-2d"
+# a coarse optimization: 15 COBYLA evaluations of the 2D single taxel (tests/test_bad_input.py breaks it)
+COARSE_OPT = """base = "thesis-pzt-single-2d"
 [variables]
 silicone_above = {path = "array.silicone_above", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
 [objective]
@@ -63,6 +62,10 @@ local = "COBYLA"
 max_evaluations = 15
 xtol = 0.01
 """
+
+
+def coarse_problem(tmp_path):
+    text = COARSE_OPT
     p = tmp_path / "opt.toml"
     p.write_text(text)
     return p
