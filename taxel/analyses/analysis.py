@@ -43,10 +43,7 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
     the first load step of a static solve converged (there is no state to return)."""
     scene = scene if isinstance(scene, Scene) else load(scene)
     if out is not None:
-        with output_folder(Path(out)) as tmp:
-            res = solve(scene, estimate, **options)
-            res.to_folder(tmp)
-        return res
+        return _written(out, lambda: solve(scene, estimate, **options))
     kind = scene.analysis.type
     if kind == "frequency":
         from taxel.analyses.dynamic import frequency
@@ -73,10 +70,14 @@ def lumped(scene: Scene | str | Path | dict, out: str | Path | None = None):
     `out`, its folder is written there too, as `solve` writes one."""
     from taxel.analyses.dynamic import lumped_response
     scene = scene if isinstance(scene, Scene) else load(scene)
-    if out is None:
-        return lumped_response(scene)
+    return lumped_response(scene) if out is None else _written(out, lambda: lumped_response(scene))
+
+
+def _written(out: str | Path, compute):
+    """`compute()`'s result, its folder written to `out` whole or not at all (a folder that
+    cannot be made fails before the work)."""
     with output_folder(Path(out)) as tmp:
-        res = lumped_response(scene)
+        res = compute()
         res.to_folder(tmp)
     return res
 
