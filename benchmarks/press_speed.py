@@ -1,0 +1,210 @@
+"""The 3D probe press in seconds (issue 46): where its time goes, and what each lever buys.
+
+Two presses, both the rig's probe (a sticking 4 mm flat punch, 0.2 mm edge radius) pressing
+Yeoh Ecoflex 00-30 to 1 N, quarter models (model.symmetry = "auto"):
+
+- single: thesis-pzt-probe-3d, the thesis PZT taxel alone;
+- 3x3: the same scene with a 3 x 3 array (array.rows = cols = 3), the punch on the centre taxel:
+  the case that gives sensitivity and crosstalk together.
+
+Each at its default press mesh (taxel.scene.DEFAULT_PRESS_MESH) and at refinements of it
+(taxel.scene.refined, every size / k; --levels), through the whole pipeline a user runs
+(taxel.analyses.problem.solve_model: mesh, assembly, press, the solution with the unfolded
+capacitance), printing wall and CPU time, the unknowns, Newton iterations, load states,
+factorizations (fem.contact.PressResult.stats), V/F and crosstalk, and the error against the
+reference: the single taxel's eight-level Richardson fit (docs/press_3d_reference.json,
+benchmarks/press_3d.py), and for the 3x3 Richardson over the levels run here (three levels,
+any size ratios) where they are monotone.
+
+--levers CASE: the levers side by side in one run on that case's default mesh (each a whole
+solve_model; --repeat N for medians): the default; the PARDISO analysis redone at every Newton
+step (Options.reuse_analysis False); no chord steps; no tangent predictor (each travel from the
+last state, not from the linear rate dx/dd); the first force-control trial from the unpressed
+(linear) stiffness at half the target (Options.first_force 0.5: fewer load states); and the
+taxels the punch does not touch meshed coarser (meshing Layout.far_taxel 2 and 3: fewer unknowns
+where the silicone stays nearly linear).
+
+--profile CASE: cProfile of one default solve, the 25 most costly functions.
+
+Run with MKL_NUM_THREADS=1 (the machine is shared). RESULT below; measured numbers are in
+docs/benchmarks.md ("The 3D press in seconds").
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import dataclasses
+import json
+import os
+import pstats
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+from taxel.analyses import checked_layout, check
+from taxel.analyses.problem import solve_model
+from taxel.meshing.build import build
+from taxel.scene import load, refined
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+LEVELS = (1.0, 2 ** 0.5, 2.0)
+
+
+def scene(case: str):
+    """The single taxel or the 3x3 array pressed at its centre taxel by the rig's probe."""
+    sc = load("thesis-pzt-probe-3d")
+    if case == "3x3":
+        sc = sc.replace(**{"array.rows": 3, "array.cols": 3, "load.taxel": [1, 1]})
+    return sc
+
+
+def reference(case: str) -> float | None:
+    """V/N: the single taxel's Richardson fit (benchmarks/press_3d.py --reference)."""
+    if case != "single":
+        return None
+    ref = json.loads((DOCS / "press_3d_reference.json").read_text())
+    return float(ref["VF"])
+
+
+def run(sc, options: dict | None = None, far_taxel: float = 1.0) -> dict:
+    """One whole solve (mesh, assembly, press, solution); its numbers."""
+    w, c = time.perf_counter(), time.process_time()
+    tm = None
+    if far_taxel != 1.0:
+        lay = checked_layout(sc, check(sc))
+        tm = build(dataclasses.replace(lay, far_taxel=far_taxel))
+    res = solve_model(sc, tagged_mesh=tm, newton_options=options)
+    wall, cpu = time.perf_counter() - w, time.process_time() - c
+    out = res.outputs()
+    cr = res.contact
+    st = cr.stats
+    return dict(n=res.unknowns, VF=out["sensitivity"], crosstalk=out.get("crosstalk"), wall=wall, cpu=cpu,
+                states=len(cr.points), iterations=cr.total_iterations, factorizations=st["factorizations"],
+                chord=st["chord_steps"], factorize_s=st["factorize_s"], assemble_s=st["assemble_s"],
+                solve_s=st["solve_s"], continuation=st.get("continuation_steps", 0), times=res.times)
+
+
+def richardson(h, v):
+    """(order, extrapolated value) of three levels h0 > h1 > h2 (v_i = v + C h_i^p), or (None, None)
+    where the steps change sign or no order in (0, 12] fits."""
+    from scipy.optimize import brentq
+    (h0, h1, h2), (v0, v1, v2) = h, v
+    d1, d2 = v0 - v1, v1 - v2
+    if d1 * d2 <= 0:
+        return None, None
+    g = lambda p: (h0 ** p - h1 ** p) / (h1 ** p - h2 ** p) - d1 / d2
+    try:
+        p = brentq(g, 1e-3, 12.0)
+    except ValueError:
+        return None, None
+    C = d2 / (h1 ** p - h2 ** p)
+    return p, v2 - C * h2 ** p
+
+
+HEAD = ("| run | unknowns | V/F V/N | error | crosstalk % | states | Newton iterations | factorizations | chord "
+        "steps | factorize CPU s | assembly CPU s | solve CPU s | CPU s | wall s |")
+
+
+def row(name, r, ref):
+    err = f"{100 * (r['VF'] / ref - 1):+.2f} %" if ref else ""
+    xt = f"{100 * r['crosstalk']:.3f}" if r.get("crosstalk") is not None else ""
+    return (f"| {name} | {r['n']} | {r['VF']:.5f} | {err} | {xt} | {r['states']} | {r['iterations']} | "
+            f"{r['factorizations']} | {r['chord']} | {r['factorize_s']:.1f} | {r['assemble_s']:.1f} | "
+            f"{r['solve_s']:.1f} | {r['cpu']:.1f} | {r['wall']:.1f} |")
+
+
+def levels(case: str, ks):
+    sc0 = scene(case)
+    ref = reference(case)
+    print(f"\n{case}: default press mesh and refinements (sizes / k); reference "
+          f"{'%.5f V/N (docs/press_3d_reference.json)' % ref if ref else 'Richardson over these levels'}"
+          f"; load {os.getloadavg()[0]:.1f}")
+    print(HEAD)
+    print("|" + "---|" * 14)
+    rows = []
+    for k in ks:
+        r = run(sc0 if k == 1.0 else refined(sc0, k))
+        rows.append((k, r))
+        print(row(f"sizes / {k:.3g}", r, ref), flush=True)
+    if len(rows) >= 3:
+        h = [1 / k for k, _ in rows[-3:]]
+        p, v = richardson(h, [r["VF"] for _, r in rows[-3:]])
+        if v is not None:
+            print(f"Richardson over the last three levels: order {p:.2f}, V/F {v:.5f} V/N; errors "
+                  + ", ".join(f"/ {k:.3g} {100 * (r['VF'] / v - 1):+.2f} %" for k, r in rows))
+            pc, vc = richardson(h, [r["crosstalk"] for _, r in rows[-3:]]) if rows[0][1]["crosstalk"] else (0, None)
+            if vc is not None:
+                print(f"crosstalk: order {pc:.2f}, {100 * vc:.4f} %")
+        else:
+            print("the levels are not monotone: no Richardson value")
+
+
+LEVERS = {
+    "default": dict(),
+    "PARDISO analysis at every Newton step": dict(options=dict(reuse_analysis=False)),
+    "no chord steps": dict(options=dict(chord=False)),
+    "no tangent predictor": dict(options=dict(predictor=False)),
+    "first trial from the unpressed stiffness, half the target": dict(options=dict(first_force=0.5)),
+    "far taxels' edges 2 x piezo_size": dict(far_taxel=2.0),
+    "far taxels' edges 3 x piezo_size": dict(far_taxel=3.0),
+}
+
+
+def levers(case: str, repeat: int, only: list[str] | None):
+    sc = scene(case)
+    ref = reference(case)
+    print(f"\n{case}: levers on the default press mesh ({repeat} run(s) each, medians of the times); "
+          f"load {os.getloadavg()[0]:.1f}")
+    print(HEAD)
+    print("|" + "---|" * 14)
+    base = None
+    for name, kw in LEVERS.items():
+        if only and name != "default" and not any(o in name for o in only):
+            continue
+        runs = [run(sc, **kw) for _ in range(repeat)]
+        r = dict(runs[0])
+        for key in ("wall", "cpu", "factorize_s", "assemble_s", "solve_s"):
+            r[key] = statistics.median(x[key] for x in runs)
+        base = base or r
+        print(row(name, r, ref) + f" {r['cpu'] / base['cpu']:.2f} x CPU", flush=True)
+        if not ref and name != "default":
+            print(f"|   against the default | | {100 * (r['VF'] / base['VF'] - 1):+.2f} % | "
+                  + (f"{100 * (r['crosstalk'] / base['crosstalk'] - 1):+.1f} % (relative)" if r["crosstalk"] else "")
+                  + " |")
+
+
+def profile(case: str):
+    pr = cProfile.Profile()
+    pr.enable()
+    r = run(scene(case))
+    pr.disable()
+    print(row(f"{case}, profiled", r, reference(case)))
+    pstats.Stats(pr).sort_stats("tottime").print_stats(25)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--case", choices=("single", "3x3", "both"), default="both")
+    ap.add_argument("--levels", default=",".join(f"{k:.6g}" for k in LEVELS),
+                    help="size divisors k of the refinements (1: the default press mesh)")
+    ap.add_argument("--levers", choices=("single", "3x3"))
+    ap.add_argument("--only", default="", help="comma-separated parts of lever names to run (with the default)")
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--profile", choices=("single", "3x3"))
+    a = ap.parse_args()
+    if a.profile:
+        profile(a.profile)
+        return
+    if a.levers:
+        levers(a.levers, a.repeat, [s for s in a.only.split(",") if s])
+        return
+    ks = [float(k) for k in a.levels.split(",")]
+    for case in (("single", "3x3") if a.case == "both" else (a.case,)):
+        levels(case, ks)
+
+
+if __name__ == "__main__":
+    main()
