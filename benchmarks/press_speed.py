@@ -21,8 +21,9 @@ solve_model; --repeat N for medians): the default; the PARDISO analysis redone a
 step (Options.reuse_analysis False); no chord steps; no tangent predictor (each travel from the
 last state, not from the linear rate dx/dd); the first force-control trial from the unpressed
 (linear) stiffness at half the target (Options.first_force 0.5: fewer load states); and the
-taxels the punch does not touch meshed coarser (meshing Layout.far_taxel 2 and 3: fewer unknowns
-where the silicone stays nearly linear).
+taxels the punch does not touch meshed as finely as the pressed one (meshing Layout.far_taxel 1,
+the default before) and at 2 x (the default is taxel.analyses.geometry.FAR_TAXEL, 3: fewer
+unknowns where the silicone stays nearly linear).
 
 --profile CASE: cProfile of one default solve, the 25 most costly functions.
 
@@ -42,7 +43,6 @@ import statistics
 import time
 from pathlib import Path
 
-import numpy as np
 
 from taxel.analyses import checked_layout, check
 from taxel.analyses.problem import solve_model
@@ -69,11 +69,12 @@ def reference(case: str) -> float | None:
     return float(ref["VF"])
 
 
-def run(sc, options: dict | None = None, far_taxel: float = 1.0) -> dict:
-    """One whole solve (mesh, assembly, press, solution); its numbers."""
+def run(sc, options: dict | None = None, far_taxel: float | None = None) -> dict:
+    """One whole solve (mesh, assembly, press, solution); its numbers. `far_taxel`: the layout's
+    (meshing Layout.far_taxel) instead of the scene's default (taxel.analyses.geometry.FAR_TAXEL)."""
     w, c = time.perf_counter(), time.process_time()
     tm = None
-    if far_taxel != 1.0:
+    if far_taxel is not None:
         lay = checked_layout(sc, check(sc))
         tm = build(dataclasses.replace(lay, far_taxel=far_taxel))
     res = solve_model(sc, tagged_mesh=tm, newton_options=options)
@@ -148,8 +149,8 @@ LEVERS = {
     "no chord steps": dict(options=dict(chord=False)),
     "no tangent predictor": dict(options=dict(predictor=False)),
     "first trial from the unpressed stiffness, half the target": dict(options=dict(first_force=0.5)),
+    "far taxels as fine as the pressed one (Layout.far_taxel 1, the default before)": dict(far_taxel=1.0),
     "far taxels' edges 2 x piezo_size": dict(far_taxel=2.0),
-    "far taxels' edges 3 x piezo_size": dict(far_taxel=3.0),
 }
 
 
