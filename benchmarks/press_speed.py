@@ -25,6 +25,13 @@ taxels the punch does not touch meshed as finely as the pressed one (meshing Lay
 the default before) and at 2 x (the default is taxel.analyses.geometry.FAR_TAXEL, 3: fewer
 unknowns where the silicone stays nearly linear).
 
+--designs N: N designs pressed in one process (the single taxel, silicone above 1, 0.75, 1.25, 0.5
+mm ...: what an optimization or the main job presses), each design's wall and CPU time, against
+a cold start (a new process, `taxel solve thesis-pzt-probe-3d --json`: imports, MKL, mesh, press).
+What carries over between designs of one process: the imports, MKL's and pypardiso's set-up and
+gmsh's initialisation; not the mesh or the PARDISO analysis (a new design is a new mesh, a new
+pattern; fem.linalg.Refactorizer reuses its analysis within one press).
+
 --profile CASE: cProfile of one default solve, the 25 most costly functions.
 
 Run with MKL_NUM_THREADS=1 (the machine is shared). RESULT below; measured numbers are in
@@ -177,6 +184,32 @@ def levers(case: str, repeat: int, only: list[str] | None):
                   + " |")
 
 
+def designs(n: int):
+    import resource
+    import subprocess
+    import sys
+    import tempfile
+    print(f"\ndesigns pressed in one process against a cold start (single taxel); load {os.getloadavg()[0]:.1f}")
+    cold = []
+    for _ in range(2):
+        w = time.perf_counter()
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        with tempfile.TemporaryDirectory() as tmp:
+            subprocess.run([str(Path(sys.executable).parent / "taxel"), "solve", "thesis-pzt-probe-3d", "--json"],
+                           cwd=tmp, check=True, capture_output=True)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cold.append((time.perf_counter() - w, after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime))
+    print(f"cold start (a new process, taxel solve, two runs): wall {', '.join(f'{c[0]:.1f}' for c in cold)} s, "
+          f"CPU {', '.join(f'{c[1]:.1f}' for c in cold)} s")
+    print("| design (silicone above) | unknowns | V/F V/N | CPU s | wall s |")
+    print("|---|---|---|---|---|")
+    sc = scene("single")
+    for i in range(n):
+        t = 1e-3 * (1.0 + 0.25 * ((i + 1) // 2) * (-1) ** i)
+        r = run(sc.replace(**{"array.silicone_above": t}))
+        print(f"| {1e3 * t:g} mm | {r['n']} | {r['VF']:.5f} | {r['cpu']:.1f} | {r['wall']:.1f} |", flush=True)
+
+
 def profile(case: str):
     pr = cProfile.Profile()
     pr.enable()
@@ -195,9 +228,13 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated parts of lever names to run (with the default)")
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--profile", choices=("single", "3x3"))
+    ap.add_argument("--designs", type=int, default=0)
     a = ap.parse_args()
     if a.profile:
         profile(a.profile)
+        return
+    if a.designs:
+        designs(a.designs)
         return
     if a.levers:
         levers(a.levers, a.repeat, [s for s in a.only.split(",") if s])
