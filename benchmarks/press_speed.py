@@ -34,8 +34,25 @@ pattern; fem.linalg.Refactorizer reuses its analysis within one press).
 
 --profile CASE: cProfile of one default solve, the 25 most costly functions.
 
-Run with MKL_NUM_THREADS=1 (the machine is shared). RESULT below; measured numbers are in
+Run with MKL_NUM_THREADS=1 (the machine is shared). Measured numbers and what they mean are in
 docs/benchmarks.md ("The 3D press in seconds").
+
+RESULT (2026-11-28, one run each unless said, CPU s, the 2-core machine at load 4-10):
+- --case single: sizes / 1, 1.41, 2 (taxel.scene.refined): 8 031, 13 223, 21 866 unknowns, V/F
+  -0.78635, -0.78850, -0.79327 V/N, +0.84, +1.11, +1.73 % from the reference -0.77981; 8.1, 24.7,
+  42.0 s (refined keeps the rim's size and rounds the piezo's elements through: not a converging
+  family of the press; benchmarks/press_3d.py's Family is).
+- --levers 3x3 (before FAR_TAXEL was the default: far taxels 1 then): far taxels 1, 2, 3 x:
+  34 482, 20 292, 17 935 unknowns, V/F -0.77836, -0.77632, -0.77609 V/N, crosstalk 1.140, 1.159,
+  1.133 %, 79.1, 35.3, 28.3 s (182, 61, 56 s wall).
+- --case 3x3 --levels 1,1.41421 (FAR_TAXEL 3): 17 935, 33 591 unknowns, -0.77609, -0.77750 V/N,
+  crosstalk 1.133, 1.130 %, 29.3, 65.5 s; against the single taxel's -0.78635, -0.78850: ratios
+  0.98695, 0.98605.
+- --levers single --repeat 3 (medians): default 9.7 s, analysis at every step 12.1 s (1.24 x),
+  no chord steps 9.0 s (0.92 x), no predictor 15.3 s (1.57 x, 13 states), first trial at half
+  the target 9.0 s (0.92 x); V/F within 0.08 %.
+- --designs 4: a cold process 10.1 s of CPU (two runs); in one process, silicone above 1, 0.75,
+  1.25, 0.5 mm: 9.2, 10.2, 13.7, 8.5 s (-0.78635, -0.73878, -0.80931, -0.66599 V/N).
 """
 
 from __future__ import annotations
