@@ -32,6 +32,10 @@ What carries over between designs of one process: the imports, MKL's and pypardi
 gmsh's initialisation; not the mesh or the PARDISO analysis (a new design is a new mesh, a new
 pattern; fem.linalg.Refactorizer reuses its analysis within one press).
 
+--estimate CASE: the error estimate of the default press (taxel.analyses.error_estimate.estimate:
+for a 3D press the through-the-piezo and in-plane parts, widened) against the true error (the
+single taxel's reference), and its cost against the press's.
+
 --profile CASE: cProfile of one default solve, the 25 most costly functions.
 
 Run with MKL_NUM_THREADS=1 (the machine is shared). Measured numbers and what they mean are in
@@ -51,6 +55,11 @@ RESULT (2026-11-28, one run each unless said, CPU s, the 2-core machine at load 
 - --levers single --repeat 3 (medians): default 9.7 s, analysis at every step 12.1 s (1.24 x),
   no chord steps 9.0 s (0.92 x), no predictor 15.3 s (1.57 x, 13 states), first trial at half
   the target 9.0 s (0.92 x); V/F within 0.08 %.
+- --estimate single (load 10.6): V/F -0.78635, estimate 1.91 % (through the piezo 1.7 %, in plane
+  0.15 %), true 0.84 %: 2.27 x; the press 8.3 s of CPU, the estimate 17.0 s (2.0 x the press).
+- --profile 3x3 (FAR_TAXEL 3, load 10): 27.2 s of CPU: factorizations 9.8 s (38), assembly 11.1 s
+  (the Yeoh terms over all the silicone, 57 Newton iterations), solves 2.3 s, the rest (mesh,
+  scaling, the final state's unfolded capacitance) 3.9 s.
 - --designs 4: a cold process 10.1 s of CPU (two runs); in one process, silicone above 1, 0.75,
   1.25, 0.5 mm: 9.2, 10.2, 13.7, 8.5 s (-0.78635, -0.73878, -0.80931, -0.66599 V/N).
 """
@@ -227,6 +236,22 @@ def designs(n: int):
         print(f"| {1e3 * t:g} mm | {r['n']} | {r['VF']:.5f} | {r['cpu']:.1f} | {r['wall']:.1f} |", flush=True)
 
 
+def estimate(case: str):
+    from taxel.analyses import error_estimate as est
+    sc, ref = scene(case), reference(case)
+    w, c = time.perf_counter(), time.process_time()
+    r = solve_model(sc)
+    w1, c1 = time.perf_counter(), time.process_time()
+    e = est.estimate(sc, r)
+    w2, c2 = time.perf_counter(), time.process_time()
+    oe = e.outputs["sensitivity"]
+    true = f"true {100 * abs(oe.value / ref - 1):.2f} %, ratio {oe.total / abs(oe.value / ref - 1):.2f}" if ref else ""
+    print(f"{case}: V/F {oe.value:.5f} V/N, estimate {100 * oe.total:.2f} % ({e.method}); {true}; press {c1 - c:.1f} s "
+          f"of CPU ({w1 - w:.1f} wall), estimate {c2 - c1:.1f} s of CPU ({w2 - w1:.1f} wall); load {os.getloadavg()[0]:.1f}")
+    for h in e.how:
+        print("  ", h)
+
+
 def profile(case: str):
     pr = cProfile.Profile()
     pr.enable()
@@ -246,9 +271,13 @@ def main():
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--profile", choices=("single", "3x3"))
     ap.add_argument("--designs", type=int, default=0)
+    ap.add_argument("--estimate", choices=("single", "3x3"))
     a = ap.parse_args()
     if a.profile:
         profile(a.profile)
+        return
+    if a.estimate:
+        estimate(a.estimate)
         return
     if a.designs:
         designs(a.designs)
