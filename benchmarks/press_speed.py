@@ -36,6 +36,9 @@ pattern; fem.linalg.Refactorizer reuses its analysis within one press).
 for a 3D press the through-the-piezo and in-plane parts, widened) against the true error (the
 single taxel's reference), and its cost against the press's.
 
+--linear-estimate: the linear 3D estimate of thesis-pzt-single-3d and thesis-pzt-3x3-3d (their
+own meshes) against docs/reference_3d.json: its mean, and the largest error against any chain.
+
 --profile CASE: cProfile of one default solve, the 25 most costly functions.
 
 Run with MKL_NUM_THREADS=1 (the machine is shared). Measured numbers and what they mean are in
@@ -57,6 +60,8 @@ RESULT (2026-11-28, one run each unless said, CPU s, the 2-core machine at load 
   the target 9.0 s (0.92 x); V/F within 0.08 %.
 - --estimate single (load 10.6): V/F -0.78635, estimate 1.91 % (through the piezo 1.7 %, in plane
   0.15 %), true 0.84 %: 2.27 x; the press 8.3 s of CPU, the estimate 17.0 s (2.0 x the press).
+- --linear-estimate (load 11): single 0.618 % at -0.85451 V/N, against the mean 0.062 % (9.9 x), the
+  largest against a chain 0.369 % (1.7 x); 3x3 0.500 % at -0.82431 V/N, 0.239 % (2.1 x), 0.710 % (0.7 x).
 - --profile 3x3 (FAR_TAXEL 3, load 10): 27.2 s of CPU: factorizations 9.8 s (38), assembly 11.1 s
   (the Yeoh terms over all the silicone, 57 Newton iterations), solves 2.3 s, the rest (mesh,
   scaling, the final state's unfolded capacitance) 3.9 s.
@@ -252,6 +257,23 @@ def estimate(case: str):
         print("  ", h)
 
 
+def linear_estimate():
+    from taxel.analyses import error_estimate as est
+    refs = json.loads((DOCS / "reference_3d.json").read_text())
+    for key, rec in refs.items():
+        sc = load(rec["scene"])
+        c = time.process_time()
+        r = solve_model(sc)
+        e = est.estimate(sc, r)
+        oe = e.outputs["sensitivity"]
+        mean = abs(oe.value / rec["reference"] - 1)
+        worst = max(abs(oe.value / f["reference"] - 1) for f in rec["fits"])
+        print(f"{key}: V/F {oe.value:.5f} V/N, discretisation estimate {100 * oe.discretisation:.3f} % ({e.method}); "
+              f"error against the chains' mean {100 * mean:.3f} % (ratio {oe.discretisation / mean:.1f}), the largest "
+              f"against a chain {100 * worst:.3f} % (ratio {oe.discretisation / worst:.1f}); {time.process_time() - c:.1f} s "
+              f"of CPU")
+
+
 def profile(case: str):
     pr = cProfile.Profile()
     pr.enable()
@@ -272,9 +294,13 @@ def main():
     ap.add_argument("--profile", choices=("single", "3x3"))
     ap.add_argument("--designs", type=int, default=0)
     ap.add_argument("--estimate", choices=("single", "3x3"))
+    ap.add_argument("--linear-estimate", action="store_true")
     a = ap.parse_args()
     if a.profile:
         profile(a.profile)
+        return
+    if a.linear_estimate:
+        linear_estimate()
         return
     if a.estimate:
         estimate(a.estimate)
