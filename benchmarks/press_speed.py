@@ -155,7 +155,7 @@ def row(name, r, ref):
             f"{r['solve_s']:.1f} | {r['cpu']:.1f} | {r['wall']:.1f} |")
 
 
-def levels(case: str, ks):
+def levels(case: str, ks, far_taxel: float | None = None):
     sc0 = scene(case)
     ref = reference(case)
     print(f"\n{case}: default press mesh and refinements (sizes / k); reference "
@@ -165,7 +165,7 @@ def levels(case: str, ks):
     print("|" + "---|" * 14)
     rows = []
     for k in ks:
-        r = run(sc0 if k == 1.0 else refined(sc0, k))
+        r = run(sc0 if k == 1.0 else refined(sc0, k), far_taxel=far_taxel)
         rows.append((k, r))
         print(row(f"sizes / {k:.3g}", r, ref), flush=True)
     if len(rows) >= 3:
@@ -288,6 +288,7 @@ def main():
     ap.add_argument("--case", choices=("single", "3x3", "both"), default="both")
     ap.add_argument("--levels", default=",".join(f"{k:.6g}" for k in LEVELS),
                     help="size divisors k of the refinements (1: the default press mesh)")
+    ap.add_argument("--far-taxel", type=float, help="the levels with this Layout.far_taxel (default FAR_TAXEL)")
     ap.add_argument("--levers", choices=("single", "3x3"))
     ap.add_argument("--only", default="", help="comma-separated parts of lever names to run (with the default)")
     ap.add_argument("--repeat", type=int, default=1)
@@ -313,7 +314,7 @@ def main():
         return
     ks = [float(k) for k in a.levels.split(",")]
     for case in (("single", "3x3") if a.case == "both" else (a.case,)):
-        levels(case, ks)
+        levels(case, ks, a.far_taxel)
 
 
 if __name__ == "__main__":
