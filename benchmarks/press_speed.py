@@ -55,6 +55,8 @@ RESULT (2026-11-28, one run each unless said, CPU s, the 2-core machine at load 
 - --case 3x3 --levels 1,1.41421 (FAR_TAXEL 3): 17 935, 33 591 unknowns, -0.77609, -0.77750 V/N,
   crosstalk 1.133, 1.130 %, 29.3, 65.5 s; against the single taxel's -0.78635, -0.78850: ratios
   0.98695, 0.98605.
+- --case 3x3 --levels 1.41421 --far-taxel 1 (load 12): 52 596 unknowns, -0.77818 V/N, crosstalk
+  1.140 %, 155.4 s (334.5 s wall): the far taxels' effect 0.09 % at / 1.41 against 0.29 % at / 1.
 - --levers single --repeat 3 (medians): default 9.7 s, analysis at every step 12.1 s (1.24 x),
   no chord steps 9.0 s (0.92 x), no predictor 15.3 s (1.57 x, 13 states), first trial at half
   the target 9.0 s (0.92 x); V/F within 0.08 %.
