@@ -161,7 +161,9 @@ def punch_grading(scene: Scene) -> dict:
 # (meshing.layout.Layout.far_taxel). On the 3x3 thesis array pressed at its centre (the default press
 # mesh, benchmarks/press_speed.py --levers 3x3, one run at load 5-6): 1 (every taxel alike) 34 482
 # unknowns, 79 s of CPU; 2: 20 292, 35 s, V/F -0.26 %, crosstalk +1.7 % (relative); 3: 17 935, 28 s,
-# V/F -0.29 %, crosstalk -0.6 %. A single taxel is unchanged.
+# V/F -0.29 %, crosstalk -0.6 %; at sizes / 1.41 the V/F difference is 0.09 % (a mesh effect that
+# converges), and the 3x3 / single-taxel ratio moves less under refinement with 3 than with 1
+# (0.09 % against 0.30 %; docs/benchmarks.md, "The 3D press in seconds"). A single taxel is unchanged.
 FAR_TAXEL = 3.0
 
 
