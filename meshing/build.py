@@ -7,7 +7,9 @@ conformal at every interface, keeps thin layers (a 52 um PVDF film) at a
 controlled element count through the thickness, and has nodes on every patch
 edge. In-plane size: `piezo_size` at taxel and load edges (where stresses are
 singular), growing to `size` over a distance of `growth` x `size` (2), and at most
-`taxel_cap` x `piezo_size` (2) inside taxels. Plan curves are found from points
+`taxel_cap` x `piezo_size` (2) inside taxels; the taxels the load does not touch at
+`far_taxel` x those sizes (a punch on one taxel strains its neighbours little;
+benchmarks/press_speed.py measures what it costs the pressed taxel). Plan curves are found from points
 on them, not from their bounding boxes (gmsh pads OCC boxes by 1e-7 m). The plan
 mesh is extruded, so its grading holds at every height: at the piezo's bottom and
 top faces as at z = 0. Under a punch (`contact_size`, contact-aware): the in-plane
@@ -205,7 +207,11 @@ def _size_field(gmsh, lay: Layout):
     edges = list(lay.taxels) + ([lay.load] if lay.load and not free and not _rim_field(lay) else [])
     if not edges and lay.load is None:
         return
-    fields = [_threshold(gmsh, lay, edges, lay.piezo_size, 0.0, at_piezo)] if edges else []
+    far = [p for p in lay.taxels if lay.far_taxel != 1.0 and not lay.near_load(p)]
+    near = [p for p in edges if p not in far]
+    fields = [_threshold(gmsh, lay, near, lay.piezo_size, 0.0, at_piezo)] if near else []
+    if far:                                       # taxels the load does not touch: coarser edges
+        fields.append(_threshold(gmsh, lay, far, min(lay.far_taxel * lay.piezo_size, lay.size), 0.0, at_piezo))
     if free and lay.load is not None and lay.contact_size is None:
         fields.append(_threshold(gmsh, lay, [lay.load], lay.piezo_size, 0.0, at_top))
     if _rim_field(lay):                                  # the band under the punch's rounded edge
@@ -215,7 +221,8 @@ def _size_field(gmsh, lay: Layout):
     zs = (min(L.z0 for L in piezo), max(L.z1 for L in piezo)) if free and piezo else (-1.0, 1.0)
     for p in lay.taxels:                          # cap inside taxels (free: inside the piezo)
         box = f.add("Box")
-        f.setNumber(box, "VIn", min(lay.taxel_cap * lay.piezo_size, lay.size))
+        f.setNumber(box, "VIn", min(lay.taxel_cap * lay.piezo_size * (1.0 if p not in far else lay.far_taxel),
+                                    lay.size))
         f.setNumber(box, "VOut", lay.size)
         f.setNumber(box, "XMin", p.x - p.half)
         f.setNumber(box, "XMax", p.x + p.half)

@@ -77,6 +77,9 @@ class Layout:
     piezo_layers: int = 1
     growth: float = 2.0                 # in-plane size grows from piezo_size at patch edges to size over growth x size
     taxel_cap: float = 2.0              # largest in-plane size inside a taxel, in piezo_size
+    # the edges of taxels the load does not touch at far_taxel x piezo_size (at most size): a punch
+    # on one taxel of an array strains its neighbours little, so they need fewer elements (1: no grading)
+    far_taxel: float = 1.0
     # contact-aware grading under a punch (None: none): the in-plane size within `rim` of the
     # load edge (the punch's rounded edge, its radius) and the size at the top surface
     contact_size: float | None = None
@@ -110,6 +113,13 @@ class Layout:
         """Plan y extent (3D)."""
         y0 = 0.0 if 1 in self.planes else self.plan.y - self.plan_half_y
         return y0, self.plan.y + self.plan_half_y
+
+    def near_load(self, p: Patch) -> bool:
+        """The patch overlaps the load's footprint (every patch does with no load patch)."""
+        if self.load is None:
+            return True
+        gap = max(abs(p.x - self.load.x), abs(p.y - self.load.y) if self.dim == 3 else 0.0)
+        return gap < p.half + self.load.half
 
     def breakpoints(self) -> list[float]:
         """x of every patch edge in a 1D plan, sorted, inside the outline."""

@@ -259,3 +259,19 @@ def test_estimate_of_a_yeoh_press_has_no_linear_law_part_and_the_punch_floor():
     assert oe.model_form >= est.CHEAP_3D_PRESS_ERROR * 0.9
     assert any("material: Yeoh" in h for h in res.error.how)
     assert any("under a punch" in h for h in res.error.how)
+
+
+def test_material_part_follows_the_scene_law():
+    """The material-law part reflects the silicone the scene gives: 0 for Yeoh on the
+    built-in Ecoflex (its fitted Yeoh set is the reference law), not estimated (None, and
+    the line says why) for Yeoh on a user silicone, whose constants nobody measured here,
+    and the linear-law rule (per strain) for a linear silicone either way."""
+    sc = small()
+    user = sc.replace(**{"materials": {"gel": {"kind": "solid", "C10": 9e3, "C20": 300.0, "K": 2.7e7, "rho": 1070.0}},
+                         "array.silicone": "gel"})
+    assert est.user_silicone(sc) is None and est.user_silicone(user) == "gel"
+    assert est.material(sc, "yeoh", 0.5)[0] == 0.0
+    mat, line = est.material(user, "yeoh", 0.5)
+    assert mat is None and "not estimated" in line and "'gel'" in line
+    assert est.material(user, "linear", 0.1)[0] == est.material(sc, "linear", 0.1)[0] > 0
+    assert "'gel'" in est.material(user, "linear", 0.1)[1]

@@ -187,6 +187,26 @@ def test_default_3d_press_mesh_is_graded_at_the_rim_on_top_only():
     assert len(zs) == 2                                           # its faces only: one element through
 
 
+def test_default_3d_press_mesh_of_an_array_is_coarser_at_the_taxels_the_punch_misses():
+    """The 3x3 array pressed at its centre taxel on the default press mesh (a quarter): the
+    taxels the punch does not touch get their edges at FAR_TAXEL x the taxel edges' size
+    (Layout.far_taxel), so a neighbour's piezo has fewer elements than with every taxel
+    alike, and the pressed taxel's piezo keeps its own (within the mesher's noise)."""
+    import dataclasses
+    from taxel.analyses.geometry import FAR_TAXEL
+    from taxel.meshing.build import build
+    scene = load("thesis-pzt-probe-3d").replace(**{"array.rows": 3, "array.cols": 3, "load.taxel": [1, 1]})
+    tm = mesh(scene)
+    lay = tm.layout
+    assert lay.far_taxel == FAR_TAXEL > 1 and lay.planes == (0, 1)
+    near = {p.name for p in lay.taxels if lay.near_load(p)}
+    assert near == {"taxel_1_1"}
+    alike = build(dataclasses.replace(lay, far_taxel=1.0))
+    count = lambda m, k: len(m.regions[f"piezo_{k}"])
+    assert count(tm, "1_2") < 0.5 * count(alike, "1_2")
+    assert count(tm, "1_1") == pytest.approx(count(alike, "1_1"), rel=0.15)
+
+
 def _smallest_dihedral(X) -> np.ndarray:
     """The smallest dihedral angle (degrees) of each tetrahedron, X (3, 4, elements)."""
     n = []

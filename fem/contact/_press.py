@@ -121,6 +121,7 @@ class Press:
         self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
         self.stats = dict(factorizations=0, residuals=0, tangents=0, factorize_s=0.0, assemble_s=0.0, solve_s=0.0,
                           chord_steps=0)
+        self.res.stats = self.stats      # the same dict: the result carries the work it cost
         self._chord_key = None           # what the last factorization was made for (fem.contact)
         self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
 

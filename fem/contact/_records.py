@@ -59,6 +59,7 @@ class PressResult:
     state: ContactState | None = field(default=None, repr=False)   # the final contact state
     failed_trials: int = 0
     message: str = ""
+    stats: dict = field(default_factory=dict, repr=False)   # the solver's work (Press.stats: factorizations, CPU s)
 
     @property
     def curve(self) -> np.ndarray:

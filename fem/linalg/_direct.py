@@ -28,9 +28,11 @@ scaled coupled system is too ill-conditioned for float32).
 from __future__ import annotations
 
 import ctypes
+import glob
 import logging
 import os
 import shutil
+import sys
 import tempfile
 import weakref
 
@@ -45,10 +47,30 @@ def available(method: str) -> bool:
     if method in ("auto", "superlu"):
         return True
     try:
-        __import__({"pardiso": "pypardiso", "umfpack": "scikits.umfpack", "krylov": "pyamg"}[method])
+        if method == "pardiso":
+            _pypardiso()
+        else:
+            __import__({"umfpack": "scikits.umfpack", "krylov": "pyamg"}[method])
         return True
     except ImportError:
         return False
+
+
+def _pypardiso():
+    """pypardiso, imported with PYPARDISO_MKL_RT naming MKL's runtime library where it is
+    installed beside this Python (sys.prefix's lib or Library/bin; a user's own setting kept).
+    Without it pypardiso walks all of sys.prefix (glob '**/*mkl_rt*') at its import and again
+    at its first solver: two walks of 0.86 s of wall time in cProfile of the 3D probe press on a
+    loaded machine (file-system time: `farm-bench` of `taxel solve thesis-pzt-probe-3d --json`
+    against the code before, 3 pairs at load 7, system CPU 0.63 against 0.99 s, total CPU
+    0.98 x, the wall times within the load's noise)."""
+    if "PYPARDISO_MKL_RT" not in os.environ:
+        found = sorted(glob.glob(os.path.join(sys.prefix, "lib", "libmkl_rt.*"))
+                       + glob.glob(os.path.join(sys.prefix, "Library", "bin", "mkl_rt*.dll")), key=len)
+        if found:
+            os.environ["PYPARDISO_MKL_RT"] = found[0]
+    import pypardiso
+    return pypardiso
 
 
 AUTO_PARDISO_ABOVE = 15_000
@@ -123,7 +145,7 @@ def numeric_factorization(solver, A) -> None:
     (phase 11), marked as pypardiso's factorization of A (its `factorize` runs phase
     12, which repeats the analysis: 27 % of a factorization's CPU time on the 3x3 3D
     array's 51k-unknown quarter, 5.1 s against 3.7 s, identical factors)."""
-    import pypardiso
+    pypardiso = _pypardiso()
     solver.factorized_A = solver._hash_csr_matrix(A)      # (not a copy of A: 0.35 GB at 16x16)
     solver.set_phase(22)
     try:
@@ -160,7 +182,7 @@ def analysis_bytes(solver, A) -> float:
 def in_core_bytes(A: sp.spmatrix) -> float:
     """Bytes PARDISO's analysis says a factorization of the symmetric matrix A needs in
     core (`analysis_bytes` on its upper triangle, symmetric-indefinite mode; nothing factorized)."""
-    import pypardiso
+    pypardiso = _pypardiso()
     probe = pypardiso.PyPardisoSolver(mtype=-2)
     try:
         return analysis_bytes(probe, sp.csr_matrix(sp.triu(A)))
@@ -253,7 +275,7 @@ def _factorize_real(A, method):
         lu = spla.splu(A, permc_spec="COLAMD")
         return lambda B: lu.solve(np.asarray(B, dtype=float))
     if method == "pardiso":
-        import pypardiso
+        pypardiso = _pypardiso()
         # a symmetric matrix (every linear static system, a Yeoh tangent): the symmetric-
         # indefinite mode on its upper triangle, half the factors' memory and 0.62 x the CPU
         # time of the nonsymmetric mode on the 3x3 3D array's 51k-unknown quarter (2.2 s
@@ -263,8 +285,7 @@ def _factorize_real(A, method):
         Ar = sp.csr_matrix(A)
         symmetric = symmetric_matrix(Ar)
         solver = pypardiso.PyPardisoSolver(mtype=-2 if symmetric else 11)
-        # pypardiso globs sys.prefix for mkl_rt on every solver (0.4 s); name the library it found
-        os.environ.setdefault("PYPARDISO_MKL_RT", solver.libmkl._name)
+        os.environ.setdefault("PYPARDISO_MKL_RT", solver.libmkl._name)    # found elsewhere: no second walk
         if symmetric:
             Ar = sp.csr_matrix(sp.triu(Ar))
         Ar.sort_indices()
@@ -381,7 +402,7 @@ class Refactorizer:
     def __call__(self, A: sp.spmatrix, is_u: np.ndarray, D=None):
         if self.method != "pardiso":
             return scaled_solver(A, is_u, self.method, D=D)
-        import pypardiso
+        pypardiso = _pypardiso()
         A = sp.csr_matrix(A)
         A.sort_indices()
         if D is None:

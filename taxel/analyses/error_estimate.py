@@ -62,7 +62,9 @@ parts may cancel, the sum never undercounts them).
   minutes): the model-form ratio is taken as independent of the law.
 - **Material law** (linear silicone against Yeoh): the existing strain rule,
   LINEAR_ERROR_PER_STRAIN x the largest silicone strain
-  (benchmarks/silicone_model_error.py), on every output; zero for a Yeoh result.
+  (benchmarks/silicone_model_error.py), on every output; zero for a Yeoh result on a
+  built-in silicone (its Yeoh set is the reference law); not estimated for a Yeoh result
+  on a user silicone (`material`: the user's constants are the law, not a measured one).
 """
 
 from __future__ import annotations
@@ -71,7 +73,7 @@ import time
 
 import numpy as np
 
-from taxel.scene import Scene, refined
+from taxel.scene import Scene, refined, scene_material_names
 from taxel.analyses.results import ErrorEstimate, FrequencyResult, OutputError, StaticResult
 from taxel.analyses.problem import solve_model
 from taxel.analyses.results.static import LINEAR_ERROR_PER_STRAIN, linear_error
@@ -285,11 +287,43 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
                    + (f" (under a punch at least {100 * CHEAP_3D_PRESS_ERROR:g} %)" if scene.load.contact else ""))
     else:
         how.append("model form: not estimated" + ("" if model_form else " (not asked)"))
-    mat = linear_error(result.max_strain) if law == "linear" else 0.0
-    how.append(f"material: linear silicone, {LINEAR_ERROR_PER_STRAIN} x largest strain "
-               f"{100 * result.max_strain:.2g} %" if law == "linear" else "material: Yeoh (the reference law)")
+    mat, line = material(scene, law, result.max_strain)
+    how.append(line)
     outs = {k: OutputError(v, disc.get(k), form.get(k), mat) for k, v in vals.items()}
     return ErrorEstimate(outs, how, time.perf_counter() - t0, method, order)
+
+
+def user_silicone(scene: Scene) -> str | None:
+    """The name of the user solid (a [materials] table) the scene's silicone is, if it is one."""
+    names = scene_material_names(scene)
+    silicone = names[-1] if scene.array is not None else None
+    for n in ([silicone] if silicone else names):
+        rec = scene.materials.get(n)
+        if isinstance(rec, dict) and rec.get("kind") == "solid":
+            return n
+    return None
+
+
+def material(scene: Scene, law: str, max_strain: float) -> tuple[float | None, str]:
+    """The material-law part of every output's error and the line that says how.
+
+    Linear silicone: LINEAR_ERROR_PER_STRAIN x the largest strain (linear against Yeoh,
+    measured on Ecoflex 00-30, benchmarks/silicone_model_error.py). Yeoh with a built-in
+    silicone: 0, its Yeoh set is the reference law (fitted to a published tension test,
+    fem.constitution). Yeoh with a user silicone: not estimated (None): the user's
+    constants are the law, and how far they are from the real material taxel cannot
+    measure; rating them exact would hide it (a user's fit, taxel material fit-yeoh,
+    reports its own residual)."""
+    user = user_silicone(scene)
+    if law == "linear":
+        where = f" (measured on Ecoflex 00-30; '{user}' is the user's)" if user else ""
+        return linear_error(max_strain), (f"material: linear silicone, {LINEAR_ERROR_PER_STRAIN} x largest strain "
+                                          f"{100 * max_strain:.2g} %{where}")
+    if user:
+        return None, (f"material: not estimated: the Yeoh law of the user silicone '{user}' (its C10, C20, C30) is "
+                      "taken as given; its error against the real material is not known here (fit the constants "
+                      "to a tension test of it: taxel material fit-yeoh reports the fit's residual)")
+    return 0.0, "material: Yeoh (the reference law, fitted to a published tension test)"
 
 
 def sweep_values(result: FrequencyResult) -> np.ndarray:

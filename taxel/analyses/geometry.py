@@ -146,14 +146,25 @@ def punch_grading(scene: Scene) -> dict:
     but not below half the taxel edges' size (a coarse `[mesh]` stays coarse). With the
     default mesh (taxel.scene.DEFAULT_PRESS_MESH), or mesh.extruded = false, the silicone is meshed free
     (meshing.layout.Layout.free: graded at the rim on the top surface and at the taxel
-    edges on the piezo's faces only; benchmarks/press_3d_mesh.py)."""
+    edges on the piezo's faces only; benchmarks/press_3d_mesh.py), and the taxels the punch does not
+    touch coarser (FAR_TAXEL)."""
     ld = scene.load
     if not scene.pressed_by_punch:
         return {}
     edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
     floor = (scene.mesh.piezo_size or scene.mesh.size / 4) / 2
-    free = dict(free=True) if scene.mesh.extruded is False else {}
+    free = dict(free=True, far_taxel=FAR_TAXEL) if scene.mesh.extruded is False else {}
     return dict(contact_size=max(edge, floor), rim=edge, **free) if edge > 0 else free
+
+
+# A free press mesh's taxels the punch does not touch: their edges at this x the taxel edges' size
+# (meshing.layout.Layout.far_taxel). On the 3x3 thesis array pressed at its centre (the default press
+# mesh, benchmarks/press_speed.py --levers 3x3, one run at load 5-6): 1 (every taxel alike) 34 482
+# unknowns, 79 s of CPU; 2: 20 292, 35 s, V/F -0.26 %, crosstalk +1.7 % (relative); 3: 17 935, 28 s,
+# V/F -0.29 %, crosstalk -0.6 %; at sizes / 1.41 the V/F difference is 0.09 % (a mesh effect that
+# converges), and the 3x3 / single-taxel ratio moves less under refinement with 3 than with 1
+# (0.09 % against 0.30 %; docs/benchmarks.md, "The 3D press in seconds"). A single taxel is unchanged.
+FAR_TAXEL = 3.0
 
 
 def _load_patch(scene: Scene, centre, half, model) -> Patch | None:
