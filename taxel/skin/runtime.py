@@ -1,0 +1,90 @@
+"""The skin at the simulator's step: contact forces and points -> each taxel's voltage.
+
+Numpy only (no FEM, no simulator): any simulator that can list the normal contact
+forces on the skin body and their points in the skin's frame calls
+
+    skin = SkinRuntime(SkinModel.load("skin.npz"), noise=True, seed=0)
+    v = skin.step(points, forces)      # every dt: points (m, 2) in m, forces (m,) in N -> (rows, cols) V
+
+The model (taxel.skin.model): u_rc = g_rc sum_j F_j G_r(y_j) G_c(x_j), then each taxel's
+state x_rc advances through the discretized readout dynamics, v = Cd x + Dd u. All
+taxels share Ad, so one step is one (n x n) @ (n x taxels) product.
+
+Noise (on request): independent per taxel and step, Gaussian with the variance of the
+stored per-source PSDs integrated from their lowest frequency to the step's Nyquist
+frequency 1 / (2 dt) (white at the step rate: the spectral shape inside the band is
+not reproduced), then the saturation (clip at +-saturation) and, with an ADC, its
+quantization (codes of the ADC's lsb, referred back to the readout output).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from taxel.skin.model import SkinModel
+
+
+class SkinRuntime:
+    """A skin's state between simulator steps (module docstring)."""
+
+    def __init__(self, model: SkinModel, noise: bool = False, seed: int | None = None, dt: float | None = None):
+        if dt is not None and abs(dt - model.dt) > 1e-9 * model.dt:
+            raise ValueError(f"dt = {dt:g} s: this skin is discretized at {model.dt:g} s; rebuild it with "
+                             f"taxel skin SCENE --dt {dt:g} or step the simulator at {model.dt:g} s")
+        self.model = model
+        self.Ad, self.Bd = model.Ad, model.Bd[:, 0][:, None]
+        self.Cd, self.Dd = model.Cd[0], float(model.Dd[0, 0])
+        self.g = model.gain.ravel()
+        self.shape = (model.rows, model.cols)
+        self.sigma = self.noise_rms() if noise else 0.0
+        self.rng = np.random.default_rng(seed)
+        a = model.adc
+        self.lsb = None if a is None else (a["hi"] - a["lo"]) / 2 ** a["bits"] / a["gain"]
+        self.x = np.zeros((model.Ad.shape[0], model.taxels))
+        self._kn, self._co = model.knots, model.coef
+        self.rows_idx = np.arange(model.rows)
+        self.cols_idx = np.arange(model.cols)
+
+    def noise_rms(self) -> float:
+        """V rms per taxel and step: the PSDs integrated up to 1 / (2 dt) (module docstring)."""
+        f = self.model.noise_freqs
+        hi = min(0.5 / self.model.dt, f[-1])
+        keep = f <= hi
+        total = self.model.noise_psd[:, keep].sum(axis=0)
+        return float(np.sqrt(np.trapezoid(total, f[keep]))) if keep.sum() > 1 else 0.0
+
+    def reset(self) -> None:
+        self.x[:] = 0.0
+
+    def loads(self, points, forces) -> np.ndarray:
+        """u (taxels,) N: the force each taxel sees from normal forces at points."""
+        forces = np.asarray(forces, float).reshape(-1)
+        if forces.size == 0:
+            return np.zeros(self.g.size)
+        p = np.asarray(points, float).reshape(-1, 2)
+        G = self.model.influence(np.concatenate([p[:, 0], p[:, 1]]))     # one spline call for x and y
+        m = len(forces)
+        gx, gy = G[:m, :self.model.cols], G[m:, :self.model.rows]
+        return ((gy * forces[:, None]).T @ gx).ravel() * self.g
+
+    def step(self, points, forces) -> np.ndarray:
+        """Advance one dt with the normal forces (m,) N at points (m, 2) m (skin frame); (rows, cols) V."""
+        u = self.loads(points, forces)
+        v = self.Cd @ self.x + self.Dd * u
+        self.x = self.Ad @ self.x + self.Bd * u
+        return self.output(v).reshape(self.shape)
+
+    def output(self, v) -> np.ndarray:
+        """Noise, saturation and the ADC applied to clean voltages v."""
+        if self.sigma:
+            v = v + self.sigma * self.rng.standard_normal(v.shape)
+        s = self.model.saturation
+        if np.isfinite(s):
+            v = np.clip(v, -s, s)
+        if self.lsb is not None:
+            v = np.round(v / self.lsb) * self.lsb
+        return v
+
+    def run(self, points, forces) -> np.ndarray:
+        """A whole history: points (nt, m, 2), forces (nt, m) -> (nt, rows, cols) V (from the current state)."""
+        return np.stack([self.step(p, f) for p, f in zip(points, forces)])
