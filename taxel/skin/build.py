@@ -104,7 +104,7 @@ def _response(lam, r, D, s) -> np.ndarray:
     return (r[None, :] / (s[:, None] - lam[None, :])).sum(axis=1) + D
 
 
-def truncate(A, B, C, D, band, tol: float = 1e-3, points: int = 300):
+def truncate(A, B, C, D, band, tol: float = 3e-3, points: int = 300):
     """A SISO state space cut to its dominant modes (module docstring): (A, B, C, D) real,
     and the measured error max |h - h_full| / max |h_full| on `points` log-spaced
     frequencies over `band`."""
