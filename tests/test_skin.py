@@ -1,0 +1,106 @@
+"""The skin's runtime and file (fast): a first-order skin with a closed-form step
+response, superposition, the seeded noise, the file round trip, the light import,
+and the CLI's bad input."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy import signal
+from scipy.interpolate import CubicSpline
+
+from taxel.cli import main
+from taxel.skin.model import SkinModel
+from taxel.skin.runtime import SkinRuntime
+
+TAU, S, DT = 0.05, 0.8, 1e-3
+
+
+def first_order_skin(noise_psd=0.0, saturation=np.inf, adc=None) -> SkinModel:
+    """A 3 x 3 skin whose h(s) = S / (1 + s tau) and whose influence is a tent of one pitch."""
+    pitch = 7e-3
+    x = np.linspace(-pitch, 3 * pitch, 33)
+    G = np.stack([np.clip(1 - np.abs(x - c * pitch) / pitch, 0, None) for c in range(3)], axis=1)
+    sp = CubicSpline(x, G, axis=0)
+    A, B, C, D = np.array([[-1 / TAU]]), np.array([[1.0]]), np.array([[S / TAU]]), np.array([[0.0]])
+    Ad, Bd, Cd, Dd, _ = signal.cont2discrete((A, B, C, D), DT, method="foh")
+    f = np.geomspace(1, 1000, 50)
+    return SkinModel(3, 3, pitch, 4e-3, 3e-3, x, sp.c, np.ones((3, 3)), S, DT, Ad, Bd, Cd, Dd, A, B, C, D,
+                     f, np.full((1, 50), noise_psd), ["white"], saturation, adc, 0.0, np.zeros(0),
+                     np.zeros((0, 3)), np.zeros((0, 3)), 0.0, "test", {"scene_name": "test"})
+
+
+def test_step_response_is_the_closed_form():
+    rt = SkinRuntime(first_order_skin())
+    t = np.arange(0, 0.3, DT)
+    F = np.minimum(t / 0.01, 1.0)                     # a ramp to 1 N over 10 ms, then held
+    v = np.array([rt.step([[7e-3, 7e-3]], [f])[1, 1] for f in F])
+    # exact response of S / (1 + s tau) to the ramp-and-hold (first-order hold is exact for it)
+    exact = S * np.where(t <= 0.01, (t - TAU * (1 - np.exp(-t / TAU))) / 0.01,
+                         1 - TAU / 0.01 * (np.exp(-(t - 0.01) / TAU) - np.exp(-t / TAU)))
+    assert np.abs(v - exact).max() < 1e-9
+
+
+def test_superposition_and_influence():
+    rt = SkinRuntime(first_order_skin())
+    a = rt.loads([[3.5e-3, 7e-3]], [2.0])
+    b = rt.loads([[7e-3, 10e-3]], [1.0])
+    both = rt.loads([[3.5e-3, 7e-3], [7e-3, 10e-3]], [2.0, 1.0])
+    assert np.allclose(both, a + b)
+    assert a.reshape(3, 3)[1] == pytest.approx([1.0, 1.0, 0.0])      # halfway: half of 2 N on each neighbour
+
+
+def test_noise_is_seeded_and_has_the_band_rms():
+    sk = first_order_skin(noise_psd=1e-8)
+    v1 = SkinRuntime(sk, noise=True, seed=3).run(np.zeros((2000, 1, 2)), np.zeros((2000, 1)))
+    v2 = SkinRuntime(sk, noise=True, seed=3).run(np.zeros((2000, 1, 2)), np.zeros((2000, 1)))
+    assert np.array_equal(v1, v2)
+    assert v1.std() == pytest.approx(np.sqrt(1e-8 * (500 - 1)), rel=0.05)
+
+
+def test_saturation_and_adc():
+    adc = {"bits": 8, "lo": -1.0, "hi": 1.0, "gain": 1.0, "offset": 0.0}
+    rt = SkinRuntime(first_order_skin(saturation=0.5, adc=adc))
+    v = rt.run(np.full((500, 1, 2), 7e-3), np.ones((500, 1)))
+    assert v.max() == pytest.approx(0.5, abs=2 / 256)
+    assert np.allclose(np.round(v / (2 / 256)) * (2 / 256), v)
+
+
+def test_file_round_trip(tmp_path):
+    sk = first_order_skin(adc={"bits": 16, "lo": -10.0, "hi": 10.0, "gain": 1.0, "offset": 0.0})
+    back = SkinModel.load(sk.save(tmp_path / "skin.npz"))
+    assert np.array_equal(back.Ad, sk.Ad) and np.array_equal(back.coef, sk.coef) and back.adc == sk.adc
+    assert not np.isfinite(back.saturation)
+    (tmp_path / "other.npz").write_bytes(b"not a file")
+    with pytest.raises(ValueError, match="not a skin file"):
+        SkinModel.load(tmp_path / "other.npz")
+
+
+def test_runtime_refuses_another_step():
+    with pytest.raises(ValueError, match="discretized at"):
+        SkinRuntime(first_order_skin(), dt=2e-3)
+
+
+def test_runtime_imports_numpy_only():
+    code = ("import sys; from taxel.skin.runtime import SkinRuntime; import json; "
+            "print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in "
+            "('gmsh', 'skfem', 'mujoco', 'scipy', 'pydantic', 'h5py', 'control') or m.startswith('taxel.fem') "
+            "or m.startswith('taxel.analyses'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert json.loads(out) == []
+
+
+@pytest.mark.parametrize("args, words", [
+    (["skin", "thesis-pzt-3x3-2d", "-o", "skin.txt"], "use FILE.npz"),
+    (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--dt", "0"], "--dt 0"),
+    (["skin", "thesis-pzt-single-2d", "-o", "skin.npz"], "array.rows"),
+    (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--per-pitch", "3"], "--per-pitch 3"),
+])
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch, args, words):
+    monkeypatch.chdir(tmp_path)
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and "\n" not in err and "Traceback" not in err
+    assert not list(tmp_path.iterdir())
