@@ -104,12 +104,29 @@ def _response(lam, r, D, s) -> np.ndarray:
     return (r[None, :] / (s[:, None] - lam[None, :])).sum(axis=1) + D
 
 
+def _merge(lam, r, rtol: float = 1e-5):
+    """Poles equal within rtol merged into one with the summed residue (exact for equal
+    poles: every taxel's electrode has the same RC pole, and eig splits such a cluster
+    into eigenvectors whose residues are large and cancel)."""
+    order = np.argsort(lam.real + 1e-3j * lam.imag)
+    lam, r = lam[order], r[order]
+    out_l, out_r = [lam[0]], [r[0]]
+    for l_, r_ in zip(lam[1:], r[1:]):
+        if abs(l_ - out_l[-1]) <= rtol * abs(l_):
+            out_r[-1] += r_
+        else:
+            out_l.append(l_)
+            out_r.append(r_)
+    return np.array(out_l), np.array(out_r)
+
+
 def truncate(A, B, C, D, band, tol: float = 3e-3, points: int = 300):
     """A SISO state space cut to its dominant modes (module docstring): (A, B, C, D) real,
     and the measured error max |h - h_full| / max |h_full| on `points` log-spaced
     frequencies over `band`."""
     lam, W = np.linalg.eig(A)
     r = (C @ W)[0] * np.linalg.solve(W, B)[:, 0]          # residues
+    lam, r = _merge(lam, r)
     s = 2j * np.pi * np.geomspace(band[0], band[1], points)
     H = _response(lam, r, D[0, 0], s)
     scale = np.abs(H).max()

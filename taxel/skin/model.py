@@ -28,6 +28,7 @@ import numpy as np
 
 FORMAT = "taxel-skin/1"
 
+_POWERS = np.array([3.0, 2.0, 1.0, 0.0])
 _ARRAYS = ("knots", "coef", "gain", "Ad", "Bd", "Cd", "Dd", "A", "B", "C", "D", "noise_freqs", "noise_psd",
            "check_x", "check_G_fem", "check_G_spline")
 
@@ -83,12 +84,20 @@ class SkinModel:
         return -e, (self.cols - 1) * self.pitch + e, -e, (self.rows - 1) * self.pitch + e
 
     def influence(self, s) -> np.ndarray:
-        """G_c(s) of every column (the spline; s clipped to the knots' span): (len(s), n)."""
-        s = np.clip(np.asarray(s, float), self.knots[0], self.knots[-1])
-        i = np.clip(np.searchsorted(self.knots, s, side="right") - 1, 0, len(self.knots) - 2)
-        d = (s - self.knots[i])[:, None]
-        c = self.coef[:, i, :]
-        return ((c[0] * d + c[1]) * d + c[2]) * d + c[3]
+        """G_c(s) of every column (the spline; s clipped to the knots' span): (len(s), n).
+        The knots are evenly spaced (taxel.analyses.influence samples), so the interval
+        is found by division, not by a search."""
+        if not hasattr(self, "_pp"):
+            k = self.knots
+            self._pp = (float(k[0]), float((k[-1] - k[0]) / (len(k) - 1)), len(k) - 1,
+                        np.ascontiguousarray(self.coef.transpose(1, 0, 2)))     # (intervals, 4, n)
+            if not np.allclose(np.diff(k), self._pp[1], rtol=1e-9, atol=0):
+                raise ValueError("skin file: the influence knots are not evenly spaced; rebuild the skin")
+        x0, h, m, co = self._pp
+        t = np.minimum(np.maximum((np.asarray(s, float) - x0) / h, 0.0), m)
+        i = np.minimum(t.astype(np.intp), m - 1)
+        powers = ((t - i) * h)[:, None, None] ** _POWERS          # (k, 1, 4): d^3, d^2, d, 1
+        return np.matmul(powers, co[i])[:, 0, :]
 
     def save(self, path) -> Path:
         path = Path(path)

@@ -8,7 +8,10 @@ forces on the skin body and their points in the skin's frame calls
 
 The model (taxel.skin.model): u_rc = g_rc sum_j F_j G_r(y_j) G_c(x_j), then each taxel's
 state x_rc advances through the discretized readout dynamics, v = Cd x + Dd u. All
-taxels share Ad, so one step is one (n x n) @ (n x taxels) product.
+taxels share Ad, which is block diagonal (the modal form of taxel.skin.build, real
+poles and 2 x 2 blocks of complex pairs, kept by the exponential), so the states of
+all taxels advance as x_i <- a_i x_i + up_i x_(i+1) + low_i x_(i-1), elementwise on a
+(states, taxels) array; a dense product when a file's Ad is not tridiagonal.
 
 Noise (on request): independent per taxel and step, Gaussian with the variance of the
 stored per-source PSDs integrated from their lowest frequency to the step's Nyquist
@@ -41,9 +44,10 @@ class SkinRuntime:
         a = model.adc
         self.lsb = None if a is None else (a["hi"] - a["lo"]) / 2 ** a["bits"] / a["gain"]
         self.x = np.zeros((model.Ad.shape[0], model.taxels))
-        self._kn, self._co = model.knots, model.coef
-        self.rows_idx = np.arange(model.rows)
-        self.cols_idx = np.arange(model.cols)
+        A = model.Ad
+        self.tridiagonal = np.array_equal(A, np.diag(np.diag(A)) + np.diag(np.diag(A, 1), 1) + np.diag(np.diag(A, -1), -1))
+        self.main = np.diag(A)[:, None].copy()
+        self.up, self.low = np.diag(A, 1)[:, None].copy(), np.diag(A, -1)[:, None].copy()
 
     def noise_rms(self) -> float:
         """V rms per taxel and step: the PSDs integrated up to 1 / (2 dt) (module docstring)."""
@@ -70,8 +74,16 @@ class SkinRuntime:
     def step(self, points, forces) -> np.ndarray:
         """Advance one dt with the normal forces (m,) N at points (m, 2) m (skin frame); (rows, cols) V."""
         u = self.loads(points, forces)
-        v = self.Cd @ self.x + self.Dd * u
-        self.x = self.Ad @ self.x + self.Bd * u
+        x = self.x
+        v = self.Cd @ x + self.Dd * u
+        if self.tridiagonal:
+            new = self.main * x + self.Bd * u
+            if len(x) > 1:
+                new[:-1] += self.up * x[1:]
+                new[1:] += self.low * x[:-1]
+            self.x = new
+        else:
+            self.x = self.Ad @ x + self.Bd * u
         return self.output(v).reshape(self.shape)
 
     def output(self, v) -> np.ndarray:
