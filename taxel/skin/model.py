@@ -99,8 +99,9 @@ class SkinModel:
         powers = ((t - i) * h)[:, None, None] ** _POWERS          # (k, 1, 4): d^3, d^2, d, 1
         return np.matmul(powers, co[i])[:, 0, :]
 
-    def save(self, path) -> Path:
-        path = Path(path)
+    def save(self, path):
+        """Write the skin as .npz to a path (returned as a Path) or a binary file object."""
+        path = path if hasattr(path, "write") else Path(path)
         meta = {k: getattr(self, k) for k in ("rows", "cols", "pitch", "taxel_width", "margin", "sensitivity", "dt",
                                                "noise_sources", "saturation", "adc", "influence_error",
                                                "reduction_error", "readout", "provenance", "format")}
