@@ -173,7 +173,7 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     """The skin of a scene (module docstring)."""
     check(scene, dt, per_pitch, checks)
     a = scene.array
-    n, m = a.cols, a.cols // 2
+    m = a.cols // 2
     ref = reference(scene)
     infl = influence_mod.influence(ref, per_pitch=per_pitch)
     spline = CubicSpline(infl.x, infl.G, axis=0)
