@@ -14,7 +14,7 @@ import pytest
 
 import taxel
 from taxel.schema import electrode_name
-from taxel.skin.build import build, _press
+from taxel.skin.build import build, press_voltages
 from taxel.skin.runtime import SkinRuntime
 
 pytestmark = pytest.mark.slow
@@ -64,7 +64,7 @@ def test_influence_between_knots_matches_fem_presses(scene):
     # an independent FEM press a quarter of the way between two knots, through the runtime
     x = sk.knots[5] + 0.25 * (sk.knots[6] - sk.knots[5])
     ref = scene.replace(**{"load.kind": "taxel", "load.taxel": [1, 1], "load.force": 1.0})
-    V = _press(ref, x)                                 # open-circuit volts per newton
+    V = press_voltages(ref, x)                                 # open-circuit volts per newton
     rt = SkinRuntime(sk)
     u = rt.loads([[x, sk.pitch]], [1.0]).reshape(3, 3)[1]   # the force each taxel of the row sees
     assert np.abs(u * sk.sensitivity - V).max() < 0.01 * np.abs(V).max()

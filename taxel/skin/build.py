@@ -52,6 +52,14 @@ from taxel.analyses.version import code_version
 from taxel.skin.model import SkinModel
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("taxel")
+    except PackageNotFoundError:
+        return "unknown"
+
+
 def check(scene: Scene, dt: float, per_pitch: int, checks: int) -> None:
     """Refuse what cannot make a skin, before any solve (SceneError, one line)."""
     a = scene.array
@@ -74,7 +82,7 @@ def check(scene: Scene, dt: float, per_pitch: int, checks: int) -> None:
         raise SceneError(f"--checks {checks}: the number of FEM presses between knots, 0 to 16")
 
 
-def _press(scene: Scene, x: float) -> np.ndarray:
+def press_voltages(scene: Scene, x: float) -> np.ndarray:
     """Open-circuit voltages (n,) of the middle row's taxels, a taxel-wide flat probe at x (m from column 0)."""
     from taxel.analyses import solve_static
     a = scene.array
@@ -96,7 +104,7 @@ def influence_check(scene: Scene, infl, checks: int) -> tuple[np.ndarray, np.nda
         return np.zeros(0), z, z
     x = mids[np.unique(np.round(np.linspace(0, len(mids) - 1, checks)).astype(int))]
     centre = infl.sensitivity * float(scene.load.force or 1.0)
-    G_fem = np.array([_press(scene, xi) / centre for xi in x])
+    G_fem = np.array([press_voltages(scene, xi) / centre for xi in x])
     return x, G_fem, infl.at(x)
 
 
@@ -195,7 +203,7 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     data = to_data(scene)
     prov = {"scene": data, "scene_name": scene.name,
             "scene_sha256": hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest(),
-            "taxel_version": reduced._version(), "code_version": code_version(),
+            "taxel_version": _version(), "code_version": code_version(),
             "built": datetime.now(timezone.utc).isoformat(timespec="seconds"), "per_pitch": per_pitch,
             "rig": getattr(rig, "name", None), "fem_presses": int(infl.solves) + len(xc)}
     return SkinModel(
