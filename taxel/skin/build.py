@@ -1,22 +1,24 @@
 r"""A skin file from the FEM: `build(scene)` (taxel skin SCENE -o skin.npz).
 
 Physics. The taxel array is linear (small strain, linear piezoelectricity, a linear
-readout) and its mechanics are quasi-static in the readout's band (the first
-resonance of the thesis pad is far above the 1 kHz of a simulator step), so a normal
-force F(t) at a surface point p reaches taxel k as  v_k(t) = h_k(s) [W_k(p) F(t)],
-the spatial factor W_k(p) the static FEM's influence and the temporal factor h_k the
-taxel's own dynamics through its readout. The array is taken, as in
+readout), so a normal force F(t) at a surface point p reaches taxel k through the
+FEM's path from p to k. The skin factors that path as v_k(t) = h(s) [W_k(p) F(t)],
+the spatial factor W_k(p) the static FEM's influence and the temporal factor h the
+reference taxel's own dynamics through its readout. The array is taken, as in
 taxel.analyses.crosstalk and .influence, separable and alike in its two directions:
 W_rc(x, y) = g_rc G_r(y) G_c(x), G_c = V_c(x) / V_c(x_c) the row's influence
 functions from static FEM presses (a flat probe as wide as a taxel, pressed every
 pitch / per_pitch; taxel.analyses.influence), g_rc = S_r S_c / S_ref^2 the columns'
 and rows' open-circuit sensitivities S relative to the reference (middle) taxel's.
+The factoring is exact at low frequency (the quasi-static influence) and for presses
+on the reference taxel; it assumes the other paths share h's frequency dependence,
+which the pad's resonances (from 585 Hz in the coarse thesis 3 x 3 section) break at
+fast edges between taxels (benchmarks/skin_accuracy.py measures it).
 Every taxel shares h = the reference taxel's path from a force on its footprint to
 its readout output, the reduced FEM model of `taxel reduce` (inputs: that taxel's
 load; the causal loss law kept), so that at DC (open circuit) h = S_ref and a press at
-a taxel's centre gives S_k F there. Assumed: the crosstalk paths share h's frequency
-dependence (tests/test_skin_fem.py measures the whole against the FEM transient at
-and between taxels); the force is normal (shear and the probe's contact mechanics are
+a taxel's centre gives S_k F there (tests/test_skin_fem.py checks the whole against the
+FEM transient at and between taxels). Assumed also: the force is normal (shear and the probe's contact mechanics are
 outside: points and normal forces in, as simulators give them).
 
 The interpolation error of G is measured: `checks` FEM presses halfway between knots
@@ -25,8 +27,8 @@ h, the pressed path of the reduced model's state space (all its electrodes' mode
 185 states for the thesis 3 x 3 section), is cut to the modes that matter for this
 path (`truncate`: modal truncation with the dropped modes' static parts kept, the
 greedy order and measured-error stop of fem.dynamics.realize; python-control's
-balanced truncation, tried, lost the path at every order on this stiff SI-scaled
-system) with its error measured over 0.01 Hz..1 / (2 dt); then it
+balanced truncation (balred, slycot), tried, lost the path at every order 4-16 on this
+stiff SI-scaled system: relative errors 0.6-1.7) with its error measured over 0.01 Hz..1 / (2 dt); then it
 is discretized at the simulator's step dt with scipy.signal.cont2discrete, first-
 order hold (exact for forces linear between steps). Noise: the scene's chain
 (taxel.analyses.noise: per-source PSDs at the reference taxel's readout output, with a
