@@ -104,3 +104,10 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch, args, w
     err = capsys.readouterr().err.strip()
     assert words in err and "\n" not in err and "Traceback" not in err
     assert not list(tmp_path.iterdir())
+
+
+def test_taxel_skin_is_the_function_after_importing_the_package():
+    code = ("import taxel, taxel.skin.runtime, taxel.skin.model; import inspect; "
+            "print(inspect.isfunction(taxel.skin), taxel.skin.__module__)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["True", "taxel.api"]
