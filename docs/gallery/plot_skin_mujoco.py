@@ -37,7 +37,7 @@ p = skin.pitch
 # (indenter, x, y, peak force N, x at the end (a slip) or None)
 presses = [("probe", p, p, 1.0, None), ("edge", p / 2, p, 1.0, None), ("sphere", p, p / 2, 1.5, None),
            ("sphere", 0.0, p, 1.0, 2 * p)]
-SEG, T = 0.6, None
+SEG = 0.6                      # s per press
 T = SEG * len(presses)
 
 
@@ -77,8 +77,8 @@ for i in range(steps):
 fig, (a, b) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
 a.plot(t, force, "k")
 a.set(ylabel="contact normal force (N)")
-for k, (name, *_rest) in enumerate(presses):
-    a.text(k * SEG + 0.02, 0.9 * force.max(), "sphere slip" if _rest[-1] is not None else name)
+for k, (name, _x, _y, _F, x_end) in enumerate(presses):
+    a.text(k * SEG + 0.02, 0.9 * force.max(), "sphere slip" if x_end is not None else name)
 for r in range(3):
     for c in range(3):
         b.plot(t, 1e3 * volts[:, r, c], lw=0.8, label=f"taxel ({r}, {c})")
