@@ -65,7 +65,8 @@ def test_saturation_and_adc():
     rt = SkinRuntime(first_order_skin(saturation=0.5, adc=adc))
     v = rt.run(np.full((500, 1, 2), 7e-3), np.ones((500, 1)))
     assert v.max() == pytest.approx(0.5, abs=2 / 256)
-    assert np.allclose(np.round(v / (2 / 256)) * (2 / 256), v)
+    codes = (v + 1.0) / (2 / 256)                     # lo = -1 V, 8 bits over 2 V
+    assert np.allclose(codes, np.round(codes)) and codes.min() >= 0 and codes.max() <= 255
 
 
 def test_file_round_trip(tmp_path):

@@ -68,3 +68,17 @@ def test_influence_between_knots_matches_fem_presses(scene):
     rt = SkinRuntime(sk)
     u = rt.loads([[x, sk.pitch]], [1.0]).reshape(3, 3)[1]   # the force each taxel of the row sees
     assert np.abs(u * sk.sensitivity - V).max() < 0.01 * np.abs(V).max()
+
+
+def test_a_rig_gives_its_chain_and_adc(scene):
+    from taxel.studies.bench.rig import load_rig
+    sk = taxel.skin(scene, dt=1e-3, checks=0, rig="thesis-bench")
+    rig = load_rig("thesis-bench")
+    assert sk.adc["bits"] == rig.adc.bits and sk.adc["lo"] == rig.adc.range[0]
+    assert "charge-amplifier" in sk.readout                      # the rig's conditioning, not the scene's resistor
+    assert not any(s.startswith("ADC") for s in sk.noise_sources)  # the runtime quantizes; not counted twice
+    rt = SkinRuntime(sk)
+    v = rt.run(np.tile([[sk.pitch, sk.pitch]], (50, 1, 1)), np.minimum(np.arange(50) / 10, 1.0)[:, None])
+    lsb = (rig.adc.range[1] - rig.adc.range[0]) / 2 ** rig.adc.bits
+    codes = (v * sk.adc["gain"] + sk.adc["offset"] - sk.adc["lo"]) / lsb
+    assert np.allclose(codes, np.round(codes), atol=1e-6)

@@ -32,7 +32,10 @@ stiff SI-scaled system: relative errors 0.6-1.7) with its error measured over 0.
 is discretized at the simulator's step dt with scipy.signal.cont2discrete, first-
 order hold (exact for forces linear between steps). Noise: the scene's chain
 (taxel.analyses.noise: per-source PSDs at the reference taxel's readout output, with a
-rig its ADC) and the saturation (amplifier swing or ADC range).
+rig its ADC) and the saturation (amplifier swing or ADC range). With a rig, the rig's
+conditioning of the reference taxel's channel is the skin's readout chain (for h and
+the noise alike), and the ADC's quantisation is left out of the PSDs: the runtime
+quantizes.
 """
 
 from __future__ import annotations
@@ -49,7 +52,9 @@ from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name, to_data
 from taxel.analyses import influence as influence_mod
 from taxel.analyses import reduced
+from taxel.analyses.noise import chain as noise_chain
 from taxel.analyses.noise import noise as noise_budget
+from taxel.analyses.noise import with_readout
 from taxel.analyses.version import code_version
 from taxel.skin.model import SkinModel
 
@@ -185,6 +190,8 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     a = scene.array
     m = a.cols // 2
     ref = reference(scene)
+    if rig is not None:          # the rig's conditioning of the reference taxel's channel is the skin's chain
+        ref = with_readout(ref, noise_chain(ref, rig, electrode_name(*ref.load.taxel)).readout)
     infl = influence_mod.influence(ref, per_pitch=per_pitch)
     spline = CubicSpline(infl.x, infl.G, axis=0)
     S = np.asarray(infl.sensitivity, float)
@@ -197,6 +204,8 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     A, B, C, D, cut = truncate(ss.A, ss.B[:, [j]], ss.C[[i], :], ss.D[[i]][:, [j]], (0.01, 0.5 / dt))
     Ad, Bd, Cd, Dd, _ = signal.cont2discrete((A, B, C, D), dt, method="foh")
     nr = noise_budget(ref, rig, band=(ref.analysis.f_min, max(0.5 / dt, 2 * ref.analysis.f_min)))
+    # the runtime quantizes with the ADC itself: its quantisation is not also added as a noise source
+    sources = {k: v for k, v in nr.psd.items() if not (rig is not None and k.startswith("ADC"))}
     adc = None
     if rig is not None:
         adc = {"bits": int(rig.adc.bits), "lo": float(rig.adc.range[0]), "hi": float(rig.adc.range[1]),
@@ -212,7 +221,7 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
         rows=a.rows, cols=a.cols, pitch=float(infl.pitch), taxel_width=float(a.taxel_width), margin=float(a.margin),
         knots=np.asarray(infl.x, float), coef=np.asarray(spline.c, float), gain=gain, sensitivity=float(S[m]),
         dt=float(dt), Ad=Ad, Bd=Bd, Cd=Cd, Dd=Dd, A=A, B=B, C=C, D=D,
-        noise_freqs=np.asarray(nr.freqs, float), noise_psd=np.array([np.asarray(v, float) for v in nr.psd.values()]),
-        noise_sources=list(nr.psd), saturation=float(nr.saturation_output), adc=adc, influence_error=err,
+        noise_freqs=np.asarray(nr.freqs, float), noise_psd=np.array([np.asarray(v, float) for v in sources.values()]),
+        noise_sources=list(sources), saturation=float(nr.saturation_output), adc=adc, influence_error=err,
         check_x=xc, check_G_fem=G_fem, check_G_spline=G_spl, reduction_error=float(rm.measured_error) + cut,
         readout=rm.readout_label, provenance=prov)

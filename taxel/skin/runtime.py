@@ -17,7 +17,8 @@ Noise (on request): independent per taxel and step, Gaussian with the variance o
 stored per-source PSDs integrated from their lowest frequency to the step's Nyquist
 frequency 1 / (2 dt) (white at the step rate: the spectral shape inside the band is
 not reproduced), then the saturation (clip at +-saturation) and, with an ADC, its
-quantization (codes of the ADC's lsb, referred back to the readout output).
+quantization (the ADC's input gain v + offset coded in 2^bits steps over its range,
+referred back to the readout output).
 """
 
 from __future__ import annotations
@@ -42,7 +43,8 @@ class SkinRuntime:
         self.sigma = self.noise_rms() if noise else 0.0
         self.rng = np.random.default_rng(seed)
         a = model.adc
-        self.lsb = None if a is None else (a["hi"] - a["lo"]) / 2 ** a["bits"] / a["gain"]
+        self.adc = None if a is None else (a["gain"], a["offset"], a["lo"], (a["hi"] - a["lo"]) / 2 ** a["bits"],
+                                           2 ** a["bits"] - 1)
         self.x = np.zeros((model.Ad.shape[0], model.taxels))
         A = model.Ad
         self.tridiagonal = np.array_equal(A, np.diag(np.diag(A)) + np.diag(np.diag(A, 1), 1) + np.diag(np.diag(A, -1), -1))
@@ -93,8 +95,10 @@ class SkinRuntime:
         s = self.model.saturation
         if np.isfinite(s):
             v = np.clip(v, -s, s)
-        if self.lsb is not None:
-            v = np.round(v / self.lsb) * self.lsb
+        if self.adc is not None:                 # ADC input gain v + offset, coded, referred back to the output
+            gain, offset, lo, lsb, top = self.adc
+            code = np.clip(np.round((gain * v + offset - lo) / lsb), 0, top)
+            v = (lo + code * lsb - offset) / gain
         return v
 
     def run(self, points, forces) -> np.ndarray:
