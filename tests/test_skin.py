@@ -98,6 +98,7 @@ def test_runtime_imports_numpy_only():
     (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--dt", "0"], "--dt 0"),
     (["skin", "thesis-pzt-single-2d", "-o", "skin.npz"], "array.rows"),
     (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--per-pitch", "3"], "--per-pitch 3"),
+    (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--presses", "3"], "--presses: not an option of taxel skin SCENE"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch, args, words):
     monkeypatch.chdir(tmp_path)

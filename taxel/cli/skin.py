@@ -21,21 +21,38 @@ def register(sub) -> None:
     p.add_argument("scene", help="scene TOML file or built-in example name (a square taxel array), or 'dataset'")
     p.add_argument("skin", nargs="?", default=None, metavar="SKIN.npz", help="dataset: the skin file to press")
     p.add_argument("-o", "--out", required=True, metavar="FILE", help="FILE.npz (a skin) or FILE.h5 (a dataset)")
-    p.add_argument("--dt", type=float, default=1e-3, metavar="S", help="the simulator's step, s (default 0.001)")
-    p.add_argument("--per-pitch", type=int, default=8, metavar="N", help="FEM presses per pitch (default 8)")
-    p.add_argument("--checks", type=int, default=4, metavar="N",
+    p.add_argument("--dt", type=float, default=None, metavar="S", help="the simulator's step, s (default 0.001)")
+    p.add_argument("--per-pitch", type=int, default=None, metavar="N", help="FEM presses per pitch (default 8)")
+    p.add_argument("--checks", type=int, default=None, metavar="N",
                    help="FEM presses between the knots that measure the influence's interpolation error (default 4)")
     p.add_argument("--rig", default=None, metavar="RIG", help="a bench rig (name or TOML): its ADC and conditioning")
-    p.add_argument("--presses", type=int, default=200, metavar="N", help="dataset: presses (default 200)")
-    p.add_argument("--seed", type=int, default=0, metavar="N", help="dataset: the random seed (default 0)")
-    p.add_argument("--duration", type=float, default=0.3, metavar="S", help="dataset: seconds per press (0.3)")
-    p.add_argument("--no-noise", action="store_true", help="dataset: clean voltages")
+    p.add_argument("--presses", type=int, default=None, metavar="N", help="dataset: presses (default 200)")
+    p.add_argument("--seed", type=int, default=None, metavar="N", help="dataset: the random seed (default 0)")
+    p.add_argument("--duration", type=float, default=None, metavar="S", help="dataset: seconds per press (0.3)")
+    p.add_argument("--no-noise", action="store_true", default=None, help="dataset: clean voltages")
     p.set_defaults(run=_skin)
+
+
+BUILD = {"dt": 1e-3, "per_pitch": 8, "checks": 4, "rig": None}
+DATASET = {"presses": 200, "seed": 0, "duration": 0.3, "no_noise": False}
+
+
+def _only(args, given: dict, mode: str) -> None:
+    """Refuse the options of the other form; fill this form's defaults."""
+    other = DATASET if given is BUILD else BUILD
+    wrong = [k for k in other if getattr(args, k) is not None]
+    if wrong:
+        opt = "--" + wrong[0].replace("_", "-")
+        raise ValueError(f"{opt}: not an option of {mode}; see taxel skin --help")
+    for k, v in given.items():
+        if getattr(args, k) is None:
+            setattr(args, k, v)
 
 
 def _dataset(args):
     from taxel.skin import dataset
     from taxel.skin.model import SkinModel
+    _only(args, DATASET, "taxel skin dataset SKIN.npz")
     out = Path(args.out)
     if args.skin is None:
         raise ValueError("taxel skin dataset: give the skin file, taxel skin dataset SKIN.npz -o FILE.h5")
@@ -59,6 +76,7 @@ def _skin(args):
         return _dataset(args)
     if args.skin is not None:
         raise ValueError(f"taxel skin {args.scene} {args.skin}: one scene; a dataset is taxel skin dataset SKIN.npz")
+    _only(args, BUILD, "taxel skin SCENE")
     out = Path(args.out)
     if out.suffix != ".npz":
         raise ValueError(f"-o {out}: use FILE.npz")
