@@ -1,17 +1,48 @@
 """The skin at the simulator's step: contact forces and points -> each taxel's voltage.
 
-Numpy only (no FEM, no simulator): any simulator that can list the normal contact
-forces on the skin body and their points in the skin's frame calls
+Numpy only (no FEM, no simulator, no compiled code of its own): any simulator that
+can list the normal contact forces on the skin body and their points in the skin's
+frame calls
 
     skin = SkinRuntime(SkinModel.load("skin.npz"), noise=True, seed=0)
     v = skin.step(points, forces)      # every dt: points (m, 2) in m, forces (m,) in N -> (rows, cols) V
 
+or, for E environments stepped together (one skin each, same file),
+
+    skins = SkinRuntime(model, envs=E)
+    v = skins.step(points, forces)     # points (E, m, 2), forces (E, m) -> (E, rows, cols) V
+
+(an environment with fewer contacts pads with zero forces), and `run` takes a whole
+history of steps in one call.
+
 The model (taxel.skin.model): u_rc = g_rc sum_j F_j G_r(y_j) G_c(x_j), then each taxel's
-state x_rc advances through the discretized readout dynamics, v = Cd x + Dd u. All
-taxels share Ad, which is block diagonal (the modal form of taxel.skin.build, real
-poles and 2 x 2 blocks of complex pairs, kept by the exponential), so the states of
-all taxels advance as x_i <- a_i x_i + up_i x_(i+1) + low_i x_(i-1), elementwise on a
-(states, taxels) array; a dense product when a file's Ad is not tridiagonal.
+state advances through the discretized readout dynamics x' = Ad x + Bd u,
+v = Cd x + Dd u (one input, one output, shared by all taxels).
+
+How a step stays a handful of numpy calls (the interpreter's cost per call, not the
+arithmetic, sets the time at these sizes):
+
+- The dynamics in diagonal form. Ad = V diag(lambda) V^-1 (its poles are distinct:
+  taxel.skin.build merges equal ones), so with z = V^-1 x / b (b = V^-1 Bd, each mode
+  scaled by its own input weight) every mode obeys z' = lambda z + u and
+  v = sum_k c_k b_k z_k + Dd u (c = Cd V). Complex modes come in conjugate pairs whose
+  contributions are conjugate; only the one with Im lambda > 0 is kept, weighted 2,
+  and v is the real part. The states of all taxels (and environments) are one complex
+  array Z (2 modes, taxels): the modes, then u repeated once per mode, so the output is
+  one product w @ Z[:modes + 1] with w = (2 c b | c b | Dd) (row `modes` is u) and the
+  update two in-place calls on contiguous arrays, Z[:modes] *= lambda, Z[:modes] +=
+  Z[modes:] (lambda stored repeated per taxel: broadcasting along the inner axis costs
+  more than the arithmetic here). At load the diagonal form is checked against Ad..Dd (their impulse responses
+  over 400 steps); a file where it does not hold (V ill-conditioned) is stepped through
+  the dense product [x'; v] = [[Ad, Bd], [Cd, Dd]] [x; u] instead.
+- The influence spline in a scaled variable: with the knots evenly spaced by h,
+  s -> t = (s - s0) / h, interval i = floor(t), d = t - i in [0, 1], and the stored
+  coefficients rescaled once to d, G(s) = (d^3, d^2, d, 1) . C_i: one power, one
+  gather, one product for the x and y of all contacts; each contact's force multiplies
+  its y weights, so sum_j F_j G_r(y_j) G_c(x_j) is one more product.
+- Noise drawn in blocks of `block` steps from the seeded generator.
+- `check=False` skips the input checks (shapes, finite values) for callers that
+  guarantee float arrays of the right shapes.
 
 Noise (on request): independent per taxel and step, Gaussian with the variance of the
 stored per-source PSDs integrated from their lowest frequency to the step's Nyquist
@@ -27,29 +58,89 @@ import numpy as np
 
 from taxel.skin.model import SkinModel
 
+_POWERS = np.array([3.0, 2.0, 1.0, 0.0])
+_CHECK_STEPS = 400
+_RUN_BLOCK = 1024               # steps per block of `run`'s convolution
+
+
+def diagonal_form(Ad, Bd, Cd, Dd) -> tuple[np.ndarray, np.ndarray] | None:
+    """(lambda (k,), w (k + 1,)) of the diagonal form (module docstring), or None if it
+    does not reproduce Ad..Dd's impulse response to 1e-9 of its peak."""
+    lam, V = np.linalg.eig(Ad)
+    try:
+        b = np.linalg.solve(V, Bd[:, 0])
+    except np.linalg.LinAlgError:
+        return None
+    cb = (Cd[0] @ V) * b
+    keep = (lam.imag >= 0) & (np.abs(cb) > 0)
+    lam, w = lam[keep], np.where(lam[keep].imag > 0, 2.0, 1.0) * cb[keep]
+    h_ref, x = np.empty(_CHECK_STEPS), Bd[:, 0].copy()          # impulse response: Dd, then Cd Ad^(k-1) Bd
+    h_ref[0] = Dd[0, 0]
+    for k in range(1, _CHECK_STEPS):
+        h_ref[k], x = Cd[0] @ x, Ad @ x
+    h = np.empty(_CHECK_STEPS)
+    h[0] = Dd[0, 0]
+    h[1:] = (lam[None, :] ** np.arange(_CHECK_STEPS - 1)[:, None] @ w).real
+    if not np.all(np.isfinite(h)) or np.abs(h - h_ref).max() > 1e-9 * max(np.abs(h_ref).max(), 1e-300):
+        return None
+    return lam, np.append(w, Dd[0, 0])
+
 
 class SkinRuntime:
-    """A skin's state between simulator steps (module docstring)."""
+    """One skin's (or E skins') state between simulator steps (module docstring)."""
 
-    def __init__(self, model: SkinModel, noise: bool = False, seed: int | None = None, dt: float | None = None):
+    def __init__(self, model: SkinModel, noise: bool = False, seed: int | None = None, dt: float | None = None,
+                 envs: int | None = None, check: bool = True, block: int = 256):
         if dt is not None and abs(dt - model.dt) > 1e-9 * model.dt:
             raise ValueError(f"dt = {dt:g} s: this skin is discretized at {model.dt:g} s; rebuild it with "
                              f"taxel skin SCENE --dt {dt:g} or step the simulator at {model.dt:g} s")
-        self.model = model
-        self.Ad, self.Bd = model.Ad, model.Bd[:, 0][:, None]
-        self.Cd, self.Dd = model.Cd[0], float(model.Dd[0, 0])
-        self.g = model.gain.ravel()
-        self.shape = (model.rows, model.cols)
+        if envs is not None and (int(envs) != envs or envs < 1):
+            raise ValueError(f"envs = {envs}: the number of environments is a whole number >= 1")
+        self.model, self.envs, self.check = model, envs, check
+        rows, cols, T = model.rows, model.cols, model.taxels
+        self.shape = (rows, cols) if envs is None else (int(envs), rows, cols)
+        E = 1 if envs is None else int(envs)
+        self.g = model.gain.reshape(T).astype(float)
         self.sigma = self.noise_rms() if noise else 0.0
-        self.rng = np.random.default_rng(seed)
+        self.rng, self.block = np.random.default_rng(seed), int(block)
+        self._noise, self._k = np.zeros((0, E, T)), 0
         a = model.adc
-        self.adc = None if a is None else (a["gain"], a["offset"], a["lo"], (a["hi"] - a["lo"]) / 2 ** a["bits"],
-                                           2 ** a["bits"] - 1)
-        self.x = np.zeros((model.Ad.shape[0], model.taxels))
-        A = model.Ad
-        self.tridiagonal = np.array_equal(A, np.diag(np.diag(A)) + np.diag(np.diag(A, 1), 1) + np.diag(np.diag(A, -1), -1))
-        self.main = np.diag(A)[:, None].copy()
-        self.up, self.low = np.diag(A, 1)[:, None].copy(), np.diag(A, -1)[:, None].copy()
+        # ADC: code = clip(rint(gain / lsb v + (offset - lo) / lsb), 0, 2^bits - 1), v = lsb / gain code + (lo - offset) / gain
+        if a is not None:
+            lsb = (a["hi"] - a["lo"]) / 2 ** a["bits"]
+            self._adc = (a["gain"] / lsb, (a["offset"] - a["lo"]) / lsb, float(2 ** a["bits"] - 1),
+                         lsb / a["gain"], (a["lo"] - a["offset"]) / a["gain"])
+        else:
+            self._adc = None
+        s = model.saturation
+        self._sat = float(s) if np.isfinite(s) else None
+        # the influence spline in the scaled variable (module docstring)
+        k = np.asarray(model.knots, float)
+        h = float((k[-1] - k[0]) / (len(k) - 1))
+        if not np.allclose(np.diff(k), h, rtol=1e-9, atol=0):
+            raise ValueError("skin file: the influence knots are not evenly spaced; rebuild the skin")
+        self._t0, self._inv_h = float(k[0]) / h, 1.0 / h
+        self._t_top = np.nextafter(float(len(k) - 1), 0.0)       # t < intervals: the last interval's end
+        self._coef = np.ascontiguousarray((model.coef * h ** _POWERS[:, None, None]).transpose(1, 0, 2))
+        self._rows, self._cols, self._T = rows, cols, T
+        # the dynamics: diagonal form, or the dense product where it does not hold
+        form = diagonal_form(model.Ad, model.Bd, model.Cd, model.Dd)
+        self.diagonal = form is not None
+        if self.diagonal:
+            lam, w = form
+            n = len(lam)
+            # Z = [modes (n rows); u repeated (n rows)]: w @ Z[:, :n+1] is the output (row n is u) and
+            # the update adds the repeated rows (contiguous, not a broadcast)
+            self._lam = np.repeat(lam[:, None], T, axis=1)
+            self._w = w[None, :]
+            self._Z = np.zeros((E, 2 * n, T), complex)
+            self._modes, self._urep, self._head = self._Z[:, :n], self._Z[:, n:], self._Z[:, :n + 1]
+            self._out = np.zeros((E, 1, T), complex)
+        else:
+            n = model.Ad.shape[0]
+            self._M = np.block([[model.Ad, model.Bd[:, :1]], [model.Cd[:1], model.Dd[:1, :1]]])
+            self._Z, self._Znew = np.zeros((E, n + 1, T)), np.zeros((E, n + 1, T))
+            self._urep = self._Z[:, n:]
 
     def noise_rms(self) -> float:
         """V rms per taxel and step: the PSDs integrated up to 1 / (2 dt) (module docstring)."""
@@ -60,47 +151,150 @@ class SkinRuntime:
         return float(np.sqrt(np.trapezoid(total, f[keep]))) if keep.sum() > 1 else 0.0
 
     def reset(self) -> None:
-        self.x[:] = 0.0
+        self._Z[:] = 0.0
+
+    def _inputs(self, points, forces, lead: tuple) -> tuple[np.ndarray, np.ndarray]:
+        """points (*lead, m, 2), forces (*lead, m) as float arrays; ValueError (one line) otherwise."""
+        p, f = np.asarray(points, float), np.asarray(forces, float)
+        m = f.shape[-1] if f.ndim else -1
+        if f.shape != (*lead, m) or p.shape != (*lead, m, 2):
+            want = "".join(f"{n}, " for n in lead)
+            raise ValueError(f"points {p.shape}, forces {f.shape}: give points ({want}m, 2) m and forces ({want}m,) N")
+        if not (np.isfinite(p).all() and np.isfinite(f).all()):
+            raise ValueError("points or forces not finite: give finite contact points (m) and forces (N)")
+        return p, f
 
     def loads(self, points, forces) -> np.ndarray:
-        """u (taxels,) N: the force each taxel sees from normal forces at points."""
-        forces = np.asarray(forces, float).reshape(-1)
-        if forces.size == 0:
-            return np.zeros(self.g.size)
-        p = np.asarray(points, float).reshape(-1, 2)
-        G = self.model.influence(np.concatenate([p[:, 0], p[:, 1]]))     # one spline call for x and y
-        m = len(forces)
-        gx, gy = G[:m, :self.model.cols], G[m:, :self.model.rows]
-        return ((gy * forces[:, None]).T @ gx).ravel() * self.g
+        """u (..., rows, cols) N: the force each taxel sees from normal forces (..., m) at points (..., m, 2)."""
+        p = np.asarray(points, float)
+        f = np.asarray(forces, float)
+        if f.ndim == 0 or p.shape != (*f.shape, 2):
+            raise ValueError(f"points {p.shape}, forces {f.shape}: give points (..., m, 2) m and forces (..., m) N")
+        return self._loads(p, f) * self.g.reshape(self._rows, self._cols)
+
+    def _loads(self, p, f) -> np.ndarray:
+        """sum_j F_j G_r(y_j) G_c(x_j) (..., rows, cols), without the gains (module docstring)."""
+        t = p * self._inv_h
+        t -= self._t0
+        np.maximum(t, 0.0, out=t)
+        np.minimum(t, self._t_top, out=t)
+        i = t.astype(np.intp)
+        t -= i
+        d = t[..., None] ** _POWERS                           # (..., m, 2, 4)
+        d[..., 1, :] *= f[..., None]                          # each contact's force on its y weights
+        G = d[..., None, :] @ self._coef[i]                   # (..., m, 2, 1, n)
+        return np.swapaxes(G[..., 1, 0, :self._rows], -1, -2) @ G[..., 0, 0, :self._cols]
 
     def step(self, points, forces) -> np.ndarray:
-        """Advance one dt with the normal forces (m,) N at points (m, 2) m (skin frame); (rows, cols) V."""
-        u = self.loads(points, forces)
-        x = self.x
-        v = self.Cd @ x + self.Dd * u
-        if self.tridiagonal:
-            new = self.main * x + self.Bd * u
-            if len(x) > 1:
-                new[:-1] += self.up * x[1:]
-                new[1:] += self.low * x[:-1]
-            self.x = new
+        """Advance one dt with normal forces (m,) N at points (m, 2) m (skin frame): (rows, cols) V;
+        with envs = E, points (E, m, 2) and forces (E, m): (E, rows, cols) V."""
+        if self.check:
+            points, forces = self._inputs(points, forces, self.shape[:-2])
+        np.multiply(self._loads(points, forces).reshape(-1, 1, self._T), self.g, out=self._urep)
+        if self.diagonal:
+            np.matmul(self._w, self._head, out=self._out)
+            v = self._out.real.copy() if not self.sigma else self._out.real + self._draw()
+            self._modes *= self._lam
+            self._modes += self._urep
         else:
-            self.x = self.Ad @ x + self.Bd * u
-        return self.output(v).reshape(self.shape)
+            np.matmul(self._M, self._Z, out=self._Znew)
+            self._Z, self._Znew = self._Znew, self._Z
+            n = self._Z.shape[1] - 1
+            v = self._Z[:, n:].copy() if not self.sigma else self._Z[:, n:] + self._draw()
+            self._urep = self._Z[:, n:]
+        return self._output(v).reshape(self.shape)
 
-    def output(self, v) -> np.ndarray:
-        """Noise, saturation and the ADC applied to clean voltages v."""
-        if self.sigma:
-            v = v + self.sigma * self.rng.standard_normal(v.shape)
-        s = self.model.saturation
-        if np.isfinite(s):
-            v = np.clip(v, -s, s)
-        if self.adc is not None:                 # ADC input gain v + offset, coded, referred back to the output
-            gain, offset, lo, lsb, top = self.adc
-            code = np.clip(np.round((gain * v + offset - lo) / lsb), 0, top)
-            v = (lo + code * lsb - offset) / gain
+    def _draw(self) -> np.ndarray:
+        """The next step's noise (envs, 1, taxels) V, from blocks of `block` steps."""
+        if self._k == len(self._noise):
+            self._noise = self.sigma * self.rng.standard_normal((self.block, *self._noise.shape[1:]))
+            self._k = 0
+        self._k += 1
+        return self._noise[self._k - 1][:, None, :]
+
+    def _draws(self, nt: int) -> np.ndarray:
+        """The next nt steps' noise (nt, envs, taxels) V: the same numbers nt calls of _draw give."""
+        parts = []
+        while nt:
+            if self._k == len(self._noise):
+                self._noise = self.sigma * self.rng.standard_normal((self.block, *self._noise.shape[1:]))
+                self._k = 0
+            take = min(nt, len(self._noise) - self._k)
+            parts.append(self._noise[self._k:self._k + take])
+            self._k, nt = self._k + take, nt - take
+        return np.concatenate(parts)
+
+    def _output(self, v) -> np.ndarray:
+        """Saturation and the ADC applied in place to voltages v (noise already added)."""
+        if self._sat is not None:
+            np.minimum(v, self._sat, out=v)
+            np.maximum(v, -self._sat, out=v)
+        if self._adc is not None:
+            scale, shift, top, back, base = self._adc
+            v *= scale
+            v += shift
+            np.rint(v, out=v)
+            np.minimum(v, top, out=v)
+            np.maximum(v, 0.0, out=v)
+            v *= back
+            v += base
         return v
 
+    def output(self, v) -> np.ndarray:
+        """Noise, saturation and the ADC applied to clean voltages v (..., taxels) of one step."""
+        v = np.array(v, float)
+        if self.sigma:
+            v += self.sigma * self.rng.standard_normal(v.shape)
+        return self._output(v)
+
     def run(self, points, forces) -> np.ndarray:
-        """A whole history: points (nt, m, 2), forces (nt, m) -> (nt, rows, cols) V (from the current state)."""
-        return np.stack([self.step(p, f) for p, f in zip(points, forces)])
+        """A whole history from the current state: points (nt, [E,] m, 2), forces (nt, [E,] m)
+        -> (nt, [E,] rows, cols) V; the same voltages (and noise) as nt calls of `step`, for
+        contacts known ahead (a recorded or scripted trajectory, a data set): the loads of
+        all steps are one vectorized evaluation and, in the diagonal form, the dynamics a
+        convolution per block of steps (`_block`) instead of a loop over steps."""
+        forces = np.asarray(forces, float)
+        points, forces = self._inputs(points, forces, (len(forces), *self.shape[:-2]))
+        nt = len(forces)
+        U = self._loads(points, forces).reshape(nt, -1, self._T) * self.g          # (nt, E, taxels)
+        V = np.empty(U.shape)
+        if self.diagonal:
+            for k in range(0, nt, _RUN_BLOCK):
+                V[k:k + _RUN_BLOCK] = self._block(U[k:k + _RUN_BLOCK])
+        else:
+            n = self._Z.shape[1] - 1
+            for k in range(nt):
+                self._urep[:] = U[k][:, None, :]
+                np.matmul(self._M, self._Z, out=self._Znew)
+                self._Z, self._Znew = self._Znew, self._Z
+                self._urep = self._Z[:, n:]
+                V[k] = self._Z[:, n]
+        if self.sigma:
+            V += self._draws(nt)
+        return self._output(V).reshape(nt, *self.shape)
+
+    def _block(self, U) -> np.ndarray:
+        """Voltages (L, E, taxels) of L steps with loads U (L, E, taxels) from the modes' state z0,
+        which it advances L steps. From z' = lambda z + u, v = Re(w z) + D u:
+            v_k = Re(sum_m w_m lambda_m^k z0_m) + sum_(j <= k) h_(k-j) u_j,
+            h_0 = D, h_k = Re(sum_m w_m lambda_m^(k-1)),
+            z_L = lambda^L z0 + sum_(j < L) lambda^(L-1-j) u_j,
+        the free response and the end state as products with the powers lambda^k, the
+        forced response a linear convolution by FFT (zero-padded to 2 L: no wrap-around)."""
+        L, E, T = U.shape
+        lam, w, D = self._lam[:, 0], self._w[0, :-1], self._w[0, -1].real
+        Pk = np.exp(np.arange(L + 1)[:, None] * np.log(lam)[None, :])              # (L + 1, n): lambda^k
+        h = np.empty(L)
+        h[0] = D
+        h[1:] = (Pk[:L - 1] @ w).real
+        N = 2 * L
+        V = np.fft.irfft(np.fft.rfft(U, N, axis=0) * np.fft.rfft(h, N)[:, None, None], N, axis=0)[:L]
+        z0 = self._modes                                                            # (E, n, T)
+        if z0.any():                                                                # the free response
+            V += (Pk[:L] @ (w[:, None] * z0)).real.transpose(1, 0, 2)
+        R = np.ascontiguousarray(Pk[L - 1::-1].T)                                   # (n, L): lambda^(L-1-j)
+        U2 = U.reshape(L, E * T)                                                    # real: two real products
+        ends = (R.real @ U2 + 1j * (R.imag @ U2)).reshape(-1, E, T).transpose(1, 0, 2)
+        z0 *= Pk[L][:, None]
+        z0 += ends
+        return V
