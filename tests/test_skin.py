@@ -113,3 +113,64 @@ def test_taxel_skin_is_the_function_after_importing_the_package():
             "print(inspect.isfunction(taxel.skin), taxel.skin.__module__)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     assert out == ["True", "taxel.api"]
+
+
+def resonant_skin(Ad=None) -> SkinModel:
+    """A 2 x 3 skin with unequal gains whose h(s) has a real pole and a resonance (complex
+    poles: the diagonal form's conjugate pairs); or the given Ad (with Bd, Cd of ones)."""
+    sk = first_order_skin()
+    A, B, C, D = signal.tf2ss([0.3, 40.0, 9e4], np.polymul([1, 60.0, 9e4], [1, 25.0]))
+    Ad, Bd, Cd, Dd, _ = (signal.cont2discrete((A, B, C, D), DT, method="foh") if Ad is None else
+                         (Ad, np.ones((len(Ad), 1)), np.ones((1, len(Ad))), np.array([[0.1]]), None))
+    sk.rows, sk.cols, sk.gain = 2, 3, np.array([[1.0, 0.9, 1.2], [0.8, 1.1, 1.0]])
+    sk.Ad, sk.Bd, sk.Cd, sk.Dd, sk.A, sk.B, sk.C, sk.D = Ad, Bd, Cd, Dd, A, B, C, D
+    return sk
+
+
+def direct(sk, P, F) -> np.ndarray:
+    """The skin by scipy alone: the loads from the scipy spline, each taxel through dlsim."""
+    sp = CubicSpline(sk.knots, np.stack([np.clip(1 - np.abs(sk.knots - c * sk.pitch) / sk.pitch, 0, None)
+                                         for c in range(3)], axis=1), axis=0)
+    lo, hi = sk.knots[0], sk.knots[-1]
+    gx, gy = sp(np.clip(P[..., 0], lo, hi))[..., :sk.cols], sp(np.clip(P[..., 1], lo, hi))[..., :sk.rows]
+    U = np.einsum("km,kmr,kmc->krc", F, gy, gx) * sk.gain
+    sys_ = (sk.Ad, sk.Bd, sk.Cd, sk.Dd, DT)
+    V = np.stack([signal.dlsim(sys_, U[:, r, c])[1][:, 0] for r in range(sk.rows) for c in range(sk.cols)], axis=1)
+    return V.reshape(len(F), sk.rows, sk.cols)
+
+
+@pytest.mark.parametrize("Ad", [None, np.array([[0.9, 1.0], [0.0, 0.9]])], ids=["diagonal", "defective: dense"])
+def test_step_run_and_envs_are_the_direct_simulation(Ad):
+    sk = resonant_skin(Ad)
+    rng = np.random.default_rng(4)
+    P, F = rng.uniform(-9e-3, 23e-3, (300, 3, 2)), rng.uniform(0, 1, (300, 3))   # some points off the knots
+    ref = direct(sk, P, F)
+    rt = SkinRuntime(sk)
+    assert rt.diagonal == (Ad is None)
+    peak = np.abs(ref).max()
+    assert np.abs(np.array([rt.step(p, f) for p, f in zip(P, F)]) - ref).max() < 1e-10 * peak
+    rt = SkinRuntime(sk)
+    run = np.concatenate([rt.run(P[:100], F[:100]), rt.run(P[100:], F[100:])])   # the state carries over
+    assert np.abs(run - ref).max() < 1e-10 * peak
+    envs = SkinRuntime(sk, envs=2, check=False)        # env 0 these contacts, env 1 half the forces
+    both = np.array([envs.step(np.stack([p, p]), np.stack([f, f / 2])) for p, f in zip(P, F)])
+    assert np.abs(both[:, 0] - ref).max() < 1e-10 * peak and np.abs(both[:, 1] - ref / 2).max() < 1e-10 * peak
+
+
+def test_run_draws_the_noise_of_the_steps():
+    sk = first_order_skin(noise_psd=1e-8)
+    P, F = np.full((700, 1, 2), 7e-3), np.ones((700, 1))      # 700 steps: across blocks of 256 draws
+    a = SkinRuntime(sk, noise=True, seed=5)
+    b = SkinRuntime(sk, noise=True, seed=5).run(P, F)
+    assert np.abs(np.array([a.step(p, f) for p, f in zip(P, F)]) - b).max() < 1e-12
+
+
+@pytest.mark.parametrize("points, forces, words", [
+    ([[7e-3, 7e-3]], [1.0, 2.0], "give points (m, 2) m and forces (m,) N"),
+    ([7e-3, 7e-3], [1.0], "give points (m, 2) m"),
+    ([[7e-3, 7e-3]], [np.nan], "not finite"),
+])
+def test_step_refuses_bad_contacts_in_one_line(points, forces, words):
+    with pytest.raises(ValueError, match=r"^[^\n]*$") as err:
+        SkinRuntime(first_order_skin()).step(points, forces)
+    assert words in str(err.value)
