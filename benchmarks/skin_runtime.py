@@ -37,7 +37,7 @@ STEPS, ROUNDS = 2000, 7
 
 
 class Previous:
-    """The runtime's step before the diagonal form (taxel 0.x, commit 1dad508), noise off."""
+    """The runtime's step before the diagonal form (commit 1dad508), noise off, no ADC."""
 
     def __init__(self, model):
         self.model = model

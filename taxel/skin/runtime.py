@@ -28,18 +28,18 @@ arithmetic, sets the time at these sizes):
   v = sum_k c_k b_k z_k + Dd u (c = Cd V). Complex modes come in conjugate pairs whose
   contributions are conjugate; only the one with Im lambda > 0 is kept, weighted 2,
   and v is the real part. The states of all taxels (and environments) are one complex
-  array Z (2 modes, taxels): the modes, then u repeated once per mode, so the output is
-  one product w @ Z[:modes + 1] with w = (2 c b | c b | Dd) (row `modes` is u) and the
-  update two in-place calls on contiguous arrays, Z[:modes] *= lambda, Z[:modes] +=
-  Z[modes:] (lambda stored repeated per taxel: broadcasting along the inner axis costs
-  more than the arithmetic here). At load the diagonal form is checked against Ad..Dd (their impulse responses
+  array Z (modes + 1, taxels) whose last row holds u, so the output is one product
+  w @ Z with w = (2 c b | c b | Dd) and the update two in-place calls, Z[:modes] *=
+  lambda, Z[:modes] += u. At load the diagonal form is checked against Ad..Dd (their impulse responses
   over 400 steps); a file where it does not hold (V ill-conditioned) is stepped through
   the dense product [x'; v] = [[Ad, Bd], [Cd, Dd]] [x; u] instead.
 - The influence spline in a scaled variable: with the knots evenly spaced by h,
-  s -> t = (s - s0) / h, interval i = floor(t), d = t - i in [0, 1], and the stored
-  coefficients rescaled once to d, G(s) = (d^3, d^2, d, 1) . C_i: one power, one
-  gather, one product for the x and y of all contacts; each contact's force multiplies
-  its y weights, so sum_j F_j G_r(y_j) G_c(x_j) is one more product.
+  s -> t = (s - s0) / h, interval i = floor(t), d = t - i in [0, 1), and the stored
+  coefficients rescaled once to d, G(s) = (d^3, d^2, d, 1) . C_i: one divmod, one
+  power, one gather, one dot product (np.vecdot: a loop in numpy, not a BLAS call per
+  contact) for the x and y of all contacts (s beyond the knots takes the end value
+  through a constant piece at each end and a clipped index); sum_j F_j G_r(y_j) G_c(x_j)
+  is then one scaling and one product.
 - Noise drawn in blocks of `block` steps from the seeded generator.
 - `check=False` skips the input checks (shapes, finite values) for callers that
   guarantee float arrays of the right shapes.
@@ -119,9 +119,13 @@ class SkinRuntime:
         h = float((k[-1] - k[0]) / (len(k) - 1))
         if not np.allclose(np.diff(k), h, rtol=1e-9, atol=0):
             raise ValueError("skin file: the influence knots are not evenly spaced; rebuild the skin")
-        self._t0, self._inv_h = float(k[0]) / h, 1.0 / h
-        self._t_top = np.nextafter(float(len(k) - 1), 0.0)       # t < intervals: the last interval's end
-        self._coef = np.ascontiguousarray((model.coef * h ** _POWERS[:, None, None]).transpose(1, 0, 2))
+        self._t0, self._inv_h = float(k[0]) / h - 1.0, 1.0 / h
+        # rescaled to d, and one constant piece added at each end (the end values): an index
+        # clipped to the table then gives G at the nearer end for s beyond the knots, whatever d is
+        co = (model.coef * h ** _POWERS[:, None, None]).transpose(1, 0, 2)            # (intervals, 4, n)
+        ends = np.zeros((2, 4, co.shape[2]))
+        ends[0, 3], ends[1, 3] = co[0, 3], co[-1].sum(axis=0)                       # G(s0), G(s_end) (d = 1)
+        self._coef = np.ascontiguousarray(np.concatenate([ends[:1], co, ends[1:]]).transpose(0, 2, 1))   # (., n, 4)
         self._rows, self._cols, self._T = rows, cols, T
         # the dynamics: diagonal form, or the dense product where it does not hold
         form = diagonal_form(model.Ad, model.Bd, model.Cd, model.Dd)
@@ -129,12 +133,13 @@ class SkinRuntime:
         if self.diagonal:
             lam, w = form
             n = len(lam)
-            # Z = [modes (n rows); u repeated (n rows)]: w @ Z[:, :n+1] is the output (row n is u) and
-            # the update adds the repeated rows (contiguous, not a broadcast)
+            # Z = [modes (n rows); u (1 row)]: w @ Z is the output; lambda stored repeated per taxel
+            # (broadcasting it along the inner axis costs more than the arithmetic here)
             self._lam = np.repeat(lam[:, None], T, axis=1)
             self._w = w[None, :]
-            self._Z = np.zeros((E, 2 * n, T), complex)
-            self._modes, self._urep, self._head = self._Z[:, :n], self._Z[:, n:], self._Z[:, :n + 1]
+            self._gc = self.g.astype(complex)                 # u g complex: no cast writing into Z
+            self._Z = np.zeros((E, n + 1, T), complex)
+            self._modes, self._urep = self._Z[:, :n], self._Z[:, n:]
             self._out = np.zeros((E, 1, T), complex)
         else:
             n = model.Ad.shape[0]
@@ -175,28 +180,27 @@ class SkinRuntime:
     def _loads(self, p, f) -> np.ndarray:
         """sum_j F_j G_r(y_j) G_c(x_j) (..., rows, cols), without the gains (module docstring)."""
         t = p * self._inv_h
-        t -= self._t0
-        np.maximum(t, 0.0, out=t)
-        np.minimum(t, self._t_top, out=t)
-        i = t.astype(np.intp)
-        t -= i
-        d = t[..., None] ** _POWERS                           # (..., m, 2, 4)
-        d[..., 1, :] *= f[..., None]                          # each contact's force on its y weights
-        G = d[..., None, :] @ self._coef[i]                   # (..., m, 2, 1, n)
-        return np.swapaxes(G[..., 1, 0, :self._rows], -1, -2) @ G[..., 0, 0, :self._cols]
+        t -= self._t0                                         # t = (s - s0) / h + 1: interval + 1 (the end piece)
+        i, d = np.divmod(t, 1.0)
+        d = d[..., None] ** _POWERS                           # (..., m, 2, 4)
+        # (..., m, 2, n); vecdot, not matmul: a loop in numpy, not one BLAS call per contact
+        G = np.vecdot(self._coef.take(i.astype(np.intp), axis=0, mode="clip"), d[..., None, :])
+        return (G[..., 1, :self._rows].mT * f[..., None, :]) @ G[..., 0, :self._cols]   # sum_j F_j G_r(y_j) G_c(x_j)
 
     def step(self, points, forces) -> np.ndarray:
         """Advance one dt with normal forces (m,) N at points (m, 2) m (skin frame): (rows, cols) V;
         with envs = E, points (E, m, 2) and forces (E, m): (E, rows, cols) V."""
         if self.check:
             points, forces = self._inputs(points, forces, self.shape[:-2])
-        np.multiply(self._loads(points, forces).reshape(-1, 1, self._T), self.g, out=self._urep)
+        u = self._loads(points, forces).reshape(-1, 1, self._T)
         if self.diagonal:
-            np.matmul(self._w, self._head, out=self._out)
+            np.multiply(u, self._gc, out=self._urep)
+            np.matmul(self._w, self._Z, out=self._out)
             v = self._out.real.copy() if not self.sigma else self._out.real + self._draw()
             self._modes *= self._lam
             self._modes += self._urep
         else:
+            np.multiply(u, self.g, out=self._urep)
             np.matmul(self._M, self._Z, out=self._Znew)
             self._Z, self._Znew = self._Znew, self._Z
             n = self._Z.shape[1] - 1
