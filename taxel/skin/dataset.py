@@ -110,8 +110,7 @@ def write(skin: SkinModel, path, presses: int = 200, seed: int = 0, duration: fl
         off, w = probe(kinds[i], size[i], angle[i])
         pts = pos[i] + off
         rt.reset()
-        for k in range(len(t)):
-            V[i, k] = rt.step(pts, F[i, k] * w)
+        V[i] = rt.run(np.broadcast_to(pts, (len(t), *pts.shape)), F[i][:, None] * w)   # = a step per t
     buf = io.BytesIO()
     skin.save(buf)
     path = Path(path)
