@@ -41,8 +41,8 @@ arithmetic, sets the time at these sizes):
   through a constant piece at each end and a clipped index); sum_j F_j G_r(y_j) G_c(x_j)
   is then one scaling and one product.
 - Noise drawn in blocks of `block` steps from the seeded generator.
-- `check=False` skips the input checks (shapes, finite values) for callers that
-  guarantee float arrays of the right shapes.
+- `check=False` skips the input checks (shapes; finite values, checked on the loads)
+  for callers that guarantee finite float arrays of the right shapes.
 
 Noise (on request): independent per taxel and step, Gaussian with the variance of the
 stored per-source PSDs integrated from their lowest frequency to the step's Nyquist
@@ -159,15 +159,18 @@ class SkinRuntime:
         self._Z[:] = 0.0
 
     def _inputs(self, points, forces, lead: tuple) -> tuple[np.ndarray, np.ndarray]:
-        """points (*lead, m, 2), forces (*lead, m) as float arrays; ValueError (one line) otherwise."""
+        """points (*lead, m, 2), forces (*lead, m) as float arrays; ValueError (one line) otherwise.
+        (Finite values are checked on the loads they give: a NaN or inf anywhere reaches them.)"""
         p, f = np.asarray(points, float), np.asarray(forces, float)
-        m = f.shape[-1] if f.ndim else -1
-        if f.shape != (*lead, m) or p.shape != (*lead, m, 2):
+        if f.shape[:-1] != lead or p.shape != (*f.shape, 2) or f.ndim != len(lead) + 1:
             want = "".join(f"{n}, " for n in lead)
             raise ValueError(f"points {p.shape}, forces {f.shape}: give points ({want}m, 2) m and forces ({want}m,) N")
-        if not (np.isfinite(p).all() and np.isfinite(f).all()):
-            raise ValueError("points or forces not finite: give finite contact points (m) and forces (N)")
         return p, f
+
+    @staticmethod
+    def _finite(u) -> None:
+        if not np.isfinite(u).all():
+            raise ValueError("points or forces not finite: give finite contact points (m) and forces (N)")
 
     def loads(self, points, forces) -> np.ndarray:
         """u (..., rows, cols) N: the force each taxel sees from normal forces (..., m) at points (..., m, 2)."""
@@ -175,7 +178,9 @@ class SkinRuntime:
         f = np.asarray(forces, float)
         if f.ndim == 0 or p.shape != (*f.shape, 2):
             raise ValueError(f"points {p.shape}, forces {f.shape}: give points (..., m, 2) m and forces (..., m) N")
-        return self._loads(p, f) * self.g.reshape(self._rows, self._cols)
+        u = self._loads(p, f) * self.g.reshape(self._rows, self._cols)
+        self._finite(u)
+        return u
 
     def _loads(self, p, f) -> np.ndarray:
         """sum_j F_j G_r(y_j) G_c(x_j) (..., rows, cols), without the gains (module docstring)."""
@@ -193,6 +198,8 @@ class SkinRuntime:
         if self.check:
             points, forces = self._inputs(points, forces, self.shape[:-2])
         u = self._loads(points, forces).reshape(-1, 1, self._T)
+        if self.check:
+            self._finite(u)
         if self.diagonal:
             np.multiply(u, self._gc, out=self._urep)
             np.matmul(self._w, self._Z, out=self._out)
@@ -261,6 +268,7 @@ class SkinRuntime:
         points, forces = self._inputs(points, forces, (len(forces), *self.shape[:-2]))
         nt = len(forces)
         U = self._loads(points, forces).reshape(nt, -1, self._T) * self.g          # (nt, E, taxels)
+        self._finite(U)
         V = np.empty(U.shape)
         if self.diagonal:
             for k in range(0, nt, _RUN_BLOCK):
