@@ -251,13 +251,6 @@ class SkinRuntime:
             v += base
         return v
 
-    def output(self, v) -> np.ndarray:
-        """Noise, saturation and the ADC applied to clean voltages v (..., taxels) of one step."""
-        v = np.array(v, float)
-        if self.sigma:
-            v += self.sigma * self.rng.standard_normal(v.shape)
-        return self._output(v)
-
     def run(self, points, forces) -> np.ndarray:
         """A whole history from the current state: points (nt, [E,] m, 2), forces (nt, [E,] m)
         -> (nt, [E,] rows, cols) V; the same voltages (and noise) as nt calls of `step`, for
