@@ -9,9 +9,10 @@ The public API, whatever subpackages have been imported:
   `StudyError`, `OptimizeError`).
 
 Everything is imported on first use, so `import taxel` (and `taxel --help`) stays
-light. The subpackage `taxel.optimize` and the function `taxel.optimize` share a
-name: importing the subpackage does not replace the function here (the module's
-attribute is guarded), so `taxel.optimize(...)` works after any import.
+light. The subpackages `taxel.optimize` and `taxel.skin` share a name with the
+functions `taxel.optimize` and `taxel.skin`: importing a subpackage does not replace
+the function here (the module's attribute is guarded), so `taxel.optimize(...)` and
+`taxel.skin(...)` work after any import.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ _PUBLIC = {
     "load": "taxel.api", "solve": "taxel.api", "read": "taxel.api", "run_study": "taxel.api",
     "optimize": "taxel.api", "report": "taxel.api", "work_precision": "taxel.api",
     "explore": "taxel.api", "lumped": "taxel.api", "mesh": "taxel.api",
-    "reduce": "taxel.api",
+    "reduce": "taxel.api", "skin": "taxel.api",
     "Scene": "taxel.scene", "SceneError": "taxel.scene",
     "StaticResult": "taxel.analyses", "FrequencyResult": "taxel.analyses",
     "TransientResult": "taxel.analyses", "LumpedResult": "taxel.analyses",
@@ -53,6 +54,7 @@ class _Package(types.ModuleType):
     shares (`optimize`) is a guarded property."""
 
     optimize = _guarded("optimize")
+    skin = _guarded("skin")
 
     def __getattr__(self, name):
         if name in _PUBLIC:

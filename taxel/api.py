@@ -209,3 +209,22 @@ def reduce(scene: Scene | str | Path | dict, inputs: str | None = None, output: 
     `.save_mat(path)`, `.save(path.npz)`, `.to_folder(dir)`."""
     from taxel.analyses.reduced import reduce as _reduce
     return _reduce(scene if isinstance(scene, Scene) else load(scene), inputs, output, f_max)
+
+
+def skin(scene: Scene | str | Path | dict, out: str | Path | None = None, dt: float = 1e-3, per_pitch: int = 8,
+         checks: int = 4, rig: str | Path | None = None):
+    """The scene's skin (taxel.skin.model.SkinModel): the sensor model a simulator runs
+    with taxel.skin.runtime.SkinRuntime (layout, influence with its measured
+    interpolation error, the readout dynamics discretized at `dt`, noise, saturation,
+    provenance); written to `out` (.npz) when given. `rig`: a bench rig (name or file)
+    whose conditioning and ADC the skin's noise and quantization take."""
+    from taxel.skin.build import build
+    sc = scene if isinstance(scene, Scene) else load(scene)
+    r = None
+    if rig is not None:
+        from taxel.studies.bench.rig import load_rig
+        r = load_rig(rig)
+    model = build(sc, dt, per_pitch, checks, r)
+    if out is not None:
+        model.save(out)
+    return model

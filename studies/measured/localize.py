@@ -69,7 +69,7 @@ from taxel.studies.measured.readings import amplitudes, reading_noise, scored, s
 from taxel.schema import electrode_name
 
 JSON = "localization.json"
-__all__ = ["PressEvent", "Scores", "Localization", "read_presses", "match", "largest_taxel", "model_based",
+__all__ = ["PressEvent", "Scores", "Localization", "read_presses", "match", "largest_taxel", "model_based", "fit_press",
            "localize_folder", "amplitudes", "reading_noise", "scored", "sensitivities"]
 CLASSES = ("on", "between", "edge")
 
@@ -289,6 +289,36 @@ def _class(p: PressEvent, pitch_mm: float, span_mm: tuple[float, float] | None =
     return "between"
 
 
+def fit_press(v, S, infl, rows, cols, force_hint: float = 1.0) -> tuple[float, float, float]:
+    """The model-based estimate (x, y, F) in m, m, N of one press from the taxels'
+    readings v (V) with sensitivities S (V/N), taxel k at (rows[k], cols[k]): the grid
+    scan and the refinement of its four lowest local minima (module docstring);
+    force_hint (N) bounds the start force from below (1e-3 of it)."""
+    span = (cols.max() * infl.pitch, rows.max() * infl.pitch)
+    gx_, gy_ = (np.linspace(0, L, int(round(16 * L / infl.pitch)) + 1) for L in span)
+    Gx, Gy = infl.at(gx_), infl.at(gy_)                            # (m, n)
+    M = S[None, None, :] * Gy[:, None, rows] * Gx[None, :, cols]   # (y, x, taxels): V per N at each grid point
+    mm = np.einsum("yxk,yxk->yx", M, M)
+    Fg = np.clip(np.einsum("yxk,k->yx", M, v) / mm, 0.0, None)       # the best force at each point
+    cost = np.sum((Fg[..., None] * M - v) ** 2, axis=-1)
+    local = cost <= ndimage.minimum_filter(cost, size=3, mode="nearest")
+    starts = sorted(zip(cost[local], *np.nonzero(local)))[:4]
+
+    def resid(q):
+        gx, gy = infl.at(q[0]), infl.at(q[1])
+        return (S * q[2] * gy[rows] * gx[cols] - v) / np.abs(v).max()
+    h, res = infl.pitch / 8, None
+    for _, iy, ix in starts:
+        lo = [max(0.0, gx_[ix] - h), max(0.0, gy_[iy] - h), 0.0]
+        hi = [min(span[0], gx_[ix] + h), min(span[1], gy_[iy] + h), np.inf]
+        F0 = max(float(Fg[iy, ix]), 1e-3 * force_hint)
+        r = optimize.least_squares(resid, [gx_[ix], gy_[iy], F0], bounds=(lo, hi),
+                                   x_scale=[infl.pitch / 8, infl.pitch / 8, F0])
+        if res is None or r.cost < res.cost:
+            res = r
+    return tuple(float(q) for q in res.x)
+
+
 def model_based(rec: Record, presses, infl, window_s: float = 0.1, loc: Localization | None = None) -> Localization:
     """The model-based estimator (module docstring), added to `loc` (the largest-taxel result)."""
     if max(r for r, _ in rec.taxels) >= infl.n or max(c for _, c in rec.taxels) >= infl.n:
@@ -301,29 +331,8 @@ def model_based(rec: Record, presses, infl, window_s: float = 0.1, loc: Localiza
     rows = np.array([r for r, _ in rec.taxels])
     cols = np.array([c for _, c in rec.taxels])
     span = (cols.max() * infl.pitch, rows.max() * infl.pitch)
-    gx_, gy_ = (np.linspace(0, L, int(round(16 * L / infl.pitch)) + 1) for L in span)
-    Gx, Gy = infl.at(gx_), infl.at(gy_)                            # (m, n)
-    M = S[None, None, :] * Gy[:, None, rows] * Gx[None, :, cols]   # (y, x, taxels): V per N at each grid point
-    mm = np.einsum("yxk,yxk->yx", M, M)
     for p, f, v in scored(matched, pitch_mm):
-        Fg = np.clip(np.einsum("yxk,k->yx", M, v) / mm, 0.0, None)       # the best force at each point
-        cost = np.sum((Fg[..., None] * M - v) ** 2, axis=-1)
-        local = cost <= ndimage.minimum_filter(cost, size=3, mode="nearest")
-        starts = sorted(zip(cost[local], *np.nonzero(local)))[:4]
-
-        def resid(q):
-            gx, gy = infl.at(q[0]), infl.at(q[1])
-            return (S * q[2] * gy[rows] * gx[cols] - v) / np.abs(v).max()
-        h, res = infl.pitch / 8, None
-        for _, iy, ix in starts:
-            lo = [max(0.0, gx_[ix] - h), max(0.0, gy_[iy] - h), 0.0]
-            hi = [min(span[0], gx_[ix] + h), min(span[1], gy_[iy] + h), np.inf]
-            F0 = max(float(Fg[iy, ix]), 1e-3 * f)
-            r = optimize.least_squares(resid, [gx_[ix], gy_[iy], F0], bounds=(lo, hi),
-                                       x_scale=[infl.pitch / 8, infl.pitch / 8, F0])
-            if res is None or r.cost < res.cost:
-                res = r
-        x, y, F = res.x
+        x, y, F = fit_press(v, S, infl, rows, cols, f)
         cls = _class(p, pitch_mm, (1e3 * span[0], 1e3 * span[1]))
         loc.model.setdefault(cls, Scores()).add((1e3 * x, 1e3 * y), p.point_mm(pitch_mm), F, f)
     if not loc.model.get("on", Scores()).position_error_mm:

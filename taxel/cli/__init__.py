@@ -11,7 +11,7 @@
     taxel demo [--out DIR] [--small] [--full] [--presses-3d N]
     taxel examples
     taxel measure capture|import|export|rebuild|simulate ...   (taxel/cli/measure.py)
-    taxel material | explore | schema | reduce ...
+    taxel material | explore | schema | reduce | skin ...
 
 SCENE is a TOML file or the name of a built-in example. Bad input exits with
 code 2 and one line naming the problem and the fix. Each command group is a module
@@ -28,7 +28,7 @@ import os
 import sqlite3
 import sys
 
-from taxel.cli import explore, material, measure, reduce, schema, solve, study
+from taxel.cli import explore, material, measure, reduce, schema, skin, solve, study
 from taxel.cli.files import EXIT_FAILED, EXIT_INPUT, InputError
 
 # Imported after the command line is parsed (main): the scene schema pulls in pydantic,
@@ -51,6 +51,7 @@ def main(argv=None):
     explore.register(sub)            # taxel explore (taxel/cli/explore.py)
     schema.register(sub)             # taxel schema ... (taxel/cli/schema.py)
     reduce.register(sub)             # taxel reduce ... (taxel/cli/reduce.py)
+    skin.register(sub)               # taxel skin ... (taxel/cli/skin.py)
     try:
         args = ap.parse_args(argv)
     except InputError as exc:
