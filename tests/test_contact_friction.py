@@ -1,0 +1,105 @@
+"""Coulomb friction (fem.contact's return mapping, Indenter(friction=mu)): the
+consistent tangent and travel derivatives against central differences, Coulomb's
+inequality at the converged state, and the limits: mu = 0 is frictionless, a large
+mu is sticking (fem.contact.Stick), in plane strain and axisymmetric presses."""
+
+import numpy as np
+import pytest
+
+from contact_meshes import block, problem
+from taxel.fem.assembly import assemble
+from taxel.fem.assembly import Indenter
+from taxel.fem.constitution import Solid
+from taxel.fem.contact import OPEN, SLIP, STICK, Coulomb, Press, Surface
+
+MU, NU = 10e3, 0.3
+MAT = Solid("block", MU, 2 * MU * (1 + NU) / (3 * (1 - 2 * NU)), 1000.0)
+
+
+def _coulomb_state(ind, model, seed, mu=0.3):
+    """A small block with random u, normal and tangential multipliers and anchors:
+    some points open, some sticking, some slipping."""
+    tm = block(4e-3, 2e-3, 1e-3, 2.5e-4, model=model, growth=1.5)
+    sy = assemble(problem(tm, MAT, ind))
+    ub = next(iter(sy.ubases.values()))
+    surf = Surface(tm.mesh, ub.elem, tm.facets["top"], sy.kin, 2e-3)
+    rng = np.random.default_rng(seed)
+    u = 1e-5 * rng.normal(size=ub.N)
+    lam = np.abs(rng.normal(size=surf.shape)) * 1e3
+    a0 = surf.X + 2e-7 * rng.normal(size=surf.X.shape)
+    c = Coulomb(mu, a0, 3e2 * rng.normal(size=surf.X.shape), np.zeros(surf.shape))
+    return surf, ub, u, lam, 1e9, c
+
+
+@pytest.mark.parametrize("shape,model", [("sphere", "plane_strain"), ("sphere", "axisymmetric"),
+                                         ("flat", "plane_strain")])
+def test_coulomb_tangent_and_travel_derivatives_are_derivatives(shape, model):
+    ind = Indenter(shape, 3e-3 if shape == "sphere" else 1e-3, 3e-4 if shape == "flat" else 0.0,
+                   travel=5e-5, friction=0.3)
+    surf, ub, u, lam, eps, c = _coulomb_state(ind, model, 2)
+    d = 5e-5
+    st = surf.state(u, ind, d, lam, eps, stick=c)
+    zone = st.zone
+    assert (zone == STICK).any() and (zone == SLIP).any() and (zone == OPEN).any()
+    S = surf.dofs
+    from taxel.fem.hyperelastic import scatter
+    K = scatter(S, S, surf.element_tangent(st, eps), ub.N).toarray()
+
+    def res(uu, dd=d):
+        return np.bincount(S.ravel(), surf.element_residual(surf.state(uu, ind, dd, lam, eps, stick=c)).ravel(),
+                           minlength=ub.N)
+    h = 1e-12
+    rng = np.random.default_rng(3)
+    for k in rng.choice(np.flatnonzero(np.abs(K).sum(axis=0) > 0), 10, replace=False):
+        e = np.zeros(ub.N)
+        e[k] = h
+        np.testing.assert_allclose((res(u + e) - res(u - e)) / (2 * h), K[:, k], rtol=1e-4,
+                                   atol=1e-5 * np.abs(K).max())
+    dr, dF_dd, dF_du = surf.travel_derivatives(st, eps)
+    fd = (res(u, d + h) - res(u, d - h)) / (2 * h)
+    np.testing.assert_allclose(np.bincount(S.ravel(), dr.ravel(), minlength=ub.N), fd, rtol=1e-4,
+                               atol=1e-5 * np.abs(fd).max())
+    Fp, Fm = (surf.state(u, ind, dd, lam, eps, stick=c).force for dd in (d + h, d - h))
+    assert dF_dd == pytest.approx((Fp - Fm) / (2 * h), rel=1e-4)
+
+
+def _flat_press(friction, model="plane_strain", d=2e-5):
+    a = 1e-3
+    tm = block(20 * a, 20 * a, 1.2 * a, a / 8, model=model, growth=1.3)
+    ind = Indenter("flat", a, 0.0, travel=d, friction=friction)
+    pr = Press(assemble(problem(tm, MAT, ind)), ind)
+    pt = pr.travel(d, first=0.5)
+    return pr, pt
+
+
+@pytest.fixture(scope="module", params=["plane_strain", "axisymmetric"])
+def flat_presses(request):
+    return {f: _flat_press(f, request.param) for f in ("frictionless", 0.0, 0.1, 0.3, 3.0, "sticking")}
+
+
+def test_coulomb_lies_between_frictionless_and_sticking(flat_presses):
+    """A bonded compressible (nu = 0.3) layer under a flat punch: mu = 0 gives the
+    frictionless force, the force grows with mu, and a large mu gives sticking's."""
+    F = {f: pt.force for f, (_, pt) in flat_presses.items()}
+    assert F[0.0] == pytest.approx(F["frictionless"], rel=1e-6)
+    assert F["frictionless"] < F[0.1] < F[0.3] <= F[3.0]
+    assert F[3.0] == pytest.approx(F["sticking"], rel=2e-3)
+    assert F["sticking"] > 1.01 * F["frictionless"]
+
+
+def test_converged_tractions_obey_coulomb(flat_presses):
+    """|t_T| <= mu t_N everywhere, = at the slipping points, and the slip zone lies at the
+    punch's edge (outside the stick zone) with a positive slip distance there."""
+    for mu in (0.1, 0.3):
+        pr, pt = flat_presses[mu]
+        st = pr.res.state
+        tt = np.sqrt((st.tang.t ** 2).sum(axis=0))
+        assert (tt <= mu * st.tn * (1 + 1e-9) + 1e-12).all()
+        slip = st.zone == SLIP
+        assert slip.any() and (st.zone == STICK).any()
+        np.testing.assert_allclose(tt[slip], mu * st.tn[slip], rtol=1e-9)
+        r = np.abs(st.x[0])
+        far = slip & (st.slip > 1e-3 * 2e-5)      # slipped by more than the gap tolerance
+        assert far.any() and r[far].min() > r[st.zone == STICK].min()
+        assert (st.slip[slip] > 0).all()
+        assert pt.penetration <= 1e-3 * 2e-5
