@@ -103,3 +103,38 @@ def test_converged_tractions_obey_coulomb(flat_presses):
         assert far.any() and r[far].min() > r[st.zone == STICK].min()
         assert (st.slip[slip] > 0).all()
         assert pt.penetration <= 1e-3 * 2e-5
+
+
+@pytest.mark.parametrize("shape", ["flat", "sphere"])
+def test_incompressible_half_space_closed_forms_hold_with_friction(shape):
+    """On an incompressible half-space a normal load moves the surface only normally
+    (Johnson, Contact Mechanics, 1985, eq. 3.19b: the tangential displacement of a point
+    load carries 1 - 2 nu), so friction carries no traction and Coulomb contact gives the
+    frictionless closed forms (E* = E / (1 - nu^2) = 4 mu_s at nu = 1/2):
+      Boussinesq, flat punch radius a:  F = 2 a E* d
+      Hertz, sphere radius R:           F = 4/3 E* R^1/2 d^3/2,  contact radius sqrt(R d)
+    within 2 % (axisymmetric, a bonded block of radius and height 300 a: the layer's
+    correction is about 1 %, tests/test_contact.py). The contact is finite-strain in its
+    geometry (the sphere's normal tilts by r / R), so the friction carries a little traction."""
+    nu = 0.4999
+    mat = Solid("block", MU, 2 * MU * (1 + nu) / (3 * (1 - 2 * nu)), 1000.0)
+    e_star = 2 * MU * (1 + nu) / (1 - nu ** 2)
+    if shape == "flat":
+        a = 1e-3
+        d = 1e-3 * a
+        tm = block(300 * a, 300 * a, 1.2 * a, a / 16, growth=1.3)
+        ind = Indenter("flat", a, 0.0, travel=d, friction=0.3)
+        closed = 2 * a * e_star * d
+    else:
+        R = 10e-3
+        d = 0.004 * R
+        a = np.sqrt(R * d)
+        tm = block(300 * a, 300 * a, 1.5 * a, a / 8, growth=1.3)
+        ind = Indenter("sphere", R, travel=d, friction=0.3)
+        closed = 4 / 3 * e_star * np.sqrt(R) * d ** 1.5
+    pr = Press(assemble(problem(tm, mat, ind)), ind)
+    pt = pr.travel(d, first=1.0)
+    assert pt.force == pytest.approx(closed, rel=0.02)
+    assert pr.res.state.half_width() == pytest.approx(a, rel=0.02)
+    print(f"{shape}: F / closed form - 1 = {pt.force / closed - 1:+.2%}, "
+          f"a / closed form - 1 = {pr.res.state.half_width() / a - 1:+.2%}")
