@@ -138,3 +138,32 @@ def test_incompressible_half_space_closed_forms_hold_with_friction(shape):
     assert pr.res.state.half_width() == pytest.approx(a, rel=0.02)
     print(f"{shape}: F / closed form - 1 = {pt.force / closed - 1:+.2%}, "
           f"a / closed form - 1 = {pr.res.state.half_width() / a - 1:+.2%}")
+
+
+@pytest.mark.slow      # three 3D presses
+def test_coulomb_flat_punch_in_3d_on_the_quarter_model():
+    """3D (the quarter model, two symmetry planes; the 3D contact points, P2 nodes lumped):
+    a flat punch on a compressible (nu = 0.3) bonded block: mu = 0.3 lies between the
+    frictionless and the sticking force, Coulomb's inequality holds at every point, and
+    the stick zone is inside the slip zone. (Not at nu = 0.4999: there the Coulomb press
+    stagnates in its first step, the stick/slip split of the nearly traction-free surface
+    changing from iterate to iterate; frictionless and sticking converge. Measured: the
+    normal active set moves between 415 and 433 of 455 points, line-search steps of 1/64.)"""
+    from contact_meshes import block3d
+    a = 1e-3
+    d = 1e-3 * a
+    tm = block3d(30 * a, 30 * a, a, a / 8, a / 4)
+    F = {}
+    for friction in ("frictionless", 0.3, "sticking"):
+        ind = Indenter("flat", a, 0.0, travel=d, friction=friction)
+        pr = Press(assemble(problem(tm, MAT, ind)), ind)
+        assert pr.G == 4
+        F[friction] = pr.travel(d, first=1.0).force
+        if friction == 0.3:
+            st = pr.res.state
+    assert F["frictionless"] * 1.005 < F[0.3] < F["sticking"] * 1.001
+    tt = np.sqrt((st.tang.t ** 2).sum(axis=0))
+    assert (tt <= 0.3 * st.tn * (1 + 1e-9) + 1e-12).all()
+    r = np.sqrt(st.x[0] ** 2 + st.x[1] ** 2)
+    far = (st.zone == SLIP) & (st.slip > 1e-3 * d)
+    assert far.any() and (st.zone == STICK).any() and r[far].min() > r[st.zone == STICK].min()
