@@ -9,8 +9,9 @@ K = 5 MPa; a rigid cylinder of radius 2 mm pressed 0.28 mm in 14 equal travel st
 quadrilaterals (`FieldsMixed`, `NearlyIncompressible` Yeoh), 80 x 40, its top nodes the
 contact points; its penalties (normal = tangential = m x 2 C10, per node) leave a
 penetration and an elastic slip of order 1/m, so its force is extrapolated to an
-infinite penalty from two (F = F2 + (F2 - F1) m1 / (m2 - m1), error ~ 1/m; at mu = 0
-m = 10, 30, 100 give 21.04, 21.38, 21.50 N/m, extrapolated from 10 and 30: 21.54).
+infinite penalty from m = 10 and 20 (F = F2 + (F2 - F1) m1 / (m2 - m1), error ~ 1/m; at
+mu = 0, m = 10, 30, 100 give 21.04, 21.38, 21.50 N/m, extrapolated from 10 and 30: 21.54;
+at 30 FELupe's Newton does not converge with mu = 0.1 or 0.3).
 Ours: P2/P1 Taylor-Hood triangles, h = 0.1 mm (h = 0.05 mm with --refine), two Gauss
 points per top edge.
 Slip zone: the contact half-width a (the outermost point in contact) and the stick
@@ -32,66 +33,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from contact_meshes import block, problem  # noqa: E402
-from taxel.fem.assembly import Indenter, assemble  # noqa: E402
-from taxel.fem.constitution import Solid  # noqa: E402
-from taxel.fem.contact import STICK, Press  # noqa: E402
-
-C10, C20, C30, K = 7.83e3, 0.103e3, -0.0008e3, 5e6
-W, H, R = 2e-3, 2e-3, 2e-3            # half-width, height, cylinder radius
-TRAVEL, STEPS = 0.28e-3, 14
-
-
-def travels(steps=STEPS, travel=TRAVEL):
-    return np.linspace(0, travel, steps + 1)[1:]
-
-
-def felupe_cylinder(mu, mult, n=(81, 41), steps=STEPS, travel=TRAVEL, maxiter=60):
-    """FELupe's press: (force per metre at each travel, x of the top nodes, in contact, slipping)."""
-    import felupe as fe
-    mesh = fe.Rectangle(a=(-W, 0), b=(W, H), n=n)
-    mesh.update(points=np.vstack([mesh.points, [0.0, H + R]]))
-    field = fe.FieldsMixed(fe.RegionQuad(mesh), n=3, planestrain=True)
-    u = field[0]
-    umat = fe.NearlyIncompressible(fe.Hyperelastic(fe.yeoh, C10=C10, C20=C20, C30=C30), bulk=K)
-    cp = len(mesh.points) - 1
-    top = np.flatnonzero(np.isclose(mesh.points[:, 1], H))
-    eps = mult * 2 * C10            # N/m per node and metre of depth: m x 2 C10 / h times the node's length h
-    cyl = fe.ContactRigidCylinder(field, points=top, centerpoint=cp, radius=R, friction=mu,
-                                  multiplier=eps, multiplier_tangential=eps)
-    at_cp = np.arange(len(mesh.points)) == cp
-    move = fe.Boundary(u, mask=at_cp, skip=(1, 0))
-    bounds = {"bottom": fe.Boundary(u, fy=0), "cpx": fe.Boundary(u, mask=at_cp, skip=(0, 1)), "move": move}
-    step = fe.Step(items=[fe.SolidBody(umat, field), cyl], ramp={move: -np.concatenate([[0.0], travels(steps, travel)])},
-                   boundaries=bounds)
-    job = fe.CharacteristicCurve(steps=[step], boundary=move)
-    job.evaluate(tol=1e-8, verbose=0, maxiter=maxiter)
-    F = -np.array([f[1] for f in job.y[1:]])
-    x = mesh.points[top, 0] + u.values[top, 0]
-    return F, x, np.asarray(cyl.results.active), np.asarray(cyl.results.slip)
-
-
-def felupe_extrapolated(mu, mults=(10.0, 30.0), **kw):
-    """FELupe at two penalties and the force extrapolated to an infinite one; the slip zone
-    of the stiffer penalty."""
-    (F1, *_), (F2, x, act, slip) = (felupe_cylinder(mu, m, **kw) for m in mults)
-    m1, m2 = mults
-    F = F2 + (F2 - F1) * m1 / (m2 - m1)
-    return dict(F=F, F_penalties=[F1, F2], a=float(np.abs(x[act]).max()),
-                c=float(np.abs(x[act & ~slip]).max(initial=0.0)), x=x, zone=np.where(act, np.where(slip, 2, 1), 0))
-
-
-def ours(mu, h=1e-4, steps=STEPS, travel=TRAVEL):
-    """Our press: force per metre at each travel and the final slip zone."""
-    mat = Solid("block", 2 * C10, K, 1000.0, yeoh=(C10, C20, C30))
-    tm = block(W, H, H, h, model="plane_strain", growth=1.0)
-    ind = Indenter("cylinder", R, travel=travel, friction=mu)
-    pr = Press(assemble(problem(tm, mat, ind, hyperelastic=True)), ind)
-    F = np.array([pr.travel(d, first=1.0).force for d in travels(steps, travel)])
-    st = pr.res.state
-    x, z = st.x[0].ravel(), st.zone.ravel()
-    return dict(F=F, a=float(np.abs(x[z > 0]).max()), c=float(np.abs(x[z == STICK]).max(initial=0.0)), x=x, zone=z)
-
+from felupe_contact import TRAVEL, felupe_extrapolated, ours, travels  # noqa: E402
 
 def figure(rows, path):
     import matplotlib
@@ -137,13 +79,15 @@ def main():
         rec = dict(ours_N_per_m=o["F"].tolist(), felupe_N_per_m=f["F"].tolist(),
                    felupe_penalties_N_per_m=[F.tolist() for F in f["F_penalties"]],
                    rel_diff=(o["F"] / f["F"] - 1).tolist(), a_ours_m=o["a"], a_felupe_m=f["a"],
-                   c_ours_m=o["c"], c_felupe_m=f["c"], cpu_s_ours=t1 - t0, cpu_s_felupe=t2 - t1)
+                   c_ours_m=o["c"], c_felupe_m=f["c"], friction_half_ours_N_per_m=o["Ft"],
+                   friction_half_felupe_N_per_m=f["Ft"], cpu_s_ours=t1 - t0, cpu_s_felupe=t2 - t1)
         if args.refine:
             rec["ours_h_0.05mm_N_per_m"] = ours(mu, h=5e-5)["F"].tolist()
         out[str(mu)] = rec
         print(f"mu = {mu}: F at {1e3 * TRAVEL:g} mm ours {o['F'][-1]:.4f}, FELupe {f['F'][-1]:.4f} N/m "
               f"(largest |diff| over the curve {100 * np.abs(o['F'] / f['F'] - 1).max():.2f} %); contact a "
-              f"{1e3 * o['a']:.3f} / {1e3 * f['a']:.3f} mm, stick c {1e3 * o['c']:.3f} / {1e3 * f['c']:.3f} mm",
+              f"{1e3 * o['a']:.3f} / {1e3 * f['a']:.3f} mm, stick c {1e3 * o['c']:.3f} / {1e3 * f['c']:.3f} mm; "
+              f"friction force on a half {o['Ft']:.4f} / {f['Ft']:.4f} N/m",
               flush=True)
     Path("benchmarks/out").mkdir(parents=True, exist_ok=True)
     Path("benchmarks/out/friction_felupe.json").write_text(json.dumps(out, indent=1))
