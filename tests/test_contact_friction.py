@@ -72,7 +72,7 @@ def _flat_press(friction, model="plane_strain", d=2e-5):
     return pr, pt
 
 
-@pytest.fixture(scope="module", params=["plane_strain", "axisymmetric"])
+@pytest.fixture(scope="module", params=["plane_strain", pytest.param("axisymmetric", marks=pytest.mark.slow)])
 def flat_presses(request):
     return {f: _flat_press(f, request.param) for f in ("frictionless", 0.0, 0.1, 0.3, 3.0, "sticking")}
 
@@ -105,7 +105,7 @@ def test_converged_tractions_obey_coulomb(flat_presses):
         assert pt.penetration <= 1e-3 * 2e-5
 
 
-@pytest.mark.parametrize("shape", ["flat", "sphere"])
+@pytest.mark.parametrize("shape", ["flat", pytest.param("sphere", marks=pytest.mark.slow)])
 def test_incompressible_half_space_closed_forms_hold_with_friction(shape):
     """On an incompressible half-space a normal load moves the surface only normally
     (Johnson, Contact Mechanics, 1985, eq. 3.19b: the tangential displacement of a point
@@ -167,3 +167,28 @@ def test_coulomb_flat_punch_in_3d_on_the_quarter_model():
     r = np.sqrt(st.x[0] ** 2 + st.x[1] ** 2)
     far = (st.zone == SLIP) & (st.slip > 1e-3 * d)
     assert far.any() and (st.zone == STICK).any() and r[far].min() > r[st.zone == STICK].min()
+
+
+def test_the_slip_zone_is_a_result_field(flat_presses):
+    """PressResult.slip_zone: per contact point its state and slip distance, and its
+    summary (the result's JSON record, contact.slip_zone)."""
+    pr, _ = flat_presses[0.3]
+    z = pr.res.slip_zone
+    assert z.state.shape == z.slip.shape == (z.x.shape[1],)
+    rec = z.record()
+    assert rec["stick_points"] + rec["slip_points"] + rec["open_points"] == z.state.size
+    assert 0 < rec["stick_half_width_m"] < rec["slip_half_width_m"] <= 1.1e-3
+    assert rec["largest_slip_m"] == pytest.approx(float(pr.res.state.slip.max()))
+    stuck = _flat_press("sticking")[0].res.slip_zone
+    assert stuck.slip is None and stuck.record()["stick_points"] > 0
+
+
+def test_load_friction_takes_a_coefficient_and_refuses_a_negative_one():
+    from taxel.scene import SceneError, load
+    sc = load("thesis-pzt-probe-2d").replace(**{"load.friction": 0.4})
+    assert sc.load.friction == 0.4
+    from taxel.analyses import indenter, mesh
+    assert indenter(sc, mesh(sc)).coulomb == 0.4
+    for bad in (-0.3, "lots", True):
+        with pytest.raises(SceneError, match="load.friction: expected .* Coulomb coefficient >= 0"):
+            load("thesis-pzt-probe-2d").replace(**{"load.friction": bad})

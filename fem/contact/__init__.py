@@ -10,6 +10,6 @@ and `PressError` with its typed cause when a press stops short).
 from ._friction import OPEN, SLIP, STICK, Coulomb
 from ._geometry import Surface, gap
 from ._press import Press, press
-from ._records import PressError, Options, StopCause
+from ._records import PressError, Options, SlipZone, StopCause
 
-__all__ = ["OPEN", "SLIP", "STICK", "Coulomb", "Options", "Press", "PressError", "StopCause", "Surface", "gap", "press"]
+__all__ = ["OPEN", "SLIP", "STICK", "Coulomb", "Options", "Press", "PressError", "SlipZone", "StopCause", "Surface", "gap", "press"]
