@@ -41,7 +41,8 @@ def felupe_cylinder(mu, mult, n=(81, 41), steps=STEPS, travel=TRAVEL, maxiter=60
     job.evaluate(tol=1e-8, verbose=0, maxiter=maxiter)
     F = -np.array([f[1] for f in job.y[1:]])
     x = mesh.points[top, 0] + u.values[top, 0]
-    f = np.asarray(cyl.results.force).reshape(-1, 2)[top]
+    f = cyl.results.force                      # the contact's nodal forces (a sparse column)
+    f = (f.toarray() if hasattr(f, "toarray") else np.asarray(f)).reshape(-1, 2)[top]
     return F, x, np.asarray(cyl.results.active), np.asarray(cyl.results.slip), float(np.abs(f[x > 0, 0]).sum())
 
 
