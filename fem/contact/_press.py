@@ -31,7 +31,10 @@ When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
 contact (Indenter.friction): points that came into contact in a converged step
 are tied to the indenter there (fem.contact.Stick), their vector multipliers
-updated by the same Uzawa loop.
+updated by the same Uzawa loop. Coulomb friction (Indenter.friction a number mu):
+the return mapping of fem.contact.Coulomb at every iterate, its tangential
+multipliers updated by the same Uzawa loop, every point re-anchored after each
+converged step.
 
 Each new travel starts from the tangent prediction x + (d - d0) dx/dd, with
 K dx/dd = -dr/dd from the factorized tangent of the last converged state
