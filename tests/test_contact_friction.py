@@ -192,3 +192,22 @@ def test_load_friction_takes_a_coefficient_and_refuses_a_negative_one():
     for bad in (-0.3, "lots", True):
         with pytest.raises(SceneError, match="load.friction: expected .* Coulomb coefficient >= 0"):
             load("thesis-pzt-probe-2d").replace(**{"load.friction": bad})
+
+
+@pytest.mark.slow      # three 2D presses of the probe example
+def test_the_friction_band_of_the_probe_example():
+    """taxel.analyses.friction_band: the 2D probe example at 0.3 N with mu = 0.4, solved at
+    frictionless, 0.4 and sticking: the frictionless press is the most sensitive (material
+    squeezed out under the punch strains the piezo more), mu = 0.4 lies between, and the
+    record carries every leg (the JSON key friction_band of `taxel solve --friction-band`)."""
+    import json
+    from taxel.analyses import FrictionBand, friction_band
+    from taxel.scene import load
+    sc = load("thesis-pzt-probe-2d").replace(**{"load.friction": 0.4, "load.force": 0.3})
+    band = friction_band(sc)
+    assert isinstance(band, FrictionBand) and all(leg.success for leg in band.legs)
+    s = {str(leg.friction): abs(leg.sensitivity) for leg in band.legs}
+    assert s["frictionless"] > s["0.4"] > 0.99 * s["sticking"]
+    assert band.sensitivity_spread == pytest.approx((max(s.values()) - min(s.values())) / s["sticking"])
+    rec = json.loads(json.dumps(band.record()))
+    assert rec["coulomb"]["friction"] == 0.4 and rec["frictionless"]["force_N"] == pytest.approx(0.3, rel=2e-3)
