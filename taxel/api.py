@@ -34,6 +34,7 @@ def load(source: str | Path | dict) -> Scene:
 
 
 solve = analyses.solve          # the analyses' own: the API adds nothing to a solve
+friction_band = analyses.friction_band   # a press at frictionless, its coefficient and sticking (FrictionBand)
 lumped = analyses.lumped
 
 

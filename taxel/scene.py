@@ -12,10 +12,11 @@ Every validation error is one line: `scene error: <key>: <problem>; <fix>`.
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Annotated, Literal
 
-from pydantic import AfterValidator, BaseModel, Field, PrivateAttr, StrictBool, StrictInt, ValidationError, model_validator
+from pydantic import AfterValidator, BaseModel, BeforeValidator, Field, PrivateAttr, StrictBool, StrictInt, ValidationError, model_validator
 
 from taxel import units
 from taxel.schema import (GEOMETRY, Capacitance, Coordinate, Duration, Force, Fraction, Frequency, Length,
@@ -140,6 +141,18 @@ class PlateTable(Strict):
     layers: list[LayerTable] = Field(min_length=1)
 
 
+def _friction(v):
+    """load.friction: "frictionless", "sticking", or a Coulomb coefficient (a number >= 0)."""
+    if v is None or v in ("frictionless", "sticking"):
+        return v
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+        raise ValueError(f'expected "frictionless", "sticking" or a Coulomb coefficient >= 0 such as 0.4, got {v!r}')
+    return float(v)
+
+
+FrictionLaw = Annotated[Literal["frictionless", "sticking"] | float | None, BeforeValidator(_friction)]
+
+
 class LoadTable(Strict):
     kind: Literal["taxel", "between", "probe", "pressure"] = "taxel"
     force: Force | None = "1 N"
@@ -155,8 +168,9 @@ class LoadTable(Strict):
     shape: Literal["flat", "sphere", "cylinder"] = "flat"
     edge_radius: Length | None = None  # flat punch's rounded edge; default radius / 20
     # sticking (the default under contact): no slip once in contact, as a dry probe on tacky
-    # silicone; frictionless: the closed-form cases (Hertz, Boussinesq); see the guide page "Silicone laws and contact"
-    friction: Literal["frictionless", "sticking"] | None = None
+    # silicone; frictionless: the closed-form cases (Hertz, Boussinesq); a number mu >= 0: Coulomb
+    # friction with that coefficient (e.g. 0.4); see the guide page "Silicone laws and contact"
+    friction: FrictionLaw = None
     travel: Length | None = None       # prescribed indenter travel (instead of force)
 
 

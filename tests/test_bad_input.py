@@ -537,6 +537,7 @@ CONTACT = [
     contact("cylinder-axisymmetric", "axisymmetric", "probe", 'shape = "cylinder"', "load.shape = 'cylinder'"),
     contact("edge-radius-too-big", "plane_strain", "probe", 'edge_radius = "2 mm"', "load.edge_radius"),
     contact("coulomb-friction", "plane_strain", "probe", 'friction = "coulomb"', "load.friction"),
+    contact("negative-friction", "plane_strain", "probe", 'friction = -0.3', "load.friction", "Coulomb coefficient >= 0"),
 ]
 
 # ------------------------------------------------------------------------- more study files

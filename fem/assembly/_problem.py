@@ -25,7 +25,8 @@ class Indenter:
     centre: tuple[float, float] = (0.0, 0.0)   # lateral centre (x, y); 2D uses x only
     travel: float | None = None    # m, prescribed travel (displacement control); None: force control
     force: float | None = None     # N, requested force (force control)
-    friction: Literal["frictionless", "sticking"] = "frictionless"   # sticking: no slip once in contact
+    # sticking: no slip once in contact; a number mu >= 0: Coulomb friction (fem.contact)
+    friction: Union[Literal["frictionless", "sticking"], float] = "frictionless"
 
     def __post_init__(self):
         if self.shape not in ("flat", "sphere", "cylinder"):
@@ -34,10 +35,18 @@ class Indenter:
             raise ValueError("indenter radius must be positive")
         if self.shape == "flat" and not 0 <= self.edge_radius <= self.radius:
             raise ValueError("indenter edge_radius must be between 0 and the punch radius")
-        if self.friction not in ("frictionless", "sticking"):
-            raise ValueError(f"indenter friction {self.friction!r}: use frictionless or sticking")
+        if self.friction not in ("frictionless", "sticking") and not (
+                isinstance(self.friction, (int, float)) and not isinstance(self.friction, bool)
+                and self.friction >= 0 and self.friction < float("inf")):
+            raise ValueError(f"indenter friction {self.friction!r}: use frictionless, sticking or a "
+                             "Coulomb coefficient >= 0")
         if (self.travel is None) == (self.force is None):
             raise ValueError("an Indenter takes exactly one of travel (m) or force (N)")
+
+    @property
+    def coulomb(self) -> float | None:
+        """The Coulomb coefficient mu of a numeric friction (None: frictionless or sticking)."""
+        return None if isinstance(self.friction, str) else float(self.friction)
 
     @property
     def rho(self) -> float:

@@ -1,5 +1,6 @@
-r"""Frictionless contact of a rigid indenter on the top surface: geometry, gap,
-and the augmented-Lagrangian contact terms with their consistent tangent.
+r"""Contact of a rigid indenter on the top surface: geometry, gap, and the
+augmented-Lagrangian contact terms with their consistent tangent (frictionless,
+sticking, or Coulomb friction: fem.contact's return mapping, `_friction`).
 
 Indenter geometry. Every shape is a *core* offset by a radius rho: a flat punch
 of half-width (2D) or radius (axisymmetric, 3D) `a` with edge radius rho is the
@@ -58,6 +59,7 @@ import numpy as np
 from skfem import BilinearForm, FacetBasis, LinearForm, asm
 
 from taxel.fem.assembly import Indenter
+from ._friction import Coulomb, Tangential, return_mapping, zone
 
 
 def lateral_distance(x: np.ndarray, centre) -> np.ndarray:
@@ -115,6 +117,16 @@ class ContactState:
     fixed: np.ndarray | None = None     # a fixed active set (fem.contact), else t_N > 0
     stuck: np.ndarray | None = None     # sticking points (tied to the indenter), if any
     ts: np.ndarray | None = None        # Pa, their traction on the silicone (vector; 0 elsewhere)
+    tang: Tangential | None = None      # Coulomb friction: the return mapping's tangential traction
+    slip: np.ndarray | None = None      # m, Coulomb: slip distance summed over the converged steps
+
+    @property
+    def zone(self) -> np.ndarray:
+        """Per point: fem.contact's OPEN (0), STICK (1) or SLIP (2); frictionless contact slips,
+        sticking contact's tied points stick."""
+        if self.stuck is not None:
+            return np.where(self.stuck, 1, np.where(self.normal_active, 2, 0))
+        return zone(self.normal_active, self.tang)
 
     @property
     def normal_active(self) -> np.ndarray:
@@ -129,6 +141,8 @@ class ContactState:
     def traction(self) -> np.ndarray:
         """Pa, the indenter's traction on the silicone (dim, ...): t_N n, or t_S where stuck."""
         t = self.tn * self.n
+        if self.tang is not None:
+            t = t + self.tang.t
         return t if self.ts is None else t + self.ts
 
     @property
@@ -189,6 +203,10 @@ class Stick:
         a[-1] = a[-1] - travel
         return a
 
+    def key(self) -> bytes:
+        """What a factorization depends on besides the active set (fem.contact's chord steps)."""
+        return self.mask.tobytes()
+
 
 # contact points at the P2 facets' nodes, (rule, dim) -> (reference points, weights): an edge's
 # three with Simpson's weights; a triangle's six HRZ-lumped (3/57 at a vertex, 16/57 at an edge
@@ -232,16 +250,20 @@ class Surface:
         self.dofs = np.ascontiguousarray(self.fb.element_dofs.T)          # (facets, local)
 
     def state(self, u, ind: Indenter, travel, lam, eps, with_curvature=True, fixed=None,
-              stick: Stick | None = None) -> ContactState:
+              stick: Stick | Coulomb | None = None) -> ContactState:
         """The contact state; `fixed` (a boolean per point) fixes the active set: t_N = lambda - eps g
-        there (even if negative) and 0 elsewhere, a smooth problem."""
+        there (even if negative) and 0 elsewhere, a smooth problem. `stick`: the sticking law's
+        tied points, or the Coulomb friction state (fem.contact's return mapping)."""
         x = self.X + np.einsum("fqic,fi->cfq", self.phi, u[self.dofs])
         g, n, H = gap(ind, x, self.z_top, travel, with_curvature)
         tn = np.maximum(lam - eps * g, 0.0) if fixed is None else np.where(fixed, lam - eps * g, 0.0)
         st = ContactState(g, n, H, tn, x, self.dA)
         if fixed is not None:
             st.fixed = fixed
-        if stick is not None and stick.mask.any():
+        if isinstance(stick, Coulomb):
+            st.tang = return_mapping(stick, x, n, H, st.tn, st.normal_active, eps, travel)
+            st.slip = stick.slip + np.where(st.tang.sliding, np.sqrt((st.tang.s ** 2).sum(axis=0)), 0.0)
+        elif stick is not None and stick.mask.any():
             st.stuck = stick.mask
             st.tn = np.where(stick.mask, 0.0, tn)
             st.ts = np.where(stick.mask, stick.lam - eps * (x - stick.anchor(travel)), 0.0)
@@ -270,6 +292,9 @@ class Surface:
         if st.H is not None:
             Hphi = np.einsum("cdfq,fqjd->fqcj", st.H, self.phi)
             K -= np.einsum("fqic,fq,fqcj->fij", self.phi, st.tn * self.dA, Hphi)
+        if st.tang is not None and st.tang.dt is not None:               # Coulomb: - phi_i . dt_T/dx phi_j
+            dtphi = np.einsum("cdfq,fqjd->fqcj", st.tang.dt, self.phi)
+            K -= np.einsum("fqic,fq,fqcj->fij", self.phi, self.dA, dtphi)
         return K
 
     def travel_derivatives(self, st: ContactState, eps):
@@ -293,4 +318,9 @@ class Surface:
             dr = dr + np.einsum("fq,fqi->fi", w, self.phi[..., z])
             dF_dd += float(w.sum())
             dF_du = dF_du + np.einsum("fq,fqj->fj", w, self.phi[..., z])
+        if st.tang is not None:         # t_T depends on x + d e_z: dt_T/dd = dt_T/dx e_z
+            dt = st.tang.dt
+            dr = dr - np.einsum("fq,cfq,fqic->fi", self.dA, dt[:, z], self.phi)
+            dF_dd -= float((dt[z, z] * self.dA).sum())
+            dF_du = dF_du - np.einsum("dfq,fq,fqjd->fj", dt[z], self.dA, self.phi)
         return dr, dF_dd, dF_du

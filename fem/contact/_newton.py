@@ -77,7 +77,7 @@ def newton(pr, x, d, lam, tol=None):
         floor = (len(seen) >= 1 and key == seen[-1] and step_rel < 1e-9 and norm < 1e-6)
         if norm < tol or floor:            # floor: a full step with the same active set changed x
             return x, _true_state(pr, x, st, d, lam, fixed), it
-        ckey = (key, pr.eps, None if pr._stick is None else pr._stick.mask.tobytes(), fixed is None, frozen is None)
+        ckey = (key, pr.eps, None if pr._stick is None else pr._stick.key(), fixed is None, frozen is None)
         if o.chord and pr.solver is not None and pr._chord_key == ckey:
             # a chord step: the last factorization (same active set, stick set and penalty), kept if it
             # cuts the residual by CHORD_CUT; else Newton's tangent at this iterate

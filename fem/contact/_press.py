@@ -31,7 +31,10 @@ When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
 contact (Indenter.friction): points that came into contact in a converged step
 are tied to the indenter there (fem.contact.Stick), their vector multipliers
-updated by the same Uzawa loop.
+updated by the same Uzawa loop. Coulomb friction (Indenter.friction a number mu):
+the return mapping of fem.contact.Coulomb at every iterate, its tangential
+multipliers updated by the same Uzawa loop, every point re-anchored after each
+converged step.
 
 Each new travel starts from the tangent prediction x + (d - d0) dx/dd, with
 K dx/dd = -dr/dd from the factorized tangent of the last converged state
@@ -70,6 +73,7 @@ from taxel.fem import static
 from taxel.fem.assembly import System, place
 from taxel.fem.assembly import elimination
 from taxel.fem.assembly import Indenter
+from ._friction import Coulomb
 from ._geometry import Stick, Surface
 from taxel.fem.hyperelastic import scatter, yeoh_regions, yeoh_terms, yeoh_terms_skfem
 from taxel.fem.assembly import Pattern
@@ -116,8 +120,9 @@ class Press:
         # continuation's factorizer (fem.contact), PARDISO for its inertia: the press's own in 3D
         self._inertia = (self._factorize if self.method == "pardiso" and isinstance(self._factorize, linalg.Refactorizer)
                          else linalg.Refactorizer("pardiso") if linalg.available("pardiso") else None)
-        self.stick: Stick | None = None     # sticking contact: the tied points (fem.contact.Stick)
-        self._stick: Stick | None = None    # the one in use by the solve under way
+        # sticking contact: the tied points (fem.contact.Stick); Coulomb friction: its state (fem.contact.Coulomb)
+        self.stick: Stick | Coulomb | None = None
+        self._stick: Stick | Coulomb | None = None    # the one in use by the solve under way
         self.v, self.slope = None, None  # dx/dd and dF/dd at the last converged state
         self.stats = dict(factorizations=0, residuals=0, tangents=0, factorize_s=0.0, assemble_s=0.0, solve_s=0.0,
                           chord_steps=0)
@@ -227,6 +232,8 @@ class Press:
             err = float(np.abs(st.tn - lam).max()) / self.eps   # m: penetration, or gap under pressure
             if st.stuck is not None:                            # m: the stuck points' distance to their anchors
                 err = max(err, float(np.abs(st.ts - self._stick.lam).max()) / self.eps)
+            if st.tang is not None:                             # m: Coulomb, the tangential multipliers' move
+                err = max(err, float(np.abs(st.tang.t - self._stick.lam).max()) / self.eps)
             if o.method == "penalty":
                 if st.penetration > tol:
                     raise PressError("penalty", f"penalty too low: penetration {st.penetration:.3g} m is "
@@ -245,6 +252,8 @@ class Press:
             lam = st.tn
             if st.stuck is not None:
                 self._stick = Stick(self._stick.mask, self._stick.a0, st.ts.copy())
+            if st.tang is not None:
+                self._stick = Coulomb(self._stick.mu, self._stick.a0, st.tang.t.copy(), self._stick.slip)
         else:
             self.eps = eps0
             raise PressError("multipliers", f"augmented Lagrangian: the multipliers did not settle in "
@@ -256,7 +265,11 @@ class Press:
         self.eps = eps0
         self.prev = (self.d, self.x)
         self.x, self.lam, self.d = x, st.tn.copy(), d
-        if self._stick is not None:          # points that came into contact in this step stick where they are
+        if isinstance(self._stick, Coulomb):  # every point re-anchored where it is, t_T kept (fem.contact.Coulomb)
+            a0 = st.x.copy()
+            a0[-1] += d
+            self.stick = Coulomb(self._stick.mu, a0, st.tang.t.copy(), st.slip.copy())
+        elif self._stick is not None:        # points that came into contact in this step stick where they are
             new = st.normal_active & ~self._stick.mask
             a0, lam_s = self._stick.a0.copy(), (self._stick.lam if st.ts is None else st.ts).copy()
             a0[:, new] = st.x[:, new]
@@ -315,9 +328,18 @@ class Press:
         self.v, self.slope = self._rates(self.x, st, self.d, self.lam)
         return self.slope
 
-    def _sticking(self) -> Stick | None:
+    def _sticking(self) -> Stick | Coulomb | None:
         """The stick set for the next solve: with a sticking indenter, at the first solve
-        the points touching it at the current travel (the flat of a punch at zero travel)."""
+        the points touching it at the current travel (the flat of a punch at zero travel);
+        with a Coulomb coefficient, the friction state (every point anchored where it is)."""
+        mu = self.ind.coulomb
+        if mu is not None:
+            if self.stick is None:
+                x = self.surf.state(self.x[self.sy.offsets["u"]], self.ind, self.d, self.lam, self.eps, False).x
+                a0 = x.copy()
+                a0[-1] += self.d
+                self.stick = Coulomb(mu, a0, np.zeros_like(x), np.zeros(x.shape[1:]))
+            return self.stick.copy()
         if self.ind.friction != "sticking":
             return None
         if self.stick is None:

@@ -50,6 +50,30 @@ class PressPoint:
     max_pressure: float = 0.0     # Pa, largest contact pressure (nominal)
 
 
+@dataclass(frozen=True)
+class SlipZone:
+    """The slip zone of a press's final state, per contact point: its current position, its
+    state (fem.contact's OPEN 0, STICK 1, SLIP 2) and, with Coulomb friction, the slip
+    distance summed over the load steps (m; None for frictionless and sticking)."""
+
+    x: np.ndarray                 # (dim, n) m, current positions of the contact points
+    state: np.ndarray             # (n,) OPEN, STICK or SLIP
+    slip: np.ndarray | None       # (n,) m
+
+    def half_width(self, which: int, centre=(0.0, 0.0)) -> float:
+        """m, the largest lateral distance from `centre` of a point in state `which` (0 if none)."""
+        nl = self.x.shape[0] - 1
+        r = np.sqrt(((self.x[:nl] - np.asarray(centre[:nl], float)[:, None]) ** 2).sum(axis=0))
+        return float(r[self.state == which].max(initial=0.0))
+
+    def record(self, centre=(0.0, 0.0)) -> dict:
+        """The zone's summary in SI units (the result's JSON record)."""
+        return {"open_points": int((self.state == 0).sum()), "stick_points": int((self.state == 1).sum()),
+                "slip_points": int((self.state == 2).sum()), "stick_half_width_m": self.half_width(1, centre),
+                "slip_half_width_m": self.half_width(2, centre),
+                "largest_slip_m": None if self.slip is None else float(self.slip.max(initial=0.0))}
+
+
 @dataclass
 class PressResult:
     indenter: Indenter
@@ -66,6 +90,15 @@ class PressResult:
         """(travel, force) of the converged states, sorted by travel."""
         a = np.array([(p.travel, p.force) for p in self.points])
         return a[np.argsort(a[:, 0])] if len(a) else a
+
+    @property
+    def slip_zone(self) -> SlipZone | None:
+        """The final state's slip zone (None before a converged state)."""
+        st = self.state
+        if st is None:
+            return None
+        dim = st.x.shape[0]
+        return SlipZone(st.x.reshape(dim, -1), st.zone.ravel(), None if st.slip is None else st.slip.ravel())
 
     @property
     def total_iterations(self) -> int:

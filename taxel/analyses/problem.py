@@ -131,7 +131,7 @@ def indenter(scene: Scene, tm: TaggedMesh) -> Indenter | None:
     edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
     return Indenter(ld.shape, ld.radius, edge if ld.shape == "flat" else 0.0,
                     (tm.layout.load.x, tm.layout.load.y), ld.travel, None if ld.travel is not None else ld.force,
-                    ld.friction or "sticking")
+                    "sticking" if ld.friction is None else ld.friction)
 
 
 def with_silicone(p: Problem, silicone: str) -> Problem:

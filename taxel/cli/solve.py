@@ -26,6 +26,8 @@ def register(sub) -> None:
     p.add_argument("--solver", default="auto", choices=["auto", "superlu", "pardiso", "umfpack", "krylov"])
     p.add_argument("--out", metavar="DIR", help="folder for the outputs (result.json, scene.json, CSV, "
                    "summary.txt, figures); nothing is written without it")
+    p.add_argument("--friction-band", action="store_true", help="a press: also solve at frictionless and "
+                   "sticking (and the scene's Coulomb coefficient) and print the sensitivity and crosstalk of each")
     p.set_defaults(run=_solve)
     p = sub.add_parser("work-precision",
                        help="the work-precision chart: wall time against error of every model and mesh")
@@ -51,10 +53,15 @@ def register(sub) -> None:
 def _solve(args):
     import taxel.api as api
     vtu = writable_file(args.vtu, "--vtu", (".vtu",)) if args.vtu else None
-    res = api.solve(args.scene, out=args.out, solver=args.solver, estimate=args.estimate)
+    scene = api.load(args.scene) if args.friction_band else args.scene
+    if args.friction_band and not (scene.load.kind == "probe" and scene.load.contact):
+        raise InputError("--friction-band needs a press: load.kind = 'probe' and load.contact = true in the scene")
+    res = api.solve(scene, out=args.out, solver=args.solver, estimate=args.estimate)
     if vtu is not None and res.kind == "static":
         res.to_vtu(vtu)
-    _print(res, args, res.details() if res.kind == "static" else [])
+    band = api.friction_band(res.scene, result=res, solver=args.solver) if args.friction_band else None
+    _print(res, args, (res.details() if res.kind == "static" else []) + ([] if band is None else band.lines()),
+           None if band is None else {"friction_band": band.record()})
     if vtu is not None and res.kind == "static":
         print(f"fields written to {args.vtu}", file=sys.stderr if args.json else sys.stdout)
     if not res.success:                       # the numbers printed and written are the last converged state's
@@ -70,10 +77,11 @@ def _lumped(args):
     _print(api.lumped(args.scene, out=args.out), args)
 
 
-def _print(res, args, details=()) -> None:
-    """A result on stdout: its one JSON record (--json), else its summary; then what --out holds."""
+def _print(res, args, details=(), extra: dict | None = None) -> None:
+    """A result on stdout: its one JSON record (--json; with `extra`'s keys), else its summary;
+    then what --out holds."""
     if args.json:
-        print(json.dumps(res.record()))
+        print(json.dumps({**res.record(), **(extra or {})}))
     else:
         print("\n".join([*res.summary(), *details]))
     if args.out:

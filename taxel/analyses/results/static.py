@@ -174,6 +174,7 @@ class StaticResult:
                 "contact_half_width_m": last.half_width, "max_pressure_Pa": last.max_pressure,
                 "penetration_m": last.penetration, "newton_iterations": c.total_iterations,
                 "load_steps": len(c.points), "failed_trials": c.failed_trials, "penalty_Pa_per_m": c.penalty,
+                "friction": c.indenter.friction, "slip_zone": c.slip_zone.record(c.indenter.centre),
                 "curve": {"travel_m": [p.travel for p in pts], "force_N": [p.force for p in pts],
                           "voltages_V": {k: [p.voltages[k] for p in pts] for k in last.voltages},
                           "contact_area_m2": [p.area for p in pts],
