@@ -636,8 +636,80 @@ MEASURE = [
 ]
 
 
+# ------------------------------------------------------------------------- every numeric option's range
+# Each numeric option of taxel/cli/*.py, out of its range: refused while the command line is
+# parsed (taxel.cli.files.number), before anything is read or written.
+SIM = ["measure", "simulate", "thesis-bench", "--scene", "thesis-pzt-3x3-2d", "--input", "step", "--to", "s.bin"]
+CAP = ["measure", "capture", "thesis-bench", "--out", "m"]
+
+
+def option(id, argv, option, value, *words, out=None):
+    return Case(f"range-{id}", [*argv, option, value], (f"argument {option}", *words), out=out)
+
+
+RANGES = [
+    option("reduce-f-max-negative", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "-5", "> 0"),
+    option("reduce-f-max-zero", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "0", "> 0"),
+    option("reduce-f-max-nan", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "nan", "'nan'"),
+    option("reduce-f-max-text", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "2kHz", "'2kHz'"),
+    option("simulate-seconds-0", SIM, "--seconds", "0", "> 0"),
+    option("simulate-seconds-negative", SIM, "--seconds", "-1", "> 0"),
+    option("simulate-seconds-inf", SIM, "--seconds", "inf", "'inf'"),
+    option("simulate-corrupt-1", SIM, "--corrupt", "1", "< 1"),
+    option("simulate-corrupt-negative", SIM, "--corrupt", "-0.1", ">= 0"),
+    option("simulate-between-2", SIM, "--between", "2", "<= 1"),
+    option("simulate-seed-negative", SIM, "--seed", "-1", "integer"),
+    option("simulate-seed-float", SIM, "--seed", "1.5", "integer"),
+    option("simulate-seq0-over-16-bits", SIM, "--seq0", "70000", "<= 65535"),
+    option("simulate-t0-us-negative", SIM, "--t0-us", "-1", ">= 0"),
+    option("simulate-linger-negative", SIM, "--linger", "-1", ">= 0"),
+    option("simulate-delay-a-day", SIM, "--delay", "86400", "<= 3600"),
+    option("capture-seconds-0", CAP, "--seconds", "0", "> 0", out="m"),
+    option("analyze-resolution-0", ["measure", "analyze", "."], "--resolution", "0", "> 0"),
+    option("calibrate-resolution-negative", ["measure", "calibrate", ".", "--scene", "thesis-pzt-single-2d"],
+           "--resolution", "-1", "> 0"),
+    option("work-precision-force-0", ["work-precision", "thesis-pzt-single-2d", "--out", "f"], "--force", "0",
+           "> 0", out="f"),
+    option("work-precision-force-kN", ["work-precision", "thesis-pzt-single-2d", "--out", "f"], "--force", "1000",
+           "<= 100", out="f"),
+    option("study-workers-many", ["study", "run", "thesis-pzt-tolerances", "--out", "o"], "--workers", "100000",
+           "<= 256", out="o"),
+    option("study-workers-text", ["study", "run", "thesis-pzt-tolerances", "--out", "o"], "--workers", "two",
+           "'two'", out="o"),
+    option("optimize-workers-0", ["optimize", "nope", "--out", "o"], "--workers", "0", ">= 1", out="o"),
+    option("demo-presses-3d-negative", ["demo", "--out", "d"], "--presses-3d", "-1", ">= 0", out="d"),
+    option("explore-port-0", ["explore"], "--port", "0", ">= 1"),
+    option("explore-port-too-high", ["explore"], "--port", "70000", "<= 65535"),
+    Case("explore-no-token-on-the-network", ["explore", "--host", "0.0.0.0", "--no-token"],
+         ("--no-token", "--host 0.0.0.0", "127.0.0.1")),
+    # sizes checked against the machine before any work (the limit: half its physical memory)
+    Case("simulate-seconds-1e9", [*SIM, "--seconds", "1e9"], ("--seconds 1e+09", "GB", "half this machine's memory",
+                                                             "give at most --seconds"), out="s.bin"),
+]
+
+# ------------------------------------------------------------------------- a tolerance study's [requirements]
+TOLERANCE = ('base = "thesis-pzt-3x3-2d"\nsampling = "tolerance"\nsamples = 2\n[overrides]\n"mesh.size" = "1 mm"\n'
+             '[[parameters]]\npath = "array.gap"\ntolerance = "0.2 mm"\n')
+REQUIREMENTS = [study(f"requirement-{id}", TOLERANCE + f"[requirements]\n{line}\n", *words) for id, line, words in [
+    ("grammar", 'sensitivity = "big"', ("requirements.sensitivity", "<= value")),
+    ("strict-inequality", 'crosstalk = "< 2 %"', ("requirements.crosstalk", "<= value")),
+    ("no-number", 'crosstalk = "<= lots"', ("requirements.crosstalk", "no number")),
+    ("unknown-output", 'stiffness = "<= 2"', ("requirements.stiffness", "not an output", "sensitivity")),
+    ("crosstalk-in-volts", 'crosstalk = "<= 2 V"', ("requirements.crosstalk", "a ratio")),
+    ("sensitivity-in-newtons", 'sensitivity = ">= 0.7 N"', ("requirements.sensitivity", "V/N")),
+    ("sensitivity-without-unit", 'sensitivity = ">= 0.7"', ("requirements.sensitivity", "missing unit")),
+    ("sensitivity-in-percent", 'sensitivity = ">= 70 %"', ("requirements.sensitivity", "percentage")),
+    ("snr-in-volts", 'snr = ">= 40 V"', ("requirements.snr", "dB")),
+    ("unknown-unit", 'min_detectable_force = "<= 2 furlongs"', ("requirements.min_detectable_force",)),
+    ("a-number", "crosstalk = 0.02", ("requirements.crosstalk",)),
+]] + [
+    study("requirements-on-a-grid", STUDY + '[requirements]\ncrosstalk = "<= 2 %"\n', "requirements",
+          "tolerance"),
+]
+
+
 CASES = (SCENES + MORE_SCENES + CONTACT + MATERIALS + SOLVE + STUDIES + STUDY_FILES + OPTIMIZE + OPTIMIZE_FILES
-         + FIT + FIT_MORE + REPORTS + MEASURE)
+         + FIT + FIT_MORE + REPORTS + MEASURE + RANGES + REQUIREMENTS)
 
 
 def test_the_table_is_large_covers_every_command_and_has_no_duplicate():
