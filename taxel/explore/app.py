@@ -116,7 +116,7 @@ class Explorer:
                 for n in NUMBERS:
                     st[f"e_{n.name}"] = [str(exc)] if exc.field == n.name else []
                 st.e_piezo = [str(exc)] if exc.field == "piezo" else []
-                st.message = "" if exc.field else str(exc)
+                st.message = "" if exc.field in {n.name for n in NUMBERS} | {"piezo"} else str(exc)
             return
         with st:
             for n in NUMBERS:
