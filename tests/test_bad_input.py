@@ -812,3 +812,25 @@ def test_a_combination_that_is_invalid_at_run_time_is_counted_failed(tmp_path):
     base = {"model": {"type": "plane_strain"}, "array": {}}
     s = run(Study(spec, base, tmp_path), tmp_path / "o", workers=1, progress=False)
     assert (s.total, s.failed, s.done) == (4, 1, 3)
+
+
+# ------------------------------------------------------------------------- an estimate with a part it cannot compute
+CYLINDER = ('[model]\ntype = "plane_strain"\n[mesh]\nsize = "2 mm"\npiezo_size = "0.5 mm"\n[array]\n'
+            '[load]\nkind = "probe"\nradius = "1 mm"\ncontact = true\nshape = "cylinder"\nforce = "0.2 N"\n')
+
+
+@pytest.mark.slow          # three nested meshes of a press: about 15 s
+def test_a_2d_cylinder_press_estimate_names_the_part_it_cannot_compute_and_the_solve_succeeds(tmp_path, capsys):
+    """A plane-strain cylinder has no 3D counterpart (infinitely long): the estimate's model-form
+    part is not computed and says why; the discretisation and material parts are; exit 0.
+    Through the Python API the same, without a traceback."""
+    import taxel
+    (tmp_path / "cyl.toml").write_text(CYLINDER)
+    assert main(["solve", str(tmp_path / "cyl.toml"), "--estimate"]) == 0
+    out, err = capsys.readouterr()
+    assert "model form: not estimated: a cylinder" in out and "3d" not in err
+    res = taxel.solve(str(tmp_path / "cyl.toml"), estimate=True)
+    assert res.success
+    parts = res.error.outputs["sensitivity"]
+    assert parts.model_form is None and parts.discretisation > 0 and parts.material > 0
+    assert any("model form: not estimated" in line for line in res.error.lines())
