@@ -55,3 +55,27 @@ def number(low: float | None = None, high: float | None = None, *, integer: bool
         return value
     parse.__name__ = kind
     return parse
+
+
+def show_progress(args, stream=None):
+    """A line per step of long work (meshing, assembly, factorization, each press load step,
+    each sweep round: the `taxel.*` loggers' INFO records) on stderr, when it is a terminal;
+    none under --quiet or --json (stdout then holds one JSON record). Returns the handler
+    (for the caller to remove) or None."""
+    import logging
+    import sys
+    import time
+    stream = stream or sys.stderr
+    if getattr(args, "quiet", False) or getattr(args, "json", False) or not stream.isatty():
+        return None
+    t0 = time.perf_counter()
+
+    class Elapsed(logging.Formatter):
+        def format(self, record):
+            return f"taxel: [{time.perf_counter() - t0:7.1f} s] {record.getMessage()}"
+    handler = logging.StreamHandler(stream)
+    handler.setFormatter(Elapsed())
+    log = logging.getLogger("taxel")
+    log.addHandler(handler)
+    log.setLevel(logging.INFO)
+    return handler

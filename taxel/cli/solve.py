@@ -20,6 +20,7 @@ def register(sub) -> None:
     p = sub.add_parser("solve", help="solve a scene and print per-electrode voltage and charge")
     p.add_argument("scene", help="scene TOML file or built-in example name")
     p.add_argument("--json", action="store_true", help="print one JSON record")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on the terminal")
     p.add_argument("--estimate", action="store_true", help="estimate the error of each output (discretisation, "
                    "model form, material law; one coarse solve and, for 2D, the cheapest 3D model)")
     p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
