@@ -66,7 +66,7 @@ class Explorer:
             st[f"e_{n.name}"] = []
         st.update({"piezo": d.piezo, "load": d.load, "law": d.law, "model": d.model, "readout": d.readout,
                    "e_piezo": [], "message": "", "voltage": "", "answer_model": "", "answer_time": "",
-                   "bars": [], "crosstalk": "", "note": "", "busy": False, "busy3d": False, "progress3d": "",
+                   "bars": [], "crosstalk": "", "note": "", "busy": False, "answers": 0, "busy3d": False, "progress3d": "",
                    "answer3d": "", "figure": "", "figure_title": "", "error_lines": [], "extra_busy": False,
                    "export_name": self.base.name, "export_msg": "", "scene_name": self.base.name,
                    "has_front": self.front is not None, "front_image": "", "front_current": "", "send_msg": "",
@@ -137,6 +137,7 @@ class Explorer:
         with st:
             self._show(ans)
             st.busy = False
+            st.answers += 1                            # answers shown (the load benchmark waits on it)
         if self.front is not None:
             await self._plot_front(ans, scene, gen)
 
@@ -343,6 +344,7 @@ class Explorer:
             html.Div("{{ voltage }}", id="voltage", classes="text-h3")
             html.Div("{{ answer_model }}, {{ answer_time }}", id="answer_model", classes="text-caption")
             html.Div("{{ message }}", id="message", classes="text-error")
+            html.Div("{{ answers }}:{{ busy }}", id="answers", style="display:none")
             html.Div("{{ note }}", classes="text-caption")
             v3.VProgressLinear(indeterminate=True, v_show=("busy",), height=2)
         with v3.VCard(classes="pa-3 mb-2"):
