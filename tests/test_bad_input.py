@@ -716,7 +716,7 @@ def test_the_table_is_large_covers_every_command_and_has_no_duplicate():
     assert len(CASES) >= 300
     commands = {c.argv[0] for c in CASES if c.argv}
     assert {"solve", "mesh", "lumped", "study", "optimize", "material", "report", "demo", "examples",
-            "measure", "work-precision"} <= commands
+            "measure", "work-precision", "reduce", "explore"} <= commands
     assert len({c.id for c in CASES}) == len(CASES)
     inputs = [(tuple(c.argv), tuple(sorted(c.files.items()))) for c in CASES if c.setup is None]
     assert len(set(inputs)) == len(inputs), "two rows with the same command and files"
