@@ -834,3 +834,13 @@ def test_a_2d_cylinder_press_estimate_names_the_part_it_cannot_compute_and_the_s
     parts = res.error.outputs["sensitivity"]
     assert parts.model_form is None and parts.discretisation > 0 and parts.material > 0
     assert any("model form: not estimated" in line for line in res.error.lines())
+
+
+def test_the_python_api_refuses_a_simulated_record_that_would_not_fit():
+    """taxel.measure.simulate checks the record's size before any work, as the CLI does."""
+    from taxel import measure as tm
+    with pytest.raises(ValueError) as err:
+        tm.simulate("thesis-bench", "thesis-pzt-3x3-2d", "step", seconds=1e9)
+    msg = str(err.value)
+    assert msg.startswith("seconds = 1e+09:") and "GB" in msg and "half this machine's memory" in msg
+    assert "\n" not in msg

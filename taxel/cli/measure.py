@@ -142,7 +142,7 @@ def _simulate(args):
     from taxel import measure as tm
     from taxel.studies.bench import wire as W
     rig = tm.load_rig(args.rig)
-    _check_fits(rig, args.seconds)
+    tm.check_record_fits(rig, args.seconds, "--seconds ")
     url = None
     if args.port:
         host, _, port = args.port.removeprefix("socket://").removeprefix("tcp://").rpartition(":")
@@ -176,26 +176,6 @@ def _simulate(args):
         player.stop()
     print(f"sent {player.sent} bytes")
     return 0
-
-
-# The simulator holds the whole record in memory: per frame and channel about this many bytes
-# (float64 truth arrays, the noisy volts, the counts and the encoded stream, with numpy's
-# temporaries). Measured as the growth of peak RSS (/usr/bin/time -f %M) from --seconds 20 to
-# 160 on thesis-bench (10 channels, 2000 frames/s): 52 B (chirp, --model lumped) and 12 B
-# (presses, reduced); rounded up.
-BYTES_PER_FRAME_CHANNEL = 64.0
-MEMORY_SHARE = 0.5           # of this machine's physical memory: the most a simulated record may take
-
-
-def _check_fits(rig, seconds: float) -> None:
-    """--seconds refused, before any work, where the record's arrays would not fit in memory."""
-    from taxel.meshing.cost import machine_memory
-    frames = seconds * rig.sampling.rate
-    need, have = frames * rig.n * BYTES_PER_FRAME_CHANNEL, MEMORY_SHARE * machine_memory()
-    if need > have:
-        raise ValueError(f"--seconds {seconds:g}: {frames:.3g} frames of {rig.n} channels would need about "
-                         f"{need / 1e9:.3g} GB, more than {have / 1e9:.3g} GB (half this machine's memory); "
-                         f"give at most --seconds {have / (rig.sampling.rate * rig.n * BYTES_PER_FRAME_CHANNEL):.0f}")
 
 
 def _analyze(args):
