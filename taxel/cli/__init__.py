@@ -57,7 +57,9 @@ def main(argv=None):
     except InputError as exc:
         return _error(str(exc))
     _import_scene()
-    handler = show_progress(args)        # a line per step of long work on a terminal's stderr
+    # a line per step of long work on a terminal's stderr; not where a command shows its own
+    # progress per point (study run's bar, work-precision's lines, the demo's)
+    handler = None if args.command in ("study", "work-precision", "demo") else show_progress(args)
     try:
         code = args.run(args)
     except SceneError as exc:
