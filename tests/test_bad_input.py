@@ -628,6 +628,10 @@ MEASURE = [
     imported("zip-as-tdms", "fake.tdms", b"PK\x03\x04 a zip file", "not a TDMS file"),
     imported("noise-bin", "noise.bin", bytes(range(1, 256)) * 4, "no valid taxel-cobs frame"),
     imported("unknown-type", "data.xyz", "1,2\n", "unknown file type"),
+    imported("nan-value", "nan.csv", "t_s," + ",".join(c["name"] for c in rig_dict()["channels"]) + "\n0,"
+             + ",".join(["1"] * 9) + ",nan\n", "data row 1", "not a finite number"),
+    imported("time-beyond-any-record", "huge.csv", "t_s," + ",".join(c["name"] for c in rig_dict()["channels"])
+             + "\n0," + ",".join(["1"] * 10) + "\n1e300," + ",".join(["1"] * 10) + "\n", "data row 2", "beyond"),
     imported("missing-file", "missing.csv", None, "no such file"),
     Case("measure-export-not-a-measurement", ["measure", "export", ".", "--csv", "x.csv"],
          ("not a measurement folder",)),

@@ -10,26 +10,29 @@ import os
 import signal
 
 import pytest
-from test_explore_guard import _set, _state, _trigger, _ws, app, poll_until_state  # noqa: F401  (app: fixture)
+import test_explore_guard as guard
+from test_explore_guard import _set, _trigger, _ws, poll_until_state
 from waits import poll_until
+
+app = guard.app                  # this module's own explorer (a module-scoped fixture)
 
 psutil = pytest.importorskip("psutil")
 
 SOLVE_3D = "trigger__4"          # the "solve in 3D" button (its id "solve3d")
 
 
-def _stored(app) -> int:
+def _stored(server) -> int:
     from taxel.studies.store import Store
-    store = Store(app.root / "out" / "store")
+    store = Store(server.root / "out" / "store")
     try:
         return sum(r["status"] == "done" for r in store.rows())
     finally:
         store.close()
 
 
-def _solver_child(app):
+def _solver_child(server):
     """The 3D solve's process: a child of the explorer running multiprocessing's spawn."""
-    kids = [p for p in psutil.Process(app.proc.pid).children() if "multiprocessing" in " ".join(p.cmdline())
+    kids = [p for p in psutil.Process(server.proc.pid).children() if "multiprocessing" in " ".join(p.cmdline())
             and "resource_tracker" not in " ".join(p.cmdline())]
     return kids[0] if kids else None
 

@@ -141,6 +141,9 @@ def read_tdms(path: Path, rig: Rig) -> Table:
                     raise InputFileError(f"{path}: no wf_increment property and no 'time' channel; "
                                        "give the sampling interval")
                 t = np.arange(len(data[0])) * float(dt)
+            if len(t) != len(data[0]):
+                raise InputFileError(f"{path}: group {g.name!r}: the time channel has {len(t)} samples and the "
+                                     f"others {len(data[0])}; a cut-short file? export it again")
             return Table(t, np.column_stack(data).astype(float))
     raise InputFileError(f"{path}: no group holds all the rig's channels ({', '.join(rig.names)}); "
                        "name the TDMS channels as the rig's")
@@ -228,6 +231,11 @@ def import_file(path: str | Path, rig: Rig, out: str | Path, fmt: str | None = N
         raise InputFileError(f"{path}: no data rows")
     _finite(path, np.asarray(table.t_s, float)[:, None], ["time"])
     _finite(path, np.asarray(table.values, float), rig.names)
+    span = np.abs(np.asarray(table.t_s, float) - table.t_s[0])
+    if table.t_us is None and span.max() * 1e6 >= 2.0 ** 62:
+        r = int(np.argmax(span * 1e6 >= 2.0 ** 62))
+        raise InputFileError(f"{path}: data row {r + 1}: time {table.t_s[r]:g} s is {span[r]:.3g} s from the first "
+                             "row, beyond any record; the time column holds seconds from the start")
     n = len(table.t_s)
     seq = (table.seq if table.seq is not None else np.arange(n)) % (1 << 16)
     t_us = table.t_us if table.t_us is not None else np.round((table.t_s - table.t_s[0]) * 1e6).astype(np.int64)
