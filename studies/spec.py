@@ -100,6 +100,12 @@ class StudySpec(Strict):
     def _check(self):
         if self.sampling in ("lhs", "tolerance") and not self.samples:
             raise ValueError(f"sampling = '{self.sampling}' needs samples = N")
+        if self.requirements and self.sampling != "tolerance":
+            raise ValueError("requirements: only a tolerance study (sampling = \"tolerance\") has a yield; "
+                             "remove [requirements] or set sampling = \"tolerance\"")
+        if self.requirements:
+            from taxel.studies.requirements import TOLERANCE_OUTPUTS, parse_requirements
+            parse_requirements(self.requirements, TOLERANCE_OUTPUTS)
         if self.sampling == "tolerance":
             for p in self.parameters:
                 if p.tolerance is None:

@@ -12,7 +12,8 @@ The points are quasi-random: a scrambled Sobol' sequence (scipy.stats.qmc, seede
 by the study's `seed`) mapped through each distribution's inverse CDF, `samples`
 points (a power of two keeps the sequence balanced). A study's `[requirements]`
 table, e.g. {sensitivity = ">= 0.7 V/N", crosstalk = "<= 2 %"}, gives the yield
-(studies.yield_analysis).
+(studies.yield_analysis); its grammar and units are studies.requirements', checked when
+the study file is read against the outputs a tolerance study has (TOLERANCE_OUTPUTS).
 
     sampling = "tolerance"
     samples = 64
@@ -32,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from taxel import units
+from taxel.studies.requirements import Requirement, RequirementError, parse_requirement
 
 DISTRIBUTIONS = ("normal", "uniform")
 
@@ -113,28 +115,15 @@ def sample(spreads: list[Spread], n: int, seed: int) -> np.ndarray:
 
 
 def requirement(name: str, text: str) -> tuple[str, float]:
-    """(op, bound in SI) of a requirement "<= 2 %" / ">= 0.7 V/N" (a percentage is a fraction)."""
-    text = str(text).strip()
-    op, value = text[:2], text[2:].strip()
-    if op not in ("<=", ">="):
-        raise ToleranceError(f"requirements.{name}: write \"<= value\" or \">= value\", got {text!r}")
-    if value.endswith("%"):
-        try:
-            return op, float(value[:-1]) / 100
-        except ValueError:
-            raise ToleranceError(f"requirements.{name}: {value!r}; write e.g. \"<= 2 %\"") from None
+    """(op, bound in SI) of a requirement "<= 2 %" / ">= 0.7 V/N", its grammar only
+    (studies.requirements, which also checks it against the outputs)."""
     try:
-        q = units.quantity(value)
-        x = float(q.to_base_units().magnitude) if hasattr(q, "to_base_units") else float(q)
-    except Exception:
-        raise ToleranceError(f"requirements.{name}: cannot read {value!r}; write e.g. \">= 0.7 V/N\"") from None
-    if not math.isfinite(x):
-        raise ToleranceError(f"requirements.{name}: the bound {value!r} is not finite")
-    return op, x
+        r = parse_requirement(name, text)
+    except RequirementError as exc:
+        raise ToleranceError(str(exc)) from None
+    return r.op, r.bound
 
 
 def meets(values: np.ndarray, op: str, bound: float) -> np.ndarray:
     """Which values meet a requirement (NaN, a failed point, does not)."""
-    v = np.asarray(values, float)
-    with np.errstate(invalid="ignore"):
-        return np.where(np.isnan(v), False, v <= bound if op == "<=" else v >= bound)
+    return Requirement("", op, bound, "").met(values)

@@ -23,7 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.studies.tolerance import Spread, meets, requirement
+from taxel.studies.requirements import TOLERANCE_OUTPUTS, parse_requirements
+from taxel.studies.tolerance import Spread, meets
 
 PERCENTILES = (5, 50, 95)
 
@@ -172,7 +173,9 @@ def analyze(name: str, spreads: list[Spread], x: np.ndarray, values: dict[str, n
     for k, text in requirements.items():
         if k not in values:
             raise ValueError(f"requirements.{k}: not an output of the study ({', '.join(values)})")
-        reqs[k] = requirement(k, text)
+    units_of = {k: TOLERANCE_OUTPUTS.get(k) for k in values}       # None: an output of unknown unit
+    for k, r in parse_requirements(requirements, units_of).items():
+        reqs[k] = (r.op, r.bound)
     res = ToleranceResult(name, spreads, x, values, reqs)
     for k, v in values.items():
         good = np.isfinite(v)

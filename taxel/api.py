@@ -174,14 +174,17 @@ def work_precision(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path
 
 
 def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: str | Path | None = None,
-            host: str = "127.0.0.1", port: int = 8080) -> None:
+            host: str = "127.0.0.1", port: int = 8080, token: str | bool = True) -> None:
     """Serve the design explorer (taxel.explore) for a scene, or for a result,
     study or optimization folder (its scene.json; its results.sqlite is the
     cache), at http://host:port/ until interrupted. Answers are cached in the
     study store under `folder` (default out/explore/NAME); saved scenes go to
     `folder`/exports. An optimization folder's stored front is shown with the current
     design on it; a front design loads into the controls, and the current design can
-    start a new optimization. Binds to this machine only unless `host` says otherwise."""
+    start a new optimization. Binds to this machine only unless `host` says otherwise.
+    `token`: True, a new random token required in the printed address (as Jupyter's);
+    a string, that token; False, none (only with a loopback `host`). Every request's Host
+    and Origin are checked (taxel.explore.guard)."""
     import json
     from taxel.explore.app import Explorer
     source = scene
@@ -197,8 +200,11 @@ def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: s
     else:
         scene = load(scene)
         store, front = None, None
+    from taxel.explore.guard import check_bind, new_token
+    token = new_token() if token is True else (token or None)
+    check_bind(host, token)
     folder = Path(folder) if folder is not None else Path("out") / "explore" / scene.name
-    Explorer(scene, folder, store=store, front=front).serve(host, port)
+    Explorer(scene, folder, store=store, front=front).serve(host, port, token)
 
 
 def reduce(scene: Scene | str | Path | dict, inputs: str | None = None, output: str = "readout",

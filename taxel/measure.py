@@ -161,6 +161,27 @@ def rebuild(folder: str | Path) -> Measurement:
     return run(folder)
 
 
+# The simulator holds the whole record in memory: per frame and channel about this many bytes
+# (float64 truth arrays, the noisy volts, the counts and the encoded stream, with numpy's
+# temporaries). Measured as the growth of peak RSS (/usr/bin/time -f %M) from --seconds 20 to
+# 160 on thesis-bench (10 channels, 2000 frames/s): 52 B (chirp, --model lumped) and 12 B
+# (presses, reduced); rounded up.
+BYTES_PER_FRAME_CHANNEL = 64.0
+MEMORY_SHARE = 0.5           # of this machine's physical memory: the most a simulated record may take
+
+
+def check_record_fits(rig: Rig, seconds: float, option: str = "seconds = ") -> None:
+    """A simulated record's length refused (ValueError naming `option`), before any work,
+    where its arrays would not fit in MEMORY_SHARE of this machine's memory."""
+    from taxel.meshing.cost import machine_memory
+    frames = seconds * rig.sampling.rate
+    need, have = frames * rig.n * BYTES_PER_FRAME_CHANNEL, MEMORY_SHARE * machine_memory()
+    if need > have:
+        raise ValueError(f"{option}{seconds:g}: {frames:.3g} frames of {rig.n} channels would need about "
+                         f"{need / 1e9:.3g} GB, more than {have / 1e9:.3g} GB (half this machine's memory); "
+                         f"give at most {option}{have / (rig.sampling.rate * rig.n * BYTES_PER_FRAME_CHANNEL):.0f}")
+
+
 def simulate(rig: Rig | str | Path, scene: Scene | str | Path, input: str = "step", seconds: float = 10.0,
              corrupt: float = 0.0, **settings) -> Simulation:
     """The simulated rig: the models' signals through the rig's chain, as the bytes it would send.
@@ -189,8 +210,10 @@ def simulate(rig: Rig | str | Path, scene: Scene | str | Path, input: str = "ste
     from taxel.studies.bench.simulated_run import run
     if input not in INPUTS:
         raise ValueError(f"input {input!r}: choose one of {', '.join(INPUTS)}")
+    rig = _rig(rig)
+    check_record_fits(rig, seconds)
     sc, _ = _scene(scene)
-    return run(_rig(rig), sc, Settings(input=input, seconds=seconds, **settings), corrupt)
+    return run(rig, sc, Settings(input=input, seconds=seconds, **settings), corrupt)
 
 
 def analyze(folder: str | Path, scene: Scene | str | Path | None = None, input: str | None = None,

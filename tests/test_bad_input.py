@@ -629,6 +629,10 @@ MEASURE = [
     imported("zip-as-tdms", "fake.tdms", b"PK\x03\x04 a zip file", "not a TDMS file"),
     imported("noise-bin", "noise.bin", bytes(range(1, 256)) * 4, "no valid taxel-cobs frame"),
     imported("unknown-type", "data.xyz", "1,2\n", "unknown file type"),
+    imported("nan-value", "nan.csv", "t_s," + ",".join(c["name"] for c in rig_dict()["channels"]) + "\n0,"
+             + ",".join(["1"] * 9) + ",nan\n", "data row 1", "not a finite number"),
+    imported("time-beyond-any-record", "huge.csv", "t_s," + ",".join(c["name"] for c in rig_dict()["channels"])
+             + "\n0," + ",".join(["1"] * 10) + "\n1e300," + ",".join(["1"] * 10) + "\n", "data row 2", "beyond"),
     imported("missing-file", "missing.csv", None, "no such file"),
     Case("measure-export-not-a-measurement", ["measure", "export", ".", "--csv", "x.csv"],
          ("not a measurement folder",)),
@@ -637,15 +641,87 @@ MEASURE = [
 ]
 
 
+# ------------------------------------------------------------------------- every numeric option's range
+# Each numeric option of taxel/cli/*.py, out of its range: refused while the command line is
+# parsed (taxel.cli.files.number), before anything is read or written.
+SIM = ["measure", "simulate", "thesis-bench", "--scene", "thesis-pzt-3x3-2d", "--input", "step", "--to", "s.bin"]
+CAP = ["measure", "capture", "thesis-bench", "--out", "m"]
+
+
+def option(id, argv, option, value, *words, out=None):
+    return Case(f"range-{id}", [*argv, option, value], (f"argument {option}", *words), out=out)
+
+
+RANGES = [
+    option("reduce-f-max-negative", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "-5", "> 0"),
+    option("reduce-f-max-zero", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "0", "> 0"),
+    option("reduce-f-max-nan", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "nan", "'nan'"),
+    option("reduce-f-max-text", ["reduce", "thesis-pzt-single-2d", "-o", "m.npz"], "--f-max", "2kHz", "'2kHz'"),
+    option("simulate-seconds-0", SIM, "--seconds", "0", "> 0"),
+    option("simulate-seconds-negative", SIM, "--seconds", "-1", "> 0"),
+    option("simulate-seconds-inf", SIM, "--seconds", "inf", "'inf'"),
+    option("simulate-corrupt-1", SIM, "--corrupt", "1", "< 1"),
+    option("simulate-corrupt-negative", SIM, "--corrupt", "-0.1", ">= 0"),
+    option("simulate-between-2", SIM, "--between", "2", "<= 1"),
+    option("simulate-seed-negative", SIM, "--seed", "-1", "integer"),
+    option("simulate-seed-float", SIM, "--seed", "1.5", "integer"),
+    option("simulate-seq0-over-16-bits", SIM, "--seq0", "70000", "<= 65535"),
+    option("simulate-t0-us-negative", SIM, "--t0-us", "-1", ">= 0"),
+    option("simulate-linger-negative", SIM, "--linger", "-1", ">= 0"),
+    option("simulate-delay-a-day", SIM, "--delay", "86400", "<= 3600"),
+    option("capture-seconds-0", CAP, "--seconds", "0", "> 0", out="m"),
+    option("analyze-resolution-0", ["measure", "analyze", "."], "--resolution", "0", "> 0"),
+    option("calibrate-resolution-negative", ["measure", "calibrate", ".", "--scene", "thesis-pzt-single-2d"],
+           "--resolution", "-1", "> 0"),
+    option("work-precision-force-0", ["work-precision", "thesis-pzt-single-2d", "--out", "f"], "--force", "0",
+           "> 0", out="f"),
+    option("work-precision-force-kN", ["work-precision", "thesis-pzt-single-2d", "--out", "f"], "--force", "1000",
+           "<= 100", out="f"),
+    option("study-workers-many", ["study", "run", "thesis-pzt-tolerances", "--out", "o"], "--workers", "100000",
+           "<= 256", out="o"),
+    option("study-workers-text", ["study", "run", "thesis-pzt-tolerances", "--out", "o"], "--workers", "two",
+           "'two'", out="o"),
+    option("optimize-workers-0", ["optimize", "nope", "--out", "o"], "--workers", "0", ">= 1", out="o"),
+    option("demo-presses-3d-negative", ["demo", "--out", "d"], "--presses-3d", "-1", ">= 0", out="d"),
+    option("explore-port-0", ["explore"], "--port", "0", ">= 1"),
+    option("explore-port-too-high", ["explore"], "--port", "70000", "<= 65535"),
+    Case("explore-no-token-on-the-network", ["explore", "--host", "0.0.0.0", "--no-token"],
+         ("--no-token", "--host 0.0.0.0", "127.0.0.1")),
+    # sizes checked against the machine before any work (the limit: half its physical memory)
+    Case("simulate-seconds-1e9", [*SIM, "--seconds", "1e9"], ("--seconds 1e+09", "GB", "half this machine's memory",
+                                                             "give at most --seconds"), out="s.bin"),
+]
+
+# ------------------------------------------------------------------------- a tolerance study's [requirements]
+TOLERANCE = ('base = "thesis-pzt-3x3-2d"\nsampling = "tolerance"\nsamples = 2\n[overrides]\n"mesh.size" = "1 mm"\n'
+             '[[parameters]]\npath = "array.gap"\ntolerance = "0.2 mm"\n')
+REQUIREMENTS = [study(f"requirement-{id}", TOLERANCE + f"[requirements]\n{line}\n", *words) for id, line, words in [
+    ("grammar", 'sensitivity = "big"', ("requirements.sensitivity", "<= value")),
+    ("strict-inequality", 'crosstalk = "< 2 %"', ("requirements.crosstalk", "<= value")),
+    ("no-number", 'crosstalk = "<= lots"', ("requirements.crosstalk", "no number")),
+    ("unknown-output", 'stiffness = "<= 2"', ("requirements.stiffness", "not an output", "sensitivity")),
+    ("crosstalk-in-volts", 'crosstalk = "<= 2 V"', ("requirements.crosstalk", "a ratio")),
+    ("sensitivity-in-newtons", 'sensitivity = ">= 0.7 N"', ("requirements.sensitivity", "V/N")),
+    ("sensitivity-without-unit", 'sensitivity = ">= 0.7"', ("requirements.sensitivity", "missing unit")),
+    ("sensitivity-in-percent", 'sensitivity = ">= 70 %"', ("requirements.sensitivity", "percentage")),
+    ("snr-in-volts", 'snr = ">= 40 V"', ("requirements.snr", "dB")),
+    ("unknown-unit", 'min_detectable_force = "<= 2 furlongs"', ("requirements.min_detectable_force",)),
+    ("a-number", "crosstalk = 0.02", ("requirements.crosstalk",)),
+]] + [
+    study("requirements-on-a-grid", STUDY + '[requirements]\ncrosstalk = "<= 2 %"\n', "requirements",
+          "tolerance"),
+]
+
+
 CASES = (SCENES + MORE_SCENES + CONTACT + MATERIALS + SOLVE + STUDIES + STUDY_FILES + OPTIMIZE + OPTIMIZE_FILES
-         + FIT + FIT_MORE + REPORTS + MEASURE)
+         + FIT + FIT_MORE + REPORTS + MEASURE + RANGES + REQUIREMENTS)
 
 
 def test_the_table_is_large_covers_every_command_and_has_no_duplicate():
     assert len(CASES) >= 300
     commands = {c.argv[0] for c in CASES if c.argv}
     assert {"solve", "mesh", "lumped", "study", "optimize", "material", "report", "demo", "examples",
-            "measure", "work-precision"} <= commands
+            "measure", "work-precision", "reduce", "explore"} <= commands
     assert len({c.id for c in CASES}) == len(CASES)
     inputs = [(tuple(c.argv), tuple(sorted(c.files.items()))) for c in CASES if c.setup is None]
     assert len(set(inputs)) == len(inputs), "two rows with the same command and files"
@@ -741,3 +817,35 @@ def test_a_combination_that_is_invalid_at_run_time_is_counted_failed(tmp_path):
     base = {"model": {"type": "plane_strain"}, "array": {}}
     s = run(Study(spec, base, tmp_path), tmp_path / "o", workers=1, progress=False)
     assert (s.total, s.failed, s.done) == (4, 1, 3)
+
+
+# ------------------------------------------------------------------------- an estimate with a part it cannot compute
+CYLINDER = ('[model]\ntype = "plane_strain"\n[mesh]\nsize = "2 mm"\npiezo_size = "0.5 mm"\n[array]\n'
+            '[load]\nkind = "probe"\nradius = "1 mm"\ncontact = true\nshape = "cylinder"\nforce = "0.2 N"\n')
+
+
+@pytest.mark.slow          # three nested meshes of a press: about 15 s
+def test_a_2d_cylinder_press_estimate_names_the_part_it_cannot_compute_and_the_solve_succeeds(tmp_path, capsys):
+    """A plane-strain cylinder has no 3D counterpart (infinitely long): the estimate's model-form
+    part is not computed and says why; the discretisation and material parts are; exit 0.
+    Through the Python API the same, without a traceback."""
+    import taxel
+    (tmp_path / "cyl.toml").write_text(CYLINDER)
+    assert main(["solve", str(tmp_path / "cyl.toml"), "--estimate"]) == 0
+    out, err = capsys.readouterr()
+    assert "model form: not estimated: a cylinder" in out and "3d" not in err
+    res = taxel.solve(str(tmp_path / "cyl.toml"), estimate=True)
+    assert res.success
+    parts = res.error.outputs["sensitivity"]
+    assert parts.model_form is None and parts.discretisation > 0 and parts.material > 0
+    assert any("model form: not estimated" in line for line in res.error.lines())
+
+
+def test_the_python_api_refuses_a_simulated_record_that_would_not_fit():
+    """taxel.measure.simulate checks the record's size before any work, as the CLI does."""
+    from taxel import measure as tm
+    with pytest.raises(ValueError) as err:
+        tm.simulate("thesis-bench", "thesis-pzt-3x3-2d", "step", seconds=1e9)
+    msg = str(err.value)
+    assert msg.startswith("seconds = 1e+09:") and "GB" in msg and "half this machine's memory" in msg
+    assert "\n" not in msg

@@ -61,6 +61,7 @@ scaled linear solve loses accuracy: relative residual above 1e-6).
 from __future__ import annotations
 
 import dataclasses
+import logging
 import time
 
 import numpy as np
@@ -283,6 +284,8 @@ class Press:
         pt = PressPoint(d, self.G * st.force, V, self.G * st.area, st.half_width(self.ind.centre),
                         st.penetration, its, k, st.max_pressure)
         self.res.points.append(pt)
+        logging.getLogger(__name__).info("press step %d: travel %.4g mm, force %.4g N, %d Newton iterations",
+                                         len(self.res.points), 1e3 * d, pt.force, its)
         return pt
 
     def _rates(self, x, st, d, lam):

@@ -18,6 +18,7 @@ result reports.
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
 
@@ -87,6 +88,7 @@ def sweep(dm: DynamicModel, freqs, method: str = "reduced", tol: float = 1e-3, m
         Ci = np.zeros((len(freqs), na, na), complex)
         for i, f in enumerate(freqs):
             V[i], Ci[i] = direct(dm, f)
+            logging.getLogger(__name__).info("sweep: %d of %d frequencies (%.4g Hz)", i + 1, len(freqs), f)
         return PortResponse(freqs, V, Ci, dm.names, "direct", 0.0, seconds=time.perf_counter() - t0)
 
     checks = sorted({freqs[-1], freqs[len(freqs) // 2]})
@@ -97,6 +99,8 @@ def sweep(dm: DynamicModel, freqs, method: str = "reduced", tol: float = 1e-3, m
         red_model = project(dm, basis)
         errs = {f: _rel_error(_reduced_ports(dm, red_model, f), reference[f]) for f in checks}
         err = max(errs.values())
+        logging.getLogger(__name__).info("sweep: reduced basis of %d vectors, error %.2g (tolerance %.2g)",
+                                         basis.shape[1], err, tol)
         if err <= tol:
             break
         shifts.append(2 * np.pi * max(errs, key=errs.get))

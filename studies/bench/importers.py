@@ -63,6 +63,15 @@ def _numbers(path: Path, rows: list[list[str]], decimal: str = ".") -> np.ndarra
         raise InputFileError(f"{path}: a value is not a number ({exc}); the data rows must hold numbers only") from None
 
 
+def _finite(path: Path, a: np.ndarray, names: list[str]) -> None:
+    """Every number finite: a NaN or an infinity in a data row is refused, naming its row and column."""
+    bad = np.argwhere(~np.isfinite(np.atleast_2d(a)))
+    if len(bad):
+        r, c = bad[0]
+        raise InputFileError(f"{path}: data row {r + 1}: {names[c] if c < len(names) else f'column {c + 1}'} is "
+                             f"{np.atleast_2d(a)[r, c]:g}, not a finite number; fix or remove the row")
+
+
 def read_csv(path: Path, rig: Rig) -> Table:
     text = path.read_text(encoding="utf-8-sig")
     rows = [r for r in csv.reader(io.StringIO(text)) if r and not r[0].startswith("#")]
@@ -73,6 +82,12 @@ def read_csv(path: Path, rig: Rig) -> Table:
     if any(len(r) != len(head) for r in rows[1:]):
         raise InputFileError(f"{path}: rows of unequal length; every row needs {len(head)} values")
     a = _numbers(path, rows[1:])
+    _finite(path, a, head)
+    for k in ("seq", "t_us"):          # counters: whole numbers that fit 64 bits
+        if k in head and not (np.all(np.abs(a[:, head.index(k)]) < 2.0 ** 62)
+                              and np.all(a[:, head.index(k)] == np.round(a[:, head.index(k)]))):
+            raise InputFileError(f"{path}: column {k}: not a whole number of the device's counter; "
+                                 f"{k} holds integers (0 to 2^32)")
     if "t_us" in head:
         t_us = a[:, head.index("t_us")].astype(np.int64)
         t = np.unwrap(t_us.astype(float), period=2.0 ** 32) * 1e-6
@@ -126,6 +141,9 @@ def read_tdms(path: Path, rig: Rig) -> Table:
                     raise InputFileError(f"{path}: no wf_increment property and no 'time' channel; "
                                        "give the sampling interval")
                 t = np.arange(len(data[0])) * float(dt)
+            if len(t) != len(data[0]):
+                raise InputFileError(f"{path}: group {g.name!r}: the time channel has {len(t)} samples and the "
+                                     f"others {len(data[0])}; a cut-short file? export it again")
             return Table(t, np.column_stack(data).astype(float))
     raise InputFileError(f"{path}: no group holds all the rig's channels ({', '.join(rig.names)}); "
                        "name the TDMS channels as the rig's")
@@ -211,6 +229,13 @@ def import_file(path: str | Path, rig: Rig, out: str | Path, fmt: str | None = N
         raise InputFileError(f"{path}: not text; is it really a .{fmt} file?") from None
     if not len(table.t_s):
         raise InputFileError(f"{path}: no data rows")
+    _finite(path, np.asarray(table.t_s, float)[:, None], ["time"])
+    _finite(path, np.asarray(table.values, float), rig.names)
+    span = np.abs(np.asarray(table.t_s, float) - table.t_s[0])
+    if table.t_us is None and span.max() * 1e6 >= 2.0 ** 62:
+        r = int(np.argmax(span * 1e6 >= 2.0 ** 62))
+        raise InputFileError(f"{path}: data row {r + 1}: time {table.t_s[r]:g} s is {span[r]:.3g} s from the first "
+                             "row, beyond any record; the time column holds seconds from the start")
     n = len(table.t_s)
     seq = (table.seq if table.seq is not None else np.arange(n)) % (1 << 16)
     t_us = table.t_us if table.t_us is not None else np.round((table.t_s - table.t_s[0]) * 1e6).astype(np.int64)

@@ -141,6 +141,20 @@ def cheapest_3d(scene: Scene) -> Scene:
                             "model.fidelity": "fixed", "mesh.order": 2, **CHEAP_3D})
 
 
+def no_3d_counterpart(scene: Scene) -> str | None:
+    """Why a 2D scene has no cheapest 3D model to compare with, or None: a cylinder
+    pressing in plane strain is infinitely long; no 3D probe is that cylinder."""
+    from taxel.scene import SceneError
+    try:
+        cheapest_3d(scene)
+    except SceneError as exc:
+        if scene.load.shape == "cylinder":
+            return ("a cylinder pressing a plane-strain section is infinitely long and has no 3D model "
+                    "(a 3D press takes a flat punch or a sphere); the error shown is discretisation and material")
+        return f"this scene has no 3D model ({str(exc).splitlines()[0]})"
+    return None
+
+
 def is_cheap_3d(scene: Scene) -> bool:
     """The scene is on the CHEAP_3D mesh itself (whose error CHEAP_3D_ERROR was measured;
     a coarser mesh errs more and is estimated by Richardson)."""
@@ -276,6 +290,8 @@ def estimate(scene: Scene, result: StaticResult, solver: str = "auto", cheap_3d:
     form: dict[str, float | None] = {k: None for k in vals}
     if scene.model.type == "3d":
         form = {k: 0.0 for k in vals}
+    elif model_form and scene.array is not None and (why := no_3d_counterpart(scene)):
+        how.append(f"model form: not estimated: {why}")
     elif model_form and scene.array is not None:
         r3 = cheap_3d or solve_model(cheapest_3d(scene), solver)
         v3 = output_values(r3)
@@ -347,7 +363,9 @@ def estimate_frequency(scene: Scene, result: FrequencyResult) -> ErrorEstimate:
     how = [f"discretisation: Richardson on a mesh at twice every size, the measured order {p:g}, the largest over "
            f"{len(y)} frequencies, plus the reduced sweep's measured error {result.measured_error:.1e}"]
     form = 0.0 if scene.model.type == "3d" else None
-    if scene.model.type != "3d" and scene.array is not None:
+    if scene.model.type != "3d" and scene.array is not None and (why := no_3d_counterpart(scene)):
+        how.append(f"model form: not estimated: {why}")
+    elif scene.model.type != "3d" and scene.array is not None:
         y3 = sweep_values(frequency(cheapest_3d(scene).replace(**{"model.silicone": scene.model.silicone})))
         form = float(np.max(np.abs(y / y3 - 1))) + CHEAP_3D_ERROR["sensitivity"]
         how.append("model form: against the cheapest 3D model's sweep, widened by that mesh's measured error")

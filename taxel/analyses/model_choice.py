@@ -67,7 +67,7 @@ def choose(scene: Scene, solver: str = "auto") -> StaticResult:
             except ValueError as exc:       # e.g. PVDF has no axisymmetric model
                 tried.append(f"{rung.label} ({law}): not possible ({exc})")
                 break
-            if sc.model.type != "3d" and cheap3d is None:
+            if sc.model.type != "3d" and cheap3d is None and not est.no_3d_counterpart(fixed):
                 cheap3d = solve_model(est.cheapest_3d(fixed), solver)
             res.error = est.estimate(sc, res, solver, cheap_3d=cheap3d)
             worst = max(res.error.outputs[k].total for k in wanted if k in res.error.outputs)

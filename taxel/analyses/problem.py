@@ -19,6 +19,7 @@ as a result).
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import replace
 
@@ -174,6 +175,7 @@ def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | No
     `tagged_mesh` is given. With a Yeoh silicone, `newton_options` go to
     fem.hyperelastic.newton (tol, max_iter, first_step, stepping, line_search)."""
     t0 = time.perf_counter()
+    logging.getLogger(__name__).info("%s: meshing the %s model", scene.name, scene.model.type)
     prob = problem(scene, tagged_mesh)
     t1 = time.perf_counter()
     if scene.model.silicone != "auto":
@@ -203,6 +205,8 @@ def solve_model(scene: Scene, solver: str = "auto", tagged_mesh: TaggedMesh | No
 def _solve(scene, prob, solver, scale, newton_options, t0, t1) -> StaticResult:
     sy = assembly.assemble(prob)
     t2 = time.perf_counter()
+    logging.getLogger(__name__).info("%s: solving (%s)", scene.name, "press" if prob.indenter is not None else
+                                     "Yeoh silicone, Newton" if prob.hyperelastic else "linear")
     if prob.indenter is not None:
         opts = {k: v for k, v in (newton_options or {}).items() if k in contact.Options.__dataclass_fields__}
         sol = contact.press(sy, prob.indenter, solver, contact.Options(**opts))

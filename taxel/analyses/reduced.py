@@ -168,6 +168,7 @@ class ReducedModel:
         """A model written by `save` (ValueError, one line, for another file)."""
         a, m = reduced_export.load_npz(path)
         try:
+            reduced_export.check_arrays(a, m)
             red = dynamics.ProjectedModel({k[5:]: v for k, v in a.items() if k.startswith("part:")},
                                   Relaxation.from_data(m["relax"]), a["M"], a["mech"],
                                   m["alpha"], m["beta"], a["F"], a["Be"], a["E"], a["u_cols"], m["names"], m["error"],
@@ -175,10 +176,11 @@ class ReducedModel:
             r = m["readout"] if m["readout"] == "charge" else circuits.Readout(**m["readout"])
             model = cls(parse(m["scene"]), red, m["inputs"], m["outputs"], m["output_unit"], r, tuple(m["band"]),
                         m["seconds"], m["provenance"])
-        except (KeyError, TypeError, SceneError) as exc:
-            raise ValueError(f"{path}: not a reduced model file ({exc}); write it with taxel reduce SCENE -o FILE.npz") \
+            model._ss = dynamics.StateSpace(a["A"], a["B"], a["C"], a["D"], float(m["truncation_error"]))
+        except (KeyError, TypeError, ValueError, AttributeError, IndexError, SceneError) as exc:
+            why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ValueError(f"{path}: not a reduced model file ({why}); write it with taxel reduce SCENE -o FILE.npz") \
                 from None
-        model._ss = dynamics.StateSpace(a["A"], a["B"], a["C"], a["D"], float(m["truncation_error"]))
         return model
 
     def to_folder(self, out) -> list[Path]:

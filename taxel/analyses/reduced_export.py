@@ -13,6 +13,8 @@ y = C x + D u (u: forces in N; y: volts, or coulombs for charge outputs):
 from __future__ import annotations
 
 import json
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -59,13 +61,32 @@ def save_npz(path, arrays: dict, meta: dict) -> Path:
     return path
 
 
+def check_arrays(arrays: dict, meta: dict) -> None:
+    """A model file's arrays before use (ValueError, one line): every one numeric and finite;
+    the state space A (n, n), B (n, p), C (q, n), D (q, p); the metadata a JSON object."""
+    if not isinstance(meta, dict):
+        raise ValueError("its metadata is not a table")
+    for k, v in meta.items():
+        if isinstance(v, float) and not np.isfinite(v):
+            raise ValueError(f"its metadata {k} is {v}")
+    for k, v in arrays.items():
+        if v.dtype.kind not in "biufc":
+            raise ValueError(f"array {k} is not numeric ({v.dtype})")
+        if v.dtype.kind in "fc" and not np.isfinite(v).all():
+            raise ValueError(f"array {k} holds NaN or infinite values")
+    A, B, C, D = (arrays[k] for k in ("A", "B", "C", "D"))
+    if not (A.ndim == B.ndim == C.ndim == D.ndim == 2 and A.shape[0] == A.shape[1] == B.shape[0] == C.shape[1]
+            and D.shape == (C.shape[0], B.shape[1])):
+        raise ValueError(f"the state space's shapes do not fit: A {A.shape}, B {B.shape}, C {C.shape}, D {D.shape}")
+
+
 def load_npz(path) -> tuple[dict, dict]:
     """(arrays, meta) of a file written by `save_npz`; ValueError (one line) otherwise."""
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in z.files if k != "meta"}
             meta = json.loads(str(z["meta"]))
-    except (OSError, ValueError, KeyError) as exc:
-        raise ValueError(f"{path}: not a reduced model file ({exc}); write it with taxel reduce SCENE -o FILE.npz") \
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        raise ValueError(f"{path}: not a reduced model file ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__}); write it with taxel reduce SCENE -o FILE.npz") \
             from None
     return arrays, meta

@@ -24,12 +24,13 @@ from __future__ import annotations
 
 import argparse
 import errno
+import logging
 import os
 import sqlite3
 import sys
 
 from taxel.cli import explore, material, measure, reduce, schema, skin, solve, study
-from taxel.cli.files import EXIT_FAILED, EXIT_INPUT, InputError
+from taxel.cli.files import EXIT_FAILED, EXIT_INPUT, InputError, show_progress
 
 # Imported after the command line is parsed (main): the scene schema pulls in pydantic,
 # which `taxel --help` and a bad argument never need.
@@ -57,6 +58,9 @@ def main(argv=None):
     except InputError as exc:
         return _error(str(exc))
     _import_scene()
+    # a line per step of long work on a terminal's stderr; not where a command shows its own
+    # progress per point (study run's bar, work-precision's lines, the demo's)
+    handler = None if args.command in ("study", "work-precision", "demo") else show_progress(args)
     try:
         code = args.run(args)
     except SceneError as exc:
@@ -96,6 +100,9 @@ def main(argv=None):
         print(f"taxel: internal error: {type(exc).__name__}: {_first_line(exc)} (TAXEL_DEBUG=1 for the "
               "traceback; please report it)", file=sys.stderr)
         return EXIT_FAILED
+    finally:
+        if handler is not None:
+            logging.getLogger("taxel").removeHandler(handler)
     return code or 0
 
 

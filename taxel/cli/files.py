@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+import math
 from pathlib import Path
 
 EXIT_INPUT, EXIT_FAILED = 2, 1     # bad input (one line naming the problem and the fix); a run that failed
@@ -29,3 +31,51 @@ def writable_file(path: str, what: str, suffixes: tuple[str, ...] | None = None)
     if not existed:
         p.unlink(missing_ok=True)
     return p
+
+
+def number(low: float | None = None, high: float | None = None, *, integer: bool = False,
+           low_open: bool = False, high_open: bool = False, unit: str = ""):
+    """An argparse `type=`: a finite number (an integer with `integer`) in the range
+    [low, high] (`low_open`/`high_open`: the end excluded; None: no end). Anything else is
+    refused while the command line is parsed, in one line naming the option and the range:
+    "argument --f-max: give a number > 0 (Hz), got '-5'"."""
+    lo = "" if low is None else f"{'>' if low_open else '>='} {low:g}"
+    hi = "" if high is None else f"{'<' if high_open else '<='} {high:g}"
+    kind = "an integer" if integer else "a number"
+    wanted = f"{kind} {lo}{' and ' if lo and hi else ''}{hi}".strip() + (f" ({unit})" if unit else "")
+
+    def parse(text: str):
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"give {wanted}, got {text!r}") from None
+        if not math.isfinite(value) or (low is not None and (value <= low if low_open else value < low)) \
+                or (high is not None and (value >= high if high_open else value > high)):
+            raise argparse.ArgumentTypeError(f"give {wanted}, got {text!r}")
+        return value
+    parse.__name__ = kind
+    return parse
+
+
+def show_progress(args, stream=None):
+    """A line per step of long work (meshing, assembly, factorization, each press load step,
+    each sweep round: the `taxel.*` loggers' INFO records) on stderr, when it is a terminal;
+    none under --quiet or --json (stdout then holds one JSON record). Returns the handler
+    (for the caller to remove) or None."""
+    import logging
+    import sys
+    import time
+    stream = stream or sys.stderr
+    if getattr(args, "quiet", False) or getattr(args, "json", False) or not stream.isatty():
+        return None
+    t0 = time.perf_counter()
+
+    class Elapsed(logging.Formatter):
+        def format(self, record):
+            return f"taxel: [{time.perf_counter() - t0:7.1f} s] {record.getMessage()}"
+    handler = logging.StreamHandler(stream)
+    handler.setFormatter(Elapsed())
+    log = logging.getLogger("taxel")
+    log.addHandler(handler)
+    log.setLevel(logging.INFO)
+    return handler

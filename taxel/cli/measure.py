@@ -19,13 +19,16 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from taxel.cli.files import number
+
 
 def register(sub) -> None:
     p = sub.add_parser("measure", help="measured data: capture from a serial port, import, export, simulate a rig")
     msub = p.add_subparsers(dest="measure_command", required=True)
     q = msub.add_parser("capture", help="capture a serial stream into a measurement folder")
     q.add_argument("rig", help="rig TOML file or built-in rig name")
-    q.add_argument("--seconds", type=float, default=None, help="stop after S seconds (default: Ctrl-C or port end)")
+    q.add_argument("--seconds", type=number(0, low_open=True, unit="s"), default=None,
+                   help="stop after S seconds (default: Ctrl-C or port end)")
     q.add_argument("--out", required=True, metavar="DIR", help="a new measurement folder")
     q.add_argument("--url", default=None, help="override the rig's port (a device path or pyserial URL)")
     q.add_argument("--quiet", action="store_true", help="no live progress")
@@ -52,19 +55,20 @@ def register(sub) -> None:
     where.add_argument("--port", metavar="URL", help="serve on a loopback TCP port: socket://127.0.0.1:PORT")
     where.add_argument("--pty", action="store_true", help="serve on a new pseudo-terminal (its path is printed)")
     where.add_argument("--to", metavar="FILE", help="write the byte stream to a file")
-    q.add_argument("--corrupt", type=float, default=0.0, metavar="P", help="flip or drop each byte with probability P")
-    q.add_argument("--seconds", type=float, default=10.0)
-    q.add_argument("--seed", type=int, default=0)
-    q.add_argument("--seq0", type=int, default=0, help="first seq (wrap-around tests)")
-    q.add_argument("--t0-us", type=int, default=0, help="first t_us (wrap-around tests)")
+    q.add_argument("--corrupt", type=number(0, 1, high_open=True), default=0.0, metavar="P", help="flip or drop each byte with probability P")
+    q.add_argument("--seconds", type=number(0, low_open=True, unit="s"), default=10.0,
+                   help="the record's length (refused if its arrays would not fit in memory)")
+    q.add_argument("--seed", type=number(0, 2**63 - 1, integer=True), default=0)
+    q.add_argument("--seq0", type=number(0, 2**16 - 1, integer=True), default=0, help="first seq (wrap-around tests)")
+    q.add_argument("--t0-us", type=number(0, 2**32 - 1, integer=True), default=0, help="first t_us (wrap-around tests)")
     q.add_argument("--no-crosstalk", action="store_true", help="skip the FEM crosstalk solves")
-    q.add_argument("--between", type=float, default=0.0, metavar="P",
+    q.add_argument("--between", type=number(0, 1), default=0.0, metavar="P",
                    help="--input presses: the fraction of presses at random points (between taxels, over the edges)")
     q.add_argument("--model", choices=["reduced", "lumped", "fem"], default="reduced",
                    help="the taxel's charge: the scene's reduced model from the FEM (default; MIMO, crosstalk "
                    "included), the seed's lumped model with FEM crosstalk weights, or an FEM transient")
-    q.add_argument("--linger", type=float, default=1.0, help="seconds the port stays open after the stream")
-    q.add_argument("--delay", type=float, default=0.0, help="--pty: seconds before the stream starts (time to "
+    q.add_argument("--linger", type=number(0, 3600, unit="s"), default=1.0, help="seconds the port stays open after the stream")
+    q.add_argument("--delay", type=number(0, 3600, unit="s"), default=0.0, help="--pty: seconds before the stream starts (time to "
                    "start the capture: opening a port empties its input buffer)")
     q.add_argument("--truth", metavar="DIR", help="where truth.npz and truth.json go (default: beside --to, "
                    "else out/simulate-INPUT)")
@@ -74,7 +78,7 @@ def register(sub) -> None:
     q.add_argument("--scene", default=None, help="the measured array's scene: C_p, R_eff and the lumped model's FRF")
     q.add_argument("--input", default=None, choices=["step", "impulse", "chirp", "presses"],
                    help="the kind of record (default: recognised from the force channel)")
-    q.add_argument("--resolution", type=float, default=1.0, metavar="HZ", help="H1 frequency resolution (chirp)")
+    q.add_argument("--resolution", type=number(0, low_open=True, unit="Hz"), default=1.0, metavar="HZ", help="H1 frequency resolution (chirp)")
     q.set_defaults(run=_analyze)
     q = msub.add_parser("localize", help="which taxel was pressed: largest-taxel confusion matrix and correct rate")
     q.add_argument("folder")
@@ -89,7 +93,7 @@ def register(sub) -> None:
     q.add_argument("--step", default=None, metavar="DIR", help="a step measurement of the same taxel (tau check)")
     q.add_argument("--travel", default=None, metavar="DIR", help="a chirp with the actuator's travel recorded: the "
                    "silicone's modulus scale and loss factor, and the piezo coefficient scale, into the overlay")
-    q.add_argument("--resolution", type=float, default=1.0, metavar="HZ")
+    q.add_argument("--resolution", type=number(0, low_open=True, unit="Hz"), default=1.0, metavar="HZ")
     q.add_argument("--model", choices=["lumped", "reduced"], default="lumped",
                    help="the taxel model the chain is fitted on: the seed's lumped model, or the scene's reduced "
                    "model from the FEM")
@@ -100,8 +104,6 @@ def _capture(args):
     from taxel import measure as tm
     from taxel.studies.bench.capture import check_out, open_port, print_progress
     rig = tm.load_rig(args.rig, args.url)
-    if args.seconds is not None and not args.seconds > 0:
-        raise ValueError(f"--seconds must be positive, got {args.seconds}")
     check_out(Path(args.out))
     port = open_port(rig)
     print(f"capturing {rig.port.url} ({rig.port.protocol}, {rig.n} channels) into {args.out}; Ctrl-C stops",
@@ -140,12 +142,7 @@ def _simulate(args):
     from taxel import measure as tm
     from taxel.studies.bench import wire as W
     rig = tm.load_rig(args.rig)
-    if not 0 <= args.corrupt < 1:
-        raise ValueError(f"--corrupt must be a probability in [0, 1), got {args.corrupt}")
-    if not args.seconds > 0:
-        raise ValueError(f"--seconds must be positive, got {args.seconds}")
-    if not 0 <= args.between <= 1:
-        raise ValueError(f"--between must be a fraction in [0, 1], got {args.between}")
+    tm.check_record_fits(rig, args.seconds, "--seconds ")
     url = None
     if args.port:
         host, _, port = args.port.removeprefix("socket://").removeprefix("tcp://").rpartition(":")

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from taxel.cli.files import number
+
 
 def register(sub) -> None:
     p = sub.add_parser("reduce", help="a reduced-order state-space model of a scene (.npz, .mat or a folder)")
@@ -21,7 +23,7 @@ def register(sub) -> None:
                    help="a force on each taxel (array scenes, the default) or the scene's own load")
     p.add_argument("--output", choices=["readout", "charge"], default="readout",
                    help="the scene's readout chain (default) or the short-circuit charges")
-    p.add_argument("--f-max", type=float, default=None, metavar="HZ",
+    p.add_argument("--f-max", type=number(0, 1e9, low_open=True, unit="Hz"), default=None, metavar="HZ",
                    help="highest frequency the model must hold (default: the scene's, at least 2000)")
     p.set_defaults(run=_reduce)
 

@@ -15,20 +15,22 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from taxel.cli.files import number
+
 
 def register(sub) -> None:
     p = sub.add_parser("skin", help="a skin file for a robot simulator (taxel voltages from contact forces)")
     p.add_argument("scene", help="scene TOML file or built-in example name (a square taxel array), or 'dataset'")
     p.add_argument("skin", nargs="?", default=None, metavar="SKIN.npz", help="dataset: the skin file to press")
     p.add_argument("-o", "--out", required=True, metavar="FILE", help="FILE.npz (a skin) or FILE.h5 (a dataset)")
-    p.add_argument("--dt", type=float, default=None, metavar="S", help="the simulator's step, s (default 0.001)")
-    p.add_argument("--per-pitch", type=int, default=None, metavar="N", help="FEM presses per pitch (default 8)")
-    p.add_argument("--checks", type=int, default=None, metavar="N",
+    p.add_argument("--dt", type=number(0, 1, low_open=True, unit="s"), default=None, metavar="S", help="the simulator's step, s (default 0.001)")
+    p.add_argument("--per-pitch", type=number(2, 16, integer=True), default=None, metavar="N", help="FEM presses per pitch (default 8)")
+    p.add_argument("--checks", type=number(0, 16, integer=True), default=None, metavar="N",
                    help="FEM presses between the knots that measure the influence's interpolation error (default 4)")
     p.add_argument("--rig", default=None, metavar="RIG", help="a bench rig (name or TOML): its ADC and conditioning")
-    p.add_argument("--presses", type=int, default=None, metavar="N", help="dataset: presses (default 200)")
-    p.add_argument("--seed", type=int, default=None, metavar="N", help="dataset: the random seed (default 0)")
-    p.add_argument("--duration", type=float, default=None, metavar="S", help="dataset: seconds per press (0.3)")
+    p.add_argument("--presses", type=number(1, 1_000_000, integer=True), default=None, metavar="N", help="dataset: presses (default 200)")
+    p.add_argument("--seed", type=number(0, 2**32 - 1, integer=True), default=None, metavar="N", help="dataset: the random seed (default 0)")
+    p.add_argument("--duration", type=number(0, 60, low_open=True, unit="s"), default=None, metavar="S", help="dataset: seconds per press (0.3)")
     p.add_argument("--no-noise", action="store_true", default=None, help="dataset: clean voltages")
     p.set_defaults(run=_skin)
 

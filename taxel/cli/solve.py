@@ -12,7 +12,7 @@ import json
 import sys
 from pathlib import Path
 
-from taxel.cli.files import EXIT_FAILED, InputError, writable_file
+from taxel.cli.files import EXIT_FAILED, number, writable_file
 from taxel.units import engineering as si
 
 
@@ -20,6 +20,7 @@ def register(sub) -> None:
     p = sub.add_parser("solve", help="solve a scene and print per-electrode voltage and charge")
     p.add_argument("scene", help="scene TOML file or built-in example name")
     p.add_argument("--json", action="store_true", help="print one JSON record")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on the terminal")
     p.add_argument("--estimate", action="store_true", help="estimate the error of each output (discretisation, "
                    "model form, material law; one coarse solve and, for 2D, the cheapest 3D model)")
     p.add_argument("--vtu", metavar="FILE", help="write displacement, potential, strain and stress fields")
@@ -32,7 +33,7 @@ def register(sub) -> None:
     p = sub.add_parser("work-precision",
                        help="the work-precision chart: wall time against error of every model and mesh")
     p.add_argument("scenes", nargs="+", help="scene TOML files or built-in example names")
-    p.add_argument("--force", type=float, action="append", metavar="N", help="force in newtons (repeat; "
+    p.add_argument("--force", type=number(0, 100, low_open=True, unit="N"), action="append", metavar="N", help="force in newtons (repeat; "
                    "default 0.2 and 1)")
     p.add_argument("--out", metavar="DIR", default=None, help="output folder (default out/work-precision)")
     p.add_argument("--store", metavar="DIR", help="the solve cache (default DIR/store)")
@@ -107,9 +108,6 @@ def _work_precision(args):
     import taxel.api as api
     from taxel.reports.work_precision import lines
     forces = args.force or [0.2, 1.0]
-    for f in forces:
-        if not (0 < f <= 100):
-            raise InputError(f"--force {f:g}: give a force in newtons between 0 and 100")
     out = Path(args.out or "out/work-precision")
     for s in args.scenes:
         api.load(s)                           # a bad scene fails before any solve

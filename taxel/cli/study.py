@@ -5,7 +5,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from taxel.cli.files import EXIT_FAILED, InputError
+from taxel.cli.files import EXIT_FAILED, InputError, number
+
+WORKERS = number(1, 256, integer=True)   # --workers: local Dask workers
 
 
 def register(sub) -> None:
@@ -13,7 +15,7 @@ def register(sub) -> None:
     p.add_argument("action", choices=["run", "status", "export"])
     p.add_argument("target", help="run: a study TOML file or built-in study name; status/export: a study folder")
     p.add_argument("--out", metavar="DIR", help="run: the study folder (default out/NAME)")
-    p.add_argument("--workers", type=int, default=2, help="local Dask workers (1: in-process)")
+    p.add_argument("--workers", type=WORKERS, default=2, help="local Dask workers (1: in-process)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (tcp://host:8786)")
     p.add_argument("--retry-failed", action="store_true", help="rerun the points that failed before")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -22,7 +24,7 @@ def register(sub) -> None:
     p = sub.add_parser("optimize", help="optimize a design (nlopt), or its sensitivity-crosstalk front")
     p.add_argument("file", help="an optimization TOML file or a built-in name")
     p.add_argument("--out", metavar="DIR", help="results folder (default out/NAME); its store caches every design")
-    p.add_argument("--workers", type=int, default=2, help="Dask workers for the front's runs")
+    p.add_argument("--workers", type=WORKERS, default=2, help="Dask workers for the front's runs")
     p.set_defaults(run=_optimize)
     p = sub.add_parser("report", help="self-contained HTML reports of result folders, and an index")
     p.add_argument("folders", nargs="+", help="study, optimization or solve folders")
@@ -34,7 +36,7 @@ def register(sub) -> None:
     p.add_argument("--out", default="out/demo", metavar="DIR")
     p.add_argument("--small", action="store_true", help="a reduced run (for CI)")
     p.add_argument("--full", action="store_true", help="also the thesis-model Fig. 2.5/2.8 studies and the probe fronts verified by 3D presses (slow)")
-    p.add_argument("--presses-3d", type=int, default=0, metavar="N",
+    p.add_argument("--presses-3d", type=number(0, integer=True), default=0, metavar="N",
                    help="press N designs of each probe front in 3D (default 0; --full presses them all)")
     p.set_defaults(run=_demo)
 
@@ -101,6 +103,4 @@ def _demo(args):
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}: exists and is not a folder; choose another output folder")
-    if args.presses_3d < 0:
-        raise InputError(f"--presses-3d {args.presses_3d}: must be 0 or more (front designs pressed in 3D)")
     run(out, small=args.small, full=args.full, presses_3d=args.presses_3d)

@@ -49,6 +49,7 @@ class Explorer:
         self.extras = ThreadPoolExecutor(1, thread_name_prefix="explore-extra")  # figures on request
         self.plots = ThreadPoolExecutor(1, thread_name_prefix="explore-front")   # the front with the design
         self.generation = 0
+        self._updating: asyncio.Task | None = None      # the one update loop (at most one solve queued)
         self.job3d: S.Job3D | None = None
         self.scene: Scene | None = None
         self._init_state(ControlValues.of(scene))
@@ -65,7 +66,7 @@ class Explorer:
             st[f"e_{n.name}"] = []
         st.update({"piezo": d.piezo, "load": d.load, "law": d.law, "model": d.model, "readout": d.readout,
                    "e_piezo": [], "message": "", "voltage": "", "answer_model": "", "answer_time": "",
-                   "bars": [], "crosstalk": "", "note": "", "busy": False, "busy3d": False, "progress3d": "",
+                   "bars": [], "crosstalk": "", "note": "", "busy": False, "answers": 0, "busy3d": False, "progress3d": "",
                    "answer3d": "", "figure": "", "figure_title": "", "error_lines": [], "extra_busy": False,
                    "export_name": self.base.name, "export_msg": "", "scene_name": self.base.name,
                    "has_front": self.front is not None, "front_image": "", "front_current": "", "send_msg": "",
@@ -84,21 +85,38 @@ class Explorer:
         if self.job3d is not None and self.job3d.running():
             self.job3d.cancel()
             self.state.busy3d, self.state.progress3d = False, "3D solve cancelled: the design changed"
-        asynchronous.create_task(self._update(self.generation))
+        if self._updating is None or self._updating.done():
+            self._updating = asynchronous.create_task(self._update_loop())
+
+    async def _update_loop(self):
+        """Answer the newest design, once moves pause for DEBOUNCE: one solve at a time, and
+        however many moves come in (every connection shares the design), one waiting: the newest."""
+        while True:
+            gen = self.generation
+            await asyncio.sleep(DEBOUNCE)
+            if gen != self.generation:
+                continue
+            await self._update(gen)
+            if gen == self.generation:
+                return
 
     async def _update(self, gen: int):
-        await asyncio.sleep(DEBOUNCE)
-        if gen != self.generation:
-            return
         st = self.state
         try:
             scene = scene_of(self.base, self.design())
-        except FieldError as exc:
+            S.check_fits(scene)
+        except S.TooLarge as exc:
+            with st:
+                st.message, st.busy = str(exc), False
+            return
+        except Exception as exc:                       # a value no control makes (a crafted message)
+            if not isinstance(exc, FieldError):
+                exc = FieldError(f"refused: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}", None)
             with st:
                 for n in NUMBERS:
                     st[f"e_{n.name}"] = [str(exc)] if exc.field == n.name else []
                 st.e_piezo = [str(exc)] if exc.field == "piezo" else []
-                st.message = "" if exc.field else str(exc)
+                st.message = "" if exc.field in {n.name for n in NUMBERS} | {"piezo"} else str(exc)
             return
         with st:
             for n in NUMBERS:
@@ -119,6 +137,7 @@ class Explorer:
         with st:
             self._show(ans)
             st.busy = False
+            st.answers += 1                            # answers shown (the load benchmark waits on it)
         if self.front is not None:
             await self._plot_front(ans, scene, gen)
 
@@ -148,7 +167,10 @@ class Explorer:
 
     def load_front(self, i: int):
         """Put front design `i`'s variables into the controls (the change solves it)."""
-        d = self.front.designs[int(i)]
+        if self.front is None or not isinstance(i, int) or not 0 <= i < len(self.front.designs):
+            self.state.send_msg = f"no front design {str(i)[:20]!r}"
+            return
+        d = self.front.designs[i]
         with self.state:
             for name, value in d.values.items():
                 self.state[f"t_{name}"] = f"{value:.6g}"
@@ -158,6 +180,8 @@ class Explorer:
     def send_to_optimization(self):
         """Write the current design as a scene TOML and an optimization TOML starting at it."""
         from taxel.studies.measured.calibrate import toml_text
+        if self.front is None:
+            return
         self.export()
         if not str(self.state.export_msg).startswith("wrote "):
             self.state.send_msg = self.state.export_msg
@@ -173,8 +197,12 @@ class Explorer:
     # -- 3D --------------------------------------------------------------------------------------
     def solve_3d(self):
         if self.scene is None or self.job3d is not None and self.job3d.running():
+            return                                       # one 3D solve at a time
+        try:
+            self.job3d = job = self.session.start_3d(self.scene)
+        except (S.TooLarge, ValueError) as exc:          # refused before it starts, with its size
+            self.state.busy3d, self.state.progress3d, self.state.answer3d = False, str(exc).splitlines()[0], ""
             return
-        self.job3d = job = self.session.start_3d(self.scene)
         self.state.busy3d, self.state.progress3d, self.state.answer3d = True, "3D solve started (coarse mesh)", ""
         asynchronous.create_task(self._watch_3d(job))
 
@@ -219,7 +247,7 @@ class Explorer:
     def section(self):
         if self.scene is not None and self.scene.model.type == "3d":
             return
-        self._extra(f"deformed section, coloured by potential", S.section_image)
+        self._extra("deformed section, coloured by potential", S.section_image)
 
     def error_estimate(self):
         self._extra("error estimate of the current model", S.error_lines)
@@ -316,6 +344,7 @@ class Explorer:
             html.Div("{{ voltage }}", id="voltage", classes="text-h3")
             html.Div("{{ answer_model }}, {{ answer_time }}", id="answer_model", classes="text-caption")
             html.Div("{{ message }}", id="message", classes="text-error")
+            html.Div("{{ answers }}:{{ busy }}", id="answers", style="display:none")
             html.Div("{{ note }}", classes="text-caption")
             v3.VProgressLinear(indeterminate=True, v_show=("busy",), height=2)
         with v3.VCard(classes="pa-3 mb-2"):
@@ -343,10 +372,19 @@ class Explorer:
             html.Img(src=("figure",), v_show=("figure",), style="max-width:100%", id="figure")
 
     # -- serving ---------------------------------------------------------------------------------
-    def serve(self, host: str = "127.0.0.1", port: int = 8080):
-        """Serve the page until interrupted; prints the address when ready."""
+    def serve(self, host: str = "127.0.0.1", port: int = 8080, token: str | None = None):
+        """Serve the page until interrupted; prints the address (with the token) when ready.
+        Every request and the WebSocket pass taxel.explore.guard (token, Host, Origin)."""
+        from taxel.explore.guard import Guard, check_bind
+        check_bind(host, token)
+        guard = Guard(host, port, token)
+
+        @self.ctrl.add("on_server_bind")
+        def bind(wslink_server):
+            wslink_server.app.middlewares.insert(0, guard.middleware())
+
         @self.ctrl.add("on_server_ready")
         def ready(**_):
             self._changed()                              # the first answer
-            print(f"taxel explore: serving {self.base.name} at http://{host}:{port}/", flush=True)
+            print(f"taxel explore: serving {self.base.name} at {guard.url()}", flush=True)
         self.server.start(host=host, port=port, open_browser=False, show_connection_info=False)

@@ -35,7 +35,8 @@ class Browser:
             raise RuntimeError("no Chromium: install Debian's chromium (apt-get install chromium)")
         self.profile = tempfile.mkdtemp(prefix="taxel-chromium-")
         self.proc = subprocess.Popen(
-            [exe, "--headless", "--no-sandbox", "--disable-gpu", "--remote-debugging-port=0",
+            [exe, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+             "--disable-component-update", "--disable-sync", "--no-first-run", "--remote-debugging-port=0",
              f"--user-data-dir={self.profile}", f"--window-size={width},{height}", "about:blank"],
             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         port = None
@@ -132,16 +133,18 @@ def free_port() -> int:
 
 
 class ExplorerProcess:
-    """`taxel explore SCENE --port P --out DIR` in a subprocess; ready when it prints
-    its address (the first solve has then been started, not finished)."""
+    """`taxel explore SCENE --port P --out DIR [extra...]` in a subprocess; ready when it prints
+    its address (the first solve has then been started, not finished); `url` is that address,
+    with its token; `log` its output lines (stdout and stderr), read on in a thread."""
 
-    def __init__(self, scene: str, out: str | Path, limit: float = 180.0):
+    def __init__(self, scene: str, out: str | Path, limit: float = 180.0, *extra: str, cwd: str | Path | None = None):
         import sys
+        import threading
         self.port = free_port()
         env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
         self.proc = subprocess.Popen([sys.executable, "-m", "taxel.cli", "explore", scene, "--port",
-                                      str(self.port), "--out", str(out)],
-                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+                                      str(self.port), "--out", str(out), *extra],
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env, cwd=cwd)
         self.log: list[str] = []
         end = time.monotonic() + limit
         for line in self.proc.stdout:
@@ -155,7 +158,12 @@ class ExplorerProcess:
         if not self.log or "serving" not in self.log[-1]:
             self.close()
             raise TimeoutError(f"taxel explore did not serve within {limit:.0f} s")
-        self.url = f"http://127.0.0.1:{self.port}/"
+        self.url = self.log[-1].split(" at ", 1)[1].strip()      # with its ?token=...
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self):
+        for line in self.proc.stdout:                             # refusals, warnings: kept in `log`
+            self.log.append(line)
 
     def close(self):
         if self.proc.poll() is None:

@@ -108,9 +108,10 @@ class Session:
         return out
 
     def start_3d(self, scene: Scene) -> Job3D:
-        """The scene as a coarse 3D model (mesh 1.5 mm, piezo 0.6 mm), solved in a new process."""
-        coarse = replace(scene, **{"model.type": "3d", "mesh.size": max(scene.mesh.size, 1.5e-3),
-                                   "mesh.piezo_size": max(scene.mesh.piezo_size or 0.0, 0.6e-3)})
+        """The scene as a coarse 3D model (mesh 1.5 mm, piezo 0.6 mm), solved in a new process;
+        Refused (TooLarge) where its solve would need more than MEMORY_3D of this machine."""
+        coarse = coarse_3d(scene)
+        check_fits(coarse)
         ctx = multiprocessing.get_context("spawn")
         proc = ctx.Process(target=_solve_in_store, args=(scene_data(coarse), str(self.folder)), daemon=True)
         proc.start()
@@ -120,6 +121,37 @@ class Session:
         if self._store is not None:
             self._store.close()
             self._store = None
+
+
+# The most of this machine's memory one of the explorer's solves may take (the 3D solve runs
+# beside the page's 2D solves and whatever else the machine runs); one 3D solve at a time.
+MEMORY_3D = 0.25
+
+
+class TooLarge(ValueError):
+    """A 3D solve refused before it starts: its estimated size, and the cap."""
+
+
+def coarse_3d(scene: Scene) -> Scene:
+    """The explorer's 3D model of a scene: its coarse mesh (1.5 mm, piezo 0.6 mm)."""
+    return replace(scene, **{"model.type": "3d", "mesh.size": max(scene.mesh.size, 1.5e-3),
+                             "mesh.piezo_size": max(scene.mesh.piezo_size or 0.0, 0.6e-3)})
+
+
+def check_fits(scene: Scene, share: float = MEMORY_3D):
+    """The scene's solve cost (meshing.cost), or TooLarge where it needs more than
+    `share` of this machine's memory."""
+    from taxel.analyses.geometry import layout, solve_limit
+    from taxel.analyses.problem import scene_materials
+    from taxel.meshing.cost import solve_cost
+    lay = layout(scene, scene_materials(scene))
+    lim = solve_limit(scene, lay)
+    cost = solve_cost(lay, lim.order, lim.krylov)
+    if cost.bytes > share * cost.memory:
+        raise TooLarge(f"{MODEL_NAMES.get(scene.model.type, scene.model.type)} solve refused: about {cost.unknowns:.3g} unknowns, needing about "
+                       f"{cost.bytes / 1e9:.3g} GB, more than the explorer's {share * cost.memory / 1e9:.3g} GB "
+                       f"({100 * share:.0f} % of this machine's memory); make the design smaller")
+    return cost
 
 
 def _solve_in_store(data: dict, folder: str) -> None:
@@ -162,7 +194,13 @@ class Job3D:
         finally:
             store.close()
         if row is None:
-            raise RuntimeError(f"the 3D solve ended without a result (exit code {self.process.exitcode})")
+            code = self.process.exitcode
+            if code is not None and code < 0:
+                import signal
+                name = signal.Signals(-code).name if -code in signal.valid_signals() else f"signal {-code}"
+                raise RuntimeError(f"the 3D solve's process was killed ({name}{', out of memory?' if -code == 9 else ''})"
+                                   "; nothing was stored; the explorer goes on, solve in 3D again to retry")
+            raise RuntimeError(f"the 3D solve ended without a result (exit code {code})")
         return _answer(self.scene, (row["status"], row["result"], row["error"]), self.elapsed, False)
 
 
