@@ -95,7 +95,7 @@ def test_runtime_imports_numpy_only():
 
 @pytest.mark.parametrize("args, words", [
     (["skin", "thesis-pzt-3x3-2d", "-o", "skin.txt"], "use FILE.npz"),
-    (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--dt", "0"], "--dt 0"),
+    (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--dt", "0"], "argument --dt: give a number > 0"),
     (["skin", "thesis-pzt-single-2d", "-o", "skin.npz"], "array.rows"),
     (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--per-pitch", "3"], "--per-pitch 3"),
     (["skin", "thesis-pzt-3x3-2d", "-o", "skin.npz", "--presses", "3"], "--presses: not an option of taxel skin SCENE"),

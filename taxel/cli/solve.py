@@ -12,7 +12,7 @@ import json
 import sys
 from pathlib import Path
 
-from taxel.cli.files import EXIT_FAILED, number, writable_file
+from taxel.cli.files import EXIT_FAILED, InputError, number, writable_file
 from taxel.units import engineering as si
 
 
