@@ -30,6 +30,7 @@ METRIC_TABLE = {
     "max_strain": Metric("largest silicone strain", "ratio"),
     "total_thickness": Metric("total thickness", "m"),
     "footprint": Metric("footprint", "m"),
+    "pitch": Metric("pitch", "m"),
     "gap": Metric("gap", "m"),
     "localization_error": Metric("localization error", "m"),
     "min_detectable_force": Metric("minimum detectable force", "N"),

@@ -100,6 +100,7 @@ class MultiFidelity:
                 "cheap_front": [row(d) for d in self.cheap_front], "verified": [row(d) for d in self.verified],
                 "front_3d": [row(d) for d in self.front_3d], "reference": row(self.reference),
                 "rounds": self.rounds, "plan": self.plan, "spent": self.spent, "answer": a,
+                "requirements": dict(problem.spec.requirements),
                 "sentence": sentence(problem, a)}
 
     def summary(self) -> list[str]:

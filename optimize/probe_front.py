@@ -98,6 +98,7 @@ class ProbeFront:
                 "press": problem.spec.press.model_dump(), "verify_3d": VERIFY_3D, "press_3d_model": self.fine_model,
                 "front": self.front, "reference": self.reference, "movements": self.movements,
                 "ranking": self.ranking, "rounds": self.rounds, "spent": self.spent,
+                "requirements": dict(problem.spec.requirements),
                 "definitions": DEFINITIONS, "sentence": sentence(self)}
 
     def summary(self, problem) -> list[str]:

@@ -38,7 +38,11 @@ over the array, m: the Cramer-Rao bound of taxel.analyses.localization from the 
 influence functions at the rig's white noise `noise`, default 1 mV on each taxel
 peak; 9 more static solves per design for a 3-taxel row, kept in OUT/influence/),
 and geometric ones without FEM: total_thickness (silicone above + piezo + below,
-m), footprint (array width along x, m), gap (m).
+m), footprint (array width along x, m), gap (m), pitch (taxel width + gap, m).
+
+[requirements] states what the sensor must meet (optimize.requirements): the
+yield's spec and the answer's (the report recommends the design meeting every
+requirement with the largest margin).
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective
 jitters at the level of the discretisation error's variation with geometry.
@@ -61,6 +65,7 @@ from pydantic import ConfigDict, Field, model_validator
 from taxel.optimize import driver
 from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN
 from taxel.optimize.probe import PROBE_METRICS, ProbePress, press_scene, stored_press
+from taxel.optimize.requirements import LIMITS
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel.optimize.result import FrontRun
@@ -242,7 +247,8 @@ def _localization_error(scene, noise_V: float, out: Path | None) -> float | None
 def _geometry(scene) -> dict:
     a = scene.array
     return {"total_thickness": a.silicone_above + a.piezo_thickness + a.silicone_below,
-            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap}
+            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap,
+            "pitch": a.taxel_width + a.gap}
 
 
 def magnitude(v, unit=None, what=""):
@@ -294,7 +300,7 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
     if spec.press is not None:
         from taxel.optimize.probe import check as check_press
         check_press(spec.press, OptimizeError)
-        other = problem.used - {*PROBE_METRICS, "total_thickness", "footprint", "gap"}
+        other = problem.used - {*PROBE_METRICS, *LIMITS}
         if other:
             raise OptimizeError(f"[press]: {sorted(other)[0]} is not a press metric; under a probe press use "
                                 "sensitivity, tangent_sensitivity, crosstalk, max_strain or the geometric metrics")
@@ -369,7 +375,7 @@ def _check_feasible(problem: Optimization):
     corners = [problem.lo + (problem.hi - problem.lo) * np.array(c)
                for c in np.ndindex(*(2,) * len(problem.lo))]
     for metric, op, bound in problem.constraints:
-        if metric not in ("total_thickness", "footprint", "gap"):
+        if metric not in LIMITS:
             continue
         vals = [_geometry(parse({**problem.scene_data(x), "name": "c"}))[metric] for x in corners]
         best = min(vals) if op == "<=" else max(vals)

@@ -58,6 +58,8 @@ class AnswerDesign:
     sensitivity_V_per_N: float
     crosstalk: float
     min_detectable_force_N: float | None = None
+    values: dict = field(default_factory=dict)        # metric -> SI value, for the requirements
+    margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
 
     def row(self, error: dict) -> dict:
         """The answer table's row."""
@@ -97,13 +99,20 @@ class FrontAnswer:
     error_source: str = ("the 3D model's own mesh error, measured against the converged 3D reference "
                          "(taxel.analyses.error_estimate: CHEAP_3D_ERROR); the linear silicone holds for small "
                          "presses (the V/N of a light touch)")
+    requirements: list = field(default_factory=list)   # optimize.requirements.Requirement, implied ones too
+    binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
 
     @property
     def trade(self) -> str:
         """What the recommendation gives up or changes against the thesis design."""
         r, t = self.recommended, self.thesis
+        if r is None and self.binding is not None:
+            req = next(q for q in self.requirements if q.metric == self.binding[0])
+            return (f"No design found meets every requirement: {req.text()} binds, missed by "
+                    f"{100 * abs(self.binding[1]):.3g} % by the closest design.")
         if r is None:
-            return "The thesis design is on the front: no design found is better in both sensitivity and crosstalk."
+            return ("Keep the thesis design: of the designs found, it meets every requirement with the largest "
+                    "margin.")
         parts = []
         for name, a, b in (("silicone above", t.silicone_above_mm, r.silicone_above_mm),
                            ("silicone below", t.silicone_below_mm, r.silicone_below_mm)):
@@ -119,23 +128,60 @@ class FrontAnswer:
                 f"{100 * xt:+.0f} % crosstalk (relative).")
 
 
+def _margin(m: float | None) -> str:
+    """A relative margin in plain words: "+12.3 %", "< 0.01 %", "not evaluated"."""
+    if m is None:
+        return "not evaluated"
+    if m == 0:
+        return "at the bound"
+    if abs(m) < 1e-4:
+        return "< 0.01 %"
+    return f"{100 * m:+.3g} %"
+
+
+def _prediction(metric: str, value: float | None) -> str:
+    from taxel.optimize.metrics import METRIC_TABLE
+    if value is None:
+        return "not evaluated"
+    unit = METRIC_TABLE[metric].unit
+    return percent(value) if unit == "ratio" else eng(value, unit, 3)
+
+
+def requirement_rows(a: FrontAnswer) -> list[list[str]]:
+    """Requirement / prediction / margin of the recommended and the thesis design (the
+    block's requirements table; a requirement implied by the thesis design says so)."""
+    rows = []
+    for q in a.requirements:
+        row = [q.text() + ("" if q.stated else " (the thesis design's own)")]
+        for d in (a.recommended, a.thesis):
+            if d is None:
+                row += ["—", "—"]
+                continue
+            row += [_prediction(q.metric, d.values.get(q.metric)), _margin(d.margins.get(q.metric))]
+        rows.append(row)
+    return rows
+
+
+REQUIREMENT_COLS = ["requirement", "recommended: prediction", "margin", "thesis design: prediction", "margin"]
+
+
 def headline_front(folder: Path) -> FrontAnswer | None:
     """The answer an optimization folder holds, from its headline record (the probe
     front, else the 3D-confirmed front, else a 2D optimum); None when it holds none."""
     folder = Path(folder)
     scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
     array = scene.get("array", {})
-    width = 1e3 * magnitude(array.get("taxel_width", "4 mm"))
+    geo = _geometry(array)
     material = array.get("piezo", "?")
     if (folder / "probe-front.json").exists():     # the headline under the rig's probe (issue: the rig's load)
-        linear = (_from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), width, material)
+        linear = (_from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), geo, material)
                   if (folder / "front-3d.json").exists() else None)
-        return _from_probe_front(folder, json.loads((folder / "probe-front.json").read_text()), width, material,
+        return _from_probe_front(folder, json.loads((folder / "probe-front.json").read_text()), geo, material,
                                  linear)
     if (folder / "front-3d.json").exists():
-        return _from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), width, material)
+        return _from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), geo, material)
     if (folder / "optimum.json").exists():
-        return _from_optimum(folder, json.loads((folder / "optimum.json").read_text()), scene, width, material)
+        return _from_optimum(folder, json.loads((folder / "optimum.json").read_text()), scene, geo, material)
     return None
 
 
@@ -144,31 +190,73 @@ def _lengths(row: dict) -> dict:
     return {k.split(" (")[0]: v for k, v in row.items() if k.endswith("(mm)")}
 
 
-def _design(role, x: dict, width, material, s, c) -> AnswerDesign:
-    gap = x["gap"]
-    return AnswerDesign(role, x["silicone_above"], x["silicone_below"], gap, width + gap, material, s, c)
+def _geometry(array: dict) -> dict:
+    """The array's fixed geometry in SI from a scene.json's array table."""
+    def si(key, default):
+        return magnitude(array.get(key, default))
+    return {"taxel_width": si("taxel_width", "4 mm"), "piezo_thickness": si("piezo_thickness", "0.127 mm"),
+            "margin": si("margin", "3 mm"), "cols": int(array.get("cols", 3)),
+            "silicone_above": si("silicone_above", "1 mm"), "silicone_below": si("silicone_below", "1 mm"),
+            "gap": si("gap", "3 mm")}
 
 
-def _from_front_3d(folder: Path, rec: dict, width: float, material: str) -> FrontAnswer:
+def _design(role, x: dict, g: dict, material, s, c) -> AnswerDesign:
+    """A design of the answer from its variables `x` (mm) and the array's fixed geometry `g` (_geometry)."""
+    width = 1e3 * g["taxel_width"]
+    above = x.get("silicone_above", 1e3 * g["silicone_above"])
+    below = x.get("silicone_below", 1e3 * g["silicone_below"])
+    gap = x.get("gap", 1e3 * g["gap"])
+    values = {"sensitivity": s, "crosstalk": c, "gap": 1e-3 * gap, "pitch": 1e-3 * (width + gap),
+              "total_thickness": 1e-3 * (above + below) + g["piezo_thickness"],
+              "footprint": g["cols"] * 1e-3 * width + (g["cols"] - 1) * 1e-3 * gap + 2 * g["margin"]}
+    return AnswerDesign(role, above, below, gap, width + gap, material, s, c, values=values)
+
+
+def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]):
+    """The candidate meeting every requirement of `table` (an optimization's
+    [requirements]) with the largest margin (optimize.requirements.choose; the thesis
+    design is a candidate too: None when it is the one); the requirements (implied
+    ones added), the binding requirement when none meets them all, and the rule."""
+    from taxel.optimize.requirements import choose, implied, read
+    reqs = implied(read(table or {}), thesis.values)
+    designs = candidates + [thesis]
+    ch = choose([d.values for d in designs], reqs)
+    for d, v in zip(designs, ch.verdicts):
+        d.margins = v.margins
+    best = designs[ch.recommended] if ch.recommended is not None else None
+    return (None if best is thesis else best), reqs, ch.binding, ch.notes
+
+
+def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer:
     from taxel.analyses.error_estimate import CHEAP_3D_ERROR
     a = rec["answer"]
     ref = rec["reference"]
     x_ref = _lengths(ref)
     names = list(x_ref)
     c = a.get("confirmed")
-    t, b = (c["thesis"], c.get("best")) if c else (a["thesis_3d"], a.get("best_at_or_below_thesis_crosstalk"))
     model, _ = verified_model(rec)
-    thesis = _design("thesis", x_ref, width, material, t["sensitivity_V_per_N"], t["crosstalk"])
-    best = (_design("recommended", dict(zip(names, b["x"])), width, material, b["sensitivity_V_per_N"],
-                    b["crosstalk"]) if b and not a.get("thesis_on_3d_front") else None)
-    error = dict(CHEAP_3D_ERROR) if c else dict(VERIFY_3D_ERROR)
-    notes = [f"Recommended: the most sensitive design of the 3D-verified front at or below the thesis design's "
-             f"crosstalk; the 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs solved "
-             "in 3D."]
-    return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes)
+    s3, c3 = "sensitivity 3D (V/N)", "crosstalk 3D"
+    thesis = _design("thesis", x_ref, geo, material, ref[s3], ref[c3])
+    rows = [r for r in rec["front_3d"] if r.get(s3) is not None and _lengths(r) != x_ref]
+    cands = [_design("recommended", _lengths(r), geo, material, r[s3], r[c3]) for r in rows]
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    error = dict(VERIFY_3D_ERROR)
+    cb = (c or {}).get("best")
+    same = best is None or (cb is not None and [round(getattr(best, f"{n}_mm"), 6) for n in names]
+                            == [round(v, 6) for v in cb["x"]])
+    if c and same:
+        # the finer confirmation mesh solved exactly these designs: its numbers, its error
+        thesis.sensitivity_V_per_N, thesis.crosstalk = c["thesis"]["sensitivity_V_per_N"], c["thesis"]["crosstalk"]
+        if best is not None:
+            best.sensitivity_V_per_N, best.crosstalk = cb["sensitivity_V_per_N"], cb["crosstalk"]
+        error = dict(CHEAP_3D_ERROR)
+    notes = rule + [f"The 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs "
+                    "solved in 3D."]
+    return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes,
+                       requirements=reqs, binding=binding)
 
 
-def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
+def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                       linear: FrontAnswer | None) -> FrontAnswer:
     """The probe front (optimize.probe_front, probe-front.json): the thesis design and the
     most sensitive pressed front design that dominates it, under the rig's probe
@@ -176,27 +264,25 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
     The error band is the record's estimated error, on sensitivity; crosstalk carries
     the same relative band, a lower bound (the correction's crosstalk misses are larger)."""
     ref = rec["reference"]
-    thesis = _design("thesis", _lengths(ref), width, material,
+    thesis = _design("thesis", _lengths(ref), geo, material,
                      ref["sensitivity (V/N)"], ref["crosstalk"])
-    from taxel.optimize.probe_front import dominates        # the record's own dominance rule
-    key = ("sensitivity (V/N)", "crosstalk")
-    better = [d for d in rec["front"] if d["x"] != ref["x"] and dominates([d[k] for k in key], [ref[k] for k in key])]
-    b = max(better, key=lambda d: d["sensitivity (V/N)"], default=None)
-    best = (_design("recommended", _lengths(b), width, material,
-                    b["sensitivity (V/N)"], b["crosstalk"]) if b else None)
+    rows = [d for d in rec["front"] if d["x"] != ref["x"] and d.get("sensitivity (V/N)") is not None]
+    cands = [_design("recommended", _lengths(d), geo, material, d["sensitivity (V/N)"], d["crosstalk"])
+             for d in rows]
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    b = rows[cands.index(best)] if best is not None else None
     err = max([ref["estimated error"]] + ([b["estimated error"]] if b else []))
     press = rec.get("press", {})
     probe = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in press.items()
                       if v is not None and k in ("shape", "radius", "edge_radius", "force", "silicone", "friction"))
-    notes = [f"Under the rig's probe ({probe or 'flat punch, Yeoh silicone'}): {rec['sentence']}"]
+    notes = rule + [f"Under the rig's probe ({probe or 'flat punch, Yeoh silicone'}): {rec['sentence']}"]
     for role, r in (("thesis", ref), ("recommended", b)):
         if r is not None:
             notes.append(f"The {role} design's estimated error is {100 * r['estimated error']:.2g} % "
                          f"({'within' if r['estimated error'] <= 0.02 else 'above'} 2 %; {r.get('how', '')}).")
     if err > 0.02 and not rec.get("spent", {}).get("product error measured"):
-        notes.append("The estimate's product error is the one measured once by 3D presses of front designs "
-                     "(optimize.probe_front.PRODUCT_ERROR); taxel demo --presses-3d N (or --full) measures it "
-                     "on this run's designs.")
+        notes.append("The estimate's product error is the one measured once by 3D presses of front designs; "
+                     "taxel demo --presses-3d N (or --full) measures it on this run's designs.")
     if linear is not None:
         t = linear.thesis
         r = linear.recommended
@@ -209,10 +295,10 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel",
                        {"sensitivity": err, "crosstalk": err}, True, notes,
                        "the probe front's estimated error (discretisation + correction + material law, on "
-                       "sensitivity; optimize.probe_front), the same relative band drawn on crosstalk")
+                       "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding)
 
 
-def _from_optimum(folder: Path, rec: dict, scene: dict, width: float, material: str) -> FrontAnswer | None:
+def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str) -> FrontAnswer | None:
     from taxel.optimize.spec import load_optimization
     m = rec.get("metrics") or {}
     if m.get("sensitivity") is None or m.get("crosstalk") is None:
@@ -227,8 +313,8 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, width: float, material: 
     if not start or start[0].get("sensitivity") is None:
         return None
     tm = start[0]
-    thesis = _design("thesis", ref_x, width, material, tm["sensitivity"], tm["crosstalk"])
-    best = _design("recommended", rec["x"], width, material, m["sensitivity"], m["crosstalk"])
+    thesis = _design("thesis", ref_x, geo, material, tm["sensitivity"], tm["crosstalk"])
+    best = _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])
     from taxel.reports.findings import scene_model_label
     model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "
              "in 3D")
@@ -254,6 +340,16 @@ def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
     return out
 
 
+def _headline(a: FrontAnswer) -> str:
+    """One material's recommendation in a line."""
+    r = a.recommended
+    name = MATERIALS.get(a.thesis.material, a.thesis.material)
+    if r is None:
+        return f"{name}, keep the thesis design" + (" (no design meets every requirement)" if a.binding else "")
+    return (f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap "
+            f"{r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} crosstalk")
+
+
 def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict | None:
     """The index's answer block (template data): one table row per design, the model,
     the trade and the crosstalk definition. `noise`: a noise budget's minimum
@@ -272,15 +368,14 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
                 row["sensitivity"] = eng(d.sensitivity_V_per_N, "V/N", 3) + " (error not estimated)"
                 row["crosstalk"] = percent(d.crosstalk)
             rows.append(row)
-        lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes})
-    head = next((a for a in answers if a.recommended), answers[0])
-    r = head.recommended or head.thesis
-    title = (f"Recommended: {MATERIALS.get(r.material, r.material)}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm "
-             f"below, gap {r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} "
-             "crosstalk" if head.recommended else "Keep the thesis design: it is on the front")
+        lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
+                      "requirements": requirement_rows(a), "material": MATERIALS.get(a.thesis.material,
+                                                                                     a.thesis.material)})
+    title = "Recommended: " + "; ".join(_headline(a) for a in answers)
     cols = list(rows[0])
     return {"title": title, "cols": cols, "rows": [[row[c] for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
+            "requirement_cols": REQUIREMENT_COLS,
             "verified": any(a.verified for a in answers),
             "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),
             "noise_model": noise.model if noise else None}

@@ -372,8 +372,10 @@ def test_the_answer_and_banners_of_a_3d_verified_front(tmp_path):
     missed = {**ref, "silicone_above (mm)": 1.53, "silicone_below (mm)": 0.47, "gap (mm)": 4.78,
               "crosstalk 3D": 0.0206, "predicted crosstalk": 0.0000289}
     best = {"x": [0.887, 1.113, 4.791], "sensitivity_V_per_N": 9.971, "crosstalk": 0.01995, "sensitivity_gain": 0.0159}
+    on_front = {**ref, "silicone_above (mm)": 0.887, "silicone_below (mm)": 1.113, "gap (mm)": 4.791,
+                "sensitivity 3D (V/N)": 10.6, "crosstalk 3D": 0.0199}
     rec = {"verify_3d": {"model.type": "3d", "mesh.size": "3 mm", "mesh.piezo_size": "1.2 mm", "mesh.piezo_layers": 2},
-           "reference": ref, "verified": [ref, missed], "front_3d": [missed], "rounds": [], "plan": {}, "spent": {},
+           "reference": ref, "verified": [ref, missed, on_front], "front_3d": [missed, on_front], "rounds": [], "plan": {}, "spent": {},
            "answer": {"thesis_3d": {"sensitivity_V_per_N": 10.48, "crosstalk": 0.047}, "thesis_on_3d_front": False,
                       "confirmed": {"model": {"model.type": "3d", "mesh.size": "1.5 mm", "mesh.piezo_size": "0.6 mm",
                                               "mesh.piezo_layers": "2"},

@@ -1,0 +1,107 @@
+"""Requirements in, one recommendation out (optimize.requirements, reports.answer).
+
+The front records under tests/data/answer are the main job's own (`taxel demo`,
+probe-front.json and front-3d.json of the thesis PZT and PVDF fronts, written by
+optimize.probe_front and optimize.multifidelity); the tests state requirements on
+them and check the design the answer recommends."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from taxel.optimize.requirements import Requirement, RequirementError, choose, implied, judge, read
+from taxel.reports.answer import block, headline_front, requirement_rows
+
+DATA = Path(__file__).parent / "data" / "answer"
+THESIS_REQUIREMENTS = {"pitch": "<= 7 mm", "total_thickness": "<= 2.127 mm", "gap": ">= 1 mm"}
+
+
+def _front(tmp_path: Path, material: str, requirements: dict) -> Path:
+    """A copy of the main job's front folder with `requirements` in its records."""
+    folder = tmp_path / f"thesis-{material}-front"
+    shutil.copytree(DATA / folder.name, folder, dirs_exist_ok=True)
+    for name in ("probe-front.json", "front-3d.json"):
+        rec = json.loads((folder / name).read_text())
+        rec["requirements"] = requirements
+        (folder / name).write_text(json.dumps(rec))
+    return folder
+
+
+def test_read_uses_the_tolerance_grammar_and_si():
+    reqs = read({"pitch": "<= 7 mm", "crosstalk": "<= 2 %", "sensitivity": ">= 0.5 V/N"})
+    assert [(r.metric, r.op) for r in reqs] == [("pitch", "<="), ("crosstalk", "<="), ("sensitivity", ">=")]
+    assert reqs[0].bound == pytest.approx(7e-3) and reqs[1].bound == pytest.approx(0.02)
+    assert reqs[0].text() == "pitch ≤ 7 mm" and reqs[1].text() == "crosstalk ≤ 2 %"
+
+
+@pytest.mark.parametrize("table, key", [({"pitch": "7 mm"}, "requirements.pitch"),
+                                        ({"pitch": "<= seven"}, "requirements.pitch"),
+                                        ({"colour": "<= 1"}, "requirements.colour")])
+def test_bad_requirement_is_one_line_naming_the_key(table, key):
+    with pytest.raises(RequirementError) as exc:
+        read(table)
+    assert key in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_margin_is_relative_and_signed():
+    r = Requirement("pitch", "<=", 7e-3)
+    assert r.margin(6.3e-3) == pytest.approx(0.1) and r.margin(7.7e-3) == pytest.approx(-0.1)
+    assert Requirement("sensitivity", ">=", 0.5).margin(0.6) == pytest.approx(0.2)
+    assert r.margin(None) is None and r.margin(float("nan")) is None
+
+
+def test_choose_limits_exclude_then_leximin_then_binding():
+    reqs = read({"pitch": "<= 7 mm", "crosstalk": "<= 2 %", "sensitivity": ">= 0.5 V/N"})
+    a = {"pitch": 6e-3, "crosstalk": 0.019, "sensitivity": 0.9}      # crosstalk margin 5 %
+    b = {"pitch": 7e-3, "crosstalk": 0.01, "sensitivity": 0.6}       # smallest margin 20 %: recommended
+    c = {"pitch": 8e-3, "crosstalk": 0.001, "sensitivity": 1.0}      # breaks the pitch limit
+    ch = choose([a, b, c], reqs)
+    assert ch.recommended == 1 and not ch.verdicts[2].meets and ch.binding is None
+    # a thinner design is not a better one: the limits' margins are not weighed
+    assert choose([b, dict(b, pitch=5e-3)], reqs).recommended == 0
+    none = choose([c, {"pitch": 6e-3, "crosstalk": 0.03, "sensitivity": 0.9}], reqs)
+    assert none.recommended is None
+    # the closest design misses pitch by 1/7 (the other misses crosstalk by 1/2): pitch binds
+    assert none.binding[0] == "pitch" and none.binding[1] == pytest.approx(-1 / 7)
+
+
+def test_implied_bar_is_the_reference_design():
+    ref = {"sensitivity": 0.7, "crosstalk": 0.02, "pitch": 7e-3}
+    reqs = implied(read({"pitch": "<= 8 mm"}), ref)
+    assert {r.metric for r in reqs if not r.stated} == {"sensitivity", "crosstalk"}
+    assert judge(ref, reqs).meets
+    assert implied(read({"crosstalk": "<= 1 %"}), ref) == read({"crosstalk": "<= 1 %"})
+
+
+def test_a_pitch_requirement_of_7_mm_changes_the_answer(tmp_path):
+    """The main job's PZT front: without requirements the answer widens the gap (pitch
+    7.44 mm) to cut crosstalk; with the seed's pitch <= 7 mm it keeps the thesis design."""
+    free = headline_front(_front(tmp_path / "free", "pzt", {}))
+    assert free.recommended is not None and free.recommended.pitch_mm > 7.0 + 1e-6
+    assert free.recommended.crosstalk < free.thesis.crosstalk
+    held = headline_front(_front(tmp_path / "held", "pzt", {"pitch": "<= 7 mm"}))
+    assert held.recommended is None or held.recommended.pitch_mm <= 7.0 + 1e-9
+    assert (held.recommended and (held.recommended.gap_mm, held.recommended.silicone_above_mm)) != \
+        (free.recommended.gap_mm, free.recommended.silicone_above_mm)
+
+
+def test_unmeetable_requirements_name_the_binding_one(tmp_path):
+    a = headline_front(_front(tmp_path, "pvdf", {"pitch": "<= 7 mm", "crosstalk": "<= 1 %"}))
+    assert a.recommended is None and a.binding[1] < 0
+    assert "binds" in a.trade and "by the closest design" in a.trade
+
+
+def test_block_shows_requirement_prediction_margin_per_material(tmp_path):
+    answers = [headline_front(_front(tmp_path, m, THESIS_REQUIREMENTS)) for m in ("pzt", "pvdf")]
+    blk = block(answers)
+    assert len(blk["lines"]) == 2
+    for line, a in zip(blk["lines"], answers):
+        rows = line["requirements"]
+        assert [r[0] for r in rows[:3]] == ["pitch ≤ 7 mm", "total thickness ≤ 2.13 mm", "gap ≥ 1 mm"]
+        assert rows == requirement_rows(a) and all(len(r) == len(blk["requirement_cols"]) for r in rows)
+        assert rows[0][3] == "7 mm" and rows[0][4] == "at the bound"       # the thesis design's pitch
+    assert blk["title"].count(";") == 1                                    # one recommendation per material
