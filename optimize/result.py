@@ -146,8 +146,12 @@ class OptimizationResult:
         if self.reference_dominated is not None:
             lines.append(f"the reference design is "
                          f"{'DOMINATED (not on the front)' if self.reference_dominated else 'on the front'}")
-        lines.append(f"front: {len(self.front_rows)} runs, {self.evaluations} optimizer evaluations, "
-                     f"{self.fem_solves} distinct FEM solves in the store")
+        dropped = [r for r in self.runs if not (r.result.success and r.result.metrics.get("sensitivity") is not None)]
+        lines.append(f"front: {len(self.front_rows)} of {len(self.runs)} runs on the front"
+                     + (f" ({len(dropped)} dropped: " + "; ".join(
+                         f"crosstalk <= {100 * r.bound:.3g} %: {r.result.message}" for r in dropped) + ")"
+                        if dropped else "")
+                     + f", {self.evaluations} optimizer evaluations, {self.fem_solves} distinct FEM solves in the store")
         return lines
 
     def to_folder(self, out: str | Path) -> list[Path]:

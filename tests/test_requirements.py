@@ -105,3 +105,20 @@ def test_block_shows_requirement_prediction_margin_per_material(tmp_path):
         assert rows == requirement_rows(a) and all(len(r) == len(blk["requirement_cols"]) for r in rows)
         assert rows[0][3] == "7 mm" and rows[0][4] == "at the bound"       # the thesis design's pitch
     assert blk["title"].count(";") == 1                                    # one recommendation per material
+
+
+def test_a_front_that_drops_a_run_says_so_in_its_summary():
+    """A front asked for 3 points whose middle run found no feasible design: the summary
+    counts 2 of 3 runs and names the dropped one with the driver's message."""
+    import numpy as np
+    from taxel.optimize.driver import Result
+    from taxel.optimize.result import FrontRun, OptimizationResult
+
+    def run(ok, s, c):
+        return Result(np.array([1.0, 3.0]), -s, {"sensitivity": s if ok else None, "crosstalk": c}, {}, 5, ok,
+                      "ok" if ok else "evaluation budget used; no feasible design found")
+    res = OptimizationResult("f", ["silicone_above", "gap"], ["mm", "mm"], "maximize", "sensitivity",
+                             runs=[FrontRun(0.01, run(True, 0.6, 0.01)), FrontRun(0.02, run(False, 0.7, 0.03)),
+                                   FrontRun(0.03, run(True, 0.8, 0.03))])
+    last = res.summary()[-1]
+    assert last.startswith("front: 2 of 3 runs on the front (1 dropped: crosstalk <= 2 %: evaluation budget used")
