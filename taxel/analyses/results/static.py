@@ -30,9 +30,11 @@ def linear_error(max_strain: float) -> float:
     return LINEAR_ERROR_PER_STRAIN * max_strain
 
 
-# the outputs of a static result (`StaticResult.outputs`), SI units
+# the outputs of a static result (`StaticResult.outputs`), SI units; with a [readout] chain
+# also its numbers (taxel.analyses.at_readout.READOUT_OUTPUTS)
 STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
-                  "max_strain": ""}
+                  "max_strain": "", "readout_sensitivity": "V/N", "readout_crosstalk": "",
+                  "min_detectable_force": "N", "force_range": "N"}
 
 
 @dataclass(frozen=True)
@@ -152,8 +154,19 @@ class StaticResult:
                    "pressed_voltage": e.voltage}
             if self.crosstalk is not None:
                 out["crosstalk"] = self.crosstalk
+            r = self.at_readout()
+            if r is not None:                 # the scene names a readout: its numbers beside the open circuit's
+                out.update(r.outputs())
         out["max_strain"] = self.max_strain
         return out
+
+    def at_readout(self):
+        """The pressed taxel's numbers through the scene's [readout] chain
+        (taxel.analyses.at_readout.AtReadout), None for the open circuit."""
+        from taxel.analyses.at_readout import at_readout
+        taxels = self._taxels()
+        return at_readout(self.scene, {k: e.voltage for k, e in taxels.items()},
+                          {k: e.short_circuit_charge for k, e in taxels.items()}, self.pressed, self.applied_force)
 
     @property
     def contact(self):
@@ -249,6 +262,9 @@ class StaticResult:
             lines.append(f"{e.name:<12}{e.state:<10}{engineering(e.voltage, 'V'):>12}"
                          f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
                          f"{engineering(e.capacitance, 'F'):>14}")
+        r = self.at_readout()
+        if r is not None:
+            lines += r.lines(self.outputs())
         if self.stop is not None:
             st = self.stop
             lines.insert(1, f"STOPPED SHORT of load.{st.load} = {engineering(st.requested, st.unit)}: these are "

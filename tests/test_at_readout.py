@@ -1,0 +1,71 @@
+"""A scene that names a readout is answered at the readout too (taxel.analyses.at_readout):
+`taxel solve`'s outputs and summary carry the readout's V/N, crosstalk, minimum
+detectable force and force range beside the open-circuit values, checked against the
+circuit's closed form."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from taxel import api
+
+C_F, R_F, R_I, C_C = 820e-12, 10e6, 10e3, 100e-12
+
+
+@pytest.fixture(scope="module")
+def solved():
+    """The thesis PZT 3x3 row (2D, 1 N on the middle taxel), lossless so that the
+    quasi-static source is exactly Q_sc and C_p (no relaxation law)."""
+    scene = api.load("thesis-pzt-3x3-2d").replace(**{"dynamics.dielectric_loss": 0.0, "dynamics.piezo_loss": 0.0})
+    return scene, api.solve(scene)
+
+
+def _with(scene, result, **readout):
+    from taxel.analyses.results import StaticResult
+    return StaticResult(scene.replace(**{f"readout.{k}": v for k, v in readout.items()}), result.solution,
+                        {}, result.model_note)
+
+
+def test_open_circuit_has_no_readout_numbers(solved):
+    scene, res = solved
+    assert res.at_readout() is None and "readout_sensitivity" not in res.outputs()
+
+
+def test_charge_amplifier_matches_its_closed_form(solved):
+    scene, res = solved
+    r = _with(scene, res, circuit="charge_amplifier")
+    a = r.at_readout()
+    e = res.electrodes[res.pressed]
+    q = abs(e.short_circuit_charge) / abs(res.applied_force)
+    cp = abs(e.short_circuit_charge / e.voltage)
+    s = 2j * np.pi * a.frequency
+    closed = q / C_F * abs(s * R_F * C_F / (1 + s * R_F * C_F)) / abs(1 + s * R_I * (cp + C_C))
+    assert a.sensitivity == pytest.approx(closed, rel=1e-6)
+    assert a.sensitivity == pytest.approx(q / C_F, rel=0.03)           # the passband gain |Q_sc| / C_f
+    assert a.charge_sensitivity == pytest.approx(q, rel=1e-12)
+    # identical taxels on identical channels: the readout's crosstalk is the charge ratio
+    qs = {k: abs(v.short_circuit_charge) for k, v in res.electrodes.items() if v.state != "reference"}
+    assert a.crosstalk == pytest.approx(max(v for k, v in qs.items() if k != res.pressed) / qs[res.pressed], rel=1e-6)
+    assert a.force_range == pytest.approx(12.0 / a.sensitivity, rel=1e-9)       # the amplifier's 12 V swing
+    out = r.outputs()
+    assert out["readout_sensitivity"] == a.sensitivity and out["min_detectable_force"] > 0
+    assert abs(out["sensitivity"]) != pytest.approx(a.sensitivity, rel=0.1)      # not the open-circuit V/N
+    lines = "\n".join(r.summary())
+    assert "at the readout (charge-amplifier output" in lines and "open circuit" in lines
+
+
+def test_hum_raises_the_minimum_detectable_force(solved):
+    scene, res = solved
+    quiet = _with(scene, res, circuit="charge_amplifier").at_readout()
+    hum = _with(scene, res, circuit="charge_amplifier", hum=["5 mV"]).at_readout()
+    # one 50 Hz line of 5 mV peak adds (5 mV)^2 / 2 to the band's variance, through the same gain
+    expected = np.sqrt((quiet.min_detectable_force * quiet.sensitivity) ** 2 + 0.005 ** 2 / 2)
+    assert hum.min_detectable_force > 10 * quiet.min_detectable_force
+    assert hum.min_detectable_force * quiet.sensitivity == pytest.approx(expected, rel=0.05)
+
+
+def test_a_resistor_above_its_corner_reads_the_open_circuit_voltage(solved):
+    scene, res = solved
+    a = _with(scene, res, circuit="resistor", R="500 Mohm").at_readout()
+    assert a.sensitivity == pytest.approx(abs(res.outputs()["sensitivity"]), rel=1e-3)
