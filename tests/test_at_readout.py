@@ -69,3 +69,29 @@ def test_a_resistor_above_its_corner_reads_the_open_circuit_voltage(solved):
     scene, res = solved
     a = _with(scene, res, circuit="resistor", R="500 Mohm").at_readout()
     assert a.sensitivity == pytest.approx(abs(res.outputs()["sensitivity"]), rel=1e-3)
+
+
+def test_a_study_of_a_readout_scene_gives_the_readout_columns(tmp_path):
+    """A study whose scene names a charge amplifier: results.csv holds the readout's V/N,
+    its crosstalk, the minimum detectable force and the force range beside the
+    open-circuit sensitivity and crosstalk (two 2D points)."""
+    import csv
+    (tmp_path / "ca.toml").write_text('''
+base = "thesis-pzt-3x3-2d"
+outputs = ["voltage", "short_circuit_charge", "crosstalk"]
+[overrides]
+"readout.circuit" = "charge_amplifier"
+[[parameters]]
+path = "array.gap"
+values = ["2 mm", "4 mm"]
+''')
+    from taxel.studies.spec import load_study
+    summ = api.run_study(load_study(tmp_path / "ca.toml"), tmp_path / "out", workers=1, progress=False)
+    rows = list(csv.DictReader(open(summ.folder / "results.csv")))
+    assert len(rows) == 2
+    for r in rows:
+        for col in ("sensitivity", "crosstalk", "readout_sensitivity", "readout_crosstalk", "min_detectable_force",
+                    "force_range", "charge_sensitivity"):
+            assert float(r[col]) == float(r[col]) and r[col] != "", col
+        assert float(r["readout_sensitivity"]) > 2 * abs(float(r["sensitivity"]))    # 820 pF << C_p: a gain
+    assert float(rows[1]["readout_crosstalk"]) < float(rows[0]["readout_crosstalk"])  # a wider gap, less
