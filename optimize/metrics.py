@@ -27,6 +27,8 @@ METRIC_TABLE = {
     "sensitivity": Metric("sensitivity", "V/N"),
     "tangent_sensitivity": Metric("small-signal sensitivity", "V/N"),
     "crosstalk": Metric("crosstalk", "ratio"),
+    "readout_sensitivity": Metric("sensitivity at the readout", "V/N"),
+    "readout_crosstalk": Metric("crosstalk at the readout", "ratio"),
     "max_strain": Metric("largest silicone strain", "ratio"),
     "total_thickness": Metric("total thickness", "m"),
     "footprint": Metric("footprint", "m"),

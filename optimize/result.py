@@ -27,6 +27,19 @@ import numpy as np
 from taxel.optimize.driver import Result, pareto_front, violation
 
 RESULT_FILE = "result.json"
+# a base scene naming a readout: its numbers beside the open circuit's (taxel.analyses.at_readout)
+AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force")
+
+
+def _at_readout(m: dict) -> str:
+    """"; at the readout 2.93 V/N, crosstalk 7.54 %, minimum detectable force 397 uN" or ""."""
+    from taxel.units import engineering
+    if m.get("readout_sensitivity") is None:
+        return ""
+    return (f"; at the readout {engineering(m['readout_sensitivity'], 'V/N', 3)}"
+            + (f", crosstalk {100 * m['readout_crosstalk']:.3g} %" if m.get("readout_crosstalk") is not None else "")
+            + (f", minimum detectable force {engineering(m['min_detectable_force'], 'N', 3)}"
+               if m.get("min_detectable_force") is not None else ""))
 
 
 @dataclass
@@ -80,6 +93,7 @@ class OptimizationResult:
         """One row per successful front run: its bound, sensitivity, crosstalk and design."""
         return [{"crosstalk_bound": r.bound, "sensitivity_V_per_N": r.result.metrics["sensitivity"],
                  "crosstalk": r.result.metrics["crosstalk"],
+                 **{k: r.result.metrics[k] for k in AT_READOUT if r.result.metrics.get(k) is not None},
                  **{f"{n} ({u})": float(v) for n, u, v in zip(self.names, self.units, r.result.x)}}
                 for r in self.runs if r.result.success and r.result.metrics.get("sensitivity") is not None]
 
@@ -131,7 +145,8 @@ class OptimizationResult:
         lines = []
         if self.reference and self.reference.get("sensitivity") is not None:
             lines.append(f"reference design {self.reference['x']}: sensitivity {self.reference['sensitivity']:.4g} "
-                         f"V/N, crosstalk {100 * self.reference['crosstalk']:.2f} %")
+                         f"V/N, crosstalk {100 * self.reference['crosstalk']:.2f} % (open circuit)"
+                         + _at_readout(self.reference))
         if self.optimum is not None:
             r = self.optimum
             lines.append(f"{'optimum' if r.success else 'best found (constraints violated)'}: "
@@ -141,7 +156,8 @@ class OptimizationResult:
             return lines
         for row in self.front_rows:
             lines.append(f"  crosstalk <= {100 * row['crosstalk_bound']:.2f} %: sensitivity "
-                         f"{row['sensitivity_V_per_N']:.4g} V/N, crosstalk {100 * row['crosstalk']:.2f} %, "
+                         f"{row['sensitivity_V_per_N']:.4g} V/N, crosstalk {100 * row['crosstalk']:.2f} %"
+                         + _at_readout(row) + ", "
                          + ", ".join(f"{n} {row[f'{n} ({u})']:.3g} {u}" for n, u in zip(self.names, self.units)))
         if self.reference_dominated is not None:
             lines.append(f"the reference design is "

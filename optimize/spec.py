@@ -30,6 +30,9 @@ SQLite store and reused by later runs).
     xtol = 0.02                                   # in normalised variables (see the noise note)
 
 Metrics: sensitivity (|V| of the pressed taxel per newton, open circuit, V/N),
+readout_sensitivity and readout_crosstalk (through the base scene's [readout] chain,
+taxel.analyses.at_readout; with it min_detectable_force is the chain's own, unless
+[resolution] asks for a rig's),
 tangent_sensitivity (the small-signal slope |dV/dF| there: equal to sensitivity on the
 linear model; under a [press], optimize.probe), crosstalk (largest
 neighbour-to-pressed voltage ratio), max_strain (largest
@@ -66,6 +69,8 @@ from taxel.optimize import driver
 from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN
 from taxel.optimize.probe import PROBE_METRICS, ProbePress, press_scene, stored_press
 from taxel.optimize.requirements import LIMITS
+
+READOUT_METRICS = ("readout_sensitivity", "readout_crosstalk")   # with a [readout] in the base scene
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel.optimize.result import FrontRun
@@ -165,7 +170,7 @@ class Optimization:
         """The metrics of one scene (a design or one of its parts): geometry, FEM (stored), noise."""
         scene = parse({**data, "name": "design"})
         metrics = {**_geometry(scene), **dict.fromkeys(("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain",
-                                                        "localization_error", *NOISE_METRICS))}
+                                                        "localization_error", *NOISE_METRICS, *READOUT_METRICS))}
         if self.spec.press is not None:
             return {**metrics, **self._pressed(data, params)}
         outputs = ("voltage", "crosstalk", "max_strain")
@@ -183,6 +188,8 @@ class Optimization:
         metrics.update(sensitivity=abs(v) / result["force"] if v is not None else None,
                        tangent_sensitivity=abs(v) / result["force"] if v is not None else None,   # linear: V ~ F
                        crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
+        named = result.get("outputs") or {}          # a scene naming a readout: its numbers (analyses.at_readout)
+        metrics.update({k: named.get(k) for k in (*READOUT_METRICS, "min_detectable_force") if named.get(k) is not None})
         if set(NOISE_METRICS) & (self.used | set(self.requirements)):
             from taxel.optimize.resolution import noise_metrics
             metrics.update(noise_metrics(scene, result.get("outputs") or {}, self.spec.resolution, self.rig))
@@ -310,6 +317,10 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
         scene = parse({**problem.scene_data(problem.x0), "name": "start"})
     except SceneError as exc:
         raise OptimizeError(f"the starting design is not a valid scene: {exc}") from None
+    asked = sorted(set(READOUT_METRICS) & (problem.used | set(problem.requirements)))
+    if asked and scene.readout.circuit == "open":
+        raise OptimizeError(f"{asked[0]} needs a readout in the base scene '{spec.base}': add [readout] circuit = "
+                            "\"charge_amplifier\" (or \"resistor\") to it")
     if not magnitude(spec.noise, "V", "noise")[0] > 0:
         raise OptimizeError(f"noise: the rig's white noise must be positive, got {spec.noise!r}; e.g. noise = \"1 mV\"")
     if {"crosstalk", "localization_error"} & set(list(spec.objective.values()) + [c[0] for c in cons]) or spec.pareto:

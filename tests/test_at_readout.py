@@ -95,3 +95,51 @@ values = ["2 mm", "4 mm"]
             assert float(r[col]) == float(r[col]) and r[col] != "", col
         assert float(r["readout_sensitivity"]) > 2 * abs(float(r["sensitivity"]))    # 820 pF << C_p: a gain
     assert float(rows[1]["readout_crosstalk"]) < float(rows[0]["readout_crosstalk"])  # a wider gap, less
+
+
+def _readout_scene(tmp_path, circuit='"charge_amplifier"'):
+    from taxel.examples import __path__ as ex
+    from pathlib import Path
+    text = (Path(list(ex)[0]) / "thesis-pzt-3x3-2d.toml").read_text()
+    (tmp_path / "ca.toml").write_text(text + f"\n[readout]\ncircuit = {circuit}\n")
+    return tmp_path / "ca.toml"
+
+
+def test_an_optimization_on_a_readout_scene_reports_the_readout(tmp_path):
+    """The optimizer's metrics of a base scene naming a charge amplifier hold the
+    readout's V/N and crosstalk; a requirement on them is met or missed by those numbers;
+    its summary says the readout's numbers beside the open-circuit ones."""
+    from taxel.optimize.spec import load_optimization
+    _readout_scene(tmp_path)
+    (tmp_path / "opt.toml").write_text('''
+base = "ca.toml"
+reference = {gap = "3 mm"}
+[variables]
+gap = {path = "array.gap", min = "2 mm", max = "4 mm", start = "3 mm"}
+[objective]
+maximize = "readout_sensitivity"
+[requirements]
+readout_crosstalk = "<= 10 %"
+[algorithm]
+global = "none"
+max_evaluations = 2
+''')
+    prob = load_optimization(tmp_path / "opt.toml")
+    m = prob.evaluate(prob.x0)
+    assert m["readout_sensitivity"] > 2 * m["sensitivity"] and m["readout_crosstalk"] == pytest.approx(
+        m["crosstalk"], rel=1e-3) and m["min_detectable_force"] > 0
+    res = api.optimize(tmp_path / "opt.toml", tmp_path / "out", workers=1)
+    assert any("at the readout" in line for line in res.summary())
+
+
+def test_a_readout_metric_without_a_readout_is_refused(tmp_path):
+    from taxel.optimize.spec import OptimizeError, load_optimization
+    (tmp_path / "opt.toml").write_text('''
+base = "thesis-pzt-3x3-2d"
+[variables]
+gap = {path = "array.gap", min = "2 mm", max = "4 mm", start = "3 mm"}
+[objective]
+maximize = "readout_sensitivity"
+''')
+    with pytest.raises(OptimizeError, match="needs a readout in the base scene"):
+        load_optimization(tmp_path / "opt.toml")
