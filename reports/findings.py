@@ -267,7 +267,7 @@ def comparison_banners(rows: list[dict], tol: float = 0.05) -> list[Banner]:
     if not bad:
         return []
     return [Banner("disagreement", "Models disagree with 3D on this design: " + ", ".join(
-        f"{m} {100 * d:+.0f} %" for m, d in bad) + f" (the 3D model's own error is about 1 %). Trust 3D, or a "
+        f"{m} {100 * d:+.0f} %" for m, d in bad) + " (the 3D model's own error is about 1 %). Trust 3D, or a "
         "model within a few % of it (2D plane strain, axisymmetric); a 2D plane-stress study (the thesis's Fig. 2.5) "
         "gives trends, not the sensor's voltage.")]
 
