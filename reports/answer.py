@@ -49,7 +49,7 @@ def _band(value: float, rel: float, unit: str) -> str:
 @dataclass
 class AnswerDesign:
     """One design of the answer, in engineering units (lengths in mm)."""
-    role: str                                   # "recommended" or "thesis"
+    role: str                                   # "recommended", "thesis" or (a user's) "reference"
     silicone_above_mm: float
     silicone_below_mm: float
     gap_mm: float
@@ -70,7 +70,11 @@ class AnswerDesign:
                 "sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
                 "crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
                 "min. detectable force": (eng(self.min_detectable_force_N, "N", 3)
-                                          if self.min_detectable_force_N else "not computed")}
+                                          if self.min_detectable_force_N else "not computed"),
+                **({"sensitivity at the readout": eng(self.values["readout_sensitivity"], "V/N", 3)}
+                   if self.values.get("readout_sensitivity") is not None else {}),
+                **({"crosstalk at the readout": percent(self.values["readout_crosstalk"])}
+                   if self.values.get("readout_crosstalk") is not None else {})}
 
 
 class NoiseFloor(NamedTuple):
@@ -103,6 +107,11 @@ class FrontAnswer:
     binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
 
     @property
+    def reference_name(self) -> str:
+        """"the thesis design" (a built-in optimization), else "your reference design"."""
+        return "the thesis design" if self.thesis.role == "thesis" else "your reference design"
+
+    @property
     def trade(self) -> str:
         """What the recommendation gives up or changes against the thesis design."""
         r, t = self.recommended, self.thesis
@@ -111,8 +120,8 @@ class FrontAnswer:
             return (f"No design found meets every requirement: {req.text()} binds, missed by "
                     f"{100 * abs(self.binding[1]):.3g} % by the closest design.")
         if r is None:
-            return ("Keep the thesis design: of the designs found, it meets every requirement with the largest "
-                    "margin.")
+            return (f"Keep {self.reference_name}: of the designs found, it meets every requirement with the "
+                    "largest margin.")
         parts = []
         for name, a, b in (("silicone above", t.silicone_above_mm, r.silicone_above_mm),
                            ("silicone below", t.silicone_below_mm, r.silicone_below_mm)):
@@ -152,7 +161,7 @@ def requirement_rows(a: FrontAnswer) -> list[list[str]]:
     block's requirements table; a requirement implied by the thesis design says so)."""
     rows = []
     for q in a.requirements:
-        row = [q.text() + ("" if q.stated else " (the thesis design's own)")]
+        row = [q.text() + ("" if q.stated else f" ({a.reference_name}'s own)")]
         for d in (a.recommended, a.thesis):
             if d is None:
                 row += ["—", "—"]
@@ -162,7 +171,7 @@ def requirement_rows(a: FrontAnswer) -> list[list[str]]:
     return rows
 
 
-REQUIREMENT_COLS = ["requirement", "recommended: prediction", "margin", "thesis design: prediction", "margin"]
+REQUIREMENT_COLS = ["requirement", "recommended: prediction", "margin", "reference: prediction", "margin"]
 
 
 def headline_front(folder: Path) -> FrontAnswer | None:
@@ -180,6 +189,8 @@ def headline_front(folder: Path) -> FrontAnswer | None:
                                  linear)
     if (folder / "front-3d.json").exists():
         return _from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), geo, material)
+    if (folder / "front.json").exists() and (folder / "result.json").exists():
+        return _from_front(folder, json.loads((folder / "result.json").read_text()), geo, material)
     if (folder / "optimum.json").exists():
         return _from_optimum(folder, json.loads((folder / "optimum.json").read_text()), scene, geo, material)
     return None
@@ -200,7 +211,7 @@ def _geometry(array: dict) -> dict:
             "gap": si("gap", "3 mm")}
 
 
-def _design(role, x: dict, g: dict, material, s, c) -> AnswerDesign:
+def _design(role, x: dict, g: dict, material, s, c, extra: dict | None = None) -> AnswerDesign:
     """A design of the answer from its variables `x` (mm) and the array's fixed geometry `g` (_geometry)."""
     width = 1e3 * g["taxel_width"]
     above = x.get("silicone_above", 1e3 * g["silicone_above"])
@@ -208,8 +219,10 @@ def _design(role, x: dict, g: dict, material, s, c) -> AnswerDesign:
     gap = x.get("gap", 1e3 * g["gap"])
     values = {"sensitivity": s, "crosstalk": c, "gap": 1e-3 * gap, "pitch": 1e-3 * (width + gap),
               "total_thickness": 1e-3 * (above + below) + g["piezo_thickness"],
-              "footprint": g["cols"] * 1e-3 * width + (g["cols"] - 1) * 1e-3 * gap + 2 * g["margin"]}
-    return AnswerDesign(role, above, below, gap, width + gap, material, s, c, values=values)
+              "footprint": g["cols"] * 1e-3 * width + (g["cols"] - 1) * 1e-3 * gap + 2 * g["margin"],
+              **{k: v for k, v in (extra or {}).items() if v is not None}}
+    return AnswerDesign(role, above, below, gap, width + gap, material, s, c,
+                        min_detectable_force_N=values.get("min_detectable_force"), values=values)
 
 
 def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]):
@@ -298,6 +311,41 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                        "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding)
 
 
+AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force")
+
+
+def _from_front(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer | None:
+    """The front of any optimization (result.json of kind "front", the cheap model, not
+    verified): the reference design (the thesis design for a built-in one, else the
+    user's) and the front design meeting the requirements with the largest margin."""
+    from taxel.optimize.spec import BUILTIN
+    ref = rec.get("reference") or {}
+    if ref.get("sensitivity") is None or ref.get("crosstalk") is None:
+        return None
+    role = "thesis" if (BUILTIN / f"{rec.get('name')}.toml").exists() else "reference"
+    units = rec["variables"]
+    ref_x = {n: v for n, v in ref["x"].items() if units.get(n) == "mm"}
+    thesis = _design(role, ref_x, geo, material, ref["sensitivity"], ref["crosstalk"],
+                     {k: ref.get(k) for k in AT_READOUT})
+    cands = []
+    for r in rec["front"]:
+        m, x = r["run"]["metrics"], r["run"]["x"]
+        if not r["run"].get("success", True) or m.get("sensitivity") is None:
+            continue
+        xs = {n: v for (n, u), v in zip(units.items(), x) if u == "mm"}
+        if xs != ref_x:
+            cands.append(_design("recommended", xs, geo, material, m["sensitivity"], m["crosstalk"],
+                                 {k: m.get(k) for k in AT_READOUT}))
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    from taxel.reports.findings import scene_model_label
+    scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
+    model = f"{scene_model_label(scene)}, the optimization's own load; the front's cheap model, not verified in 3D"
+    dropped = sum(1 for r in rec["front"] if not r["run"].get("success", True))
+    notes = rule + ([f"{dropped} of the front's {len(rec['front'])} runs found no feasible design."] if dropped else [])
+    return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
+                       False, notes, requirements=reqs, binding=binding)
+
+
 def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str) -> FrontAnswer | None:
     from taxel.optimize.spec import load_optimization
     m = rec.get("metrics") or {}
@@ -345,7 +393,8 @@ def _headline(a: FrontAnswer) -> str:
     r = a.recommended
     name = MATERIALS.get(a.thesis.material, a.thesis.material)
     if r is None:
-        return f"{name}, keep the thesis design" + (" (no design meets every requirement)" if a.binding else "")
+        return f"{name}, keep {a.reference_name.removeprefix('the ')}" + (
+            " (no design meets every requirement)" if a.binding else "")
     return (f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap "
             f"{r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} crosstalk")
 
@@ -372,8 +421,8 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
                       "requirements": requirement_rows(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     title = "Recommended: " + "; ".join(_headline(a) for a in answers)
-    cols = list(rows[0])
-    return {"title": title, "cols": cols, "rows": [[row[c] for c in cols] for row in rows],
+    cols = list(dict.fromkeys(c for row in rows for c in row))
+    return {"title": title, "cols": cols, "rows": [[row.get(c, "—") for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
             "requirement_cols": REQUIREMENT_COLS,
             "verified": any(a.verified for a in answers),
