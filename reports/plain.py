@@ -26,7 +26,7 @@ IDENTIFIER = re.compile(r"\b[a-z][a-z0-9]*(?:_[a-z0-9]+)+\b"            # snake_
                         r"|\{'|\['|\[\d+\.\d+, ")                       # a repr
 NUMBER = re.compile(r"(?<![\w.:/-])[-+]?(\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)(?![\w:/])")
 NOT_NUMBERS = re.compile(r"\d{4}-\d{2}-\d{2}|\d{1,2}:\d{2}(:\d{2})?|\bv?\d+\.\d+\.\d+\b|[\w-]+\.(?:csv|json|toml|png|html)"
-                         r"|\b[0-9a-f]{7,40}\b")
+                         r"|(?<![\w.])(?=[0-9]*[a-f])[0-9a-f]{7,40}\b(?![-+.]\d)")
 WORDS = ("e.g", "i.e")                       # prose abbreviations the dotted-path rule must not catch
 # not code: a file path a page points to (a benchmark script, a CSV), an electrode's name
 # (taxel_1_1: the name the CLI, the files and the rig use), a plural "(s)"

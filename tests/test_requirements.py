@@ -122,3 +122,30 @@ def test_a_front_that_drops_a_run_says_so_in_its_summary():
                                    FrontRun(0.03, run(True, 0.8, 0.03))])
     last = res.summary()[-1]
     assert last.startswith("front: 2 of 3 runs on the front (1 dropped: crosstalk <= 2 %: evaluation budget used")
+
+
+def test_the_answer_block_reads_in_plain_language(tmp_path):
+    """Every word of the answer block (title, table, requirements, trade, notes, model,
+    definitions) holds no code identifier and no number of more than 4 significant
+    figures (reports.plain, the check every page gets)."""
+    from taxel.reports.plain import problems
+    answers = [headline_front(_front(tmp_path, m, THESIS_REQUIREMENTS)) for m in ("pzt", "pvdf")]
+    blk = block(answers)
+
+    def words(x):
+        if isinstance(x, dict):
+            return " ".join(words(v) for v in x.values())
+        if isinstance(x, (list, tuple)):
+            return " ".join(words(v) for v in x)
+        return str(x) if x is not None else ""
+    assert problems(f"<p>{words(blk)}</p>") == []
+
+
+@pytest.mark.parametrize("html, found", [
+    ("<p>see optimize.probe_front.PRODUCT_ERROR</p>", 1), ("<p>commit 31482dd, PRODUCT_ERROR</p>", 1), ("<p>tangent_sensitivity: 1</p>", 1),
+    ("<p>0.7386685841 V/N</p>", 1), ("<p>1.8000000000000002e-08 V</p>", 1), ("<p>{'x': 1}</p>", 1),
+    ("<p>738 mV/N at 1.25 %, 4.24 nF, 14567 unknowns, 2026-11-28 04:10:00, fig-2-5.csv, taxel_1_1</p>", 0),
+    ("<pre>min_detectable_force = 0.000282</pre><p>results (s)</p>", 0)])
+def test_plain_language_check_finds_what_it_should(html, found):
+    from taxel.reports.plain import problems
+    assert len(problems(html)) == found, problems(html)
