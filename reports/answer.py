@@ -304,7 +304,9 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                      + (f"; recommended there: silicone {r.silicone_above_mm:.2f} / {r.silicone_below_mm:.2f} mm, "
                         f"gap {r.gap_mm:.2f} mm, {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)}"
                         if r else "; the thesis design is on that front") + ".")
-    model = f"3D under the rig's probe, Yeoh silicone ({rec['level']})"
+    model = ("3D presses by the rig's probe on Yeoh silicone" if rec["level"] == "3D press" else
+             "an estimate, not a 3D press: a 2D press by the rig's probe on Yeoh silicone scaled by the linear "
+             "model's 3D/2D ratio")
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel",
                        {"sensitivity": err, "crosstalk": err}, True, notes,
                        "the probe front's estimated error (discretisation + correction + material law, on "
