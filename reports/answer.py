@@ -105,6 +105,23 @@ class FrontAnswer:
                          "presses (the V/N of a light touch)")
     requirements: list = field(default_factory=list)   # optimize.requirements.Requirement, implied ones too
     binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
+    path: Path | None = None                            # the optimization folder (the ladder's records)
+
+    def ladders(self) -> list[dict]:
+        """The model ladder (reports.ladder) of the recommended and the reference design."""
+        from taxel.reports.ladder import ladder
+        if self.path is None:
+            return []
+        out = []
+        for d in (self.recommended, self.thesis):
+            if d is None:
+                continue
+            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+            rungs = ladder(self.path, x, d is self.thesis)
+            if rungs:
+                out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
+                            "rows": [r.row() for r in rungs]})
+        return out
 
     @property
     def reference_name(self) -> str:
@@ -171,13 +188,22 @@ def requirement_rows(a: FrontAnswer) -> list[list[str]]:
     return rows
 
 
+from taxel.reports.ladder import COLS as LADDER_COLS  # noqa: E402  (the ladder's table columns)
+
 REQUIREMENT_COLS = ["requirement", "recommended: prediction", "margin", "reference: prediction", "margin"]
 
 
 def headline_front(folder: Path) -> FrontAnswer | None:
     """The answer an optimization folder holds, from its headline record (the probe
-    front, else the 3D-confirmed front, else a 2D optimum); None when it holds none."""
-    folder = Path(folder)
+    front, else the 3D-confirmed front, else a front, else a 2D optimum); None when it
+    holds none."""
+    a = _headline(Path(folder))
+    if a is not None:
+        a.path = Path(folder)
+    return a
+
+
+def _headline(folder: Path) -> FrontAnswer | None:
     scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
     array = scene.get("array", {})
     geo = _geometry(array)
@@ -390,7 +416,7 @@ def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
     return out
 
 
-def _headline(a: FrontAnswer) -> str:
+def _title(a: FrontAnswer) -> str:
     """One material's recommendation in a line."""
     r = a.recommended
     name = MATERIALS.get(a.thesis.material, a.thesis.material)
@@ -420,13 +446,13 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
                 row["crosstalk"] = percent(d.crosstalk)
             rows.append(row)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
-                      "requirements": requirement_rows(a), "material": MATERIALS.get(a.thesis.material,
+                      "requirements": requirement_rows(a), "ladders": a.ladders(), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
-    title = "Recommended: " + "; ".join(_headline(a) for a in answers)
+    title = "Recommended: " + "; ".join(_title(a) for a in answers)
     cols = list(dict.fromkeys(c for row in rows for c in row))
     return {"title": title, "cols": cols, "rows": [[row.get(c, "—") for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
-            "requirement_cols": REQUIREMENT_COLS,
+            "requirement_cols": REQUIREMENT_COLS, "ladder_cols": LADDER_COLS,
             "verified": any(a.verified for a in answers),
             "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),
             "noise_model": noise.model if noise else None}
