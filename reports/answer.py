@@ -22,6 +22,8 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
+from taxel.reports.ladder import COLS as LADDER_COLS
+from taxel.reports.margins import REQUIREMENT_COLS, requirement_rows
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
@@ -153,44 +155,6 @@ class FrontAnswer:
         return (f"The trade: {'; '.join(parts) or 'the same geometry'}; for {100 * gain:+.2g} % sensitivity and "
                 f"{100 * xt:+.0f} % crosstalk (relative).")
 
-
-def _margin(m: float | None) -> str:
-    """A relative margin in plain words: "+12.3 %", "< 0.01 %", "not evaluated"."""
-    if m is None:
-        return "not evaluated"
-    if m == 0:
-        return "at the bound"
-    if abs(m) < 1e-4:
-        return "< 0.01 %"
-    return f"{100 * m:+.3g} %"
-
-
-def _prediction(metric: str, value: float | None) -> str:
-    from taxel.optimize.metrics import METRIC_TABLE
-    if value is None:
-        return "not evaluated"
-    unit = METRIC_TABLE[metric].unit
-    return percent(value) if unit == "ratio" else eng(value, unit, 3)
-
-
-def requirement_rows(a: FrontAnswer) -> list[list[str]]:
-    """Requirement / prediction / margin of the recommended and the thesis design (the
-    block's requirements table; a requirement implied by the thesis design says so)."""
-    rows = []
-    for q in a.requirements:
-        row = [q.text() + ("" if q.stated else f" ({a.reference_name}'s own)")]
-        for d in (a.recommended, a.thesis):
-            if d is None:
-                row += ["—", "—"]
-                continue
-            row += [_prediction(q.metric, d.values.get(q.metric)), _margin(d.margins.get(q.metric))]
-        rows.append(row)
-    return rows
-
-
-from taxel.reports.ladder import COLS as LADDER_COLS  # noqa: E402  (the ladder's table columns)
-
-REQUIREMENT_COLS = ["requirement", "recommended: prediction", "margin", "reference: prediction", "margin"]
 
 
 def headline_front(folder: Path) -> FrontAnswer | None:
