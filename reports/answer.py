@@ -380,6 +380,11 @@ def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
     return out
 
 
+def _stack(a: FrontAnswer) -> str | None:
+    from taxel.reports.stack import figure
+    return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
+
+
 def _title(a: FrontAnswer) -> str:
     """One material's recommendation in a line."""
     r = a.recommended
@@ -410,7 +415,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
                 row["crosstalk"] = percent(d.crosstalk)
             rows.append(row)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
-                      "requirements": requirement_rows(a), "ladders": a.ladders(), "material": MATERIALS.get(a.thesis.material,
+                      "requirements": requirement_rows(a), "ladders": a.ladders(), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     title = "Recommended: " + "; ".join(_title(a) for a in answers)
     cols = list(dict.fromkeys(c for row in rows for c in row))
