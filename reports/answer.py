@@ -222,7 +222,12 @@ def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]
     ones added), the binding requirement when none meets them all, and the rule."""
     from taxel.optimize.requirements import choose, implied, read
     reqs = implied(read(table or {}), thesis.values)
-    designs = candidates + [thesis]
+
+    def same(d):
+        return all(abs(a - b) < 1e-6 for a, b in ((d.silicone_above_mm, thesis.silicone_above_mm),
+                                                 (d.silicone_below_mm, thesis.silicone_below_mm),
+                                                 (d.gap_mm, thesis.gap_mm)))
+    designs = [d for d in candidates if not same(d)] + [thesis]
     ch = choose([d.values for d in designs], reqs)
     for d, v in zip(designs, ch.verdicts):
         d.margins = v.margins
@@ -344,7 +349,8 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str
     if m.get("sensitivity") is None or m.get("crosstalk") is None:
         return None
     try:
-        ref_x = {k: 1e3 * magnitude(v) for k, v in load_optimization(folder.name).spec.reference.items()}
+        spec = load_optimization(folder.name).spec
+        ref_x = {k: 1e3 * magnitude(v) for k, v in spec.reference.items()}
     except Exception:                       # not a built-in problem: no thesis design to compare with
         return None
     names = list(rec["x"])
@@ -354,13 +360,15 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str
         return None
     tm = start[0]
     thesis = _design("thesis", ref_x, geo, material, tm["sensitivity"], tm["crosstalk"])
-    best = _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])
+    best, reqs, binding, rule = _recommend(spec.requirements, thesis, [
+        _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])])
     from taxel.reports.findings import scene_model_label
     model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "
              "in 3D")
     # the 2D model's error against 3D is measured on the full run (front-3d.json): unknown here
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
-                       False, ["Recommended: the short local search's best design (taxel demo --small)."])
+                       False, rule + ["The candidate: the short local search's best design (taxel demo --small)."],
+                       requirements=reqs, binding=binding)
 
 
 def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:

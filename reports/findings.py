@@ -118,7 +118,8 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[Banner]:
 
 
 _OUTPUT_KEYS = {"status", "pressed_voltage", "voltage_pressed", "sensitivity", "max_strain", "seconds", "error",
-                "crosstalk"}
+                "crosstalk", "charge_sensitivity", "readout_sensitivity", "readout_crosstalk", "min_detectable_force",
+                "force_range"}
 
 
 def frequency_banners(result) -> list[Banner]:

@@ -349,7 +349,7 @@ def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path
             if page.stem == "index":
                 assert info["answer"] is not None and info["answer"] < 120     # on top of the first screen
                 for item in ("recommended", "thesis", "silicone above (mm)", "gap (mm)", "pitch (mm)",
-                             "sensitivity", "crosstalk", "Model:", "Crosstalk:", "trade"):
+                             "sensitivity", "crosstalk", "Model:", "Crosstalk:", "requirement", "margin"):
                     assert item in info["answer_text"], item
             # the full page too, for a person looking at the artifacts
             height = b.js("document.documentElement.scrollHeight")
@@ -357,6 +357,15 @@ def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path
                    deviceScaleFactor=1, mobile=False)
             b.screenshot(shots / f"{page.stem}.png")
     assert (shots / "index-first-screen.png").stat().st_size > 20000
+
+
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
+def test_every_page_reads_in_plain_language(demo):
+    """No page of the main job's report shows a code identifier or a number of more than 4
+    significant figures (reports.plain: the text a browser shows, <pre>/<code> aside)."""
+    from taxel.reports.plain import problems
+    found = {p.name: problems(p.read_text(encoding="utf-8")) for p in pages(demo)}
+    assert not any(found.values()), {k: v for k, v in found.items() if v}
 
 
 def test_the_answer_and_banners_of_a_3d_verified_front(tmp_path):
