@@ -37,6 +37,7 @@ CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circui
 
 
 MATERIALS = {"PSI-5H4E": "PZT (PSI-5H4E)"}
+READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 
 def _band(value: float, rel: float, unit: str) -> str:
@@ -63,20 +64,44 @@ class AnswerDesign:
     values: dict = field(default_factory=dict)        # metric -> SI value, for the requirements
     margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
 
+    def records(self, error: dict, model: str) -> list[dict]:
+        """answer.csv's rows of this design: one quantity each, numeric value, relative error
+        (empty: not estimated) and SI unit."""
+        from math import isfinite
+        out = []
+        for q, v, unit, err in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
+                                ("silicone below", 1e-3 * self.silicone_below_mm, "m", None),
+                                ("gap", 1e-3 * self.gap_mm, "m", None), ("pitch", 1e-3 * self.pitch_mm, "m", None),
+                                ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", error["sensitivity"]),
+                                ("open-circuit crosstalk", self.crosstalk, "1", error["crosstalk"]),
+                                ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N", None),
+                                ("charge per newton", self.values.get("charge_sensitivity"), "C/N", None),
+                                ("minimum detectable force", self.min_detectable_force_N, "N", None),
+                                ("force range to saturation", self.values.get("force_range"), "N", None)):
+            if v is not None:
+                out.append({"design": self.role, "material": MATERIALS.get(self.material, self.material),
+                            "quantity": q, "value": v, "relative error": err if err is not None and isfinite(err)
+                            else "", "unit": unit, "model": model})
+        return out
+
     def row(self, error: dict) -> dict:
         """The answer table's row."""
         return {"design": self.role, "material": MATERIALS.get(self.material, self.material),
                 "silicone above (mm)": f"{self.silicone_above_mm:.2f}",
                 "silicone below (mm)": f"{self.silicone_below_mm:.2f}", "gap (mm)": f"{self.gap_mm:.2f}",
                 "pitch (mm)": f"{self.pitch_mm:.2f}",
-                "sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
-                "crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
+                "open-circuit sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
+                "open-circuit crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
                 "min. detectable force": (eng(self.min_detectable_force_N, "N", 3)
                                           if self.min_detectable_force_N else "not computed"),
                 **({"sensitivity at the readout": eng(self.values["readout_sensitivity"], "V/N", 3)}
                    if self.values.get("readout_sensitivity") is not None else {}),
                 **({"crosstalk at the readout": percent(self.values["readout_crosstalk"])}
-                   if self.values.get("readout_crosstalk") is not None else {})}
+                   if self.values.get("readout_crosstalk") is not None else {}),
+                **({"charge per newton": eng(self.values["charge_sensitivity"], "C/N", 3)}
+                   if self.values.get("charge_sensitivity") is not None else {}),
+                **({"force range to saturation": eng(self.values["force_range"], "N", 3)}
+                   if self.values.get("force_range") is not None else {})}
 
 
 class NoiseFloor(NamedTuple):
@@ -108,6 +133,7 @@ class FrontAnswer:
     requirements: list = field(default_factory=list)   # optimize.requirements.Requirement, implied ones too
     binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
     path: Path | None = None                            # the optimization folder (the ladder's records)
+    chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
@@ -164,7 +190,26 @@ def headline_front(folder: Path) -> FrontAnswer | None:
     a = _headline(Path(folder))
     if a is not None:
         a.path = Path(folder)
+        _through_readout(a, Path(folder) / READOUT_FILE)
     return a
+
+
+def _through_readout(a: FrontAnswer, path: Path) -> None:
+    """The designs' numbers through the bench's chain (READOUT_FILE), when the run wrote them."""
+    if not path.exists():
+        return
+    rec = json.loads(path.read_text())
+    for r in rec["designs"]:
+        d = a.recommended if r["role"] == "recommended" else a.thesis
+        if d is None or abs(r["x_mm"]["gap"] - d.gap_mm) > 1e-6 or \
+                abs(r["x_mm"]["silicone_above"] - d.silicone_above_mm) > 1e-6:
+            continue                                     # written for another answer: not this design's
+        d.values.update(charge_sensitivity=r["charge_sensitivity_C_per_N"], readout_sensitivity=r["readout_V_per_N"],
+                        min_detectable_force=r["min_detectable_force_N"], force_range=r["force_range_N"])
+        d.min_detectable_force_N = r["min_detectable_force_N"]
+        a.chain = (f"through the thesis bench's charge amplifier and notch with the rig's mains hum "
+                   f"({100 * r['hum_share']:.3g} % of the noise), {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz: from the "
+                   "answer's own sensitivity and the design's capacitance (its 2D section)")
 
 
 def _headline(folder: Path) -> FrontAnswer | None:
@@ -388,6 +433,28 @@ def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
     return out
 
 
+def preference(answers: list[FrontAnswer]) -> str | None:
+    """Why one material is preferred: the design each material recommends (or keeps),
+    compared through the readout (charge per newton, volts at the output, minimum
+    detectable force, saturation); None without the readout numbers of two materials."""
+    ds = [(MATERIALS.get(a.thesis.material, a.thesis.material), a.recommended or a.thesis) for a in answers]
+    if len(ds) < 2 or any(d.values.get("min_detectable_force") is None for _, d in ds):
+        return None
+    (bn, b), *rest = sorted(ds, key=lambda nd: nd[1].values["min_detectable_force"])
+    on, o = rest[0]
+    v = b.values
+    text = (f"{bn} is preferred for these requirements: through the bench's charge amplifier it gives "
+            f"{eng(v['charge_sensitivity'], 'C/N', 3)} ({eng(v['readout_sensitivity'], 'V/N', 3)} at the output) "
+            f"against {eng(o.values['charge_sensitivity'], 'C/N', 3)} "
+            f"({eng(o.values['readout_sensitivity'], 'V/N', 3)}) for {on}, so it detects "
+            f"{eng(v['min_detectable_force'], 'N', 3)} against {eng(o.values['min_detectable_force'], 'N', 3)}, "
+            f"and saturates at {eng(v['force_range'], 'N', 3)}.")
+    if o.sensitivity_V_per_N > b.sensitivity_V_per_N:
+        text += (f" {on}'s open-circuit voltage is higher ({eng(o.sensitivity_V_per_N, 'V/N', 3)} against "
+                 f"{eng(b.sensitivity_V_per_N, 'V/N', 3)}), but a charge amplifier reads charge, not voltage.")
+    return text
+
+
 def _stack(a: FrontAnswer) -> str | None:
     from taxel.reports.stack import figure
     return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
@@ -410,18 +477,19 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
     detectable force, shown for the design it is of (a single taxel of that design)."""
     if not answers:
         return None
-    rows, lines = [], []
+    rows, lines, records = [], [], []
     for a in answers:
-        if noise and noise.of(a.thesis):
+        if noise and noise.of(a.thesis) and a.thesis.values.get("min_detectable_force") is None:
             a.thesis.min_detectable_force_N = noise.force_N
         for d in (a.recommended, a.thesis):
             if d is None:
                 continue
             row = d.row(a.error)
             if not a.verified:
-                row["sensitivity"] = eng(d.sensitivity_V_per_N, "V/N", 3) + " (error not estimated)"
-                row["crosstalk"] = percent(d.crosstalk)
+                row["open-circuit sensitivity"] = eng(d.sensitivity_V_per_N, "V/N", 3) + " (error not estimated)"
+                row["open-circuit crosstalk"] = percent(d.crosstalk)
             rows.append(row)
+            records += d.records(a.error, a.model)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "ladders": a.ladders(), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
@@ -429,7 +497,8 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
     cols = list(dict.fromkeys(c for row in rows for c in row))
     return {"title": title, "cols": cols, "rows": [[row.get(c, "—") for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
-            "requirement_cols": REQUIREMENT_COLS, "ladder_cols": LADDER_COLS,
+            "records": records, "requirement_cols": REQUIREMENT_COLS, "ladder_cols": LADDER_COLS, "preference": preference(answers),
+            "chain": next((a.chain for a in answers if a.chain), None),
             "verified": any(a.verified for a in answers),
             "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),
             "noise_model": noise.model if noise else None}

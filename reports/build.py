@@ -385,11 +385,10 @@ def answer_block(folders, out: Path) -> dict | None:
     blk = answer.block(answers, force)
     if blk is not None:
         blk["folders"] = [a.folder for a in answers]
-        with open(out / "answer.csv", "w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh)
-            w.writerow(blk["cols"] + ["model"])
-            for row, role in zip(blk["rows"], blk["roles"]):
-                w.writerow(row + [next(a.model for a in answers)])
+        with open(out / "answer.csv", "w", newline="", encoding="utf-8") as fh:   # numeric: value, error, unit
+            w = csv.DictWriter(fh, fieldnames=list(blk["records"][0]))
+            w.writeheader()
+            w.writerows(blk["records"])
         blk["csv"] = "answer.csv"
         blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
                         if f.name.endswith(("-thesis-3d", "-recommended-3d"))]
