@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
 from taxel.reports.ladder import COLS as LADDER_COLS
-from taxel.reports.margins import REQUIREMENT_COLS, requirement_rows
+from taxel.reports.margins import REQUIREMENT_COLS, limits, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
@@ -491,7 +491,8 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
             rows.append(row)
             records += d.records(a.error, a.model)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
-                      "requirements": requirement_rows(a), "ladders": a.ladders(), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
+                      "requirements": requirement_rows(a), "ladders": a.ladders(), "limits": limits(a),
+                      "risks": risks(a), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     title = "Recommended: " + "; ".join(_title(a) for a in answers)
     cols = list(dict.fromkeys(c for row in rows for c in row))

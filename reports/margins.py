@@ -44,3 +44,33 @@ def requirement_rows(a) -> list[list[str]]:
 
 REQUIREMENT_COLS = ["requirement", "recommended: prediction", "margin", "reference: prediction", "margin"]
 
+
+
+def limits(a) -> str:
+    """What limits the design the answer gives (a reports.answer.FrontAnswer): the
+    requirement that binds, else those it meets with less than 1 % to spare."""
+    if a.binding is not None:
+        q = next(r for r in a.requirements if r.metric == a.binding[0])
+        return (f"No design found meets every requirement; the closest misses {q.text()} by "
+                f"{100 * abs(a.binding[1]):.3g} %.")
+    d = a.recommended or a.thesis
+    tight = [q for q in a.requirements if q.stated and d.margins.get(q.metric) is not None
+             and d.margins[q.metric] < 0.01]
+    if not tight:
+        return "No stated requirement is within 1 % of its bound."
+    return "What limits it: " + ", ".join(f"{q.text()} ({_margin(d.margins[q.metric])})" for q in tight) + "."
+
+
+def risks(a) -> list[str]:
+    """The top risks of the answer's numbers, in words."""
+    out = []
+    err = a.error.get("sensitivity")
+    if err == err and err is not None and err > 0.02:
+        out.append(f"the numbers are an estimate with {100 * err:.2g} % error, above the 2 % a 3D press by the "
+                   "rig's probe would give")
+    if err != err:
+        out.append("the numbers' error against 3D is not estimated")
+    if a.chain and "hum" in a.chain:
+        out.append("mains hum sets the minimum detectable force: the notch and the wiring matter more than the "
+                   "design")
+    return out
