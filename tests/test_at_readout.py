@@ -71,6 +71,7 @@ def test_a_resistor_above_its_corner_reads_the_open_circuit_voltage(solved):
     assert a.sensitivity == pytest.approx(abs(res.outputs()["sensitivity"]), rel=1e-3)
 
 
+@pytest.mark.slow      # two 2D study points through the store (about 8 s)
 def test_a_study_of_a_readout_scene_gives_the_readout_columns(tmp_path):
     """A study whose scene names a charge amplifier: results.csv holds the readout's V/N,
     its crosstalk, the minimum detectable force and the force range beside the
@@ -105,6 +106,7 @@ def _readout_scene(tmp_path, circuit='"charge_amplifier"'):
     return tmp_path / "ca.toml"
 
 
+@pytest.mark.slow      # a two-evaluation optimization (about 5 s)
 def test_an_optimization_on_a_readout_scene_reports_the_readout(tmp_path):
     """The optimizer's metrics of a base scene naming a charge amplifier hold the
     readout's V/N and crosstalk; a requirement on them is met or missed by those numbers;
