@@ -208,8 +208,10 @@ def _through_readout(a: FrontAnswer, path: Path) -> None:
                         min_detectable_force=r["min_detectable_force_N"], force_range=r["force_range_N"])
         d.min_detectable_force_N = r["min_detectable_force_N"]
         a.chain = (f"through the thesis bench's charge amplifier and notch with the rig's mains hum "
-                   f"({100 * r['hum_share']:.3g} % of the noise), {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz: from the "
-                   "answer's own sensitivity and the design's capacitance (its 2D section)")
+                   f"({100 * r['hum_share']:.3g} % of the noise), noise band {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz"
+                   + (f", the amplifier's bandwidth {eng(r['bandwidth_Hz'][0], 'Hz', 3)} to "
+                      f"{eng(r['bandwidth_Hz'][1], 'Hz', 3)}" if r.get("bandwidth_Hz") else "")
+                   + ": from the answer's own sensitivity and the design's capacitance (its 2D section)")
 
 
 def _headline(folder: Path) -> FrontAnswer | None:

@@ -45,6 +45,7 @@ def answer_readout(front_dir: Path) -> Path | None:
     chain = to_data(api.load(CHAIN_SCENE))["readout"]
     chain["hum"] = [f"{v:g} V" for v in Settings().hum_V]          # the simulated rig's mains pickup
     rig = load_rig(RIG)
+    r = api.load(CHAIN_SCENE).readout
     rows = []
     for d in (a.recommended, a.thesis):
         if d is None:
@@ -63,6 +64,8 @@ def answer_readout(front_dir: Path) -> Path | None:
                      "readout_V_per_N": float(np.max(nr.gain)), "band_Hz": list(nr.band),
                      "min_detectable_force_N": nr.min_detectable_force, "force_range_N": nr.saturation_force,
                      "saturation_by": nr.saturation_by, "hum_share": shares.get("hum residual", 0.0),
+                     # the charge amplifier's corners: 1 / (2 pi R_f C_f) and 1 / (2 pi R_i (C_p + C_c))
+                     "bandwidth_Hz": [1 / (2 * np.pi * r.R_f * r.C_f), 1 / (2 * np.pi * r.R_i * (c_p + r.C_c))],
                      "largest_noise_source": max(shares, key=shares.get)})
     out = Path(front_dir) / READOUT_FILE
     out.write_text(json.dumps({"chain": f"{CHAIN_SCENE} readout with the simulated rig's hum, {RIG} ADC",
