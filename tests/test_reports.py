@@ -427,3 +427,17 @@ def test_probe_front_blocks_read_as_text_not_dumps():
     assert not re.search(r"\{'|\[\d+, \d+", texts), texts
     assert "changes under the probe" in texts and "dominated by 1 front design" in texts
     assert len(caption("pareto-probe.png")) > 20
+
+
+def test_a_user_silicone_is_checked_as_unfitted():
+    """A static solve on the user's own Yeoh silicone (no fitted strain range stated) past
+    the linear range: a range banner names the law as theirs and unfitted, with the strain."""
+    from taxel import api
+    from taxel.reports.findings import static_banners
+    scene = api.load("thesis-pvdf-3x3-2d").replace(**{
+        "materials": {"soft-gel": {"kind": "solid", "C10": "20 kPa", "C20": "0.3 kPa", "C30": "0 Pa",
+                                   "K": "40 MPa", "rho": "1070 kg/m^3"}},
+        "array.silicone": "soft-gel", "mesh.size": "1 mm"})
+    sol = api.solve(scene)
+    texts = [b.text for b in static_banners(sol) if b.kind == "range"]
+    assert any("Your silicone 'soft-gel' is unfitted" in t and f"{100 * sol.max_strain:.3g} %" in t for t in texts)
