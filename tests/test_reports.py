@@ -441,3 +441,24 @@ def test_a_user_silicone_is_checked_as_unfitted():
     sol = api.solve(scene)
     texts = [b.text for b in static_banners(sol) if b.kind == "range"]
     assert any("Your silicone 'soft-gel' is unfitted" in t and f"{100 * sol.max_strain:.3g} %" in t for t in texts)
+
+
+def test_a_contact_probe_is_drawn_as_the_probe_it_is():
+    """A cylinder probe's scene drawing holds a circle of its radius resting on the surface,
+    and no pressure arrows; a pressure load keeps its arrows."""
+    from matplotlib.patches import Circle
+    from taxel import api
+    from taxel.reports.figures import scene_drawing
+    sc = api.load("thesis-pzt-probe-2d").replace(**{"load.shape": "cylinder"})
+    ax = scene_drawing(sc).axes[0]
+    circles = [p for p in ax.patches if isinstance(p, Circle)]
+    assert len(circles) == 1 and circles[0].radius == pytest.approx(1e3 * sc.load.radius)
+    from matplotlib.colors import to_rgba
+    from matplotlib.text import Annotation
+
+    def load_arrows(a):
+        return [t for t in a.texts if isinstance(t, Annotation) and t.arrow_patch is not None
+                and tuple(t.arrow_patch.get_edgecolor()) == to_rgba("crimson")]
+    assert not load_arrows(ax)
+    ax2 = scene_drawing(api.load("thesis-pzt-3x3-2d")).axes[0]
+    assert not [p for p in ax2.patches if isinstance(p, Circle)] and len(load_arrows(ax2)) == 7
