@@ -22,15 +22,10 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS
+from taxel.reports.ladder import COLS as LADDER_COLS, VERIFY_3D_ERROR
 from taxel.reports.margins import REQUIREMENT_COLS, limits, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
-
-# The error of the coarse verification mesh (optimize.multifidelity.VERIFY_3D) against the
-# 3D reference: 0.2-3.8 % in voltage (taxel.analyses.error_estimate, measured on the thesis
-# PZT taxel) and 3-6 % on the 3x3 array (optimize.multifidelity, step 6): the worst of each.
-VERIFY_3D_ERROR = {"sensitivity": 0.038, "crosstalk": 0.06}
 
 CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circuit |V| divided by the pressed "
                         "taxel's, for a press on the middle taxel of the 3x3 array.")

@@ -22,14 +22,24 @@ def solved():
 
 
 def _with(scene, result, **readout):
+    from taxel.analyses.at_readout import at_readout
     from taxel.analyses.results import StaticResult
-    return StaticResult(scene.replace(**{f"readout.{k}": v for k, v in readout.items()}), result.solution,
-                        {}, result.model_note)
+    r = StaticResult(scene.replace(**{f"readout.{k}": v for k, v in readout.items()}), result.solution,
+                     {}, result.model_note)
+    r.readout = at_readout(r)
+    return r
 
 
 def test_open_circuit_has_no_readout_numbers(solved):
     scene, res = solved
     assert res.at_readout() is None and "readout_sensitivity" not in res.outputs()
+
+
+def test_taxel_solve_of_a_readout_scene_gives_its_numbers():
+    """taxel.analyses.solve attaches the readout's numbers to a scene naming one."""
+    scene = api.load("thesis-pzt-3x3-2d").replace(**{"readout.circuit": "charge_amplifier", "mesh.size": "1 mm"})
+    res = api.solve(scene)
+    assert res.at_readout() is not None and res.outputs()["readout_sensitivity"] > 0
 
 
 def test_charge_amplifier_matches_its_closed_form(solved):
@@ -53,6 +63,10 @@ def test_charge_amplifier_matches_its_closed_form(solved):
     assert abs(out["sensitivity"]) != pytest.approx(a.sensitivity, rel=0.1)      # not the open-circuit V/N
     lines = "\n".join(r.summary())
     assert "at the readout (charge-amplifier output" in lines and "open circuit" in lines
+    # written and read back: the same numbers
+    from taxel.analyses.results import StaticResult
+    back = StaticResult.from_record(r.scene, r.record())
+    assert back.at_readout() == a and back.outputs()["readout_sensitivity"] == a.sensitivity
 
 
 def test_hum_raises_the_minimum_detectable_force(solved):

@@ -27,60 +27,27 @@ below the first resonance); uncorrelated noise sources.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+from taxel.analyses.results.readout import READOUT_OUTPUTS, AtReadout
 from taxel.scene import SceneError
-from taxel.units import engineering
 
-# the named outputs a static result adds when its scene names a readout (SI)
-READOUT_OUTPUTS = {"readout_sensitivity": "V/N", "readout_crosstalk": "", "min_detectable_force": "N",
-                   "force_range": "N"}
+__all__ = ["READOUT_OUTPUTS", "AtReadout", "at_readout"]
 
 
-@dataclass(frozen=True)
-class AtReadout:
-    """The pressed taxel's numbers through the readout chain (SI)."""
-    label: str                      # what the chain outputs, in words
-    band: tuple[float, float]       # Hz
-    frequency: float                # where the readout sensitivity peaks, Hz
-    sensitivity: float              # V/N at the readout output
-    charge_sensitivity: float       # C/N (short-circuit)
-    crosstalk: float | None         # at the readout
-    min_detectable_force: float     # N rms in the band
-    force_range: float              # N to saturation (inf without a clipping stage)
-    saturation_by: str              # "amplifier", "ADC" or "none"
-
-    def outputs(self) -> dict[str, float | None]:
-        return {"readout_sensitivity": self.sensitivity, "readout_crosstalk": self.crosstalk,
-                "min_detectable_force": self.min_detectable_force,
-                "force_range": self.force_range if np.isfinite(self.force_range) else None}
-
-    def lines(self, open_circuit: dict) -> list[str]:
-        """For a person: the readout's numbers beside the open-circuit ones."""
-        xt = "" if self.crosstalk is None else (
-            f", crosstalk {100 * self.crosstalk:.3g} %" + (f" (open circuit {100 * open_circuit['crosstalk']:.3g} %)"
-                                                           if open_circuit.get("crosstalk") is not None else ""))
-        rng = (f"saturates at {engineering(self.force_range, 'N', 3)} ({self.saturation_by})"
-               if np.isfinite(self.force_range) else "no clipping stage")
-        return [f"at the readout ({self.label}, {self.band[0]:g}-{self.band[1]:g} Hz): "
-                f"{engineering(self.sensitivity, 'V/N', 3)} at {self.frequency:.3g} Hz (open circuit "
-                f"{engineering(abs(open_circuit['sensitivity']), 'V/N', 3)}), "
-                f"{engineering(self.charge_sensitivity, 'C/N', 3)}{xt}",
-                f"  minimum detectable force {engineering(self.min_detectable_force, 'N', 3)} rms in the band; {rng}"]
-
-
-def at_readout(scene, voltages: dict[str, float], charges: dict[str, float], pressed: str | None,
-               force: float, rig=None) -> AtReadout | None:
-    """The readout's numbers of a static solve (per-taxel open-circuit voltages and
-    short-circuit charges at `force`, N), None when the scene's readout is the open
-    circuit, or there is no pressed taxel with a voltage and a charge."""
+def at_readout(result, rig=None) -> AtReadout | None:
+    """The readout's numbers of a static solve (a StaticResult: per-taxel open-circuit
+    voltages and short-circuit charges at its applied force), None when the scene's
+    readout is the open circuit, or there is no pressed taxel with a voltage and a charge."""
     from taxel.analyses.noise import quasi_static_noise
+    scene = result.scene
     if scene.readout.circuit == "open" or scene.array is None:
         return None
-    force = abs(force) or 1.0
-    p = pressed if pressed in voltages else next(iter(voltages), None)
+    taxels = {k: e for k, e in result.electrodes.items() if e.state != "reference"}
+    voltages = {k: e.voltage for k, e in taxels.items()}
+    charges = {k: e.short_circuit_charge for k, e in taxels.items()}
+    force = abs(result.applied_force) or 1.0
+    p = result.pressed if result.pressed in voltages else next(iter(voltages), None)
     if p is None or not voltages[p] or not charges.get(p):
         return None
     try:
