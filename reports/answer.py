@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
 from taxel.reports.ladder import COLS as LADDER_COLS, VERIFY_3D_ERROR
-from taxel.reports.margins import REQUIREMENT_COLS, limits, requirement_rows, risks
+from taxel.reports.margins import limits, requirement_cols, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
@@ -462,7 +462,7 @@ def _title(a: FrontAnswer) -> str:
     r = a.recommended
     name = MATERIALS.get(a.thesis.material, a.thesis.material)
     if r is None:
-        return f"{name}, keep {a.reference_name.removeprefix('the ')}" + (
+        return f"{name}, keep {a.reference_name}" + (
             " (no design meets every requirement)" if a.binding else "")
     return (f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap "
             f"{r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} crosstalk")
@@ -488,14 +488,15 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
             rows.append(row)
             records += d.records(a.error, a.model)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
-                      "requirements": requirement_rows(a), "ladders": a.ladders(), "limits": limits(a),
+                      "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
+                      "ladders": a.ladders(), "limits": limits(a),
                       "risks": risks(a), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     title = "Recommended: " + "; ".join(_title(a) for a in answers)
     cols = list(dict.fromkeys(c for row in rows for c in row))
     return {"title": title, "cols": cols, "rows": [[row.get(c, "—") for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
-            "records": records, "requirement_cols": REQUIREMENT_COLS, "ladder_cols": LADDER_COLS, "preference": preference(answers),
+            "records": records, "ladder_cols": LADDER_COLS, "preference": preference(answers),
             "chain": next((a.chain for a in answers if a.chain), None),
             "verified": any(a.verified for a in answers),
             "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),

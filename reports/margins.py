@@ -28,21 +28,25 @@ def _prediction(metric: str, value: float | None) -> str:
 
 def requirement_rows(a) -> list[list[str]]:
     """Requirement / prediction / margin of the recommended and the reference design of
-    `a` (a reports.answer.FrontAnswer: the block's requirements table; a requirement
-    implied by the reference design says so)."""
+    `a` (a reports.answer.FrontAnswer: the block's requirements table, columns
+    `requirement_cols(a)`; the recommended design's columns only when there is one; a
+    requirement implied by the reference design says so)."""
     rows = []
     for q in a.requirements:
         row = [q.text() + ("" if q.stated else f" ({a.reference_name}'s own)")]
         for d in (a.recommended, a.thesis):
-            if d is None:
-                row += ["—", "—"]
-                continue
-            row += [_prediction(q.metric, d.values.get(q.metric)), _margin(d.margins.get(q.metric))]
+            if d is not None:
+                row += [_prediction(q.metric, d.values.get(q.metric)), _margin(d.margins.get(q.metric))]
         rows.append(row)
     return rows
 
 
-REQUIREMENT_COLS = ["requirement", "recommended: prediction", "margin", "reference: prediction", "margin"]
+def requirement_cols(a) -> list[str]:
+    """The requirements table's columns for `a`."""
+    ref = [f"{a.reference_name.removeprefix('the ')}{'' if a.recommended else ' (kept)'}: prediction", "margin"]
+    return ["requirement"] + (["recommended: prediction", "margin"] if a.recommended else []) + ref
+
+
 
 
 

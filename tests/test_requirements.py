@@ -102,8 +102,10 @@ def test_block_shows_requirement_prediction_margin_per_material(tmp_path):
     for line, a in zip(blk["lines"], answers):
         rows = line["requirements"]
         assert [r[0] for r in rows[:3]] == ["pitch ≤ 7 mm", "total thickness ≤ 2.13 mm", "gap ≥ 1 mm"]
-        assert rows == requirement_rows(a) and all(len(r) == len(blk["requirement_cols"]) for r in rows)
-        assert rows[0][3] == "7 mm" and rows[0][4] == "at the bound"       # the thesis design's pitch
+        assert rows == requirement_rows(a) and all(len(r) == len(line["requirement_cols"]) for r in rows)
+        assert rows[0][-2] == "7 mm" and rows[0][-1] == "at the bound"     # the thesis design's pitch
+        assert line["requirement_cols"][-2] == ("thesis design (kept): prediction" if a.recommended is None
+                                                 else "thesis design: prediction")
     assert blk["title"].count(";") == 1                                    # one recommendation per material
 
 
