@@ -5,8 +5,9 @@ printed to more than 4 significant figures.
 <pre>/<code> blocks that show a file or a command on purpose) and returns each
 offence with a few words around it:
 
-  - a code identifier (not a file path, an electrode's name nor a plural "(s)"): a snake_case name (`min_detectable_force`), a dotted module
-    path (`optimize.probe_front`), an UPPER_CASE constant (`PRODUCT_ERROR`), a call
+  - a code identifier (not a file path, an electrode's name nor a plural "(s)"): a
+    snake_case name (`min_detectable_force`), a dotted module path
+    (`optimize.probe_front`), an UPPER_CASE constant (`PRODUCT_ERROR`), a call
     (`headline_front(`) or a Python repr (`{'`, `[0.2, `);
   - a number of more than 4 significant figures (`0.7386685`, `1.8000000000000002e-08`);
     digits of a date, a time of day, a version or a file name are not numbers, and a
