@@ -214,3 +214,16 @@ def test_every_answer_row_has_its_readout_numbers_and_csv_is_numeric(through_rea
     for r in rows:
         float(r["value"])
         assert r["unit"] and (r["relative error"] == "" or 0 < float(r["relative error"]) < 1)
+
+
+def test_an_optimization_whose_every_evaluation_fails_says_so():
+    """The driver returns an unsuccessful result naming the failure (a front then drops the
+    run and its summary says so) instead of crashing on a missing objective."""
+    import numpy as np
+    from taxel.optimize.driver import minimize
+
+    def evaluate(x):
+        return {"sensitivity": None, "crosstalk": None}
+    r = minimize(evaluate, np.array([0.5]), [(0.0, 1.0)], "sensitivity", [("crosstalk", "<=", 0.1)],
+                 maximize=True, global_alg=None, local_alg="COBYLA", max_evals=4, xtol=0.02)
+    assert not r.success and "every evaluation failed" in r.message
