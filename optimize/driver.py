@@ -128,6 +128,9 @@ def minimize(evaluate, x0, bounds, objective: str, constraints=(), maximize=Fals
     best_u = _best(memo, objective, cons, sign)
     m = memo(best_u)
     g = {f"{c[0]} {c[1]} {c[2]:g}": violation(m, c) for c in cons}
+    if m[objective] is None:                  # every evaluation failed: say so, do not crash
+        return Result(memo.x(best_u), float("inf"), m, g, len(memo.history), False,
+                      "; ".join(messages + ["no design could be evaluated (every evaluation failed)"]), memo.history)
     ok = all(v <= 1e-9 for v in g.values())
     return Result(memo.x(best_u), sign * m[objective], m, g, len(memo.history), ok,
                   "; ".join(messages) + ("" if ok else "; no feasible design found"), memo.history)

@@ -100,6 +100,7 @@ class MultiFidelity:
                 "cheap_front": [row(d) for d in self.cheap_front], "verified": [row(d) for d in self.verified],
                 "front_3d": [row(d) for d in self.front_3d], "reference": row(self.reference),
                 "rounds": self.rounds, "plan": self.plan, "spent": self.spent, "answer": a,
+                "requirements": dict(problem.spec.requirements),
                 "sentence": sentence(problem, a)}
 
     def summary(self) -> list[str]:
@@ -334,21 +335,21 @@ def answer(mf: MultiFidelity) -> dict:
 
 def sentence(problem, a: dict) -> str:
     t = a["thesis_3d"]
-    head = (f"In 3D the thesis design gives {t['sensitivity_V_per_N']:.3f} V/N at {100 * t['crosstalk']:.2f} % "
+    head = (f"In 3D the thesis design gives {t['sensitivity_V_per_N']:.3g} V/N at {100 * t['crosstalk']:.2f} % "
             f"crosstalk; it is {'on' if a['thesis_on_3d_front'] else 'not on'} the 3D-verified front.")
     b = a.get("best_at_or_below_thesis_crosstalk")
     if b and not a["thesis_on_3d_front"]:
         x = ", ".join(f"{n.replace('_', ' ')} {v:.2f} {u}" for n, v, u in zip(problem.names, b["x"], problem.units))
-        head += (f" The 3D front offers {b['sensitivity_V_per_N']:.3f} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
+        head += (f" The 3D front offers {b['sensitivity_V_per_N']:.3g} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
                  f"at {100 * b['crosstalk']:.2f} % crosstalk ({x}).")
     c = a.get("confirmed")
     if c:
         t = c["thesis"]
         head += (f" On the finer 3D mesh ({CONFIRM_3D['mesh.size']}, {CONFIRM_3D['mesh.piezo_size']} at the taxels): the thesis design "
-                 f"{t['sensitivity_V_per_N']:.3f} V/N at {100 * t['crosstalk']:.2f} %")
+                 f"{t['sensitivity_V_per_N']:.3g} V/N at {100 * t['crosstalk']:.3g} %")
         if "best" in c:
             b = c["best"]
-            head += (f", the front's design {b['sensitivity_V_per_N']:.3f} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
+            head += (f", the front's design {b['sensitivity_V_per_N']:.3g} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
                      f"at {100 * b['crosstalk']:.2f} %")
         head += "."
     return head

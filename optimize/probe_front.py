@@ -98,6 +98,7 @@ class ProbeFront:
                 "press": problem.spec.press.model_dump(), "verify_3d": VERIFY_3D, "press_3d_model": self.fine_model,
                 "front": self.front, "reference": self.reference, "movements": self.movements,
                 "ranking": self.ranking, "rounds": self.rounds, "spent": self.spent,
+                "requirements": dict(problem.spec.requirements),
                 "definitions": DEFINITIONS, "sentence": sentence(self)}
 
     def summary(self, problem) -> list[str]:
@@ -131,7 +132,7 @@ DEFINITIONS = {
     "tangent_sensitivity": "|dV/dF| at F (small-signal slope, V/N)",
     "crosstalk": "largest neighbour |V| / pressed |V| of the same press at F",
     "estimated error": "discretisation + correction + material law, relative, on sensitivity; a 3D-pressed "
-                       "design's is the error estimator's for its press (taxel.analyses.error_estimate)"}
+                       "design's is the error estimator's for its press (on a mesh twice as coarse)"}
 
 
 def _solver(problem, model: dict | None, workers: int, results: dict | None = None):
@@ -372,9 +373,12 @@ def sentence(pf: ProbeFront) -> str:
     ref = pf.reference
     if ref.get("sensitivity (V/N)") is None:
         return "The thesis design could not be pressed."
-    head = (f"Under the probe ({pf.level}) the thesis design gives {ref['sensitivity (V/N)']:.3f} V/N at "
-            f"{100 * ref['crosstalk']:.2f} % crosstalk; it is "
-            f"{'dominated by ' + str(pf.ranking['designs dominating the thesis (probe)']) + ' front designs' if pf.ranking.get('thesis dominated (probe)') else 'on the probe front'}.")
+    n = pf.ranking.get("designs dominating the thesis (probe)", 0)
+    level = "3D presses" if pf.level == "3D press" else "a 2D press scaled by the linear 3D/2D ratio"
+    head = (f"Under the probe ({level}) the thesis design gives {ref['sensitivity (V/N)']:.3g} V/N at "
+            f"{100 * ref['crosstalk']:.3g} % crosstalk; "
+            + (f"{n} front design{' is' if n == 1 else 's are'} at least as sensitive with less crosstalk."
+               if pf.ranking.get("thesis dominated (probe)") else "it is on the probe front."))
     moved = [m for m in pf.movements if not m.get("thesis design")]
     if moved:
         ds = [100 * m["sensitivity moved"] for m in moved]

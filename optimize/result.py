@@ -27,6 +27,19 @@ import numpy as np
 from taxel.optimize.driver import Result, pareto_front, violation
 
 RESULT_FILE = "result.json"
+# a base scene naming a readout: its numbers beside the open circuit's (taxel.analyses.at_readout)
+AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force")
+
+
+def _at_readout(m: dict) -> str:
+    """"; at the readout 2.93 V/N, crosstalk 7.54 %, minimum detectable force 397 uN" or ""."""
+    from taxel.units import engineering
+    if m.get("readout_sensitivity") is None:
+        return ""
+    return (f"; at the readout {engineering(m['readout_sensitivity'], 'V/N', 3)}"
+            + (f", crosstalk {100 * m['readout_crosstalk']:.3g} %" if m.get("readout_crosstalk") is not None else "")
+            + (f", minimum detectable force {engineering(m['min_detectable_force'], 'N', 3)}"
+               if m.get("min_detectable_force") is not None else ""))
 
 
 @dataclass
@@ -63,6 +76,7 @@ class OptimizationResult:
     runs: list[FrontRun] = field(default_factory=list)
     reference: dict | None = None              # {"x": {name: value}, metric: value, ...}
     fem_solves: int = 0                        # distinct FEM solves in the run's store
+    requirements: dict = field(default_factory=dict)   # the spec's [requirements] (optimize.requirements)
 
     @property
     def kind(self) -> str:
@@ -80,6 +94,7 @@ class OptimizationResult:
         """One row per successful front run: its bound, sensitivity, crosstalk and design."""
         return [{"crosstalk_bound": r.bound, "sensitivity_V_per_N": r.result.metrics["sensitivity"],
                  "crosstalk": r.result.metrics["crosstalk"],
+                 **{k: r.result.metrics[k] for k in AT_READOUT if r.result.metrics.get(k) is not None},
                  **{f"{n} ({u})": float(v) for n, u, v in zip(self.names, self.units, r.result.x)}}
                 for r in self.runs if r.result.success and r.result.metrics.get("sensitivity") is not None]
 
@@ -124,14 +139,16 @@ class OptimizationResult:
                 "front": [{"crosstalk_bound": r.bound, "run": _run_record(r.result)} for r in self.runs],
                 "nondominated": [{"sensitivity_V_per_N": s, "crosstalk": c} for s, c in self.nondominated],
                 "reference": self.reference, "reference_dominated": self.reference_dominated,
-                "evaluations": self.evaluations, "fem_solves": self.fem_solves}
+                "evaluations": self.evaluations, "fem_solves": self.fem_solves,
+                "requirements": self.requirements}
 
     def summary(self) -> list[str]:
         """Lines for a person: the reference, the optimum or each front point, the cost."""
         lines = []
         if self.reference and self.reference.get("sensitivity") is not None:
             lines.append(f"reference design {self.reference['x']}: sensitivity {self.reference['sensitivity']:.4g} "
-                         f"V/N, crosstalk {100 * self.reference['crosstalk']:.2f} %")
+                         f"V/N, crosstalk {100 * self.reference['crosstalk']:.2f} % (open circuit)"
+                         + _at_readout(self.reference))
         if self.optimum is not None:
             r = self.optimum
             lines.append(f"{'optimum' if r.success else 'best found (constraints violated)'}: "
@@ -141,13 +158,18 @@ class OptimizationResult:
             return lines
         for row in self.front_rows:
             lines.append(f"  crosstalk <= {100 * row['crosstalk_bound']:.2f} %: sensitivity "
-                         f"{row['sensitivity_V_per_N']:.4g} V/N, crosstalk {100 * row['crosstalk']:.2f} %, "
+                         f"{row['sensitivity_V_per_N']:.4g} V/N, crosstalk {100 * row['crosstalk']:.2f} %"
+                         + _at_readout(row) + ", "
                          + ", ".join(f"{n} {row[f'{n} ({u})']:.3g} {u}" for n, u in zip(self.names, self.units)))
         if self.reference_dominated is not None:
             lines.append(f"the reference design is "
                          f"{'DOMINATED (not on the front)' if self.reference_dominated else 'on the front'}")
-        lines.append(f"front: {len(self.front_rows)} runs, {self.evaluations} optimizer evaluations, "
-                     f"{self.fem_solves} distinct FEM solves in the store")
+        dropped = [r for r in self.runs if not (r.result.success and r.result.metrics.get("sensitivity") is not None)]
+        lines.append(f"front: {len(self.front_rows)} of {len(self.runs)} runs on the front"
+                     + (f" ({len(dropped)} dropped: " + "; ".join(
+                         f"crosstalk <= {100 * r.bound:.3g} %: {r.result.message}" for r in dropped) + ")"
+                        if dropped else "")
+                     + f", {self.evaluations} optimizer evaluations, {self.fem_solves} distinct FEM solves in the store")
         return lines
 
     def to_folder(self, out: str | Path) -> list[Path]:
@@ -175,7 +197,7 @@ class OptimizationResult:
                    [Constraint(*c) for c in rec["constraints"]],
                    None if rec["optimum"] is None else _run_of(rec["optimum"], list(rec["variables"])),
                    [FrontRun(r["crosstalk_bound"], _run_of(r["run"], list(rec["variables"]))) for r in rec["front"]],
-                   rec["reference"], rec["fem_solves"])
+                   rec["reference"], rec["fem_solves"], rec.get("requirements", {}))
 
 
 def _run_record(r: Result) -> dict:

@@ -30,6 +30,9 @@ SQLite store and reused by later runs).
     xtol = 0.02                                   # in normalised variables (see the noise note)
 
 Metrics: sensitivity (|V| of the pressed taxel per newton, open circuit, V/N),
+readout_sensitivity and readout_crosstalk (through the base scene's [readout] chain,
+taxel.analyses.at_readout; with it min_detectable_force is the chain's own, unless
+[resolution] asks for a rig's),
 tangent_sensitivity (the small-signal slope |dV/dF| there: equal to sensitivity on the
 linear model; under a [press], optimize.probe), crosstalk (largest
 neighbour-to-pressed voltage ratio), max_strain (largest
@@ -38,7 +41,11 @@ over the array, m: the Cramer-Rao bound of taxel.analyses.localization from the 
 influence functions at the rig's white noise `noise`, default 1 mV on each taxel
 peak; 9 more static solves per design for a 3-taxel row, kept in OUT/influence/),
 and geometric ones without FEM: total_thickness (silicone above + piezo + below,
-m), footprint (array width along x, m), gap (m).
+m), footprint (array width along x, m), gap (m), pitch (taxel width + gap, m).
+
+[requirements] states what the sensor must meet (optimize.requirements): the
+yield's spec and the answer's (the report recommends the design meeting every
+requirement with the largest margin).
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective
 jitters at the level of the discretisation error's variation with geometry.
@@ -61,6 +68,9 @@ from pydantic import ConfigDict, Field, model_validator
 from taxel.optimize import driver
 from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN
 from taxel.optimize.probe import PROBE_METRICS, ProbePress, press_scene, stored_press
+from taxel.optimize.requirements import LIMITS
+
+READOUT_METRICS = ("readout_sensitivity", "readout_crosstalk")   # with a [readout] in the base scene
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel.optimize.result import FrontRun
@@ -160,7 +170,7 @@ class Optimization:
         """The metrics of one scene (a design or one of its parts): geometry, FEM (stored), noise."""
         scene = parse({**data, "name": "design"})
         metrics = {**_geometry(scene), **dict.fromkeys(("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain",
-                                                        "localization_error", *NOISE_METRICS))}
+                                                        "localization_error", *NOISE_METRICS, *READOUT_METRICS))}
         if self.spec.press is not None:
             return {**metrics, **self._pressed(data, params)}
         outputs = ("voltage", "crosstalk", "max_strain")
@@ -178,6 +188,8 @@ class Optimization:
         metrics.update(sensitivity=abs(v) / result["force"] if v is not None else None,
                        tangent_sensitivity=abs(v) / result["force"] if v is not None else None,   # linear: V ~ F
                        crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
+        named = result.get("outputs") or {}          # a scene naming a readout: its numbers (analyses.at_readout)
+        metrics.update({k: named.get(k) for k in (*READOUT_METRICS, "min_detectable_force") if named.get(k) is not None})
         if set(NOISE_METRICS) & (self.used | set(self.requirements)):
             from taxel.optimize.resolution import noise_metrics
             metrics.update(noise_metrics(scene, result.get("outputs") or {}, self.spec.resolution, self.rig))
@@ -242,7 +254,8 @@ def _localization_error(scene, noise_V: float, out: Path | None) -> float | None
 def _geometry(scene) -> dict:
     a = scene.array
     return {"total_thickness": a.silicone_above + a.piezo_thickness + a.silicone_below,
-            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap}
+            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap,
+            "pitch": a.taxel_width + a.gap}
 
 
 def magnitude(v, unit=None, what=""):
@@ -294,7 +307,7 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
     if spec.press is not None:
         from taxel.optimize.probe import check as check_press
         check_press(spec.press, OptimizeError)
-        other = problem.used - {*PROBE_METRICS, "total_thickness", "footprint", "gap"}
+        other = problem.used - {*PROBE_METRICS, *LIMITS}
         if other:
             raise OptimizeError(f"[press]: {sorted(other)[0]} is not a press metric; under a probe press use "
                                 "sensitivity, tangent_sensitivity, crosstalk, max_strain or the geometric metrics")
@@ -304,6 +317,10 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
         scene = parse({**problem.scene_data(problem.x0), "name": "start"})
     except SceneError as exc:
         raise OptimizeError(f"the starting design is not a valid scene: {exc}") from None
+    asked = sorted(set(READOUT_METRICS) & (problem.used | set(problem.requirements)))
+    if asked and scene.readout.circuit == "open":
+        raise OptimizeError(f"{asked[0]} needs a readout in the base scene '{spec.base}': add [readout] circuit = "
+                            "\"charge_amplifier\" (or \"resistor\") to it")
     if not magnitude(spec.noise, "V", "noise")[0] > 0:
         raise OptimizeError(f"noise: the rig's white noise must be positive, got {spec.noise!r}; e.g. noise = \"1 mV\"")
     if {"crosstalk", "localization_error"} & set(list(spec.objective.values()) + [c[0] for c in cons]) or spec.pareto:
@@ -369,7 +386,7 @@ def _check_feasible(problem: Optimization):
     corners = [problem.lo + (problem.hi - problem.lo) * np.array(c)
                for c in np.ndindex(*(2,) * len(problem.lo))]
     for metric, op, bound in problem.constraints:
-        if metric not in ("total_thickness", "footprint", "gap"):
+        if metric not in LIMITS:
             continue
         vals = [_geometry(parse({**problem.scene_data(x), "name": "c"}))[metric] for x in corners]
         best = min(vals) if op == "<=" else max(vals)

@@ -22,19 +22,17 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
+from taxel.reports.ladder import COLS as LADDER_COLS, VERIFY_3D_ERROR
+from taxel.reports.margins import limits, requirement_cols, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
-
-# The error of the coarse verification mesh (optimize.multifidelity.VERIFY_3D) against the
-# 3D reference: 0.2-3.8 % in voltage (taxel.analyses.error_estimate, measured on the thesis
-# PZT taxel) and 3-6 % on the 3x3 array (optimize.multifidelity, step 6): the worst of each.
-VERIFY_3D_ERROR = {"sensitivity": 0.038, "crosstalk": 0.06}
 
 CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circuit |V| divided by the pressed "
                         "taxel's, for a press on the middle taxel of the 3x3 array.")
 
 
 MATERIALS = {"PSI-5H4E": "PZT (PSI-5H4E)"}
+READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 
 def _band(value: float, rel: float, unit: str) -> str:
@@ -49,7 +47,7 @@ def _band(value: float, rel: float, unit: str) -> str:
 @dataclass
 class AnswerDesign:
     """One design of the answer, in engineering units (lengths in mm)."""
-    role: str                                   # "recommended" or "thesis"
+    role: str                                   # "recommended", "thesis" or (a user's) "reference"
     silicone_above_mm: float
     silicone_below_mm: float
     gap_mm: float
@@ -58,6 +56,28 @@ class AnswerDesign:
     sensitivity_V_per_N: float
     crosstalk: float
     min_detectable_force_N: float | None = None
+    values: dict = field(default_factory=dict)        # metric -> SI value, for the requirements
+    margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
+
+    def records(self, error: dict, model: str) -> list[dict]:
+        """answer.csv's rows of this design: one quantity each, numeric value, relative error
+        (empty: not estimated) and SI unit."""
+        from math import isfinite
+        out = []
+        for q, v, unit, err in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
+                                ("silicone below", 1e-3 * self.silicone_below_mm, "m", None),
+                                ("gap", 1e-3 * self.gap_mm, "m", None), ("pitch", 1e-3 * self.pitch_mm, "m", None),
+                                ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", error["sensitivity"]),
+                                ("open-circuit crosstalk", self.crosstalk, "1", error["crosstalk"]),
+                                ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N", None),
+                                ("charge per newton", self.values.get("charge_sensitivity"), "C/N", None),
+                                ("minimum detectable force", self.min_detectable_force_N, "N", None),
+                                ("force range to saturation", self.values.get("force_range"), "N", None)):
+            if v is not None:
+                out.append({"design": self.role, "material": MATERIALS.get(self.material, self.material),
+                            "quantity": q, "value": v, "relative error": err if err is not None and isfinite(err)
+                            else "", "unit": unit, "model": model})
+        return out
 
     def row(self, error: dict) -> dict:
         """The answer table's row."""
@@ -65,10 +85,18 @@ class AnswerDesign:
                 "silicone above (mm)": f"{self.silicone_above_mm:.2f}",
                 "silicone below (mm)": f"{self.silicone_below_mm:.2f}", "gap (mm)": f"{self.gap_mm:.2f}",
                 "pitch (mm)": f"{self.pitch_mm:.2f}",
-                "sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
-                "crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
+                "open-circuit sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
+                "open-circuit crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
                 "min. detectable force": (eng(self.min_detectable_force_N, "N", 3)
-                                          if self.min_detectable_force_N else "not computed")}
+                                          if self.min_detectable_force_N else "not computed"),
+                **({"sensitivity at the readout": eng(self.values["readout_sensitivity"], "V/N", 3)}
+                   if self.values.get("readout_sensitivity") is not None else {}),
+                **({"crosstalk at the readout": percent(self.values["readout_crosstalk"])}
+                   if self.values.get("readout_crosstalk") is not None else {}),
+                **({"charge per newton": eng(self.values["charge_sensitivity"], "C/N", 3)}
+                   if self.values.get("charge_sensitivity") is not None else {}),
+                **({"force range to saturation": eng(self.values["force_range"], "N", 3)}
+                   if self.values.get("force_range") is not None else {})}
 
 
 class NoiseFloor(NamedTuple):
@@ -97,13 +125,43 @@ class FrontAnswer:
     error_source: str = ("the 3D model's own mesh error, measured against the converged 3D reference "
                          "(taxel.analyses.error_estimate: CHEAP_3D_ERROR); the linear silicone holds for small "
                          "presses (the V/N of a light touch)")
+    requirements: list = field(default_factory=list)   # optimize.requirements.Requirement, implied ones too
+    binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
+    path: Path | None = None                            # the optimization folder (the ladder's records)
+    chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
+
+    def ladders(self) -> list[dict]:
+        """The model ladder (reports.ladder) of the recommended and the reference design."""
+        from taxel.reports.ladder import ladder
+        if self.path is None:
+            return []
+        out = []
+        for d in (self.recommended, self.thesis):
+            if d is None:
+                continue
+            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+            rungs = ladder(self.path, x, d is self.thesis)
+            if rungs:
+                out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
+                            "rows": [r.row() for r in rungs]})
+        return out
+
+    @property
+    def reference_name(self) -> str:
+        """"the thesis design" (a built-in optimization), else "your reference design"."""
+        return "the thesis design" if self.thesis.role == "thesis" else "your reference design"
 
     @property
     def trade(self) -> str:
         """What the recommendation gives up or changes against the thesis design."""
         r, t = self.recommended, self.thesis
+        if r is None and self.binding is not None:
+            req = next(q for q in self.requirements if q.metric == self.binding[0])
+            return (f"No design found meets every requirement: {req.text()} binds, missed by "
+                    f"{100 * abs(self.binding[1]):.3g} % by the closest design.")
         if r is None:
-            return "The thesis design is on the front: no design found is better in both sensitivity and crosstalk."
+            return (f"Keep {self.reference_name}: of the designs found, it meets every requirement with the "
+                    "largest margin.")
         parts = []
         for name, a, b in (("silicone above", t.silicone_above_mm, r.silicone_above_mm),
                            ("silicone below", t.silicone_below_mm, r.silicone_below_mm)):
@@ -119,23 +177,54 @@ class FrontAnswer:
                 f"{100 * xt:+.0f} % crosstalk (relative).")
 
 
+
 def headline_front(folder: Path) -> FrontAnswer | None:
     """The answer an optimization folder holds, from its headline record (the probe
-    front, else the 3D-confirmed front, else a 2D optimum); None when it holds none."""
-    folder = Path(folder)
+    front, else the 3D-confirmed front, else a front, else a 2D optimum); None when it
+    holds none."""
+    a = _headline(Path(folder))
+    if a is not None:
+        a.path = Path(folder)
+        _through_readout(a, Path(folder) / READOUT_FILE)
+    return a
+
+
+def _through_readout(a: FrontAnswer, path: Path) -> None:
+    """The designs' numbers through the bench's chain (READOUT_FILE), when the run wrote them."""
+    if not path.exists():
+        return
+    rec = json.loads(path.read_text())
+    for r in rec["designs"]:
+        d = a.recommended if r["role"] == "recommended" else a.thesis
+        if d is None or abs(r["x_mm"]["gap"] - d.gap_mm) > 1e-6 or \
+                abs(r["x_mm"]["silicone_above"] - d.silicone_above_mm) > 1e-6:
+            continue                                     # written for another answer: not this design's
+        d.values.update(charge_sensitivity=r["charge_sensitivity_C_per_N"], readout_sensitivity=r["readout_V_per_N"],
+                        min_detectable_force=r["min_detectable_force_N"], force_range=r["force_range_N"])
+        d.min_detectable_force_N = r["min_detectable_force_N"]
+        a.chain = (f"through the thesis bench's charge amplifier and notch with the rig's mains hum "
+                   f"({100 * r['hum_share']:.3g} % of the noise), noise band {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz"
+                   + (f", the amplifier's bandwidth {eng(r['bandwidth_Hz'][0], 'Hz', 3)} to "
+                      f"{eng(r['bandwidth_Hz'][1], 'Hz', 3)}" if r.get("bandwidth_Hz") else "")
+                   + ": from the answer's own sensitivity and the design's capacitance (its 2D section)")
+
+
+def _headline(folder: Path) -> FrontAnswer | None:
     scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
     array = scene.get("array", {})
-    width = 1e3 * magnitude(array.get("taxel_width", "4 mm"))
+    geo = _geometry(array)
     material = array.get("piezo", "?")
     if (folder / "probe-front.json").exists():     # the headline under the rig's probe (issue: the rig's load)
-        linear = (_from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), width, material)
+        linear = (_from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), geo, material)
                   if (folder / "front-3d.json").exists() else None)
-        return _from_probe_front(folder, json.loads((folder / "probe-front.json").read_text()), width, material,
+        return _from_probe_front(folder, json.loads((folder / "probe-front.json").read_text()), geo, material,
                                  linear)
     if (folder / "front-3d.json").exists():
-        return _from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), width, material)
+        return _from_front_3d(folder, json.loads((folder / "front-3d.json").read_text()), geo, material)
+    if (folder / "front.json").exists() and (folder / "result.json").exists():
+        return _from_front(folder, json.loads((folder / "result.json").read_text()), geo, material)
     if (folder / "optimum.json").exists():
-        return _from_optimum(folder, json.loads((folder / "optimum.json").read_text()), scene, width, material)
+        return _from_optimum(folder, json.loads((folder / "optimum.json").read_text()), scene, geo, material)
     return None
 
 
@@ -144,31 +233,80 @@ def _lengths(row: dict) -> dict:
     return {k.split(" (")[0]: v for k, v in row.items() if k.endswith("(mm)")}
 
 
-def _design(role, x: dict, width, material, s, c) -> AnswerDesign:
-    gap = x["gap"]
-    return AnswerDesign(role, x["silicone_above"], x["silicone_below"], gap, width + gap, material, s, c)
+def _geometry(array: dict) -> dict:
+    """The array's fixed geometry in SI from a scene.json's array table."""
+    def si(key, default):
+        return magnitude(array.get(key, default))
+    return {"taxel_width": si("taxel_width", "4 mm"), "piezo_thickness": si("piezo_thickness", "0.127 mm"),
+            "margin": si("margin", "3 mm"), "cols": int(array.get("cols", 3)),
+            "silicone_above": si("silicone_above", "1 mm"), "silicone_below": si("silicone_below", "1 mm"),
+            "gap": si("gap", "3 mm")}
 
 
-def _from_front_3d(folder: Path, rec: dict, width: float, material: str) -> FrontAnswer:
+def _design(role, x: dict, g: dict, material, s, c, extra: dict | None = None) -> AnswerDesign:
+    """A design of the answer from its variables `x` (mm) and the array's fixed geometry `g` (_geometry)."""
+    width = 1e3 * g["taxel_width"]
+    above = x.get("silicone_above", 1e3 * g["silicone_above"])
+    below = x.get("silicone_below", 1e3 * g["silicone_below"])
+    gap = x.get("gap", 1e3 * g["gap"])
+    values = {"sensitivity": s, "crosstalk": c, "gap": 1e-3 * gap, "pitch": 1e-3 * (width + gap),
+              "total_thickness": 1e-3 * (above + below) + g["piezo_thickness"],
+              "footprint": g["cols"] * 1e-3 * width + (g["cols"] - 1) * 1e-3 * gap + 2 * g["margin"],
+              **{k: v for k, v in (extra or {}).items() if v is not None}}
+    return AnswerDesign(role, above, below, gap, width + gap, material, s, c,
+                        min_detectable_force_N=values.get("min_detectable_force"), values=values)
+
+
+def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]):
+    """The candidate meeting every requirement of `table` (an optimization's
+    [requirements]) with the largest margin (optimize.requirements.choose; the thesis
+    design is a candidate too: None when it is the one); the requirements (implied
+    ones added), the binding requirement when none meets them all, and the rule."""
+    from taxel.optimize.requirements import choose, implied, read
+    reqs = implied(read(table or {}), thesis.values)
+
+    def same(d):
+        return all(abs(a - b) < 1e-6 for a, b in ((d.silicone_above_mm, thesis.silicone_above_mm),
+                                                 (d.silicone_below_mm, thesis.silicone_below_mm),
+                                                 (d.gap_mm, thesis.gap_mm)))
+    designs = [d for d in candidates if not same(d)] + [thesis]
+    ch = choose([d.values for d in designs], reqs)
+    for d, v in zip(designs, ch.verdicts):
+        d.margins = v.margins
+    best = designs[ch.recommended] if ch.recommended is not None else None
+    return (None if best is thesis else best), reqs, ch.binding, ch.notes
+
+
+def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer:
     from taxel.analyses.error_estimate import CHEAP_3D_ERROR
     a = rec["answer"]
     ref = rec["reference"]
     x_ref = _lengths(ref)
     names = list(x_ref)
     c = a.get("confirmed")
-    t, b = (c["thesis"], c.get("best")) if c else (a["thesis_3d"], a.get("best_at_or_below_thesis_crosstalk"))
     model, _ = verified_model(rec)
-    thesis = _design("thesis", x_ref, width, material, t["sensitivity_V_per_N"], t["crosstalk"])
-    best = (_design("recommended", dict(zip(names, b["x"])), width, material, b["sensitivity_V_per_N"],
-                    b["crosstalk"]) if b and not a.get("thesis_on_3d_front") else None)
-    error = dict(CHEAP_3D_ERROR) if c else dict(VERIFY_3D_ERROR)
-    notes = [f"Recommended: the most sensitive design of the 3D-verified front at or below the thesis design's "
-             f"crosstalk; the 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs solved "
-             "in 3D."]
-    return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes)
+    s3, c3 = "sensitivity 3D (V/N)", "crosstalk 3D"
+    thesis = _design("thesis", x_ref, geo, material, ref[s3], ref[c3])
+    rows = [r for r in rec["front_3d"] if r.get(s3) is not None and _lengths(r) != x_ref]
+    cands = [_design("recommended", _lengths(r), geo, material, r[s3], r[c3]) for r in rows]
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    error = dict(VERIFY_3D_ERROR)
+    cb = (c or {}).get("best")
+    same = best is None or (cb is not None and [round(getattr(best, f"{n}_mm"), 6) for n in names]
+                            == [round(v, 6) for v in cb["x"]])
+    if c and same:
+        # the finer confirmation mesh solved exactly these designs: its numbers, its error
+        thesis.sensitivity_V_per_N, thesis.crosstalk = c["thesis"]["sensitivity_V_per_N"], c["thesis"]["crosstalk"]
+        if best is not None:
+            best.sensitivity_V_per_N, best.crosstalk = cb["sensitivity_V_per_N"], cb["crosstalk"]
+        error = dict(CHEAP_3D_ERROR)
+    notes = rule + [f"The 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs "
+                    "solved in 3D."]
+    return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes,
+                       requirements=reqs, binding=binding)
 
 
-def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
+def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                       linear: FrontAnswer | None) -> FrontAnswer:
     """The probe front (optimize.probe_front, probe-front.json): the thesis design and the
     most sensitive pressed front design that dominates it, under the rig's probe
@@ -176,27 +314,25 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
     The error band is the record's estimated error, on sensitivity; crosstalk carries
     the same relative band, a lower bound (the correction's crosstalk misses are larger)."""
     ref = rec["reference"]
-    thesis = _design("thesis", _lengths(ref), width, material,
+    thesis = _design("thesis", _lengths(ref), geo, material,
                      ref["sensitivity (V/N)"], ref["crosstalk"])
-    from taxel.optimize.probe_front import dominates        # the record's own dominance rule
-    key = ("sensitivity (V/N)", "crosstalk")
-    better = [d for d in rec["front"] if d["x"] != ref["x"] and dominates([d[k] for k in key], [ref[k] for k in key])]
-    b = max(better, key=lambda d: d["sensitivity (V/N)"], default=None)
-    best = (_design("recommended", _lengths(b), width, material,
-                    b["sensitivity (V/N)"], b["crosstalk"]) if b else None)
+    rows = [d for d in rec["front"] if d["x"] != ref["x"] and d.get("sensitivity (V/N)") is not None]
+    cands = [_design("recommended", _lengths(d), geo, material, d["sensitivity (V/N)"], d["crosstalk"])
+             for d in rows]
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    b = rows[cands.index(best)] if best is not None else None
     err = max([ref["estimated error"]] + ([b["estimated error"]] if b else []))
     press = rec.get("press", {})
     probe = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in press.items()
                       if v is not None and k in ("shape", "radius", "edge_radius", "force", "silicone", "friction"))
-    notes = [f"Under the rig's probe ({probe or 'flat punch, Yeoh silicone'}): {rec['sentence']}"]
+    notes = rule + [f"Under the rig's probe ({probe or 'flat punch, Yeoh silicone'}): {rec['sentence']}"]
     for role, r in (("thesis", ref), ("recommended", b)):
         if r is not None:
             notes.append(f"The {role} design's estimated error is {100 * r['estimated error']:.2g} % "
                          f"({'within' if r['estimated error'] <= 0.02 else 'above'} 2 %; {r.get('how', '')}).")
     if err > 0.02 and not rec.get("spent", {}).get("product error measured"):
-        notes.append("The estimate's product error is the one measured once by 3D presses of front designs "
-                     "(optimize.probe_front.PRODUCT_ERROR); taxel demo --presses-3d N (or --full) measures it "
-                     "on this run's designs.")
+        notes.append("The estimate's product error is the one measured once by 3D presses of front designs; "
+                     "taxel demo --presses-3d N (or --full) measures it on this run's designs.")
     if linear is not None:
         t = linear.thesis
         r = linear.recommended
@@ -205,20 +341,58 @@ def _from_probe_front(folder: Path, rec: dict, width: float, material: str,
                      + (f"; recommended there: silicone {r.silicone_above_mm:.2f} / {r.silicone_below_mm:.2f} mm, "
                         f"gap {r.gap_mm:.2f} mm, {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)}"
                         if r else "; the thesis design is on that front") + ".")
-    model = f"3D under the rig's probe, Yeoh silicone ({rec['level']})"
+    model = ("3D presses by the rig's probe on Yeoh silicone" if rec["level"] == "3D press" else
+             "an estimate, not a 3D press: a 2D press by the rig's probe on Yeoh silicone scaled by the linear "
+             "model's 3D/2D ratio")
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel",
                        {"sensitivity": err, "crosstalk": err}, True, notes,
                        "the probe front's estimated error (discretisation + correction + material law, on "
-                       "sensitivity; optimize.probe_front), the same relative band drawn on crosstalk")
+                       "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding)
 
 
-def _from_optimum(folder: Path, rec: dict, scene: dict, width: float, material: str) -> FrontAnswer | None:
+AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force")
+
+
+def _from_front(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer | None:
+    """The front of any optimization (result.json of kind "front", the cheap model, not
+    verified): the reference design (the thesis design for a built-in one, else the
+    user's) and the front design meeting the requirements with the largest margin."""
+    from taxel.optimize.spec import BUILTIN
+    ref = rec.get("reference") or {}
+    if ref.get("sensitivity") is None or ref.get("crosstalk") is None:
+        return None
+    role = "thesis" if (BUILTIN / f"{rec.get('name')}.toml").exists() else "reference"
+    units = rec["variables"]
+    ref_x = {n: v for n, v in ref["x"].items() if units.get(n) == "mm"}
+    thesis = _design(role, ref_x, geo, material, ref["sensitivity"], ref["crosstalk"],
+                     {k: ref.get(k) for k in AT_READOUT})
+    cands = []
+    for r in rec["front"]:
+        m, x = r["run"]["metrics"], r["run"]["x"]
+        if not r["run"].get("success", True) or m.get("sensitivity") is None:
+            continue
+        xs = {n: v for (n, u), v in zip(units.items(), x) if u == "mm"}
+        if xs != ref_x:
+            cands.append(_design("recommended", xs, geo, material, m["sensitivity"], m["crosstalk"],
+                                 {k: m.get(k) for k in AT_READOUT}))
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    from taxel.reports.findings import scene_model_label
+    scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
+    model = f"{scene_model_label(scene)}, the optimization's own load; the front's cheap model, not verified in 3D"
+    dropped = sum(1 for r in rec["front"] if not r["run"].get("success", True))
+    notes = rule + ([f"{dropped} of the front's {len(rec['front'])} runs found no feasible design."] if dropped else [])
+    return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
+                       False, notes, requirements=reqs, binding=binding)
+
+
+def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str) -> FrontAnswer | None:
     from taxel.optimize.spec import load_optimization
     m = rec.get("metrics") or {}
     if m.get("sensitivity") is None or m.get("crosstalk") is None:
         return None
     try:
-        ref_x = {k: 1e3 * magnitude(v) for k, v in load_optimization(folder.name).spec.reference.items()}
+        spec = load_optimization(folder.name).spec
+        ref_x = {k: 1e3 * magnitude(v) for k, v in spec.reference.items()}
     except Exception:                       # not a built-in problem: no thesis design to compare with
         return None
     names = list(rec["x"])
@@ -227,14 +401,16 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, width: float, material: 
     if not start or start[0].get("sensitivity") is None:
         return None
     tm = start[0]
-    thesis = _design("thesis", ref_x, width, material, tm["sensitivity"], tm["crosstalk"])
-    best = _design("recommended", rec["x"], width, material, m["sensitivity"], m["crosstalk"])
+    thesis = _design("thesis", ref_x, geo, material, tm["sensitivity"], tm["crosstalk"])
+    best, reqs, binding, rule = _recommend(spec.requirements, thesis, [
+        _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])])
     from taxel.reports.findings import scene_model_label
     model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "
              "in 3D")
     # the 2D model's error against 3D is measured on the full run (front-3d.json): unknown here
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
-                       False, ["Recommended: the short local search's best design (taxel demo --small)."])
+                       False, rule + ["The candidate: the short local search's best design (taxel demo --small)."],
+                       requirements=reqs, binding=binding)
 
 
 def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
@@ -254,33 +430,74 @@ def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
     return out
 
 
+def preference(answers: list[FrontAnswer]) -> str | None:
+    """Why one material is preferred: the design each material recommends (or keeps),
+    compared through the readout (charge per newton, volts at the output, minimum
+    detectable force, saturation); None without the readout numbers of two materials."""
+    ds = [(MATERIALS.get(a.thesis.material, a.thesis.material), a.recommended or a.thesis) for a in answers]
+    if len(ds) < 2 or any(d.values.get("min_detectable_force") is None for _, d in ds):
+        return None
+    (bn, b), *rest = sorted(ds, key=lambda nd: nd[1].values["min_detectable_force"])
+    on, o = rest[0]
+    v = b.values
+    text = (f"{bn} is preferred for these requirements: through the bench's charge amplifier it gives "
+            f"{eng(v['charge_sensitivity'], 'C/N', 3)} ({eng(v['readout_sensitivity'], 'V/N', 3)} at the output) "
+            f"against {eng(o.values['charge_sensitivity'], 'C/N', 3)} "
+            f"({eng(o.values['readout_sensitivity'], 'V/N', 3)}) for {on}, so it detects "
+            f"{eng(v['min_detectable_force'], 'N', 3)} against {eng(o.values['min_detectable_force'], 'N', 3)}, "
+            f"and saturates at {eng(v['force_range'], 'N', 3)}.")
+    if o.sensitivity_V_per_N > b.sensitivity_V_per_N:
+        text += (f" {on}'s open-circuit voltage is higher ({eng(o.sensitivity_V_per_N, 'V/N', 3)} against "
+                 f"{eng(b.sensitivity_V_per_N, 'V/N', 3)}), but a charge amplifier reads charge, not voltage.")
+    return text
+
+
+def _stack(a: FrontAnswer) -> str | None:
+    from taxel.reports.stack import figure
+    return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
+
+
+def _title(a: FrontAnswer) -> str:
+    """One material's recommendation in a line."""
+    r = a.recommended
+    name = MATERIALS.get(a.thesis.material, a.thesis.material)
+    if r is None:
+        return f"{name}, keep {a.reference_name}" + (
+            " (no design meets every requirement)" if a.binding else "")
+    return (f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap "
+            f"{r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} crosstalk")
+
+
 def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict | None:
     """The index's answer block (template data): one table row per design, the model,
     the trade and the crosstalk definition. `noise`: a noise budget's minimum
     detectable force, shown for the design it is of (a single taxel of that design)."""
     if not answers:
         return None
-    rows, lines = [], []
+    rows, lines, records = [], [], []
     for a in answers:
-        if noise and noise.of(a.thesis):
+        if noise and noise.of(a.thesis) and a.thesis.values.get("min_detectable_force") is None:
             a.thesis.min_detectable_force_N = noise.force_N
         for d in (a.recommended, a.thesis):
             if d is None:
                 continue
             row = d.row(a.error)
             if not a.verified:
-                row["sensitivity"] = eng(d.sensitivity_V_per_N, "V/N", 3) + " (error not estimated)"
-                row["crosstalk"] = percent(d.crosstalk)
+                row["open-circuit sensitivity"] = eng(d.sensitivity_V_per_N, "V/N", 3) + " (error not estimated)"
+                row["open-circuit crosstalk"] = percent(d.crosstalk)
             rows.append(row)
-        lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes})
-    head = next((a for a in answers if a.recommended), answers[0])
-    r = head.recommended or head.thesis
-    title = (f"Recommended: {MATERIALS.get(r.material, r.material)}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm "
-             f"below, gap {r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} "
-             "crosstalk" if head.recommended else "Keep the thesis design: it is on the front")
-    cols = list(rows[0])
-    return {"title": title, "cols": cols, "rows": [[row[c] for c in cols] for row in rows],
+            records += d.records(a.error, a.model)
+        lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
+                      "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
+                      "ladders": a.ladders(), "limits": limits(a),
+                      "risks": risks(a), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
+                                                                                     a.thesis.material)})
+    title = "Recommended: " + "; ".join(_title(a) for a in answers)
+    cols = list(dict.fromkeys(c for row in rows for c in row))
+    return {"title": title, "cols": cols, "rows": [[row.get(c, "—") for c in cols] for row in rows],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
+            "records": records, "ladder_cols": LADDER_COLS, "preference": preference(answers),
+            "chain": next((a.chain for a in answers if a.chain), None),
             "verified": any(a.verified for a in answers),
             "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),
             "noise_model": noise.model if noise else None}

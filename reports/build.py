@@ -333,7 +333,12 @@ def build(folders, out: Path, pdf=False, compare=True, run: dict | None = None) 
         for p in pages:
             for b in p.banners:
                 grouped.setdefault(b, []).append(p.title)
-        warnings = [{"page": ", ".join(titles), "banner": b} for b, titles in grouped.items()]
+        answer = answer_block(folders, tmp)
+        touch = set(answer["folders"]) if answer else set()       # the answer's folders and its design views
+        warnings = [{"page": ", ".join(titles), "banner": b, "line": _one_line(b.text),
+                     "touches": any(t in touch or t.removesuffix("-thesis-3d").removesuffix("-recommended-3d")
+                                    + "-front" in touch for t in titles)} for b, titles in grouped.items()]
+        warnings.sort(key=lambda w: not w["touches"])
         cards = [{"href": p.path.name, "title": p.title, "numbers": p.numbers, "warnings": len(p.banners),
                   "thumb": data_uri(p.thumb) if p.thumb else None} for p in pages]
         kinds = {k: sum(w["banner"].kind == k for w in warnings) for k in ("range", "disagreement", "verification")}
@@ -347,11 +352,18 @@ def build(folders, out: Path, pdf=False, compare=True, run: dict | None = None) 
                     if warnings else "none")]
         (tmp / "index.html").write_text(templates().get_template("index.html").render(
             title="taxel report", run=summary, warnings=warnings, cards=cards,
-            answer=answer_block(folders, tmp)), encoding="utf-8")
+            answer=answer), encoding="utf-8")
         if pdf:
             for p in pages:
                 to_pdf(p.path)
     return out / "index.html"
+
+
+def _one_line(text: str) -> str:
+    """A warning's first sentence (the index lists each warning in one line; the page has it whole)."""
+    import re
+    first = re.split(r"(?<=[a-z0-9%)])\. (?=[A-Z])", text, maxsplit=1)[0]
+    return first if first.endswith(".") else first + "."
 
 
 def answer_block(folders, out: Path) -> dict | None:
@@ -372,11 +384,11 @@ def answer_block(folders, out: Path) -> dict | None:
                                   arr.piezo, 1e3 * arr.silicone_above, 1e3 * arr.silicone_below)
     blk = answer.block(answers, force)
     if blk is not None:
-        with open(out / "answer.csv", "w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh)
-            w.writerow(blk["cols"] + ["model"])
-            for row, role in zip(blk["rows"], blk["roles"]):
-                w.writerow(row + [next(a.model for a in answers)])
+        blk["folders"] = [a.folder for a in answers]
+        with open(out / "answer.csv", "w", newline="", encoding="utf-8") as fh:   # numeric: value, error, unit
+            w = csv.DictWriter(fh, fieldnames=list(blk["records"][0]))
+            w.writeheader()
+            w.writerows(blk["records"])
         blk["csv"] = "answer.csv"
         blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
                         if f.name.endswith(("-thesis-3d", "-recommended-3d"))]

@@ -104,6 +104,20 @@ def scene_layout(scene):
     return layout(scene, scene_materials(scene))
 
 
+def _indenter(ax, load, x: float, top: float) -> None:
+    """The rigid probe of a contact load at x (mm) on the surface `top` (mm): a sphere or a
+    cylinder as a circle, a flat punch as a block with rounded edges, to scale."""
+    from matplotlib.patches import Circle, FancyBboxPatch
+    r = load.radius * 1e3
+    style = dict(fc="0.75", ec="crimson", lw=1.0)
+    if load.shape in ("sphere", "cylinder"):
+        ax.add_patch(Circle((x, top + r), r, **style))
+    else:
+        e = (load.edge_radius or load.radius / 20) * 1e3
+        ax.add_patch(FancyBboxPatch((x - r + e, top + e), 2 * (r - e), 2 * r - 2 * e,
+                                    boxstyle=f"round,pad={e:g}", **style))
+
+
 def scene_drawing(scene):
     """The scene's cross-section to scale (x-z, mm): layers, taxels, load footprint,
     with dimensions and materials. Returns a matplotlib figure."""
@@ -127,11 +141,18 @@ def scene_drawing(scene):
         a, b = (lay.load.x - lay.load.half) * 1e3, (lay.load.x + lay.load.half) * 1e3
     else:
         a, b = x0 * 1e3, x1 * 1e3
-    for xa in np.linspace(a, b, 7):
-        ax.annotate("", (xa, H), (xa, H + 0.6), arrowprops=dict(arrowstyle="->", color="crimson"))
     load = scene.load
     what = f"{load.force:g} N" if load.kind != "pressure" else f"{load.pressure:g} Pa"
-    ax.text((a + b) / 2, H + 0.7, f"{load.kind}: {what}", ha="center", color="crimson", fontsize=8)
+    if load.contact and load.radius:            # a rigid indenter: drawn as the probe it is, resting on the top
+        _indenter(ax, load, (a + b) / 2, H)
+        what = f"{load.shape} probe, radius {load.radius * 1e3:.3g} mm, " + (
+            f"{load.force:g} N" if load.travel is None else f"travel {load.travel * 1e3:.3g} mm")
+        ax.text((a + b) / 2 + load.radius * 1e3 + 0.3, H + load.radius * 1e3, what, ha="left", va="center",
+                color="crimson", fontsize=8)
+    else:
+        for xa in np.linspace(a, b, 7):
+            ax.annotate("", (xa, H), (xa, H + 0.6), arrowprops=dict(arrowstyle="->", color="crimson"))
+        ax.text((a + b) / 2, H + 0.7, f"{load.kind}: {what}", ha="center", color="crimson", fontsize=8)
     for L in lay.layers:
         ax.text(x1 * 1e3 + 0.3, (L.z0 + L.thickness / 2) * 1e3, f"{L.thickness * 1e3:.3g} mm", va="center", fontsize=7)
     if lay.taxels:
@@ -148,7 +169,7 @@ def scene_drawing(scene):
     handles = [Rectangle((0, 0), 1, 1, fc=c, ec="0.4") for c in colours.values()]
     ax.legend(handles, list(colours), loc="upper right", fontsize=7, ncol=len(colours))
     ax.set_xlim(x0 * 1e3 - 0.5, x1 * 1e3 + 2.5)
-    ax.set_ylim(-1.2, H + 1.6)
+    ax.set_ylim(-1.2, H + (2.2 * load.radius * 1e3 + 0.8 if load.contact and load.radius else 1.6))
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)" if lay.model != "axisymmetric" else "r (mm)")
     ax.set_ylabel("z (mm)")

@@ -78,6 +78,9 @@ def static_banners(sol) -> list[Banner]:
                    f"(estimated voltage error {100 * est:.2g} % > tolerance {100 * tol:g} %; the linear model "
                    f"holds below {100 * _linear_limit(tol):.2g} % strain). Fix: set model.silicone = \"yeoh\" "
                    "(or \"auto\"), or a smaller force."))
+    user = _user_silicone(scene)
+    if user and sol.max_strain > _linear_limit(tol):
+        out.append(Banner("range", _unfitted(user, sol.max_strain)))
     if "returning the LINEAR" in sol.model_note:
         out.append(Banner("range", f"Newton stopped: {sol.model_note}. Fix: a smaller force, or a stiffer silicone."))
     if sol.stop is not None:
@@ -91,6 +94,18 @@ def static_banners(sol) -> list[Banner]:
     return out
 
 
+def _user_silicone(scene) -> str | None:
+    """The name of the scene's silicone when it is the user's own law (a [materials] table)."""
+    name = scene.array.silicone if scene.array is not None else None
+    return name if name and name in scene.materials else None
+
+
+def _unfitted(name: str, strain: float) -> str:
+    return (f"Your silicone '{name}' is unfitted here: its law states no strain range it was fitted over, and the "
+            f"largest strain reaches {100 * strain:.3g} %. A Yeoh law holds only over the strains of its test data. "
+            "Fix: check the strain against the strain range of your tension test, or give a law fitted beyond it.")
+
+
 def study_banners(rows: list[dict], scene_data: dict) -> list[Banner]:
     """Banners for a study's rows (tidy rows: max_strain SI, status, error)."""
     model = scene_data.get("model", {}) or {}
@@ -98,6 +113,11 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[Banner]:
     tol = float(model.get("tolerance", 0.02))
     out = []
     done = [r for r in rows if r.get("status") == "done" and finite_number(r.get("max_strain")) is not None]
+    user = (scene_data.get("array") or {}).get("silicone")
+    if user in (scene_data.get("materials") or {}) and done:
+        s = max(finite_number(r["max_strain"]) for r in done)
+        if s > _linear_limit(tol):
+            out.append(Banner("range", _unfitted(user, s)))
     if silicone == "linear" and done:
         bad = [r for r in done if linear_error(finite_number(r["max_strain"])) > tol]
         if bad:
@@ -118,7 +138,8 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[Banner]:
 
 
 _OUTPUT_KEYS = {"status", "pressed_voltage", "voltage_pressed", "sensitivity", "max_strain", "seconds", "error",
-                "crosstalk"}
+                "crosstalk", "charge_sensitivity", "readout_sensitivity", "readout_crosstalk", "min_detectable_force",
+                "force_range"}
 
 
 def frequency_banners(result) -> list[Banner]:
@@ -267,7 +288,7 @@ def comparison_banners(rows: list[dict], tol: float = 0.05) -> list[Banner]:
     if not bad:
         return []
     return [Banner("disagreement", "Models disagree with 3D on this design: " + ", ".join(
-        f"{m} {100 * d:+.0f} %" for m, d in bad) + f" (the 3D model's own error is about 1 %). Trust 3D, or a "
+        f"{m} {100 * d:+.0f} %" for m, d in bad) + " (the 3D model's own error is about 1 %). Trust 3D, or a "
         "model within a few % of it (2D plane strain, axisymmetric); a 2D plane-stress study (the thesis's Fig. 2.5) "
         "gives trends, not the sensor's voltage.")]
 

@@ -81,7 +81,8 @@ def probe_blocks(rec: dict) -> list[dict]:
               {"type": "table", "table": tables.table(front + [{**ref, "how": f"thesis design ({ref.get('how', '')})"}])},
               {"type": "text", "text": "Movements against the linear pressure-patch front (3D-verified), design by design:"},
               {"type": "table", "table": tables.table([_readable(m) for m in rec["movements"]])},
-              {"type": "note", "text": "Definitions: " + "; ".join(f"{k}: {v}" for k, v in rec["definitions"].items())
+              {"type": "note", "text": "Definitions: " + "; ".join(f"{k.replace('tangent_sensitivity', 'small-signal sensitivity')}: {v}"
+                                                          for k, v in rec["definitions"].items())
                + ". " + ranking_sentence(rec["ranking"])},
               {"type": "table", "table": tables.table(
                   [{"item": k.replace("seconds", "time (s)"), "value": f"{v:.3g}" if isinstance(v, float) else

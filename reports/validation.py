@@ -213,7 +213,7 @@ def summary_rows(v: dict, noise: str = "1 mV rms per sample") -> list[dict]:
          "simulated rig": f"{m['tau'][1]['tau_s']:.4g}, 95 % {m['tau'][1]['ci95_s'][0]:.3g}-{m['tau'][1]['ci95_s'][1]:.3g} "
                           f"(truth {m['tau'][1]['truth_s']:g}; one 2 N step, 20 mV drift)"},
         {"figure": "linearity R (PZT)", "thesis": th["linearity_R"]["PZT"],
-         "simulated rig": f"{min(R):.5f}-{max(R):.5f} (9 taxels)"},
+         "simulated rig": f"{min(R):.4g}-{max(R):.4g} (9 taxels)"},
         {"figure": "repeatability (%)", "thesis": f"{th['repeatability_pct'][0]} / {th['repeatability_pct'][1]}",
          "simulated rig": f"{m['repeatability_pct']['by_spread']:.2f} (1 - std/mean), "
                           f"{m['repeatability_pct']['by_range']:.2f} (1 - range/mean)"},
@@ -299,7 +299,7 @@ def build_page(folder: Path, out: Path) -> Page:
             {"type": "table", "table": table(rows, ["figure", "thesis", "simulated rig"],
                                              title="summary beside the thesis")},
             {"type": "note", "text": "Thesis column: the thesis's own bench figures (chapter 4). Measured on the "
-                                     "simulated rig (studies.measured.pipeline): each record captured over a "
+                                     "simulated rig: each record captured over a "
                                      "pseudo-terminal, analysed with taxel measure analyze/calibrate/localize. Model: "
                                      "the lumped 3-DoF model of the thesis PZT taxel through the bench's readout."}]},
         {"title": "Step responses", "blocks": [_figure(_png_bytes(_step_figure(folder)),

@@ -20,6 +20,7 @@ import time
 from functools import cache
 from pathlib import Path
 
+from taxel.analyses.at_readout import READOUT_OUTPUTS
 from taxel.analyses.version import code_version as _code_version
 from taxel.scene import SceneError, canonical, parse
 from taxel.studies.evaluate import evaluate_safely
@@ -135,8 +136,9 @@ class Store:
 def tidy_rows(out: Path) -> list[dict]:
     """One flat row per point: parameters, status, the outputs per taxel
     (voltage_<taxel>, short_circuit_charge_<taxel>), then the named outputs: pressed_voltage (V)
-    and sensitivity (V/N) of the pressed taxel, crosstalk, max_strain, and the
-    seconds. Rows stored by an older release (no "outputs") read the same."""
+    and sensitivity (V/N) of the pressed taxel, crosstalk, max_strain, the seconds, and
+    the charge sensitivity and, when the scene names a readout, the readout's numbers
+    (readout_sensitivity, readout_crosstalk, min_detectable_force, force_range). Rows stored by an older release (no "outputs") read the same."""
     store = Store(out)
     rows = []
     for r in store.rows():
@@ -162,6 +164,9 @@ def tidy_rows(out: Path) -> list[dict]:
         for name in ("crosstalk", "max_strain", "seconds"):
             if name in res:
                 row[name] = res[name]
+        for name in ("charge_sensitivity", *READOUT_OUTPUTS):    # with a [readout]: its numbers beside
+            if named.get(name) is not None:                       # the open circuit's (analyses.at_readout)
+                row[name] = named[name]
         if "requested_load" in res:       # stopped short (studies.evaluate): the outputs are at this load
             row["stopped_at"] = res["force"]
             if res.get("stop"):           # and why (rows stored before it have no stop)

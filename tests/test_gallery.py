@@ -30,7 +30,8 @@ import pytest  # noqa: E402
 GALLERY = Path(__file__).resolve().parents[1] / "docs" / "gallery"
 TESTED = {"plot_taxel_2d", "plot_taxel_models", "plot_crosstalk_3x3", "plot_frequency_response",
           "plot_step_response", "plot_noise_budget", "plot_press_probe", "plot_reduced_model",
-          "plot_study_fig_2_5", "plot_explorer", "plot_measurement_loop", "plot_front", "plot_work_precision"}
+          "plot_study_fig_2_5", "plot_explorer", "plot_measurement_loop", "plot_front", "plot_work_precision",
+          "plot_user_design"}
 
 # the thesis 3x3 PZT array (1 mm silicone above and below, 3 mm gap), docs/guide/meshes-and-accuracy.md
 ARRAY_2D_SENSITIVITY, ARRAY_2D_CROSSTALK, ARRAY_3D_CROSSTALK = 0.812, 0.075, 0.0233
@@ -245,6 +246,29 @@ def test_front(run):
     # along the front, more sensitivity costs more crosstalk
     pts = sorted(g["points_2d"])
     assert all(b[1] > a[1] for a, b in zip(pts, pts[1:]))
+
+
+@pytest.mark.slow
+def test_user_design(run):
+    """A user's own design (their silicone, a 2x2 PVDF array of 5 mm taxels, a charge
+    amplifier, a minimum-detectable-force requirement) through the answer: their
+    reference design named as theirs, a recommendation for their front, the readout's
+    numbers (the charge amplifier's gain |Q_sc| / C_f far above the open-circuit V/N
+    of a 100 pF feedback on a PVDF taxel's few-hundred-pF capacitance), and the
+    binding requirement when the minimum detectable force asked for is out of reach."""
+    g = run("plot_user_design")
+    a, rec = g["answer"], g["recommended"]
+    assert a.reference_name == "your reference design" and a.recommended is not None
+    assert "thesis" not in a.trade and "thesis" not in g["strict"].trade
+    for row in g["requirement_rows"](a):
+        assert row[2] not in ("—", "not evaluated") and row[2].startswith("+"), row      # recommended: met
+    assert rec.values["pitch"] <= 9e-3 and rec.values["total_thickness"] <= 2.6e-3
+    # the recommended design has the smallest minimum detectable force of the designs meeting the limits
+    ok = [r for r in g["front"].front_rows if r["gap (mm)"] + 5 <= 9]
+    assert rec.values["min_detectable_force"] == pytest.approx(min(r["min_detectable_force"] for r in ok))
+    assert g["readout_V_per_N"] != pytest.approx(g["open_circuit_V_per_N"], rel=0.05)
+    s = g["strict"]
+    assert s.recommended is None and s.binding[0] == "min_detectable_force" and "binds" in s.trade
 
 
 @pytest.mark.slow

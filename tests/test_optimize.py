@@ -146,7 +146,7 @@ max_evaluations = 3
     assert r.reference_dominated == any(row["sensitivity_V_per_N"] >= s0 * (1 + 1e-3)
                                         and row["crosstalk"] <= c0 * (1 - 1e-3) for row in r.front_rows)
     assert r.evaluations == sum(run.result.nfev for run in r.runs) and r.fem_solves > 0
-    assert r.summary()[-1].startswith(f"front: {len(r.front_rows)} runs")
+    assert r.summary()[-1].startswith(f"front: {len(r.front_rows)} of {len(r.runs)} runs on the front")
     front = json.loads((out / "front.json").read_text())
     assert len(front["front"]) == len(r.front_rows) and front["reference"]["sensitivity"] == r.reference["sensitivity"]
     assert (out / "pareto.png").stat().st_size > 1000

@@ -349,7 +349,7 @@ def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path
             if page.stem == "index":
                 assert info["answer"] is not None and info["answer"] < 120     # on top of the first screen
                 for item in ("recommended", "thesis", "silicone above (mm)", "gap (mm)", "pitch (mm)",
-                             "sensitivity", "crosstalk", "Model:", "Crosstalk:", "trade"):
+                             "sensitivity", "crosstalk", "Model:", "Crosstalk:", "requirement", "margin"):
                     assert item in info["answer_text"], item
             # the full page too, for a person looking at the artifacts
             height = b.js("document.documentElement.scrollHeight")
@@ -357,6 +357,15 @@ def test_every_page_of_the_main_job_reads_as_a_report_in_chromium(demo, tmp_path
                    deviceScaleFactor=1, mobile=False)
             b.screenshot(shots / f"{page.stem}.png")
     assert (shots / "index-first-screen.png").stat().st_size > 20000
+
+
+@pytest.mark.slow      # the main job (taxel demo --small) behind the demo fixture
+def test_every_page_reads_in_plain_language(demo):
+    """No page of the main job's report shows a code identifier or a number of more than 4
+    significant figures (reports.plain: the text a browser shows, <pre>/<code> aside)."""
+    from taxel.reports.plain import problems
+    found = {p.name: problems(p.read_text(encoding="utf-8")) for p in pages(demo)}
+    assert not any(found.values()), {k: v for k, v in found.items() if v}
 
 
 def test_the_answer_and_banners_of_a_3d_verified_front(tmp_path):
@@ -372,8 +381,10 @@ def test_the_answer_and_banners_of_a_3d_verified_front(tmp_path):
     missed = {**ref, "silicone_above (mm)": 1.53, "silicone_below (mm)": 0.47, "gap (mm)": 4.78,
               "crosstalk 3D": 0.0206, "predicted crosstalk": 0.0000289}
     best = {"x": [0.887, 1.113, 4.791], "sensitivity_V_per_N": 9.971, "crosstalk": 0.01995, "sensitivity_gain": 0.0159}
+    on_front = {**ref, "silicone_above (mm)": 0.887, "silicone_below (mm)": 1.113, "gap (mm)": 4.791,
+                "sensitivity 3D (V/N)": 10.6, "crosstalk 3D": 0.0199}
     rec = {"verify_3d": {"model.type": "3d", "mesh.size": "3 mm", "mesh.piezo_size": "1.2 mm", "mesh.piezo_layers": 2},
-           "reference": ref, "verified": [ref, missed], "front_3d": [missed], "rounds": [], "plan": {}, "spent": {},
+           "reference": ref, "verified": [ref, missed, on_front], "front_3d": [missed, on_front], "rounds": [], "plan": {}, "spent": {},
            "answer": {"thesis_3d": {"sensitivity_V_per_N": 10.48, "crosstalk": 0.047}, "thesis_on_3d_front": False,
                       "confirmed": {"model": {"model.type": "3d", "mesh.size": "1.5 mm", "mesh.piezo_size": "0.6 mm",
                                               "mesh.piezo_layers": "2"},
@@ -416,3 +427,38 @@ def test_probe_front_blocks_read_as_text_not_dumps():
     assert not re.search(r"\{'|\[\d+, \d+", texts), texts
     assert "changes under the probe" in texts and "dominated by 1 front design" in texts
     assert len(caption("pareto-probe.png")) > 20
+
+
+def test_a_user_silicone_is_checked_as_unfitted():
+    """A static solve on the user's own Yeoh silicone (no fitted strain range stated) past
+    the linear range: a range banner names the law as theirs and unfitted, with the strain."""
+    from taxel import api
+    from taxel.reports.findings import static_banners
+    scene = api.load("thesis-pvdf-3x3-2d").replace(**{
+        "materials": {"soft-gel": {"kind": "solid", "C10": "20 kPa", "C20": "0.3 kPa", "C30": "0 Pa",
+                                   "K": "40 MPa", "rho": "1070 kg/m^3"}},
+        "array.silicone": "soft-gel", "mesh.size": "1 mm"})
+    sol = api.solve(scene)
+    texts = [b.text for b in static_banners(sol) if b.kind == "range"]
+    assert any("Your silicone 'soft-gel' is unfitted" in t and f"{100 * sol.max_strain:.3g} %" in t for t in texts)
+
+
+def test_a_contact_probe_is_drawn_as_the_probe_it_is():
+    """A cylinder probe's scene drawing holds a circle of its radius resting on the surface,
+    and no pressure arrows; a pressure load keeps its arrows."""
+    from matplotlib.patches import Circle
+    from taxel import api
+    from taxel.reports.figures import scene_drawing
+    sc = api.load("thesis-pzt-probe-2d").replace(**{"load.shape": "cylinder"})
+    ax = scene_drawing(sc).axes[0]
+    circles = [p for p in ax.patches if isinstance(p, Circle)]
+    assert len(circles) == 1 and circles[0].radius == pytest.approx(1e3 * sc.load.radius)
+    from matplotlib.colors import to_rgba
+    from matplotlib.text import Annotation
+
+    def load_arrows(a):
+        return [t for t in a.texts if isinstance(t, Annotation) and t.arrow_patch is not None
+                and tuple(t.arrow_patch.get_edgecolor()) == to_rgba("crimson")]
+    assert not load_arrows(ax)
+    ax2 = scene_drawing(api.load("thesis-pzt-3x3-2d")).axes[0]
+    assert not [p for p in ax2.patches if isinstance(p, Circle)] and len(load_arrows(ax2)) == 7

@@ -294,7 +294,7 @@ def _psi5h4e() -> Piezo:
     eps_T = np.diag([3130 * 3800 / 3400, 3130 * 3800 / 3400, 3800]) * EPS0
     return Piezo.from_strain_charge("PSI-5H4E", s, d, eps_T, rho=7800.0,
                                     source="Piezo Systems PSI-5H4E datasheet; full matrix built "
-                                           "as in fem.constitution._psi5h4e",
+                                           "from its transversely isotropic constants",
                                     Qm=32.0, tan_delta=0.02)
 
 
@@ -317,7 +317,7 @@ def _pvdf() -> Piezo:
     d[2, 0], d[2, 1], d[2, 2] = 23e-12, 3e-12, -33e-12
     return Piezo.from_strain_charge("PVDF", s, d, np.eye(3) * 12.0 * EPS0, rho=1780.0,
                                     source="TE Piezo Film Sensors Technical Manual, Table 1; "
-                                           "d32, E, nu assumed (fem.constitution._pvdf)",
+                                           "d32, E, nu assumed",
                                     Qm=10.0, tan_delta=0.02)
 
 

@@ -55,10 +55,14 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
     if kind == "transient":
         from taxel.analyses.dynamic import transient
         return transient(scene)
+    from taxel.analyses.at_readout import at_readout
     try:
         res = solve_static(scene, **options)
     except (NewtonError, PressError) as exc:
-        return _stopped(scene, exc)
+        res = _stopped(scene, exc)
+        res.readout = at_readout(res)
+        return res
+    res.readout = at_readout(res)          # a scene naming a readout: its numbers too
     if estimate and res.error is None:
         from taxel.analyses.error_estimate import estimate as error_estimate
         res.error = error_estimate(res.scene, res, options.get("solver", "auto"))

@@ -167,6 +167,12 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
         folders.append(front(root / name, name, small, full, presses_3d))
+    if not small:                      # the answer's designs through the bench's readout (one 2D solve each)
+        from taxel.jobs.answer_readout import answer_readout
+        t3 = time.perf_counter()
+        for name in ("thesis-pzt-front", "thesis-pvdf-front"):
+            answer_readout(root / name)
+        print(f"      the answer's designs through the bench's readout in {time.perf_counter() - t3:.0f} s")
     if not small:                      # the thesis and the recommended PZT design, deformed, in 3D
         t3 = time.perf_counter()
         folders += design_views(root / "thesis-pzt-front", "thesis-pzt-front", root)

@@ -15,6 +15,7 @@ from taxel.fem.hyperelastic import NewtonResult
 from taxel.meshing.build import TaggedMesh
 from taxel.scene import Scene
 from taxel.units import engineering
+from taxel.analyses.results.readout import AtReadout
 from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, pressed_name, read_error
 from taxel.analyses.results.figures import FIELDS, SolvedFields, contact_curves, field_figures
 from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
@@ -30,9 +31,11 @@ def linear_error(max_strain: float) -> float:
     return LINEAR_ERROR_PER_STRAIN * max_strain
 
 
-# the outputs of a static result (`StaticResult.outputs`), SI units
+# the outputs of a static result (`StaticResult.outputs`), SI units; with a [readout] chain
+# also its numbers (taxel.analyses.at_readout.READOUT_OUTPUTS)
 STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
-                  "max_strain": ""}
+                  "max_strain": "", "readout_sensitivity": "V/N", "readout_crosstalk": "",
+                  "min_detectable_force": "N", "force_range": "N"}
 
 
 @dataclass(frozen=True)
@@ -68,6 +71,7 @@ class StaticResult:
     yeoh: bool = False         # the silicone was solved as Yeoh (model.silicone = "yeoh", or "auto" chose it)
     contact_data: dict | None = None       # the press record of a result read back (else from the solution)
     stop: Stop | None = None   # the solve stopped short of its load: this is its last converged state
+    readout: AtReadout | None = None       # the scene's [readout] chain's numbers (taxel.analyses.at_readout)
     kind = "static"
 
     @property
@@ -152,8 +156,15 @@ class StaticResult:
                    "pressed_voltage": e.voltage}
             if self.crosstalk is not None:
                 out["crosstalk"] = self.crosstalk
+            if self.readout is not None:      # the scene names a readout: its numbers beside the open circuit's
+                out.update(self.readout.outputs())
         out["max_strain"] = self.max_strain
         return out
+
+    def at_readout(self) -> AtReadout | None:
+        """The pressed taxel's numbers through the scene's [readout] chain (set by
+        taxel.analyses.solve: taxel.analyses.at_readout), None for the open circuit."""
+        return self.readout
 
     @property
     def contact(self):
@@ -196,6 +207,7 @@ class StaticResult:
             "newton": None if n is None else {"converged": n.converged, "load_factors": n.load_factors,
                                               "iterations": n.iterations, "cutbacks": n.cutbacks,
                                               "message": n.message},
+            "at_readout": None if self.readout is None else self.readout.record(),
             "stop": None if self.stop is None else {"requested": self.stop.requested, "load": self.stop.load,
                                                     "message": self.stop.message, "cause": self.stop.cause},
         }
@@ -215,7 +227,8 @@ class StaticResult:
         st = rec.get("stop")
         return cls(scene, sol, dict(rec.get("times_s", {})), rec.get("model_note", ""), read_error(rec),
                    bool(rec.get("yeoh", rec.get("silicone") == "yeoh")), rec.get("contact"),
-                   None if st is None else Stop(st["requested"], st["load"], st["message"], st.get("cause")))
+                   None if st is None else Stop(st["requested"], st["load"], st["message"], st.get("cause")),
+                   AtReadout.from_record(rec.get("at_readout")))
 
     def to_folder(self, out) -> list[Path]:
         """The result's folder, as `taxel solve --out` leaves it: result.json, scene.json,
@@ -250,6 +263,8 @@ class StaticResult:
             lines.append(f"{e.name:<12}{e.state:<10}{engineering(e.voltage, 'V'):>12}"
                          f"{engineering(e.charge, 'C'):>13}{engineering(e.short_circuit_charge, 'C'):>18}"
                          f"{engineering(e.capacitance, 'F'):>14}")
+        if self.readout is not None:
+            lines += self.readout.lines(self.outputs())
         if self.stop is not None:
             st = self.stop
             lines.insert(1, f"STOPPED SHORT of load.{st.load} = {engineering(st.requested, st.unit)}: these are "

@@ -1,0 +1,163 @@
+"""What the sensor must meet, and how the answer chooses a design against it.
+
+An optimization file's `[requirements]` table states what a part must meet, one
+metric per line, in the grammar a tolerance study's `[requirements]` uses
+(studies.tolerance.requirement: "<= value" or ">= value", a unit or a %):
+
+    [requirements]
+    pitch = "<= 7 mm"                 # coverage: a wider gap opens non-sensitive regions
+    total_thickness = "<= 2.127 mm"
+    crosstalk = "<= 2 %"
+
+The same table is the yield's spec (optimize.robust: the fraction of parts meeting
+every requirement) and the answer's: the report recommends, per optimization, the
+design that meets every requirement with the largest margin.
+
+Margin of one requirement, relative to its bound and signed so that a positive
+margin meets it:
+
+    m = (value - bound) / |bound|   for ">= bound",
+    m = (bound - value) / |bound|   for "<= bound".
+
+How margins are weighed (`choose`):
+  1. limits (geometry: total_thickness, pitch, gap, footprint) are met or not; their
+     margin is shown, never maximized (a thinner sensor is not a better one);
+  2. among the designs meeting every requirement, the recommended one has the
+     largest smallest margin over the performance requirements (sensitivity,
+     crosstalk, minimum detectable force, ...): every performance requirement
+     weighs the same, in relative terms; where the smallest margins tie, the next
+     smallest decides (leximin), then the more sensitive design; margins within a
+     requirement's tolerance count as zero;
+  3. where the file states no performance requirement, the reference design's
+     own sensitivity and crosstalk are the bar (implied requirements: at least as
+     sensitive, at most its crosstalk), so the recommendation is a design better
+     than the reference in both, with the largest balanced gain;
+  4. where no design meets every requirement, there is no recommendation: the
+     answer names the binding requirement, the one the closest design (largest
+     smallest margin over all requirements) misses by most, and by how much.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from taxel.optimize.metrics import METRIC_TABLE
+from taxel.studies.tolerance import ToleranceError, requirement
+
+# Two designs whose sensitivities or crosstalks differ by less than this (relative) are equal for
+# the implied bar: the front's own dominance tolerance (optimize.probe_front.dominates), above
+# the discretisation noise of a design's metrics (about 1e-4, optimize.spec.noise)
+TIE = 1e-3
+LIMITS = ("total_thickness", "pitch", "gap", "footprint")     # geometry: met or not, never maximized
+RULE = ("Each requirement's margin is relative to its bound, positive when met. Limits on geometry (thickness, "
+        "pitch, gap) must be met; among the designs meeting every requirement the recommended one has the largest "
+        "smallest margin on the performance requirements, each weighing the same (on a tie, the next smallest, then "
+        "the more sensitive design).")
+IMPLIED = ("No performance requirement is stated, so the reference design's own sensitivity and crosstalk are the "
+           "bar: the recommended design must be at least as sensitive with at most its crosstalk.")
+
+
+class RequirementError(ValueError):
+    """A [requirements] entry that cannot be read; one line naming the key and the fix."""
+
+
+@dataclass(frozen=True)
+class Requirement:
+    """One requirement: metric op bound (SI; a ratio for crosstalk)."""
+    metric: str
+    op: str                   # "<=" or ">="
+    bound: float
+    stated: bool = True       # False: implied by the reference design (rule 3)
+    tolerance: float = 0.0    # met while margin >= -tolerance
+
+    @property
+    def limit(self) -> bool:
+        return self.metric in LIMITS
+
+    def margin(self, value: float | None) -> float | None:
+        """The relative margin of `value` (positive: met); None when the value is unknown."""
+        if value is None or not math.isfinite(value):
+            return None
+        scale = abs(self.bound) or 1.0
+        return (value - self.bound) / scale if self.op == ">=" else (self.bound - value) / scale
+
+    def text(self) -> str:
+        """Plain language: "pitch ≤ 7 mm", "crosstalk ≤ 2 %"."""
+        from taxel.units import engineering
+        unit = METRIC_TABLE[self.metric].unit
+        bound = f"{100 * self.bound:.3g} %" if unit == "ratio" else engineering(self.bound, unit, 3)
+        return f"{METRIC_TABLE[self.metric].label} {'≤' if self.op == '<=' else '≥'} {bound}"
+
+
+def read(table: dict[str, str]) -> list[Requirement]:
+    """The requirements of a [requirements] table; RequirementError (one line) otherwise."""
+    out = []
+    for metric, text in table.items():
+        if metric not in METRIC_TABLE:
+            raise RequirementError(f"requirements.{metric}: not a metric; use one of {', '.join(METRIC_TABLE)}")
+        try:
+            op, bound = requirement(metric, text)
+        except ToleranceError as exc:
+            raise RequirementError(str(exc)) from None
+        out.append(Requirement(metric, op, bound))
+    return out
+
+
+def implied(reqs: list[Requirement], reference: dict) -> list[Requirement]:
+    """`reqs`, plus the reference design's sensitivity and crosstalk as the bar when no
+    performance requirement is stated (rule 3)."""
+    if any(not r.limit for r in reqs):
+        return list(reqs)
+    bar = [Requirement("sensitivity", ">=", reference["sensitivity"], stated=False, tolerance=TIE),
+           Requirement("crosstalk", "<=", reference["crosstalk"], stated=False, tolerance=TIE)]
+    return list(reqs) + [r for r in bar if reference.get(r.metric) is not None]
+
+
+@dataclass
+class Verdict:
+    """One design against the requirements."""
+    margins: dict[str, float | None]            # metric -> relative margin (None: not evaluated)
+    meets: bool                                  # every evaluated requirement met
+    weighed: tuple[float, ...]                   # the performance margins, smallest first (rule 2)
+    worst: tuple[str, float] | None              # the requirement missed or met by least, and its margin
+
+
+def judge(values: dict, reqs: list[Requirement]) -> Verdict:
+    """`values` (metric -> SI value) against `reqs`. A requirement whose metric the
+    design lacks is not evaluated (its margin None) and does not exclude the design."""
+    margins = {r.metric: r.margin(values.get(r.metric)) for r in reqs}
+    known = {k: m for k, m in margins.items() if m is not None}
+    tol = {r.metric: r.tolerance for r in reqs}
+    perf = sorted(0.0 if abs(m) <= r.tolerance else m
+                  for r in reqs if not r.limit and (m := margins[r.metric]) is not None)
+    worst = min(known.items(), key=lambda kv: kv[1]) if known else None
+    return Verdict(margins, all(m >= -tol[k] - 1e-12 for k, m in known.items()), tuple(perf), worst)
+
+
+@dataclass
+class Choice:
+    """The recommendation among candidate designs (indices into the candidates)."""
+    recommended: int | None
+    verdicts: list[Verdict]
+    requirements: list[Requirement]
+    binding: tuple[str, float] | None = None    # rule 4: (metric, margin < 0) when none meets every requirement
+    notes: list[str] = field(default_factory=list)
+
+
+def choose(candidates: list[dict], reqs: list[Requirement]) -> Choice:
+    """The design among `candidates` (metric -> SI value each) that meets every
+    requirement with the largest margin (the module's rules 1, 2 and 4)."""
+    verdicts = [judge(c, reqs) for c in candidates]
+    ok = [i for i, v in enumerate(verdicts) if v.meets]
+    notes = [RULE]
+    if any(not r.stated for r in reqs):
+        notes.append(IMPLIED)
+    if ok:
+        best = max(ok, key=lambda i: (tuple(round(m, 9) for m in verdicts[i].weighed),
+                                      candidates[i].get("sensitivity") or 0.0))
+        return Choice(best, verdicts, reqs, None, notes)
+    closest = max(range(len(candidates)), key=lambda i: verdicts[i].worst[1] if verdicts[i].worst else -math.inf,
+                  default=None)
+    binding = verdicts[closest].worst if closest is not None else None
+    return Choice(None, verdicts, reqs, binding, notes)

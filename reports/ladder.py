@@ -1,0 +1,107 @@
+"""The model ladder of an answer design: the same design's sensitivity and crosstalk in
+every model the run solved it with, each with its error estimate and one line on why
+it differs from the answer, so that every other number of the design on a page can
+say which row it is.
+
+The rows come from an optimization folder's records, matched to the design by its
+variables (within 1 µm):
+
+  2D section, pressure patch, linear silicone   the cheap front (front-3d.json "2D" columns)
+  3D, pressure patch, linear silicone           the verification mesh (front-3d.json "3D")
+  3D, pressure patch, finer mesh                the confirmation (front-3d.json answer.confirmed)
+  2D section, the rig's probe, Yeoh silicone    probe-front.json "2D press" columns
+  under the rig's probe (the answer's model)    probe-front.json: a 3D press, or the 2D press
+                                                scaled by the linear 3D/2D ratio
+
+Nothing is solved here.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from taxel.reports.tables import eng, percent
+
+# The error of the coarse verification mesh (optimize.multifidelity.VERIFY_3D) against the
+# 3D reference: 0.2-3.8 % in voltage (taxel.analyses.error_estimate, measured on the thesis
+# PZT taxel) and 3-6 % on the 3x3 array (optimize.multifidelity, step 6): the worst of each.
+VERIFY_3D_ERROR = {"sensitivity": 0.038, "crosstalk": 0.06}
+
+WHY = {
+    "2D section, pressure patch, linear silicone":
+        "a plane section of the array (the row is infinitely deep: crosstalk about 3 times too high), a uniform "
+        "pressure instead of the probe, linear silicone",
+    "3D, pressure patch, linear silicone (verification mesh)":
+        "the coarse 3D mesh that checks the front; a uniform pressure instead of the probe, linear silicone",
+    "3D, pressure patch, linear silicone (finer mesh)":
+        "a uniform pressure instead of the probe and linear silicone: the silicone under the probe's rim "
+        "strains far past the linear range",
+    "2D section, the rig's probe, Yeoh silicone":
+        "the probe and the Yeoh silicone, on a plane section (crosstalk too high, as above)",
+}
+
+
+@dataclass
+class Rung:
+    """One row of the ladder."""
+    model: str
+    sensitivity: float | None          # V/N, open circuit
+    crosstalk: float | None            # ratio
+    error: float | None                # relative, None: not estimated
+    why: str
+    answer: bool = False
+
+    def row(self) -> list[str]:
+        return [self.model + (" (the answer)" if self.answer else ""),
+                eng(self.sensitivity, "V/N", 3) if self.sensitivity is not None else "—",
+                percent(self.crosstalk) if self.crosstalk is not None else "—",
+                f"{100 * self.error:.2g} %" if self.error is not None else "not estimated", self.why]
+
+
+COLS = ["model", "sensitivity", "crosstalk", "error estimate", "why it differs from the answer"]
+
+
+def _same(row: dict, x_mm: dict) -> bool:
+    return all(abs(row.get(f"{n} (mm)", float("nan")) - v) < 1e-3 for n, v in x_mm.items())
+
+
+def ladder(folder: Path, x_mm: dict, reference: bool) -> list[Rung]:
+    """The ladder of the design `x_mm` ({variable: mm}) in an optimization folder;
+    `reference`: the design is the folder's reference (thesis) design."""
+    from taxel.analyses.error_estimate import CHEAP_3D_ERROR
+    folder = Path(folder)
+    out: list[Rung] = []
+    names = list(WHY)
+    if (folder / "front-3d.json").exists():
+        rec = json.loads((folder / "front-3d.json").read_text())
+        rows = [rec["reference"]] if reference else [r for r in rec["verified"] if _same(r, x_mm)]
+        if rows:
+            r = rows[0]
+            out.append(Rung(names[0], r.get("sensitivity 2D (V/N)"), r.get("crosstalk 2D"), None, WHY[names[0]]))
+            if r.get("sensitivity 3D (V/N)") is not None:
+                out.append(Rung(names[1], r["sensitivity 3D (V/N)"], r.get("crosstalk 3D"),
+                                VERIFY_3D_ERROR["sensitivity"], WHY[names[1]]))
+        c = (rec.get("answer") or {}).get("confirmed") or {}
+        conf = c.get("thesis") if reference else (c.get("best") if c.get("best") and all(
+            abs(a - b) < 1e-3 for a, b in zip(c["best"]["x"], x_mm.values())) else None)
+        if conf:
+            out.append(Rung(names[2], conf["sensitivity_V_per_N"], conf["crosstalk"],
+                            CHEAP_3D_ERROR["sensitivity"], WHY[names[2]]))
+    if (folder / "probe-front.json").exists():
+        rec = json.loads((folder / "probe-front.json").read_text())
+        rows = [rec["reference"]] if reference else [r for r in rec["front"] if _same(r, x_mm)]
+        if rows:
+            r = rows[0]
+            if r.get("sensitivity 2D press (V/N)") is not None:
+                out.append(Rung(names[3], r["sensitivity 2D press (V/N)"], r.get("crosstalk 2D press"), None,
+                                WHY[names[3]]))
+            model = ("3D press by the rig's probe, Yeoh silicone" if r.get("how") == "3D press" else
+                     "the rig's probe, Yeoh silicone: 2D press scaled by the linear 3D/2D ratio")
+            out.append(Rung(model, r["sensitivity (V/N)"], r["crosstalk"], r.get("estimated error"),
+                            "the answer's model", answer=True))
+    if out and not any(r.answer for r in out):
+        out[-1].answer = True
+        out[-1].why = "the answer's model"
+    return out

@@ -1,0 +1,73 @@
+"""The answer's designs through the thesis bench's readout (main job): for the recommended
+and the thesis design of an optimization folder, the charge per newton, the volts per
+newton at the readout's output, the minimum detectable force and the force range to
+saturation, from the answer's own sensitivity (reports.answer.headline_front) through
+the bench's chain: the charge amplifier and notch of the thesis-pzt-frequency scene
+with the simulated rig's mains hum, on the thesis bench's ADC.
+
+Physics: below the first resonance a taxel is a charge source, Q_sc = C_p V_oc; the
+answer gives V_oc per newton (its model: the rig's probe on Yeoh silicone), the
+design's own capacitance C_p = |Q_sc / V_oc| comes from one static solve of the design
+on the base scene (a 2D section, linear silicone: C_p depends on the piezo and its
+electrodes, not on the silicone's law), and the chain is
+taxel.analyses.noise.quasi_static_noise on (V_oc, C_p V_oc) per newton. Written to
+OUT/answer-readout.json; the report's answer reads it. Cost: one 2D solve per design.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from taxel.reports.answer import READOUT_FILE
+CHAIN_SCENE = "thesis-pzt-frequency"       # its [readout]: the thesis's charge amplifier and notch
+RIG = "thesis-bench"
+
+
+def answer_readout(front_dir: Path) -> Path | None:
+    """Write OUT/answer-readout.json for the answer of `front_dir` (a built-in optimization's folder)."""
+    from taxel import api
+    from taxel.analyses.noise import quasi_static_noise
+    from taxel.optimize import spec as O
+    from taxel.reports.answer import headline_front
+    from taxel.scene import parse
+    from taxel.studies.bench.rig import load_rig
+    from taxel.studies.bench.signals import Settings
+    t0 = time.perf_counter()
+    a = headline_front(front_dir)
+    if a is None:
+        return None
+    prob = O.load_optimization(front_dir.name)
+    from taxel.schema import to_data
+    chain = to_data(api.load(CHAIN_SCENE))["readout"]
+    chain["hum"] = [f"{v:g} V" for v in Settings().hum_V]          # the simulated rig's mains pickup
+    rig = load_rig(RIG)
+    r = api.load(CHAIN_SCENE).readout
+    rows = []
+    for d in (a.recommended, a.thesis):
+        if d is None:
+            continue
+        x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+        data = prob.scene_data([x[n] for n in prob.names])
+        data["readout"] = chain
+        scene = parse({**data, "name": f"{front_dir.name}-{d.role}"})
+        res = api.solve(scene)
+        e = res.electrodes[res.pressed]
+        c_p = abs(e.short_circuit_charge / e.voltage)
+        s = abs(d.sensitivity_V_per_N)
+        nr = quasi_static_noise(scene, s, s * c_p, rig)
+        shares = nr.shares()
+        rows.append({"role": d.role, "x_mm": x, "capacitance_F": c_p, "charge_sensitivity_C_per_N": s * c_p,
+                     "readout_V_per_N": float(np.max(nr.gain)), "band_Hz": list(nr.band),
+                     "min_detectable_force_N": nr.min_detectable_force, "force_range_N": nr.saturation_force,
+                     "saturation_by": nr.saturation_by, "hum_share": shares.get("hum residual", 0.0),
+                     # the charge amplifier's corners: 1 / (2 pi R_f C_f) and 1 / (2 pi R_i (C_p + C_c))
+                     "bandwidth_Hz": [1 / (2 * np.pi * r.R_f * r.C_f), 1 / (2 * np.pi * r.R_i * (c_p + r.C_c))],
+                     "largest_noise_source": max(shares, key=shares.get)})
+    out = Path(front_dir) / READOUT_FILE
+    out.write_text(json.dumps({"chain": f"{CHAIN_SCENE} readout with the simulated rig's hum, {RIG} ADC",
+                               "designs": rows, "seconds": time.perf_counter() - t0}, indent=1))
+    return out
