@@ -3,10 +3,12 @@ when it is loaded: each problem is one line naming the key and the fix."""
 
 from __future__ import annotations
 
+from taxel.optimize.requirements import read
 from taxel.optimize.resolution import NOISE_METRICS, band_hz, force_n, load_rig_of
 from taxel.optimize.robust import ROBUST_METRICS, parts
 from taxel.scene import Scene, SceneError, parse
-from taxel.studies.tolerance import ToleranceError, requirement
+from taxel.studies.requirements import RequirementError
+from taxel.studies.tolerance import ToleranceError
 
 
 def check_robust(problem, error) -> None:
@@ -24,10 +26,11 @@ def check_robust(problem, error) -> None:
         if name in ROBUST_METRICS or name == "localization_error":
             raise error(f"requirements.{name}: a part's requirement must be one of sensitivity, crosstalk, "
                         f"max_strain, the geometric or the noise metrics")
-        try:
-            problem.requirements[name] = requirement(name, text)
-        except ToleranceError as exc:
+        try:                             # the one grammar, its unit checked against the metric's
+            r = read({name: text})[0]
+        except RequirementError as exc:
             raise error(str(exc)) from None
+        problem.requirements[name] = (r.op, r.bound)
     data = problem.scene_data(problem.x0)
     if spec.robust is not None:
         for p in spec.robust.parameters:

@@ -2,7 +2,7 @@
 
 An optimization file's `[requirements]` table states what a part must meet, one
 metric per line, in the grammar a tolerance study's `[requirements]` uses
-(studies.tolerance.requirement: "<= value" or ">= value", a unit or a %):
+(studies.requirements: "<= value" or ">= value", a unit or a %):
 
     [requirements]
     pitch = "<= 7 mm"                 # coverage: a wider gap opens non-sensitive regions
@@ -43,7 +43,8 @@ import math
 from dataclasses import dataclass, field
 
 from taxel.optimize.metrics import METRIC_TABLE
-from taxel.studies.tolerance import ToleranceError, requirement
+from taxel.studies import requirements as grammar
+from taxel.studies.requirements import RequirementError
 
 # Two designs whose sensitivities or crosstalks differ by less than this (relative) are equal for
 # the implied bar: the front's own dominance tolerance (optimize.probe_front.dominates), above
@@ -56,31 +57,28 @@ RULE = ("Each requirement's margin is relative to its bound, positive when met. 
         "the more sensitive design).")
 IMPLIED = ("No performance requirement is stated, so the reference design's own sensitivity and crosstalk are the "
            "bar: the recommended design must be at least as sensitive with at most its crosstalk.")
+# The optimizer's metrics as the requirement grammar's outputs: name -> SI unit ("" a ratio)
+OUTPUTS = {k: ("" if m.unit == "ratio" else m.unit) for k, m in METRIC_TABLE.items()}
 
-
-class RequirementError(ValueError):
-    """A [requirements] entry that cannot be read; one line naming the key and the fix."""
+__all__ = ["Requirement", "RequirementError", "read", "implied", "judge", "choose", "Verdict", "Choice"]
 
 
 @dataclass(frozen=True)
-class Requirement:
-    """One requirement: metric op bound (SI; a ratio for crosstalk)."""
-    metric: str
-    op: str                   # "<=" or ">="
-    bound: float
+class Requirement(grammar.Requirement):
+    """One requirement of an optimization: the grammar's requirement on a metric
+    (studies.requirements: output op bound, SI; a ratio for crosstalk), with whether the
+    file stated it or the reference design implied it (rule 3) and the tolerance within
+    which a miss counts as met."""
     stated: bool = True       # False: implied by the reference design (rule 3)
     tolerance: float = 0.0    # met while margin >= -tolerance
 
     @property
+    def metric(self) -> str:
+        return self.output
+
+    @property
     def limit(self) -> bool:
         return self.metric in LIMITS
-
-    def margin(self, value: float | None) -> float | None:
-        """The relative margin of `value` (positive: met); None when the value is unknown."""
-        if value is None or not math.isfinite(value):
-            return None
-        scale = abs(self.bound) or 1.0
-        return (value - self.bound) / scale if self.op == ">=" else (self.bound - value) / scale
 
     def text(self) -> str:
         """Plain language: "pitch ≤ 7 mm", "crosstalk ≤ 2 %"."""
@@ -91,16 +89,12 @@ class Requirement:
 
 
 def read(table: dict[str, str]) -> list[Requirement]:
-    """The requirements of a [requirements] table; RequirementError (one line) otherwise."""
+    """The requirements of a [requirements] table, in the one grammar (studies.requirements:
+    the metric must exist, the bound's unit must fit it); RequirementError (one line) otherwise."""
     out = []
     for metric, text in table.items():
-        if metric not in METRIC_TABLE:
-            raise RequirementError(f"requirements.{metric}: not a metric; use one of {', '.join(METRIC_TABLE)}")
-        try:
-            op, bound = requirement(metric, text)
-        except ToleranceError as exc:
-            raise RequirementError(str(exc)) from None
-        out.append(Requirement(metric, op, bound))
+        r = grammar.parse_requirement(metric, text, OUTPUTS)
+        out.append(Requirement(r.output, r.op, r.bound, r.unit))
     return out
 
 
@@ -109,8 +103,8 @@ def implied(reqs: list[Requirement], reference: dict) -> list[Requirement]:
     performance requirement is stated (rule 3)."""
     if any(not r.limit for r in reqs):
         return list(reqs)
-    bar = [Requirement("sensitivity", ">=", reference["sensitivity"], stated=False, tolerance=TIE),
-           Requirement("crosstalk", "<=", reference["crosstalk"], stated=False, tolerance=TIE)]
+    bar = [Requirement("sensitivity", ">=", reference["sensitivity"], "V/N", stated=False, tolerance=TIE),
+           Requirement("crosstalk", "<=", reference["crosstalk"], "", stated=False, tolerance=TIE)]
     return list(reqs) + [r for r in bar if reference.get(r.metric) is not None]
 
 

@@ -48,7 +48,16 @@ class Requirement:
     output: str
     op: str                # "<=" or ">="
     bound: float
-    unit: str              # the output's SI unit ("" for a ratio)
+    unit: str = ""         # the output's SI unit ("" for a ratio)
+
+    def margin(self, value: float | None) -> float | None:
+        """The margin of `value` relative to the bound, positive when met:
+        (value - bound) / |bound| for ">=", (bound - value) / |bound| for "<="; None when
+        the value is unknown (None or not finite)."""
+        if value is None or not math.isfinite(value):
+            return None
+        scale = abs(self.bound) or 1.0
+        return (value - self.bound) / scale if self.op == ">=" else (self.bound - value) / scale
 
     def met(self, values) -> np.ndarray:
         """Which values meet it (NaN, a failed point, does not)."""

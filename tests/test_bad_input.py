@@ -460,6 +460,9 @@ OPTIMIZE = [
         "material constant"),
     opt("xtol-percent-too-big", OPT.replace('global = "none"', 'global = "none"\nxtol = "150 %"'), "xtol"),
     opt("constraint-percent-unit", OPT + '[constraints]\ncrosstalk = "<= 5 mm"\n', "constraints.crosstalk"),
+    opt("requirement-grammar", OPT + '[requirements]\npitch = "small"\n', "requirements.pitch", "<= value"),
+    opt("requirement-unit", OPT + '[requirements]\ncrosstalk = "<= 2 V"\n', "requirements.crosstalk", "a ratio"),
+    opt("requirement-pitch-in-newtons", OPT + '[requirements]\npitch = "<= 7 N"\n', "requirements.pitch", "m"),
     opt("not-toml", "[[[", "op.toml"),
     Case("opt-missing-file", ["optimize", "nope.toml"], ("nope",)),
 ]
