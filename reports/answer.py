@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS, VERIFY_3D_ERROR
+from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SHORT, VERIFY_3D_ERROR
 from taxel.reports.margins import limits, requirement_cols, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
@@ -129,6 +129,7 @@ class FrontAnswer:
     binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
     path: Path | None = None                            # the optimization folder (the ladder's records)
     chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
+    row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
@@ -300,10 +301,12 @@ def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAn
         if best is not None:
             best.sensitivity_V_per_N, best.crosstalk = cb["sensitivity_V_per_N"], cb["crosstalk"]
         error = dict(CHEAP_3D_ERROR)
+    row = ROW["3D, pressure patch, linear silicone (finer mesh)" if c and same else
+              "3D, pressure patch, linear silicone (verification mesh)"]
     notes = rule + [f"The 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs "
                     "solved in 3D."]
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes,
-                       requirements=reqs, binding=binding)
+                       requirements=reqs, binding=binding, row=row)
 
 
 def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
@@ -340,7 +343,8 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                      f"{eng(t.sensitivity_V_per_N, 'V/N', 3)} at {percent(t.crosstalk)}"
                      + (f"; recommended there: silicone {r.silicone_above_mm:.2f} / {r.silicone_below_mm:.2f} mm, "
                         f"gap {r.gap_mm:.2f} mm, {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)}"
-                        if r else "; the thesis design is on that front") + ".")
+                        if r else "; the thesis design is on that front")
+                     + f" ({SHORT[linear.row]} — ladder row {linear.row}).")
     model = ("3D presses by the rig's probe on Yeoh silicone" if rec["level"] == "3D press" else
              "an estimate, not a 3D press: a 2D press by the rig's probe on Yeoh silicone scaled by the linear "
              "model's 3D/2D ratio")

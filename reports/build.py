@@ -52,7 +52,7 @@ def read_json(path: Path):
 def kind_of(folder: Path) -> str:
     if (folder / "results.sqlite").exists() and (folder / "study.json").exists():
         return "study"
-    if (folder / "optimum.json").exists() or (folder / "front.json").exists():
+    if any((folder / n).exists() for n in ("optimum.json", "front.json", "front-3d.json", "probe-front.json")):
         return "optimization"
     if (folder / "work-precision.json").exists() or (folder / "fidelity.json").exists():   # reports/work_precision.py
         return "work-precision"
@@ -204,8 +204,14 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
         numbers += findings.front_3d_numbers(rec)
         banners += findings.front_3d_banners(rec)
         rows, mark = _front_rows(rec["front_3d"], rec["reference"], "sensitivity 3D (V/N)", "crosstalk 3D")
+        from taxel.reports.ladder import FRONT_3D_COLUMNS, named
+        rows = [named(r, FRONT_3D_COLUMNS) for r in rows]          # each model's numbers name their ladder row
         model, _ = findings.verified_model(rec)
-        blocks += [{"type": "text", "text": rec["sentence"]},
+        from types import SimpleNamespace
+        from taxel.optimize.multifidelity import sentence
+        names = [k.split(" (")[0] for k in rec["reference"] if k.endswith("(mm)")]
+        blocks += [{"type": "text", "text": sentence(SimpleNamespace(names=names, units=["mm"] * len(names)),
+                                                     rec["answer"])},      # the record's, in today's words
                    {"type": "table", "table": tables.table(rows, mark=mark, title="3D-verified front")},
                    {"type": "note", "text": f"3D values: {findings.verified_model({**rec, 'answer': {}})[0]} for the "
                                             f"front; the answer's two designs confirmed on {model}."},

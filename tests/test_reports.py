@@ -462,3 +462,86 @@ def test_a_contact_probe_is_drawn_as_the_probe_it_is():
     assert not load_arrows(ax)
     ax2 = scene_drawing(api.load("thesis-pzt-3x3-2d")).axes[0]
     assert not [p for p in ax2.patches if isinstance(p, Circle)] and len(load_arrows(ax2)) == 7
+
+
+# --- issue 45: one number per quantity ----------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def answer_report(tmp_path_factory):
+    """The report of the main job's front records (tests/data/answer: the thesis PZT and
+    PVDF fronts' probe-front.json and front-3d.json): its pages' HTML and the answers."""
+    import shutil
+    from taxel.reports.answer import headline_front
+    root = tmp_path_factory.mktemp("answer")
+    folders = []
+    for src in sorted((Path(__file__).parent / "data" / "answer").iterdir()):
+        shutil.copytree(src, root / src.name)
+        folders.append(root / src.name)
+    index = build(folders, root / "report")
+    return {p.name: p.read_text(encoding="utf-8") for p in index.parent.glob("*.html")}, \
+        [headline_front(f) for f in folders]
+
+
+def _cells(tr: str) -> list[str]:
+    import html
+    return [html.unescape(re.sub(r"<[^>]+>", "", c)).strip()
+            for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", tr, re.S)]
+
+
+def test_every_number_of_an_answer_design_is_the_answers_or_names_its_ladder_row(answer_report):
+    """For each answer design (recommended and thesis, each material), every sensitivity and
+    crosstalk of that design on any page of the report either equals the answer's or names
+    its ladder row (reports.ladder) and equals that row's number: in tables (the design's
+    rows, found by its silicone and gap in mm), and in prose."""
+    import html
+    from taxel.reports.answer import MATERIALS
+    from taxel.reports.ladder import ladder
+    from taxel.reports.tables import eng, percent
+    pages, answers = answer_report
+    designs = []
+    for a in answers:
+        for d in (a.recommended, a.thesis):
+            if d is None:
+                continue
+            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+            rungs = {r.number: {"sensitivity": eng(r.sensitivity, "V/N", 3) if r.sensitivity is not None else None,
+                                "crosstalk": percent(r.crosstalk) if r.crosstalk is not None else None}
+                     for r in ladder(a.path, x, d is a.thesis)}
+            designs.append((a.folder, MATERIALS.get(d.material, d.material), [f"{v:.2f}" for v in x.values()],
+                            {"sensitivity": eng(d.sensitivity_V_per_N, "V/N", 3), "crosstalk": percent(d.crosstalk)},
+                            rungs))
+    assert len(designs) == 4 and all(len(r) >= 2 for *_, r in designs)
+    checked = prose = 0
+    for name, page in pages.items():
+        for tb in re.findall(r"<table.*?</table>", page, re.S):
+            trs = re.findall(r"<tr[^>]*>.*?</tr>", tb, re.S)
+            head = _cells(trs[0])
+            if not {"silicone above (mm)", "silicone below (mm)", "gap (mm)"} <= set(head):
+                continue
+            at = [head.index(c) for c in ("silicone above (mm)", "silicone below (mm)", "gap (mm)")]
+            for tr in trs[1:]:
+                c = _cells(tr)
+                for folder, material, x, answer, rungs in designs:
+                    if [c[i] for i in at] != x or (name != "index.html" and not name.startswith(folder)) or \
+                            ("material" in head and c[head.index("material")] != material):
+                        continue
+                    for h, v in zip(head, c):
+                        q = next((q for q in ("sensitivity", "crosstalk") if h.startswith(q) or f" {q}" in h), None)
+                        if q is None or "moved" in h or not v:
+                            continue
+                        row = re.search(r"ladder row (\d+)", h)
+                        shown = re.sub(r" ± \S+", "", v)
+                        want = rungs.get(int(row.group(1)), {}).get(q) if row else answer[q]
+                        assert shown == want, (name, folder, h, v, want)
+                        checked += 1
+        text = re.sub(r"<table.*?</table>|<script.*?</script>|<style.*?</style>", " ", page, flags=re.S)
+        for el in re.findall(r"<(?:p|li|summary|div)\b[^>]*>(.*?)</(?:p|li|summary|div)>", text, re.S):
+            words = html.unescape(re.sub(r"<[^>]+>", " ", el))
+            for folder, material, x, answer, rungs in designs:
+                for n, r in rungs.items():
+                    for q, v in r.items():
+                        if v is not None and v != answer[q] and re.search(rf"(?<![\d.]){re.escape(v)}", words):
+                            assert f"ladder row {n}" in words, (name, folder, n, v, words)
+                            prose += 1
+    assert checked >= 30 and prose >= 3, (checked, prose)
