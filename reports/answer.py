@@ -22,8 +22,9 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SHORT, VERIFY_3D_ERROR
-from taxel.reports.margins import limits, requirement_cols, requirement_rows, risks
+from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SHORT, VERIFY_3D_ERROR, anchor
+from taxel.reports.margins import anchor as requirement_anchor
+from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
@@ -144,7 +145,9 @@ class FrontAnswer:
             rungs = ladder(self.path, x, d is self.thesis)
             if rungs:
                 out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
-                            "rows": [r.row() for r in rungs]})
+                            "role": d.role, "rows": [r.row() for r in rungs],
+                            "ids": [anchor(self.folder, d.role, r.number) for r in rungs],
+                            "answer": next(anchor(self.folder, d.role, r.number) for r in rungs if r.answer)})
         return out
 
     @property
@@ -461,15 +464,40 @@ def _stack(a: FrontAnswer) -> str | None:
     return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
 
 
-def _title(a: FrontAnswer) -> str:
-    """One material's recommendation in a line."""
+def _title(a: FrontAnswer, ladders: list[dict]) -> list[tuple[str, str | None]]:
+    """One material's recommendation in a line, as (text, link) pieces: each number
+    links to the table row it comes from (`_links`)."""
     r = a.recommended
     name = MATERIALS.get(a.thesis.material, a.thesis.material)
     if r is None:
-        return f"{name}, keep {a.reference_name}" + (
-            " (no design meets every requirement)" if a.binding else "")
-    return (f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap "
-            f"{r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} crosstalk")
+        return [(f"{name}, keep {a.reference_name}" + (
+            " (no design meets every requirement)" if a.binding else ""), None)]
+    links = _links(a, r, ladders)
+    return [(f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap ",
+             None), (f"{r.gap_mm:.2f} mm", links.get("gap (mm)")), (": ", None),
+            (eng(r.sensitivity_V_per_N, "V/N", 3), links.get("open-circuit sensitivity")), (" at ", None),
+            (percent(r.crosstalk), links.get("open-circuit crosstalk")), (" crosstalk", None)]
+
+
+# the answer table's columns held by a requirement's row, by the requirement's metric
+REQUIREMENT_COLUMNS = {"pitch (mm)": "pitch", "gap (mm)": "gap", "min. detectable force": "min_detectable_force",
+                       "sensitivity at the readout": "readout_sensitivity",
+                       "crosstalk at the readout": "readout_crosstalk", "force range to saturation": "force_range"}
+
+
+def _links(a: FrontAnswer, d: AnswerDesign, ladders: list[dict]) -> dict:
+    """{answer table column: "#anchor"} of design `d`: its open-circuit sensitivity and
+    crosstalk to its ladder's answer row, a quantity a requirement states to that
+    requirement's row (the same prediction)."""
+    out = {}
+    ladder_row = next((g["answer"] for g in ladders if g["role"] == d.role), None)
+    if ladder_row:
+        out["open-circuit sensitivity"] = out["open-circuit crosstalk"] = f"#{ladder_row}"
+    stated = {q.metric for q in a.requirements}
+    for col, metric in REQUIREMENT_COLUMNS.items():
+        if metric in stated and d.values.get(metric) is not None:
+            out[col] = f"#{requirement_anchor(a.folder, metric)}"
+    return out
 
 
 def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict | None:
@@ -478,8 +506,10 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
     detectable force, shown for the design it is of (a single taxel of that design)."""
     if not answers:
         return None
-    rows, lines, records = [], [], []
+    rows, lines, records, links, titles = [], [], [], [], []
     for a in answers:
+        ladders = a.ladders()
+        titles.append(_title(a, ladders))
         if noise and noise.of(a.thesis) and a.thesis.values.get("min_detectable_force") is None:
             a.thesis.min_detectable_force_N = noise.force_N
         for d in (a.recommended, a.thesis):
@@ -490,15 +520,20 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
                 row["open-circuit sensitivity"] = eng(d.sensitivity_V_per_N, "V/N", 3) + " (error not estimated)"
                 row["open-circuit crosstalk"] = percent(d.crosstalk)
             rows.append(row)
+            links.append(_links(a, d, ladders))
             records += d.records(a.error, a.model)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
-                      "ladders": a.ladders(), "limits": limits(a),
+                      "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
                       "risks": risks(a), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
-    title = "Recommended: " + "; ".join(_title(a) for a in answers)
+    parts = [("Recommended: ", None)]
+    for i, t in enumerate(titles):
+        parts += ([("; ", None)] if i else []) + t
     cols = list(dict.fromkeys(c for row in rows for c in row))
-    return {"title": title, "cols": cols, "rows": [[row.get(c, "—") for c in cols] for row in rows],
+    return {"title": "".join(t for t, _ in parts), "title_parts": parts, "cols": cols,
+            "rows": [[row.get(c, "—") for c in cols] for row in rows],
+            "links": [[link.get(c) for c in cols] for link in links],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
             "records": records, "ladder_cols": LADDER_COLS, "preference": preference(answers),
             "chain": next((a.chain for a in answers if a.chain), None),

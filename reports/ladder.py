@@ -85,6 +85,11 @@ def named(row: dict, columns: dict) -> dict:
     return row
 
 
+def anchor(folder: str, role: str, number: int) -> str:
+    """The page anchor of a design's ladder row (the answer's first screen links to it)."""
+    return f"ladder-{folder}-{role}-{number}"
+
+
 @dataclass
 class Rung:
     """One row of the ladder."""

@@ -470,14 +470,20 @@ def test_a_contact_probe_is_drawn_as_the_probe_it_is():
 @pytest.fixture(scope="module")
 def answer_report(tmp_path_factory):
     """The report of the main job's front records (tests/data/answer: the thesis PZT and
-    PVDF fronts' probe-front.json and front-3d.json): its pages' HTML and the answers."""
+    PVDF fronts' probe-front.json and front-3d.json, with a gap and a thickness
+    requirement): its pages' HTML and the answers."""
     import shutil
     from taxel.reports.answer import headline_front
+    import json
     root = tmp_path_factory.mktemp("answer")
     folders = []
     for src in sorted((Path(__file__).parent / "data" / "answer").iterdir()):
         shutil.copytree(src, root / src.name)
         folders.append(root / src.name)
+        for name in ("probe-front.json", "front-3d.json"):      # two of the seed's requirements stated
+            rec = json.loads((root / src.name / name).read_text())
+            rec["requirements"] = {"gap": ">= 1 mm", "total_thickness": "<= 2.127 mm"}
+            (root / src.name / name).write_text(json.dumps(rec))
     index = build(folders, root / "report")
     return {p.name: p.read_text(encoding="utf-8") for p in index.parent.glob("*.html")}, \
         [headline_front(f) for f in folders]
@@ -545,3 +551,32 @@ def test_every_number_of_an_answer_design_is_the_answers_or_names_its_ladder_row
                             assert f"ladder row {n}" in words, (name, folder, n, v, words)
                             prose += 1
     assert checked >= 30 and prose >= 3, (checked, prose)
+
+
+def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_report):
+    """The answer's title and table: each sensitivity and crosstalk links to its design's
+    ladder row of the answer's model, the gap to its requirement's row; every link's
+    target is a row on the page that shows the same number."""
+    import html
+    pages, answers = answer_report
+    page = pages["index.html"]
+    first = page[page.index('<div class="answer"'):page.index("</table>", page.index('<div class="answer"'))]
+    rows = {m.group(1): _cells(m.group(0)) for m in re.finditer(r'<tr id="([^"]+)">.*?</tr>', page, re.S)}
+    links = re.findall(r'<a href="#([^"]+)">(.*?)</a>', first)
+    targets = {t for t, _ in links}
+    assert any(t.startswith("ladder-") for t in targets) and any(t.startswith("requirement-") for t in targets)
+    for target, shown in links:
+        assert target in rows, target
+        number = re.sub(r" ± \S+", "", html.unescape(shown))       # "738 mV/N", "1.02 %", "3.44" (mm)
+        same = [c for c in rows[target] if c == number or (re.fullmatch(r"[\d.]+", number) and
+                                                          c.split()[0] == f"{float(number):.3g}")]
+        assert same, (target, shown, rows[target])
+    # every number of a design's table row that has a row to come from is linked
+    table = first[first.index("<table"):]
+    head = _cells(re.search(r"<tr>.*?</tr>", table, re.S).group(0))
+    for tr in re.findall(r'<tr class="[^"]+">.*?</tr>', table, re.S):
+        tds = re.findall(r"<td>(.*?)</td>", tr, re.S)
+        for h, td in zip(head, tds):
+            if h in ("open-circuit sensitivity", "open-circuit crosstalk", "gap (mm)"):
+                assert td.startswith('<a href="#'), (h, td)
+    assert len(re.findall(r'<h2><a|<h2>[^<]*<a', first)) == 1 and first.count('href="#ladder-') >= 12
