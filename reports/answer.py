@@ -59,6 +59,7 @@ class AnswerDesign:
     min_detectable_force_N: float | None = None
     values: dict = field(default_factory=dict)        # metric -> SI value, for the requirements
     margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
+    bandwidth_Hz: tuple[float, float] | None = None   # the readout's corners with this design (READOUT_FILE)
 
     def records(self, error: dict, model: str) -> list[dict]:
         """answer.csv's rows of this design: one quantity each, numeric value, relative error
@@ -98,6 +99,35 @@ class AnswerDesign:
                    if self.values.get("charge_sensitivity") is not None else {}),
                 **({"force range to saturation": eng(self.values["force_range"], "N", 3)}
                    if self.values.get("force_range") is not None else {})}
+
+
+class Sweep(NamedTuple):
+    """A frequency sweep of the run: its resonance (None: none in the sweep), its span
+    and the page it is on."""
+    resonance_Hz: float | None
+    span_Hz: tuple[float, float]
+    page: str
+    model: str
+
+
+def dynamics(answers: list[FrontAnswer], sweep: Sweep | None) -> str:
+    """Page one's bandwidth and first resonance, in a line: each answer design's readout
+    bandwidth (its charge amplifier's corners), and the run's frequency sweep's first
+    resonance; "not computed" where the run did not."""
+    bands = [f"{MATERIALS.get(a.thesis.material, a.thesis.material)} {'recommended' if d is a.recommended else 'thesis'}"
+             f" design {eng(d.bandwidth_Hz[0], 'Hz', 3)} to {eng(d.bandwidth_Hz[1], 'Hz', 3)}"
+             for a in answers for d in (a.recommended, a.thesis) if d is not None and d.bandwidth_Hz]
+    band = ("Bandwidth (the charge amplifier's corners with each design's capacitance): " + ", ".join(bands)
+            if bands else "Bandwidth: not computed")
+    if sweep is None:
+        res = "first resonance: not computed (no frequency sweep in this run)"
+    elif sweep.resonance_Hz is None:
+        res = (f"first resonance: none in the frequency sweep ({eng(sweep.span_Hz[0], 'Hz', 3)} to "
+               f"{eng(sweep.span_Hz[1], 'Hz', 3)}, page {sweep.page})")
+    else:
+        res = (f"first resonance: {eng(sweep.resonance_Hz, 'Hz', 3)} ({sweep.model}; the frequency sweep's peak, "
+               f"{eng(sweep.span_Hz[0], 'Hz', 3)} to {eng(sweep.span_Hz[1], 'Hz', 3)}, page {sweep.page})")
+    return f"{band}; {res}."
 
 
 class NoiseFloor(NamedTuple):
@@ -206,6 +236,8 @@ def _through_readout(a: FrontAnswer, path: Path) -> None:
         d.values.update(charge_sensitivity=r["charge_sensitivity_C_per_N"], readout_sensitivity=r["readout_V_per_N"],
                         min_detectable_force=r["min_detectable_force_N"], force_range=r["force_range_N"])
         d.min_detectable_force_N = r["min_detectable_force_N"]
+        if r.get("bandwidth_Hz"):
+            d.bandwidth_Hz = tuple(r["bandwidth_Hz"])
         a.chain = (f"through the thesis bench's charge amplifier and notch with the rig's mains hum "
                    f"({100 * r['hum_share']:.3g} % of the noise), noise band {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz"
                    + (f", the amplifier's bandwidth {eng(r['bandwidth_Hz'][0], 'Hz', 3)} to "
@@ -500,7 +532,7 @@ def _links(a: FrontAnswer, d: AnswerDesign, ladders: list[dict]) -> dict:
     return out
 
 
-def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict | None:
+def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sweep | None = None) -> dict | None:
     """The index's answer block (template data): one table row per design, the model,
     the trade and the crosstalk definition. `noise`: a noise budget's minimum
     detectable force, shown for the design it is of (a single taxel of that design)."""
@@ -536,7 +568,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
             "links": [[link.get(c) for c in cols] for link in links],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
             "records": records, "ladder_cols": LADDER_COLS, "preference": preference(answers),
-            "chain": next((a.chain for a in answers if a.chain), None),
+            "chain": next((a.chain for a in answers if a.chain), None), "dynamics": dynamics(answers, sweep),
             "verified": any(a.verified for a in answers),
             "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),
             "noise_model": noise.model if noise else None}

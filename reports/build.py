@@ -388,7 +388,7 @@ def answer_block(folders, out: Path) -> dict | None:
                                   f"{noise.name} page: {findings.model_label(res.scene)}, through the charge "
                                   "amplifier and notch on the thesis bench's ADC; not computed for the other designs",
                                   arr.piezo, 1e3 * arr.silicone_above, 1e3 * arr.silicone_below)
-    blk = answer.block(answers, force)
+    blk = answer.block(answers, force, _sweep(folders))
     if blk is not None:
         blk["folders"] = [a.folder for a in answers]
         with open(out / "answer.csv", "w", newline="", encoding="utf-8") as fh:   # numeric: value, error, unit
@@ -399,6 +399,21 @@ def answer_block(folders, out: Path) -> dict | None:
         blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
                         if f.name.endswith(("-thesis-3d", "-recommended-3d"))]
     return blk
+
+
+def _sweep(folders):
+    """The run's frequency sweep (the main job's thesis PZT taxel through the charge
+    amplifier and notch) as the answer's first resonance (reports.answer.Sweep); None
+    when the run has none."""
+    from taxel.analyses import read
+    from taxel.reports import answer
+    for f in folders:
+        if kind_of(f) == "analysis" and (f / "result.json").exists() and \
+                read_json(f / "result.json").get("kind") == "frequency":
+            res = read(f)
+            return answer.Sweep(res.first_resonance(), (float(res.freqs[0]), float(res.freqs[-1])), f.name,
+                                findings.model_label(res.scene))
+    return None
 
 
 def chromium():

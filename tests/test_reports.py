@@ -580,3 +580,31 @@ def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_r
             if h in ("open-circuit sensitivity", "open-circuit crosstalk", "gap (mm)"):
                 assert td.startswith('<a href="#'), (h, td)
     assert len(re.findall(r'<h2><a|<h2>[^<]*<a', first)) == 1 and first.count('href="#ladder-') >= 12
+
+
+def test_page_one_gives_the_first_resonance_or_says_not_computed(answer_report, tmp_path):
+    """Without a frequency sweep page one says the first resonance is not computed; with
+    the main job's sweep (thesis-pzt-frequency, 20 points) it gives the sweep's peak above
+    its lowest decade, recomputed here from the folder's record, and the page it is on."""
+    import json
+    import shutil
+    import numpy as np
+    from taxel import api
+    from taxel.reports.tables import eng
+    pages, _ = answer_report
+    assert "first resonance: not computed (no frequency sweep in this run)" in pages["index.html"]
+    folders = []
+    for src in sorted((Path(__file__).parent / "data" / "answer").iterdir()):
+        shutil.copytree(src, tmp_path / src.name)
+        folders.append(tmp_path / src.name)
+    sweep = tmp_path / "thesis-pzt-frequency"
+    api.solve(api.load("thesis-pzt-frequency").replace(**{"analysis.points": 20}), out=sweep)
+    rec = json.loads((sweep / "result.json").read_text())
+    f = np.array(rec["frequency_Hz"])
+    mag = max(rec["magnitude_V_per_N"].values(), key=lambda m: m[0])        # the pressed taxel's
+    i = int(np.argmax(np.where(f >= 10 * f[0], mag, -np.inf)))
+    assert 0 < i < len(f) - 1 and f[i] > 100                               # a peak inside the sweep
+    page = build(folders + [sweep], tmp_path / "report").read_text(encoding="utf-8")
+    line = re.search(r'<p class="dynamics">(.*?)</p>', page, re.S).group(1)
+    assert f"first resonance: {eng(f[i], 'Hz', 3)} (" in line and "page thesis-pzt-frequency" in line
+    assert line.startswith("Bandwidth: not computed")                      # no readout record in these folders
