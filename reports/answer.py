@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
 from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SHORT, VERIFY_3D_ERROR, anchor
-from taxel.reports.margins import anchor as requirement_anchor
+from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
 from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
@@ -32,7 +32,6 @@ CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circui
                         "taxel's, for a press on the middle taxel of the 3x3 array.")
 
 
-MATERIALS = {"PSI-5H4E": "PZT (PSI-5H4E)"}
 READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 
@@ -99,35 +98,6 @@ class AnswerDesign:
                    if self.values.get("charge_sensitivity") is not None else {}),
                 **({"force range to saturation": eng(self.values["force_range"], "N", 3)}
                    if self.values.get("force_range") is not None else {})}
-
-
-class Sweep(NamedTuple):
-    """A frequency sweep of the run: its resonance (None: none in the sweep), its span
-    and the page it is on."""
-    resonance_Hz: float | None
-    span_Hz: tuple[float, float]
-    page: str
-    model: str
-
-
-def dynamics(answers: list[FrontAnswer], sweep: Sweep | None) -> str:
-    """Page one's bandwidth and first resonance, in a line: each answer design's readout
-    bandwidth (its charge amplifier's corners), and the run's frequency sweep's first
-    resonance; "not computed" where the run did not."""
-    bands = [f"{MATERIALS.get(a.thesis.material, a.thesis.material)} {'recommended' if d is a.recommended else 'thesis'}"
-             f" design {eng(d.bandwidth_Hz[0], 'Hz', 3)} to {eng(d.bandwidth_Hz[1], 'Hz', 3)}"
-             for a in answers for d in (a.recommended, a.thesis) if d is not None and d.bandwidth_Hz]
-    band = ("Bandwidth (the charge amplifier's corners with each design's capacitance): " + ", ".join(bands)
-            if bands else "Bandwidth: not computed")
-    if sweep is None:
-        res = "first resonance: not computed (no frequency sweep in this run)"
-    elif sweep.resonance_Hz is None:
-        res = (f"first resonance: none in the frequency sweep ({eng(sweep.span_Hz[0], 'Hz', 3)} to "
-               f"{eng(sweep.span_Hz[1], 'Hz', 3)}, page {sweep.page})")
-    else:
-        res = (f"first resonance: {eng(sweep.resonance_Hz, 'Hz', 3)} ({sweep.model}; the frequency sweep's peak, "
-               f"{eng(sweep.span_Hz[0], 'Hz', 3)} to {eng(sweep.span_Hz[1], 'Hz', 3)}, page {sweep.page})")
-    return f"{band}; {res}."
 
 
 class NoiseFloor(NamedTuple):
@@ -494,42 +464,6 @@ def preference(answers: list[FrontAnswer]) -> str | None:
 def _stack(a: FrontAnswer) -> str | None:
     from taxel.reports.stack import figure
     return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
-
-
-def _title(a: FrontAnswer, ladders: list[dict]) -> list[tuple[str, str | None]]:
-    """One material's recommendation in a line, as (text, link) pieces: each number
-    links to the table row it comes from (`_links`)."""
-    r = a.recommended
-    name = MATERIALS.get(a.thesis.material, a.thesis.material)
-    if r is None:
-        return [(f"{name}, keep {a.reference_name}" + (
-            " (no design meets every requirement)" if a.binding else ""), None)]
-    links = _links(a, r, ladders)
-    return [(f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap ",
-             None), (f"{r.gap_mm:.2f} mm", links.get("gap (mm)")), (": ", None),
-            (eng(r.sensitivity_V_per_N, "V/N", 3), links.get("open-circuit sensitivity")), (" at ", None),
-            (percent(r.crosstalk), links.get("open-circuit crosstalk")), (" crosstalk", None)]
-
-
-# the answer table's columns held by a requirement's row, by the requirement's metric
-REQUIREMENT_COLUMNS = {"pitch (mm)": "pitch", "gap (mm)": "gap", "min. detectable force": "min_detectable_force",
-                       "sensitivity at the readout": "readout_sensitivity",
-                       "crosstalk at the readout": "readout_crosstalk", "force range to saturation": "force_range"}
-
-
-def _links(a: FrontAnswer, d: AnswerDesign, ladders: list[dict]) -> dict:
-    """{answer table column: "#anchor"} of design `d`: its open-circuit sensitivity and
-    crosstalk to its ladder's answer row, a quantity a requirement states to that
-    requirement's row (the same prediction)."""
-    out = {}
-    ladder_row = next((g["answer"] for g in ladders if g["role"] == d.role), None)
-    if ladder_row:
-        out["open-circuit sensitivity"] = out["open-circuit crosstalk"] = f"#{ladder_row}"
-    stated = {q.metric for q in a.requirements}
-    for col, metric in REQUIREMENT_COLUMNS.items():
-        if metric in stated and d.values.get(metric) is not None:
-            out[col] = f"#{requirement_anchor(a.folder, metric)}"
-    return out
 
 
 def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sweep | None = None) -> dict | None:
