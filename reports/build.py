@@ -245,6 +245,13 @@ def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:
     return imgs
 
 
+def _design_view(folder: Path) -> str | None:
+    """"thesis" or "recommended" for a 3D view of an answer design (the main job's
+    <front>-thesis-3d, <front>-recommended-3d: taxel.jobs.main_job.design_views, the
+    verification mesh, ladder row 3), else None."""
+    return next((r for r in ("thesis", "recommended") if folder.name.endswith(f"-{r}-3d")), None)
+
+
 def _analysis(folder: Path, out: Path, scene_data) -> dict:
     import tempfile
     result = stored_result(folder)
@@ -258,6 +265,11 @@ def _analysis(folder: Path, out: Path, scene_data) -> dict:
     blocks += [_figures(imgs)] + [{"type": "csv", "href": c} for c in links]
     thumb = imgs[0].read_bytes() if imgs else None
     shutil.rmtree(scratch, ignore_errors=True)
+    role = _design_view(folder)
+    if role:
+        blocks.insert(0, {"type": "note", "text": f"The answer's {role} design in the 3D, pressure patch model on "
+                                                  "the verification mesh — ladder row 3 of its ladder in the index; "
+                                                  "the answer's numbers are the rig's probe's, ladder row 6."})
     return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
             "banners": findings.frequency_banners(result),
             "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
@@ -306,6 +318,8 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
         sections, numbers = sections + sec, numbers + nums
         banners += (ban if part.get("scene_banners", True) else []) + compare_ban
         thumb = thumb or key_png
+    if kind == "analysis" and _design_view(folder):          # its card's numbers name their ladder row
+        numbers = [n._replace(model=f"{n.model} — ladder row 3") for n in numbers]
     sections.append({"title": "Provenance", "blocks": provenance(folder, scene_data)})
     tables.write_csvs(sections, out, folder.name)
     path = out / f"{folder.name}.html"

@@ -608,3 +608,22 @@ def test_page_one_gives_the_first_resonance_or_says_not_computed(answer_report, 
     line = re.search(r'<p class="dynamics">(.*?)</p>', page, re.S).group(1)
     assert f"first resonance: {eng(f[i], 'Hz', 3)} (" in line and "page thesis-pzt-frequency" in line
     assert line.startswith("Bandwidth: not computed")                      # no readout record in these folders
+
+
+def test_a_3d_view_of_an_answer_design_names_its_ladder_row(tmp_path):
+    """The main job's 3D views of the answer's designs (folders <front>-thesis-3d and
+    <front>-recommended-3d, taxel.jobs.main_job.design_views) say on the page and on the
+    index's card that their numbers are ladder row 3, not the answer's; another solve
+    page does not. (A cheap 2D solve stands in for the view: the label keys on the folder.)"""
+    from taxel import api
+    sc = api.load("thesis-pzt-single-2d")
+    for name in ("thesis-pzt-thesis-3d", "thesis-pzt-single-2d"):
+        api.solve(sc, out=tmp_path / name)
+    index = build([tmp_path / "thesis-pzt-thesis-3d", tmp_path / "thesis-pzt-single-2d"], tmp_path / "report")
+    import html
+    view = html.unescape((index.parent / "thesis-pzt-thesis-3d.html").read_text(encoding="utf-8"))
+    other = (index.parent / "thesis-pzt-single-2d.html").read_text(encoding="utf-8")
+    assert "The answer's thesis design in the 3D, pressure patch model" in view and "ladder row 3" in view
+    assert "ladder row" not in other
+    cards = index.read_text(encoding="utf-8")
+    assert cards.count("— ladder row 3") == len(re.findall(r'<dl>.*?</dl>', cards, re.S)[0].split("<dt>")) - 1
