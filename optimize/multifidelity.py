@@ -334,22 +334,27 @@ def answer(mf: MultiFidelity) -> dict:
 
 
 def sentence(problem, a: dict) -> str:
+    """The answer in words; each number names its model's row of the report's model
+    ladder (reports.ladder.ROW: 3 the verification mesh, 4 the finer mesh). `problem`:
+    anything with the variables' `names` and `units`."""
     t = a["thesis_3d"]
-    head = (f"In 3D the thesis design gives {t['sensitivity_V_per_N']:.3g} V/N at {100 * t['crosstalk']:.2f} % "
-            f"crosstalk; it is {'on' if a['thesis_on_3d_front'] else 'not on'} the 3D-verified front.")
+    head = (f"In 3D (ladder row 3) the thesis design gives {t['sensitivity_V_per_N']:.3g} V/N at "
+            f"{100 * t['crosstalk']:.3g} % crosstalk; it is {'on' if a['thesis_on_3d_front'] else 'not on'} the "
+            "3D-verified front.")
     b = a.get("best_at_or_below_thesis_crosstalk")
     if b and not a["thesis_on_3d_front"]:
         x = ", ".join(f"{n.replace('_', ' ')} {v:.2f} {u}" for n, v, u in zip(problem.names, b["x"], problem.units))
         head += (f" The 3D front offers {b['sensitivity_V_per_N']:.3g} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
-                 f"at {100 * b['crosstalk']:.2f} % crosstalk ({x}).")
+                 f"at {100 * b['crosstalk']:.3g} % crosstalk ({x}).")
     c = a.get("confirmed")
     if c:
         t = c["thesis"]
-        head += (f" On the finer 3D mesh ({CONFIRM_3D['mesh.size']}, {CONFIRM_3D['mesh.piezo_size']} at the taxels): the thesis design "
+        head += (f" On the finer 3D mesh ({CONFIRM_3D['mesh.size']}, {CONFIRM_3D['mesh.piezo_size']} at the taxels; "
+                 "ladder row 4): the thesis design "
                  f"{t['sensitivity_V_per_N']:.3g} V/N at {100 * t['crosstalk']:.3g} %")
         if "best" in c:
             b = c["best"]
             head += (f", the front's design {b['sensitivity_V_per_N']:.3g} V/N ({100 * b['sensitivity_gain']:+.1f} %) "
-                     f"at {100 * b['crosstalk']:.2f} %")
+                     f"at {100 * b['crosstalk']:.3g} %")
         head += "."
     return head

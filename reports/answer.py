@@ -22,8 +22,9 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS, VERIFY_3D_ERROR
-from taxel.reports.margins import limits, requirement_cols, requirement_rows, risks
+from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SHORT, VERIFY_3D_ERROR, anchor
+from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
+from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
@@ -31,7 +32,6 @@ CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circui
                         "taxel's, for a press on the middle taxel of the 3x3 array.")
 
 
-MATERIALS = {"PSI-5H4E": "PZT (PSI-5H4E)"}
 READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 
@@ -58,6 +58,7 @@ class AnswerDesign:
     min_detectable_force_N: float | None = None
     values: dict = field(default_factory=dict)        # metric -> SI value, for the requirements
     margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
+    bandwidth_Hz: tuple[float, float] | None = None   # the readout's corners with this design (READOUT_FILE)
 
     def records(self, error: dict, model: str) -> list[dict]:
         """answer.csv's rows of this design: one quantity each, numeric value, relative error
@@ -129,6 +130,7 @@ class FrontAnswer:
     binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
     path: Path | None = None                            # the optimization folder (the ladder's records)
     chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
+    row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
@@ -143,7 +145,9 @@ class FrontAnswer:
             rungs = ladder(self.path, x, d is self.thesis)
             if rungs:
                 out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
-                            "rows": [r.row() for r in rungs]})
+                            "role": d.role, "rows": [r.row() for r in rungs],
+                            "ids": [anchor(self.folder, d.role, r.number) for r in rungs],
+                            "answer": next(anchor(self.folder, d.role, r.number) for r in rungs if r.answer)})
         return out
 
     @property
@@ -202,6 +206,8 @@ def _through_readout(a: FrontAnswer, path: Path) -> None:
         d.values.update(charge_sensitivity=r["charge_sensitivity_C_per_N"], readout_sensitivity=r["readout_V_per_N"],
                         min_detectable_force=r["min_detectable_force_N"], force_range=r["force_range_N"])
         d.min_detectable_force_N = r["min_detectable_force_N"]
+        if r.get("bandwidth_Hz"):
+            d.bandwidth_Hz = tuple(r["bandwidth_Hz"])
         a.chain = (f"through the thesis bench's charge amplifier and notch with the rig's mains hum "
                    f"({100 * r['hum_share']:.3g} % of the noise), noise band {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz"
                    + (f", the amplifier's bandwidth {eng(r['bandwidth_Hz'][0], 'Hz', 3)} to "
@@ -300,10 +306,12 @@ def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAn
         if best is not None:
             best.sensitivity_V_per_N, best.crosstalk = cb["sensitivity_V_per_N"], cb["crosstalk"]
         error = dict(CHEAP_3D_ERROR)
+    row = ROW["3D, pressure patch, linear silicone (finer mesh)" if c and same else
+              "3D, pressure patch, linear silicone (verification mesh)"]
     notes = rule + [f"The 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs "
                     "solved in 3D."]
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes,
-                       requirements=reqs, binding=binding)
+                       requirements=reqs, binding=binding, row=row)
 
 
 def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
@@ -340,7 +348,8 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                      f"{eng(t.sensitivity_V_per_N, 'V/N', 3)} at {percent(t.crosstalk)}"
                      + (f"; recommended there: silicone {r.silicone_above_mm:.2f} / {r.silicone_below_mm:.2f} mm, "
                         f"gap {r.gap_mm:.2f} mm, {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)}"
-                        if r else "; the thesis design is on that front") + ".")
+                        if r else "; the thesis design is on that front")
+                     + f" ({SHORT[linear.row]} — ladder row {linear.row}).")
     model = ("3D presses by the rig's probe on Yeoh silicone" if rec["level"] == "3D press" else
              "an estimate, not a 3D press: a 2D press by the rig's probe on Yeoh silicone scaled by the linear "
              "model's 3D/2D ratio")
@@ -457,25 +466,16 @@ def _stack(a: FrontAnswer) -> str | None:
     return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
 
 
-def _title(a: FrontAnswer) -> str:
-    """One material's recommendation in a line."""
-    r = a.recommended
-    name = MATERIALS.get(a.thesis.material, a.thesis.material)
-    if r is None:
-        return f"{name}, keep {a.reference_name}" + (
-            " (no design meets every requirement)" if a.binding else "")
-    return (f"{name}, silicone {r.silicone_above_mm:.2f} mm above and {r.silicone_below_mm:.2f} mm below, gap "
-            f"{r.gap_mm:.2f} mm: {eng(r.sensitivity_V_per_N, 'V/N', 3)} at {percent(r.crosstalk)} crosstalk")
-
-
-def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict | None:
+def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sweep | None = None) -> dict | None:
     """The index's answer block (template data): one table row per design, the model,
     the trade and the crosstalk definition. `noise`: a noise budget's minimum
     detectable force, shown for the design it is of (a single taxel of that design)."""
     if not answers:
         return None
-    rows, lines, records = [], [], []
+    rows, lines, records, links, titles = [], [], [], [], []
     for a in answers:
+        ladders = a.ladders()
+        titles.append(_title(a, ladders))
         if noise and noise.of(a.thesis) and a.thesis.values.get("min_detectable_force") is None:
             a.thesis.min_detectable_force_N = noise.force_N
         for d in (a.recommended, a.thesis):
@@ -486,18 +486,23 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None) -> dict |
                 row["open-circuit sensitivity"] = eng(d.sensitivity_V_per_N, "V/N", 3) + " (error not estimated)"
                 row["open-circuit crosstalk"] = percent(d.crosstalk)
             rows.append(row)
+            links.append(_links(a, d, ladders))
             records += d.records(a.error, a.model)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
-                      "ladders": a.ladders(), "limits": limits(a),
+                      "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
                       "risks": risks(a), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
-    title = "Recommended: " + "; ".join(_title(a) for a in answers)
+    parts = [("Recommended: ", None)]
+    for i, t in enumerate(titles):
+        parts += ([("; ", None)] if i else []) + t
     cols = list(dict.fromkeys(c for row in rows for c in row))
-    return {"title": title, "cols": cols, "rows": [[row.get(c, "—") for c in cols] for row in rows],
+    return {"title": "".join(t for t, _ in parts), "title_parts": parts, "cols": cols,
+            "rows": [[row.get(c, "—") for c in cols] for row in rows],
+            "links": [[link.get(c) for c in cols] for link in links],
             "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
             "records": records, "ladder_cols": LADDER_COLS, "preference": preference(answers),
-            "chain": next((a.chain for a in answers if a.chain), None),
+            "chain": next((a.chain for a in answers if a.chain), None), "dynamics": dynamics(answers, sweep),
             "verified": any(a.verified for a in answers),
             "error_source": "; ".join(dict.fromkeys(a.error_source for a in answers if a.verified)),
             "noise_model": noise.model if noise else None}

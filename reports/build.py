@@ -52,7 +52,7 @@ def read_json(path: Path):
 def kind_of(folder: Path) -> str:
     if (folder / "results.sqlite").exists() and (folder / "study.json").exists():
         return "study"
-    if (folder / "optimum.json").exists() or (folder / "front.json").exists():
+    if any((folder / n).exists() for n in ("optimum.json", "front.json", "front-3d.json", "probe-front.json")):
         return "optimization"
     if (folder / "work-precision.json").exists() or (folder / "fidelity.json").exists():   # reports/work_precision.py
         return "work-precision"
@@ -204,8 +204,14 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
         numbers += findings.front_3d_numbers(rec)
         banners += findings.front_3d_banners(rec)
         rows, mark = _front_rows(rec["front_3d"], rec["reference"], "sensitivity 3D (V/N)", "crosstalk 3D")
+        from taxel.reports.ladder import FRONT_3D_COLUMNS, named
+        rows = [named(r, FRONT_3D_COLUMNS) for r in rows]          # each model's numbers name their ladder row
         model, _ = findings.verified_model(rec)
-        blocks += [{"type": "text", "text": rec["sentence"]},
+        from types import SimpleNamespace
+        from taxel.optimize.multifidelity import sentence
+        names = [k.split(" (")[0] for k in rec["reference"] if k.endswith("(mm)")]
+        blocks += [{"type": "text", "text": sentence(SimpleNamespace(names=names, units=["mm"] * len(names)),
+                                                     rec["answer"])},      # the record's, in today's words
                    {"type": "table", "table": tables.table(rows, mark=mark, title="3D-verified front")},
                    {"type": "note", "text": f"3D values: {findings.verified_model({**rec, 'answer': {}})[0]} for the "
                                             f"front; the answer's two designs confirmed on {model}."},
@@ -239,6 +245,13 @@ def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:
     return imgs
 
 
+def _design_view(folder: Path) -> str | None:
+    """"thesis" or "recommended" for a 3D view of an answer design (the main job's
+    <front>-thesis-3d, <front>-recommended-3d: taxel.jobs.main_job.design_views, the
+    verification mesh, ladder row 3), else None."""
+    return next((r for r in ("thesis", "recommended") if folder.name.endswith(f"-{r}-3d")), None)
+
+
 def _analysis(folder: Path, out: Path, scene_data) -> dict:
     import tempfile
     result = stored_result(folder)
@@ -252,6 +265,11 @@ def _analysis(folder: Path, out: Path, scene_data) -> dict:
     blocks += [_figures(imgs)] + [{"type": "csv", "href": c} for c in links]
     thumb = imgs[0].read_bytes() if imgs else None
     shutil.rmtree(scratch, ignore_errors=True)
+    role = _design_view(folder)
+    if role:
+        blocks.insert(0, {"type": "note", "text": f"The answer's {role} design in the 3D, pressure patch model on "
+                                                  "the verification mesh — ladder row 3 of its ladder in the index; "
+                                                  "the answer's numbers are the rig's probe's, ladder row 6."})
     return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
             "banners": findings.frequency_banners(result),
             "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
@@ -300,6 +318,8 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
         sections, numbers = sections + sec, numbers + nums
         banners += (ban if part.get("scene_banners", True) else []) + compare_ban
         thumb = thumb or key_png
+    if kind == "analysis" and _design_view(folder):          # its card's numbers name their ladder row
+        numbers = [n._replace(model=f"{n.model} — ladder row 3") for n in numbers]
     sections.append({"title": "Provenance", "blocks": provenance(folder, scene_data)})
     tables.write_csvs(sections, out, folder.name)
     path = out / f"{folder.name}.html"
@@ -382,7 +402,7 @@ def answer_block(folders, out: Path) -> dict | None:
                                   f"{noise.name} page: {findings.model_label(res.scene)}, through the charge "
                                   "amplifier and notch on the thesis bench's ADC; not computed for the other designs",
                                   arr.piezo, 1e3 * arr.silicone_above, 1e3 * arr.silicone_below)
-    blk = answer.block(answers, force)
+    blk = answer.block(answers, force, _sweep(folders))
     if blk is not None:
         blk["folders"] = [a.folder for a in answers]
         with open(out / "answer.csv", "w", newline="", encoding="utf-8") as fh:   # numeric: value, error, unit
@@ -393,6 +413,21 @@ def answer_block(folders, out: Path) -> dict | None:
         blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
                         if f.name.endswith(("-thesis-3d", "-recommended-3d"))]
     return blk
+
+
+def _sweep(folders):
+    """The run's frequency sweep (the main job's thesis PZT taxel through the charge
+    amplifier and notch) as the answer's first resonance (reports.answer.Sweep); None
+    when the run has none."""
+    from taxel.analyses import read
+    from taxel.reports import answer
+    for f in folders:
+        if kind_of(f) == "analysis" and (f / "result.json").exists() and \
+                read_json(f / "result.json").get("kind") == "frequency":
+            res = read(f)
+            return answer.Sweep(res.first_resonance(), (float(res.freqs[0]), float(res.freqs[-1])), f.name,
+                                findings.model_label(res.scene))
+    return None
 
 
 def chromium():

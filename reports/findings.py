@@ -198,6 +198,7 @@ def front_3d_numbers(rec: dict) -> list[Headline]:
     c = a.get("confirmed")
     t, b = (c["thesis"], c.get("best")) if c else (a["thesis_3d"], a.get("best_at_or_below_thesis_crosstalk"))
     model, _ = verified_model(rec)
+    model += f" — ladder row {4 if c else 3}"            # reports.ladder.ROW: the finer mesh, else the verification's
     out = [Headline("thesis design, 3D", f"{eng(t['sensitivity_V_per_N'], 'V/N', 3)}, "
                                          f"{percent(t['crosstalk'])} crosstalk", model)]
     if b:
@@ -220,7 +221,7 @@ def front_3d_banners(rec: dict) -> list[Banner]:
     s2, s3 = ref.get("sensitivity 2D (V/N)"), ref.get("sensitivity 3D (V/N)")
     if c2 and c3 and abs(c2 / c3 - 1) > CHEAP_3D_ERROR["crosstalk"]:
         out.append(Banner("disagreement", f"2D and 3D crosstalk differ {c2 / c3:.2g}x for the thesis design "
-                          f"({percent(c2)} in 2D plane strain, {percent(c3)} in 3D; the 3D mesh's own crosstalk "
+                          f"({percent(c2)} in 2D plane strain, ladder row 1; {percent(c3)} in 3D, ladder row 3; the 3D mesh's own crosstalk "
                           f"error is about {100 * CHEAP_3D_ERROR['crosstalk']:g} %); sensitivity "
                           f"{100 * (s2 / s3 - 1):+.1f} %. Trust the 3D values: the 2D front only ranks designs."))
     worst = None
@@ -234,7 +235,7 @@ def front_3d_banners(rec: dict) -> list[Banner]:
         miss, pc, fc, d = worst
         x = ", ".join(f"{k.split(' (')[0].replace('_', ' ')} {v:.2f} mm" for k, v in d.items() if k.endswith("(mm)"))
         out.append(Banner("verification", f"The corrected (2D x 3D ratio) prediction failed its 3D check: it "
-                          f"predicted {percent(pc)} crosstalk where 3D gives {percent(fc)} ({x}). Only the "
+                          f"predicted {percent(pc)} crosstalk (ladder row 2) where 3D gives {percent(fc)} (ladder row 3; {x}). Only the "
                           "3D-verified values are shown as results; the predictions pick which designs to verify."))
     return out
 

@@ -7,11 +7,16 @@ The rows come from an optimization folder's records, matched to the design by it
 variables (within 1 µm):
 
   2D section, pressure patch, linear silicone   the cheap front (front-3d.json "2D" columns)
+  the 2D model corrected toward 3D              front-3d.json "predicted" columns (a prediction)
   3D, pressure patch, linear silicone           the verification mesh (front-3d.json "3D")
   3D, pressure patch, finer mesh                the confirmation (front-3d.json answer.confirmed)
   2D section, the rig's probe, Yeoh silicone    probe-front.json "2D press" columns
   under the rig's probe (the answer's model)    probe-front.json: a 3D press, or the 2D press
                                                 scaled by the linear 3D/2D ratio
+
+Each model has a fixed row number (ROW), the same for every design, so that a page's
+column of one model names its row once (`label`: "sensitivity 2D, pressure patch —
+ladder row 1"); a design the run did not solve in a model has no such row.
 
 Nothing is solved here.
 """
@@ -33,6 +38,9 @@ WHY = {
     "2D section, pressure patch, linear silicone":
         "a plane section of the array (the row is infinitely deep: crosstalk about 3 times too high), a uniform "
         "pressure instead of the probe, linear silicone",
+    "2D section corrected toward 3D (the front's prediction)":
+        "a prediction, not a solve: the 2D model corrected by the 3D solves before it (the verification's "
+        "check of it is the next row)",
     "3D, pressure patch, linear silicone (verification mesh)":
         "the coarse 3D mesh that checks the front; a uniform pressure instead of the probe, linear silicone",
     "3D, pressure patch, linear silicone (finer mesh)":
@@ -41,6 +49,45 @@ WHY = {
     "2D section, the rig's probe, Yeoh silicone":
         "the probe and the Yeoh silicone, on a plane section (crosstalk too high, as above)",
 }
+
+
+ANSWER_MODEL = "under the rig's probe, Yeoh silicone (the answer's model)"
+# the row number of each model, fixed: a page names a model's numbers by it
+ROW = {m: i + 1 for i, m in enumerate([*WHY, ANSWER_MODEL])}
+SHORT = {1: "2D, pressure patch", 2: "2D corrected, a prediction", 3: "3D, pressure patch",
+         4: "3D finer mesh, pressure patch", 5: "2D press, the rig's probe", 6: "the answer's model"}
+
+
+def label(quantity: str, model: int) -> str:
+    """A page's column name for one model's numbers: "sensitivity 2D, pressure patch — ladder row 1"."""
+    return f"{quantity}, {SHORT[model]} — ladder row {model}"
+
+
+# the record columns of each model's numbers, and their ladder row
+FRONT_3D_COLUMNS = {"sensitivity 2D (V/N)": 1, "crosstalk 2D": 1, "predicted sensitivity": 2, "predicted crosstalk": 2,
+                    "sensitivity 3D (V/N)": 3, "crosstalk 3D": 3}
+PROBE_COLUMNS = {"sensitivity (V/N)": 6, "crosstalk": 6, "sensitivity 2D press (V/N)": 5, "crosstalk 2D press": 5,
+                 "linear sensitivity (V/N)": 3, "linear crosstalk": 3, "probe sensitivity (V/N)": 6,
+                 "probe crosstalk": 6}
+
+
+def named(row: dict, columns: dict) -> dict:
+    """`row` (changed in place, its order kept) with each column of `columns` ({record
+    column: ladder row}) renamed by `label`, a sensitivity's unit V/N: "sensitivity 2D (V/N)" ->
+    "sensitivity 2D, pressure patch — ladder row 1 (V/N)"."""
+    items = list(row.items())
+    row.clear()
+    for k, v in items:
+        if k in columns:
+            quantity = "sensitivity" if "sensitivity" in k else "crosstalk"
+            k = label(quantity, columns[k]) + (" (V/N)" if quantity == "sensitivity" else "")
+        row[k] = v
+    return row
+
+
+def anchor(folder: str, role: str, number: int) -> str:
+    """The page anchor of a design's ladder row (the answer's first screen links to it)."""
+    return f"ladder-{folder}-{role}-{number}"
 
 
 @dataclass
@@ -52,9 +99,10 @@ class Rung:
     error: float | None                # relative, None: not estimated
     why: str
     answer: bool = False
+    number: int = 0                    # ROW's number of the model
 
     def row(self) -> list[str]:
-        return [self.model + (" (the answer)" if self.answer else ""),
+        return [f"{self.number}. " + self.model + (" (the answer)" if self.answer else ""),
                 eng(self.sensitivity, "V/N", 3) if self.sensitivity is not None else "—",
                 percent(self.crosstalk) if self.crosstalk is not None else "—",
                 f"{100 * self.error:.2g} %" if self.error is not None else "not estimated", self.why]
@@ -80,28 +128,33 @@ def ladder(folder: Path, x_mm: dict, reference: bool) -> list[Rung]:
         if rows:
             r = rows[0]
             out.append(Rung(names[0], r.get("sensitivity 2D (V/N)"), r.get("crosstalk 2D"), None, WHY[names[0]]))
+            if r.get("predicted sensitivity") is not None or r.get("predicted crosstalk") is not None:
+                out.append(Rung(names[1], r.get("predicted sensitivity"), r.get("predicted crosstalk"), None,
+                                WHY[names[1]]))
             if r.get("sensitivity 3D (V/N)") is not None:
-                out.append(Rung(names[1], r["sensitivity 3D (V/N)"], r.get("crosstalk 3D"),
-                                VERIFY_3D_ERROR["sensitivity"], WHY[names[1]]))
+                out.append(Rung(names[2], r["sensitivity 3D (V/N)"], r.get("crosstalk 3D"),
+                                VERIFY_3D_ERROR["sensitivity"], WHY[names[2]]))
         c = (rec.get("answer") or {}).get("confirmed") or {}
         conf = c.get("thesis") if reference else (c.get("best") if c.get("best") and all(
             abs(a - b) < 1e-3 for a, b in zip(c["best"]["x"], x_mm.values())) else None)
         if conf:
-            out.append(Rung(names[2], conf["sensitivity_V_per_N"], conf["crosstalk"],
-                            CHEAP_3D_ERROR["sensitivity"], WHY[names[2]]))
+            out.append(Rung(names[3], conf["sensitivity_V_per_N"], conf["crosstalk"],
+                            CHEAP_3D_ERROR["sensitivity"], WHY[names[3]]))
     if (folder / "probe-front.json").exists():
         rec = json.loads((folder / "probe-front.json").read_text())
         rows = [rec["reference"]] if reference else [r for r in rec["front"] if _same(r, x_mm)]
         if rows:
             r = rows[0]
             if r.get("sensitivity 2D press (V/N)") is not None:
-                out.append(Rung(names[3], r["sensitivity 2D press (V/N)"], r.get("crosstalk 2D press"), None,
-                                WHY[names[3]]))
+                out.append(Rung(names[4], r["sensitivity 2D press (V/N)"], r.get("crosstalk 2D press"), None,
+                                WHY[names[4]]))
             model = ("3D press by the rig's probe, Yeoh silicone" if r.get("how") == "3D press" else
                      "the rig's probe, Yeoh silicone: 2D press scaled by the linear 3D/2D ratio")
-            out.append(Rung(model, r["sensitivity (V/N)"], r["crosstalk"], r.get("estimated error"),
+            out.append(Rung(f"{ANSWER_MODEL}: {model}", r["sensitivity (V/N)"], r["crosstalk"], r.get("estimated error"),
                             "the answer's model", answer=True))
     if out and not any(r.answer for r in out):
         out[-1].answer = True
         out[-1].why = "the answer's model"
+    for r in out:
+        r.number = ROW.get(r.model, ROW[ANSWER_MODEL])
     return out

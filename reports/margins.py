@@ -41,6 +41,16 @@ def requirement_rows(a) -> list[list[str]]:
     return rows
 
 
+def anchor(folder: str, metric: str) -> str:
+    """The page anchor of a requirement's row (the answer's first screen links to it)."""
+    return f"requirement-{folder}-{metric}"
+
+
+def requirement_ids(a) -> list[str]:
+    """The anchors of `requirement_rows(a)`, row by row."""
+    return [anchor(a.folder, q.metric) for q in a.requirements]
+
+
 def requirement_cols(a) -> list[str]:
     """The requirements table's columns for `a`."""
     ref = [f"{a.reference_name.removeprefix('the ')}{'' if a.recommended else ' (kept)'}: prediction", "margin"]

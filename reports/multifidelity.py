@@ -74,13 +74,14 @@ def probe_blocks(rec: dict) -> list[dict]:
     sentence, the front with each design's estimated error, the movements against the
     linear front, the definitions and the cost."""
     from taxel.reports import tables
-    front = [_readable(r) for r in rec["front"] if r["x"] != rec["reference"]["x"]]
-    ref = _readable(rec["reference"])
+    from taxel.reports.ladder import PROBE_COLUMNS, named
+    front = [named(_readable(r), PROBE_COLUMNS) for r in rec["front"] if r["x"] != rec["reference"]["x"]]
+    ref = named(_readable(rec["reference"]), PROBE_COLUMNS)
     over = [r for r in rec["front"] if not r.get("within 2 %", True)]
     blocks = [{"type": "text", "text": "Headline: " + rec["sentence"]},
               {"type": "table", "table": tables.table(front + [{**ref, "how": f"thesis design ({ref.get('how', '')})"}])},
               {"type": "text", "text": "Movements against the linear pressure-patch front (3D-verified), design by design:"},
-              {"type": "table", "table": tables.table([_readable(m) for m in rec["movements"]])},
+              {"type": "table", "table": tables.table([named(_readable(m), PROBE_COLUMNS) for m in rec["movements"]])},
               {"type": "note", "text": "Definitions: " + "; ".join(f"{k.replace('tangent_sensitivity', 'small-signal sensitivity')}: {v}"
                                                           for k, v in rec["definitions"].items())
                + ". " + ranking_sentence(rec["ranking"])},

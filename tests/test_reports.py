@@ -462,3 +462,168 @@ def test_a_contact_probe_is_drawn_as_the_probe_it_is():
     assert not load_arrows(ax)
     ax2 = scene_drawing(api.load("thesis-pzt-3x3-2d")).axes[0]
     assert not [p for p in ax2.patches if isinstance(p, Circle)] and len(load_arrows(ax2)) == 7
+
+
+# --- issue 45: one number per quantity ----------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def answer_report(tmp_path_factory):
+    """The report of the main job's front records (tests/data/answer: the thesis PZT and
+    PVDF fronts' probe-front.json and front-3d.json, with a gap and a thickness
+    requirement): its pages' HTML and the answers."""
+    import shutil
+    from taxel.reports.answer import headline_front
+    import json
+    root = tmp_path_factory.mktemp("answer")
+    folders = []
+    for src in sorted((Path(__file__).parent / "data" / "answer").iterdir()):
+        shutil.copytree(src, root / src.name)
+        folders.append(root / src.name)
+        for name in ("probe-front.json", "front-3d.json"):      # two of the seed's requirements stated
+            rec = json.loads((root / src.name / name).read_text())
+            rec["requirements"] = {"gap": ">= 1 mm", "total_thickness": "<= 2.127 mm"}
+            (root / src.name / name).write_text(json.dumps(rec))
+    index = build(folders, root / "report")
+    return {p.name: p.read_text(encoding="utf-8") for p in index.parent.glob("*.html")}, \
+        [headline_front(f) for f in folders]
+
+
+def _cells(tr: str) -> list[str]:
+    import html
+    return [html.unescape(re.sub(r"<[^>]+>", "", c)).strip()
+            for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", tr, re.S)]
+
+
+def test_every_number_of_an_answer_design_is_the_answers_or_names_its_ladder_row(answer_report):
+    """For each answer design (recommended and thesis, each material), every sensitivity and
+    crosstalk of that design on any page of the report either equals the answer's or names
+    its ladder row (reports.ladder) and equals that row's number: in tables (the design's
+    rows, found by its silicone and gap in mm), and in prose."""
+    import html
+    from taxel.reports.answer import MATERIALS
+    from taxel.reports.ladder import ladder
+    from taxel.reports.tables import eng, percent
+    pages, answers = answer_report
+    designs = []
+    for a in answers:
+        for d in (a.recommended, a.thesis):
+            if d is None:
+                continue
+            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+            rungs = {r.number: {"sensitivity": eng(r.sensitivity, "V/N", 3) if r.sensitivity is not None else None,
+                                "crosstalk": percent(r.crosstalk) if r.crosstalk is not None else None}
+                     for r in ladder(a.path, x, d is a.thesis)}
+            designs.append((a.folder, MATERIALS.get(d.material, d.material), [f"{v:.2f}" for v in x.values()],
+                            {"sensitivity": eng(d.sensitivity_V_per_N, "V/N", 3), "crosstalk": percent(d.crosstalk)},
+                            rungs))
+    assert len(designs) == 4 and all(len(r) >= 2 for *_, r in designs)
+    checked = prose = 0
+    for name, page in pages.items():
+        for tb in re.findall(r"<table.*?</table>", page, re.S):
+            trs = re.findall(r"<tr[^>]*>.*?</tr>", tb, re.S)
+            head = _cells(trs[0])
+            if not {"silicone above (mm)", "silicone below (mm)", "gap (mm)"} <= set(head):
+                continue
+            at = [head.index(c) for c in ("silicone above (mm)", "silicone below (mm)", "gap (mm)")]
+            for tr in trs[1:]:
+                c = _cells(tr)
+                for folder, material, x, answer, rungs in designs:
+                    if [c[i] for i in at] != x or (name != "index.html" and not name.startswith(folder)) or \
+                            ("material" in head and c[head.index("material")] != material):
+                        continue
+                    for h, v in zip(head, c):
+                        q = next((q for q in ("sensitivity", "crosstalk") if h.startswith(q) or f" {q}" in h), None)
+                        if q is None or "moved" in h or not v:
+                            continue
+                        row = re.search(r"ladder row (\d+)", h)
+                        shown = re.sub(r" ± \S+", "", v)
+                        want = rungs.get(int(row.group(1)), {}).get(q) if row else answer[q]
+                        assert shown == want, (name, folder, h, v, want)
+                        checked += 1
+        text = re.sub(r"<table.*?</table>|<script.*?</script>|<style.*?</style>", " ", page, flags=re.S)
+        for el in re.findall(r"<(?:p|li|summary|div)\b[^>]*>(.*?)</(?:p|li|summary|div)>", text, re.S):
+            words = html.unescape(re.sub(r"<[^>]+>", " ", el))
+            for folder, material, x, answer, rungs in designs:
+                for n, r in rungs.items():
+                    for q, v in r.items():
+                        if v is not None and v != answer[q] and re.search(rf"(?<![\d.]){re.escape(v)}", words):
+                            assert f"ladder row {n}" in words, (name, folder, n, v, words)
+                            prose += 1
+    assert checked >= 30 and prose >= 3, (checked, prose)
+
+
+def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_report):
+    """The answer's title and table: each sensitivity and crosstalk links to its design's
+    ladder row of the answer's model, the gap to its requirement's row; every link's
+    target is a row on the page that shows the same number."""
+    import html
+    pages, answers = answer_report
+    page = pages["index.html"]
+    first = page[page.index('<div class="answer"'):page.index("</table>", page.index('<div class="answer"'))]
+    rows = {m.group(1): _cells(m.group(0)) for m in re.finditer(r'<tr id="([^"]+)">.*?</tr>', page, re.S)}
+    links = re.findall(r'<a href="#([^"]+)">(.*?)</a>', first)
+    targets = {t for t, _ in links}
+    assert any(t.startswith("ladder-") for t in targets) and any(t.startswith("requirement-") for t in targets)
+    for target, shown in links:
+        assert target in rows, target
+        number = re.sub(r" ± \S+", "", html.unescape(shown))       # "738 mV/N", "1.02 %", "3.44" (mm)
+        same = [c for c in rows[target] if c == number or (re.fullmatch(r"[\d.]+", number) and
+                                                          c.split()[0] == f"{float(number):.3g}")]
+        assert same, (target, shown, rows[target])
+    # every number of a design's table row that has a row to come from is linked
+    table = first[first.index("<table"):]
+    head = _cells(re.search(r"<tr>.*?</tr>", table, re.S).group(0))
+    for tr in re.findall(r'<tr class="[^"]+">.*?</tr>', table, re.S):
+        tds = re.findall(r"<td>(.*?)</td>", tr, re.S)
+        for h, td in zip(head, tds):
+            if h in ("open-circuit sensitivity", "open-circuit crosstalk", "gap (mm)"):
+                assert td.startswith('<a href="#'), (h, td)
+    assert len(re.findall(r'<h2><a|<h2>[^<]*<a', first)) == 1 and first.count('href="#ladder-') >= 12
+
+
+def test_page_one_gives_the_first_resonance_or_says_not_computed(answer_report, tmp_path):
+    """Without a frequency sweep page one says the first resonance is not computed; with
+    the main job's sweep (thesis-pzt-frequency, 20 points) it gives the sweep's peak above
+    its lowest decade, recomputed here from the folder's record, and the page it is on."""
+    import json
+    import shutil
+    import numpy as np
+    from taxel import api
+    from taxel.reports.tables import eng
+    pages, _ = answer_report
+    assert "first resonance: not computed (no frequency sweep in this run)" in pages["index.html"]
+    folders = []
+    for src in sorted((Path(__file__).parent / "data" / "answer").iterdir()):
+        shutil.copytree(src, tmp_path / src.name)
+        folders.append(tmp_path / src.name)
+    sweep = tmp_path / "thesis-pzt-frequency"
+    api.solve(api.load("thesis-pzt-frequency").replace(**{"analysis.points": 20}), out=sweep)
+    rec = json.loads((sweep / "result.json").read_text())
+    f = np.array(rec["frequency_Hz"])
+    mag = max(rec["magnitude_V_per_N"].values(), key=lambda m: m[0])        # the pressed taxel's
+    i = int(np.argmax(np.where(f >= 10 * f[0], mag, -np.inf)))
+    assert 0 < i < len(f) - 1 and f[i] > 100                               # a peak inside the sweep
+    page = build(folders + [sweep], tmp_path / "report").read_text(encoding="utf-8")
+    line = re.search(r'<p class="dynamics">(.*?)</p>', page, re.S).group(1)
+    assert f"first resonance: {eng(f[i], 'Hz', 3)} (" in line and "page thesis-pzt-frequency" in line
+    assert line.startswith("Bandwidth: not computed")                      # no readout record in these folders
+
+
+def test_a_3d_view_of_an_answer_design_names_its_ladder_row(tmp_path):
+    """The main job's 3D views of the answer's designs (folders <front>-thesis-3d and
+    <front>-recommended-3d, taxel.jobs.main_job.design_views) say on the page and on the
+    index's card that their numbers are ladder row 3, not the answer's; another solve
+    page does not. (A cheap 2D solve stands in for the view: the label keys on the folder.)"""
+    import shutil
+    from taxel import api
+    api.solve(api.load("thesis-pzt-single-2d"), out=tmp_path / "thesis-pzt-thesis-3d")
+    shutil.copytree(tmp_path / "thesis-pzt-thesis-3d", tmp_path / "thesis-pzt-single-2d")
+    index = build([tmp_path / "thesis-pzt-thesis-3d", tmp_path / "thesis-pzt-single-2d"], tmp_path / "report")
+    import html
+    view = html.unescape((index.parent / "thesis-pzt-thesis-3d.html").read_text(encoding="utf-8"))
+    other = (index.parent / "thesis-pzt-single-2d.html").read_text(encoding="utf-8")
+    assert "The answer's thesis design in the 3D, pressure patch model" in view and "ladder row 3" in view
+    assert "ladder row" not in other
+    cards = index.read_text(encoding="utf-8")
+    assert cards.count("— ladder row 3") == len(re.findall(r'<dl>.*?</dl>', cards, re.S)[0].split("<dt>")) - 1

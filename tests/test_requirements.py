@@ -134,6 +134,12 @@ def test_the_answer_block_reads_in_plain_language(tmp_path):
     answers = [headline_front(_front(tmp_path, m, THESIS_REQUIREMENTS)) for m in ("pzt", "pvdf")]
     blk = block(answers)
     blk.pop("records")                       # answer.csv's numeric rows, not prose
+    blk.pop("links")                         # page anchors, not prose
+    blk["title_parts"] = [t for t, _ in blk["title_parts"]]
+    for line in blk["lines"]:
+        line.pop("requirement_ids")
+        for g in line["ladders"]:
+            g.pop("ids"), g.pop("answer")
 
     def words(x):
         if isinstance(x, dict):
@@ -192,6 +198,7 @@ def test_every_answer_row_has_its_readout_numbers_and_csv_is_numeric(through_rea
     a force range; answer.csv holds numbers with their error and unit."""
     import csv
     from taxel import api
+    from taxel.reports.tables import eng
     c_f = api.load("thesis-pzt-frequency").readout.C_f
     for a in through_readout:
         for d in (a.recommended, a.thesis):
@@ -204,6 +211,10 @@ def test_every_answer_row_has_its_readout_numbers_and_csv_is_numeric(through_rea
     blk = block(through_readout)
     assert "PZT (PSI-5H4E) is preferred" in blk["preference"] and "charge amplifier reads charge" in blk["preference"]
     assert all(r[blk["cols"].index("min. detectable force")] not in ("not computed", "—") for r in blk["rows"])
+    # page one's bandwidth: each design's charge amplifier corners, the lower one 1 / (2 pi R_f C_f)
+    r = api.load("thesis-pzt-frequency").readout
+    low = eng(1 / (2 * 3.141592653589793 * r.R_f * r.C_f), "Hz", 3)
+    assert blk["dynamics"].count(f"design {low} to ") == 4 and "not computed (no frequency sweep" in blk["dynamics"]
     path = tmp_path / "answer.csv"
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(blk["records"][0]))

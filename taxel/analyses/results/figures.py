@@ -45,6 +45,18 @@ def eng(value: float | None, unit: str, digits: int = 3) -> str:
 
 
 
+def resonance(freqs, mag) -> int | None:
+    """The index of a sweep's resonance: the largest |H| above the sweep's lowest decade
+    (where the readout's high-pass and the notch shape the response), when it is a peak
+    inside the sweep, not at its edge; None otherwise (no resonance in the sweep)."""
+    freqs, mag = np.asarray(freqs), np.asarray(mag)
+    upper = freqs >= 10 * freqs[0]
+    if not upper.any():
+        return None
+    i = int(np.argmax(np.where(upper, mag, -np.inf)))
+    return i if 0 < i < len(freqs) - 1 else None
+
+
 def bode(freqs, H, names, label, path, title="", notch: float | None = None):
     """Magnitude and phase (unwrapped) of H (nf, na) against frequency, with the
     resonance (the largest |H| above the lowest decade) and the notch marked."""
@@ -55,14 +67,12 @@ def bode(freqs, H, names, label, path, title="", notch: float | None = None):
         a1.loglog(freqs, np.abs(H[:, k]), label=name.replace("_", " "))
         a2.semilogx(freqs, np.degrees(np.unwrap(np.angle(H[:, k]))), label=name.replace("_", " "))
     mag = np.abs(H[:, 0])
-    upper = freqs >= 10 * freqs[0]
-    if upper.any():
-        i = int(np.argmax(np.where(upper, mag, -np.inf)))
-        if 0 < i < len(freqs) - 1:              # a peak inside the sweep, not its edge
-            for a in (a1, a2):
-                a.axvline(freqs[i], color="tab:red", lw=0.8, ls="--")
-            a1.annotate(f"resonance {freqs[i]:.3g} Hz", (freqs[i], mag[i]), xytext=(-8, -4),
-                        textcoords="offset points", ha="right", va="top", fontsize=8, color="tab:red")
+    i = resonance(freqs, mag)
+    if i is not None:                           # a peak inside the sweep (resonance)
+        for a in (a1, a2):
+            a.axvline(freqs[i], color="tab:red", lw=0.8, ls="--")
+        a1.annotate(f"resonance {freqs[i]:.3g} Hz", (freqs[i], mag[i]), xytext=(-8, -4),
+                    textcoords="offset points", ha="right", va="top", fontsize=8, color="tab:red")
     if notch:
         for a in (a1, a2):
             a.axvline(notch, color="tab:purple", lw=0.8, ls=":")
