@@ -31,7 +31,7 @@ GALLERY = Path(__file__).resolve().parents[1] / "docs" / "gallery"
 TESTED = {"plot_taxel_2d", "plot_taxel_models", "plot_crosstalk_3x3", "plot_frequency_response",
           "plot_step_response", "plot_noise_budget", "plot_press_probe", "plot_reduced_model",
           "plot_study_fig_2_5", "plot_explorer", "plot_measurement_loop", "plot_front", "plot_work_precision",
-          "plot_user_design"}
+          "plot_user_design", "plot_skin_mujoco"}
 
 # the thesis 3x3 PZT array (1 mm silicone above and below, 3 mm gap), docs/guide/meshes-and-accuracy.md
 ARRAY_2D_SENSITIVITY, ARRAY_2D_CROSSTALK, ARRAY_3D_CROSSTALK = 0.812, 0.075, 0.0233
@@ -233,6 +233,24 @@ def test_measurement_loop(run):
     assert step.tau_s == pytest.approx(10e6 * 820e-12, rel=0.1)
     assert step.tau_ci95_s[0] < step.tau_s < step.tau_ci95_s[1]
     assert step.step_N == pytest.approx(1.0, rel=1e-2)
+
+
+@pytest.mark.slow
+def test_skin_mujoco(run):
+    g = run("plot_skin_mujoco")
+    t, force, volts, SEG = g["t"], g["force"], g["volts"], g["SEG"]
+    assert np.all(np.isfinite(volts)) and np.all(force >= 0)
+    # the flat probe (first press) on the middle taxel: MuJoCo's contact force reaches its
+    # 1 N, and the middle taxel answers most
+    first = t < SEG
+    assert force[first].max() == pytest.approx(1.0, rel=0.05)
+    peak = np.abs(volts[first]).max(axis=0)
+    assert np.unravel_index(peak.argmax(), peak.shape) == (1, 1)
+    # a piezo taxel reports the force's change: the held press decays through the readout's
+    # high-pass (tau = R C_p, about 2 s here), so the release swings the voltage past zero by
+    # what decayed while it was held (1 - exp(-0.33 s / 2 s), about 15 % of the peak)
+    v = volts[first, 1, 1]
+    assert v.min() == pytest.approx(-peak[1, 1]) and 0.05 * peak[1, 1] < v.max() < 0.3 * peak[1, 1]
 
 
 @pytest.mark.slow

@@ -43,7 +43,7 @@ def test_dataset_bad_input(tmp_path, capsys, monkeypatch):
     first_order_skin().save(tmp_path / "skin.npz")
     for args, words in ((["skin", "dataset", "-o", "d.h5"], "give the skin file"),
                         (["skin", "dataset", "skin.npz", "-o", "d.csv"], "use FILE.h5"),
-                        (["skin", "dataset", "skin.npz", "-o", "d.h5", "--presses", "0"], "--presses 0"),
+                        (["skin", "dataset", "skin.npz", "-o", "d.h5", "--presses", "0"], "argument --presses: give an integer >= 1"),
                         (["skin", "dataset", "skin.npz", "-o", "d.h5", "--dt", "0.002"], "--dt: not an option")):
         assert main(args) == 2
         err = capsys.readouterr().err.strip()
