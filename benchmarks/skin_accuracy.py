@@ -14,29 +14,24 @@ FEM's peak |v|. Then the skin's influence error at 4 FEM presses halfway between
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 
 import taxel
-from taxel.schema import electrode_name
 from taxel.skin.build import build
-from taxel.skin.runtime import SkinRuntime
 
-COARSE = {"readout.circuit": "resistor", "mesh.size": "1 mm", "mesh.piezo_size": "0.2 mm"}
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from skin_transient import COARSE, fem_and_runtime  # noqa: E402
+
 HISTORIES = {"step": {"analysis.duration": 0.3, "analysis.rise": 0.005},
              "impulse": {"analysis.duration": 0.1, "analysis.width": 0.01},
              "chirp": {"analysis.duration": 1.0, "analysis.f0": 0.0, "analysis.f1": 100.0}}
 
 
 def error(scene, sk, x, history) -> float:
-    p, w = sk.pitch, sk.taxel_width
-    c = int(round(x / p))
-    s = scene.replace(**{"load.kind": "probe", "load.taxel": [1, c], "load.radius": w / 2,
-                         "load.offset": [x - c * p, 0.0], "load.profile": "flat", "load.force": 1.0,
-                         "analysis.type": "transient", "analysis.input": history, "analysis.dt": sk.dt,
-                         **HISTORIES[history]})
-    tr = taxel.solve(s)
-    V = np.array(tr.output)[:, [tr.names.index(electrode_name(1, k)) for k in range(3)]]
-    v = SkinRuntime(sk).run(np.tile([[x, p]], (len(tr.t), 1, 1)), tr.force[:, None])[:, 1, :]
+    v, V = fem_and_runtime(scene, sk, x, history, HISTORIES)
     return float(np.abs(v - V).max() / np.abs(V).max())
 
 

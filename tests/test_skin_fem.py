@@ -13,13 +13,12 @@ import numpy as np
 import pytest
 
 import taxel
-from taxel.schema import electrode_name
+from skin_transient import COARSE, fem_and_runtime
 from taxel.skin.build import build, press_voltages
 from taxel.skin.runtime import SkinRuntime
 
 pytestmark = pytest.mark.slow
 
-COARSE = {"readout.circuit": "resistor", "mesh.size": "1 mm", "mesh.piezo_size": "0.2 mm"}
 HISTORIES = {"step": {"analysis.duration": 0.2, "analysis.rise": 0.005},
              "impulse": {"analysis.duration": 0.1, "analysis.width": 0.01},
              "chirp": {"analysis.duration": 0.5, "analysis.f0": 0.0, "analysis.f1": 100.0}}
@@ -30,29 +29,16 @@ def scene():
     return taxel.load("thesis-pzt-3x3-2d").replace(**COARSE)
 
 
-def fem_and_runtime(scene, sk, x, history):
-    p, w = sk.pitch, sk.taxel_width
-    c = int(round(x / p))
-    s = scene.replace(**{"load.kind": "probe", "load.taxel": [1, c], "load.radius": w / 2,
-                         "load.offset": [x - c * p, 0.0], "load.profile": "flat", "load.force": 1.0,
-                         "analysis.type": "transient", "analysis.input": history, "analysis.dt": sk.dt,
-                         **HISTORIES[history]})
-    tr = taxel.solve(s)
-    V = np.array(tr.output)[:, [tr.names.index(electrode_name(1, k)) for k in range(3)]]
-    v = SkinRuntime(sk).run(np.tile([[x, p]], (len(tr.t), 1, 1)), tr.force[:, None])[:, 1, :]
-    return v, V
-
-
 @pytest.mark.parametrize("history", ["step", "impulse", "chirp"])
 def test_runtime_matches_fem_transient_on_a_taxel(scene, history):
     sk = build(scene, dt=2.5e-4, checks=0)
-    v, V = fem_and_runtime(scene, sk, sk.pitch, history)
+    v, V = fem_and_runtime(scene, sk, sk.pitch, history, HISTORIES)
     assert np.abs(v - V).max() < 0.02 * np.abs(V).max()
 
 
 def test_runtime_matches_fem_chirp_between_taxels(scene):
     sk = build(scene, dt=1e-3, checks=0)
-    v, V = fem_and_runtime(scene, sk, 1.5 * sk.pitch, "chirp")
+    v, V = fem_and_runtime(scene, sk, 1.5 * sk.pitch, "chirp", HISTORIES)
     assert np.abs(v - V).max() < 0.02 * np.abs(V).max()
 
 
