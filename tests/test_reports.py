@@ -489,7 +489,7 @@ def answer_report(tmp_path_factory):
         [headline_front(f) for f in folders]
 
 
-def _cells(tr: str) -> list[str]:
+def _row_cells(tr: str) -> list[str]:
     import html
     return [html.unescape(re.sub(r"<[^>]+>", "", c)).strip()
             for c in re.findall(r"<t[dh][^>]*>(.*?)</t[dh]>", tr, re.S)]
@@ -522,12 +522,12 @@ def test_every_number_of_an_answer_design_is_the_answers_or_names_its_ladder_row
     for name, page in pages.items():
         for tb in re.findall(r"<table.*?</table>", page, re.S):
             trs = re.findall(r"<tr[^>]*>.*?</tr>", tb, re.S)
-            head = _cells(trs[0])
+            head = _row_cells(trs[0])
             if not {"silicone above (mm)", "silicone below (mm)", "gap (mm)"} <= set(head):
                 continue
             at = [head.index(c) for c in ("silicone above (mm)", "silicone below (mm)", "gap (mm)")]
             for tr in trs[1:]:
-                c = _cells(tr)
+                c = _row_cells(tr)
                 for folder, material, x, answer, rungs in designs:
                     if [c[i] for i in at] != x or (name != "index.html" and not name.startswith(folder)) or \
                             ("material" in head and c[head.index("material")] != material):
@@ -561,7 +561,7 @@ def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_r
     pages, answers = answer_report
     page = pages["index.html"]
     first = page[page.index('<div class="answer"'):page.index("</table>", page.index('<div class="answer"'))]
-    rows = {m.group(1): _cells(m.group(0)) for m in re.finditer(r'<tr id="([^"]+)">.*?</tr>', page, re.S)}
+    rows = {m.group(1): _row_cells(m.group(0)) for m in re.finditer(r'<tr id="([^"]+)">.*?</tr>', page, re.S)}
     links = re.findall(r'<a href="#([^"]+)">(.*?)</a>', first)
     targets = {t for t, _ in links}
     assert any(t.startswith("ladder-") for t in targets) and any(t.startswith("requirement-") for t in targets)
@@ -573,7 +573,7 @@ def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_r
         assert same, (target, shown, rows[target])
     # every number of a design's table row that has a row to come from is linked
     table = first[first.index("<table"):]
-    head = _cells(re.search(r"<tr>.*?</tr>", table, re.S).group(0))
+    head = _row_cells(re.search(r"<tr>.*?</tr>", table, re.S).group(0))
     for tr in re.findall(r'<tr class="[^"]+">.*?</tr>', table, re.S):
         tds = re.findall(r"<td>(.*?)</td>", tr, re.S)
         for h, td in zip(head, tds):
