@@ -17,11 +17,10 @@ import urllib.request
 from pathlib import Path
 
 import pytest
-from waits import poll_until
+from waits import CEILING, poll_until
 from wslink_client import Client, HandshakeRefused
 
 from taxel.explore.browser import ExplorerProcess
-from waits import CEILING
 
 SCENE = "thesis-pzt-single-2d"
 
@@ -73,14 +72,14 @@ def test_a_foreign_host_is_refused_dns_rebinding(app):
 def test_the_page_needs_the_token_and_the_token_sets_a_cookie(app):
     base = f"http://127.0.0.1:{app.port}/index.html"
     with pytest.raises(urllib.error.HTTPError) as err:
-        urllib.request.urlopen(base, timeout=60)
+        urllib.request.urlopen(base, timeout=CEILING)
     assert err.value.code == 403
-    with urllib.request.urlopen(base + "?" + app.url.split("?")[1], timeout=60) as r:
+    with urllib.request.urlopen(base + "?" + app.url.split("?")[1], timeout=CEILING) as r:
         assert r.status == 200
         cookie = r.headers["Set-Cookie"]
     assert f"taxel-explore-{app.port}=" in cookie and "HttpOnly" in cookie and "SameSite=Strict" in cookie
     req = urllib.request.Request(base, headers={"Cookie": cookie.split(";")[0]})
-    with urllib.request.urlopen(req, timeout=60) as r:
+    with urllib.request.urlopen(req, timeout=CEILING) as r:
         assert r.status == 200
 
 

@@ -8,6 +8,7 @@ import itertools
 
 import msgpack
 import websocket
+from waits import CEILING
 from wslink.chunking import UnChunker, generate_chunks
 
 
@@ -22,7 +23,7 @@ class HandshakeRefused(Exception):
 class Client:
     """One WebSocket connection to a trame server's /ws."""
 
-    def __init__(self, url: str, origin: str | None = None, host: str | None = None, timeout: float = 60.0):
+    def __init__(self, url: str, origin: str | None = None, host: str | None = None, timeout: float = CEILING):
         try:
             self.ws = websocket.create_connection(url, origin=origin, host=host, timeout=timeout,
                                                   suppress_origin=origin is None)
