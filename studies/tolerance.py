@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from taxel import units
-from taxel.studies.requirements import Requirement, RequirementError, parse_requirement
+from taxel.studies.requirements import Requirement
 
 DISTRIBUTIONS = ("normal", "uniform")
 
@@ -112,16 +112,6 @@ def sample(spreads: list[Spread], n: int, seed: int) -> np.ndarray:
         u = qmc.Sobol(d=len(spreads), scramble=True, seed=seed).random(n)
     u = np.clip(u, 1e-12, 1 - 1e-12)
     return np.column_stack([s.value(u[:, j]) for j, s in enumerate(spreads)])
-
-
-def requirement(name: str, text: str) -> tuple[str, float]:
-    """(op, bound in SI) of a requirement "<= 2 %" / ">= 0.7 V/N", its grammar only
-    (studies.requirements, which also checks it against the outputs)."""
-    try:
-        r = parse_requirement(name, text)
-    except RequirementError as exc:
-        raise ToleranceError(str(exc)) from None
-    return r.op, r.bound
 
 
 def meets(values: np.ndarray, op: str, bound: float) -> np.ndarray:

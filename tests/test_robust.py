@@ -6,7 +6,7 @@ import pytest
 
 from taxel.optimize.robust import Robust, robust_metrics
 from taxel.optimize.spec import OptimizeError, load_optimization, optimize
-from taxel.studies.tolerance import requirement
+from taxel.studies.requirements import parse_requirement
 
 HEAD = '''name = "r"
 base = "thesis-pzt-3x3-2d"
@@ -60,7 +60,7 @@ def test_robust_metrics_of_a_known_spread():
 
     def evaluate(part, params):
         return {"sensitivity": params["silicone_above"], "crosstalk": None}
-    m = robust_metrics(rb, {"sensitivity": requirement("sensitivity", ">= 0.95")}, data, evaluate)
+    m = robust_metrics(rb, {"sensitivity": (">=", parse_requirement("sensitivity", ">= 0.95").bound)}, data, evaluate)
     assert m["robust_sensitivity"] == pytest.approx(0.91, abs=2e-3)
     assert m["yield"] == pytest.approx(0.75, abs=3 / 1024)
     assert m["robust_crosstalk"] is None

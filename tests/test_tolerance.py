@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
-from taxel.studies.tolerance import Spread, meets, requirement, sample, spread
+from taxel.studies.requirements import parse_requirement
+from taxel.studies.tolerance import Spread, meets, sample, spread
 from taxel.studies.yield_analysis import analyze, fit_surrogate, sobol_indices, yield_of
 
 # Ishigami (a = 7, b = 0.1) on [-pi, pi]^3: S1 = (0.3139, 0.4424, 0), ST = (0.5576, 0.4424, 0.2437)
@@ -28,7 +29,8 @@ def test_yield_of_a_linear_output_of_a_normal_input():
     """y = 2 x - 1 with x ~ N(1, 0.1) (tolerance 0.3 = 3 sigma): P(y >= 0.9) = Phi((1 - 0.9) / 0.2)."""
     s = spread("x", 1.0, 0.3, "normal")
     x = sample([s], 2048, seed=0)[:, 0]
-    ok = meets(2 * x - 1, *requirement("y", ">= 0.9"))
+    r = parse_requirement("y", ">= 0.9")
+    ok = meets(2 * x - 1, r.op, r.bound)
     exact = norm.cdf((1.0 - 0.9) / 0.2)
     y = yield_of(ok)
     assert y["low"] <= exact <= y["high"]
@@ -36,10 +38,12 @@ def test_yield_of_a_linear_output_of_a_normal_input():
 
 
 def test_requirements_read_units_and_percent():
-    assert requirement("crosstalk", "<= 2 %") == ("<=", pytest.approx(0.02))
-    assert requirement("sensitivity", ">= 700 mV/N") == (">=", pytest.approx(0.7))
+    r = parse_requirement("crosstalk", "<= 2 %")
+    assert (r.op, r.bound) == ("<=", pytest.approx(0.02))
+    r = parse_requirement("sensitivity", ">= 700 mV/N")
+    assert (r.op, r.bound) == (">=", pytest.approx(0.7))
     with pytest.raises(ValueError, match="requirements.sensitivity"):
-        requirement("sensitivity", "> 0.7 V/N")
+        parse_requirement("sensitivity", "> 0.7 V/N")
 
 
 def test_surrogate_is_exact_on_a_quadratic_and_sobol_of_additive_linear():
