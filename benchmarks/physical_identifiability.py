@@ -43,7 +43,7 @@ def main():
                                             for n, row in zip(idf.names, idf.correlation)))
         free = {k: v for k, v in theta.items() if k not in ("gain", "C_f")}
         fixed = identifiability(lambda f, **kw: model(f, **kw), free, freqs, sigma)
-        print(f"  gain and C_f fixed (piezo then carries the gain, R_f the time constant):")
+        print("  gain and C_f fixed (piezo then carries the gain, R_f the time constant):")
         show(fixed, sigma)
         print("  correlation:\n" + "\n".join("    " + f"{n:8s}" + " ".join(f"{c:+.3f}" for c in row)
                                             for n, row in zip(fixed.names, fixed.correlation)))

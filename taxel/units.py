@@ -11,6 +11,10 @@ from __future__ import annotations
 
 import math
 from functools import cache
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:                   # pint is imported on first use (registry), not at import
+    import pint
 
 # the unit a message suggests for each SI base unit
 HINT = {"m": "mm", "N": "N", "Pa": "kPa", "V": "V", "Hz": "Hz", "s": "ms", "ohm": "MOhm", "F": "pF",

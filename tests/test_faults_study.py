@@ -207,7 +207,7 @@ def test_a_lost_scheduler_stops_the_run_with_one_line_and_a_rerun_resumes(study)
 
 
 @pytest.mark.slow
-def test_a_full_disk_under_the_store_is_one_line_keeps_every_point_and_a_rerun_completes(study, small_disk):
+def test_a_full_disk_under_the_store_is_one_line_keeps_every_point_and_a_rerun_completes(study, small_disk):  # noqa: F811 (the imported fixture)
     out = small_disk / "o"
     proc = _start(["study", "run", "st.toml", "--out", str(out), "--workers", "1", "--quiet"], study)
     _wait_for(lambda: (out / "results.sqlite").exists() and _rows(out)[0] >= 1, proc, "a first stored point")

@@ -30,7 +30,6 @@ def test_stress_is_the_derivative_of_the_energy_and_tangent_of_the_stress():
     rng = np.random.default_rng(3)
     F = (np.eye(3) + 0.3 * rng.normal(size=(3, 3)))[..., None, None]
     p = np.array([[2.5e3]])
-    K = 1e6
 
     def W(F):
         J = np.linalg.det(F[..., 0, 0])

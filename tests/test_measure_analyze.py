@@ -9,7 +9,6 @@ about 7-12 % at best (studies.measured.step gives the bound), so the step tests 
 the drift-robust fit's interval there, and the 2 % target on a quiet bench (0.5 mV)."""
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest

@@ -104,7 +104,6 @@ def test_step_response_against_the_fem_transient():
 
 @pytest.mark.slow      # the 3x3 array's reduced model (array2d); test_cli_writes_npz_and_mat stays fast
 def test_exports_read_back_give_the_same_frf(array2d, tmp_path):
-    import control
     from scipy import signal
     model = array2d[0]
     ss = model.state_space()
