@@ -29,6 +29,7 @@ docs: $(STAMP)
 
 lint: $(STAMP)
 	.ci/lint-imports
+	$(VENV)/bin/ruff check --select F .
 
 bench: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/python benchmarks/taxel_2d.py
