@@ -134,7 +134,7 @@ class FrontAnswer:
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
-        from taxel.reports.ladder import ladder
+        from taxel.reports.ladder import capacitance_note, ladder
         if self.path is None:
             return []
         out = []
@@ -145,7 +145,7 @@ class FrontAnswer:
             rungs = ladder(self.path, x, d is self.thesis)
             if rungs:
                 out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
-                            "role": d.role, "rows": [r.row() for r in rungs],
+                            "role": d.role, "rows": [r.row() for r in rungs], "note": capacitance_note(self.path, x, d.role),
                             "ids": [anchor(self.folder, d.role, r.number) for r in rungs],
                             "answer": next(anchor(self.folder, d.role, r.number) for r in rungs if r.answer)})
         return out

@@ -30,6 +30,7 @@ RIG = "thesis-bench"
 def answer_readout(front_dir: Path) -> Path | None:
     """Write OUT/answer-readout.json for the answer of `front_dir` (a built-in optimization's folder)."""
     from taxel import api
+    from taxel.analyses import lumped_model
     from taxel.analyses.noise import quasi_static_noise
     from taxel.optimize import spec as O
     from taxel.reports.answer import headline_front
@@ -61,6 +62,7 @@ def answer_readout(front_dir: Path) -> Path | None:
         nr = quasi_static_noise(scene, s, s * c_p, rig)
         shares = nr.shares()
         rows.append({"role": d.role, "x_mm": x, "capacitance_F": c_p, "charge_sensitivity_C_per_N": s * c_p,
+                     "lumped_capacitance_F": lumped_model(scene).C_p,       # eps33^T A / t: the parallel plate
                      "readout_V_per_N": float(np.max(nr.gain)), "band_Hz": list(nr.band),
                      "min_detectable_force_N": nr.min_detectable_force, "force_range_N": nr.saturation_force,
                      "saturation_by": nr.saturation_by, "hum_share": shares.get("hum residual", 0.0),
