@@ -145,7 +145,8 @@ class FrontAnswer:
             rungs = ladder(self.path, x, d is self.thesis)
             if rungs:
                 out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
-                            "role": d.role, "rows": [r.row() for r in rungs], "note": capacitance_note(self.path, x, d.role),
+                            "role": d.role, "rows": [r.row() for r in rungs],
+                            "note": capacitance_note(self.path, x, d.role),
                             "ids": [anchor(self.folder, d.role, r.number) for r in rungs],
                             "answer": next(anchor(self.folder, d.role, r.number) for r in rungs if r.answer)})
         return out
@@ -212,7 +213,8 @@ def _through_readout(a: FrontAnswer, path: Path) -> None:
                    f"({100 * r['hum_share']:.3g} % of the noise), noise band {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz"
                    + (f", the amplifier's bandwidth {eng(r['bandwidth_Hz'][0], 'Hz', 3)} to "
                       f"{eng(r['bandwidth_Hz'][1], 'Hz', 3)}" if r.get("bandwidth_Hz") else "")
-                   + ": from the answer's own sensitivity and the design's capacitance (its 2D section)")
+                   + ": from the answer's own sensitivity and the design's capacitance (its 3D model's, the free "
+                     "parallel plate)")
 
 
 def _headline(folder: Path) -> FrontAnswer | None:

@@ -3,11 +3,12 @@ capacitance and coverage in every model the run solved it with, each with its er
 estimate and one line on why it differs from the answer, so that every other number of
 the design on a page can say which row it is.
 
-Capacitance (the pressed taxel's, F) where the run has it: the 2D section's from the
-answer's readout record (answer-readout.json: |Q_sc / V_oc| of one static solve, the
-capacitance its charge per newton uses), the 3D verification mesh's from the design's 3D
-view (the main job's NAME-ROLE-3d solve folder, beside the optimization folder); the
-lumped model's parallel plate eps33^T A / t is the ladder's note (`capacitance_note`).
+Capacitance (the pressed taxel's, F) where the run has it, from the answer's readout
+record (answer-readout.json, taxel.jobs.answer_readout): the 2D section's |Q_sc / V_oc|
+in row 1, and in the answer's row the one its charge per newton uses, the 3D model's
+(the free parallel plate eps33^T A / t); the 3D verification mesh's own from the
+design's 3D view (the main job's NAME-ROLE-3d solve folder beside the optimization
+folder) in row 3; why they differ is the ladder's note (`capacitance_note`).
 Coverage (optimize.coverage, OUT/coverage.json) is computed on the 2D section under a
 pressure patch on linear silicone: it sits in that model's row.
 
@@ -174,7 +175,7 @@ def ladder(folder: Path, x_mm: dict, reference: bool) -> list[Rung]:
     from taxel.optimize.coverage import of as influence_metrics_of
     cov = influence_metrics_of(folder, x_mm).get("coverage")
     for r in out:
-        r.capacitance = caps.get(r.number)
+        r.capacitance = caps.get("answer") if r.answer else caps.get(r.number)
         r.coverage = cov if r.number == 1 else None
     return out
 
@@ -189,38 +190,45 @@ def _readout_row(folder: Path, x_mm: dict, role: str) -> dict | None:
                  all(abs(r["x_mm"].get(k, v) - v) < 1e-6 for k, v in x_mm.items())), None)
 
 
-def capacitances(folder: Path, x_mm: dict, role: str) -> dict[int, float]:
-    """{ladder row: the pressed taxel's capacitance (F)} of a design (module docstring)."""
+THREE_D = "3D, pressure patch, linear silicone (verification mesh)"
+
+
+def capacitances(folder: Path, x_mm: dict, role: str) -> dict[int | str, float]:
+    """{ladder row: the pressed taxel's capacitance (F)} of a design (module docstring), and
+    under "answer" the capacitance the answer's charge per newton uses (its row's)."""
     out = {}
     r = _readout_row(folder, x_mm, role)
-    if r is not None and r.get("capacitance_F"):
-        out[1] = r["capacitance_F"]
+    if r is not None:
+        if r.get("capacitance_2d_F"):
+            out[1] = r["capacitance_2d_F"]
+        if r.get("capacitance_F"):
+            out["answer"] = r["capacitance_F"]
     view = Path(folder).parent / f"{Path(folder).name.removesuffix('-front')}-{role}-3d"
     if (view / "result.json").exists() and (view / "scene.json").exists():
-        from taxel.units import magnitude
         from taxel.schema import electrode_name
+        from taxel.units import magnitude
         scene = json.loads((view / "scene.json").read_text())
         array = scene.get("array", {})
         if all(abs(1e3 * magnitude(array[k]) - v) < 1e-3 for k, v in x_mm.items() if k in array):
             rec = json.loads((view / "result.json").read_text())
             e = rec.get("electrodes", {}).get(electrode_name(*scene.get("load", {}).get("taxel", (0, 0))), {})
             if e.get("capacitance_F"):
-                out[ROW["3D, pressure patch, linear silicone (verification mesh)"]] = abs(e["capacitance_F"])
+                out[ROW[THREE_D]] = abs(e["capacitance_F"])
     return out
 
 
 def capacitance_note(folder: Path, x_mm: dict, role: str) -> str | None:
-    """Why the design's capacitances differ, with the lumped parallel plate's (answer-readout.json
-    lumped_capacitance_F): one line, None without the numbers."""
+    """Why the design's capacitances differ (answer-readout.json): one line, None without the numbers."""
     r = _readout_row(folder, x_mm, role)
-    if r is None or not r.get("lumped_capacitance_F") or not r.get("capacitance_F"):
+    if r is None or not r.get("capacitance_F") or not r.get("capacitance_2d_F"):
         return None
-    lumped, two = r["lumped_capacitance_F"], r["capacitance_F"]
-    three = capacitances(folder, x_mm, role).get(ROW["3D, pressure patch, linear silicone (verification mesh)"])
-    return (f"Capacitance: the lumped model's parallel plate (the free permittivity times the taxel's area over its "
-            f"thickness, no fringing field) gives {eng(lumped, 'F', 3)}; the 2D section gives {eng(two, 'F', 3)} "
-            f"({100 * (two / lumped - 1):+.3g} %), because a plane section holds the piezo's strain along the depth "
-            "at zero, which moves its permittivity toward the clamped one"
-            + (f"; the 3D model, free along both sides and with the electrodes' fringing field, gives "
-               f"{eng(three, 'F', 3)} ({100 * (three / lumped - 1):+.3g} %)" if three else "")
-            + ". The answer's charge per newton is its open-circuit sensitivity times the 2D section's capacitance.")
+    plate, two = r["capacitance_F"], r["capacitance_2d_F"]
+    three = capacitances(folder, x_mm, role).get(ROW[THREE_D])
+    return (f"Capacitance: the free parallel plate (the piezo's permittivity at zero stress times the taxel's area "
+            f"over its thickness) gives {eng(plate, 'F', 3)}, the 3D model's: the piezo is free in its plane under "
+            f"silicone seven orders softer"
+            + (f" (this design's 3D solve: {eng(three, 'F', 3)})" if three else "")
+            + f"; the 2D section gives {eng(two, 'F', 3)} ({100 * (two / plate - 1):+.3g} %), because a plane "
+            "section holds the piezo's strain along the depth at zero, which moves its permittivity toward the "
+            "clamped one. The answer's charge per newton is its open-circuit sensitivity times "
+            f"{eng(plate, 'F', 3)}.")
