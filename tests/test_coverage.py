@@ -102,3 +102,50 @@ def test_the_coverage_requirement_refuses_the_design_with_a_dead_zone(tmp_path, 
     from taxel.reports.margins import requirement_rows
     line = [r for r in requirement_rows(held) if r[0].startswith("coverage")][0]
     assert line == ["coverage ≥ 100 %", "100 %", "at the bound", "100 %", "at the bound"]
+
+
+def test_bad_coverage_input_is_one_line_naming_the_key(tmp_path):
+    from taxel.optimize.spec import OptimizeError, load_optimization
+    cases = {'smallest_force = "-0.2 N"\n': "smallest_force", 'smallest_force = "2 mm"\n': "smallest_force",
+             '[requirements]\ncoverage = ">= 100 mm"\n': "requirements.coverage",
+             '[requirements]\nlocalization_error = ">= 2 %"\n': "requirements.localization_error"}
+    base = PROBLEM.replace("[requirements]\n", "")
+    for i, (extra, key) in enumerate(cases.items()):
+        path = tmp_path / f"bad-{i}.toml"
+        text = base.replace('smallest_force = "0.2 N"\n', extra) if not extra.startswith("[") else base + extra
+        path.write_text(text)
+        with pytest.raises(OptimizeError) as err:
+            load_optimization(path)
+        assert key in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+@pytest.mark.slow       # about 18 static 2D solves: the influence functions of two designs
+def test_the_main_jobs_answer_is_judged_on_coverage(tmp_path, fresh_cache):
+    """The main job's PZT front records (tests/data/answer) with the built-in requirements but pitch:
+    taxel.jobs.answer_coverage solves the thesis and the recommended design's coverage, the
+    answer shows it on page one, and the ladder's 2D row holds it."""
+    import shutil
+    from pathlib import Path
+    from taxel.jobs.answer_coverage import answer_coverage
+    from taxel.optimize.spec import load_optimization
+    from taxel.reports.answer import headline_front
+    from taxel.reports.margins import requirement_rows
+    folder = tmp_path / "thesis-pzt-front"
+    shutil.copytree(Path(__file__).parent / "data" / "answer" / folder.name, folder)
+    reqs = dict(load_optimization("thesis-pzt-probe-front").spec.requirements)
+    assert reqs.pop("coverage") == ">= 100 %"
+    reqs = {"coverage": ">= 100 %", **{k: v for k, v in reqs.items() if k != "pitch"}}   # a wider gap may win
+    for name in ("probe-front.json", "front-3d.json"):
+        rec = json.loads((folder / name).read_text())
+        rec["requirements"] = reqs
+        (folder / name).write_text(json.dumps(rec))
+    answer_coverage(folder)
+    a = headline_front(folder)
+    for d in (a.thesis, a.recommended):
+        assert d is not None and d.values["coverage"] == 1.0 and d.margins["coverage"] == 0.0
+    line = [r for r in requirement_rows(a) if r[0].startswith("coverage")][0]
+    assert line[1:] == ["100 %", "at the bound", "100 %", "at the bound"]
+    rows = json.loads((folder / "coverage.json").read_text())["designs"]
+    assert len(rows) == 2 and all(r["force_N"] == 0.2 and r["noise_V"] == 1e-3 for r in rows)
+    thesis_ladder = [g for g in a.ladders() if g["role"] == "thesis"][0]["rows"]
+    assert [r[4] for r in thesis_ladder if r[0].startswith("1.")] == ["100 %"]
