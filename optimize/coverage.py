@@ -22,8 +22,9 @@ When they are computed: during the search when the objective or a constraint nam
 them (each evaluation: about 9 2D solves); when only a [requirements] line names them,
 after the search, lazily, for the designs the answer's choice reaches (`judge_lazily`:
 the reference design, then the recommended one until it has them; optimize.run for a
-front or an optimum, taxel.jobs.answer_coverage for the main job's answer). Their values go to OUT/coverage.json (RECORD),
-which the report's answer reads beside each design's record.
+front or an optimum, taxel.jobs.answer_coverage for the main job's answer). Their values
+go to OUT/coverage.json (RECORD), which the report's answer reads beside each design's
+record.
 """
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SHORT, VERIFY_3D_ERROR, anchor
+from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SHORT, VERIFY_3D_ERROR, anchor
 from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
 from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
@@ -32,7 +32,6 @@ CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circui
                         "taxel's, for a press on the middle taxel of the 3x3 array.")
 
 
-READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 
 def _band(value: float, rel: float, unit: str) -> str:

@@ -38,6 +38,8 @@ from pathlib import Path
 
 from taxel.reports.tables import eng, percent
 
+READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
+
 # The error of the coarse verification mesh (optimize.multifidelity.VERIFY_3D) against the
 # 3D reference: 0.2-3.8 % in voltage (taxel.analyses.error_estimate, measured on the thesis
 # PZT taxel) and 3-6 % on the 3x3 array (optimize.multifidelity, step 6): the worst of each.
@@ -181,8 +183,7 @@ def ladder(folder: Path, x_mm: dict, reference: bool) -> list[Rung]:
 
 
 def _readout_row(folder: Path, x_mm: dict, role: str) -> dict | None:
-    """The design's row of the answer's readout record (reports.answer.READOUT_FILE)."""
-    from taxel.reports.answer import READOUT_FILE
+    """The design's row of the answer's readout record (READOUT_FILE)."""
     path = Path(folder) / READOUT_FILE
     if not path.exists():
         return None
@@ -225,10 +226,10 @@ def capacitance_note(folder: Path, x_mm: dict, role: str) -> str | None:
     plate, two = r["capacitance_F"], r["capacitance_2d_F"]
     three = capacitances(folder, x_mm, role).get(ROW[THREE_D])
     return (f"Capacitance: the free parallel plate (the piezo's permittivity at zero stress times the taxel's area "
-            f"over its thickness) gives {eng(plate, 'F', 3)}, the 3D model's: the piezo is free in its plane under "
-            f"silicone seven orders softer"
-            + (f" (this design's 3D solve: {eng(three, 'F', 3)})" if three else "")
-            + f"; the 2D section gives {eng(two, 'F', 3)} ({100 * (two / plate - 1):+.3g} %), because a plane "
-            "section holds the piezo's strain along the depth at zero, which moves its permittivity toward the "
-            "clamped one. The answer's charge per newton is its open-circuit sensitivity times "
+            f"over its thickness) gives {eng(plate, 'F', 3)}, the answer's (ladder row {ROW[ANSWER_MODEL]}) and "
+            "the 3D model's: the piezo is free in its plane under silicone seven orders softer"
+            + (f" (this design's 3D solve, ladder row {ROW[THREE_D]}: {eng(three, 'F', 3)})" if three else "")
+            + f"; the 2D section (ladder row 1) gives {eng(two, 'F', 3)} ({100 * (two / plate - 1):+.3g} %), "
+            "because a plane section holds the piezo's strain along the depth at zero, which moves its permittivity "
+            "toward the clamped one. The answer's charge per newton is its open-circuit sensitivity times "
             f"{eng(plate, 'F', 3)}.")

@@ -173,7 +173,7 @@ def test_each_answer_design_has_its_model_ladder(tmp_path):
     assert len(answer_rows) == 1
     assert answer_rows[0][1] == eng(a.thesis.sensitivity_V_per_N, "V/N", 3)
     assert answer_rows[0][2] == percent(a.thesis.crosstalk)
-    assert all(r[4] for r in thesis) and "recommended design" in ladders
+    assert all(r[-1] for r in thesis) and "recommended design" in ladders
     rec = ladders["recommended design"]
     assert [r for r in rec if r[0].endswith("(the answer)")][0][1] == eng(a.recommended.sensitivity_V_per_N, "V/N", 3)
     blk = block([a])
