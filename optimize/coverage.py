@@ -20,8 +20,9 @@ sensitivity: the chain's noise referred back to the taxel), else `noise`.
 
 When they are computed: during the search when the objective or a constraint names
 them (each evaluation: about 9 2D solves); when only a [requirements] line names them,
-after the search, lazily, for the designs the answer's choice reaches (`judge_lazily`:
-the reference design, then the recommended one until it has them; optimize.run for a
+after the search, for the designs the answer's choice reaches (`judge_lazily`: the
+reference design, then the recommended one until it has them; every candidate for a
+localization_error requirement, whose margin is weighed; optimize.run for a
 front or an optimum, taxel.jobs.answer_coverage for the main job's answer). Their values
 go to OUT/coverage.json (RECORD), which the report's answer reads beside each design's
 record.
@@ -109,12 +110,16 @@ def judge_lazily(candidates: list[dict], reqs: list, compute, always=()) -> None
     (the reference design, shown beside the answer) and for the one the answer's choice
     (optimize.requirements.choose) recommends, again until the recommended one has them: a
     candidate the choice never reaches is not solved (its margin "not evaluated"), and
-    one that fails a requirement loses to the next. `compute(i)` -> {metric: value}."""
+    one that fails a requirement loses to the next. That is exact for a requirement met
+    or not (coverage: the choice never weighs its margin); a performance requirement
+    (localization_error: its margin is weighed, and an unsolved design cannot win on it)
+    is computed for every candidate. `compute(i)` -> {metric: value}."""
     from taxel.optimize.requirements import choose
-    if not {r.metric for r in reqs} & set(INFLUENCE_METRICS):
+    named = [r for r in reqs if r.metric in INFLUENCE_METRICS]
+    if not named:
         return
     done = set()
-    for i in always:
+    for i in (range(len(candidates)) if any(not r.limit for r in named) else always):
         candidates[i].update(compute(i))
         done.add(i)
     while True:
