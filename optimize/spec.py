@@ -120,10 +120,10 @@ class OptimizationSpec(Strict):
     pareto: Pareto | None = None
     algorithm: Algorithm = Algorithm()
     noise: Any = "1 mV"                       # coverage, localization_error: white noise on each taxel peak
-    smallest_force: Any = None                # coverage, localization_error: judged at it (default: the load's)
+    smallest_force: Any = None    # coverage, localization_error are judged at it, e.g. "0.2 N" (default: the load's)
     resolution: Resolution = Resolution()     # the noise metrics' rig, band and force (optimize.resolution)
     robust: Robust | None = None              # the robust metrics' tolerances (optimize.robust)
-    requirements: dict[Literal[METRICS], str] = {}   # the yield's spec, e.g. crosstalk = "<= 8 %"
+    requirements: dict[Literal[METRICS], str] = {}   # the answer's and the yield's spec, e.g. coverage = ">= 100 %"
     press: ProbePress | None = None                # the rig's probe press as the model (optimize.probe)
 
     @model_validator(mode="after")
