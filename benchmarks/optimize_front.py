@@ -11,7 +11,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from taxel.optimize.spec import BUILTIN, front, load_optimization, noise, optimize
+from taxel.optimize.front import front, noise
+from taxel.optimize.spec import BUILTIN, load_optimization, optimize
 from taxel.studies.store import Store
 
 

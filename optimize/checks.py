@@ -3,7 +3,11 @@ when it is loaded: each problem is one line naming the key and the fix."""
 
 from __future__ import annotations
 
-from taxel.optimize.requirements import read
+import numpy as np
+
+from taxel.optimize.coverage import INFLUENCE_METRICS
+from taxel.optimize.metrics import geometry
+from taxel.optimize.requirements import LIMITS, read
 from taxel.optimize.resolution import NOISE_METRICS, band_hz, force_n, load_rig_of
 from taxel.optimize.robust import ROBUST_METRICS, parts
 from taxel.scene import Scene, SceneError, parse
@@ -23,9 +27,12 @@ def check_robust(problem, error) -> None:
     if "yield" in used and not spec.requirements:
         raise error("yield needs a [requirements] table, e.g. crosstalk = \"<= 8 %\"")
     for name, text in spec.requirements.items():
-        if name in ROBUST_METRICS or name == "localization_error":
+        if name in ROBUST_METRICS:
             raise error(f"requirements.{name}: a part's requirement must be one of sensitivity, crosstalk, "
-                        f"max_strain, the geometric or the noise metrics")
+                        f"max_strain, coverage, localization_error, the geometric or the noise metrics")
+        if name in INFLUENCE_METRICS and "yield" in used:
+            raise error(f"requirements.{name}: the yield counts parts on their own static solves, and {name} "
+                        "takes 9 more per part; judge it on the design (drop the yield) or drop this requirement")
         try:                             # the one grammar, its unit checked against the metric's
             r = read({name: text})[0]
         except RequirementError as exc:
@@ -51,3 +58,62 @@ def check_robust(problem, error) -> None:
             load_rig_of(spec.resolution)
         except ValueError as exc:
             raise error(str(exc)) from None
+
+
+def numeric_path(path: str) -> str | None:
+    """None when the dotted scene path ends at a number (a quantity, a float or an
+    int field of the scene schema, or a user material's constant); else what it is."""
+    import types
+    import typing
+    from pydantic import BaseModel
+    model, keys = Scene, path.split(".")
+    for i, key in enumerate(keys):
+        field = model.model_fields.get(key) if model is not None else None
+        if field is None:
+            if model is None:
+                return None
+            return f"is not in the scene ('{key}' is not a key of {'.'.join(keys[:i]) or 'the scene'})"
+        ann = field.annotation
+        args = [a for a in typing.get_args(ann) if a is not type(None)] \
+            if typing.get_origin(ann) in (typing.Union, types.UnionType) else [ann]
+        ann = args[0] if len(args) == 1 else ann
+        if isinstance(ann, type) and issubclass(ann, BaseModel):
+            model = ann
+            continue
+        rest = keys[i + 1:]
+        if key == "materials":          # materials.NAME.CONSTANT: a user material's SI number
+            return None if len(rest) == 2 and rest[1] != "kind" else \
+                "is not a material constant (materials.NAME.CONSTANT, e.g. materials.gel.E)"
+        if rest:
+            return f"goes inside '{'.'.join(keys[:i + 1])}', which is not a table"
+        if ann is int:
+            return "holds a whole number (a count), which a continuous optimizer cannot vary"
+        if ann is float or (typing.get_origin(ann) is typing.Annotated and typing.get_args(ann)[0] is float):
+            return None
+        return f"is not a number (it holds {_describe(ann)})"
+    return "is a table, not a number"
+
+
+def _describe(ann) -> str:
+    import typing
+    if ann is str:
+        return "a name"
+    if typing.get_origin(ann) is typing.Literal:
+        return "one of " + ", ".join(map(repr, typing.get_args(ann)))
+    if ann is bool:
+        return "true or false"
+    return "a list or a table" if typing.get_origin(ann) in (tuple, list, dict) else str(ann)
+
+
+def check_feasible(problem, error) -> None:
+    """Geometric constraints that no design within the bounds can meet: say so now (`error`, one line)."""
+    corners = [problem.lo + (problem.hi - problem.lo) * np.array(c)
+               for c in np.ndindex(*(2,) * len(problem.lo))]
+    for metric, op, bound in problem.constraints:
+        if metric not in LIMITS:
+            continue
+        vals = [geometry(parse({**problem.scene_data(x), "name": "c"}))[metric] for x in corners]
+        best = min(vals) if op == "<=" else max(vals)
+        if (op == "<=" and best > bound) or (op == ">=" and best < bound):
+            raise error(f"constraints.{metric} {op} {bound:g} cannot be met within the variable bounds "
+                                f"(best possible {best:g}); widen the bounds or relax the constraint")

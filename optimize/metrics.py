@@ -3,7 +3,9 @@
 A metric with unit "ratio" or "dB" is dimensionless (its bound is a plain number);
 the others are SI (a bound may carry any unit of the same kind: "2 mm").
 The noise metrics come from optimize.resolution, the robust ones (a percentile over
-the design's fabrication spread, the yield) from optimize.robust.
+the design's fabrication spread, the yield) from optimize.robust, coverage and
+localization_error from the influence functions (optimize.coverage), the geometric
+ones from the scene alone (`geometry`).
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ METRIC_TABLE = {
     "pitch": Metric("pitch", "m"),
     "gap": Metric("gap", "m"),
     "localization_error": Metric("localization error", "m"),
+    "coverage": Metric("coverage", "ratio"),
     "min_detectable_force": Metric("minimum detectable force", "N"),
     "snr": Metric("SNR", "dB"),
     "dynamic_range": Metric("dynamic range", "dB"),
@@ -44,6 +47,15 @@ METRIC_TABLE = {
 }
 PLAIN = ("ratio", "dB")                  # units whose bounds are plain numbers
 METRICS = tuple(METRIC_TABLE)
+
+
+def geometry(scene) -> dict:
+    """The geometric metrics of a taxel-array scene, without FEM (m): total thickness (silicone
+    above + piezo + below), footprint (the array's width along x with its margins), gap, pitch."""
+    a = scene.array
+    return {"total_thickness": a.silicone_above + a.piezo_thickness + a.silicone_below,
+            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap,
+            "pitch": a.taxel_width + a.gap}
 
 
 def axis_label(metric: str) -> str:

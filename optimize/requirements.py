@@ -19,9 +19,13 @@ margin meets it:
     m = (value - bound) / |bound|   for ">= bound",
     m = (bound - value) / |bound|   for "<= bound".
 
+    coverage = ">= 100 %"             # a press anywhere at smallest_force is detected
+    localization_error = "<= 0.5 mm"  # the predicted rms position error there (optimize.coverage)
+
 How margins are weighed (`choose`):
-  1. limits (geometry: total_thickness, pitch, gap, footprint) are met or not; their
-     margin is shown, never maximized (a thinner sensor is not a better one);
+  1. limits (geometry: total_thickness, pitch, gap, footprint; and coverage) are met or
+     not; their margin is shown, never maximized (a thinner sensor is not a better one,
+     and a surface that is live everywhere cannot be more so);
   2. among the designs meeting every requirement, the recommended one has the
      largest smallest margin over the performance requirements (sensitivity,
      crosstalk, minimum detectable force, ...): every performance requirement
@@ -48,11 +52,12 @@ from taxel.studies.requirements import RequirementError
 
 # Two designs whose sensitivities or crosstalks differ by less than this (relative) are equal for
 # the implied bar: the front's own dominance tolerance (optimize.probe_front.dominates), above
-# the discretisation noise of a design's metrics (about 1e-4, optimize.spec.noise)
+# the discretisation noise of a design's metrics (about 1e-4, optimize.front.noise)
 TIE = 1e-3
 LIMITS = ("total_thickness", "pitch", "gap", "footprint")     # geometry: met or not, never maximized
+MET_OR_NOT = (*LIMITS, "coverage")                             # rule 1: the geometry and coverage
 RULE = ("Each requirement's margin is relative to its bound, positive when met. Limits on geometry (thickness, "
-        "pitch, gap) must be met; among the designs meeting every requirement the recommended one has the largest "
+        "pitch, gap) and coverage must be met; among the designs meeting every requirement the recommended one has the largest "
         "smallest margin on the performance requirements, each weighing the same (on a tie, the next smallest, then "
         "the more sensitive design).")
 IMPLIED = ("No performance requirement is stated, so the reference design's own sensitivity and crosstalk are the "
@@ -78,7 +83,8 @@ class Requirement(grammar.Requirement):
 
     @property
     def limit(self) -> bool:
-        return self.metric in LIMITS
+        """Met or not, never maximized (rule 1)."""
+        return self.metric in MET_OR_NOT
 
     def text(self) -> str:
         """Plain language: "pitch ≤ 7 mm", "crosstalk ≤ 2 %"."""

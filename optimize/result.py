@@ -32,11 +32,15 @@ AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force"
 
 
 def _at_readout(m: dict) -> str:
-    """"; at the readout 2.93 V/N, crosstalk 7.54 %, minimum detectable force 397 uN" or ""."""
+    """"; at the readout 2.93 V/N, crosstalk 7.54 %, minimum detectable force 397 uN" or "", and
+    "; coverage 100 %, localization error 310 um" where the run judged them (optimize.coverage)."""
     from taxel.units import engineering
+    judged = ("" if m.get("coverage") is None else f"; coverage {100 * m['coverage']:.3g} %") + \
+        ("" if m.get("localization_error") is None else
+         f"; localization error {engineering(m['localization_error'], 'm', 3)}")
     if m.get("readout_sensitivity") is None:
-        return ""
-    return (f"; at the readout {engineering(m['readout_sensitivity'], 'V/N', 3)}"
+        return judged
+    return judged + (f"; at the readout {engineering(m['readout_sensitivity'], 'V/N', 3)}"
             + (f", crosstalk {100 * m['readout_crosstalk']:.3g} %" if m.get("readout_crosstalk") is not None else "")
             + (f", minimum detectable force {engineering(m['min_detectable_force'], 'N', 3)}"
                if m.get("min_detectable_force") is not None else ""))
@@ -94,7 +98,8 @@ class OptimizationResult:
         """One row per successful front run: its bound, sensitivity, crosstalk and design."""
         return [{"crosstalk_bound": r.bound, "sensitivity_V_per_N": r.result.metrics["sensitivity"],
                  "crosstalk": r.result.metrics["crosstalk"],
-                 **{k: r.result.metrics[k] for k in AT_READOUT if r.result.metrics.get(k) is not None},
+                 **{k: r.result.metrics[k] for k in (*AT_READOUT, "coverage", "localization_error")
+                    if r.result.metrics.get(k) is not None},
                  **{f"{n} ({u})": float(v) for n, u, v in zip(self.names, self.units, r.result.x)}}
                 for r in self.runs if r.result.success and r.result.metrics.get("sensitivity") is not None]
 

@@ -9,7 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from taxel.optimize.result import Constraint, OptimizationResult
-from taxel.optimize.spec import Optimization, OptimizeError, front, magnitude, optimize
+from taxel.optimize import coverage
+from taxel.optimize.front import front
+from taxel.optimize.spec import Optimization, OptimizeError, magnitude, optimize
 from taxel.studies.store import Store
 
 
@@ -47,6 +49,7 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2)
         result.runs = front(problem, path, workers=workers)
     else:
         result.optimum = optimize(problem)
+    required_influence_metrics(problem, result)
     if problem.out is not None:
         store = Store(problem.out)
         try:
@@ -54,3 +57,30 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2)
         finally:
             store.close()
     return result
+
+
+def required_influence_metrics(problem: Optimization, result: OptimizationResult) -> None:
+    """coverage and localization_error that only a [requirements] line names (optimize.coverage):
+    computed after the search, lazily (coverage.judge_lazily), for the reference design and the
+    design the answer's choice picks among the front's (or the optimum), added to their metrics
+    and written to OUT/coverage.json, where the answer reads them."""
+    from taxel.optimize.requirements import implied, read
+    need = set(coverage.INFLUENCE_METRICS) & set(problem.spec.requirements)
+    if not need or need <= problem.used:
+        return
+    ref = result.reference if result.reference and result.reference.get("sensitivity") is not None else None
+    runs = [r.result for r in result.runs] if result.runs else [result.optimum]
+    designs = ([(np.array([ref["x"][n] for n in problem.names]), ref)] if ref else []) + \
+        [(r.x, r.metrics) for r in runs if r is not None and r.metrics.get("sensitivity") is not None]
+    if not designs:
+        return
+    reqs = implied(read(problem.spec.requirements), ref or {})
+
+    def compute(i: int) -> dict:
+        x, metrics = designs[i]
+        got = problem.influence_metrics(x, metrics)
+        if problem.out is not None:
+            x_mm = {n: float(v) for n, v, u in zip(problem.names, x, problem.units) if u == "mm"}
+            coverage.add(problem.out, x_mm, got)
+        return {k: got[k] for k in coverage.INFLUENCE_METRICS}
+    coverage.judge_lazily([m for _, m in designs], reqs, compute, always=[0] if ref else [])

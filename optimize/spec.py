@@ -40,6 +40,8 @@ silicone strain), localization_error (the predicted rms position error of a pres
 over the array, m: the Cramer-Rao bound of taxel.analyses.localization from the FEM
 influence functions at the rig's white noise `noise`, default 1 mV on each taxel
 peak; 9 more static solves per design for a 3-taxel row, kept in OUT/influence/),
+coverage (the fraction of the surface where a press at `smallest_force` gives a taxel a
+peak above 3 times the noise floor; the same solves: optimize.coverage),
 and geometric ones without FEM: total_thickness (silicone above + piezo + below,
 m), footprint (array width along x, m), gap (m), pitch (taxel width + gap, m).
 
@@ -49,7 +51,7 @@ requirement with the largest margin).
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective
 jitters at the level of the discretisation error's variation with geometry.
-`noise()` measures it (benchmarks/optimize_front.py: about 1e-4 relative on the
+`optimize.front.noise` measures it (benchmarks/optimize_front.py: about 1e-4 relative on the
 default 2D mesh for steps of 1e-3 of the range); the tolerance xtol = 0.02 of
 the range and the local initial step (0.1) sit well above it.
 """
@@ -66,19 +68,18 @@ import numpy as np
 from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
-from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN
+from taxel.optimize.coverage import INFLUENCE_METRICS, influence_metrics
+from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN, geometry
 from taxel.optimize.probe import PROBE_METRICS, ProbePress, press_scene, stored_press
 from taxel.optimize.requirements import LIMITS
 
 READOUT_METRICS = ("readout_sensitivity", "readout_crosstalk")   # with a [readout] in the base scene
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
-from taxel.optimize.result import FrontRun
 from taxel import units as U
 from taxel.schema import Fraction, Name, Strict, dimensionless_value
 from taxel.scene import Scene, SceneError, parse
 from taxel.studies.evaluate import evaluate_safely
-from taxel.studies.execute import local_cluster
 from taxel.studies.spec import read_spec, set_value
 from taxel.studies.store import Store
 
@@ -118,10 +119,11 @@ class OptimizationSpec(Strict):
     constraints: dict[Literal[METRICS], str] = {}
     pareto: Pareto | None = None
     algorithm: Algorithm = Algorithm()
-    noise: Any = "1 mV"                       # localization_error: white noise on each taxel peak
+    noise: Any = "1 mV"                       # coverage, localization_error: white noise on each taxel peak
+    smallest_force: Any = None    # coverage, localization_error are judged at it, e.g. "0.2 N" (default: the load's)
     resolution: Resolution = Resolution()     # the noise metrics' rig, band and force (optimize.resolution)
     robust: Robust | None = None              # the robust metrics' tolerances (optimize.robust)
-    requirements: dict[Literal[METRICS], str] = {}   # the yield's spec, e.g. crosstalk = "<= 8 %"
+    requirements: dict[Literal[METRICS], str] = {}   # the answer's and the yield's spec, e.g. coverage = ">= 100 %"
     press: ProbePress | None = None                # the rig's probe press as the model (optimize.probe)
 
     @model_validator(mode="after")
@@ -158,9 +160,9 @@ class Optimization:
         robust ones (optimize.robust) when the spec asks for them."""
         data = self.scene_data(x)
         metrics = self.point(data, dict(zip(self.names, map(float, x))))
-        if "localization_error" in self.used and metrics["sensitivity"] is not None:
-            metrics["localization_error"] = _localization_error(parse({**data, "name": "design"}), self.noise_V,
-                                                                self.out)
+        if set(INFLUENCE_METRICS) & self.used and metrics["sensitivity"] is not None:
+            got = self.influence_metrics(x, metrics)
+            metrics.update({k: got[k] for k in INFLUENCE_METRICS})
         if set(ROBUST_METRICS) & self.used:
             from taxel.optimize.robust import robust_metrics
             metrics.update(robust_metrics(self.spec.robust, self.requirements, data, self.point))
@@ -169,8 +171,8 @@ class Optimization:
     def point(self, data: dict, params: dict) -> dict:
         """The metrics of one scene (a design or one of its parts): geometry, FEM (stored), noise."""
         scene = parse({**data, "name": "design"})
-        metrics = {**_geometry(scene), **dict.fromkeys(("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain",
-                                                        "localization_error", *NOISE_METRICS, *READOUT_METRICS))}
+        metrics = {**geometry(scene), **dict.fromkeys(("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain",
+                                                       *INFLUENCE_METRICS, *NOISE_METRICS, *READOUT_METRICS))}
         if self.spec.press is not None:
             return {**metrics, **self._pressed(data, params)}
         outputs = ("voltage", "crosstalk", "max_strain")
@@ -194,6 +196,14 @@ class Optimization:
             from taxel.optimize.resolution import noise_metrics
             metrics.update(noise_metrics(scene, result.get("outputs") or {}, self.spec.resolution, self.rig))
         return metrics
+
+    def influence_metrics(self, x, metrics: dict | None = None) -> dict:
+        """coverage and localization_error of design x and how they were made (optimize.coverage),
+        at smallest_force against the design's readout's noise floor (its min_detectable_force in
+        `metrics`), else `noise`."""
+        scene = parse({**self.scene_data(x), "name": "design"})
+        mdf = (metrics or {}).get("min_detectable_force")
+        return influence_metrics(scene, self.smallest_force_N, self.noise_V, mdf, self.out)
 
     def _pressed(self, data: dict, params: dict) -> dict:
         """The press metrics of one design under the [press] probe (optimize.probe), stored."""
@@ -228,34 +238,12 @@ class Optimization:
     def noise_V(self) -> float:
         return magnitude(self.spec.noise, "V", "noise")[0]
 
-
-def _localization_error(scene, noise_V: float, out: Path | None) -> float | None:
-    """The design's localization_error (m); each press position a point of the OUT/influence store."""
-    from taxel.schema import to_data
-    from taxel.analyses.localization import localization_error
-    store = Store(out / "influence") if out is not None else None
-
-    def solve(s):
-        data = to_data(s)
-        status, result, error = store.get_or_compute(data, ("voltage",)) if store is not None else \
-            evaluate_safely(data, ("voltage",))
-        if status != "done":
-            raise RuntimeError(error)
-        return result["voltage"]
-    try:
-        return localization_error(scene, noise_V, solve).rms_m
-    except (RuntimeError, ValueError):
-        return None
-    finally:
-        if store is not None:
-            store.close()
-
-
-def _geometry(scene) -> dict:
-    a = scene.array
-    return {"total_thickness": a.silicone_above + a.piezo_thickness + a.silicone_below,
-            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap,
-            "pitch": a.taxel_width + a.gap}
+    @property
+    def smallest_force_N(self) -> float:
+        """The force coverage and localization_error are judged at (N): smallest_force, else the base load's."""
+        if self.spec.smallest_force is not None:
+            return magnitude(self.spec.smallest_force, "N", "smallest_force")[0]
+        return float(parse({**self.scene_data(self.x0), "name": "start"}).load.force or 1.0)
 
 
 def magnitude(v, unit=None, what=""):
@@ -267,6 +255,7 @@ def magnitude(v, unit=None, what=""):
 
 
 def load_optimization(path, out: Path | None = None) -> Optimization:
+    from taxel.optimize.checks import check_feasible, check_robust, numeric_path
     spec, base, path = read_spec(path, BUILTIN, OptimizationSpec, OptimizeError, "optimization")
     lo, hi, x0, units = [], [], [], []
     for name, var in spec.variables.items():
@@ -311,7 +300,6 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
         if other:
             raise OptimizeError(f"[press]: {sorted(other)[0]} is not a press metric; under a probe press use "
                                 "sensitivity, tangent_sensitivity, crosstalk, max_strain or the geometric metrics")
-    from taxel.optimize.checks import check_robust
     check_robust(problem, OptimizeError)
     try:
         scene = parse({**problem.scene_data(problem.x0), "name": "start"})
@@ -323,76 +311,21 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
                             "\"charge_amplifier\" (or \"resistor\") to it")
     if not magnitude(spec.noise, "V", "noise")[0] > 0:
         raise OptimizeError(f"noise: the rig's white noise must be positive, got {spec.noise!r}; e.g. noise = \"1 mV\"")
-    if {"crosstalk", "localization_error"} & set(list(spec.objective.values()) + [c[0] for c in cons]) or spec.pareto:
+    if spec.smallest_force is not None and not magnitude(spec.smallest_force, "N", "smallest_force")[0] > 0:
+        raise OptimizeError(f"smallest_force: must be a positive force, got {spec.smallest_force!r}; "
+                            "e.g. smallest_force = \"0.2 N\"")
+    if {"crosstalk", *INFLUENCE_METRICS} & (set(spec.objective.values()) | {c[0] for c in cons} |
+                                            set(spec.requirements)) or spec.pareto:
         modelled = None if scene.array is None else \
             scene.array.rows * scene.array.cols if scene.model.type == "3d" else scene.array.cols
         if not modelled or modelled < 2:      # a 2D model holds the row through the pressed taxel
-            raise OptimizeError("crosstalk and localization_error need at least two modelled taxels in the base "
-                                "scene (array.cols >= 2, or rows x cols >= 2 in 3d)")
+            raise OptimizeError("crosstalk, coverage and localization_error need at least two modelled taxels in "
+                                "the base scene (array.cols >= 2, or rows x cols >= 2 in 3d)")
     if spec.pareto and spec.objective.get("maximize") != "sensitivity":
         raise OptimizeError("[pareto] needs objective maximize = \"sensitivity\" (the front is sensitivity "
                             "vs crosstalk)")
-    _check_feasible(problem)
+    check_feasible(problem, OptimizeError)
     return problem
-
-
-def numeric_path(path: str) -> str | None:
-    """None when the dotted scene path ends at a number (a quantity, a float or an
-    int field of the scene schema, or a user material's constant); else what it is."""
-    import types
-    import typing
-    from pydantic import BaseModel
-    model, keys = Scene, path.split(".")
-    for i, key in enumerate(keys):
-        field = model.model_fields.get(key) if model is not None else None
-        if field is None:
-            if model is None:
-                return None
-            return f"is not in the scene ('{key}' is not a key of {'.'.join(keys[:i]) or 'the scene'})"
-        ann = field.annotation
-        args = [a for a in typing.get_args(ann) if a is not type(None)] \
-            if typing.get_origin(ann) in (typing.Union, types.UnionType) else [ann]
-        ann = args[0] if len(args) == 1 else ann
-        if isinstance(ann, type) and issubclass(ann, BaseModel):
-            model = ann
-            continue
-        rest = keys[i + 1:]
-        if key == "materials":          # materials.NAME.CONSTANT: a user material's SI number
-            return None if len(rest) == 2 and rest[1] != "kind" else \
-                "is not a material constant (materials.NAME.CONSTANT, e.g. materials.gel.E)"
-        if rest:
-            return f"goes inside '{'.'.join(keys[:i + 1])}', which is not a table"
-        if ann is int:
-            return "holds a whole number (a count), which a continuous optimizer cannot vary"
-        if ann is float or (typing.get_origin(ann) is typing.Annotated and typing.get_args(ann)[0] is float):
-            return None
-        return f"is not a number (it holds {_describe(ann)})"
-    return "is a table, not a number"
-
-
-def _describe(ann) -> str:
-    import typing
-    if ann is str:
-        return "a name"
-    if typing.get_origin(ann) is typing.Literal:
-        return "one of " + ", ".join(map(repr, typing.get_args(ann)))
-    if ann is bool:
-        return "true or false"
-    return "a list or a table" if typing.get_origin(ann) in (tuple, list, dict) else str(ann)
-
-
-def _check_feasible(problem: Optimization):
-    """Geometric constraints that no design within the bounds can meet: say so now."""
-    corners = [problem.lo + (problem.hi - problem.lo) * np.array(c)
-               for c in np.ndindex(*(2,) * len(problem.lo))]
-    for metric, op, bound in problem.constraints:
-        if metric not in LIMITS:
-            continue
-        vals = [_geometry(parse({**problem.scene_data(x), "name": "c"}))[metric] for x in corners]
-        best = min(vals) if op == "<=" else max(vals)
-        if (op == "<=" and best > bound) or (op == ">=" and best < bound):
-            raise OptimizeError(f"constraints.{metric} {op} {bound:g} cannot be met within the variable bounds "
-                                f"(best possible {best:g}); widen the bounds or relax the constraint")
 
 
 def optimize(problem: Optimization, constraints=None, max_evals=None) -> driver.Result:
@@ -403,61 +336,6 @@ def optimize(problem: Optimization, constraints=None, max_evals=None) -> driver.
                            problem.constraints + list(constraints or []), maximize=sense == "maximize",
                            global_alg=None if alg.global_ == "none" else alg.global_, local_alg=alg.local,
                            max_evals=max_evals or alg.max_evaluations, xtol=alg.xtol)
-
-
-def _front_run(problem_path, out, eps, max_evals):
-    """One epsilon-constraint run (on a Dask worker): maximize sensitivity s.t. crosstalk <= eps."""
-    p = load_optimization(problem_path, Path(out))
-    cons = [("crosstalk", "<=", eps)] if eps is not None else []
-    return FrontRun(eps, optimize(p, cons, max_evals))
-
-
-def front(problem: Optimization, problem_path, workers=2) -> list[FrontRun]:
-    """Sensitivity vs crosstalk front by epsilon-constraint: first the unconstrained
-    maximum of sensitivity (its crosstalk c_max) and the minimum of crosstalk
-    (c_min), then maximize sensitivity with crosstalk <= eps_k for eps_k evenly
-    between; the runs are spread over Dask workers (each writes its evaluations
-    to the shared store)."""
-    n = problem.spec.pareto.points
-    alg = problem.spec.algorithm
-    best = optimize(problem)
-    lowest = driver.minimize(problem.evaluate, problem.x0, list(zip(problem.lo, problem.hi)), "crosstalk",
-                             problem.constraints, global_alg=None if alg.global_ == "none" else alg.global_,
-                             local_alg=alg.local, max_evals=alg.max_evaluations, xtol=alg.xtol)
-    c_hi, c_lo = best.metrics["crosstalk"], lowest.metrics["crosstalk"]
-    eps = list(np.linspace(c_lo, c_hi, n)[1:-1])
-    return [FrontRun(c_lo, lowest)] + _spread(problem_path, problem.out, eps, alg.max_evaluations, workers) + \
-        [FrontRun(c_hi, best)]
-
-
-def _spread(problem_path, out, eps, max_evals, workers):
-    if workers <= 1:
-        return [_front_run(problem_path, out, e, max_evals) for e in eps]
-    from dask.distributed import Client
-    cluster = local_cluster(workers)
-    client = Client(cluster)
-    try:
-        futs = [client.submit(_front_run, str(problem_path), str(out), e, max_evals, pure=False) for e in eps]
-        return client.gather(futs)
-    finally:
-        client.close()
-        cluster.close()
-
-
-def noise(problem: Optimization, variable: str, x=None, rel_steps=(1e-4, 3e-4, 1e-3, 3e-3)):
-    """Discretisation noise of the metrics along one variable: the scatter of
-    f(x + h e_i) about the straight line through the neighbours, relative."""
-    x = problem.x0.copy() if x is None else np.asarray(x, float)
-    i = problem.names.index(variable)
-    span = problem.hi[i] - problem.lo[i]
-    out = {}
-    for h in rel_steps:
-        xs = [x.copy() for _ in range(3)]
-        for k, d in enumerate((-1, 0, 1)):
-            xs[k][i] = x[i] + d * h * span
-        vals = [problem.evaluate(v)["sensitivity"] for v in xs]
-        out[h] = abs(vals[1] - 0.5 * (vals[0] + vals[2])) / abs(vals[1])
-    return out
 
 
 # The example under the optimization key reference (docs/reference/keys/optimization.md): a built-in one, whole.

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SHORT, VERIFY_3D_ERROR, anchor
+from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SHORT, VERIFY_3D_ERROR, anchor
 from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
 from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
@@ -32,7 +32,6 @@ CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circui
                         "taxel's, for a press on the middle taxel of the 3x3 array.")
 
 
-READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 
 def _band(value: float, rel: float, unit: str) -> str:
@@ -134,7 +133,7 @@ class FrontAnswer:
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
-        from taxel.reports.ladder import ladder
+        from taxel.reports.ladder import capacitance_note, ladder
         if self.path is None:
             return []
         out = []
@@ -146,6 +145,7 @@ class FrontAnswer:
             if rungs:
                 out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
                             "role": d.role, "rows": [r.row() for r in rungs],
+                            "note": capacitance_note(self.path, x, d.role),
                             "ids": [anchor(self.folder, d.role, r.number) for r in rungs],
                             "answer": next(anchor(self.folder, d.role, r.number) for r in rungs if r.answer)})
         return out
@@ -212,7 +212,8 @@ def _through_readout(a: FrontAnswer, path: Path) -> None:
                    f"({100 * r['hum_share']:.3g} % of the noise), noise band {r['band_Hz'][0]:g}-{r['band_Hz'][1]:g} Hz"
                    + (f", the amplifier's bandwidth {eng(r['bandwidth_Hz'][0], 'Hz', 3)} to "
                       f"{eng(r['bandwidth_Hz'][1], 'Hz', 3)}" if r.get("bandwidth_Hz") else "")
-                   + ": from the answer's own sensitivity and the design's capacitance (its 2D section)")
+                   + ": from the answer's own sensitivity and the design's capacitance (its 3D model's, the free "
+                     "parallel plate)")
 
 
 def _headline(folder: Path) -> FrontAnswer | None:
@@ -263,12 +264,19 @@ def _design(role, x: dict, g: dict, material, s, c, extra: dict | None = None) -
                         min_detectable_force_N=values.get("min_detectable_force"), values=values)
 
 
-def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]):
+def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign], folder: Path | None = None):
     """The candidate meeting every requirement of `table` (an optimization's
     [requirements]) with the largest margin (optimize.requirements.choose; the thesis
     design is a candidate too: None when it is the one); the requirements (implied
-    ones added), the binding requirement when none meets them all, and the rule."""
+    ones added), the binding requirement when none meets them all, and the rule. The
+    coverage and localization error the run computed for a design (`folder`'s
+    optimize.coverage.RECORD) join its values."""
+    from taxel.optimize.coverage import of as influence_metrics_of
     from taxel.optimize.requirements import choose, implied, read
+    for d in (*candidates, thesis):
+        if folder is not None:
+            d.values.update(influence_metrics_of(folder, {"silicone_above": d.silicone_above_mm, "gap": d.gap_mm,
+                                                          "silicone_below": d.silicone_below_mm}))
     reqs = implied(read(table or {}), thesis.values)
 
     def same(d):
@@ -295,7 +303,7 @@ def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAn
     thesis = _design("thesis", x_ref, geo, material, ref[s3], ref[c3])
     rows = [r for r in rec["front_3d"] if r.get(s3) is not None and _lengths(r) != x_ref]
     cands = [_design("recommended", _lengths(r), geo, material, r[s3], r[c3]) for r in rows]
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     error = dict(VERIFY_3D_ERROR)
     cb = (c or {}).get("best")
     same = best is None or (cb is not None and [round(getattr(best, f"{n}_mm"), 6) for n in names]
@@ -327,7 +335,7 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
     rows = [d for d in rec["front"] if d["x"] != ref["x"] and d.get("sensitivity (V/N)") is not None]
     cands = [_design("recommended", _lengths(d), geo, material, d["sensitivity (V/N)"], d["crosstalk"])
              for d in rows]
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     b = rows[cands.index(best)] if best is not None else None
     err = max([ref["estimated error"]] + ([b["estimated error"]] if b else []))
     press = rec.get("press", {})
@@ -384,7 +392,7 @@ def _from_front(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswe
         if xs != ref_x:
             cands.append(_design("recommended", xs, geo, material, m["sensitivity"], m["crosstalk"],
                                  {k: m.get(k) for k in AT_READOUT}))
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands)
+    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     from taxel.reports.findings import scene_model_label
     scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
     model = f"{scene_model_label(scene)}, the optimization's own load; the front's cheap model, not verified in 3D"
@@ -411,7 +419,7 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str
         return None
     tm = start[0]
     thesis = _design("thesis", ref_x, geo, material, tm["sensitivity"], tm["crosstalk"])
-    best, reqs, binding, rule = _recommend(spec.requirements, thesis, [
+    best, reqs, binding, rule = _recommend(spec.requirements, thesis, folder=folder, candidates=[
         _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])])
     from taxel.reports.findings import scene_model_label
     model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "

@@ -1,7 +1,16 @@
-"""The model ladder of an answer design: the same design's sensitivity and crosstalk in
-every model the run solved it with, each with its error estimate and one line on why
-it differs from the answer, so that every other number of the design on a page can
-say which row it is.
+"""The model ladder of an answer design: the same design's sensitivity, crosstalk,
+capacitance and coverage in every model the run solved it with, each with its error
+estimate and one line on why it differs from the answer, so that every other number of
+the design on a page can say which row it is.
+
+Capacitance (the pressed taxel's, F) where the run has it, from the answer's readout
+record (answer-readout.json, taxel.jobs.answer_readout): the 2D section's |Q_sc / V_oc|
+in row 1, and in the answer's row the one its charge per newton uses, the 3D model's
+(the free parallel plate eps33^T A / t); the 3D verification mesh's own from the
+design's 3D view (the main job's NAME-ROLE-3d solve folder beside the optimization
+folder) in row 3; why they differ is the ladder's note (`capacitance_note`).
+Coverage (optimize.coverage, OUT/coverage.json) is computed on the 2D section under a
+pressure patch on linear silicone: it sits in that model's row.
 
 The rows come from an optimization folder's records, matched to the design by its
 variables (within 1 µm):
@@ -28,6 +37,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from taxel.reports.tables import eng, percent
+
+READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 # The error of the coarse verification mesh (optimize.multifidelity.VERIFY_3D) against the
 # 3D reference: 0.2-3.8 % in voltage (taxel.analyses.error_estimate, measured on the thesis
@@ -100,15 +111,20 @@ class Rung:
     why: str
     answer: bool = False
     number: int = 0                    # ROW's number of the model
+    capacitance: float | None = None   # F, the pressed taxel's (module docstring)
+    coverage: float | None = None      # ratio (optimize.coverage), on the model it is computed with
 
     def row(self) -> list[str]:
         return [f"{self.number}. " + self.model + (" (the answer)" if self.answer else ""),
                 eng(self.sensitivity, "V/N", 3) if self.sensitivity is not None else "—",
                 percent(self.crosstalk) if self.crosstalk is not None else "—",
+                eng(self.capacitance, "F", 3) if self.capacitance is not None else "—",
+                percent(self.coverage) if self.coverage is not None else "—",
                 f"{100 * self.error:.2g} %" if self.error is not None else "not estimated", self.why]
 
 
-COLS = ["model", "sensitivity", "crosstalk", "error estimate", "why it differs from the answer"]
+COLS = ["model", "sensitivity", "crosstalk", "capacitance", "coverage", "error estimate",
+        "why it differs from the answer"]
 
 
 def _same(row: dict, x_mm: dict) -> bool:
@@ -157,4 +173,63 @@ def ladder(folder: Path, x_mm: dict, reference: bool) -> list[Rung]:
         out[-1].why = "the answer's model"
     for r in out:
         r.number = ROW.get(r.model, ROW[ANSWER_MODEL])
+    caps = capacitances(folder, x_mm, "thesis" if reference else "recommended")
+    from taxel.optimize.coverage import of as influence_metrics_of
+    cov = influence_metrics_of(folder, x_mm).get("coverage")
+    for r in out:
+        r.capacitance = caps.get("answer") if r.answer else caps.get(r.number)
+        r.coverage = cov if r.number == 1 else None
     return out
+
+
+def _readout_row(folder: Path, x_mm: dict, role: str) -> dict | None:
+    """The design's row of the answer's readout record (READOUT_FILE)."""
+    path = Path(folder) / READOUT_FILE
+    if not path.exists():
+        return None
+    return next((r for r in json.loads(path.read_text())["designs"] if r["role"] == role and
+                 all(abs(r["x_mm"].get(k, v) - v) < 1e-6 for k, v in x_mm.items())), None)
+
+
+THREE_D = "3D, pressure patch, linear silicone (verification mesh)"
+
+
+def capacitances(folder: Path, x_mm: dict, role: str) -> dict[int | str, float]:
+    """{ladder row: the pressed taxel's capacitance (F)} of a design (module docstring), and
+    under "answer" the capacitance the answer's charge per newton uses (its row's)."""
+    out = {}
+    r = _readout_row(folder, x_mm, role)
+    if r is not None:
+        if r.get("capacitance_2d_F"):
+            out[1] = r["capacitance_2d_F"]
+        if r.get("capacitance_F"):
+            out["answer"] = r["capacitance_F"]
+    view = Path(folder).parent / f"{Path(folder).name.removesuffix('-front')}-{role}-3d"
+    if (view / "result.json").exists() and (view / "scene.json").exists():
+        from taxel.schema import electrode_name
+        from taxel.units import magnitude
+        scene = json.loads((view / "scene.json").read_text())
+        array = scene.get("array", {})
+        if all(abs(1e3 * magnitude(array[k]) - v) < 1e-3 for k, v in x_mm.items() if k in array):
+            rec = json.loads((view / "result.json").read_text())
+            e = rec.get("electrodes", {}).get(electrode_name(*scene.get("load", {}).get("taxel", (0, 0))), {})
+            if e.get("capacitance_F"):
+                out[ROW[THREE_D]] = abs(e["capacitance_F"])
+    return out
+
+
+def capacitance_note(folder: Path, x_mm: dict, role: str) -> str | None:
+    """Why the design's capacitances differ (answer-readout.json): one line, None without the numbers."""
+    r = _readout_row(folder, x_mm, role)
+    if r is None or not r.get("capacitance_F") or not r.get("capacitance_2d_F"):
+        return None
+    plate, two = r["capacitance_F"], r["capacitance_2d_F"]
+    three = capacitances(folder, x_mm, role).get(ROW[THREE_D])
+    return (f"Capacitance: the free parallel plate (the piezo's permittivity at zero stress times the taxel's area "
+            f"over its thickness) gives {eng(plate, 'F', 3)}, the answer's (ladder row {ROW[ANSWER_MODEL]}) and "
+            "the 3D model's: the piezo is free in its plane under silicone seven orders softer"
+            + (f" (this design's 3D solve, ladder row {ROW[THREE_D]}: {eng(three, 'F', 3)})" if three else "")
+            + f"; the 2D section (ladder row 1) gives {eng(two, 'F', 3)} ({100 * (two / plate - 1):+.3g} %), "
+            "because a plane section holds the piezo's strain along the depth at zero, which moves its permittivity "
+            "toward the clamped one. The answer's charge per newton is its open-circuit sensitivity times "
+            f"{eng(plate, 'F', 3)}.")

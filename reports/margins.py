@@ -60,6 +60,11 @@ def requirement_cols(a) -> list[str]:
 
 
 
+def _full(q, d) -> bool:
+    """A coverage requirement met by a surface live everywhere: at its bound, but nothing limits it."""
+    return q.metric == "coverage" and d.values.get("coverage") == 1.0
+
+
 def limits(a) -> str:
     """What limits the design the answer gives (a reports.answer.FrontAnswer): the
     requirement that binds, else those it meets with less than 1 % to spare."""
@@ -69,7 +74,7 @@ def limits(a) -> str:
                 f"{100 * abs(a.binding[1]):.3g} %.")
     d = a.recommended or a.thesis
     tight = [q for q in a.requirements if q.stated and d.margins.get(q.metric) is not None
-             and d.margins[q.metric] < 0.01]
+             and d.margins[q.metric] < 0.01 and not _full(q, d)]
     if not tight:
         return "No stated requirement is within 1 % of its bound."
     return "What limits it: " + ", ".join(f"{q.text()} ({_margin(d.margins[q.metric])})" for q in tight) + "."

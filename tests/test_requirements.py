@@ -173,7 +173,7 @@ def test_each_answer_design_has_its_model_ladder(tmp_path):
     assert len(answer_rows) == 1
     assert answer_rows[0][1] == eng(a.thesis.sensitivity_V_per_N, "V/N", 3)
     assert answer_rows[0][2] == percent(a.thesis.crosstalk)
-    assert all(r[4] for r in thesis) and "recommended design" in ladders
+    assert all(r[-1] for r in thesis) and "recommended design" in ladders
     rec = ladders["recommended design"]
     assert [r for r in rec if r[0].endswith("(the answer)")][0][1] == eng(a.recommended.sensitivity_V_per_N, "V/N", 3)
     blk = block([a])
@@ -225,6 +225,42 @@ def test_every_answer_row_has_its_readout_numbers_and_csv_is_numeric(through_rea
     for r in rows:
         float(r["value"])
         assert r["unit"] and (r["relative error"] == "" or 0 < float(r["relative error"]) < 1)
+
+
+def test_charge_voltage_and_the_ladders_capacitance_agree(through_readout):
+    """V = Q / C for every answer design: its charge per newton over the capacitance of its
+    ladder's answer row is its open-circuit sensitivity, on the page too (3 significant
+    figures each). That capacitance is the free plate's, the seed's 4.24 nF for a 4 x 4 x
+    0.127 mm PSI-5H4E taxel and 33-35 pF for the 52 um PVDF one (eps_r 12-13); the 2D
+    section's (row 1) is lower for PZT, whose depth it holds unstrained, and the note says why."""
+    from taxel.reports.ladder import ladder
+    from taxel.units import magnitude
+    blk = block(through_readout)
+    for a in through_readout:
+        for d in (a.recommended, a.thesis):
+            rungs = ladder(a.path, {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm,
+                                    "gap": d.gap_mm}, d is a.thesis)
+            c = next(r for r in rungs if r.answer).capacitance
+            assert d.values["charge_sensitivity"] / c == pytest.approx(d.sensitivity_V_per_N, rel=1e-12)
+            two = next((r.capacitance for r in rungs if r.number == 1), None)    # a 2D-pressure-patch row, if solved
+            assert two is not None or d is not a.thesis
+            if d.material == "PSI-5H4E":
+                assert c == pytest.approx(4.24e-9, rel=0.005) and (two is None or 0.75 < two / c < 0.9)
+            else:
+                assert 32e-12 < c < 35.5e-12 and (two is None or two == pytest.approx(c, rel=0.01))
+    for line in blk["lines"]:
+        for g in line["ladders"]:
+            assert "parallel plate" in g["note"] and "2D section" in g["note"]
+    for row in blk["rows"]:
+        cells = dict(zip(blk["cols"], row))
+        q = magnitude(cells["charge per newton"].replace("C/N", "C"))
+        words = cells["open-circuit sensitivity"].split()          # "738 ± 85 mV/N"
+        v = magnitude(f"{words[0]} {next(w for w in words if w.endswith('V/N'))}")
+        material = "PZT" if cells["material"].startswith("PZT") else "PVDF"
+        ladder_rows = [g["rows"] for ln in blk["lines"] if ln["material"].startswith(material)
+                       for g in ln["ladders"] if g["role"] == cells["design"]][0]
+        c = magnitude([r for r in ladder_rows if r[0].endswith("(the answer)")][0][3])
+        assert q / c == pytest.approx(v, rel=0.01)            # 3 significant figures on each
 
 
 def test_an_optimization_whose_every_evaluation_fails_says_so():

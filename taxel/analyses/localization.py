@@ -84,28 +84,36 @@ class LocalizationError:
     solves: int                  # static FEM solves it took (0: all cached)
 
 
-def localization_error(scene, noise_V: float = NOISE_V, solve=None, per_pitch: int = 8) -> LocalizationError:
+def localization_error(scene, noise_V: float = NOISE_V, solve=None, per_pitch: int = 8,
+                       force: float | None = None) -> LocalizationError:
     """The predicted position error of a design, a metric for the optimizer.
 
     The influence functions over the taxels' span (taxel.analyses.influence, every
-    pitch / per_pitch, no margins, mirror symmetry: 9 static solves for a 3-taxel
-    row at per_pitch 8, against 17 without the mirror; coarser sampling is cheaper but
-    puts the bound 0.7-9 x off), the Cramer-Rao map above (every pitch / 8
-    over the taxels, force the scene's load.force, white noise noise_V on every peak,
-    S the mean open-circuit sensitivity of the row's taxels pressed at their centres),
-    and its rms over the map in m. It compares designs on the peaks' open-circuit
-    voltage, as the sensitivity metric does: a readout chain's gain scales signal and
-    the noise referred to its input alike only if the noise is the chain's own.
-    benchmarks/measure_influence_cost.py measures the solves and the error of per_pitch
-    2 and 4 against 8. `solve` (scene -> {electrode: V}) lets the optimizer keep every
+    pitch / per_pitch, no margins, mirror symmetry: 9 static solves for a 3-taxel row at per_pitch 8, against
+    17 without the mirror; coarser sampling is cheaper but puts the bound 0.7-9 x off), then
+    `localization_error_of`. benchmarks/measure_influence_cost.py measures the solves and the error of
+    per_pitch 2 and 4 against 8. `solve` (scene -> {electrode: V}) lets the optimizer keep every
     press position in a study store."""
     from taxel.analyses.influence import influence
     arr = scene.array
     if arr is None or arr.cols < 2:
         raise ValueError("localization_error needs a taxel array with at least two columns")
-    infl = influence(scene, per_pitch=per_pitch, edges=False, solve=solve)
+    return localization_error_of(influence(scene, per_pitch=per_pitch, edges=False, solve=solve), scene, noise_V,
+                                 force)
+
+
+def localization_error_of(infl: Influence, scene, noise_V: float = NOISE_V,
+                          force: float | None = None) -> LocalizationError:
+    """The Cramer-Rao map above of the influence functions `infl` (every pitch / 8 over the
+    taxels, white noise noise_V on every peak, S the mean open-circuit sensitivity of the
+    row's taxels pressed at their centres) at `force` (default the scene's load.force; the
+    error scales as 1 / force), and its rms over the map in m. It compares designs on the
+    peaks' open-circuit voltage, as the sensitivity metric does: a readout chain's gain
+    scales signal and the noise referred to its input alike only if the noise is the
+    chain's own."""
+    arr = scene.array
     S = float(np.mean(np.abs(infl.sensitivity)))
-    F = float(scene.load.force or 1.0)
+    F = float(force if force is not None else (scene.load.force or 1.0))
     amap = accuracy_map(infl, min(arr.rows, arr.cols), arr.cols, S, noise_V, F)    # separable: rows take G of the row
     e = amap.position_error_mm[np.isfinite(amap.position_error_mm)]
     if not len(e):

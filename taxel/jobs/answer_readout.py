@@ -6,12 +6,18 @@ the bench's chain: the charge amplifier and notch of the thesis-pzt-frequency sc
 with the simulated rig's mains hum, on the thesis bench's ADC.
 
 Physics: below the first resonance a taxel is a charge source, Q_sc = C_p V_oc; the
-answer gives V_oc per newton (its model: the rig's probe on Yeoh silicone), the
-design's own capacitance C_p = |Q_sc / V_oc| comes from one static solve of the design
-on the base scene (a 2D section, linear silicone: C_p depends on the piezo and its
-electrodes, not on the silicone's law), and the chain is
+answer gives V_oc per newton (its model: the rig's probe on Yeoh silicone, 3D), C_p is
+the 3D model's capacitance of the taxel, which is the free parallel plate
+eps33^T A / t (fem.readout's lumped model): the piezo is free in its plane under
+silicone seven orders softer, and the 3D FEM gives the thesis PZT and PVDF taxels the
+plate's value within 0.01 % (benchmarks/capacitance_models.py;
+tests/test_piezo_plate.py checks the free plate). The 2D section's |Q_sc / V_oc| is
+recorded beside it (capacitance_2d_F, one static solve of the design on the base
+scene): the plane section holds the piezo's strain along the depth at zero, about
+19 % less for PZT, and is not the answer's model. The chain is
 taxel.analyses.noise.quasi_static_noise on (V_oc, C_p V_oc) per newton. Written to
-OUT/answer-readout.json; the report's answer reads it. Cost: one 2D solve per design.
+OUT/answer-readout.json; the report's answer and its model ladder read it. Cost: one
+2D solve per design.
 """
 
 from __future__ import annotations
@@ -30,6 +36,7 @@ RIG = "thesis-bench"
 def answer_readout(front_dir: Path) -> Path | None:
     """Write OUT/answer-readout.json for the answer of `front_dir` (a built-in optimization's folder)."""
     from taxel import api
+    from taxel.analyses import lumped_model
     from taxel.analyses.noise import quasi_static_noise
     from taxel.optimize import spec as O
     from taxel.reports.answer import headline_front
@@ -56,11 +63,13 @@ def answer_readout(front_dir: Path) -> Path | None:
         scene = parse({**data, "name": f"{front_dir.name}-{d.role}"})
         res = api.solve(scene)
         e = res.electrodes[res.pressed]
-        c_p = abs(e.short_circuit_charge / e.voltage)
+        c_2d = abs(e.short_circuit_charge / e.voltage)
+        c_p = lumped_model(scene).C_p                  # the 3D model's: the free parallel plate (docstring)
         s = abs(d.sensitivity_V_per_N)
         nr = quasi_static_noise(scene, s, s * c_p, rig)
         shares = nr.shares()
         rows.append({"role": d.role, "x_mm": x, "capacitance_F": c_p, "charge_sensitivity_C_per_N": s * c_p,
+                     "capacitance_2d_F": c_2d,
                      "readout_V_per_N": float(np.max(nr.gain)), "band_Hz": list(nr.band),
                      "min_detectable_force_N": nr.min_detectable_force, "force_range_N": nr.saturation_force,
                      "saturation_by": nr.saturation_by, "hum_share": shares.get("hum residual", 0.0),

@@ -168,7 +168,10 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
         folders.append(front(root / name, name, small, full, presses_3d))
     if not small:                      # the answer's designs through the bench's readout (one 2D solve each)
+        from taxel.jobs.answer_coverage import answer_coverage
         from taxel.jobs.answer_readout import answer_readout
+        spent = sum(answer_coverage(root / name) for name in ("thesis-pzt-front", "thesis-pvdf-front"))
+        print(f"      the answer's coverage (optimize.coverage) in {spent:.0f} s")
         t3 = time.perf_counter()
         for name in ("thesis-pzt-front", "thesis-pvdf-front"):
             answer_readout(root / name)

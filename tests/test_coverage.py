@@ -1,0 +1,160 @@
+"""Coverage as a design metric and a requirement (taxel.analyses.coverage, optimize.coverage).
+
+Its limits: taxels that almost touch leave no dead zone; a gap much wider than the 1 mm
+silicone does, in the middle of the gap, and the dead zone shrinks as the force grows.
+As a requirement: the answer refuses a design with a dead zone, and the recommended
+design changes with the requirement (the seed's coverage >= 100 % at 0.2 N)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import taxel
+from taxel.analyses.coverage import SIGMAS, coverage
+from taxel.analyses.influence import influence
+
+
+@pytest.fixture
+def fresh_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+
+
+def _coarse(gap_mm: float):
+    """The thesis PZT row with a coarser mesh (the limits hold on it; 5 solves at per_pitch 4)."""
+    return taxel.load("thesis-pzt-3x3-2d").replace(**{"array.gap": f"{gap_mm} mm", "mesh.size": "1 mm",
+                                                      "mesh.piezo_size": "0.2 mm"})
+
+
+def test_coverage_limits_touching_taxels_and_a_wide_gap(fresh_cache):
+    """0.01 mm gap: every press between the outer taxels reaches a taxel far above 3 sigma (1 mV,
+    0.2 N); a 14 mm gap (14 times the silicone's thickness): a dead zone centred on the gap's
+    middle, which a force 100 times larger closes."""
+    touching = coverage(influence(_coarse(0.01), per_pitch=4, edges=False), 0.2, 1e-3)
+    assert touching.fraction == 1.0 and touching.line_fraction == 1.0 and not touching.dead_m
+    assert touching.best_V.min() > 10 * SIGMAS * 1e-3
+    infl = influence(_coarse(14), per_pitch=8, edges=False)
+    wide = coverage(infl, 0.2, 1e-3)
+    assert wide.fraction < 0.9 and wide.dead_m
+    pitch = infl.pitch
+    mid = 0.5 * pitch                                   # the gap's middle between taxels 0 and 1
+    assert any(a < mid < b for a, b in wide.dead_m)     # on the surface's worst line, midway between rows
+    assert wide.best_V[np.argmin(np.abs(wide.x_m))] > 10 * wide.threshold_V      # a press on a taxel's centre
+    assert coverage(infl, 20.0, 1e-3).fraction > wide.fraction
+    assert coverage(infl, 0.2, 1e-3, sigmas=1.0).fraction >= wide.fraction
+
+
+PROBLEM = """
+base = "thesis-pzt-3x3-2d"
+reference = {gap = "3 mm"}
+smallest_force = "0.2 N"
+noise = "1 mV"
+[variables]
+gap = {path = "array.gap", min = "3 mm", max = "14 mm", start = "3 mm"}
+[objective]
+maximize = "sensitivity"
+[requirements]
+"""
+
+
+def _answer(tmp_path, requirements: str):
+    """The answer (reports.answer) of a front of three designs of the thesis PZT row, gaps 3
+    (the reference), 4 and 14 mm, each evaluated by the optimizer, with `requirements`
+    (optimize.run.required_influence_metrics judges coverage after the search)."""
+    from taxel.api import write_scene
+    from taxel.optimize.driver import Result
+    from taxel.optimize.result import FrontRun, OptimizationResult
+    from taxel.optimize.run import reference_evaluation, required_influence_metrics
+    from taxel.optimize.spec import load_optimization
+    from taxel.reports.answer import headline_front
+    from taxel.scene import parse
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    path = tmp_path / "gap-front.toml"
+    path.write_text(PROBLEM + requirements)
+    out = tmp_path / "gap-front"
+    prob = load_optimization(path, out)
+    ref = reference_evaluation(prob)
+    runs = [FrontRun(None, Result(np.array([g]), 0.0, prob.evaluate([g]), {}, 1, True, "ok")) for g in (4.0, 14.0)]
+    res = OptimizationResult("gap-front", prob.names, prob.units, "maximize", "sensitivity", runs=runs,
+                             reference=ref, requirements=dict(prob.spec.requirements))
+    required_influence_metrics(prob, res)
+    res.to_folder(out)
+    write_scene(out, parse({**prob.scene_data(prob.x0), "name": "gap-front"}))
+    return headline_front(out), out
+
+
+@pytest.mark.slow       # about 30 static 2D solves (the three designs and their influence functions)
+def test_the_coverage_requirement_refuses_the_design_with_a_dead_zone(tmp_path, fresh_cache):
+    """Without requirements the answer takes the widest gap (14 mm: more sensitive and far less
+    crosstalk than the 3 mm reference); with coverage >= 100 % at 0.2 N it refuses it (a dead
+    zone between the taxels) and recommends the 4 mm gap instead."""
+    free, _ = _answer(tmp_path / "free", "")
+    assert free.recommended is not None and free.recommended.gap_mm == pytest.approx(14.0)
+    held, out = _answer(tmp_path / "held", 'coverage = ">= 100 %"\n')
+    assert held.recommended is not None and held.recommended.gap_mm == pytest.approx(4.0)
+    rows = {r["x_mm"]["gap"]: r for r in json.loads((out / "coverage.json").read_text())["designs"]}
+    assert rows[14.0]["coverage"] < 1.0 and rows[14.0]["dead_mm"]
+    assert rows[4.0]["coverage"] == 1.0 and rows[3.0]["coverage"] == 1.0
+    assert rows[14.0]["noise_source"] == "noise on each open-circuit peak" and rows[14.0]["sigmas"] == SIGMAS
+    # the localization error at 0.2 N: finite where every press is found, larger with a dead zone
+    loc = {g: r["localization_error"] for g, r in rows.items()}
+    assert 0 < loc[3.0] < loc[14.0] and np.isfinite(loc[14.0])
+    bound = 0.5 * (loc[4.0] + loc[14.0]) if loc[4.0] < loc[14.0] else None
+    if bound is not None:       # a bound between the two refuses the 14 mm gap as well; as a performance
+        # requirement its margin is maximized: the design that localizes best wins (the reference, kept)
+        limited, _ = _answer(tmp_path / "loc", f'localization_error = "<= {1e3 * bound:.4g} mm"\n')
+        best = min(loc, key=loc.get)
+        assert (limited.recommended.gap_mm if limited.recommended else 3.0) == pytest.approx(best)
+    # page one's requirement line: prediction and margin of the recommended and the reference design
+    from taxel.reports.margins import requirement_rows
+    line = [r for r in requirement_rows(held) if r[0].startswith("coverage")][0]
+    assert line == ["coverage ≥ 100 %", "100 %", "at the bound", "100 %", "at the bound"]
+
+
+def test_bad_coverage_input_is_one_line_naming_the_key(tmp_path):
+    from taxel.optimize.spec import OptimizeError, load_optimization
+    cases = {'smallest_force = "-0.2 N"\n': "smallest_force", 'smallest_force = "2 mm"\n': "smallest_force",
+             '[requirements]\ncoverage = ">= 100 mm"\n': "requirements.coverage",
+             '[requirements]\nlocalization_error = ">= 2 %"\n': "requirements.localization_error"}
+    base = PROBLEM.replace("[requirements]\n", "")
+    for i, (extra, key) in enumerate(cases.items()):
+        path = tmp_path / f"bad-{i}.toml"
+        text = base.replace('smallest_force = "0.2 N"\n', extra) if not extra.startswith("[") else base + extra
+        path.write_text(text)
+        with pytest.raises(OptimizeError) as err:
+            load_optimization(path)
+        assert key in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+@pytest.mark.slow       # about 18 static 2D solves: the influence functions of two designs
+def test_the_main_jobs_answer_is_judged_on_coverage(tmp_path, fresh_cache):
+    """The main job's PZT front records (tests/data/answer) with the built-in requirements but pitch:
+    taxel.jobs.answer_coverage solves the thesis and the recommended design's coverage, the
+    answer shows it on page one, and the ladder's 2D row holds it."""
+    import shutil
+    from pathlib import Path
+    from taxel.jobs.answer_coverage import answer_coverage
+    from taxel.optimize.spec import load_optimization
+    from taxel.reports.answer import headline_front
+    from taxel.reports.margins import requirement_rows
+    folder = tmp_path / "thesis-pzt-front"
+    shutil.copytree(Path(__file__).parent / "data" / "answer" / folder.name, folder)
+    reqs = dict(load_optimization("thesis-pzt-probe-front").spec.requirements)
+    assert reqs.pop("coverage") == ">= 100 %"
+    reqs = {"coverage": ">= 100 %", **{k: v for k, v in reqs.items() if k != "pitch"}}   # a wider gap may win
+    for name in ("probe-front.json", "front-3d.json"):
+        rec = json.loads((folder / name).read_text())
+        rec["requirements"] = reqs
+        (folder / name).write_text(json.dumps(rec))
+    answer_coverage(folder)
+    a = headline_front(folder)
+    for d in (a.thesis, a.recommended):
+        assert d is not None and d.values["coverage"] == 1.0 and d.margins["coverage"] == 0.0
+    line = [r for r in requirement_rows(a) if r[0].startswith("coverage")][0]
+    assert line[1:] == ["100 %", "at the bound", "100 %", "at the bound"]
+    rows = json.loads((folder / "coverage.json").read_text())["designs"]
+    assert len(rows) == 2 and all(r["force_N"] == 0.2 and r["noise_V"] == 1e-3 for r in rows)
+    thesis_ladder = [g for g in a.ladders() if g["role"] == "thesis"][0]["rows"]
+    assert [r[4] for r in thesis_ladder if r[0].startswith("1.")] == ["100 %"]
