@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from taxel.reports.ladder import SHORT
 from taxel.reports.tables import eng, percent
 
 FILE = "friction-band.json"     # in the optimization folder, beside probe-front.json
@@ -39,7 +40,9 @@ def block(folder: Path | None) -> dict | None:
             f"the rig file ({rec['rig']}) gives no coefficient ([probe] friction = \"{coefficient}\"): the two "
             "limits are the band")
     return {"caption": "friction band: the probe's unknown friction on the silicone",
-            "cols": ["design", "friction", "sensitivity (vs " + rec["reference"] + ")", "crosstalk", "force"],
+            # the probe front's own law is the ladder's row 5 (reports.ladder): the columns name it
+            "cols": ["design", "friction", f"sensitivity {SHORT[5]} (vs {rec['reference']}: ladder row 5)",
+                     f"crosstalk {SHORT[5]}", "force"],
             "rows": rows,
             "note": (f"How much the probe's friction moves the answer: {said}. Model: {rec['model']}. "
                      f"{rec['three_d']} Computed in {rec['seconds']:.0f} s.")}

@@ -121,6 +121,10 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
            "presses": sum(len(t[1]) for t in tasks), "workers": workers}
     out = front_dir / FILE
     out.write_text(json.dumps(rec, indent=1))
+    for d in rows:
+        print(f"      friction band, {front_dir.name} {d['role']}: " + ", ".join(
+            f"{leg['friction']} {leg['sensitivity_V_per_N']:.4g} V/N" for leg in d["legs"])
+            + f" ({rec['presses']} 2D presses in {rec['seconds']:.1f} s for the folder)", flush=True)
     return out
 
 
