@@ -78,3 +78,21 @@ def test_coulomb_cylinder_on_a_yeoh_block_agrees_with_felupe(mu):
     o, f = ours(mu), felupe_extrapolated(mu)
     np.testing.assert_allclose(o["F"], f["F"], rtol=0.01)
     assert abs(o["a"] - f["a"]) < 6e-5 and abs(o["c"] - f["c"]) < 6e-5
+
+
+@pytest.mark.slow      # per coefficient FELupe twice (~10 s each) and our 3D press (~85 s of CPU)
+@pytest.mark.parametrize("mu", [0.1, 0.3, 1.0])
+def test_coulomb_plate_on_a_yeoh_block_agrees_with_felupe_in_3d(mu):
+    """3D Coulomb friction against FELupe's ContactRigidPlane(friction=mu): a rigid plate
+    wider than the block pressed 0.2 mm (10 %) in 10 equal steps into a bonded Yeoh block
+    4 x 4 x 2 mm, the quarter with two symmetry planes (tests/felupe_contact.py). The same
+    grid of nodes: FELupe's Q1/P0/P0 hexahedra (8 per edge), our P2/P1 tetrahedra, six per
+    hexahedron; FELupe's force extrapolated to an infinite penalty from two. The force-travel
+    curve within 1 %; the slip zone: at FELupe's top nodes (the grid's vertices, P2 nodes of
+    ours too) the same state (stick, slip) at all but the nodes on the stick zone's edge
+    (at most 10 % of the 81). Measured: benchmarks/friction_felupe.py --3d."""
+    from felupe_contact import felupe_extrapolated_3d, ours_3d, same_nodes
+    o, f = ours_3d(mu), felupe_extrapolated_3d(mu)
+    np.testing.assert_allclose(o["F"], f["F"], rtol=0.01)
+    zo, zf = same_nodes(o, f)
+    assert zo.size == 81 and (zo == zf).sum() >= 0.9 * zo.size
