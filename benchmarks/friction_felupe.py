@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.fem.contact import SLIP, STICK
+from taxel.fem.contact import OPEN, SLIP, STICK
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from felupe_contact import (TRAVEL, TRAVEL_3D, felupe_extrapolated, felupe_extrapolated_3d, ours,  # noqa: E402
@@ -114,16 +114,20 @@ def main_3d(mus):
         f = felupe_extrapolated_3d(mu)
         t2 = time.process_time()
         zo, zf = same_nodes(o, f)
+        both = (zo != OPEN) & (zf != OPEN)
         rows.append((mu, o, f))
         out[str(mu)] = dict(ours_N=o["F"].tolist(), felupe_N=f["F"].tolist(),
                             felupe_penalties_N=[F.tolist() for F in f["F_penalties"]],
                             rel_diff=(o["F"] / f["F"] - 1).tolist(), stick_radius_ours_m=o["c"],
                             stick_radius_felupe_m=f["c"], nodes_compared=int(zo.size),
-                            nodes_same_state=int((zo == zf).sum()), cpu_s_ours=t1 - t0, cpu_s_felupe=t2 - t1)
+                            nodes_in_contact_in_both=int(both.sum()),
+                            nodes_same_stick_or_slip=int((zo[both] == zf[both]).sum()),
+                            cpu_s_ours=t1 - t0, cpu_s_felupe=t2 - t1)
         print(f"3D mu = {mu}: F at {1e3 * TRAVEL_3D:g} mm ours {o['F'][-1]:.5f}, FELupe {f['F'][-1]:.5f} N "
               f"(largest |diff| over the curve {100 * np.abs(o['F'] / f['F'] - 1).max():.2f} %); stick radius "
-              f"{1e3 * o['c']:.3f} / {1e3 * f['c']:.3f} mm; the same state at {(zo == zf).sum()} of {zo.size} "
-              f"FELupe nodes; CPU {t1 - t0:.0f} / {t2 - t1:.0f} s", flush=True)
+              f"{1e3 * o['c']:.3f} / {1e3 * f['c']:.3f} mm; of FELupe's {zo.size} top nodes {both.sum()} in contact in "
+              f"both, {(zo[both] == zf[both]).sum()} of them in the same state (stick or slip); "
+              f"CPU {t1 - t0:.0f} / {t2 - t1:.0f} s", flush=True)
     Path("benchmarks/out").mkdir(parents=True, exist_ok=True)
     Path("benchmarks/out/friction_felupe_3d.json").write_text(json.dumps(out, indent=1))
     figure_3d(rows, "docs/contact-friction-felupe-3d.png")

@@ -38,16 +38,6 @@ def test_the_rig_file_gives_the_probes_coefficient_or_says_it_is_unknown(tmp_pat
     assert parse_rig(data, si_numbers=True).probe.friction == "unknown"       # rig.json round trip
 
 
-def test_the_cli_refuses_a_bad_probe_friction_in_one_line(tmp_path):
-    """taxel measure's rig loading: exit 2, one line naming the key."""
-    import subprocess
-    import sys
-    path = _rig(tmp_path, "-1")
-    r = subprocess.run([sys.executable, "-c", "from taxel.studies.bench.rig import load_rig; "
-                        f"load_rig({str(path)!r})"], capture_output=True, text=True)
-    assert r.returncode != 0 and "probe.friction" in r.stderr
-
-
 @pytest.mark.slow      # four 2D probe presses of the thesis design (two frictionless)
 @pytest.mark.parametrize("coefficient", ["unknown", 0.4])
 def test_the_answers_friction_band_is_written_and_shown(tmp_path, coefficient):
