@@ -9,6 +9,11 @@ band solves one 2D press per design and law not stored: with the rig's "unknown"
 the frictionless press of each design. Each configuration is run `--repeat` times on fresh
 copies of the folders; the median wall time is printed with the load average.
 
+Measured (two runs each, load 6.8-8.8 on 2 cores, four helpers running): both materials,
+four frictionless 2D presses, median 174.8 s on 1 worker and 238.8 s on 2 (ratio 0.73: on a
+saturated machine the second worker only adds its cluster's start); per folder 68-115 s
+(PZT), 83-172 s (PVDF). Not the ~15 s the demo allows: see docs/guide/silicone-and-contact.md.
+
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/friction_band_job.py [--repeat 3]
 writes benchmarks/out/friction_band_job.json.
 """

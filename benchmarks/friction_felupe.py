@@ -28,8 +28,20 @@ Measured (one run, load 8-15 on 2 cores): at 0.28 mm, ours / FELupe extrapolated
   mu = 1.0: 23.366 / 23.336 N/m, 0.67 %; a 0.745 / 0.778 mm, c = a (all stick)
 and frictionless 21.573 against 21.544 (penalties 10 and 30).
 
-Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/friction_felupe.py [--mu 0.1 0.3 1.0]
-writes benchmarks/out/friction_felupe.json and docs/contact-friction-felupe.png.
+With --3d: FELupe's ContactRigidPlane(friction=mu) compressing a bonded Yeoh block 4 x 4 x 2 mm
+(the quarter, two symmetry planes) by 0.2 mm in 10 steps, on the same grid of nodes (FELupe
+Q1/P0/P0 hexahedra 8 per edge, ours P2/P1 tetrahedra six per hexahedron; tests/felupe_contact.py).
+Measured (one run, load 7-8): at 0.2 mm, ours / FELupe extrapolated (penalties 10 and 20)
+  mu = 0.1: 0.11059 / 0.11064 N, largest difference over the curve 0.17 %; all slip in both
+  mu = 0.3: 0.12675 / 0.12681 N, 0.26 %; stick radius 0.639 / 0.710 mm, stick or slip the same
+            at 50 of the 55 nodes both touch
+  mu = 1.0: 0.14353 / 0.14551 N, 1.36 % (FELupe at penalties 40 and 80: 0.14311, 0.14457 N,
+            converging to about 0.1460 N; ours on 4 per edge 0.14651 N); the same at 37 of 55
+CPU: ours 23-80 s, FELupe 11-17 s per coefficient.
+
+Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/friction_felupe.py [--mu 0.1 0.3 1.0] [--3d]
+writes benchmarks/out/friction_felupe.json and docs/contact-friction-felupe.png
+(--3d: benchmarks/out/friction_felupe_3d.json and docs/contact-friction-felupe-3d.png).
 """
 
 from __future__ import annotations
