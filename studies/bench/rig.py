@@ -201,7 +201,7 @@ class Rig(Strict):
     adc: ADC = ADC()
     channels: list[Channel] = Field(min_length=1, max_length=MAX_CHANNELS)
     conditioning: dict = Field(default_factory=dict)
-    probe: Probe = Probe()
+    probe: Probe = Probe()                 # the rigid probe that presses the sensor (its friction)
 
     @model_validator(mode="after")
     def _channels(self):
