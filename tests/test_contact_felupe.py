@@ -96,7 +96,7 @@ def test_coulomb_plate_on_a_yeoh_block_agrees_with_felupe_in_3d(mu):
     edge) ours opens and FELupe's penalty keeps a node touching. Measured
     (benchmarks/friction_felupe.py --3d): force within 0.17 % (mu = 0.1), 0.26 % (0.3) over
     the curve, mu = 1 1.36 % (ours 0.14353 against 0.14551 N at 0.2 mm); stick or slip the same at
-    55 of 55 and 50 of 55 nodes in contact in both (mu = 0.1, 0.3), 37 of 55 at mu = 1."""
+    66 of 66 and 50 of 55 nodes in contact in both (mu = 0.1, 0.3), 37 of 55 at mu = 1."""
     from felupe_contact import felupe_extrapolated_3d, ours_3d, same_nodes
     from taxel.fem.contact import OPEN
     o, f = ours_3d(mu), felupe_extrapolated_3d(mu)
