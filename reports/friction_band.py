@@ -31,7 +31,11 @@ def block(folder: Path | None) -> dict | None:
         ref = next((leg for leg in d["legs"] if leg["friction"] == rec["reference"]), None)
         for leg in d["legs"]:
             s = leg["sensitivity_V_per_N"]
-            rel = "" if ref is None or leg is ref else f" ({100 * (s / ref['sensitivity_V_per_N'] - 1):+.1f} %)"
+            if s is None:                  # the press did not converge even at its first load step
+                rows.append([d["role"], _law(leg["friction"]), "—", "—", f"no state: {leg['stop']}"])
+                continue
+            rel = ("" if ref is None or leg is ref or ref["sensitivity_V_per_N"] is None else
+                   f" ({100 * (s / ref['sensitivity_V_per_N'] - 1):+.1f} %)")
             rows.append([d["role"], _law(leg["friction"]), eng(s, "V/N", 3) + rel,
                          "—" if leg["crosstalk"] is None else percent(leg["crosstalk"]),
                          eng(leg["force_N"], "N", 3) + ("" if leg["success"] else f" (stopped short: {leg['stop']})")])

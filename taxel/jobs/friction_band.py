@@ -45,8 +45,13 @@ def _legs(data: dict, laws: list) -> list[dict]:
     out = []
     for law in laws:
         t0 = time.perf_counter()
-        rec = friction_leg(scene, law).record()
-        out.append({**rec, "sensitivity_V_per_N": abs(rec["sensitivity_V_per_N"]),
+        try:
+            rec = friction_leg(scene, law).record()
+        except RuntimeError as exc:          # not even the first load step converged: no state to show
+            rec = {"friction": law, "sensitivity_V_per_N": None, "crosstalk": None, "force_N": 0.0,
+                   "travel_m": 0.0, "success": False, "stop": str(exc).splitlines()[0]}
+        s = rec["sensitivity_V_per_N"]
+        out.append({**rec, "sensitivity_V_per_N": None if s is None else abs(s),
                     "seconds": time.perf_counter() - t0, "stored": False})
     return out
 
@@ -110,10 +115,12 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
     for d, s, legs in zip(designs, stored, solved):
         by = {leg["friction"]: leg for leg in legs + ([s] if s else [])}
         legs = [by[law] for law in laws]
-        sens = [leg["sensitivity_V_per_N"] for leg in legs]
+        sens = [leg["sensitivity_V_per_N"] for leg in legs if leg["sensitivity_V_per_N"] is not None]
+        ref = by["sticking"]["sensitivity_V_per_N"]
         rows.append({"role": d.role, "x_mm": {"silicone_above": d.silicone_above_mm,
                                               "silicone_below": d.silicone_below_mm, "gap": d.gap_mm},
-                     "legs": legs, "sensitivity_spread": (max(sens) - min(sens)) / by["sticking"]["sensitivity_V_per_N"]})
+                     "legs": legs, "sensitivity_spread": (max(sens) - min(sens)) / ref
+                     if ref and len(sens) == len(legs) else None})
     force = datas[0]["load"]["force"]
     model = (f"the probe front's 2D press (plane strain, Yeoh silicone, {press.shape or 'flat'} probe, "
              f"{force}), only the friction changed")
@@ -125,7 +132,8 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
     out.write_text(json.dumps(rec, indent=1))
     for d in rows:
         print(f"      friction band, {front_dir.name} {d['role']}: " + ", ".join(
-            f"{leg['friction']} {leg['sensitivity_V_per_N']:.4g} V/N" for leg in d["legs"])
+            f"{leg['friction']} " + ("no state" if leg["sensitivity_V_per_N"] is None else
+                                     f"{leg['sensitivity_V_per_N']:.4g} V/N") for leg in d["legs"])
             + f" ({rec['presses']} 2D presses in {rec['seconds']:.1f} s for the folder)", flush=True)
     return out
 
