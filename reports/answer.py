@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
+from taxel.reports import friction_band
 from taxel.reports.findings import verified_model
 from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SHORT, VERIFY_3D_ERROR, anchor
 from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
@@ -499,7 +500,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
                       "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
-                      "risks": risks(a), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
+                      "risks": risks(a), "friction": friction_band.block(a.path), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     parts = [("Recommended: ", None)]
     for i, t in enumerate(titles):

@@ -7,7 +7,7 @@ import numpy as np
 from contact_meshes import block, problem
 from taxel.fem.assembly import Indenter, assemble
 from taxel.fem.constitution import Solid
-from taxel.fem.contact import STICK, Press
+from taxel.fem.contact import OPEN, SLIP, STICK, Press
 
 C10, C20, C30, K = 7.83e3, 0.103e3, -0.0008e3, 5e6
 W, H, R = 2e-3, 2e-3, 2e-3            # half-width, height, cylinder radius
@@ -68,3 +68,117 @@ def ours(mu, h=1e-4, steps=STEPS, travel=TRAVEL):
     x, z = st.x[0].ravel(), st.zone.ravel()
     Ft = 0.0 if st.tang is None else float((np.abs(st.tang.t[0]) * st.dA)[st.x[0] > 0].sum())
     return dict(F=F, Ft=Ft, a=float(np.abs(x[z > 0]).max()), c=float(np.abs(x[z == STICK]).max(initial=0.0)), x=x, zone=z)
+
+
+# --- 3D: a rigid plate with Coulomb friction compressing a Yeoh block (a quarter) -------------
+# The block 4 x 4 mm, 2 mm high (a quarter, x, y in [0, 2 mm], two symmetry planes), bonded at
+# the bottom; a rigid plate wider than the block (ours: a flat punch of radius 20 mm) pressed
+# TRAVEL_3D in STEPS_3D equal steps. The same grid of nodes in both codes: FELupe Q1/P0/P0
+# mixed hexahedra on an N3D^3 grid; ours P2/P1 tetrahedra, six per hexahedron of the same
+# grid (skfem MeshTet.init_tensor), the contact at the P2 nodes of the top (fem.contact's 3D rule).
+W3, H3 = 2e-3, 2e-3
+TRAVEL_3D, STEPS_3D, N3D = 0.2e-3, 10, 8
+
+
+def box3d(n=N3D, width=W3, height=H3):
+    """The quarter block's tetrahedral mesh for fem.contact (TaggedMesh, planes x = 0 and y = 0)."""
+    import skfem
+    from taxel.meshing.build import TaggedMesh
+    from taxel.meshing.layout import Layer, Layout, Patch
+    xs = np.linspace(0, width, n + 1)
+    m = skfem.MeshTet.init_tensor(xs, xs, np.linspace(0, height, n + 1))
+    tol = 1e-9 * width
+    f = {"bottom": m.facets_satisfying(lambda x: np.abs(x[2]) < tol),
+         "top": m.facets_satisfying(lambda x: np.abs(x[2] - height) < tol),
+         "mirror_x": m.facets_satisfying(lambda x: np.abs(x[0]) < tol),
+         "mirror_y": m.facets_satisfying(lambda x: np.abs(x[1]) < tol),
+         "edges": m.facets_satisfying(lambda x: (np.abs(x[0] - width) < tol) | (np.abs(x[1] - width) < tol))}
+    f["load"] = f["top"]
+    lay = Layout(model="3d", plan=Patch("plan", 0.0, 0.0, width), plan_half_y=width,
+                 layers=(Layer("layer0", 0.0, height, "block"),), electrodes=(), load=None, planes=(0, 1))
+    return TaggedMesh(m.with_boundaries(f), lay, {"layer0": np.arange(m.nelements)}, f, {"layer0": ("block", 1)})
+
+
+def travels_3d(steps=STEPS_3D, travel=TRAVEL_3D):
+    return np.linspace(0, travel, steps + 1)[1:]
+
+
+def _stick_radius(xy, active, slip):
+    """The outermost sticking point's distance from the axis (0 without one)."""
+    r = np.hypot(xy[:, 0], xy[:, 1])
+    return float(r[active & ~slip].max(initial=0.0))
+
+
+def felupe_plate_3d(mu, mult, n=N3D, steps=STEPS_3D, travel=TRAVEL_3D, maxiter=60):
+    """FELupe's plate on the quarter: (force at each travel, the full block's, N; the top
+    nodes' deformed x, y; in contact; slipping)."""
+    import felupe as fe
+    xs = np.linspace(0, W3, n + 1)
+    mesh = fe.Cube(a=(0, 0, 0), b=(W3, W3, H3), n=n + 1)
+    mesh.update(points=np.vstack([mesh.points, [0.0, 0.0, H3]]))
+    field = fe.FieldsMixed(fe.RegionHexahedron(mesh), n=3)
+    u = field[0]
+    umat = fe.NearlyIncompressible(fe.Hyperelastic(fe.yeoh, C10=C10, C20=C20, C30=C30), bulk=K)
+    cp = len(mesh.points) - 1
+    top = np.flatnonzero(np.isclose(mesh.points[:, 2], H3))
+    top = top[top != cp]
+    eps = mult * 2 * C10 * (xs[1] - xs[0])        # N/m per node: m x 2 C10 / h times the node's area h^2
+    plate = fe.ContactRigidPlane(field, points=top, centerpoint=cp, normal=[0, 0, -1], friction=mu,
+                                 multiplier=eps, multiplier_tangential=eps)
+    at_cp = np.arange(len(mesh.points)) == cp
+    X = mesh.points
+    move = fe.Boundary(u, mask=at_cp, skip=(1, 1, 0))
+    bounds = {"bottom": fe.Boundary(u, mask=np.isclose(X[:, 2], 0) & ~at_cp),
+              "sym_x": fe.Boundary(u, mask=np.isclose(X[:, 0], 0) & ~at_cp, skip=(0, 1, 1)),
+              "sym_y": fe.Boundary(u, mask=np.isclose(X[:, 1], 0) & ~at_cp, skip=(1, 0, 1)),
+              "cpxy": fe.Boundary(u, mask=at_cp, skip=(0, 0, 1)), "move": move}
+    step = fe.Step(items=[fe.SolidBody(umat, field), plate],
+                   ramp={move: -np.concatenate([[0.0], travels_3d(steps, travel)])}, boundaries=bounds)
+    job = fe.CharacteristicCurve(steps=[step], boundary=move)
+    job.evaluate(tol=1e-8, verbose=0, maxiter=maxiter)
+    F = -4 * np.array([f[2] for f in job.y[1:]])
+    xy = X[top, :2] + u.values[top, :2]
+    return F, xy, np.asarray(plate.results.active), np.asarray(plate.results.slip), X[top, :2]
+
+
+def felupe_extrapolated_3d(mu, mults=(10.0, 20.0), **kw):
+    """FELupe's plate at two penalties, the force extrapolated to an infinite one (error ~ 1/m);
+    the stick radius of the stiffer penalty."""
+    (F1, *_), (F2, xy, act, slip, X) = (felupe_plate_3d(mu, m, **kw) for m in mults)
+    m1, m2 = mults
+    return dict(F=F2 + (F2 - F1) * m1 / (m2 - m1), F_penalties=[F1, F2], c=_stick_radius(xy, act, slip),
+                xy=xy, X=X, zone=np.where(act, np.where(slip, SLIP, STICK), OPEN))
+
+
+def ours_3d(mu, n=N3D, steps=STEPS_3D, travel=TRAVEL_3D):
+    """Our plate (a flat punch of radius 20 mm, no edge radius) on the same grid: the full
+    block's force at each travel and the stick radius."""
+    mat = Solid("block", 2 * C10, K, 1000.0, yeoh=(C10, C20, C30))
+    ind = Indenter("flat", 20e-3, 0.0, travel=travel, friction=mu)
+    pr = Press(assemble(problem(box3d(n), mat, ind, hyperelastic=True)), ind)
+    assert pr.G == 4
+    F = np.array([pr.travel(d, first=1.0).force for d in travels_3d(steps, travel)])
+    st = pr.res.state
+    xy, z = st.x[:2].reshape(2, -1).T, st.zone.ravel()
+    return dict(F=F, c=_stick_radius(xy, z > 0, z != STICK), xy=xy, X=pr.surf.X[:2].reshape(2, -1).T, zone=z,
+                dA=st.dA.ravel())
+
+
+def same_nodes(o, f):
+    """Our state at FELupe's top nodes (the grid's vertices are P2 nodes of ours too), against
+    FELupe's: (ours, FELupe's). Our contact points are each facet's nodes, so a node has a copy
+    (its own multiplier and state) in every top facet around it: its state is the one its
+    copies carry the most weight (dA) of."""
+    def key(x):
+        return tuple(np.round(x / 1e-9).astype(int))
+    copies: dict = {}
+    for k, x in enumerate(o["X"]):
+        copies.setdefault(key(x), []).append(k)
+    ours, theirs = [], []
+    for x, z in zip(f["X"], f["zone"]):
+        ks = copies.get(key(x))
+        if ks:
+            w = np.bincount(o["zone"][ks], o["dA"][ks], minlength=3)
+            ours.append(int(np.argmax(w)))
+            theirs.append(z)
+    return np.array(ours), np.array(theirs)

@@ -31,6 +31,8 @@ def rig_toml(d: dict) -> str:
     for name, sub in d.get("conditioning", {}).items():
         if isinstance(sub, dict):
             lines += [f"[conditioning.{name}]"] + [f"{k} = {json.dumps(v)}" for k, v in sub.items()]
+    if "probe" in d:
+        lines += ["[probe]"] + [f"{k} = {json.dumps(v)}" for k, v in d["probe"].items()]
     return "\n".join(lines) + "\n"
 
 

@@ -614,6 +614,7 @@ MEASURE = [
     rig_case("missing-unit", lambda d: {**d, "channels": d["channels"][:-1]
                                         + [{"index": 9, "name": "force", "sensitivity": 0.5}]}, "missing unit"),
     rig_case("baud-0", lambda d: {**d, "port": {**d["port"], "baud": 0}}, "port.baud"),
+    rig_case("probe-friction-negative", lambda d: {**d, "probe": {"friction": -0.3}}, "probe.friction", "Coulomb coefficient >= 0"),
     rig_case("duplicate-index", _duplicate_index, "duplicate channel index 0"),
     rig_case("unknown-conditioning-channel", lambda d: {**d, "conditioning": {**d["conditioning"],
                                                                               "taxel_5_5": {"R_f": "1 MOhm"}}},

@@ -28,6 +28,9 @@
     C_f = "820 pF"
     R_f = "10 MOhm"
     notch = true                    # the 50 Hz second-order Butterworth band-stop
+    [probe]                         # the rigid probe that presses the sensor
+    friction = "unknown"            # its Coulomb coefficient on the silicone: a number >= 0, "frictionless",
+                                    # "sticking" or "unknown" (the answer's friction band: both limits only)
 
 Conversions: volts at the ADC = offset + counts * (hi - lo) / 2^bits (two's-
 complement counts, so code 0 is the offset); a taxel channel's SI value is the
@@ -38,6 +41,7 @@ Every error is one line naming the key and the fix (RigError, a ValueError).
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 from typing import Annotated, Literal
@@ -167,6 +171,29 @@ class Conditioning(Strict):
         return Readout(**self.model_dump())
 
 
+def _probe_friction(v):
+    """probe.friction: "unknown", "frictionless", "sticking" or a Coulomb coefficient (a number >= 0)."""
+    if v in ("unknown", "frictionless", "sticking"):
+        return v
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+        raise ValueError(f'expected a Coulomb coefficient >= 0 such as 0.4, "unknown", "frictionless" or "sticking", '
+                         f'got {v!r}')
+    return float(v)
+
+
+class Probe(Strict):
+    # the probe's Coulomb coefficient on the silicone (a number >= 0, or a limit), the middle of the
+    # answer's friction band (taxel.jobs.friction_band); "unknown": no sourced value, the band's two
+    # limits (frictionless, sticking) are the answer
+    friction: Annotated[Literal["unknown", "frictionless", "sticking"] | float,
+                        BeforeValidator(_probe_friction)] = "unknown"
+
+    @property
+    def coefficient(self) -> float | None:
+        """The Coulomb coefficient when the rig gives one (None: unknown or a limit)."""
+        return self.friction if isinstance(self.friction, float) else None
+
+
 class Rig(Strict):
     name: str = "rig"
     port: Port
@@ -174,6 +201,7 @@ class Rig(Strict):
     adc: ADC = ADC()
     channels: list[Channel] = Field(min_length=1, max_length=MAX_CHANNELS)
     conditioning: dict = Field(default_factory=dict)
+    probe: Probe = Probe()                 # the rigid probe that presses the sensor (its friction)
 
     @model_validator(mode="after")
     def _channels(self):

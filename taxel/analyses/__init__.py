@@ -14,7 +14,7 @@ import importlib
 
 from taxel.analyses.analysis import lumped, output_folder, solve, solve_static
 from taxel.analyses.problem import solve_model
-from taxel.analyses.friction_band import FrictionBand, FrictionLeg, friction_band
+from taxel.analyses.friction_band import FrictionBand, FrictionLeg, friction_band, friction_leg
 from taxel.analyses.geometry import checked_layout, layout, mirror_planes, symmetry_planes
 from taxel.analyses.problem import (check, damping, electrode_states, indenter, mesh, problem, readout,
                                     scene_materials, with_silicone)
@@ -37,4 +37,4 @@ __all__ = ["solve", "solve_static", "solve_model", "frequency", "transient", "lu
            "with_silicone", "layout", "checked_layout", "mirror_planes", "symmetry_planes", "frequencies",
            "force_history", "linear_error", "LINEAR_ERROR_PER_STRAIN", "read", "ResultError", "AnalysisResult",
            "StaticResult", "FrequencyResult", "Stop", "TransientResult", "LumpedResult", "output_folder", "lumped",
-           "FrictionBand", "FrictionLeg", "friction_band"]
+           "FrictionBand", "FrictionLeg", "friction_band", "friction_leg"]

@@ -72,24 +72,29 @@ class FrictionBand:
         return out
 
 
+def friction_leg(scene: Scene, friction, result=None, **options) -> FrictionLeg:
+    """The press scene solved with `load.friction = friction` (or `result`, its solve
+    already made) as one leg of a band; `options` as taxel.analyses.solve's."""
+    from taxel.analyses.analysis import solve
+    res = result if result is not None else solve(scene.replace(**{"load.friction": friction}), **options)
+    out = res.outputs()
+    if "sensitivity" not in out:
+        raise ValueError("a friction band needs a taxel electrode to press (array or plate electrodes)")
+    pt = res.contact.points[-1] if res.contact is not None and res.contact.points else None
+    return FrictionLeg(friction, out["sensitivity"], out.get("crosstalk"), abs(res.applied_force),
+                       0.0 if pt is None else pt.travel, res.success, "" if res.stop is None else res.stop.message)
+
+
 def friction_band(scene: Scene, result=None, **options) -> FrictionBand:
     """Solve a press scene (`load.contact = true`) at frictionless, its own Coulomb
     coefficient (if `load.friction` is a number) and sticking; `result`: the scene's own
     solve, reused for its own law; `options` as taxel.analyses.solve's."""
-    from taxel.analyses.analysis import solve
     ld = scene.load
     if ld.kind != "probe" or not ld.contact:
         raise ValueError("a friction band needs a press: load.kind = 'probe' and load.contact = true")
     own = "sticking" if ld.friction is None else ld.friction
 
     def leg(friction) -> FrictionLeg:
-        res = result if result is not None and friction == own else solve(
-            scene.replace(**{"load.friction": friction}), **options)
-        out = res.outputs()
-        if "sensitivity" not in out:
-            raise ValueError("a friction band needs a taxel electrode to press (array or plate electrodes)")
-        pt = res.contact.points[-1] if res.contact is not None and res.contact.points else None
-        return FrictionLeg(friction, out["sensitivity"], out.get("crosstalk"), abs(res.applied_force),
-                           0.0 if pt is None else pt.travel, res.success, "" if res.stop is None else res.stop.message)
+        return friction_leg(scene, friction, result if friction == own else None, **options)
     mu = own if isinstance(own, float) else None
     return FrictionBand(leg("frictionless"), None if mu is None else leg(mu), leg("sticking"))

@@ -20,6 +20,7 @@ from taxel.optimize import spec as O
 from taxel.optimize.run import reference_x
 from taxel.reports.multifidelity import draw as draw_verified_front, draw_probe as draw_probe_front
 from taxel import measure
+from taxel.jobs.friction_band import friction_band
 from taxel.studies.spec import Study, load_study
 
 STUDY_PLOTS = ("pressed_voltage", "max_strain")
@@ -176,6 +177,8 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         for name in ("thesis-pzt-front", "thesis-pvdf-front"):
             answer_readout(root / name)
         print(f"      the answer's designs through the bench's readout in {time.perf_counter() - t3:.0f} s")
+        for name in ("thesis-pzt-front", "thesis-pvdf-front"):    # frictionless to sticking (taxel.jobs.friction_band)
+            friction_band(root / name, workers=2)
     if not small:                      # the thesis and the recommended PZT design, deformed, in 3D
         t3 = time.perf_counter()
         folders += design_views(root / "thesis-pzt-front", "thesis-pzt-front", root)
