@@ -1,0 +1,116 @@
+"""The 3D probe press on structured hexahedra (meshing.hexmesh) against the tetrahedral press
+and the nested-mesh references: does a hexahedral mixed element reach 1 N frictionless, and
+how fast and how close is the sticking press?
+
+The scene is thesis-pzt-probe-3d (the thesis PZT taxel, quarter model, pressed to 1 N by the
+rig's 4 mm flat punch with a 0.2 mm edge radius, Yeoh Ecoflex 00-30), at every friction asked
+(--friction frictionless,0.2,0.5,sticking). The mesh is the scene's layout (its default press
+mesh sizes) meshed by meshing.hexmesh, with the element --element (q2: Q2/P0; q1: Q1/P0, mean
+dilatation), the plan sizes divided by --divide. Printed per press: force reached, travel,
+V/F, the smallest J met in the silicone, unknowns, states, Newton iterations, factorizations,
+wall and CPU time; a stop's cause. --tet also presses the scene's default tetrahedral mesh
+side by side. --nest K1,K2,...: the hexahedral press at sizes / K (its own nested family).
+
+The sticking reference is benchmarks/press_3d.py's (docs/press_3d_reference.json, tetrahedra,
+Richardson over six levels): -0.77981 V/N.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+
+
+from taxel.analyses import check, checked_layout, problem
+from taxel.fem.assembly import Discretization, assemble
+from taxel.fem.contact import Press, PressError
+from taxel.meshing.build import build
+from taxel.meshing.hexmesh import build_hex
+from taxel.scene import load
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+REF_STICKING = json.loads((DOCS / "press_3d_reference.json").read_text())["VF"]
+
+
+def scene(friction):
+    return load("thesis-pzt-probe-3d").replace(**{"load.friction": friction})
+
+
+def hex_layout(sc, divide=1.0, piezo_layers=None):
+    lay = checked_layout(sc, check(sc))
+    return dataclasses.replace(lay, size=lay.size / divide, piezo_size=lay.piezo_size / divide,
+                               contact_size=lay.contact_size / divide,
+                               piezo_layers=piezo_layers or lay.piezo_layers)
+
+
+def run(sc, tm, order=2, F=1.0):
+    """Assemble and press to F; the numbers."""
+    w, c = time.perf_counter(), time.process_time()
+    prob = problem(sc, tagged_mesh=tm)
+    prob = dataclasses.replace(prob, discretization=Discretization(order, True))
+    sy = assemble(prob)
+    pr = Press(sy, prob.indenter)
+    min_j = [1.0]
+    inner = pr._residual_any
+
+    def tracked(*a, **k):                # the smallest J of every state Newton accepted or tried
+        out = inner(*a, **k)
+        min_j[0] = min(min_j[0], pr._min_J)
+        return out
+    pr._residual_any = tracked
+    out = dict(n=pr.red.n, elements=tm.mesh.nelements)
+    try:
+        pt = pr.force(F)
+        out.update(force=pt.force, stop="reached")
+    except PressError as exc:
+        pt = pr.res.points[-1] if pr.res.points else None
+        out.update(force=pt.force if pt else 0.0, stop=f"{exc.cause}: {exc.summary}")
+    out.update(VF=pt.voltages["taxel_0_0"] / pt.force if pt else None, travel=pt.travel if pt else None,
+               states=len(pr.res.points), iterations=pr.res.total_iterations,
+               factorizations=pr.stats["factorizations"], min_J=min_j[0],
+               wall=time.perf_counter() - w, cpu=time.process_time() - c)
+    return out
+
+
+def row(label, r):
+    vf = f"{r['VF']:.5f}" if r["VF"] is not None else "-"
+    err = f"{100 * (r['VF'] / REF_STICKING - 1):+.2f} %" if (r["VF"] is not None and REF_STICKING) else "-"
+    print(f"{label:34s} {r['n']:7d} {r['force']:6.3f} N  V/F {vf} ({err} vs sticking ref)  "
+          f"travel {1e3 * (r['travel'] or 0):.4f} mm  min J {r['min_J']:.3f}  states {r['states']}  "
+          f"Newton {r['iterations']}  fact {r['factorizations']}  wall {r['wall']:.2f} s  cpu {r['cpu']:.2f} s  "
+          f"[{r['stop']}]", flush=True)
+
+
+def friction(v):
+    return v if v in ("frictionless", "sticking") else float(v)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--friction", default="frictionless,sticking")
+    ap.add_argument("--element", default="q2", help="q2 (Q2/P0) or q1 (Q1/P0), comma-separated")
+    ap.add_argument("--divide", type=float, default=1.0)
+    ap.add_argument("--layers", type=int, default=None, help="elements through the piezo")
+    ap.add_argument("--nest", default="", help="sizes / K for each K (comma-separated)")
+    ap.add_argument("--tet", action="store_true", help="the default tetrahedral press beside it")
+    a = ap.parse_args()
+    print(f"sticking reference (tetrahedra, nested): {REF_STICKING} V/N")
+    divides = [float(k) for k in a.nest.split(",")] if a.nest else [a.divide]
+    for fr in a.friction.split(","):
+        sc = scene(friction(fr))
+        for el in a.element.split(","):
+            order = 2 if el == "q2" else 1
+            for k in divides:
+                tm = build_hex(hex_layout(sc, k, a.layers))
+                row(f"hex {el} /{k:g} {fr}", run(sc, tm, order))
+        if a.tet:
+            lay = checked_layout(sc, check(sc))
+            row(f"tet P2/P1 default {fr}", run(sc, build(lay)))
+
+
+if __name__ == "__main__":
+    main()
