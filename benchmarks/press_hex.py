@@ -23,8 +23,6 @@ import json
 import time
 from pathlib import Path
 
-
-
 from taxel.analyses import check, checked_layout, problem
 from taxel.fem.assembly import Discretization, assemble
 from taxel.fem.contact import Press, PressError
@@ -55,13 +53,14 @@ def run(sc, tm, order=2, F=1.0):
     sy = assemble(prob)
     pr = Press(sy, prob.indenter)
     min_j = [1.0]
-    inner = pr._residual_any
+    solve_at = pr.solve_at
 
-    def tracked(*a, **k):                # the smallest J of every state Newton accepted or tried
-        out = inner(*a, **k)
+    def tracked(d):                      # the smallest J of the silicone at every converged state
+        pt = solve_at(d)
+        pr._residual(pr.x, pr.d, pr.lam, tangent=False)
         min_j[0] = min(min_j[0], pr._min_J)
-        return out
-    pr._residual_any = tracked
+        return pt
+    pr.solve_at = tracked
     out = dict(n=pr.red.n, elements=tm.mesh.nelements)
     try:
         pt = pr.force(F)

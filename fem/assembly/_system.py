@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
+from skfem.element import ElementH1
+from skfem.refdom import RefHex
 from skfem import (ElementHex0, ElementHex1, ElementHex2, ElementTetMini, ElementTetP1, ElementTetP2,
                    ElementTriMini, ElementTriP1, ElementTriP2, ElementVector, FacetBasis, MeshHex, asm)
 
@@ -65,14 +67,37 @@ class System:
         return {r for r, lw in self.laws.items() if isinstance(lw, SolidLaw)}
 
 
-def elements(dim: int, order: int, mixed: bool, hex: bool = False):
+class ElementHexP1Disc(ElementH1):
+    """The discontinuous linear pressure of a hexahedron: 1, X - 1/2, Y - 1/2, Z - 1/2 on the
+    reference cube (P1, not Q1: the Q2/P1-discontinuous pair is inf-sup stable, Boffi, Brezzi and
+    Fortin 2013, sec. 8.7), all four interior (no continuity between elements). On the box
+    elements of meshing.hexmesh the map is affine, so these span P1 in x, y, z too."""
+
+    interior_dofs = 4
+    maxdeg = 1
+    dofnames = ["u"] * 4
+    doflocs = np.full((4, 3), 0.5)
+    refdom = RefHex
+
+    def lbasis(self, X, i):
+        if i == 0:
+            return np.ones(X.shape[1:]), np.zeros_like(X)
+        if i > 3:
+            self._index_error()
+        grad = np.zeros_like(X)
+        grad[i - 1] = 1.0
+        return X[i - 1] - 0.5, grad
+
+
+def elements(dim: int, order: int, mixed: bool, hex: bool = False, pressure: str = "p1"):
     """(displacement, pressure, potential) elements. Tetrahedra and triangles: P2 / P1
     (Taylor-Hood), or MINI / P1 with order 1. Hexahedra (`hex`, a structured mesh,
-    meshing.hexmesh): Q2 / P0 with order 2, Q1 / P0 (mean dilatation) with order 1; the
-    pressure one constant per element (inf-sup stable for Q2; docs/theory.md)."""
+    meshing.hexmesh): Q2 / P1-discontinuous with order 2, Q1 / P0 (mean dilatation) with order 1;
+    the pressure discontinuous (docs/theory/contact.md). `pressure`: "p0" gives Q2 / P0."""
     if hex:
-        eu = ElementHex2() if order == 2 else ElementHex1()
-        return ElementVector(eu), ElementHex0(), eu
+        if order == 2:
+            return ElementVector(ElementHex2()), ElementHex0() if pressure == "p0" else ElementHexP1Disc(), ElementHex2()
+        return ElementVector(ElementHex1()), ElementHex0(), ElementHex1()
     tri = dim == 2
     if order == 2:
         eu = ElementTriP2() if tri else ElementTetP2()

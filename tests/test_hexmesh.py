@@ -1,0 +1,99 @@
+"""The structured hexahedral mesh of a 3D array (meshing.hexmesh) and its elements: tags and
+volumes exact, box elements through the scalar basis equal to scikit-fem's, one-line refusals;
+the hexahedral press against the tetrahedral one (slow)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import skfem
+
+from taxel.analyses import check, checked_layout, problem
+from taxel.fem.assembly import LazyBasis, assemble
+from taxel.fem.contact import Press
+from taxel.meshing.hexmesh import HexMeshError, axis_lines, build_hex
+from taxel.scene import SceneError, load
+
+
+def probe(**edit):
+    return load("thesis-pzt-probe-3d").replace(**{"mesh.element": "hex", **edit})
+
+
+def test_axis_lines_hold_every_mark_and_grade():
+    x = axis_lines(0.0, 5.0, [(2.0, 0.5)], 1.4, fine=[(0.0, 1.0, 0.25)])
+    assert x[0] == 0.0 and x[-1] == 5.0 and np.isclose(x, 2.0).any() and np.isclose(x, 1.0).any()
+    h = np.diff(x)
+    assert h[:4].max() <= 0.25 + 1e-12 and h.max() <= 1.4 + 1e-12
+    assert np.all(h[1:] / h[:-1] < 2.5)        # graded, no jumps
+
+
+def test_hex_quarter_tags_and_volumes():
+    sc = probe()
+    tm = build_hex(checked_layout(sc, check(sc)))
+    m = tm.mesh
+    vol = skfem.CellBasis(m, skfem.ElementHex0(), intorder=1).dx.sum(axis=1)
+    a = sc.array
+    assert np.isclose(vol[tm.regions["piezo_0_0"]].sum(), (a.taxel_width / 2) ** 2 * a.piezo_thickness, rtol=1e-12)
+    half = a.taxel_width / 2 + a.margin
+    height = a.silicone_below + a.piezo_thickness + a.silicone_above
+    assert np.isclose(vol.sum(), half ** 2 * height, rtol=1e-12)
+    area = {k: skfem.FacetBasis(m, skfem.ElementHex0(), facets=f, intorder=1).dx.sum() for k, f in tm.facets.items()}
+    assert np.isclose(area["top"], half ** 2) and np.isclose(area["bottom"], half ** 2)
+    assert np.isclose(area["taxel_0_0"], (a.taxel_width / 2) ** 2) and np.isclose(area["ground"], area["taxel_0_0"])
+    assert np.isclose(area["mirror_x"], half * height) and np.isclose(area["edges"], 2 * half * height)
+    assert set(tm.materials) == {"silicone", "piezo_0_0"}
+
+
+@pytest.mark.parametrize("elem", [skfem.ElementVector(skfem.ElementHex2()), skfem.ElementHex1()])
+def test_box_elements_through_the_scalar_basis(elem):
+    m = skfem.MeshHex.init_tensor(np.array([0.0, 1.0, 3.0]), np.array([0.0, 0.5, 2.0]), np.array([0.0, 0.2, 1.0]))
+    b = LazyBasis(m, elem, np.array([1, 3, 5]), 5)
+    ref = skfem.CellBasis(m, elem, elements=np.array([1, 3, 5]), intorder=5)
+    nc = 3 if isinstance(elem, skfem.ElementVector) else 1
+    g = np.stack([ref.basis[a * nc][0].grad[0] if nc > 1 else ref.basis[a][0].grad
+                  for a in range(len(ref.basis) // nc)], -1).transpose(1, 2, 0, 3)
+    assert b.scalar is not None
+    assert np.abs(b.scalar.grads() - g).max() < 1e-12 * np.abs(g).max()
+    assert np.allclose(b.scalar.w, ref.dx, rtol=1e-13)
+
+
+def test_a_skewed_hex_mesh_has_no_scalar_basis():
+    m = skfem.MeshHex.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    p = m.p.copy()
+    p[0] += 0.1 * p[2] * p[1]                     # not boxes: the map is not affine
+    b = LazyBasis(skfem.MeshHex(p, m.t), skfem.ElementHex1(), None, 3)
+    assert b.scalar is None
+
+
+@pytest.mark.parametrize("edit, words", [
+    ({"model.type": "axisymmetric"}, "model.type = '3d'"),
+])
+def test_refusals_name_the_key(edit, words):
+    with pytest.raises((SceneError, ValueError), match="mesh.element") as exc:
+        sc = probe(**edit)
+        checked_layout(sc, check(sc))
+    assert words in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_mesher_refuses_plates_in_one_line():
+    sc = load("thesis-pzt-probe-3d")
+    lay = checked_layout(sc, check(sc))
+    import dataclasses
+    with pytest.raises(HexMeshError, match="mesh.element = 'hex'.*use 'tet'"):
+        build_hex(dataclasses.replace(lay, taxels=(), layers=tuple(dataclasses.replace(L, patches=())
+                                                                   for L in lay.layers)))
+
+
+def test_hex_press_small_force_matches_the_linear_rate():
+    """A Q1/P0 sticking press to 0.02 N: the force-travel slope at the start (the linear,
+    unpressed stiffness: Press.start_rates) and the press's own secant agree within 2 %
+    (nearly linear at 0.02 N), and V/F is finite and negative (compression)."""
+    sc = probe(**{"mesh.order": 1, "load.force": 0.02})
+    prob = problem(sc)
+    sy = assemble(prob)
+    pr = Press(sy, prob.indenter)
+    slope = pr.start_rates()
+    pt = pr.force(0.02)
+    assert abs(pt.force - 0.02) < 1e-3 * 0.02
+    assert abs(pt.force / pt.travel / slope - 1) < 0.02
+    assert pt.voltages["taxel_0_0"] < 0
