@@ -26,6 +26,7 @@ from pathlib import Path
 from taxel.analyses import check, checked_layout, problem
 from taxel.fem.assembly import Discretization, assemble
 from taxel.fem.contact import Press, PressError
+from taxel.fem.static import solve_linear
 from taxel.meshing.build import build
 from taxel.meshing.hexmesh import build_hex
 from taxel.scene import load
@@ -45,11 +46,15 @@ def hex_layout(sc, divide=1.0, piezo_layers=None):
                                piezo_layers=piezo_layers or lay.piezo_layers)
 
 
-def run(sc, tm, order=2, F=1.0):
+ELEMENTS = {"q2": (2, "p1"), "q2p0": (2, "p0"), "q1": (1, "p1")}   # order, hexahedral pressure
+
+
+def run(sc, tm, element="q2", F=1.0):
     """Assemble and press to F; the numbers."""
     w, c = time.perf_counter(), time.process_time()
     prob = problem(sc, tagged_mesh=tm)
-    prob = dataclasses.replace(prob, discretization=Discretization(order, True))
+    order, pressure = ELEMENTS.get(element, (2, "p1"))
+    prob = dataclasses.replace(prob, discretization=Discretization(order, True, pressure))
     sy = assemble(prob)
     pr = Press(sy, prob.indenter)
     min_j = [1.0]
@@ -84,6 +89,28 @@ def row(label, r):
           f"[{r['stop']}]", flush=True)
 
 
+def linear(elements, divides):
+    """thesis-pzt-single-3d (linear silicone, pressure on the taxel) on hexahedra at sizes / k
+    and on the default tetrahedra, against the nested tetrahedral reference."""
+    ref = json.loads((DOCS / "reference_3d.json").read_text())["single"]
+    base = load(ref["scene"])
+    print(f"linear 3D taxel, reference {ref['reference']:.5f} V/N (chains spread {100 * ref['spread']:.2f} %)")
+    for el in elements + ["tet"]:
+        for k in divides if el != "tet" else [1.0]:
+            sc = base.replace(**{"mesh.size": base.mesh.size / k, "mesh.piezo_size": base.mesh.piezo_size / k,
+                                 "mesh.element": "hex" if el != "tet" else "tet"})
+            w = time.perf_counter()
+            tm = build_hex(checked_layout(sc, check(sc))) if el != "tet" else build(checked_layout(sc, check(sc)))
+            prob = problem(sc, tagged_mesh=tm)
+            order, pressure = ELEMENTS.get(el, (2, "p1"))
+            prob = dataclasses.replace(prob, discretization=Discretization(order, True, pressure))
+            sy = assemble(prob)
+            sol = solve_linear(sy)
+            vf = sol.voltages()[ref["pressed"]] / sc.load.force       # a quarter carries a quarter of it
+            print(f"{el:5s} /{k:<5g} {sy.A.shape[0]:7d} unknowns  V/F {vf:.5f}  {100 * (vf / ref['reference'] - 1):+.2f} %  "
+                  f"wall {time.perf_counter() - w:.2f} s", flush=True)
+
+
 def friction(v):
     return v if v in ("frictionless", "sticking") else float(v)
 
@@ -91,21 +118,23 @@ def friction(v):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--friction", default="frictionless,sticking")
-    ap.add_argument("--element", default="q2", help="q2 (Q2/P0) or q1 (Q1/P0), comma-separated")
+    ap.add_argument("--element", default="q2", help="q2 (Q2/P1-disc), q2p0 (Q2/P0) or q1 (Q1/P0), comma-separated")
+    ap.add_argument("--linear", action="store_true", help="the linear 3D taxel against docs/reference_3d.json")
     ap.add_argument("--divide", type=float, default=1.0)
     ap.add_argument("--layers", type=int, default=None, help="elements through the piezo")
     ap.add_argument("--nest", default="", help="sizes / K for each K (comma-separated)")
     ap.add_argument("--tet", action="store_true", help="the default tetrahedral press beside it")
     a = ap.parse_args()
+    if a.linear:
+        return linear(a.element.split(","), [float(k) for k in (a.nest or "1").split(",")])
     print(f"sticking reference (tetrahedra, nested): {REF_STICKING} V/N")
     divides = [float(k) for k in a.nest.split(",")] if a.nest else [a.divide]
     for fr in a.friction.split(","):
         sc = scene(friction(fr))
         for el in a.element.split(","):
-            order = 2 if el == "q2" else 1
             for k in divides:
                 tm = build_hex(hex_layout(sc, k, a.layers))
-                row(f"hex {el} /{k:g} {fr}", run(sc, tm, order))
+                row(f"hex {el} /{k:g} {fr}", run(sc, tm, el))
         if a.tet:
             lay = checked_layout(sc, check(sc))
             row(f"tet P2/P1 default {fr}", run(sc, build(lay)))

@@ -4,13 +4,16 @@ the hexahedral press against the tetrahedral one (slow)."""
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 import skfem
 
-from taxel.analyses import check, checked_layout, problem
-from taxel.fem.assembly import LazyBasis, assemble
-from taxel.fem.contact import Press
+from taxel.analyses import check, checked_layout
+from taxel.analyses.problem import solve_model
+from taxel.fem.assembly import LazyBasis
 from taxel.meshing.hexmesh import HexMeshError, axis_lines, build_hex
 from taxel.scene import SceneError, load
 
@@ -84,16 +87,27 @@ def test_mesher_refuses_plates_in_one_line():
                                                                    for L in lay.layers)))
 
 
-def test_hex_press_small_force_matches_the_linear_rate():
-    """A Q1/P0 sticking press to 0.02 N: the force-travel slope at the start (the linear,
-    unpressed stiffness: Press.start_rates) and the press's own secant agree within 2 %
-    (nearly linear at 0.02 N), and V/F is finite and negative (compression)."""
-    sc = probe(**{"mesh.order": 1, "load.force": 0.02})
-    prob = problem(sc)
-    sy = assemble(prob)
-    pr = Press(sy, prob.indenter)
-    slope = pr.start_rates()
-    pt = pr.force(0.02)
-    assert abs(pt.force - 0.02) < 1e-3 * 0.02
-    assert abs(pt.force / pt.travel / slope - 1) < 0.02
-    assert pt.voltages["taxel_0_0"] < 0
+def test_linear_hex_taxel_against_the_nested_3d_reference():
+    """Q2/P1-discontinuous hexahedra on the linear 3D thesis taxel (thesis-pzt-single-3d at its
+    default sizes) against docs/reference_3d.json's nested tetrahedral reference (-0.85398 V/N,
+    chains spread 0.66 %): measured +2.4 % (Q2/P0 reads -3.2 %, from the other side: its one
+    pressure per element is too weak a constraint; benchmarks/press_hex.py --linear)."""
+    ref = json.loads((Path(__file__).resolve().parents[1] / "docs" / "reference_3d.json").read_text())["single"]
+    sc = load(ref["scene"]).replace(**{"mesh.element": "hex"})
+    sol = solve_model(sc).solution
+    vf = sol.voltages()[ref["pressed"]] / sol.applied_force
+    assert abs(vf / ref["reference"] - 1) < 0.03
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("friction", ["frictionless", "sticking", 0.2, 0.5])
+def test_hex_probe_press_reaches_1N(friction):
+    """The 3D probe press on Q2/P1-discontinuous hexahedra reaches 1 N at every friction (the
+    Taylor-Hood tetrahedra stop frictionless at 0.749 N), and its V/F stays within 5 % of the
+    sticking nested reference (frictionless to sticking spread included)."""
+    sc = probe(**{"load.friction": friction})
+    res = solve_model(sc)
+    assert res.stop is None
+    sol = res.solution
+    assert abs(sol.applied_force - 1.0) < 2e-3
+    assert abs(sol.voltages()["taxel_0_0"] / sol.applied_force / -0.77981 - 1) < 0.05

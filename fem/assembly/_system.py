@@ -19,8 +19,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from skfem.element import ElementH1
-from skfem.refdom import RefHex
 from skfem import (ElementHex0, ElementHex1, ElementHex2, ElementTetMini, ElementTetP1, ElementTetP2,
                    ElementTriMini, ElementTriP1, ElementTriP2, ElementVector, FacetBasis, MeshHex, asm)
 
@@ -29,6 +27,7 @@ from . import _reference_forms as forms
 from taxel.fem.constitution import Kinematics
 from taxel.fem.constitution import PiezoLaw, SolidLaw, law
 from ._problem import Problem
+from ._hex import ElementHexP1Disc
 from ._bilinear import GRAD, STRAIN, VALUE, Term, assemble_terms
 from ._scalar_basis import LazyBasis
 from taxel.fem.constitution import Yeoh
@@ -67,28 +66,6 @@ class System:
         return {r for r, lw in self.laws.items() if isinstance(lw, SolidLaw)}
 
 
-class ElementHexP1Disc(ElementH1):
-    """The discontinuous linear pressure of a hexahedron: 1, X - 1/2, Y - 1/2, Z - 1/2 on the
-    reference cube (P1, not Q1: the Q2/P1-discontinuous pair is inf-sup stable, Boffi, Brezzi and
-    Fortin 2013, sec. 8.7), all four interior (no continuity between elements). On the box
-    elements of meshing.hexmesh the map is affine, so these span P1 in x, y, z too."""
-
-    interior_dofs = 4
-    maxdeg = 1
-    dofnames = ["u"] * 4
-    doflocs = np.full((4, 3), 0.5)
-    refdom = RefHex
-
-    def lbasis(self, X, i):
-        if i == 0:
-            return np.ones(X.shape[1:]), np.zeros_like(X)
-        if i > 3:
-            self._index_error()
-        grad = np.zeros_like(X)
-        grad[i - 1] = 1.0
-        return X[i - 1] - 0.5, grad
-
-
 def elements(dim: int, order: int, mixed: bool, hex: bool = False, pressure: str = "p1"):
     """(displacement, pressure, potential) elements. Tetrahedra and triangles: P2 / P1
     (Taylor-Hood), or MINI / P1 with order 1. Hexahedra (`hex`, a structured mesh,
@@ -112,7 +89,7 @@ def assemble(problem: Problem) -> System:
     tm, kin, disc = problem.mesh, problem.kinematics, problem.discretization
     mesh = tm.mesh
     hexa = isinstance(mesh, MeshHex)
-    eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed, hexa)
+    eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed, hexa, disc.hex_pressure)
     q = 4 if not hexa else 2 * disc.order + 1     # Gauss 2 / 3 points per direction: Q1 / Q2 exact
     # LazyBasis: no table of the shape functions at every point (32 kB per P2 tetrahedron);
     # one DOF numbering and one set of DOF locations per element for all regions
