@@ -5,11 +5,16 @@ how fast and how close is the sticking press?
 The scene is thesis-pzt-probe-3d (the thesis PZT taxel, quarter model, pressed to 1 N by the
 rig's 4 mm flat punch with a 0.2 mm edge radius, Yeoh Ecoflex 00-30), at every friction asked
 (--friction frictionless,0.2,0.5,sticking). The mesh is the scene's layout (its default press
-mesh sizes) meshed by meshing.hexmesh, with the element --element (q2: Q2/P0; q1: Q1/P0, mean
-dilatation), the plan sizes divided by --divide. Printed per press: force reached, travel,
+mesh sizes) meshed by meshing.hexmesh, with the element --element (q2: Q2/P1-discontinuous, the
+hexahedral default; q2p0: Q2/P0; q1: Q1/P0, mean dilatation), every size divided by --divide. Printed per press: force reached, travel,
 V/F, the smallest J met in the silicone, unknowns, states, Newton iterations, factorizations,
 wall and CPU time; a stop's cause. --tet also presses the scene's default tetrahedral mesh
 side by side. --nest K1,K2,...: the hexahedral press at sizes / K (its own nested family).
+--array: the 3x3 array pressed at its centre taxel instead. --linear: the linear 3D taxel
+(thesis-pzt-single-3d) on each element at sizes / K and on the default tetrahedra, against
+docs/reference_3d.json's nested reference.
+
+RESULT: docs/benchmarks.md, "Hexahedra for the 3D press".
 
 The sticking reference is benchmarks/press_3d.py's (docs/press_3d_reference.json, tetrahedra,
 Richardson over six levels): -0.77981 V/N.
@@ -35,8 +40,15 @@ DOCS = Path(__file__).resolve().parents[1] / "docs"
 REF_STICKING = json.loads((DOCS / "press_3d_reference.json").read_text())["VF"]
 
 
-def scene(friction):
-    return load("thesis-pzt-probe-3d").replace(**{"load.friction": friction})
+ARRAY = {"array.rows": 3, "array.cols": 3, "load.taxel": [1, 1]}   # --array: the 3x3 pressed at its centre
+
+
+def scene(friction, array=False):
+    return load("thesis-pzt-probe-3d").replace(**{"load.friction": friction, **(ARRAY if array else {})})
+
+
+def pressed(sc) -> str:
+    return "taxel_{}_{}".format(*sc.load.taxel)
 
 
 def hex_layout(sc, divide=1.0, piezo_layers=None):
@@ -73,7 +85,7 @@ def run(sc, tm, element="q2", F=1.0):
     except PressError as exc:
         pt = pr.res.points[-1] if pr.res.points else None
         out.update(force=pt.force if pt else 0.0, stop=f"{exc.cause}: {exc.summary}")
-    out.update(VF=pt.voltages["taxel_0_0"] / pt.force if pt else None, travel=pt.travel if pt else None,
+    out.update(VF=pt.voltages[pressed(sc)] / pt.force if pt else None, travel=pt.travel if pt else None,
                states=len(pr.res.points), iterations=pr.res.total_iterations,
                factorizations=pr.stats["factorizations"], min_J=min_j[0],
                wall=time.perf_counter() - w, cpu=time.process_time() - c)
@@ -124,13 +136,14 @@ def main():
     ap.add_argument("--layers", type=int, default=None, help="elements through the piezo")
     ap.add_argument("--nest", default="", help="sizes / K for each K (comma-separated)")
     ap.add_argument("--tet", action="store_true", help="the default tetrahedral press beside it")
+    ap.add_argument("--array", action="store_true", help="the 3x3 array pressed at its centre taxel")
     a = ap.parse_args()
     if a.linear:
         return linear(a.element.split(","), [float(k) for k in (a.nest or "1").split(",")])
     print(f"sticking reference (tetrahedra, nested): {REF_STICKING} V/N")
     divides = [float(k) for k in a.nest.split(",")] if a.nest else [a.divide]
     for fr in a.friction.split(","):
-        sc = scene(friction(fr))
+        sc = scene(friction(fr), a.array)
         for el in a.element.split(","):
             for k in divides:
                 tm = build_hex(hex_layout(sc, k, a.layers))

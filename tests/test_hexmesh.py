@@ -100,14 +100,22 @@ def test_linear_hex_taxel_against_the_nested_3d_reference():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("friction", ["frictionless", "sticking", 0.2, 0.5])
-def test_hex_probe_press_reaches_1N(friction):
-    """The 3D probe press on Q2/P1-discontinuous hexahedra reaches 1 N at every friction (the
-    Taylor-Hood tetrahedra stop frictionless at 0.749 N), and its V/F stays within 5 % of the
-    sticking nested reference (frictionless to sticking spread included)."""
-    sc = probe(**{"load.friction": friction})
-    res = solve_model(sc)
+def test_hex_sticking_probe_press_against_the_nested_reference():
+    """The sticking probe press on Q2/P1-discontinuous hexahedra at the default press sizes
+    (29 686 unknowns) reaches 1 N within 3 % of the nested tetrahedral reference (-0.77981 V/N;
+    measured +1.83 %, sizes x 1.43: +2.57 %, benchmarks/press_hex.py)."""
+    res = solve_model(probe())
     assert res.stop is None
     sol = res.solution
     assert abs(sol.applied_force - 1.0) < 2e-3
-    assert abs(sol.voltages()["taxel_0_0"] / sol.applied_force / -0.77981 - 1) < 0.05
+    assert abs(sol.voltages()["taxel_0_0"] / sol.applied_force / -0.77981 - 1) < 0.03
+
+
+@pytest.mark.slow
+def test_q1p0_frictionless_probe_press_reaches_1N():
+    """Frictionless, where the Taylor-Hood tetrahedra stop at 0.749 N (the top layer crushes),
+    Q1/P0 (mean dilatation) hexahedra reach 1 N on the default press sizes (4 311 unknowns;
+    smallest J 0.18, benchmarks/press_hex.py --friction frictionless --element q1)."""
+    res = solve_model(probe(**{"load.friction": "frictionless", "mesh.order": 1}))
+    assert res.stop is None
+    assert abs(res.solution.applied_force - 1.0) < 2e-3
