@@ -62,6 +62,9 @@ class TaggedMesh:
         meshes for convergence studies. scikit-fem keeps the regions; the facet sets of
         a tetrahedral mesh are carried here (each facet's 4 children, from the new
         edge-midpoint nodes: node n + e for edge e, as scikit-fem numbers them)."""
+        if self.mesh.t.shape[0] == 8:            # hexahedra on a tensor grid: its lines halved
+            from taxel.meshing.hexmesh import refined
+            return refined(self, times)
         tm = self
         for _ in range(times):
             m0 = tm.mesh

@@ -111,7 +111,20 @@ def build_hex(lay: Layout) -> TaggedMesh:
     if why:
         raise HexMeshError(why)
     x, y = plan_lines(lay)
-    z = z_lines(lay)
+    return tagged(lay, x, y, z_lines(lay))
+
+
+def refined(tm: TaggedMesh, times: int = 1) -> TaggedMesh:
+    """The uniform refinement of a hexahedral TaggedMesh (every box in 8: the midpoints added
+    to its grid lines), tagged again (meshing.build.TaggedMesh.refined's nested meshes)."""
+    lines = [np.unique(c) for c in tm.mesh.p]
+    for _ in range(times):
+        lines = [np.sort(np.r_[g, 0.5 * (g[1:] + g[:-1])]) for g in lines]
+    return tagged(tm.layout, *lines)
+
+
+def tagged(lay: Layout, x, y, z) -> TaggedMesh:
+    """The tensor grid of lines x, y, z with the layout's regions and facet sets."""
     mesh = skfem.MeshHex.init_tensor(x, y, z)
     p = mesh.p
     c = p[:, mesh.t].mean(axis=1)

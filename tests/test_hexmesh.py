@@ -119,3 +119,26 @@ def test_q1p0_frictionless_probe_press_reaches_1N():
     res = solve_model(probe(**{"load.friction": "frictionless", "mesh.order": 1}))
     assert res.stop is None
     assert abs(res.solution.applied_force - 1.0) < 2e-3
+
+
+def test_refined_hex_mesh_is_nested_and_keeps_its_tags():
+    sc = probe()
+    tm = build_hex(checked_layout(sc, check(sc)))
+    r = tm.refined()
+    assert r.mesh.nelements == 8 * tm.mesh.nelements
+    assert {k: 4 * len(v) for k, v in tm.facets.items()} == {k: len(v) for k, v in r.facets.items()}
+    assert {k: 8 * len(v) for k, v in tm.regions.items()} == {k: len(v) for k, v in r.regions.items()}
+    assert np.isin(tm.mesh.p.T.round(12), r.mesh.p.T.round(12)).all()      # every old node is a node
+
+
+def test_contact_points_on_quadrilateral_faces_weigh_the_top_area():
+    """The press's nodal contact points on Q2 faces (Simpson's 9 points) and Q1 faces (4 corners)
+    sum to the top surface's area, every weight positive."""
+    from taxel.fem.constitution import kinematics
+    from taxel.fem.contact import Surface
+    sc = probe()
+    tm = build_hex(checked_layout(sc, check(sc)))
+    half = sc.array.taxel_width / 2 + sc.array.margin
+    for e in (skfem.ElementHex2(), skfem.ElementHex1()):
+        s = Surface(tm.mesh, skfem.ElementVector(e), tm.facets["top"], kinematics("3d", 1.0), 2.127e-3, rule="nodal")
+        assert np.isclose(s.dA.sum(), half ** 2, rtol=1e-12) and (s.dA > 0).all()
