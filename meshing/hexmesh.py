@@ -29,6 +29,7 @@ import numpy as np
 import skfem
 
 from taxel.meshing.build import TaggedMesh, region_name, vertical_divisions
+from taxel.meshing.cost import MeshTooLarge, SolveLimit, unknowns_cost
 from taxel.meshing.layout import Layout
 
 GROWTH = 0.5       # the size grows by this per unit distance from a mark (neighbouring cells x 1.5)
@@ -105,13 +106,27 @@ def plan_lines(lay: Layout) -> tuple[np.ndarray, np.ndarray]:
     return out[0], out[1]
 
 
-def build_hex(lay: Layout) -> TaggedMesh:
-    """The structured hexahedral TaggedMesh of a 3D array layout (module docstring)."""
+def unknowns(x, y, z, order: int) -> int:
+    """The unknowns of the grid's displacement and pressure (Q2 / P1-disc or Q1 / P0), before supports."""
+    nx, ny, nz = len(x) - 1, len(y) - 1, len(z) - 1
+    nodes = (order * nx + 1) * (order * ny + 1) * (order * nz + 1)
+    return 3 * nodes + (4 if order == 2 else 1) * nx * ny * nz
+
+
+def build_hex(lay: Layout, limit: SolveLimit | None = None) -> TaggedMesh:
+    """The structured hexahedral TaggedMesh of a 3D array layout (module docstring); `limit`:
+    refuse first (MeshTooLarge, before the grid is made) a mesh whose solve cannot fit this
+    machine (its unknowns counted from the grid lines, meshing.cost's memory model)."""
     why = supports(lay)
     if why:
         raise HexMeshError(why)
     x, y = plan_lines(lay)
-    return tagged(lay, x, y, z_lines(lay))
+    z = z_lines(lay)
+    if limit is not None:
+        cost = unknowns_cost(unknowns(x, y, z, limit.order), 3, limit.krylov)
+        if not cost.fits:
+            raise MeshTooLarge(cost)
+    return tagged(lay, x, y, z)
 
 
 def refined(tm: TaggedMesh, times: int = 1) -> TaggedMesh:

@@ -142,3 +142,23 @@ def test_contact_points_on_quadrilateral_faces_weigh_the_top_area():
     for e in (skfem.ElementHex2(), skfem.ElementHex1()):
         s = Surface(tm.mesh, skfem.ElementVector(e), tm.facets["top"], kinematics("3d", 1.0), 2.127e-3, rule="nodal")
         assert np.isclose(s.dA.sum(), half ** 2, rtol=1e-12) and (s.dA > 0).all()
+
+
+def test_a_hex_mesh_too_large_is_refused_before_it_is_made():
+    from taxel.analyses.problem import mesh
+    sc = probe(**{"mesh.size": "0.05 mm", "mesh.piezo_size": "0.02 mm"})
+    with pytest.raises(SceneError, match="unknowns.*GB"):
+        mesh(sc)
+
+
+def test_unknowns_counted_from_the_grid():
+    """The count the refusal uses is the assembled system's displacements and silicone pressures."""
+    from taxel.analyses import problem
+    from taxel.fem.assembly import assemble
+    from taxel.meshing.hexmesh import plan_lines, unknowns, z_lines
+    sc = probe()
+    lay = checked_layout(sc, check(sc))
+    tm = build_hex(lay)
+    sy = assemble(problem(sc, tm))
+    u, p = sy.offsets["u"], sy.offsets[("p", "silicone")]
+    assert (u.stop - u.start) + (p.stop - p.start) == unknowns(*plan_lines(lay), z_lines(lay), 2)

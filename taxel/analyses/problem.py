@@ -96,9 +96,9 @@ def _mesh(scene: Scene, mats: dict, msh_path=None) -> TaggedMesh:
     """The scene's layout meshed, refused (SceneError) before gmsh runs when its solve
     cannot fit this machine."""
     lay = layout(scene, mats)
-    if scene.mesh.element == "hex":           # a structured grid: refused in layout() if it cannot be built
-        return build_hex(lay)
     try:
+        if scene.mesh.element == "hex":       # a structured grid: refused in layout() if it cannot be built
+            return build_hex(lay, limit=solve_limit(scene, lay))
         return build(lay, msh_path=msh_path, limit=solve_limit(scene, lay))
     except MeshTooLarge as exc:
         raise too_large(exc) from None
