@@ -464,7 +464,7 @@ def export(tm: TaggedMesh, path: str | Path, point_data=None, cell_data=None):
     gmsh .msh with physical groups use `build(..., msh_path=...)`."""
     import meshio
     m = tm.mesh
-    cell_type = "triangle" if m.dim() == 2 else "tetra"
+    cell_type = "triangle" if m.dim() == 2 else "hexahedron" if m.t.shape[0] == 8 else "tetra"
     region_id = np.zeros(m.t.shape[1], dtype=np.int32)
     for i, name in enumerate(tm.regions, start=1):
         region_id[tm.regions[name]] = i
@@ -472,6 +472,7 @@ def export(tm: TaggedMesh, path: str | Path, point_data=None, cell_data=None):
     for k, v in (cell_data or {}).items():
         cd[k] = [v]
     pts = m.p.T if m.dim() == 3 else np.column_stack([m.p.T, np.zeros(m.p.shape[1])])
-    out = meshio.Mesh(pts, [(cell_type, m.t.T)], point_data=point_data or {}, cell_data=cd,
+    t = m.t[[0, 3, 6, 2, 1, 5, 7, 4]] if cell_type == "hexahedron" else m.t     # skfem's to VTK's order
+    out = meshio.Mesh(pts, [(cell_type, t.T)], point_data=point_data or {}, cell_data=cd,
                       cell_sets={k: [v] for k, v in tm.regions.items()})
     meshio.write(path, out)
