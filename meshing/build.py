@@ -37,7 +37,8 @@ from __future__ import annotations
 
 import contextlib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Callable
 from pathlib import Path
 
 import numpy as np
@@ -56,15 +57,16 @@ class TaggedMesh:
     regions: dict[str, np.ndarray]
     facets: dict[str, np.ndarray]
     materials: dict[str, tuple[str, int]]       # region -> (material name, poling +-1)
+    # the uniform refinement where the mesher makes its own (meshing.hexmesh), else the simplices'
+    refiner: Callable[["TaggedMesh", int], "TaggedMesh"] | None = field(default=None, repr=False)
 
     def refined(self, times: int = 1) -> "TaggedMesh":
         """Uniformly refined (each triangle in 4, tetrahedron in 8), names kept: nested
         meshes for convergence studies. scikit-fem keeps the regions; the facet sets of
         a tetrahedral mesh are carried here (each facet's 4 children, from the new
         edge-midpoint nodes: node n + e for edge e, as scikit-fem numbers them)."""
-        if self.mesh.t.shape[0] == 8:            # hexahedra on a tensor grid: its lines halved
-            from taxel.meshing.hexmesh import refined
-            return refined(self, times)
+        if self.refiner is not None:            # its mesher's own (meshing.hexmesh: grid lines halved)
+            return self.refiner(self, times)
         tm = self
         for _ in range(times):
             m0 = tm.mesh

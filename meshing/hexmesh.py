@@ -179,7 +179,7 @@ def tagged(lay: Layout, x, y, z) -> TaggedMesh:
     for L in lay.layers:
         mats["silicone"] = mats["silicone"] or (L.material, L.poling)
         mats.update({region_name(q): (L.patch_material, L.poling) for q in L.patches})
-    return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions})
+    return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions}, refined)
 
 
 def _inside(patch, mid, tol=1e-12) -> np.ndarray:
