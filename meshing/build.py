@@ -37,7 +37,8 @@ from __future__ import annotations
 
 import contextlib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Callable
 from pathlib import Path
 
 import numpy as np
@@ -56,12 +57,16 @@ class TaggedMesh:
     regions: dict[str, np.ndarray]
     facets: dict[str, np.ndarray]
     materials: dict[str, tuple[str, int]]       # region -> (material name, poling +-1)
+    # the uniform refinement where the mesher makes its own (meshing.hexmesh), else the simplices'
+    refiner: Callable[["TaggedMesh", int], "TaggedMesh"] | None = field(default=None, repr=False)
 
     def refined(self, times: int = 1) -> "TaggedMesh":
         """Uniformly refined (each triangle in 4, tetrahedron in 8), names kept: nested
         meshes for convergence studies. scikit-fem keeps the regions; the facet sets of
         a tetrahedral mesh are carried here (each facet's 4 children, from the new
         edge-midpoint nodes: node n + e for edge e, as scikit-fem numbers them)."""
+        if self.refiner is not None:            # its mesher's own (meshing.hexmesh: grid lines halved)
+            return self.refiner(self, times)
         tm = self
         for _ in range(times):
             m0 = tm.mesh
@@ -461,7 +466,7 @@ def export(tm: TaggedMesh, path: str | Path, point_data=None, cell_data=None):
     gmsh .msh with physical groups use `build(..., msh_path=...)`."""
     import meshio
     m = tm.mesh
-    cell_type = "triangle" if m.dim() == 2 else "tetra"
+    cell_type = "triangle" if m.dim() == 2 else "hexahedron" if m.t.shape[0] == 8 else "tetra"
     region_id = np.zeros(m.t.shape[1], dtype=np.int32)
     for i, name in enumerate(tm.regions, start=1):
         region_id[tm.regions[name]] = i
@@ -469,6 +474,7 @@ def export(tm: TaggedMesh, path: str | Path, point_data=None, cell_data=None):
     for k, v in (cell_data or {}).items():
         cd[k] = [v]
     pts = m.p.T if m.dim() == 3 else np.column_stack([m.p.T, np.zeros(m.p.shape[1])])
-    out = meshio.Mesh(pts, [(cell_type, m.t.T)], point_data=point_data or {}, cell_data=cd,
+    t = m.t[[0, 3, 6, 2, 1, 5, 7, 4]] if cell_type == "hexahedron" else m.t     # skfem's to VTK's order
+    out = meshio.Mesh(pts, [(cell_type, t.T)], point_data=point_data or {}, cell_data=cd,
                       cell_sets={k: [v] for k, v in tm.regions.items()})
     meshio.write(path, out)

@@ -151,8 +151,13 @@ def solve_cost(lay: Layout, order: int, krylov: bool = False) -> SolveCost:
     """The estimated unknowns and bytes of the solve of a layout's mesh: a direct solve
     in memory, or out of core where that would not fit this machine (3D), or with
     `krylov` (the caller's solver choice, fem.linalg.resolve) the Krylov solver."""
-    n, have = estimated_unknowns(lay, order), machine_memory()
-    if lay.dim == 2:
+    return unknowns_cost(estimated_unknowns(lay, order), lay.dim, krylov)
+
+
+def unknowns_cost(n: float, dim: int, krylov: bool = False) -> SolveCost:
+    """The bytes of the solve of n unknowns in a `dim` model (solve_cost's memory model)."""
+    have = machine_memory()
+    if dim == 2:
         return SolveCost(n, n * BYTES_PER_UNKNOWN_2D, have)
     if krylov:
         return SolveCost(n, n * BYTES_PER_UNKNOWN_KRYLOV, have)

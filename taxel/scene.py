@@ -111,6 +111,9 @@ class MeshTable(Strict):
     # 3D: the silicone extruded through its height (true), or meshed free, graded at the taxel edges
     # and the punch's rim only (false); default: free for a 3D punch press on DEFAULT_PRESS_MESH
     extruded: StrictBool | None = None
+    # 3D arrays: tetrahedra meshed by gmsh, or hexahedra on a structured grid aligned with the layers
+    # and taxel edges (Q2/P0 with order 2, Q1/P0 with order 1; meshing.hexmesh, benchmarks/press_hex.py)
+    element: Literal["tet", "hex"] = "tet"
 
 
 class ArrayTable(Strict):
@@ -384,6 +387,10 @@ class Scene(Strict):
                 raise ValueError(f"model.silicone = 'yeoh' needs the Yeoh constants of '{name}': add C10 (and C20, "
                                  f"C30) to [materials.{name}] (taxel material fit-yeoh fits them to a tension "
                                  "test), or use model.silicone = 'linear'")
+        if self.mesh.element == "hex" and self.model.type != "3d":
+            raise ValueError("mesh.element = 'hex' needs model.type = '3d'; use mesh.element = 'tet'")
+        if self.mesh.element == "hex" and self.mesh.formulation != "mixed":
+            raise ValueError("mesh.element = 'hex' is mixed u-p only (Q2/P0, Q1/P0); set mesh.formulation = 'mixed'")
         if self.model.silicone != "linear":
             if self.mesh.formulation != "mixed":
                 raise ValueError("model.silicone = 'yeoh' needs mesh.formulation = 'mixed'")

@@ -65,6 +65,7 @@ ElectrodeState = Union[Literal["open", "ground"], float]
 class Discretization:
     order: Literal[1, 2] = 2       # 2: P2 displacement / P1 pressure (Taylor-Hood); 1: MINI / P1
     mixed: bool = True             # solids: mixed u-p (locking-free), or displacement only
+    hex_pressure: Literal["p1", "p0"] = "p1"   # hexahedra, order 2: Q2 / P1-discontinuous, or Q2 / P0 (to compare)
 
 
 @dataclass(frozen=True)

@@ -129,6 +129,27 @@ def scalar_basis(mesh, elem, intorder: int = 4, quadrature=None, elements=None) 
     return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)), np.ascontiguousarray(dofs), N)
 
 
+def box_basis(mesh, elem, quadrature, elements, dofs: np.ndarray, N: int) -> ScalarBasis | None:
+    """The ScalarBasis of any scikit-fem element on a hexahedral mesh whose elements are
+    boxes (a tensor-product grid, meshing.hexmesh): the map from the reference cube is then
+    affine, its Jacobian constant per element (checked at two points; None if not), so the
+    reference gradients serve every element as for a simplex. `dofs` (elements, functions)
+    and N: the basis's own scalar numbering."""
+    X, W = quadrature
+    nb = dofs.shape[1]
+    ref = np.stack([elem.lbasis(X, i)[1] for i in range(nb)], axis=-1)      # (dim, nq, nb)
+    values = np.stack([elem.lbasis(X, i)[0] for i in range(nb)], axis=-1)   # (nq, nb)
+    mp = mesh.mapping()
+    tind = np.arange(mesh.nelements) if elements is None else elements
+    two = np.array([[0.25, 0.75], [0.25, 0.75], [0.25, 0.75]])
+    DF = mp.DF(two, tind=tind)                                              # (dim, dim, ne, 2)
+    if not np.allclose(DF[..., 0], DF[..., 1], rtol=1e-10, atol=1e-14 * np.abs(DF).max()):
+        return None
+    J = np.ascontiguousarray(DF[..., 0].transpose(2, 0, 1))                 # J[e, i, k] = dx_i / dX_k
+    return ScalarBasis(elem, ref, values, W, np.linalg.inv(J), np.abs(np.linalg.det(J)),
+                       np.ascontiguousarray(dofs), N)
+
+
 _UNSET = object()      # LazyBasis.scalar not yet looked for (None: it does not apply)
 
 
@@ -186,6 +207,9 @@ class LazyBasis(CellBasis):
                     sb = None
                 if sb is not None and np.array_equal(sb.dofs, s):
                     self._scalar = sb
+            elif m.t.shape[0] == 8 and m.dim() == 3 and s is not None:      # hexahedra: boxes only
+                self._scalar = box_basis(m, self.elem.elem if vector else self.elem, self.quadrature, self.tind,
+                                         s, self.N // (self.elem.dim if vector else 1))
         return self._scalar
 
     def interpolate(self, w: np.ndarray) -> DiscreteField:

@@ -19,14 +19,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import (ElementTetMini, ElementTetP1, ElementTetP2, ElementTriMini, ElementTriP1,
-                   ElementTriP2, ElementVector, FacetBasis, asm)
+from skfem import (ElementHex0, ElementHex1, ElementHex2, ElementTetMini, ElementTetP1, ElementTetP2,
+                   ElementTriMini, ElementTriP1, ElementTriP2, ElementVector, FacetBasis, MeshHex, asm)
 
 from . import _constraints as constraints
 from . import _reference_forms as forms
 from taxel.fem.constitution import Kinematics
 from taxel.fem.constitution import PiezoLaw, SolidLaw, law
 from ._problem import Problem
+from ._hex import ElementHexP1Disc
 from ._bilinear import GRAD, STRAIN, VALUE, Term, assemble_terms
 from ._scalar_basis import LazyBasis
 from taxel.fem.constitution import Yeoh
@@ -65,8 +66,15 @@ class System:
         return {r for r, lw in self.laws.items() if isinstance(lw, SolidLaw)}
 
 
-def elements(dim: int, order: int, mixed: bool):
-    """(displacement, pressure, potential) elements."""
+def elements(dim: int, order: int, mixed: bool, hex: bool = False, pressure: str = "p1"):
+    """(displacement, pressure, potential) elements. Tetrahedra and triangles: P2 / P1
+    (Taylor-Hood), or MINI / P1 with order 1. Hexahedra (`hex`, a structured mesh,
+    meshing.hexmesh): Q2 / P1-discontinuous with order 2, Q1 / P0 (mean dilatation) with order 1;
+    the pressure discontinuous (docs/theory/contact.md). `pressure`: "p0" gives Q2 / P0."""
+    if hex:
+        if order == 2:
+            return ElementVector(ElementHex2()), ElementHex0() if pressure == "p0" else ElementHexP1Disc(), ElementHex2()
+        return ElementVector(ElementHex1()), ElementHex0(), ElementHex1()
     tri = dim == 2
     if order == 2:
         eu = ElementTriP2() if tri else ElementTetP2()
@@ -80,8 +88,9 @@ def assemble(problem: Problem) -> System:
     """The full linear system, its load, supports and electrodes."""
     tm, kin, disc = problem.mesh, problem.kinematics, problem.discretization
     mesh = tm.mesh
-    eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed)
-    q = 4
+    hexa = isinstance(mesh, MeshHex)
+    eu, ep, ephi = elements(mesh.dim(), disc.order, disc.mixed, hexa, disc.hex_pressure)
+    q = 4 if not hexa else 2 * disc.order + 1     # Gauss 2 / 3 points per direction: Q1 / Q2 exact
     # LazyBasis: no table of the shape functions at every point (32 kB per P2 tetrahedron);
     # one DOF numbering and one set of DOF locations per element for all regions
     first: dict[int, LazyBasis] = {}
@@ -107,7 +116,7 @@ def assemble(problem: Problem) -> System:
             yeoh[region] = lw.yeoh
 
     Nu = next(iter(ubases.values())).N
-    Np1 = mesh.nvertices if pbases else 0
+    Np1 = next(iter(pbases.values())).N if pbases else 0
     Nphi = next(iter(phibases.values())).N if phibases else 0
     offsets = {"u": slice(0, Nu)}
     n = Nu

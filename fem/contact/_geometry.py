@@ -215,6 +215,11 @@ NODAL = {("nodal", 2): (np.array([[0.0, 0.5, 1.0]]), np.array([1.0, 4.0, 1.0]) /
          ("nodal", 3): (np.array([[0.0, 1.0, 0.0, 0.5, 0.5, 0.0], [0.0, 0.0, 1.0, 0.0, 0.5, 0.5]]),
                         np.array([3.0, 3.0, 3.0, 16.0, 16.0, 16.0]) / 114.0),
          ("midpoints", 3): (np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5]]), np.full(3, 1.0 / 6.0))}
+# the quadrilateral facets of hexahedra (meshing.hexmesh): a Q2 face's nine nodes with Simpson's
+# tensor weights (1, 4, 1) x (1, 4, 1) / 36 (all positive, exact to degree 3); a Q1 face's four corners
+_S = np.array([0.0, 0.5, 1.0])
+NODAL_QUAD = {2: (np.array([np.repeat(_S, 3), np.tile(_S, 3)]), np.outer([1, 4, 1], [1, 4, 1]).ravel() / 36.0),
+              1: (np.array([[0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]]), np.full(4, 0.25))}
 
 
 class Surface:
@@ -222,6 +227,8 @@ class Surface:
 
     def __init__(self, mesh, element, facets, kin, z_top: float, intorder=4, rule="gauss"):
         quad = NODAL.get((rule, mesh.dim()))
+        if mesh.t.shape[0] == 8:            # hexahedra: the face's nodes (Q2 or Q1)
+            quad = NODAL_QUAD[2 if element.elem.maxdeg > 3 else 1] if rule == "nodal" else None
         self.fb = (FacetBasis(mesh, element, facets=facets, quadrature=quad) if quad is not None
                    else FacetBasis(mesh, element, facets=facets, intorder=intorder))
         self.kin = kin

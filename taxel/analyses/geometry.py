@@ -27,6 +27,7 @@ import math
 from taxel.fem import linalg
 from taxel.fem import constitution
 from taxel.meshing.cost import MeshTooLarge, SolveLimit, check_fits, estimated_unknowns
+from taxel.meshing import hexmesh
 from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
 from taxel.scene import Scene, SceneError, electrode_state
 from taxel.schema import electrode_name
@@ -88,8 +89,13 @@ def layout(scene: Scene, mats: dict) -> Layout:
     if scene.array is not None:            # a half or quarter of a symmetric array (model.symmetry)
         planes = symmetry_planes(scene)
         whole = _array_layout(scene, common)
-        return cut(whole, planes) if planes else whole
-    return _plate_layout(scene, common, mats)
+        lay = cut(whole, planes) if planes else whole
+    else:
+        lay = _plate_layout(scene, common, mats)
+    why = hexmesh.supports(lay) if mesh.element == "hex" else ""
+    if why:
+        raise SceneError(why)
+    return lay
 
 
 def _array_layout(scene: Scene, common) -> Layout:

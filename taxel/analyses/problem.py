@@ -34,6 +34,7 @@ from taxel.fem.assembly import Indenter
 from taxel.fem.constitution import kinematics
 from taxel.fem.assembly import Damping, Discretization, PatchLoad, Problem, Supports
 from taxel.meshing.build import TaggedMesh, build
+from taxel.meshing.hexmesh import build_hex
 from taxel.meshing.cost import MeshTooLarge
 from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
 from taxel.analyses.geometry import layout, mirror_planes, solve_limit, too_large
@@ -96,6 +97,8 @@ def _mesh(scene: Scene, mats: dict, msh_path=None) -> TaggedMesh:
     cannot fit this machine."""
     lay = layout(scene, mats)
     try:
+        if scene.mesh.element == "hex":       # a structured grid: refused in layout() if it cannot be built
+            return build_hex(lay, limit=solve_limit(scene, lay))
         return build(lay, msh_path=msh_path, limit=solve_limit(scene, lay))
     except MeshTooLarge as exc:
         raise too_large(exc) from None

@@ -295,8 +295,9 @@ def pyvista_render(sol, field="phi", window=(1200, 560)) -> bytes:
         cells = np.hstack([np.full((m.t.shape[1], 1), 3), m.t.T]).ravel()
         grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TRIANGLE), pts + u)
     else:
-        cells = np.hstack([np.full((m.t.shape[1], 1), 4), m.t.T]).ravel()
-        grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], pv.CellType.TETRA), pts + u)
+        kind, t = vtk_cells(pv, m)
+        cells = np.hstack([np.full((m.t.shape[1], 1), len(t)), t.T]).ravel()
+        grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], kind), pts + u)
     grid.point_data[field] = getattr(sol.fields, field)
     piezo = np.zeros(m.t.shape[1], bool)
     for region in sol.mesh.materials:
@@ -374,9 +375,11 @@ def mesh_render(sol, window=(1100, 520)) -> bytes:
     if m.dim() == 2:
         pts = np.column_stack([pts[:, 0], np.zeros(len(pts)), pts[:, 1]])
         kind, nv = pv.CellType.TRIANGLE, 3
+        t = m.t
     else:
-        kind, nv = pv.CellType.TETRA, 4
-    cells = np.hstack([np.full((m.t.shape[1], 1), nv), m.t.T]).ravel()
+        kind, t = vtk_cells(pv, m)
+        nv = len(t)
+    cells = np.hstack([np.full((m.t.shape[1], 1), nv), t.T]).ravel()
     grid = pv.UnstructuredGrid(cells, np.full(m.t.shape[1], kind), pts)
     piezo = np.zeros(m.t.shape[1], bool)
     for region in sol.mesh.materials:
@@ -399,3 +402,15 @@ def mesh_render(sol, window=(1100, 520)) -> bytes:
                      f"size {1e3 * scene.mesh.size:.2g} mm, {1e3 * (scene.mesh.piezo_size or scene.mesh.size / 4):.2g} mm "
                      f"at the piezo, order {scene.mesh.order}", font_size=10)
     return png_of(plotter)
+
+
+# scikit-fem's hexahedron vertex order to VTK's (skfem.io.meshio.HEX_MAPPING)
+HEX_TO_VTK = [0, 3, 6, 2, 1, 5, 7, 4]
+
+
+def vtk_cells(pv, m):
+    """(VTK cell type, connectivity (vertices, elements)) of a 3D mesh: tetrahedra, or the
+    hexahedra of a structured mesh (meshing.hexmesh) in VTK's vertex order."""
+    if m.t.shape[0] == 8:
+        return pv.CellType.HEXAHEDRON, m.t[HEX_TO_VTK]
+    return pv.CellType.TETRA, m.t
