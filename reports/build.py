@@ -414,8 +414,10 @@ def answer_block(folders, out: Path) -> dict | None:
             w.writeheader()
             w.writerows(blk["records"])
         blk["csv"] = "answer.csv"
-        blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
+        blk["views"] = [{"href": f"{f.name}.html", "role": f"{f.name.rsplit('-', 3)[-3].upper()} "
+                         f"{f.name.rsplit('-', 2)[-2]}"} for f in folders
                         if f.name.endswith(("-thesis-3d", "-recommended-3d"))]
+        blk["view_row"] = VIEW_ROW
     return blk
 
 
