@@ -25,7 +25,7 @@ press's own a-posteriori estimate costs 2 x the press (benchmarks/press_speed.py
   its band is its own move under refinement, extrapolated at the same order.)
 
 The calibration: the thesis PZT design (1 mm / 1 mm, gap 3 mm); the constant stored is its
-e_s and e_c with a 1.5 x allowance for the family's spread, ANSWER_PRESS_ERROR. The check:
+e_s and e_c rounded up to 0.1 %, ANSWER_PRESS_ERROR. The check:
 a second design of the family (the thesis PVDF design; --design, and
 tests/test_answer_press.py, slow) measured by the same rule must come out within the stored
 constant. Both are printed here; run with MKL_NUM_THREADS=1.

@@ -26,8 +26,8 @@ reference (0.84 %, eight levels, benchmarks/press_3d.py); rho = V_3x3 / V_single
 design at the same mesh, whose move between the default mesh and every size / sqrt 2 is
 extrapolated at the single taxel's measured order P = 1.35 (R = r^P / (r^P - 1) = 2.67,
 r = sqrt 2); c the 3x3's crosstalk at the two meshes; SAFETY = 1.25, the estimator's
-three-mesh factor. Measured on the thesis PZT design and stored below with a 1.5 x allowance
-for the family's spread; checked on the thesis PVDF design (tests/test_answer_press.py,
+three-mesh factor. Measured on the thesis PZT design and stored below rounded up to 0.1 %;
+checked on the thesis PVDF design (tests/test_answer_press.py,
 slow). It holds for this mesh model only: a press on another model (`model` not PRESS_3D)
 gets no estimate (None: not presented as within 2 %).
 """
