@@ -21,9 +21,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
+from taxel.reports.answer_3d import pressed_3d
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import (ANSWER_MODEL, COLS as LADDER_COLS, ROW, SELECTION_MODEL, SHORT, VERIFY_3D_ERROR,
-                                  anchor)
+from taxel.reports.ladder import COLS as LADDER_COLS, ROW, SELECTION_MODEL, SHORT, VERIFY_3D_ERROR, anchor
 from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
 from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
@@ -359,57 +359,8 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                     "the probe front's estimated error (discretisation + correction + material law, on "
                     "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding,
                     row=ROW[SELECTION_MODEL])
-    _pressed_3d(a, rec)
+    pressed_3d(a, rec)
     return a
-
-
-def _pressed_3d(a: FrontAnswer, rec: dict) -> None:
-    """The answer's numbers from the 3D presses of its designs (optimize.answer_press, the
-    record's answer_3d), when every design of the answer has one within its bound; else the
-    selection model's stay, and a note says why."""
-    from taxel.optimize.answer_press import read
-    from taxel.optimize.requirements import implied, judge, read as read_requirements
-    presses = read(rec)
-    if not presses:
-        return
-    designs = [d for d in (a.recommended, a.thesis) if d is not None]
-
-    def press_of(d):
-        x = [getattr(d, f"{n}_mm") for n in ("silicone_above", "silicone_below", "gap")]
-        return next((p for p in presses if p.role == d.role and len(p.x) == 3
-                     and all(abs(u - v) < 1e-6 for u, v in zip(p.x, x))), None)
-    got = {d.role: press_of(d) for d in designs}
-    bound = (rec.get("answer_3d") or {}).get("within", 0.02)
-    missing = [r for r, p in got.items() if p is None or p.failed or p.sensitivity is None]
-    above = [r for r, p in got.items() if r not in missing and not p.within]
-    if missing or above:
-        a.notes.append("Not the 3D press's numbers: " + "; ".join(
-            [f"the {r} design has no 3D press ({(got[r].failed if got[r] else 'not pressed')})" for r in missing]
-            + [f"the {r} design's 3D press is estimated at {100 * got[r].error:.2g} % in sensitivity and "
-               f"{100 * (got[r].crosstalk_error or float('nan')):.2g} % in crosstalk, not within {100 * bound:g} %"
-               for r in above if got[r].error is not None]) + ".")
-        return
-    before = {d.role: (d.sensitivity_V_per_N, d.crosstalk) for d in designs}
-    for d in designs:
-        p = got[d.role]
-        d.sensitivity_V_per_N, d.crosstalk = p.sensitivity, p.crosstalk
-        d.values.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk)
-    a.requirements = implied(read_requirements(rec.get("requirements", {})), a.thesis.values)
-    for d in designs:
-        d.margins = judge(d.values, a.requirements).margins
-    a.error = {"sensitivity": max(got[d.role].error for d in designs),
-               "crosstalk": max(got[d.role].crosstalk_error for d in designs)}
-    a.row = ROW[ANSWER_MODEL]
-    n = max(got[d.role].unknowns or 0 for d in designs)
-    a.model = ("3D presses by the rig's probe on Yeoh silicone, one per design (3x3 array, quarter model, the default "
-               f"press mesh, up to {n} unknowns; ladder row {ROW[ANSWER_MODEL]}), 1 N on the middle taxel")
-    a.error_source = ("each 3D press's error, calibrated on the press family: the single taxel's error against its "
-                      "nested reference plus the move of the 3x3 / single-taxel ratio under refinement, "
-                      "extrapolated, times a safety factor (sensitivity and crosstalk each their own band)")
-    moved = "; ".join(f"{d.role} {eng(before[d.role][0], 'V/N', 3)} at {percent(before[d.role][1])} → "
-                      f"{eng(d.sensitivity_V_per_N, 'V/N', 3)} at {percent(d.crosstalk)}" for d in designs)
-    a.notes.append(f"The candidates were chosen on the 2D press scaled by the linear 3D/2D ratio (ladder row "
-                   f"{ROW[SELECTION_MODEL]}); the 3D presses give the answer's numbers: {moved}.")
 
 
 AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force")
