@@ -34,9 +34,10 @@ def pressed_3d(a, rec: dict) -> None:
     if missing or above:
         a.notes.append("Not the 3D press's numbers: " + "; ".join(
             [f"the {r} design has no 3D press ({(got[r].failed if got[r] else 'not pressed')})" for r in missing]
-            + [f"the {r} design's 3D press is estimated at {100 * got[r].error:.2g} % in sensitivity and "
-               f"{100 * (got[r].crosstalk_error or float('nan')):.2g} % in crosstalk, not within {100 * bound:g} %"
-               for r in above if got[r].error is not None]) + ".")
+            + [f"the {r} design's 3D press is estimated at {100 * got[r].error:.2g} % in sensitivity, not within "
+               f"{100 * bound:g} %" if got[r].error is not None else
+               f"the {r} design's 3D press has no error estimate (its piezo or mesh is not calibrated)"
+               for r in above]) + ".")
         return
     before = {d.role: (d.sensitivity_V_per_N, d.crosstalk) for d in designs}
     for d in designs:
