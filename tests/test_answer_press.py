@@ -5,16 +5,16 @@ import pytest
 
 
 @pytest.mark.slow       # four 3D presses (the 3x3 and the single taxel, two meshes each): a few minutes
-def test_the_calibrated_press_error_holds_on_a_second_design():
-    """ANSWER_PRESS_ERROR for PVDF was measured on the thesis PVDF design
-    (benchmarks/answer_press_error.py); the same rule measured on a second design of the
-    family, the PVDF front's recommended design (1 / 1 mm, gap 4.78 mm), comes out within
-    the stored constants, and the sensitivity's constant is within the answer's 2 %."""
+def test_the_calibrated_press_error_holds_on_a_third_design():
+    """ANSWER_PRESS_ERROR for PZT is the worst of the rule on two PZT designs
+    (benchmarks/answer_press_error.py: gaps 3 and 3.44 mm); the same rule measured on a
+    third design of the family, the PZT probe front's 1 / 1 mm, gap 4.78 mm, comes out
+    within the stored constants, and the sensitivity's constant is within the answer's 2 %."""
     from taxel.optimize import answer_press as AP
     from taxel.optimize import spec as O
-    prob = O.load_optimization("thesis-pvdf-probe-front")
+    prob = O.load_optimization("thesis-pzt-probe-front")
     m = AP.rule(prob, [1.0, 1.0, 4.777777777777778])
-    cal = AP.ANSWER_PRESS_ERROR["PVDF"]
+    cal = AP.ANSWER_PRESS_ERROR["PSI-5H4E"]
     assert 0 < m["sensitivity"] <= cal["sensitivity"] <= AP.WITHIN, m
     assert 0 < m["crosstalk"] <= cal["crosstalk"], m
 
@@ -41,14 +41,14 @@ def _answer_folders(tmp_path, edit=None):
 
 
 def test_the_answer_is_the_3d_presses_with_their_own_bands(tmp_path):
-    """With every answer design pressed in 3D within 2 %, the answer's numbers are the
+    """With every answer design pressed in 3D within 2 % (PZT), the answer's numbers are the
     presses' (not the candidate selection's), each quantity with its own band, the model
     says so, and the ladder's answer row is 7 (3D under the probe) with the selection
-    model's row 6 below it."""
+    model's row 6 below it. (PVDF's presses are estimated at 2.7 %: the next test.)"""
     import json
     from taxel.optimize.answer_press import read
     from taxel.reports.answer import headline_front
-    for folder in _answer_folders(tmp_path):
+    for folder in _answer_folders(tmp_path)[1:]:                   # thesis-pzt-front
         rec = json.loads((folder / "probe-front.json").read_text())
         presses = {p.role: p for p in read(rec)}
         a = headline_front(folder)
@@ -69,11 +69,11 @@ def test_the_answer_is_the_3d_presses_with_their_own_bands(tmp_path):
 def test_a_press_estimated_above_2_percent_is_not_the_answer(tmp_path):
     """A 3D press whose error estimate is above 2 % is not presented as the answer: the
     answer stays on the candidate-selection model (ladder row 6), says so, and the
-    ladder shows the press beside its bound without marking it the answer (the presses'
-    estimates set to 2.5 %)."""
+    ladder shows the press beside its bound without marking it the answer: the PVDF
+    presses as run (2.7 %) and the PZT presses' estimates set to 2.5 %."""
     def worse(rec):
         for p in rec["answer_3d"]["designs"]:
-            p["error"] = 0.025
+            p["error"] = max(p["error"], 0.025)
     from taxel.reports.answer import headline_front
     for folder in _answer_folders(tmp_path, worse):
         a = headline_front(folder)
