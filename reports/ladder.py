@@ -60,7 +60,7 @@ WHY = {
 }
 
 
-ANSWER_MODEL = "3D under the rig's probe, Yeoh silicone (the answer's model)"
+ANSWER_MODEL = "3D under the rig's probe, Yeoh silicone (one press per answer design)"
 # the row number of each model, fixed: a page names a model's numbers by it
 ROW = {m: i + 1 for i, m in enumerate([*WHY, ANSWER_MODEL])}
 SHORT = {1: "2D, pressure patch", 2: "2D corrected, a prediction", 3: "3D, pressure patch",

@@ -102,8 +102,12 @@ def probe_blocks(rec: dict) -> list[dict]:
             f"({'within' if r['within 2 %'] else 'above'} 2 %)" for r in pressed) + "."})
     presses = [p for p in (rec.get("answer_3d") or {}).get("designs", []) if p.get("sensitivity") is not None]
     if presses:
+        bound = rec["answer_3d"].get("within", 0.02)
+        ok = all(p.get("error") is not None and p["error"] <= bound for p in presses)
         blocks.append({"type": "text", "text": "The answer's designs pressed in 3D by the same probe (ladder row 7, "
-                                               "the answer's model): " + "; ".join(
+                                               + ("the answer's numbers" if ok else
+                                                  f"not the answer's: an estimate above {100 * bound:g} %")
+                                               + "): " + "; ".join(
             f"{p['role']} design ({', '.join(f'{v:.3g}' for v in p['x'])} mm) {eng(p['sensitivity'], 'V/N', 3)} "
             f"± {100 * p['error']:.2g} % at {percent(p['crosstalk'])} ± {100 * p['crosstalk_error']:.2g} % crosstalk"
             if p.get("error") is not None and p.get("crosstalk_error") is not None else
