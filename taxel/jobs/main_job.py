@@ -1,6 +1,8 @@
 """The main job behind `make demo` (`taxel demo`): on the built-in example, run the
 thesis's Fig. 2.5 study, the sensitivity-crosstalk fronts of the thesis PZT and
-PVDF designs (2D, then verified in 3D: optimize.multifidelity), the frequency
+PVDF designs (2D, then verified in 3D: optimize.multifidelity; under the rig's probe:
+optimize.probe_front), the answer's designs pressed in 3D by the probe (taxel.jobs.answer_3d),
+the frequency
 response through the charge amplifier and the step response through the 500 MOhm
 input, the validation loop on the simulated rig (simulate, capture over a pty,
 analyze, calibrate, localize: studies.measured.pipeline), then build the report;
