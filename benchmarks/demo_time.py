@@ -1,7 +1,7 @@
 """The main job's time, stage by stage: `taxel demo` run as a whole process (as `make demo`
 runs it, MKL_NUM_THREADS=1), its stage lines (each prints its own seconds) collected into
-one table with the load average before, during (sampled every 10 s) and after, and the
-process's wall and CPU time. docs/getting-started.md quotes it.
+one table with the load average before and during (sampled every 10 s), and the
+process's wall time and its own CPU time (its Dask workers' is not counted). docs/getting-started.md quotes it.
 
     python benchmarks/demo_time.py [--out /tmp/demo-time] [--no-answer-3d]
 """
@@ -42,7 +42,7 @@ def main():
     ru = resource.getrusage(resource.RUSAGE_CHILDREN)
     lines = [ln for ln in out.stdout.splitlines() if "it/s" not in ln and "point/s" not in ln]
     print(f"{' '.join(cmd)}: exit {out.returncode}, {wall:.0f} s wall, {ru.ru_utime + ru.ru_stime:.0f} s CPU "
-          f"(the job and its workers); load average {loads[0]:.1f} before, {min(loads):.1f}-{max(loads):.1f} "
+          f"(the job's own process: its Dask workers are not counted); load average {loads[0]:.1f} before, {min(loads):.1f}-{max(loads):.1f} "
           f"during ({len(loads)} samples)")
     for ln in lines:
         if STAGE.search(ln) or ln.startswith("["):
