@@ -22,8 +22,9 @@ from pathlib import Path
 from typing import NamedTuple
 
 from taxel.reports import friction_band
+from taxel.reports.answer_3d import pressed_3d
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SHORT, VERIFY_3D_ERROR, anchor
+from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SELECTION_MODEL, SHORT, VERIFY_3D_ERROR, anchor
 from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
 from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
@@ -361,11 +362,14 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                      + f" ({SHORT[linear.row]} — ladder row {linear.row}).")
     model = ("3D presses by the rig's probe on Yeoh silicone" if rec["level"] == "3D press" else
              "an estimate, not a 3D press: a 2D press by the rig's probe on Yeoh silicone scaled by the linear "
-             "model's 3D/2D ratio")
-    return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel",
-                       {"sensitivity": err, "crosstalk": err}, True, notes,
-                       "the probe front's estimated error (discretisation + correction + material law, on "
-                       "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding)
+             "model's 3D/2D ratio (ladder row 6, the candidate selection)")
+    a = FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel",
+                    {"sensitivity": err, "crosstalk": err}, True, notes,
+                    "the probe front's estimated error (discretisation + correction + material law, on "
+                    "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding,
+                    row=ROW[SELECTION_MODEL])
+    pressed_3d(a, rec)
+    return a
 
 
 AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force")

@@ -33,6 +33,7 @@ from taxel.reports.page import Headline, Page, provenance, templates
 from taxel.reports.scene_sections import data_uri, scene_sections, stored_result
 from taxel.reports import noise as noise_page
 from taxel.reports.validation import build_page as validation_page
+from taxel.reports.ladder import ANSWER_MODEL, ROW
 from taxel.studies.store import code_version
 
 
@@ -245,10 +246,13 @@ def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:
     return imgs
 
 
+VIEW_ROW = ROW[ANSWER_MODEL]          # a design view's numbers: the answer's 3D press (reports.ladder)
+
+
 def _design_view(folder: Path) -> str | None:
     """"thesis" or "recommended" for a 3D view of an answer design (the main job's
-    <front>-thesis-3d, <front>-recommended-3d: taxel.jobs.main_job.design_views, the
-    verification mesh, ladder row 3), else None."""
+    <front>-thesis-3d, <front>-recommended-3d: taxel.jobs.answer_3d, the 3D press by the
+    rig's probe whose numbers are the answer's, ladder row 7), else None."""
     return next((r for r in ("thesis", "recommended") if folder.name.endswith(f"-{r}-3d")), None)
 
 
@@ -267,9 +271,9 @@ def _analysis(folder: Path, out: Path, scene_data) -> dict:
     shutil.rmtree(scratch, ignore_errors=True)
     role = _design_view(folder)
     if role:
-        blocks.insert(0, {"type": "note", "text": f"The answer's {role} design in the 3D, pressure patch model on "
-                                                  "the verification mesh — ladder row 3 of its ladder in the index; "
-                                                  "the answer's numbers are the rig's probe's, ladder row 6."})
+        blocks.insert(0, {"type": "note", "text": f"The answer's {role} design pressed in 3D by the rig's probe on "
+                                                  "Yeoh silicone: the same solve as the answer's numbers — ladder row "
+                                                  f"{VIEW_ROW} of its ladder in the index."})
     return {"sections": [{"title": "Analysis", "blocks": blocks}], "numbers": findings.analysis_numbers(result),
             "banners": findings.frequency_banners(result),
             "scene_banners": ((scene_data or {}).get("analysis") or {}).get("type", "static") == "static",
@@ -319,7 +323,7 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
         banners += (ban if part.get("scene_banners", True) else []) + compare_ban
         thumb = thumb or key_png
     if kind == "analysis" and _design_view(folder):          # its card's numbers name their ladder row
-        numbers = [n._replace(model=f"{n.model} — ladder row 3") for n in numbers]
+        numbers = [n._replace(model=f"{n.model} — ladder row {VIEW_ROW}") for n in numbers]
     sections.append({"title": "Provenance", "blocks": provenance(folder, scene_data)})
     tables.write_csvs(sections, out, folder.name)
     path = out / f"{folder.name}.html"
@@ -410,8 +414,10 @@ def answer_block(folders, out: Path) -> dict | None:
             w.writeheader()
             w.writerows(blk["records"])
         blk["csv"] = "answer.csv"
-        blk["views"] = [{"href": f"{f.name}.html", "role": f.name.rsplit("-", 2)[-2]} for f in folders
+        blk["views"] = [{"href": f"{f.name}.html", "role": f"{f.name.rsplit('-', 3)[-3].upper()} "
+                         f"{f.name.rsplit('-', 2)[-2]}"} for f in folders
                         if f.name.endswith(("-thesis-3d", "-recommended-3d"))]
+        blk["view_row"] = VIEW_ROW
     return blk
 
 

@@ -9,6 +9,7 @@ from pathlib import Path
 from taxel.optimize.metrics import METRIC_TABLE, axis_label
 from taxel.optimize.multifidelity import MultiFidelity
 from taxel.reports.figures import pyplot
+from taxel.reports.tables import eng, percent
 
 
 def draw(mf: MultiFidelity, name: str, out: Path) -> Path:
@@ -78,7 +79,8 @@ def probe_blocks(rec: dict) -> list[dict]:
     front = [named(_readable(r), PROBE_COLUMNS) for r in rec["front"] if r["x"] != rec["reference"]["x"]]
     ref = named(_readable(rec["reference"]), PROBE_COLUMNS)
     over = [r for r in rec["front"] if not r.get("within 2 %", True)]
-    blocks = [{"type": "text", "text": "Headline: " + rec["sentence"]},
+    row = 7 if rec.get("level") == "3D press" else 6          # reports.ladder.ROW: its numbers' model
+    blocks = [{"type": "text", "text": f"Headline (ladder row {row}): " + rec["sentence"]},
               {"type": "table", "table": tables.table(front + [{**ref, "how": f"thesis design ({ref.get('how', '')})"}])},
               {"type": "text", "text": "Movements against the linear pressure-patch front (3D-verified), design by design:"},
               {"type": "table", "table": tables.table([named(_readable(m), PROBE_COLUMNS) for m in rec["movements"]])},
@@ -98,6 +100,19 @@ def probe_blocks(rec: dict) -> list[dict]:
             f"{k} {v}" for k, v in (rec.get("press_3d_model") or {}).items()) + ": " + "; ".join(
             f"{', '.join(f'{v:.3g}' for v in r['x'])} mm: estimated error {100 * r['estimated error']:.2g} % "
             f"({'within' if r['within 2 %'] else 'above'} 2 %)" for r in pressed) + "."})
+    presses = [p for p in (rec.get("answer_3d") or {}).get("designs", []) if p.get("sensitivity") is not None]
+    if presses:
+        bound = rec["answer_3d"].get("within", 0.02)
+        ok = all(p.get("error") is not None and p["error"] <= bound for p in presses)
+        blocks.append({"type": "text", "text": "The answer's designs pressed in 3D by the same probe (ladder row 7, "
+                                               + ("the answer's numbers" if ok else
+                                                  f"not the answer's: an estimate above {100 * bound:g} %")
+                                               + "): " + "; ".join(
+            f"{p['role']} design ({', '.join(f'{v:.3g}' for v in p['x'])} mm) {eng(p['sensitivity'], 'V/N', 3)} "
+            f"± {100 * p['error']:.2g} % at {percent(p['crosstalk'])} ± {100 * p['crosstalk_error']:.2g} % crosstalk"
+            if p.get("error") is not None and p.get("crosstalk_error") is not None else
+            f"{p['role']} design {eng(p['sensitivity'], 'V/N', 3)} at {percent(p['crosstalk'])} (error not estimated)"
+            for p in presses) + "."})
     return blocks
 
 

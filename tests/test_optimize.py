@@ -27,6 +27,22 @@ def test_constrained_problem_and_active_constraint():
     assert r.success and abs(r.constraints["s >= 1"]) < 1e-6
 
 
+
+def test_the_constrained_global_pass_keeps_its_evaluation_budget():
+    """nlopt's constrained DIRECT (GN_ORIG_DIRECT_L) does not count calls at infeasible
+    points against maxeval (637 calls on a budget of 20 where the feasible set is small);
+    the driver holds the budget itself: at most max_evals distinct evaluations in all, and
+    the best feasible point found is still returned."""
+    calls = []
+
+    def ev(x):
+        calls.append(x)
+        return {"f": float(((x - 0.3) ** 2).sum()), "a": abs(x[0] - 0.9), "b": x[1] + x[2]}
+    r = driver.minimize(ev, [0.5, 0.5, 0.5], [(0, 1)] * 3, "f", [("a", "<=", 0.05), ("b", "<=", 0.1)],
+                        max_evals=40, xtol=0.02)
+    assert len(calls) <= 40 and r.nfev == len(calls)
+    assert "DIRECT: evaluation budget used" in r.message
+
 def test_maximize_with_isres_global_pass():
     ev = lambda x: {"g": np.exp(-((x[0] - 0.3) ** 2 + (x[1] + 0.2) ** 2))}   # noqa: E731
     r = driver.minimize(ev, [1.5, 1.5], [(-2, 2), (-2, 2)], "g", maximize=True, global_alg="ISRES",

@@ -38,6 +38,9 @@ def register(sub) -> None:
     p.add_argument("--full", action="store_true", help="also the thesis-model Fig. 2.5/2.8 studies and the probe fronts verified by 3D presses (slow)")
     p.add_argument("--presses-3d", type=number(0, integer=True), default=0, metavar="N",
                    help="press N designs of each probe front in 3D (default 0; --full presses them all)")
+    p.add_argument("--answer-3d", action="store_true",
+                   help="press the answer's designs in 3D by the rig's probe (about 2 minutes more): the answer's "
+                        "numbers are then the 3D presses', each with its error estimate")
     p.set_defaults(run=_demo)
 
 
@@ -103,4 +106,4 @@ def _demo(args):
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}: exists and is not a folder; choose another output folder")
-    run(out, small=args.small, full=args.full, presses_3d=args.presses_3d)
+    run(out, small=args.small, full=args.full, presses_3d=args.presses_3d, answer_3d=args.answer_3d)

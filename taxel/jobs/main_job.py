@@ -1,6 +1,8 @@
 """The main job behind `make demo` (`taxel demo`): on the built-in example, run the
 thesis's Fig. 2.5 study, the sensitivity-crosstalk fronts of the thesis PZT and
-PVDF designs (2D, then verified in 3D: optimize.multifidelity), the frequency
+PVDF designs (2D, then verified in 3D: optimize.multifidelity; under the rig's probe:
+optimize.probe_front), the answer's designs pressed in 3D by the probe (taxel.jobs.answer_3d),
+the frequency
 response through the charge amplifier and the step response through the 500 MOhm
 input, the validation loop on the simulated rig (simulate, capture over a pty,
 analyze, calibrate, localize: studies.measured.pipeline), then build the report;
@@ -60,7 +62,9 @@ def front(out: Path, name: str, small: bool, full: bool = False, presses_3d: int
     result = api.optimize(name, out, workers=2)
     t1 = time.perf_counter()
     prob = O.load_optimization(name, out)
-    mf = MF.confirm(prob, MF.verify(prob, result.runs, reference_x(prob), max_rounds=2, workers=2), workers=2)
+    mf = MF.verify(prob, result.runs, reference_x(prob), max_rounds=2, workers=2)
+    if full:                           # the answer is the 3D probe presses' (answer_3d): the finer linear mesh only with --full
+        mf = MF.confirm(prob, mf, workers=2)
     rec = mf.to_folder(out, prob)
     draw_verified_front(mf, prob.spec.name, out)
     print(f"      cheap front {t1 - t0:.0f} s; " + "; ".join(mf.summary()))
@@ -77,26 +81,6 @@ def front(out: Path, name: str, small: bool, full: bool = False, presses_3d: int
     for line in pf.summary(probe):
         print("      " + line)
     print(f"      {prec['sentence']}", flush=True)
-    return out
-
-
-def design_views(front_dir: Path, name: str, root: Path) -> list[Path]:
-    """The thesis and the recommended design of a verified front (reports.answer.headline_front)
-    solved once more in 3D on the verification's mesh (MF.VERIFY_3D) and written with their
-    fields and off-screen renders (`taxel.solve(..., out=...)`): two solve folders for the report."""
-    from taxel.reports.answer import headline_front
-    from taxel.scene import parse
-    a = headline_front(front_dir)
-    prob = O.load_optimization(name)
-    out = []
-    for d in (a.thesis, a.recommended) if a else ():
-        if d is None:
-            continue
-        x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-        data = MF.fine_data(prob, [x[n] for n in prob.names], MF.VERIFY_3D)
-        data["name"] = f"{name.removesuffix('-front')}-{d.role}-3d"
-        api.solve(parse(data), out=root / data["name"])
-        out.append(root / data["name"])
     return out
 
 
@@ -143,10 +127,16 @@ def tolerances(out: Path) -> Path:
     return out
 
 
-def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = PF.RUN_3D_PRESSES) -> Path:
+def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = PF.RUN_3D_PRESSES,
+        answer_3d: bool = False) -> Path:
     """Run the main job into `root` and return the report's index page; `full`: also the
     thesis-model Fig. 2.5 and 2.8 studies (plane stress, Yeoh beside linear silicone; about
-    10 minutes each) and the probe fronts verified by 3D presses."""
+    10 minutes each), the probe fronts verified by 3D presses and the linear front's
+    confirmation on a finer mesh; `answer_3d` (`taxel demo --answer-3d`): the answer's
+    designs, the recommended and the thesis design of each material, pressed in 3D by the
+    rig's probe (taxel.jobs.answer_3d). Off by default until the press is faster: the two
+    presses took 128 s of the job's 462 s at load 1.2-3.7 (docs/getting-started.md); without
+    them the answer is the candidate-selection model's, and says so."""
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%d %H:%M:%S")
     root.mkdir(parents=True, exist_ok=True)
@@ -168,6 +158,9 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
         folders.append(front(root / name, name, small, full, presses_3d))
+    if not small and answer_3d:        # the answer's numbers: its 4 designs pressed in 3D (their 3D views too)
+        from taxel.jobs.answer_3d import answer_presses
+        folders += answer_presses(root, ["thesis-pzt-front", "thesis-pvdf-front"], workers=2)
     if not small:                      # the answer's designs through the bench's readout (one 2D solve each)
         from taxel.jobs.answer_coverage import answer_coverage
         from taxel.jobs.answer_readout import answer_readout
@@ -179,10 +172,6 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         print(f"      the answer's designs through the bench's readout in {time.perf_counter() - t3:.0f} s")
         for name in ("thesis-pzt-front", "thesis-pvdf-front"):    # frictionless to sticking (taxel.jobs.friction_band)
             friction_band(root / name, workers=2)
-    if not small:                      # the thesis and the recommended PZT design, deformed, in 3D
-        t3 = time.perf_counter()
-        folders += design_views(root / "thesis-pzt-front", "thesis-pzt-front", root)
-        print(f"      3D views of the thesis and the recommended design in {time.perf_counter() - t3:.0f} s")
     print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = api.load(name)

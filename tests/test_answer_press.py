@@ -1,0 +1,85 @@
+"""The answer's 3D presses (optimize.answer_press): the calibrated error estimate checked on
+a second design of the press family, and a press's numbers equal to `taxel.solve`'s."""
+
+import pytest
+
+
+@pytest.mark.slow       # four 3D presses (the 3x3 and the single taxel, two meshes each): a few minutes
+def test_the_calibrated_press_error_holds_on_a_third_design():
+    """ANSWER_PRESS_ERROR for PZT is the worst of the rule on two PZT designs
+    (benchmarks/answer_press_error.py: gaps 3 and 3.44 mm); the same rule measured on a
+    third design of the family, the PZT probe front's 1 / 1 mm, gap 4.78 mm, comes out
+    within the stored constants, and the sensitivity's constant is within the answer's 2 %."""
+    from taxel.optimize import answer_press as AP
+    from taxel.optimize import spec as O
+    prob = O.load_optimization("thesis-pzt-probe-front")
+    m = AP.rule(prob, [1.0, 1.0, 4.777777777777778])
+    cal = AP.ANSWER_PRESS_ERROR["PSI-5H4E"]
+    assert 0 < m["sensitivity"] <= cal["sensitivity"] <= AP.WITHIN, m
+    assert 0 < m["crosstalk"] <= cal["crosstalk"], m
+
+
+def _answer_folders(tmp_path, edit=None):
+    """The main job's front records (tests/data/answer, the two of the seed's requirements
+    the report tests state), with the answer's 3D presses of a real run (answer_3d: the
+    recommended and the thesis design of each material pressed by taxel.jobs.answer_3d);
+    `edit(rec)` changes each probe-front record first."""
+    import json
+    import shutil
+    from pathlib import Path
+    folders = []
+    for src in sorted((Path(__file__).parent / "data" / "answer").iterdir()):
+        shutil.copytree(src, tmp_path / src.name)
+        for name in ("probe-front.json", "front-3d.json"):
+            rec = json.loads((tmp_path / src.name / name).read_text())
+            rec["requirements"] = {"gap": ">= 1 mm", "total_thickness": "<= 2.127 mm"}
+            if edit and name == "probe-front.json":
+                edit(rec)
+            (tmp_path / src.name / name).write_text(json.dumps(rec))
+        folders.append(tmp_path / src.name)
+    return folders
+
+
+def test_the_answer_is_the_3d_presses_with_their_own_bands(tmp_path):
+    """With every answer design pressed in 3D within 2 % (PZT), the answer's numbers are the
+    presses' (not the candidate selection's), each quantity with its own band, the model
+    says so, and the ladder's answer row is 7 (3D under the probe) with the selection
+    model's row 6 below it. (PVDF's presses are estimated at 2.7 %: the next test.)"""
+    import json
+    from taxel.optimize.answer_press import read
+    from taxel.reports.answer import headline_front
+    for folder in _answer_folders(tmp_path)[1:]:                   # thesis-pzt-front
+        rec = json.loads((folder / "probe-front.json").read_text())
+        presses = {p.role: p for p in read(rec)}
+        a = headline_front(folder)
+        assert set(presses) == {"thesis"} | ({"recommended"} if a.recommended else set())
+        for d in (a.recommended, a.thesis):
+            if d is None:
+                continue
+            p = presses[d.role]
+            assert p.within and (d.sensitivity_V_per_N, d.crosstalk) == (p.sensitivity, p.crosstalk)
+        assert a.row == 7 and "3D presses by the rig's probe" in a.model
+        assert a.error["sensitivity"] != a.error["crosstalk"]          # crosstalk carries its own band
+        for g in a.ladders():
+            rows = [r[0] for r in g["rows"]]
+            assert rows[-1].startswith("7. ") and rows[-1].endswith("(the answer)"), rows
+            assert any(r.startswith("6. ") for r in rows) and g["answer"].endswith("-7")
+
+
+def test_a_press_estimated_above_2_percent_is_not_the_answer(tmp_path):
+    """A 3D press whose error estimate is above 2 % is not presented as the answer: the
+    answer stays on the candidate-selection model (ladder row 6), says so, and the
+    ladder shows the press beside its bound without marking it the answer: the PVDF
+    presses as run (2.7 %) and the PZT presses' estimates set to 2.5 %."""
+    def worse(rec):
+        for p in rec["answer_3d"]["designs"]:
+            p["error"] = max(p["error"], 0.025)
+    from taxel.reports.answer import headline_front
+    for folder in _answer_folders(tmp_path, worse):
+        a = headline_front(folder)
+        assert a.row == 6 and "an estimate, not a 3D press" in a.model
+        assert any("not within 2 %" in n for n in a.notes)
+        for g in a.ladders():
+            rows = [r[0] for r in g["rows"]]
+            assert rows[-1].startswith("7. ") and "(the answer)" not in rows[-1]
+            assert g["answer"].endswith("-6")
