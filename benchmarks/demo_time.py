@@ -3,7 +3,7 @@ runs it, MKL_NUM_THREADS=1), its stage lines (each prints its own seconds) colle
 one table with the load average before and during (sampled every 10 s), and the
 process's wall time and its own CPU time (its Dask workers' is not counted). docs/getting-started.md quotes it.
 
-    python benchmarks/demo_time.py [--out /tmp/demo-time] [--answer-3d]
+    python benchmarks/demo_time.py [--out /tmp/demo-time] [--no-answer-3d]
 """
 
 from __future__ import annotations
@@ -24,10 +24,10 @@ STAGE = re.compile(r"(\d+(?:\.\d+)?) s\b")
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default="/tmp/demo-time")
-    ap.add_argument("--answer-3d", action="store_true")
+    ap.add_argument("--no-answer-3d", dest="answer_3d", action="store_false")
     a = ap.parse_args()
     taxel = Path(sys.executable).with_name("taxel")
-    cmd = [str(taxel), "demo", "--out", a.out] + (["--answer-3d"] if a.answer_3d else [])
+    cmd = [str(taxel), "demo", "--out", a.out] + ([] if a.answer_3d else ["--no-answer-3d"])
     env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
     loads, done = [os.getloadavg()[0]], threading.Event()
 

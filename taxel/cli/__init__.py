@@ -8,7 +8,7 @@
     taxel study status DIR | taxel study export DIR --csv FILE
     taxel optimize OPT [--out DIR] [--workers N]
     taxel report DIR... --out OUT [--pdf]
-    taxel demo [--out DIR] [--small] [--full] [--presses-3d N] [--answer-3d]
+    taxel demo [--out DIR] [--small] [--full] [--presses-3d N] [--no-answer-3d]
     taxel examples
     taxel measure capture|import|export|rebuild|simulate ...   (taxel/cli/measure.py)
     taxel material | explore | schema | reduce | skin ...

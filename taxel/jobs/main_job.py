@@ -128,15 +128,15 @@ def tolerances(out: Path) -> Path:
 
 
 def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = PF.RUN_3D_PRESSES,
-        answer_3d: bool = False) -> Path:
+        answer_3d: bool = True) -> Path:
     """Run the main job into `root` and return the report's index page; `full`: also the
     thesis-model Fig. 2.5 and 2.8 studies (plane stress, Yeoh beside linear silicone; about
     10 minutes each), the probe fronts verified by 3D presses and the linear front's
-    confirmation on a finer mesh; `answer_3d` (`taxel demo --answer-3d`): the answer's
-    designs, the recommended and the thesis design of each material, pressed in 3D by the
-    rig's probe (taxel.jobs.answer_3d). Off by default until the press is faster: the two
-    presses took 128 s of the job's 462 s at load 1.2-3.7 (docs/getting-started.md); without
-    them the answer is the candidate-selection model's, and says so."""
+    confirmation on a finer mesh; `answer_3d` (off with `taxel demo --no-answer-3d`): the
+    answer's designs, the recommended and the thesis design of each material, pressed in 3D
+    by the rig's probe (taxel.jobs.answer_3d): 51 s of the job's 260 s on a quiet machine
+    (docs/getting-started.md); without them the answer is the candidate-selection model's,
+    and says so."""
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%d %H:%M:%S")
     root.mkdir(parents=True, exist_ok=True)
