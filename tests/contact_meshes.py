@@ -112,6 +112,12 @@ def block3d(width, height, rim, h_rim, h_inside, slope=0.35):
     renum = np.full(len(tags), -1, dtype=np.int64)
     renum[used] = np.arange(len(used))
     m = skfem.MeshTet(np.ascontiguousarray(coords.reshape(-1, 3)[used].T), np.ascontiguousarray(renum[t]))
+    return quarter_block(m, width, height)
+
+
+def quarter_block(m, width, height) -> TaggedMesh:
+    """A quarter block's mesh (x, y in [0, width], z in [0, height]) tagged for fem.contact:
+    bottom, top (= load), the mirror planes x = 0 and y = 0, the outer edges; one layer."""
     tol = 1e-9 * width
     f = {"bottom": m.facets_satisfying(lambda x: np.abs(x[2]) < tol),
          "top": m.facets_satisfying(lambda x: np.abs(x[2] - height) < tol),

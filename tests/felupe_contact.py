@@ -4,7 +4,7 @@ benchmarks/friction_felupe.py: the problem and the penalty extrapolation are des
 
 import numpy as np
 
-from contact_meshes import block, problem
+from contact_meshes import block, problem, quarter_block
 from taxel.fem.assembly import Indenter, assemble
 from taxel.fem.constitution import Solid
 from taxel.fem.contact import OPEN, SLIP, STICK, Press
@@ -83,20 +83,8 @@ TRAVEL_3D, STEPS_3D, N3D = 0.2e-3, 10, 8
 def box3d(n=N3D, width=W3, height=H3):
     """The quarter block's tetrahedral mesh for fem.contact (TaggedMesh, planes x = 0 and y = 0)."""
     import skfem
-    from taxel.meshing.build import TaggedMesh
-    from taxel.meshing.layout import Layer, Layout, Patch
     xs = np.linspace(0, width, n + 1)
-    m = skfem.MeshTet.init_tensor(xs, xs, np.linspace(0, height, n + 1))
-    tol = 1e-9 * width
-    f = {"bottom": m.facets_satisfying(lambda x: np.abs(x[2]) < tol),
-         "top": m.facets_satisfying(lambda x: np.abs(x[2] - height) < tol),
-         "mirror_x": m.facets_satisfying(lambda x: np.abs(x[0]) < tol),
-         "mirror_y": m.facets_satisfying(lambda x: np.abs(x[1]) < tol),
-         "edges": m.facets_satisfying(lambda x: (np.abs(x[0] - width) < tol) | (np.abs(x[1] - width) < tol))}
-    f["load"] = f["top"]
-    lay = Layout(model="3d", plan=Patch("plan", 0.0, 0.0, width), plan_half_y=width,
-                 layers=(Layer("layer0", 0.0, height, "block"),), electrodes=(), load=None, planes=(0, 1))
-    return TaggedMesh(m.with_boundaries(f), lay, {"layer0": np.arange(m.nelements)}, f, {"layer0": ("block", 1)})
+    return quarter_block(skfem.MeshTet.init_tensor(xs, xs, np.linspace(0, height, n + 1)), width, height)
 
 
 def travels_3d(steps=STEPS_3D, travel=TRAVEL_3D):
