@@ -479,6 +479,12 @@ def _stack(a: FrontAnswer) -> str | None:
     return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
 
 
+def _stack_caption(a: FrontAnswer) -> str:
+    what = ("the recommended design above the reference design" if a.recommended is not None else
+            f"{a.reference_name}, which the recommendation keeps")
+    return f"a section through two neighbouring taxels, {what}, drawn to scale with every dimension written."
+
+
 def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sweep | None = None) -> dict | None:
     """The index's answer block (template data): one table row per design, the model,
     the trade and the crosstalk definition. `noise`: a noise budget's minimum
@@ -504,7 +510,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
                       "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
-                      "risks": risks(a), "friction": friction_band.block(a.path), "stack": _stack(a), "material": MATERIALS.get(a.thesis.material,
+                      "risks": risks(a), "friction": friction_band.block(a.path), "stack": _stack(a), "stack_caption": _stack_caption(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     parts = [("Recommended: ", None)]
     for i, t in enumerate(titles):
