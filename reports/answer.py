@@ -7,7 +7,7 @@ Where the answer comes from is one function, `headline_front(folder)`: it reads
 an optimization folder's headline record (the front under the rig's probe,
 probe-front.json, with the linear front beside it; else the 3D-confirmed front,
 front-3d.json; else a 2D optimum, optimum.json, as `taxel demo --small` writes)
-into a `FrontAnswer`. Point it at another folder (or file) to change what the
+into a `FrontAnswer` (reports.answer_design holds the types). Point it at another folder (or file) to change what the
 index leads with. Nothing is solved here.
 
 Crosstalk is the largest neighbouring taxel's open-circuit |V| divided by the
@@ -17,14 +17,13 @@ pressed taxel's (taxel.optimize.metrics), defined once in the block's footnote.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple
 
 from taxel.reports import friction_band
+from taxel.reports.answer_design import AnswerDesign, FrontAnswer, NoiseFloor
 from taxel.reports.answer_3d import pressed_3d
 from taxel.reports.findings import verified_model
-from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SELECTION_MODEL, SHORT, VERIFY_3D_ERROR, anchor
+from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SELECTION_MODEL, SHORT, VERIFY_3D_ERROR
 from taxel.reports.first_screen import MATERIALS, Sweep, dynamics, links as _links, title as _title
 from taxel.reports.margins import limits, requirement_cols, requirement_ids, requirement_rows, risks
 from taxel.reports.tables import eng, percent
@@ -33,154 +32,6 @@ from taxel.units import magnitude
 CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circuit |V| divided by the pressed "
                         "taxel's, for a press on the middle taxel of the 3x3 array.")
 
-
-
-
-def _band(value: float, rel: float, unit: str) -> str:
-    """A value with its error band in the same unit: "838 ± 4 mV/N", "0.971 ± 0.049 %"."""
-    if unit == "%":
-        return f"{value:.3g} ± {rel * value:.2g} %"
-    v = eng(value, unit)
-    number, u = v.split(" ", 1)
-    return f"{number} ± {float(number) * rel:.2g} {u}"
-
-
-@dataclass
-class AnswerDesign:
-    """One design of the answer, in engineering units (lengths in mm)."""
-    role: str                                   # "recommended", "thesis" or (a user's) "reference"
-    silicone_above_mm: float
-    silicone_below_mm: float
-    gap_mm: float
-    pitch_mm: float
-    material: str
-    sensitivity_V_per_N: float
-    crosstalk: float
-    min_detectable_force_N: float | None = None
-    values: dict = field(default_factory=dict)        # metric -> SI value, for the requirements
-    margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
-    bandwidth_Hz: tuple[float, float] | None = None   # the readout's corners with this design (READOUT_FILE)
-
-    def records(self, error: dict, model: str) -> list[dict]:
-        """answer.csv's rows of this design: one quantity each, numeric value, relative error
-        (empty: not estimated) and SI unit."""
-        from math import isfinite
-        out = []
-        for q, v, unit, err in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
-                                ("silicone below", 1e-3 * self.silicone_below_mm, "m", None),
-                                ("gap", 1e-3 * self.gap_mm, "m", None), ("pitch", 1e-3 * self.pitch_mm, "m", None),
-                                ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", error["sensitivity"]),
-                                ("open-circuit crosstalk", self.crosstalk, "1", error["crosstalk"]),
-                                ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N", None),
-                                ("charge per newton", self.values.get("charge_sensitivity"), "C/N", None),
-                                ("minimum detectable force", self.min_detectable_force_N, "N", None),
-                                ("force range to saturation", self.values.get("force_range"), "N", None)):
-            if v is not None:
-                out.append({"design": self.role, "material": MATERIALS.get(self.material, self.material),
-                            "quantity": q, "value": v, "relative error": err if err is not None and isfinite(err)
-                            else "", "unit": unit, "model": model})
-        return out
-
-    def row(self, error: dict) -> dict:
-        """The answer table's row."""
-        return {"design": self.role, "material": MATERIALS.get(self.material, self.material),
-                "silicone above (mm)": f"{self.silicone_above_mm:.2f}",
-                "silicone below (mm)": f"{self.silicone_below_mm:.2f}", "gap (mm)": f"{self.gap_mm:.2f}",
-                "pitch (mm)": f"{self.pitch_mm:.2f}",
-                "open-circuit sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
-                "open-circuit crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
-                "min. detectable force": (eng(self.min_detectable_force_N, "N", 3)
-                                          if self.min_detectable_force_N else "not computed"),
-                **({"sensitivity at the readout": eng(self.values["readout_sensitivity"], "V/N", 3)}
-                   if self.values.get("readout_sensitivity") is not None else {}),
-                **({"crosstalk at the readout": percent(self.values["readout_crosstalk"])}
-                   if self.values.get("readout_crosstalk") is not None else {}),
-                **({"charge per newton": eng(self.values["charge_sensitivity"], "C/N", 3)}
-                   if self.values.get("charge_sensitivity") is not None else {}),
-                **({"force range to saturation": eng(self.values["force_range"], "N", 3)}
-                   if self.values.get("force_range") is not None else {})}
-
-
-class NoiseFloor(NamedTuple):
-    """A noise budget's minimum detectable force, its model, and the design it is of."""
-    force_N: float
-    model: str
-    piezo: str
-    silicone_above_mm: float
-    silicone_below_mm: float
-
-    def of(self, d: AnswerDesign) -> bool:
-        return (d.material == self.piezo and abs(d.silicone_above_mm - self.silicone_above_mm) < 0.005
-                and abs(d.silicone_below_mm - self.silicone_below_mm) < 0.005)
-
-
-@dataclass
-class FrontAnswer:
-    """The answer of one optimization folder: the recommended and the thesis design."""
-    folder: str
-    recommended: AnswerDesign | None
-    thesis: AnswerDesign
-    model: str                                  # the model both designs' numbers come from
-    error: dict                                 # relative error band per output
-    verified: bool                              # True: 3D; False: the cheap 2D model only
-    notes: list[str] = field(default_factory=list)
-    error_source: str = ("the 3D model's own mesh error, measured against the converged 3D reference "
-                         "(taxel.analyses.error_estimate: CHEAP_3D_ERROR); the linear silicone holds for small "
-                         "presses (the V/N of a light touch)")
-    requirements: list = field(default_factory=list)   # optimize.requirements.Requirement, implied ones too
-    binding: tuple | None = None                        # (metric, margin) when no design meets every requirement
-    path: Path | None = None                            # the optimization folder (the ladder's records)
-    chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
-    row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
-
-    def ladders(self) -> list[dict]:
-        """The model ladder (reports.ladder) of the recommended and the reference design."""
-        from taxel.reports.ladder import capacitance_note, ladder
-        if self.path is None:
-            return []
-        out = []
-        for d in (self.recommended, self.thesis):
-            if d is None:
-                continue
-            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-            rungs = ladder(self.path, x, d is self.thesis)
-            if rungs:
-                out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
-                            "role": d.role, "rows": [r.row() for r in rungs],
-                            "note": capacitance_note(self.path, x, d.role),
-                            "ids": [anchor(self.folder, d.role, r.number) for r in rungs],
-                            "answer": next(anchor(self.folder, d.role, r.number) for r in rungs if r.answer)})
-        return out
-
-    @property
-    def reference_name(self) -> str:
-        """"the thesis design" (a built-in optimization), else "your reference design"."""
-        return "the thesis design" if self.thesis.role == "thesis" else "your reference design"
-
-    @property
-    def trade(self) -> str:
-        """What the recommendation gives up or changes against the thesis design."""
-        r, t = self.recommended, self.thesis
-        if r is None and self.binding is not None:
-            req = next(q for q in self.requirements if q.metric == self.binding[0])
-            return (f"No design found meets every requirement: {req.text()} binds, missed by "
-                    f"{100 * abs(self.binding[1]):.3g} % by the closest design.")
-        if r is None:
-            return (f"Keep {self.reference_name}: of the designs found, it meets every requirement with the "
-                    "largest margin.")
-        parts = []
-        for name, a, b in (("silicone above", t.silicone_above_mm, r.silicone_above_mm),
-                           ("silicone below", t.silicone_below_mm, r.silicone_below_mm)):
-            if abs(a - b) >= 0.005:
-                parts.append(f"{name} {a:.2f} → {b:.2f} mm")
-        if abs(r.pitch_mm - t.pitch_mm) >= 0.005:
-            density = (t.pitch_mm / r.pitch_mm) ** 2 - 1
-            parts.append(f"{'a wider' if r.pitch_mm > t.pitch_mm else 'a narrower'} pitch {t.pitch_mm:.2f} → "
-                         f"{r.pitch_mm:.2f} mm ({100 * density:+.0f} % taxels per area)")
-        gain = r.sensitivity_V_per_N / t.sensitivity_V_per_N - 1
-        xt = r.crosstalk / t.crosstalk - 1
-        return (f"The trade: {'; '.join(parts) or 'the same geometry'}; for {100 * gain:+.2g} % sensitivity and "
-                f"{100 * xt:+.0f} % crosstalk (relative).")
 
 
 
