@@ -3,7 +3,7 @@
 Levels (each a model of the same design, cheapest first):
 
   A  linear 2D, the base scene's pressure patch: the cheap front (problem.linear(),
-     optimize.spec.front) and every design its search visited (all cached);
+     optimize.front) and every design its search visited (all cached);
   B  the probe press in 2D (optimize.probe: the [press] probe on Yeoh silicone,
      plane strain, the base scene's mesh): a few designs, through the correction
      loop of optimize.multifidelity (`correct`: log-linear + inverse-distance ratio
@@ -223,7 +223,7 @@ def _error_3d(rec: dict | None) -> tuple[float, float | None]:
 def probe_front(problem, linear_mf: MultiFidelity, runs, x_reference, presses_3d: int | None = 0, workers=2,
                 tolerance=0.02, max_rounds=2, fine_model: dict = PRESS_3D, rounds_3d: int = 1) -> ProbeFront:
     """The probe front of `problem` (a spec with [press]) from its linear front `runs`
-    (problem.linear()'s, optimize.spec.front) and their 3D verification `linear_mf`.
+    (problem.linear()'s, optimize.front) and their 3D verification `linear_mf`.
     Level C: `presses_3d` designs of the estimated front (spread by crosstalk) pressed in
     3D on `fine_model`, their rows replaced by the 3D press's; None: the whole level-B
     front and the thesis design (`taxel demo --full`), corrected over `rounds_3d` rounds."""

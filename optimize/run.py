@@ -1,5 +1,5 @@
 """One optimization spec, run: the reference design's evaluation, then the optimum
-(spec.optimize) or with [pareto] the sensitivity-crosstalk front (spec.front),
+(spec.optimize) or with [pareto] the sensitivity-crosstalk front (optimize.front),
 gathered into one OptimizationResult."""
 
 from __future__ import annotations
