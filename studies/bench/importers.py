@@ -187,6 +187,8 @@ def read_lvm(path: Path, rig: Rig) -> Table:
             head = head[:-1]
             rows = [r[:len(head)] for r in rows]
         cols = _columns(path, head, rig)
+        if not rows:                    # a segment header with no data rows (a cut file): nothing to read
+            continue
         a = _numbers(path, [r[:len(head)] for r in rows], dec)
         if "X_Value" in head:
             t_parts.append(a[:, head.index("X_Value")])
