@@ -123,18 +123,8 @@ def press(data: dict, out: str | None, model: dict = PRESS_3D) -> dict:
 
 def press_all(jobs: list[tuple[str, dict, str | None]], workers: int = 2, model: dict = PRESS_3D) -> list[dict]:
     """`press` of each (name, scene data, out folder) job, on `workers` Dask processes."""
-    if workers > 1 and len(jobs) > 1:
-        from dask.distributed import Client
-        from taxel.studies.execute import local_cluster
-        cluster = local_cluster(workers)
-        client = Client(cluster)
-        try:
-            return client.gather([client.submit(press, d, out, model, pure=False, key=f"press-{name}")
-                                  for name, d, out in jobs])
-        finally:
-            client.close()
-            cluster.close()
-    return [press(d, out, model) for _, d, out in jobs]
+    from taxel.studies.execute import map_on_workers
+    return map_on_workers(press, [(d, out, model) for _, d, out in jobs], workers)
 
 
 def rule(problem, x, model: dict = PRESS_3D, log=print) -> dict:

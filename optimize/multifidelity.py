@@ -51,7 +51,7 @@ from taxel.analyses.error_estimate import CHEAP_3D
 from taxel.optimize.driver import pareto_front, violation
 from taxel.optimize.result import FrontRun
 from taxel.studies.evaluate import evaluate_safely
-from taxel.studies.execute import local_cluster
+from taxel.studies.execute import map_on_workers
 from taxel.studies.store import Store, point_key
 
 # The 3D model the front is verified on: 3 mm elements, 1.2 mm at the taxels, two through
@@ -144,17 +144,7 @@ def solve_3d(problem, xs, workers=2, model: dict = VERIFY_3D) -> list[tuple[floa
         got = {k: (store.get(k) or {}) for k in keys}
         todo = [(k, d, x) for k, d, x in zip(keys, datas, xs) if got[k].get("status") != "done"]
         if todo:
-            if workers > 1 and len(todo) > 1:
-                from dask.distributed import Client
-                cluster = local_cluster(workers)
-                client = Client(cluster)
-                try:
-                    res = client.gather([client.submit(evaluate_safely, d, outputs, pure=False) for _, d, _ in todo])
-                finally:
-                    client.close()
-                    cluster.close()
-            else:
-                res = [evaluate_safely(d, outputs) for _, d, _ in todo]
+            res = map_on_workers(evaluate_safely, [(d, outputs) for _, d, _ in todo], workers)
             for (k, _, x), (status, result, error) in zip(todo, res):
                 store.put(k, {"x": list(map(float, x)), "fidelity": "3d"}, status, result, error,
                           (result or {}).get("seconds", 0.0))

@@ -57,7 +57,7 @@ from taxel.optimize.multifidelity import (VERIFY_3D, ScoredDesign, MultiFidelity
                                           interpolant, nondominated)
 from taxel.scene import DEFAULT_PRESS_MESH
 from taxel.optimize.probe import press_key, press_safely, press_scene, stored_press
-from taxel.studies.execute import local_cluster
+from taxel.studies.execute import map_on_workers
 from taxel.studies.store import Store
 
 # The default 2D mesh's voltage error, the worst measured against nested references: 0.47 %
@@ -153,17 +153,7 @@ def _solver(problem, model: dict | None, workers: int, results: dict | None = No
             got = [stored_press(store, d, press, estimate=estimate) if _cached(store, d, press, estimate) else None
                    for d in ds]
             todo = [i for i, g in enumerate(got) if g is None]
-            if workers > 1 and len(todo) > 1:
-                from dask.distributed import Client
-                cluster = local_cluster(workers)
-                client = Client(cluster)
-                try:
-                    res = client.gather([client.submit(press_safely, ds[i], press, estimate, pure=False) for i in todo])
-                finally:
-                    client.close()
-                    cluster.close()
-            else:
-                res = [press_safely(ds[i], press, estimate) for i in todo]
+            res = map_on_workers(press_safely, [(ds[i], press, estimate) for i in todo], workers)
             for i, r in zip(todo, res):
                 _put(store, ds[i], press, estimate, r)
                 got[i] = r

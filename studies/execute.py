@@ -200,6 +200,22 @@ def start_method() -> str:
     return "fork" if threading.active_count() == 1 else "forkserver"
 
 
+def map_on_workers(fn, calls: list[tuple], workers: int) -> list:
+    """`fn(*args)` for each args tuple of `calls`, in order: on a local Dask cluster of
+    `workers` processes (local_cluster) when there are two or more calls and workers,
+    else in this process. The cluster lives for this call only."""
+    if workers > 1 and len(calls) > 1:
+        from dask.distributed import Client
+        cluster = local_cluster(min(workers, len(calls)))
+        client = Client(cluster)
+        try:
+            return client.gather([client.submit(fn, *args, pure=False) for args in calls])
+        finally:
+            client.close()
+            cluster.close()
+    return [fn(*args) for args in calls]
+
+
 def local_cluster(workers: int, method: str | None = None):
     """A local Dask cluster for FEM work: one process per worker (gmsh is not
     thread-safe), one thread and one BLAS thread each, started by `start_method()`

@@ -69,17 +69,8 @@ def _stored(store, data: dict, press) -> dict | None:
 
 
 def _run(tasks: list[tuple[dict, list]], workers: int) -> list[list[dict]]:
-    if workers > 1 and len(tasks) > 1:
-        from dask.distributed import Client
-        from taxel.studies.execute import local_cluster
-        cluster = local_cluster(min(workers, len(tasks)))
-        client = Client(cluster)
-        try:
-            return client.gather([client.submit(_legs, d, laws, pure=False) for d, laws in tasks])
-        finally:
-            client.close()
-            cluster.close()
-    return [_legs(d, laws) for d, laws in tasks]
+    from taxel.studies.execute import map_on_workers
+    return map_on_workers(_legs, tasks, workers)
 
 
 def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> Path | None:
