@@ -232,9 +232,10 @@ def test_electrode_names_come_from_one_helper():
 def test_the_public_api_cannot_be_shadowed():
     """Every public name of `taxel` stays what it is after importing every subpackage: no
     public function shares its name with a subpackage (`taxel.optimize` is the subpackage,
-    `taxel.run_optimization` the function), and nothing is both a function and a module."""
+    `taxel.run_optimization` the function), and no package's public name (its `__all__`)
+    is both a function or class and a module."""
     code = """
-import importlib, importlib.util, taxel
+import importlib, importlib.util, sys, taxel
 for name in NAMES:
     importlib.import_module(name)
 import types, taxel.optimize.driver
@@ -244,9 +245,16 @@ for name in taxel.__all__:
     assert value is not None, name
     assert (name == "measure") == isinstance(value, types.ModuleType), name
     assert name == "measure" or importlib.util.find_spec("taxel." + name) is None, name
-for name, value in vars(taxel).items():
-    if isinstance(value, types.ModuleType):
-        assert name not in taxel.__all__ or name == "measure", name
+clashes = []                     # no package's public name is both a function (or class) and a module
+for name in NAMES:
+    pkg = sys.modules[name]
+    if not hasattr(pkg, "__path__"):
+        continue
+    for attr in getattr(pkg, "__all__", [n for n in vars(pkg) if not n.startswith("_")]):
+        if not isinstance(getattr(pkg, attr), types.ModuleType) and importlib.util.find_spec(f"{name}.{attr}"):
+            clashes.append(f"{name}.{attr}")
+assert not clashes, clashes
+assert type(taxel) is types.ModuleType         # no module-class swap
 from taxel import Scene, StaticResult, FrequencyResult, TransientResult, LumpedResult, SceneError
 assert isinstance(taxel.load("thesis-pzt-single-2d"), Scene)
 print("ok")
