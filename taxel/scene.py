@@ -36,7 +36,9 @@ EXAMPLES = Path(__file__).parent / "examples"
 MATERIAL_UNITS = {"E": ("Pa", "modulus"), "mu": ("Pa", "shear modulus"), "K": ("Pa", "bulk modulus"),
                   "C10": ("Pa", "Yeoh constant"), "C20": ("Pa", "Yeoh constant"), "C30": ("Pa", "Yeoh constant"),
                   "rho": ("kg/m^3", "density"), "s": ("1/Pa", "compliance"), "d": ("C/N", "piezoelectric constant"),
-                  "c": ("Pa", "stiffness"), "e": ("C/m^2", "piezoelectric stress constant")}
+                  "c": ("Pa", "stiffness"), "e": ("C/m^2", "piezoelectric stress constant"),
+                  "conductivity": ("W/(m*K)", "thermal conductivity"), "specific_heat": ("J/(kg*K)", "specific heat"),
+                  "pyro": ("C/(m^2*K)", "pyroelectric coefficient")}
 
 
 def material_in_si(rec):
