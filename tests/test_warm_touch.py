@@ -1,0 +1,77 @@
+"""A warm finger on a scene (taxel.analyses.warm_touch): its numbers, and the readout's
+output against the charge amplifier's slow-signal closed form.
+
+Below its lower corner (1 / (2 pi R_f C_f) = 19.4 Hz) the bench's charge amplifier
+outputs -R_f dQ/dt; a thin film's pyroelectric charge is -p3 A dT_film (fem.thermal),
+so the touch's peak is R_f |p3| A max|dT_film/dt|, with the film's mean temperature from
+the same conduction. The press of F held (ramped over `rise`) peaks at
+(|Q_sc| F / C_f) (tau / rise) (1 - exp(-rise / tau)), tau = R_f C_f. These are closed
+forms of the circuit, checked against the time-domain readout (a consistency test of
+the chain; the conduction itself is checked against closed forms in test_thermal.py)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import taxel
+from taxel.analyses.warm_touch import warm_touch
+from taxel.fem import constitution
+from taxel.scene import SceneError
+
+
+@pytest.fixture(scope="module")
+def pvdf():
+    scene = taxel.load("thesis-pvdf-single-2d").replace(**{"readout.circuit": "charge_amplifier"})
+    return warm_touch(scene)
+
+
+def test_thesis_pvdf_warm_touch_numbers(pvdf):
+    """The thesis PVDF taxel (2D, 1 mm silicone above), a 34 C finger held 1 s on a 23 C skin
+    through 1000 W/(m^2 K): the film warms 1.28 K in 3 s, at most 0.98 K/s; the bench's
+    charge amplifier makes it a false press of 10.9 mN (mesh and step converged within
+    0.1 %, benchmarks/warm_touch.py), 1256 times the chain's minimum detectable force."""
+    s = pvdf.summary()
+    assert s["film_rise_K"] == pytest.approx(1.276, rel=0.02)
+    assert s["film_max_rate_K_per_s"] == pytest.approx(0.978, rel=0.02)
+    assert s["false_force_N"] == pytest.approx(10.9e-3, rel=0.03)
+    assert s["ratio"] > 100
+
+
+def test_touch_and_press_peaks_against_the_amplifier_closed_form(pvdf):
+    r, sc = pvdf, pvdf.scene
+    p, ro, a = r.pressed, sc.readout, sc.array
+    area = a.taxel_width * a.taxel_width          # the 2D model's depth is the taxel's width
+    rate = np.abs(np.gradient(r.film_temperature[p], r.t)).max()
+    touch = ro.R_f * abs(constitution.get("PVDF").pyro) * area * rate
+    assert np.abs(r.touch[p]).max() == pytest.approx(touch, rel=0.02)
+    tau, rise = ro.R_f * ro.C_f, sc.analysis.rise
+    q = abs(np.interp(0.5, r.t, r.press[p]))      # the held press's output has decayed: ~0
+    assert q < 1e-6 * np.abs(r.press[p]).max()
+    from taxel.analyses import solve_static
+    st = solve_static(sc)
+    qn = abs(st.electrodes[p].short_circuit_charge / st.applied_force)
+    press = qn * r.force / ro.C_f * (tau / rise) * (1 - math.exp(-rise / tau))
+    assert np.abs(r.press[p]).max() == pytest.approx(press, rel=0.01)
+    # heating PVDF (p3 < 0) charges its top electrode like a release (d33 < 0): opposite to the press's onset
+    k_on = int(np.argmax(np.abs(r.press[p][r.t < 0.5])))
+    k_touch = int(np.argmax(np.abs(r.touch[p])))
+    assert np.sign(r.press[p][k_on]) == -np.sign(r.touch[p][k_touch])
+
+
+def test_a_user_silicone_needs_its_heat():
+    """A user silicone without conductivity and specific heat: one line naming them; with
+    them (in units) the warm touch runs on them."""
+    base = taxel.load("thesis-pvdf-single-2d")
+    soft = {"kind": "solid", "E": "30 kPa", "nu": 0.45, "rho": "1070 kg/m^3"}
+    bare = base.replace(**{"array.silicone": "soft", "materials.soft": soft})
+    with pytest.raises(SceneError, match="materials.soft: no thermal properties.*conductivity"):
+        warm_touch(bare)
+    from taxel.analyses.warm_touch import thermal_model
+    warm = bare.replace(**{"materials.soft.conductivity": "0.3 W/(m*K)", "materials.soft.specific_heat": "1.2 kJ/(kg*K)"})
+    model, tm = thermal_model(warm)
+    sil = tm.regions["silicone"]
+    assert model.volume_load(sil).sum() > 0
+    assert constitution.from_record("soft", {**soft, "E": 3e4, "rho": 1070, "conductivity": 0.3}).conductivity == 0.3
