@@ -12,6 +12,7 @@ the chain; the conduction itself is checked against closed forms in test_thermal
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -75,3 +76,26 @@ def test_a_user_silicone_needs_its_heat():
     sil = tm.regions["silicone"]
     assert model.volume_load(sil).sum() > 0
     assert constitution.from_record("soft", {**soft, "E": 3e4, "rho": 1070, "conductivity": 0.3}).conductivity == 0.3
+
+
+def test_the_requirement_reads_and_judges_the_warm_touch(pvdf):
+    """warm_touch_force and warm_touch_ratio are optimizer metrics: a [requirements] table
+    names them in its grammar, and the design's metrics (optimize.warm) are the analysis's."""
+    from taxel.optimize import requirements
+    from taxel.optimize.warm import warm_metrics
+    reqs = requirements.read({"warm_touch_ratio": "<= 100 %", "warm_touch_force": "<= 5 mN"})
+    assert [(r.metric, r.op, r.bound) for r in reqs] == [("warm_touch_ratio", "<=", 1.0), ("warm_touch_force", "<=", 5e-3)]
+    with pytest.raises(requirements.RequirementError):
+        requirements.read({"warm_touch_force": "<= 5 K"})
+    m = warm_metrics(pvdf.scene)
+    assert m["warm_touch_force"] == pytest.approx(pvdf.false_force, rel=1e-9)
+    assert m["warm_touch_ratio"] == pytest.approx(pvdf.ratio, rel=1e-9)
+
+
+def test_the_report_section_reads_the_record(pvdf, tmp_path):
+    """The record a warm touch writes is the report section's: its table and its figure."""
+    from taxel.reports import warm_touch as section
+    pvdf.write(tmp_path)
+    b = section.block(tmp_path)
+    assert dict(b["rows"])["false force"].endswith("N") and Path(b["figure"]).stat().st_size > 10_000
+    assert section.block(tmp_path / "none") is None

@@ -140,16 +140,16 @@ def model_tensors(material, model: str):
 # the library
 # --------------------------------------------------------------------------------------
 
-# Heat (docs/materials.md, "Heat and pyroelectricity"). PZT: the CTS "PZT5A & 5H Materials Technical
-# Data" sheet, 3203HD (the PSI-5H4E family: same K3, d33, d31): specific heat 440 J/(kg K), thermal
-# conductivity 1.2 W/(m K); no pyroelectric coefficient there or on the PSI-5H4E sheet: Piezo Systems'
-# technical note's "for PZT piezoceramic ~ 400e-6 C/(m^2 K)", negative (the polarization falls on
-# heating). The same values for the generic PZT-5H. Silicone: no sourced value for Ecoflex 00-30; a
-# measured thin silicone rubber sheet, 0.237 W/(m K) (Thermtest, guarded heat-flow meter, ASTM E1530,
-# 26 C), and 1250 J/(kg K), the middle of silicone rubbers' 1.0-1.5 kJ/(kg K) (assumed).
-PZT_THERMAL = dict(conductivity=1.2, specific_heat=440.0, pyro=-400e-6,
-                   thermal_source="k, c: CTS PZT5A & 5H technical data (3203HD); p3: Piezo Systems technical "
-                                  "note, typical PZT (-400e-6)")
+# Heat (docs/materials.md, "Heat and pyroelectricity"). PZT: CTS "Materials Technical Data (Typical
+# Values)", the PZT-5H column (3203HD: K3 3800, d33 650, d31 -320, the PSI-5H4E numbers): specific heat
+# 420 J/(kg K), thermal conductivity 1.2 W/(m K). Neither that sheet nor PSI-5H4E's gives a pyroelectric
+# coefficient: Piezo Systems' technical note's "for PZT piezoceramic ~ 400e-6 C/(m^2 K)", negative (the
+# polarization falls on heating). The same values for the generic PZT-5H. Silicone: no sourced value for
+# Ecoflex 00-30; a measured thin silicone rubber sheet, 0.237 W/(m K) (Thermtest, guarded heat-flow
+# meter, ASTM E1530, 26 C), and 1250 J/(kg K), the middle of silicone rubbers' 1.0-1.5 kJ/(kg K) (assumed).
+PZT_THERMAL = dict(conductivity=1.2, specific_heat=420.0, pyro=-400e-6,
+                   thermal_source="k, c: CTS Materials Technical Data, PZT-5H (3203HD); p3: Piezo Systems "
+                                  "technical note, typical PZT (-400e-6)")
 SILICONE_THERMAL = dict(conductivity=0.237, specific_heat=1250.0,
                         thermal_source="k: Thermtest, thin silicone rubber sheet (not Ecoflex); c: assumed 1250")
 

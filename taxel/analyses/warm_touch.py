@@ -32,7 +32,9 @@ a contact conductance (not its own transient); no heat from the press itself.
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -42,7 +44,9 @@ from taxel.fem import readout as circuits
 from taxel.scene import Scene, SceneError
 from taxel.scene_tables import WarmTouchTable
 
-__all__ = ["WarmTouchResult", "warm_touch", "thermal_model", "surfaces"]
+__all__ = ["FILE", "WarmTouchResult", "warm_touch", "thermal_model", "surfaces"]
+
+FILE = "warm-touch.json"      # a warm touch's record in a result folder (WarmTouchResult.write)
 
 
 @dataclass
@@ -62,8 +66,9 @@ class WarmTouchResult:
     false_force: float                 # N
     min_detectable_force: float | None
     field_time: float                  # s, the time of the stored field (the touch's end)
-    nodes: np.ndarray = field(repr=False)       # (dim, n) the thermal DOFs' coordinates
-    temperature: np.ndarray = field(repr=False)  # (n,) K at field_time
+    points: np.ndarray = field(repr=False)       # (dim, nv) the mesh's vertices
+    cells: np.ndarray = field(repr=False)        # (nodes per element, ne) its elements
+    temperature: np.ndarray = field(repr=False)  # (nv,) K at field_time, at the vertices
     timings: dict = field(default_factory=dict)
 
     @property
@@ -85,6 +90,27 @@ class WarmTouchResult:
                 "warm_press_peak": float(np.abs(self.warm_press[p]).max()),
                 "false_force_N": self.false_force, "min_detectable_force_N": self.min_detectable_force,
                 "ratio": self.ratio, "timings_s": self.timings}
+
+
+    def write(self, folder, points: int = 600) -> Path:
+        """FILE in `folder`: the summary, the pressed taxel's traces (`points` samples) and,
+        for a 2D or axisymmetric model, the temperature field at the touch's end (the
+        report's section, reports.warm_touch, draws them; no solve there)."""
+        p = self.pressed
+        w = self.scene.warm_touch or WarmTouchTable()
+        near = ((self.t <= 0.03) | ((self.t >= w.duration) & (self.t <= w.duration + 0.03)))   # the press's spikes
+        k = np.unique(np.r_[np.linspace(0, len(self.t) - 1, points).round().astype(int), np.flatnonzero(near)])
+        two_d = self.points.shape[0] == 2
+        rec = {**self.summary(), "scene": self.scene.name, "model": self.scene.model.type,
+               "t_s": self.t[k].tolist(), "film_temperature_K": self.film_temperature[p][k].tolist(),
+               "touch": self.touch[p][k].tolist(), "press": self.press[p][k].tolist(),
+               "warm_press": self.warm_press[p][k].tolist(), "field_time_s": self.field_time,
+               "field": None if not two_d else {"points_m": self.points.tolist(), "triangles": self.cells[:3].T.tolist(),
+                                                "temperature_K": self.temperature.tolist()}}
+        path = Path(folder) / FILE
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(rec))
+        return path
 
 
 def thermal_model(scene: Scene, tm=None):
@@ -123,8 +149,9 @@ def surfaces(tm, w: WarmTouchTable) -> list:
             thermal.Surface(air, w.convection, lambda t: w.ambient)]
 
 
-def warm_touch(scene: Scene, static=None) -> WarmTouchResult:
-    """The warm touch and the warm press of an array scene (`static`: its static solve, if done)."""
+def warm_touch(scene: Scene, static=None, rig=None) -> WarmTouchResult:
+    """The warm touch and the warm press of an array scene (`static`: its static solve, if
+    done; `rig`: a bench rig whose converter and band the minimum detectable force takes)."""
     import time
     if scene.array is None:
         raise SceneError("warm_touch needs an [array] scene (taxels with their films)")
@@ -162,12 +189,13 @@ def warm_touch(scene: Scene, static=None) -> WarmTouchResult:
          for what, Q in (("touch", Q_touch), ("press", Q_press), ("warm_press", Q_touch + Q_press))}
     k = names.index(pressed)
     false_force = float(np.abs(y["touch"][:, k]).max() / np.abs(y["press"][:, k]).max() * force)
-    mdf = _min_detectable_force(scene, v_per_n, q_per_n[pressed])
+    mdf = _min_detectable_force(scene, v_per_n, q_per_n[pressed], rig)
     at = int(np.argmin(abs(t_th - w.duration)))
     per = {what: {n: y[what][:, j] for j, n in enumerate(names)} for what in y}
     return WarmTouchResult(scene, pressed, force, t, {n: np.interp(t, t_th, film_T[n]) for n in names},
                            {n: Q_touch[:, j] for j, n in enumerate(names)}, per["touch"], per["press"],
-                           per["warm_press"], r.label, false_force, mdf, float(t_th[at]), model.nodes(), cond.T[at],
+                           per["warm_press"], r.label, false_force, mdf, float(t_th[at]), tm.mesh.p, tm.mesh.t,
+                           cond.T[at][:tm.mesh.p.shape[1]],
                            {"thermal": t1 - t0, "static": t2 - t1, "readout": time.perf_counter() - t2})
 
 
@@ -176,11 +204,11 @@ def _ramp(t, rise):
     return np.clip(np.asarray(t, float) / rise, 0.0, 1.0)
 
 
-def _min_detectable_force(scene, v_per_n, q_per_n):
+def _min_detectable_force(scene, v_per_n, q_per_n, rig=None):
     """The chain's minimum detectable force (N) from the static solve's numbers, None when
     the chain's noise budget cannot be built (the open circuit has none here)."""
     from taxel.analyses.noise import quasi_static_noise
     try:
-        return float(quasi_static_noise(scene, v_per_n, q_per_n).min_detectable_force)
+        return float(quasi_static_noise(scene, v_per_n, q_per_n, rig).min_detectable_force)
     except (SceneError, ValueError):
         return None
