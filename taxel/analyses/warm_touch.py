@@ -33,6 +33,7 @@ a contact conductance (not its own transient); no heat from the press itself.
 from __future__ import annotations
 
 import json
+import logging
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -77,6 +78,18 @@ class WarmTouchResult:
         mdf = self.min_detectable_force
         return self.false_force / mdf if mdf else None
 
+    @property
+    def touch_peak_time(self) -> float:
+        """s: when the pressed taxel's warm-touch output peaks."""
+        return float(self.t[np.argmax(np.abs(self.touch[self.pressed]))])
+
+    @property
+    def peak_at_end(self) -> bool:
+        """The touch's output peaks in the last 5 % of the simulated time: the heat has not
+        reached the film yet (thick silicone), and the false force is a lower bound; make
+        warm_touch.time longer."""
+        return self.touch_peak_time >= 0.95 * self.t[-1]
+
     def summary(self) -> dict:
         """The numbers, JSON-ready."""
         p, T = self.pressed, self.film_temperature[self.pressed]
@@ -88,6 +101,7 @@ class WarmTouchResult:
                 "pyro_charge_C": float(self.pyro_charge[p][np.argmax(abs(self.pyro_charge[p]))]),
                 "touch_peak": float(np.abs(self.touch[p]).max()), "press_peak": float(np.abs(self.press[p]).max()),
                 "warm_press_peak": float(np.abs(self.warm_press[p]).max()),
+                "touch_peak_time_s": self.touch_peak_time, "peak_at_end": self.peak_at_end,
                 "false_force_N": self.false_force, "min_detectable_force_N": self.min_detectable_force,
                 "ratio": self.ratio, "timings_s": self.timings}
 
@@ -191,6 +205,9 @@ def warm_touch(scene: Scene, static=None, rig=None) -> WarmTouchResult:
     false_force = float(np.abs(y["touch"][:, k]).max() / np.abs(y["press"][:, k]).max() * force)
     mdf = _min_detectable_force(scene, v_per_n, q_per_n[pressed], rig)
     at = int(np.argmin(abs(t_th - w.duration)))
+    if np.argmax(np.abs(y["touch"][:, k])) >= 0.95 * (len(t) - 1):
+        logging.getLogger(__name__).warning("%s: the warm touch's output peaks at the end of warm_touch.time = %g s; "
+                                            "the false force is a lower bound: make the time longer", scene.name, w.time)
     per = {what: {n: y[what][:, j] for j, n in enumerate(names)} for what in y}
     return WarmTouchResult(scene, pressed, force, t, {n: np.interp(t, t_th, film_T[n]) for n in names},
                            {n: Q_touch[:, j] for j, n in enumerate(names)}, per["touch"], per["press"],
