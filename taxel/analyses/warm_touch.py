@@ -88,7 +88,7 @@ class WarmTouchResult:
         """The touch's output peaks in the last 5 % of the simulated time: the heat has not
         reached the film yet (thick silicone), and the false force is a lower bound; make
         warm_touch.time longer."""
-        return self.touch_peak_time >= 0.95 * self.t[-1]
+        return bool(self.touch_peak_time >= 0.95 * self.t[-1])
 
     def summary(self) -> dict:
         """The numbers, JSON-ready."""
