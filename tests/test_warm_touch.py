@@ -24,9 +24,28 @@ from taxel.scene import SceneError
 
 
 @pytest.fixture(scope="module")
-def pvdf():
-    scene = taxel.load("thesis-pvdf-single-2d").replace(**{"readout.circuit": "charge_amplifier"})
-    return warm_touch(scene)
+def solved():
+    """A scene with a [warm_touch] table, solved: the static result carries the warm touch."""
+    scene = taxel.load("thesis-pvdf-single-2d").replace(**{"readout.circuit": "charge_amplifier",
+                                                           "warm_touch.finger": "34 degC"})
+    return taxel.solve(scene)
+
+
+@pytest.fixture(scope="module")
+def pvdf(solved):
+    return solved.warm_touch
+
+
+def test_a_scene_with_a_warm_touch_solves_it_beside_the_press(solved):
+    """`taxel.solve` of a scene with [warm_touch]: its outputs and summary carry the false
+    force, and its record (result.json) reads back with them."""
+    import json
+    from taxel.analyses import StaticResult
+    assert solved.outputs()["warm_touch_force"] == pytest.approx(solved.warm_touch.false_force)
+    assert any("false force" in line for line in solved.summary())
+    back = StaticResult.from_record(solved.scene, json.loads(json.dumps(solved.record())))
+    assert back.outputs()["warm_touch_force"] == pytest.approx(solved.warm_touch.false_force)
+    assert back.outputs()["warm_touch_ratio"] == pytest.approx(solved.warm_touch.ratio)
 
 
 def test_thesis_pvdf_warm_touch_numbers(pvdf):

@@ -63,6 +63,9 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
         res.readout = at_readout(res)
         return res
     res.readout = at_readout(res)          # a scene naming a readout: its numbers too
+    if scene.warm_touch is not None and scene.array is not None:     # a warm finger beside the press
+        from taxel.analyses.warm_touch import warm_touch
+        res.warm_touch = warm_touch(scene, static=res)
     if estimate and res.error is None:
         from taxel.analyses.error_estimate import estimate as error_estimate
         res.error = error_estimate(res.scene, res, options.get("solver", "auto"))
