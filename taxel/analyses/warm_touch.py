@@ -43,6 +43,7 @@ from taxel.analyses.problem import check, mesh, readout, solve_model
 from taxel.fem import constitution, thermal
 from taxel.fem import readout as circuits
 from taxel.scene import Scene, SceneError
+from taxel.schema import electrode_name
 from taxel.scene_tables import WarmTouchTable
 
 __all__ = ["FILE", "WarmTouchResult", "warm_touch", "thermal_model", "surfaces"]
@@ -177,9 +178,9 @@ def warm_touch(scene: Scene, static=None, rig=None) -> WarmTouchResult:
     cond = thermal.conduct(model, t_th, surfaces(tm, w), w.ambient, theta=0.5)
     t1 = time.perf_counter()
     a = scene.array
-    films = {f"taxel_{r[len('piezo_'):]}": thermal.Film(tm.regions[r], mats.pyro, s, a.piezo_thickness)
-             for r, (name, s) in tm.materials.items() if r.startswith("piezo_")
-             for mats in [check(scene)[name]]}
+    films = {electrode_name(*map(int, r.split("_")[1:3])): thermal.Film(tm.regions[r], check(scene)[name].pyro, s,
+                                                                         a.piezo_thickness)
+             for r, (name, s) in tm.materials.items() if r.startswith("piezo_")}
     pyro = {e: thermal.pyro_charge(cond, f) for e, f in films.items()}
     film_T = {e: thermal.mean_temperature(cond, f.cells) for e, f in films.items()}
     static = static or solve_model(scene)
