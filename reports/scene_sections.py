@@ -78,6 +78,9 @@ def scene_sections(folder: Path, scene_data: dict, compare: bool):
         sections += [{"title": "Fields", "blocks": fields},
                      {"title": "Solver", "blocks": [{"type": "table", "table": solver_table(result)},
                                                     {"type": "table", "table": electrode_table(result)}]}]
+        from taxel.reports.warm_touch import section as warm_section
+        warm = warm_section(folder)            # a [warm_touch]: the field and the traces (reports.warm_touch)
+        sections += [warm] if warm is not None else []
         numbers, banners = findings.static_numbers(result), findings.static_banners(result)
         key = next((n for n in ("render.png", "taxels.png") if n in names), None)
         key_png = images[names.index(key)] if key else (images[0] if images else None)

@@ -23,6 +23,19 @@ def record(folder) -> dict | None:
     return json.loads(path.read_text()) if path is not None and path.exists() else None
 
 
+def section(folder) -> dict | None:
+    """The report's "Warm touch" section of a result folder (reports.scene_sections), None
+    without a record."""
+    b = block(folder)
+    if b is None:
+        return None
+    from taxel.reports import tables
+    from taxel.reports.scene_sections import data_uri
+    return {"title": "Warm touch", "blocks": [
+        {"type": "table", "table": tables.table([{"": k, b["cols"][1]: v} for k, v in b["rows"]], title=b["caption"])},
+        {"type": "figures", "images": [{"src": data_uri(b["png"]), "caption": b["note"]}]}]}
+
+
 def figure(rec: dict, path: Path) -> Path:
     """The temperature field at the touch's end (left; 2D and axisymmetric models) and the
     output traces (right)."""
@@ -57,7 +70,8 @@ def figure(rec: dict, path: Path) -> Path:
 
 
 def block(folder) -> dict | None:
-    """Template data of the section ({caption, cols, rows, note, figure}); None without a record."""
+    """Template data of the section ({caption, cols, rows, note, png: the figure's bytes, drawn
+    in a temporary folder}); None without a record."""
     rec = record(folder)
     if rec is None:
         return None
@@ -69,8 +83,10 @@ def block(folder) -> dict | None:
             ["false force", eng(rec["false_force_N"], "N", 3)],
             ["minimum detectable force", "-" if mdf is None else eng(mdf, "N", 3)],
             ["false force / minimum detectable", "-" if rec["ratio"] is None else f"{rec['ratio']:.3g}"]]
-    path = figure(rec, Path(folder) / FIGURE)
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="taxel-report-") as tmp:    # redrawn from the stored record
+        png = figure(rec, Path(tmp) / FIGURE).read_bytes()
     return {"caption": "warm touch: a finger's heat at the readout", "cols": ["", rec["scene"]], "rows": rows,
-            "figure": str(path),
+            "png": png,
             "note": (f"{rec['readout']}; {rec['model']} model. The false force is the press, held as long, with the "
                      "same peak output (docs/theory/heat.md).")}
