@@ -23,19 +23,6 @@ def record(folder) -> dict | None:
     return json.loads(path.read_text()) if path is not None and path.exists() else None
 
 
-def section(folder) -> dict | None:
-    """The report's "Warm touch" section of a result folder (reports.scene_sections), None
-    without a record."""
-    b = block(folder)
-    if b is None:
-        return None
-    from taxel.reports import tables
-    from taxel.reports.scene_sections import data_uri
-    return {"title": "Warm touch", "blocks": [
-        {"type": "table", "table": tables.table([{"": k, b["cols"][1]: v} for k, v in b["rows"]], title=b["caption"])},
-        {"type": "figures", "images": [{"src": data_uri(b["png"]), "caption": b["note"]}]}]}
-
-
 def figure(rec: dict, path: Path) -> Path:
     """The temperature field at the touch's end (left; 2D and axisymmetric models) and the
     output traces (right)."""

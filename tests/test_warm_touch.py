@@ -117,5 +117,4 @@ def test_the_report_section_reads_the_record(pvdf, tmp_path):
     pvdf.write(tmp_path)
     b = section.block(tmp_path)
     assert dict(b["rows"])["false force"].endswith("N") and len(b["png"]) > 10_000
-    assert [x["type"] for x in section.section(tmp_path)["blocks"]] == ["table", "figures"]
     assert section.block(tmp_path / "none") is None and list(tmp_path.iterdir()) == [tmp_path / "warm-touch.json"]
