@@ -197,8 +197,8 @@ class Optimization:
         if set(NOISE_METRICS) & (self.used | set(self.requirements)):
             from taxel.optimize.resolution import noise_metrics
             metrics.update(noise_metrics(scene, result.get("outputs") or {}, self.spec.resolution, self.rig))
-        if set(WARM_METRICS) & (self.used | set(self.requirements)):
-            metrics.update(warm_metrics(scene, self.rig))
+        if set(WARM_METRICS) & (self.used | set(self.requirements)):     # solved with the scene's [warm_touch], or now
+            metrics.update({k: named[k] for k in WARM_METRICS if k in named} or warm_metrics(scene, self.rig))
         return metrics
 
     def influence_metrics(self, x, metrics: dict | None = None) -> dict:
