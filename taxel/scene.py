@@ -170,7 +170,7 @@ class Scene(Strict):
             raise ValueError("an axisymmetric model needs a load centred on the axis; "
                              "drop load.offset or use a 3d model")
         if self.warm_touch is not None:
-            _check_warm_touch(self.warm_touch)
+            _check_warm_touch(self.warm_touch, self.analysis.rise)
         if self.analysis.f_min >= self.analysis.f_max:
             raise ValueError("analysis.f_min must be below analysis.f_max")
         if self.analysis.type == "transient" and self.analysis.dt >= self.analysis.duration:
@@ -214,17 +214,19 @@ class Scene(Strict):
         return self
 
 
-def _check_warm_touch(w: WarmTouchTable):
-    """The warm touch's times: the touch within the simulated time, steps that resolve it."""
+def _check_warm_touch(w: WarmTouchTable, rise: float):
+    """The warm touch's times: the touch within the simulated time, steps that resolve it, a
+    readout grid (the press's rise / 4) that fits."""
     if w.duration > w.time:
         raise ValueError(f"warm_touch.duration = {w.duration:g} s is longer than warm_touch.time = {w.time:g} s, "
                          "the simulated time; make the time at least the touch's duration")
     if w.dt > w.duration / 2:
         raise ValueError(f"warm_touch.dt = {w.dt:g} s does not resolve a touch of {w.duration:g} s; "
                          "make dt at most half the duration")
-    if w.time / w.dt > MAX_TIME_STEPS:
-        raise ValueError(f"warm_touch: {w.time / w.dt:.3g} time steps (time / dt) is more than {MAX_TIME_STEPS:.0e}; "
-                         "shorten warm_touch.time or raise warm_touch.dt")
+    samples = w.time / min(w.dt, rise / 4)
+    if samples > MAX_TIME_STEPS:
+        raise ValueError(f"warm_touch: {samples:.3g} readout samples (time / min(dt, analysis.rise / 4)) is more than "
+                         f"{MAX_TIME_STEPS:.0e}; shorten warm_touch.time or raise analysis.rise")
 
 
 def _user_solids_without_yeoh(scene: Scene) -> list[str]:
