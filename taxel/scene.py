@@ -217,6 +217,14 @@ class Scene(Strict):
 def _check_warm_touch(w: WarmTouchTable, rise: float):
     """The warm touch's times: the touch within the simulated time, steps that resolve it, a
     readout grid (the press's rise / 4) that fits."""
+    for key in ("finger", "ambient"):
+        if not 1.0 <= getattr(w, key) <= 1000.0:
+            raise ValueError(f"warm_touch.{key} = {getattr(w, key):g} K is outside 1 K to 1000 K; give a "
+                             "temperature such as \"34 degC\"")
+    for key in ("contact_conductance", "convection"):
+        if getattr(w, key) > 1e9:
+            raise ValueError(f"warm_touch.{key} = {getattr(w, key):g} W/(m^2 K) is above 1e9 W/(m^2 K), "
+                             "beyond any contact; give e.g. \"1000 W/(m^2*K)\"")
     if w.duration > w.time:
         raise ValueError(f"warm_touch.duration = {w.duration:g} s is longer than warm_touch.time = {w.time:g} s, "
                          "the simulated time; make the time at least the touch's duration")
