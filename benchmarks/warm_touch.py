@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import mesh
-from taxel.analyses.warm_touch import warm_touch
+from taxel.analyses.solves.warm_touch import warm_touch
 from taxel.fem import constitution, thermal
 from taxel.scene import load, refined
 from taxel.studies.bench.rig import load_rig

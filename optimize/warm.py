@@ -1,4 +1,4 @@
-"""The warm touch as optimizer metrics (taxel.analyses.warm_touch): a design's false
+"""The warm touch as optimizer metrics (taxel.analyses.solves.warm_touch): a design's false
 press from a warm finger at its readout, and that over its minimum detectable force.
 
     warm_touch_force   N       the press held as long as the finger that gives the same
@@ -20,7 +20,7 @@ axisymmetric: a few seconds).
 
 from __future__ import annotations
 
-from taxel.analyses.warm_touch import warm_touch
+from taxel.analyses.solves.warm_touch import warm_touch
 from taxel.scene import SceneError
 
 WARM_METRICS = ("warm_touch_force", "warm_touch_ratio")

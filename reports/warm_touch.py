@@ -1,7 +1,7 @@
 """The warm-touch section: a warm finger's heat in the stack (the temperature field at the
 touch's end, to scale) and the pressed taxel's readout output for the touch alone, the
 press alone and both, with the false force beside the minimum detectable force. Reads
-FILE from a folder (written by taxel.analyses.warm_touch.WarmTouchResult.write); never
+FILE from a folder (written by taxel.analyses.solves.warm_touch.WarmTouchResult.write); never
 solves."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.analyses.warm_touch import FILE
+from taxel.analyses.solves.warm_touch import FILE
 from taxel.reports.tables import eng
 
 FIGURE = "warm-touch.png"

@@ -6,7 +6,8 @@ electrode per taxel and a common bottom ground) or a verification plate
 and `[mesh]`. Lengths, forces and pressures are strings with units ("1 mm",
 "0.5 N", "10 kPa"); inside the code everything is SI.
 
-Every validation error is one line: `scene error: <key>: <problem>; <fix>`.
+Every validation error is one line: `scene error: <key>: <problem>; <fix>`. The tables a
+scene is made of are taxel.scene_tables (re-exported here).
 """
 
 from __future__ import annotations
@@ -23,11 +24,6 @@ from taxel.scene_tables import (DEFAULT_MESH, DEFAULT_PRESS_MESH, MATERIAL_UNITS
                                 ReadoutTable, SupportsTable, UserMaterial, WarmTouchTable, material_in_si)
 
 EXAMPLES = Path(__file__).parent / "examples"
-
-
-
-
-
 
 # One example per table of a scene, shown under the key reference (`taxel schema`'s page in
 # the docs, docs/reference/keys/scene.md); each loads as a scene (tests/test_docs.py). Each is
@@ -56,7 +52,7 @@ class Scene(Strict):
     dynamics: DynamicsTable = DynamicsTable()
     analysis: AnalysisTable = AnalysisTable()
     readout: ReadoutTable = ReadoutTable()
-    # a warm finger on the skin (taxel.analyses.warm_touch): its temperature, the contact, the air
+    # a warm finger on the skin (taxel.analyses.solves.warm_touch): its temperature, the contact, the air
     warm_touch: WarmTouchTable | None = None
     # user materials by name, each a piezo or a solid (see the examples below); a value is a
     # string with its unit ("27.5 kPa") or an SI number
@@ -216,7 +212,7 @@ class Scene(Strict):
 
 def _check_warm_touch(w: WarmTouchTable, rise: float):
     """The warm touch's times: the touch within the simulated time, steps that resolve it, a
-    readout grid (the press's rise / 4) that fits."""
+    readout grid (the press's rise / 4) that fits; temperatures and conductances in range."""
     for key in ("finger", "ambient"):
         if not 1.0 <= getattr(w, key) <= 1000.0:
             raise ValueError(f"warm_touch.{key} = {getattr(w, key):g} K is outside 1 K to 1000 K; give a "

@@ -1,18 +1,18 @@
-"""The tables of a scene, one pydantic model each ([model], [mesh], [array], [plate],
-[load], [supports], [dynamics], [analysis], [readout], [warm_touch], a user material's
-units): each key's type, unit and default. The scene that holds them, their cross-checks,
-loading and replacing are in taxel.scene.
+"""The scene tables: one `[table]` of a scene as its schema class (`ModelTable`,
+`MeshTable`, `ArrayTable`, `PlateTable`, `LayerTable`, `LoadTable`, `SupportsTable`,
+`DynamicsTable`, `AnalysisTable`, `ReadoutTable`, `WarmTouchTable`), the default meshes, and a user
+material table's units (`[materials.NAME]`). The scene (taxel.scene) is made of them;
+`taxel.scene` re-exports every name here.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Literal
 
-from pydantic import AfterValidator, BeforeValidator, Field, StrictBool, StrictInt
+from pydantic import AfterValidator, Field, StrictBool, StrictInt
 
 from taxel import units
-from taxel.schema import (Capacitance, Coordinate, Duration, Force, Fraction, Frequency, HeatTransfer, Length,
+from taxel.schema import (Capacitance, Coordinate, Duration, Force, Fraction, Frequency, FrictionLaw, HeatTransfer, Length,
                           LossFactor, MeshSize, NoiseCurrent, NoiseVoltage, Pressure, Resistance, Strict,
                           Temperature, Thickness, Voltage, dimensionless)
 
@@ -73,7 +73,7 @@ DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
                 "axisymmetric": (0.5e-3, None), "3d": (1.5e-3, 0.6e-3)}
 # A 3D array scene pressed by a flat punch in contact (Scene.pressed_by_punch) without mesh.size:
 # (size, piezo_size, piezo_layers), the silicone meshed free (meshing.layout.Layout.free, by
-# taxel.analyses.geometry.punch_grading); within 1 % of the press's nested-mesh reference at a
+# taxel.analyses.model.geometry.punch_grading); within 1 % of the press's nested-mesh reference at a
 # quarter of its unknowns (benchmarks/press_3d_mesh.py, docs/benchmarks.md).
 DEFAULT_PRESS_MESH = (1.4e-3, 0.56e-3, 1)
 
@@ -120,16 +120,6 @@ class PlateTable(Strict):
     layers: list[LayerTable] = Field(min_length=1)
 
 
-def _friction(v):
-    """load.friction: "frictionless", "sticking", or a Coulomb coefficient (a number >= 0)."""
-    if v is None or v in ("frictionless", "sticking"):
-        return v
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-        raise ValueError(f'expected "frictionless", "sticking" or a Coulomb coefficient >= 0 such as 0.4, got {v!r}')
-    return float(v)
-
-
-FrictionLaw = Annotated[Literal["frictionless", "sticking"] | float | None, BeforeValidator(_friction)]
 
 
 class LoadTable(Strict):
@@ -196,7 +186,7 @@ class ReadoutTable(Strict):
     notch: bool = False               # the thesis's 50 Hz second-order Butterworth band-stop
     notch_frequency: Frequency = "50 Hz"
     notch_bandwidth: Frequency = "10 Hz"
-    # noise of the chain (taxel.analyses.noise; fem.readout has the physics). The thesis does not
+    # noise of the chain (taxel.analyses.solves.noise; fem.readout has the physics). The thesis does not
     # name its op-amp: the defaults are a TL072-class JFET op-amp (TI datasheet SLOS080: 18 nV/sqrt(Hz)
     # at 1 kHz, 0.01 pA/sqrt(Hz), +-12 V linear swing on +-15 V supplies), white (no 1/f corner).
     e_n: NoiseVoltage = "18 nV/Hz**0.5"   # op-amp (or buffer) voltage noise density
@@ -209,7 +199,7 @@ class ReadoutTable(Strict):
 
 
 class WarmTouchTable(Strict):
-    """A warm finger on the skin (taxel.analyses.warm_touch): a body at `finger` touches the
+    """A warm finger on the skin (taxel.analyses.solves.warm_touch): a body at `finger` touches the
     scene's load footprint through `contact_conductance` for `duration`, then lifts; the rest
     of the surface (and the footprint after the lift) exchanges heat with air at `ambient`
     through `convection`; the skin starts at `ambient`. The warm press adds the scene's load
@@ -223,4 +213,3 @@ class WarmTouchTable(Strict):
     duration: Duration = "1 s"      # how long the finger stays
     time: Duration = "3 s"          # simulated time (at least the duration)
     dt: Duration = "10 ms"          # time step of the heat conduction and the readout
-

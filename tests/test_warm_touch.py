@@ -1,4 +1,4 @@
-"""A warm finger on a scene (taxel.analyses.warm_touch): its numbers, and the readout's
+"""A warm finger on a scene (taxel.analyses.solves.warm_touch): its numbers, and the readout's
 output against the charge amplifier's slow-signal closed form.
 
 Below its lower corner (1 / (2 pi R_f C_f) = 19.4 Hz) the bench's charge amplifier
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import taxel
-from taxel.analyses.warm_touch import warm_touch
+from taxel.analyses.solves.warm_touch import warm_touch
 from taxel.fem import constitution
 from taxel.scene import SceneError
 
@@ -89,7 +89,7 @@ def test_a_user_silicone_needs_its_heat():
     bare = base.replace(**{"array.silicone": "soft", "materials.soft": soft})
     with pytest.raises(SceneError, match="materials.soft: no thermal properties.*conductivity"):
         warm_touch(bare)
-    from taxel.analyses.warm_touch import thermal_model
+    from taxel.analyses.solves.warm_touch import thermal_model
     warm = bare.replace(**{"materials.soft.conductivity": "0.3 W/(m*K)", "materials.soft.specific_heat": "1.2 kJ/(kg*K)"})
     model, tm = thermal_model(warm)
     sil = tm.regions["silicone"]

@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.analyses.problem import check, mesh, readout, solve_model
+from taxel.analyses.model.problem import check, mesh, readout, solve_model
 from taxel.fem import constitution, thermal
 from taxel.fem import readout as circuits
 from taxel.scene import Scene, SceneError
@@ -225,7 +225,7 @@ def _ramp(t, rise):
 def _min_detectable_force(scene, v_per_n, q_per_n, rig=None):
     """The chain's minimum detectable force (N) from the static solve's numbers, None when
     the chain's noise budget cannot be built (the open circuit has none here)."""
-    from taxel.analyses.noise import quasi_static_noise
+    from taxel.analyses.solves.noise import quasi_static_noise
     try:
         return float(quasi_static_noise(scene, v_per_n, q_per_n, rig).min_detectable_force)
     except (SceneError, ValueError):
