@@ -10,9 +10,10 @@ ones below it (the import contract in `.ci/importlinter.toml`):
          |
     assembly       Problem -> System: forms, vectorised assembly, constraints
          |
-    static | readout
+    static | readout | thermal
          |           static: linear solve, fields, symmetry;
-         |           readout: circuits, noise, the seed's lumped model
+         |           readout: circuits, noise, the seed's lumped model;
+         |           thermal: heat conduction, the pyroelectric charge
     hyperelastic   Yeoh Newton (patch loads), plane-stress Yeoh
          |
     contact        a rigid indenter's press: gap, Newton, load path, records

@@ -2,7 +2,7 @@
 
 A metric with unit "ratio" or "dB" is dimensionless (its bound is a plain number);
 the others are SI (a bound may carry any unit of the same kind: "2 mm").
-The noise metrics come from optimize.resolution, the robust ones (a percentile over
+The noise metrics come from optimize.resolution, the warm touch's from optimize.warm, the robust ones (a percentile over
 the design's fabrication spread, the yield) from optimize.robust, coverage and
 localization_error from the influence functions (optimize.coverage), the geometric
 ones from the scene alone (`geometry`).
@@ -44,6 +44,8 @@ METRIC_TABLE = {
     "robust_sensitivity": Metric("sensitivity percentile", "V/N"),
     "robust_crosstalk": Metric("crosstalk percentile", "ratio"),
     "yield": Metric("yield", "ratio"),
+    "warm_touch_force": Metric("warm-touch false force", "N"),
+    "warm_touch_ratio": Metric("warm-touch false force / minimum detectable force", "ratio"),
 }
 PLAIN = ("ratio", "dB")                  # units whose bounds are plain numbers
 METRICS = tuple(METRIC_TABLE)

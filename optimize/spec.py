@@ -75,6 +75,7 @@ from taxel.optimize.requirements import LIMITS
 
 READOUT_METRICS = ("readout_sensitivity", "readout_crosstalk")   # with a [readout] in the base scene
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
+from taxel.optimize.warm import WARM_METRICS, warm_metrics
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel import units as U
 from taxel.schema import Fraction, Name, Strict, dimensionless_value
@@ -172,7 +173,8 @@ class Optimization:
         """The metrics of one scene (a design or one of its parts): geometry, FEM (stored), noise."""
         scene = parse({**data, "name": "design"})
         metrics = {**geometry(scene), **dict.fromkeys(("sensitivity", "tangent_sensitivity", "crosstalk", "max_strain",
-                                                       *INFLUENCE_METRICS, *NOISE_METRICS, *READOUT_METRICS))}
+                                                       *INFLUENCE_METRICS, *NOISE_METRICS, *READOUT_METRICS,
+                                                       *WARM_METRICS))}
         if self.spec.press is not None:
             return {**metrics, **self._pressed(data, params)}
         outputs = ("voltage", "crosstalk", "max_strain")
@@ -195,6 +197,8 @@ class Optimization:
         if set(NOISE_METRICS) & (self.used | set(self.requirements)):
             from taxel.optimize.resolution import noise_metrics
             metrics.update(noise_metrics(scene, result.get("outputs") or {}, self.spec.resolution, self.rig))
+        if set(WARM_METRICS) & (self.used | set(self.requirements)):     # solved with the scene's [warm_touch], or now
+            metrics.update({k: named[k] for k in WARM_METRICS if k in named} or warm_metrics(scene, self.rig))
         return metrics
 
     def influence_metrics(self, x, metrics: dict | None = None) -> dict:

@@ -21,7 +21,7 @@ from taxel import units
 from taxel.schema import GEOMETRY, Name, Strict, one_line, read_toml, safe_name, set_path, to_data
 from taxel.scene_tables import (DEFAULT_MESH, DEFAULT_PRESS_MESH, MATERIAL_UNITS, AnalysisTable, ArrayTable,  # noqa: F401
                                 DynamicsTable, FrictionLaw, LayerTable, LoadTable, MeshTable, ModelTable, PlateTable,
-                                ReadoutTable, SupportsTable, UserMaterial, material_in_si)
+                                ReadoutTable, SupportsTable, UserMaterial, WarmTouchTable, material_in_si)
 
 EXAMPLES = Path(__file__).parent / "examples"
 
@@ -64,6 +64,8 @@ class Scene(Strict):
     """The analysis: static, a frequency sweep or a transient, and its settings."""
     readout: ReadoutTable = ReadoutTable()
     """The readout chain: circuit, notch and noise."""
+    warm_touch: WarmTouchTable | None = None
+    """A warm finger on the skin: its temperature, the contact, the air (taxel.analyses.solves.warm_touch)."""
     materials: dict[str, UserMaterial] = {}
     """User materials by name, each a piezo or a solid; a value is a string with its unit ("27.5 kPa") or an SI number."""
     _default_mesh: tuple[str, ...] = PrivateAttr(())    # the mesh keys filled from DEFAULT_MESH
@@ -174,6 +176,8 @@ class Scene(Strict):
         if self.model.type == "axisymmetric" and (ld.offset != (0.0, 0.0) or ld.kind == "between"):
             raise ValueError("an axisymmetric model needs a load centred on the axis; "
                              "drop load.offset or use a 3d model")
+        if self.warm_touch is not None:
+            _check_warm_touch(self.warm_touch, self.analysis.rise)
         if self.analysis.f_min >= self.analysis.f_max:
             raise ValueError("analysis.f_min must be below analysis.f_max")
         if self.analysis.type == "transient" and self.analysis.dt >= self.analysis.duration:
@@ -215,6 +219,29 @@ class Scene(Strict):
             if any(not isinstance(electrode_state(v), str) for v in self.electrodes.values()):
                 raise ValueError("electrodes at a set voltage are linear-model only; use 'open' or 'ground'")
         return self
+
+
+def _check_warm_touch(w: WarmTouchTable, rise: float):
+    """The warm touch's times: the touch within the simulated time, steps that resolve it, a
+    readout grid (the press's rise / 4) that fits; temperatures and conductances in range."""
+    for key in ("finger", "ambient"):
+        if not 1.0 <= getattr(w, key) <= 1000.0:
+            raise ValueError(f"warm_touch.{key} = {getattr(w, key):g} K is outside 1 K to 1000 K; give a "
+                             "temperature such as \"34 degC\"")
+    for key in ("contact_conductance", "convection"):
+        if getattr(w, key) > 1e9:
+            raise ValueError(f"warm_touch.{key} = {getattr(w, key):g} W/(m^2 K) is above 1e9 W/(m^2 K), "
+                             "beyond any contact; give e.g. \"1000 W/(m^2*K)\"")
+    if w.duration > w.time:
+        raise ValueError(f"warm_touch.duration = {w.duration:g} s is longer than warm_touch.time = {w.time:g} s, "
+                         "the simulated time; make the time at least the touch's duration")
+    if w.dt > w.duration / 2:
+        raise ValueError(f"warm_touch.dt = {w.dt:g} s does not resolve a touch of {w.duration:g} s; "
+                         "make dt at most half the duration")
+    samples = w.time / min(w.dt, rise / 4)
+    if samples > MAX_TIME_STEPS:
+        raise ValueError(f"warm_touch: {samples:.3g} readout samples (time / min(dt, analysis.rise / 4)) is more than "
+                         f"{MAX_TIME_STEPS:.0e}; shorten warm_touch.time or raise analysis.rise")
 
 
 def _user_solids_without_yeoh(scene: Scene) -> list[str]:

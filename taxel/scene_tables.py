@@ -1,6 +1,6 @@
 """The scene tables: one `[table]` of a scene as its schema class (`ModelTable`,
 `MeshTable`, `ArrayTable`, `PlateTable`, `LayerTable`, `LoadTable`, `SupportsTable`,
-`DynamicsTable`, `AnalysisTable`, `ReadoutTable`), the default meshes, and a user
+`DynamicsTable`, `AnalysisTable`, `ReadoutTable`, `WarmTouchTable`), the default meshes, and a user
 material table's units (`[materials.NAME]`). The scene (taxel.scene) is made of them;
 `taxel.scene` re-exports every name here.
 """
@@ -12,7 +12,7 @@ from typing import Annotated, Literal
 from pydantic import AfterValidator, Field, StrictBool, StrictInt
 
 from taxel import units
-from taxel.schema import (Capacitance, Coordinate, Duration, Force, Fraction, Frequency, FrictionLaw, Length,
+from taxel.schema import (Capacitance, Coordinate, Duration, Force, Fraction, Frequency, FrictionLaw, HeatTransfer, Length,
                           LossFactor, MeshSize, NoiseCurrent, NoiseVoltage, Pressure, Resistance, Strict,
                           Temperature, Thickness, Voltage, dimensionless)
 
@@ -24,7 +24,9 @@ from taxel.schema import (Capacitance, Coordinate, Duration, Force, Fraction, Fr
 MATERIAL_UNITS = {"E": ("Pa", "modulus"), "mu": ("Pa", "shear modulus"), "K": ("Pa", "bulk modulus"),
                   "C10": ("Pa", "Yeoh constant"), "C20": ("Pa", "Yeoh constant"), "C30": ("Pa", "Yeoh constant"),
                   "rho": ("kg/m^3", "density"), "s": ("1/Pa", "compliance"), "d": ("C/N", "piezoelectric constant"),
-                  "c": ("Pa", "stiffness"), "e": ("C/m^2", "piezoelectric stress constant")}
+                  "c": ("Pa", "stiffness"), "e": ("C/m^2", "piezoelectric stress constant"),
+                  "conductivity": ("W/(m*K)", "thermal conductivity"), "specific_heat": ("J/(kg*K)", "specific heat"),
+                  "pyro": ("C/(m^2*K)", "pyroelectric coefficient")}
 
 
 def material_in_si(rec):
@@ -264,3 +266,27 @@ class ReadoutTable(Strict):
     """Mains pickup at the output before the notch: peak amplitudes of the mains frequency and its odd harmonics."""
     mains_frequency: Frequency = "50 Hz"
     """The mains frequency (hum at it and its odd harmonics 3, 5, ...)."""
+
+
+class WarmTouchTable(Strict):
+    """A warm finger on the skin (taxel.analyses.solves.warm_touch): a body at `finger` touches the
+    scene's load footprint through `contact_conductance` for `duration`, then lifts; the rest
+    of the surface (and the footprint after the lift) exchanges heat with air at `ambient`
+    through `convection`; the skin starts at `ambient`. The warm press adds the scene's load
+    force over the same `duration`. Defaults: a fingertip at 34 C (skin about 30-35 C) on a
+    skin at 23 C (the readout's 296.15 K); the finger's conductance (assumed: a fingertip's
+    effusivity over sqrt(pi t) at t ~ 1 s is 600-1000 W/(m^2 K)); still air, 10 W/(m^2 K)."""
+    finger: Temperature = "307.15 K"
+    """The finger's temperature."""
+    ambient: Temperature = "296.15 K"
+    """The air's and the skin's starting temperature."""
+    contact_conductance: HeatTransfer = "1000 W/(m^2*K)"
+    """The finger-skin contact conductance."""
+    convection: HeatTransfer = "10 W/(m^2*K)"
+    """The heat transfer coefficient to the air."""
+    duration: Duration = "1 s"
+    """How long the finger stays."""
+    time: Duration = "3 s"
+    """The simulated time (at least the duration)."""
+    dt: Duration = "10 ms"
+    """The time step of the heat conduction and the readout."""

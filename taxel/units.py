@@ -47,8 +47,17 @@ def registry() -> pint.UnitRegistry:
 
 
 def quantity(text: str) -> pint.Quantity:
-    """A pint quantity from a string ("Ohm" and "ohm" both read as ohms)."""
-    return registry().Quantity(str(text).replace("Ohm", "ohm"))
+    """A pint quantity from a string ("Ohm" and "ohm" both read as ohms; "34 degC", an
+    offset unit pint cannot multiply, as the number in that unit)."""
+    text = str(text).replace("Ohm", "ohm")
+    try:
+        return registry().Quantity(text)
+    except Exception as exc:
+        number, _, unit = text.strip().partition(" ")
+        try:
+            return registry().Quantity(float(number), unit.strip())
+        except Exception:
+            raise exc from None
 
 
 def to_si(value, unit: str, what: str, *, si_numbers: bool = False, positive: bool = False,

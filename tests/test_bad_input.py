@@ -205,6 +205,14 @@ MORE_SCENES = [
           "materials.film", "d:", "C/N"),
     scene("axisymmetric-pvdf", AXISYM + 'piezo = "PVDF"\n',
           "PVDF", "transversely isotropic"),
+    # ---- warm touch (heat): a material's conductivity, the finger's temperature, the touch's time
+    scene("user-material-negative-conductivity", ARRAY + 'silicone = "soft"\n[materials.soft]\nkind = "solid"\n'
+          'E = 3.0e4\nnu = 0.45\nrho = 1070\nconductivity = "-0.2 W/(m*K)"\n', "materials.soft", "conductivity",
+          "positive"),
+    scene("warm-touch-temperature-in-volts", ARRAY + '[warm_touch]\nfinger = "5 V"\n', "warm_touch.finger",
+          "temperature"),
+    scene("warm-touch-longer-than-time", ARRAY + '[warm_touch]\nduration = "5 s"\ntime = "3 s"\n',
+          "warm_touch.duration", "simulated time"),
     # ---- load
     scene("load-taxel-outside-array", ARRAY + "rows = 2\ncols = 2\n[load]\ntaxel = [2, 0]\n",
           "load.taxel", "outside"),

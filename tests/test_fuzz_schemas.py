@@ -110,7 +110,8 @@ BOUNDED = {"model.type": ["plane_strain", "plane_stress", "axisymmetric", "three
            "mesh.piezo_size": ["0.25 mm", "0.5 mm", "5 mm", "0 mm", None], "mesh.order": [1, 2, 3, "2"],
            "mesh.piezo_layers": [1, 2, 0, 9, 1.5], "model.depth": ["4 mm", "-4 mm", "abc"],
            "array.rows": [1, 2, 0, 17, True], "array.cols": [1, 2, 3, 0, 17, "3"],
-           "analysis.duration": ["1 s", "1e7 s", "-1 s"], "analysis.dt": ["0.5 ms", "1 us", "2 s"]}
+           "analysis.duration": ["1 s", "1e7 s", "-1 s"], "analysis.dt": ["0.5 ms", "1 us", "2 s"],
+           "warm_touch.time": ["2 s", "1e7 s", "-1 s"], "warm_touch.dt": ["20 ms", "1 us", "2 s"]}
 
 
 # values a person would type that the scene takes: most documents built from these solve
@@ -123,7 +124,8 @@ VALID = {"model.tolerance": ["1 %", "0.02", 0.05, "5 percent"], "model.silicone"
          "load.profile": ["flat", "round"], "load.offset": [["0.5 mm", "0 mm"]],
          "supports.bottom": ["bonded", "rollers", "free"], "supports.edges": ["free", "clamped", "rollers"],
          "electrodes.taxel_0_0": ["open", "ground", "5 V"], "readout.circuit": ["open", "resistor"],
-         "dynamics.silicone_loss": ["10 %", 0.2], "mesh.formulation": ["mixed", "displacement"]}
+         "dynamics.silicone_loss": ["10 %", 0.2], "mesh.formulation": ["mixed", "displacement"],
+         "warm_touch.finger": ["34 degC", "310 K", "5 V"], "warm_touch.duration": ["0.5 s", "5 s"]}
 
 
 def leaves(model: type[BaseModel], prefix="") -> list[str]:

@@ -158,7 +158,7 @@ def test_no_underscore_names_across_modules():
     assert not bad, "\n".join(bad)
 
 
-FEM_SUBPACKAGES = ("constitution", "linalg", "assembly", "static", "readout", "hyperelastic", "contact", "dynamics")
+FEM_SUBPACKAGES = ("constitution", "linalg", "assembly", "static", "readout", "thermal", "hyperelastic", "contact", "dynamics")
 
 
 def private_reach_ins(mod: str, path: Path, mods: dict) -> list[str]:

@@ -10,7 +10,8 @@ the loss factors over a band. Nothing here knows a mesh.
 
 from ._kinematics import (Axisymmetric, Kinematics, PlaneStrain, PlaneStress, Solid3D, kinematics)
 from ._laws import PiezoLaw, SolidLaw, law
-from ._materials import (ECOFLEX_UNIAXIAL_CSV, EPS0, Piezo, Solid, get, library, poling_rotation, model_tensors, rotate, strain_to_stress_charge)
+from ._materials import ECOFLEX_UNIAXIAL_CSV, EPS0, Piezo, Solid, get, library, model_tensors
+from ._tensors import poling_rotation, rotate, strain_to_stress_charge
 from ._relaxation import Relaxation, relaxation_law, ripple
 from ._user_materials import from_record
 from ._yeoh import (I3, MODES, Yeoh, dpsi, inv_det, nominal_stress, nominal_tangent, psi, stress, stress_tangent_batched, tangent)

@@ -20,21 +20,19 @@ models use (r, z) with the theta direction as the 3D y axis.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from functools import cache
 from pathlib import Path
 
 import numpy as np
 
+from ._tensors import (MODEL_TENSORS, poling_rotation, rotate, strain_to_stress_charge, stress_to_strain_charge,
+                       symmetric)
+
 EPS0 = 8.8541878128e-12  # F/m, CODATA 2018
 
 # Marechal et al. (2021) uniaxial test of Ecoflex 00-30, the data behind the Yeoh sets (fem/data/SOURCES.md)
 ECOFLEX_UNIAXIAL_CSV = Path(__file__).parent.parent / "data" / "ecoflex-00-30-uniaxial.csv"
-
-# Voigt index pairs, IEEE order.
-_VOIGT = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)]
-
 
 @dataclass(frozen=True)
 class Piezo:
@@ -51,6 +49,12 @@ class Piezo:
     source: str = ""
     Qm: float | None = None           # mechanical quality factor (used by dynamics)
     tan_delta: float | None = None    # dielectric loss tangent
+    # heat (fem.thermal): W/(m K), J/(kg K); the pyroelectric coefficient p3 along the poling
+    # axis (local 3) at constant stress, C/(m^2 K); where each comes from
+    conductivity: float | None = None
+    specific_heat: float | None = None
+    pyro: float = 0.0
+    thermal_source: str = ""
 
     kind = "piezo"
 
@@ -94,6 +98,9 @@ class Solid:
     eps_r: float = 1.0
     source: str = ""
     yeoh: tuple[float, float, float] | None = None   # C10, C20, C30 in Pa
+    conductivity: float | None = None      # W/(m K) (fem.thermal)
+    specific_heat: float | None = None     # J/(kg K)
+    thermal_source: str = ""
 
     kind = "solid"
 
@@ -121,131 +128,6 @@ class Solid:
         return c
 
 
-# --------------------------------------------------------------------------------------
-# form conversions, rotation
-# --------------------------------------------------------------------------------------
-
-def strain_to_stress_charge(s, d, eps_T):
-    """(s^E, d, eps^T) -> (c^E, e, eps^S): c = s^-1, e = d c, eps^S = eps^T - d c d^T."""
-    c = np.linalg.inv(s)
-    e = d @ c
-    return _sym(c), e, _sym(eps_T - d @ c @ d.T)
-
-
-def stress_to_strain_charge(c, e, eps_S):
-    """(c^E, e, eps^S) -> (s^E, d, eps^T): s = c^-1, d = e s, eps^T = eps^S + d c d^T."""
-    s = np.linalg.inv(c)
-    d = e @ s
-    return _sym(s), d, _sym(eps_S + d @ c @ d.T)
-
-
-def _sym(a):
-    return 0.5 * (a + a.T)
-
-
-def poling_rotation(direction) -> np.ndarray:
-    """Rotation R (columns: local axes in global) taking local 3 to `direction`.
-
-    Local 1 stays as close to global x as possible, so a film's drawing direction
-    (local 1) lies along x for poling +z or -z.
-    """
-    n = np.asarray(direction, float)
-    n = n / np.linalg.norm(n)
-    a1 = np.array([1.0, 0, 0]) if abs(n[0]) < 0.9 else np.array([0, 1.0, 0])
-    a1 = a1 - n * (a1 @ n)
-    a1 /= np.linalg.norm(a1)
-    return np.column_stack([a1, np.cross(n, a1), n])
-
-
-def _to_tensor4(c):
-    t = np.empty((3, 3, 3, 3))
-    for I, (i, j) in enumerate(_VOIGT):
-        for J, (k, l) in enumerate(_VOIGT):
-            t[i, j, k, l] = t[j, i, k, l] = t[i, j, l, k] = t[j, i, l, k] = c[I, J]
-    return t
-
-
-def _to_tensor3(e):
-    t = np.empty((3, 3, 3))
-    for J, (i, j) in enumerate(_VOIGT):
-        t[:, i, j] = t[:, j, i] = e[:, J]
-    return t
-
-
-def rotate(c, e, eps, R):
-    """Tensors given in the frame of R's columns, expressed in the global frame.
-
-    c'_ijkl = R_ia R_jb R_kc R_ld c_abcd, e'_kij = R_ka R_ib R_jc e_abc, eps' = R eps R^T.
-    Voigt components of c and e equal tensor components (stress-like indices), so
-    the rotation is exact without Bond-matrix factors.
-    """
-    c4 = np.einsum("ia,jb,kc,ld,abcd->ijkl", R, R, R, R, _to_tensor4(c))
-    e3 = np.einsum("ka,ib,jc,abc->kij", R, R, R, _to_tensor3(e))
-    idx = np.array(_VOIGT)
-    c_v = c4[idx[:, 0][:, None], idx[:, 1][:, None], idx[:, 0][None, :], idx[:, 1][None, :]]
-    e_v = e3[:, idx[:, 0], idx[:, 1]]
-    return _sym(c_v), e_v, _sym(R @ eps @ R.T)
-
-
-# --------------------------------------------------------------------------------------
-# reductions to 2D
-# --------------------------------------------------------------------------------------
-
-# Voigt rows kept by each model (x-z cross-section; axisymmetric r, theta, z).
-PLANE_STRAIN_IDX = ([0, 2, 4], [0, 2])     # S: xx, zz, 2xz;  E: x, z
-AXISYM_IDX = ([0, 1, 2, 4], [0, 2])        # S: rr, tt, zz, 2rz;  E: r, z
-
-
-def plane_strain_tensors(c, e, eps):
-    """Plane strain in x-z: S_yy = S_yz = S_xy = 0, E_y = 0.
-
-    With those strains and field zero, T = c S - e^T E keeps only the columns of
-    the kept components, so the reduced stress-charge tensors are exact
-    sub-matrices: c[[xx,zz,xz]][:, same], e[[x,z]][:, same], eps[[x,z]][:, [x,z]].
-    """
-    s, f = PLANE_STRAIN_IDX
-    return c[np.ix_(s, s)], e[np.ix_(f, s)], eps[np.ix_(f, f)]
-
-
-def plane_stress_tensors(c, e, eps):
-    """Plane stress in x-z: T_yy = T_yz = T_xy = 0 and E_y = 0 (thin in y, no field across it).
-
-    In strain-charge form S = s T + d^T E, D = d T + eps^T E the out-of-plane
-    stresses are zero, so the in-plane strains and charges depend only on the kept
-    stresses and fields: the reduced strain-charge tensors are exact sub-matrices
-    of (s, d, eps^T). Converting them back gives the reduced stress-charge tensors.
-    """
-    s, d, eps_T = stress_to_strain_charge(c, e, eps)
-    k, f = PLANE_STRAIN_IDX
-    return strain_to_stress_charge(s[np.ix_(k, k)], d[np.ix_(f, k)], eps_T[np.ix_(f, f)])
-
-
-def axisymmetric_tensors(c, e, eps):
-    """Axisymmetric (r, theta, z): torsion-free, S_rt = S_tz = 0, E_t = 0.
-
-    Exact for a material transversely isotropic about z (then the tensors are the
-    same in every meridian plane): sub-matrices of the stress-charge form for
-    rr, tt, zz, rz and E_r, E_z. Raises for materials that are not.
-    """
-    R = np.array([[math.cos(0.7), -math.sin(0.7), 0], [math.sin(0.7), math.cos(0.7), 0], [0, 0, 1]])
-    cr, er, epsr = rotate(c, e, eps, R)
-    # 1e-3: tables round s66 = 2 (s11 - s12) (PZT-5H: 42.6 vs 42.56 pm^2/N)
-    if not (np.allclose(cr, c, rtol=0, atol=1e-3 * np.abs(c).max())
-            and np.allclose(er, e, rtol=0, atol=1e-3 * max(np.abs(e).max(), 1e-30))):
-        raise ValueError("material is not transversely isotropic about the z axis "
-                         "(an axisymmetric model needs that); use a 3D or plane model")
-    s, f = AXISYM_IDX
-    return c[np.ix_(s, s)], e[np.ix_(f, s)], eps[np.ix_(f, f)]
-
-
-MODEL_TENSORS = {
-    "3d": lambda c, e, eps: (c, e, eps),
-    "plane_strain": plane_strain_tensors,
-    "plane_stress": plane_stress_tensors,
-    "axisymmetric": axisymmetric_tensors,
-}
-
-
 def model_tensors(material, model: str):
     """(c, e, eps) of `material` for `model`; a Solid has e = 0 and eps = eps_r eps0."""
     if isinstance(material, Piezo):
@@ -258,6 +140,20 @@ def model_tensors(material, model: str):
 # the library
 # --------------------------------------------------------------------------------------
 
+# Heat (docs/materials.md, "Heat and pyroelectricity"). PZT: CTS "Materials Technical Data (Typical
+# Values)", the PZT-5H column (3203HD: K3 3800, d33 650, d31 -320, the PSI-5H4E numbers): specific heat
+# 420 J/(kg K), thermal conductivity 1.2 W/(m K). Neither that sheet nor PSI-5H4E's gives a pyroelectric
+# coefficient: Piezo Systems' technical note's "for PZT piezoceramic ~ 400e-6 C/(m^2 K)", negative (the
+# polarization falls on heating). The same values for the generic PZT-5H. Silicone: no sourced value for
+# Ecoflex 00-30; a measured thin silicone rubber sheet, 0.237 W/(m K) (Thermtest, guarded heat-flow
+# meter, ASTM E1530, 26 C), and 1250 J/(kg K), the middle of silicone rubbers' 1.0-1.5 kJ/(kg K) (assumed).
+PZT_THERMAL = dict(conductivity=1.2, specific_heat=420.0, pyro=-400e-6,
+                   thermal_source="k, c: CTS Materials Technical Data, PZT-5H (3203HD); p3: Piezo Systems "
+                                  "technical note, typical PZT (-400e-6)")
+SILICONE_THERMAL = dict(conductivity=0.237, specific_heat=1250.0,
+                        thermal_source="k: Thermtest, thin silicone rubber sheet (not Ecoflex); c: assumed 1250")
+
+
 def _pzt5h() -> Piezo:
     """Generic PZT-5H, strain-charge set of Erturk and Inman, Piezoelectric Energy
     Harvesting (2011), App. E, Table E.1 (docs/materials.md)."""
@@ -267,7 +163,7 @@ def _pzt5h() -> Piezo:
     eps_T = np.diag([3130, 3130, 3400]) * EPS0
     return Piezo.from_strain_charge("PZT-5H", s, d, eps_T, rho=7500.0,
                                     source="Erturk & Inman 2011, App. E, Table E.1",
-                                    Qm=65.0, tan_delta=0.02)
+                                    Qm=65.0, tan_delta=0.02, **PZT_THERMAL)
 
 
 def _psi5h4e() -> Piezo:
@@ -295,7 +191,7 @@ def _psi5h4e() -> Piezo:
     return Piezo.from_strain_charge("PSI-5H4E", s, d, eps_T, rho=7800.0,
                                     source="Piezo Systems PSI-5H4E datasheet; full matrix built "
                                            "from its transversely isotropic constants",
-                                    Qm=32.0, tan_delta=0.02)
+                                    Qm=32.0, tan_delta=0.02, **PZT_THERMAL)
 
 
 def _pvdf() -> Piezo:
@@ -318,7 +214,9 @@ def _pvdf() -> Piezo:
     return Piezo.from_strain_charge("PVDF", s, d, np.eye(3) * 12.0 * EPS0, rho=1780.0,
                                     source="TE Piezo Film Sensors Technical Manual, Table 1; "
                                            "d32, E, nu assumed",
-                                    Qm=10.0, tan_delta=0.02)
+                                    Qm=10.0, tan_delta=0.02, conductivity=0.19, specific_heat=1200.0, pyro=-30e-6,
+                                    thermal_source="p3: TE Piezo Film Sensors Technical Manual, Table 1 (30e-6, sign: "
+                                                   "polarization falls on heating); k, c: PVDF resin, typical (assumed)")
 
 
 # Incompressible Yeoh least-squares fits to the Marechal et al. uniaxial test of Ecoflex
@@ -345,7 +243,7 @@ def _ecoflex0030(fit="fit300") -> Solid:
     """
     C = ECOFLEX_YEOH[fit]
     name = "Ecoflex-00-30" if fit == "fit300" else f"Ecoflex-00-30-{fit}"
-    return Solid(name, mu=2 * C[0], K=1000 * 2 * C[0], rho=1070.0, eps_r=2.8,
+    return Solid(name, mu=2 * C[0], K=1000 * 2 * C[0], rho=1070.0, eps_r=2.8, **SILICONE_THERMAL,
                  source=f"Marechal et al., Soft Robotics Materials Database (Yeoh {fit}); K = 1000 mu assumed",
                  yeoh=C)
 
@@ -397,7 +295,7 @@ def check_piezo(m: Piezo):
     for what, a, shape in (("c", m.c, (6, 6)), ("eps", m.eps, (3, 3))):
         if a.shape != shape:
             raise ValueError(f"material '{m.name}': {what} has shape {a.shape}")
-        if np.linalg.eigvalsh(_sym(a)).min() <= 0:
+        if np.linalg.eigvalsh(symmetric(a)).min() <= 0:
             raise ValueError(f"material '{m.name}': {what} is not positive definite; check the table's Voigt order")
     if m.e.shape != (3, 6):
         raise ValueError(f"material '{m.name}': e has shape {m.e.shape}, expected (3, 6)")

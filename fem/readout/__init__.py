@@ -6,8 +6,8 @@ of a taxel (a spring and a piezo capacitor), identified from the FEM.
 """
 
 
-from ._circuits import Readout, amplifier_in_time, notch, notch_in_time, readout, resistor
+from ._circuits import Readout, amplifier_in_time, in_time, notch, notch_in_time, readout, resistor
 from ._lumped import Identified, Lumped, identified, points_per_second, taxel_model
 from ._noise import Amplifier, Chain, Converter, Hum, band_power, grid
 
-__all__ = ["Amplifier", "Chain", "Converter", "Hum", "Identified", "Lumped", "Readout", "amplifier_in_time", "band_power", "grid", "identified", "notch", "notch_in_time", "points_per_second", "readout", "resistor", "taxel_model"]
+__all__ = ["Amplifier", "Chain", "Converter", "Hum", "Identified", "Lumped", "Readout", "amplifier_in_time", "band_power", "in_time", "grid", "identified", "notch", "notch_in_time", "points_per_second", "readout", "resistor", "taxel_model"]

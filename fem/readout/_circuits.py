@@ -103,6 +103,25 @@ def amplifier_in_time(t, Q_sc, C_p, r):
     return out
 
 
+def in_time(t, Q_sc, C_p, r):
+    """What the chain outputs over time (nt, na) for short-circuit charges Q_sc (nt, na) of
+    quasi-static charge sources of capacitances C_p (na,), from rest at Q_sc[0]: the open
+    circuit V = -Q / C_p, the resistor's V / Q_sc = -s R / (1 + s R C_p) (scipy.signal.lsim),
+    the charge amplifier (`amplifier_in_time`); then the notch, if the chain has one."""
+    from scipy import signal
+    t, Q = np.asarray(t, float), np.asarray(Q_sc, float)
+    C_p = np.broadcast_to(np.asarray(C_p, float), Q.shape[1:])
+    dQ = Q - Q[0]
+    if r.circuit == "open":
+        out = -dQ / C_p
+    elif r.circuit == "resistor":
+        out = np.column_stack([signal.lsim(([-r.R, 0.0], [r.R * C_p[k], 1.0]), dQ[:, k], t)[1]
+                               for k in range(Q.shape[1])])
+    else:
+        out = amplifier_in_time(t, Q, C_p, r)
+    return notch_in_time(t, out, r) if r.notch else out
+
+
 def notch_in_time(t, x, r):
     """The band-stop applied to sampled signals (nt, na), as a digital filter."""
     from scipy import signal

@@ -35,7 +35,7 @@ def linear_error(max_strain: float) -> float:
 # also its numbers (taxel.analyses.solves.at_readout.READOUT_OUTPUTS)
 STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
                   "max_strain": "", "readout_sensitivity": "V/N", "readout_crosstalk": "",
-                  "min_detectable_force": "N", "force_range": "N"}
+                  "min_detectable_force": "N", "force_range": "N", "warm_touch_force": "N", "warm_touch_ratio": ""}
 
 
 @dataclass(frozen=True)
@@ -72,6 +72,8 @@ class StaticResult:
     contact_data: dict | None = None       # the press record of a result read back (else from the solution)
     stop: Stop | None = None   # the solve stopped short of its load: this is its last converged state
     readout: AtReadout | None = None       # the scene's [readout] chain's numbers (taxel.analyses.solves.at_readout)
+    # a scene's [warm_touch]: its WarmTouchResult (taxel.analyses.solves.warm_touch), or read back, its summary
+    warm_touch: object | None = None
     kind = "static"
 
     @property
@@ -158,8 +160,16 @@ class StaticResult:
                 out["crosstalk"] = self.crosstalk
             if self.readout is not None:      # the scene names a readout: its numbers beside the open circuit's
                 out.update(self.readout.outputs())
+            w = self.warm_touch_summary()
+            if w is not None:                 # a [warm_touch]: the false force of a warm finger
+                out.update(warm_touch_force=w["false_force_N"], warm_touch_ratio=w["ratio"])
         out["max_strain"] = self.max_strain
         return out
+
+    def warm_touch_summary(self) -> dict | None:
+        """The warm touch's numbers (WarmTouchResult.summary), None without a [warm_touch]."""
+        w = self.warm_touch
+        return w.summary() if hasattr(w, "summary") else w
 
     def at_readout(self) -> AtReadout | None:
         """The pressed taxel's numbers through the scene's [readout] chain (set by
@@ -208,6 +218,7 @@ class StaticResult:
                                               "iterations": n.iterations, "cutbacks": n.cutbacks,
                                               "message": n.message},
             "at_readout": None if self.readout is None else self.readout.record(),
+            "warm_touch": self.warm_touch_summary(),
             "stop": None if self.stop is None else {"requested": self.stop.requested, "load": self.stop.load,
                                                     "message": self.stop.message, "cause": self.stop.cause},
         }
@@ -228,7 +239,7 @@ class StaticResult:
         return cls(scene, sol, dict(rec.get("times_s", {})), rec.get("model_note", ""), read_error(rec),
                    bool(rec["yeoh"]), rec.get("contact"),
                    None if st is None else Stop(st["requested"], st["load"], st["message"], st.get("cause")),
-                   AtReadout.from_record(rec.get("at_readout")))
+                   AtReadout.from_record(rec.get("at_readout")), rec.get("warm_touch"))
 
     def to_folder(self, out) -> list[Path]:
         """The result's folder, as `taxel solve --out` leaves it: result.json, scene.json,
@@ -249,6 +260,8 @@ class StaticResult:
         if sol.mesh is not None:          # a fresh solve: its fields drawn (a result read back has none)
             paths += field_figures(SolvedFields(self.scene, sol.mesh, sol.fields, sol.electrodes, sol.applied_force,
                                                 self.pressed, sol.unknowns), out / FIELDS)
+        if hasattr(self.warm_touch, "write"):      # a fresh warm touch: its traces and field (reports.warm_touch)
+            paths.append(self.warm_touch.write(out))
         return paths + [write_summary(out, self.summary())]
 
     def summary(self) -> list[str]:
@@ -265,6 +278,13 @@ class StaticResult:
                          f"{engineering(e.capacitance, 'F'):>14}")
         if self.readout is not None:
             lines += self.readout.lines(self.outputs())
+        w = self.warm_touch_summary()
+        if w is not None:
+            mdf = w["min_detectable_force_N"]
+            lines.append(f"warm touch ({w['finger_K'] - 273.15:.1f} C for {w['duration_s']:g} s): film +"
+                         f"{w['film_rise_K']:.3g} K, false force {engineering(w['false_force_N'], 'N')}"
+                         + ("" if mdf is None else f" ({w['ratio']:.3g} x the minimum detectable "
+                                                   f"{engineering(mdf, 'N')})") + f", {w['readout']}")
         if self.stop is not None:
             st = self.stop
             lines.insert(1, f"STOPPED SHORT of load.{st.load} = {engineering(st.requested, st.unit)}: these are "

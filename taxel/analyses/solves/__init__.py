@@ -3,8 +3,9 @@ static, frequency and transient analyses, a stop returned as the result, the res
 folder), the numbers at the readout (at_readout), the frequency and transient solvers
 (dynamic), the noise budget (noise), the reduced-order model and its exports (reduced,
 reduced_export), the FEM-informed lumped model (lumped_fem), the crosstalk weights
-(crosstalk), the friction band (friction_band) and the code version caches key on
-(version).
+(crosstalk), the friction band (friction_band), the warm touch (warm_touch: a warm
+finger's heat, the films' pyroelectric charge and the readout beside the press) and the
+code version caches key on (version).
 
 The dynamic solvers, the noise budget and the reduced-order model are imported on
 first use, so a static solve does not load them. A function named as its module
@@ -28,7 +29,8 @@ _LAZY = {**{name: "taxel.analyses.solves.dynamic" for name in
             ("chain", "design_noise", "quasi_static_noise", "with_readout")},
          **{name: "taxel.analyses.solves.reduced" for name in
             ("ReducedModel", "OnePort", "cached", "one_port", "read_folder", "reduce")},
-         **{name: "taxel.analyses.solves.lumped_fem" for name in ("FemTargets", "informed", "targets")}}
+         **{name: "taxel.analyses.solves.lumped_fem" for name in ("FemTargets", "informed", "targets")},
+         "WarmTouchResult": "taxel.analyses.solves.warm_touch"}
 
 
 def __getattr__(name):

@@ -65,6 +65,9 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
         res.readout = at_readout(res)
     if stopped:
         return res
+    if scene.warm_touch is not None and scene.array is not None:     # a warm finger beside the press
+        from taxel.analyses.solves.warm_touch import warm_touch
+        res.warm_touch = warm_touch(scene, static=res)
     if estimate and res.error is None:
         from taxel.analyses.accuracy.error_estimate import estimate as error_estimate
         res.error = error_estimate(res.scene, res, options.get("solver", "auto"))
