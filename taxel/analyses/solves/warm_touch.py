@@ -22,7 +22,7 @@ resonance), capacitance C_p = |Q_sc / V_oc| of the pressed taxel for every taxel
     false force     F_false = max_t |y_touch| / max_t |y_press| x F: the press held as long
                     that gives the same peak output (y_press is linear in F);
     ratio           F_false over the chain's minimum detectable force (the static solve's
-                    noise budget, taxel.analyses.noise.quasi_static_noise): <= 1, a warm
+                    noise budget, taxel.analyses.solves.quasi_static_noise): <= 1, a warm
                     finger does not fake a press the readout could see.
 
 Assumptions: fem.thermal's (one-way coupling; free film, datasheet constant-stress p3;
@@ -218,7 +218,7 @@ def warm_touch(scene: Scene, static=None, rig=None) -> WarmTouchResult:
 
 
 def _ramp(t, rise):
-    """0 before 0, 1 after `rise`, linear between (the scene's step input, taxel.analyses.dynamic)."""
+    """0 before 0, 1 after `rise`, linear between (the scene's step input, taxel.analyses.solves)."""
     return np.clip(np.asarray(t, float) / rise, 0.0, 1.0)
 
 
