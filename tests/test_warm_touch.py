@@ -12,7 +12,6 @@ the chain; the conduction itself is checked against closed forms in test_thermal
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
