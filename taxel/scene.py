@@ -150,7 +150,15 @@ def _friction(v):
         return v
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
         raise ValueError(f'expected "frictionless", "sticking" or a Coulomb coefficient >= 0 such as 0.4, got {v!r}')
+    if v > MAX_FRICTION:
+        raise ValueError(f"a Coulomb coefficient of {v:g} is beyond any measured for a silicone (about 0.2 to 3, "
+                         f"up to {MAX_FRICTION:g} here): for no slip at all write \"sticking\"")
     return float(v)
+
+
+# the largest Coulomb coefficient accepted: tacky silicones on glass or steel measure about 0.2 to 3;
+# a far larger one is "sticking" (and overflows the return mapping's slip bound, mu * pressure)
+MAX_FRICTION = 10.0
 
 
 FrictionLaw = Annotated[Literal["frictionless", "sticking"] | float | None, BeforeValidator(_friction)]
@@ -294,6 +302,9 @@ class Scene(Strict):
                              f"({m.size * 1e3:g} mm); the piezo size is the fine one: make it smaller")
         if self.array is not None:
             a = self.array
+            if a.gap < 0:
+                raise ValueError(f"array.gap = {a.gap * 1e3:g} mm: a negative edge-to-edge gap makes the taxels "
+                                 "overlap; give a gap >= 0, e.g. \"1 mm\"")
             if a.gap < GEOMETRY[0] and a.rows * a.cols > 1:
                 raise ValueError(f"array.gap = {a.gap * 1e3:g} mm makes the taxels overlap or touch; "
                                  "use an edge-to-edge gap of at least 1 um")
@@ -323,6 +334,9 @@ class Scene(Strict):
         ld = self.load
         if ld.kind == "pressure" and ld.pressure is None:
             raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
+        if ld.force is not None and ld.force < 0:
+            raise ValueError(f"load.force = {ld.force:g} N: a press pushes, the force is its size (>= 0); "
+                             "a pull is not modelled, e.g. \"1 N\"")
         if ld.kind != "pressure" and ld.force is None:
             raise ValueError(f"load.force is missing for kind = '{ld.kind}'; e.g. \"0.5 N\"")
         driven = any(not isinstance(electrode_state(v, f"electrodes.{k}"), str) for k, v in self.electrodes.items())
