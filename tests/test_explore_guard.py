@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 from waits import CEILING, poll_until
-from wslink_client import Client, HandshakeRefused
+from wslink_client import Client, HandshakeRefused, page_secret
 
 from taxel.explore.browser import ExplorerProcess
 
@@ -30,6 +30,7 @@ def app(tmp_path_factory):
     root = tmp_path_factory.mktemp("explore-guard")
     with ExplorerProcess(SCENE, root / "out", CEILING, cwd=root) as proc:
         proc.root = root
+        proc.secret = page_secret(proc.url)
         keep = _ws(proc)          # trame ends a server left without a client: one stays connected
         keep.hello()
         yield proc
@@ -39,7 +40,8 @@ def app(tmp_path_factory):
 def _ws(app, token=True, origin="same", host=None):
     tok = app.url.split("token=")[1]
     url = f"ws://127.0.0.1:{app.port}/ws" + (f"?token={tok}" if token else "")
-    return Client(url, origin=f"http://127.0.0.1:{app.port}" if origin == "same" else origin, host=host)
+    return Client(url, origin=f"http://127.0.0.1:{app.port}" if origin == "same" else origin, host=host,
+                  secret=getattr(app, "secret", "wslink-secret"))
 
 
 def _refusals(app, words):
@@ -69,18 +71,35 @@ def test_a_foreign_host_is_refused_dns_rebinding(app):
     _refusals(app, "Host 'evil.example")
 
 
-def test_the_page_needs_the_token_and_the_token_sets_a_cookie(app):
+def test_the_page_needs_the_token_and_the_token_sets_a_cookie_that_is_not_the_token(app):
+    """The printed address is answered by a redirect to the page with this run's wslink secret
+    (never wslink's public default) and a cookie named after the port holding an HMAC of the
+    token: the cookie another port of 127.0.0.1 receives is not the token."""
     base = f"http://127.0.0.1:{app.port}/index.html"
     with pytest.raises(urllib.error.HTTPError) as err:
         urllib.request.urlopen(base, timeout=CEILING)
     assert err.value.code == 403
-    with urllib.request.urlopen(base + "?" + app.url.split("?")[1], timeout=CEILING) as r:
-        assert r.status == 200
-        cookie = r.headers["Set-Cookie"]
+    token = app.url.split("token=")[1]
+
+    class Stop(urllib.request.HTTPRedirectHandler):
+        def redirect_request(self, *a, **k):
+            return None
+    with pytest.raises(urllib.error.HTTPError) as err:
+        urllib.request.build_opener(Stop).open(base + "?token=" + token, timeout=CEILING)
+    assert err.value.code == 302
+    cookie, where = err.value.headers["Set-Cookie"], err.value.headers["Location"]
     assert f"taxel-explore-{app.port}=" in cookie and "HttpOnly" in cookie and "SameSite=Strict" in cookie
-    req = urllib.request.Request(base, headers={"Cookie": cookie.split(";")[0]})
+    assert token not in cookie and token not in where
+    secret = where.split("secret=")[1]
+    assert secret != "wslink-secret" and len(secret) >= 32 and secret == app.secret
+    req = urllib.request.Request(f"http://127.0.0.1:{app.port}{where}", headers={"Cookie": cookie.split(";")[0]})
     with urllib.request.urlopen(req, timeout=CEILING) as r:
         assert r.status == 200
+    c = _ws(app)                                     # the public default secret no longer opens the WebSocket
+    try:
+        assert "error" in c.hello("wslink-secret")
+    finally:
+        c.close()
 
 
 def test_with_the_token_and_its_own_origin_the_websocket_opens(app):
@@ -183,10 +202,10 @@ def test_a_flood_of_moves_is_answered_once_with_the_newest(app):
         assert time.monotonic() - t0 < CEILING
     finally:
         c.close()
-    c2 = _ws(app)                 # a second connection sees the same design: the state is shared
+    c2 = _ws(app)                 # a second connection has its own design: the base scene's
     c2.hello()
     try:
-        assert _state(c2)["t_silicone_above"] == "1.55"
+        assert _state(c2)["t_silicone_above"] == "1"
     finally:
         c2.close()
     assert st["voltage"] and app.proc.poll() is None

@@ -23,7 +23,8 @@ class HandshakeRefused(Exception):
 class Client:
     """One WebSocket connection to a trame server's /ws."""
 
-    def __init__(self, url: str, origin: str | None = None, host: str | None = None, timeout: float = CEILING):
+    def __init__(self, url: str, origin: str | None = None, host: str | None = None, timeout: float = CEILING,
+                 secret: str = "wslink-secret"):
         try:
             self.ws = websocket.create_connection(url, origin=origin, host=host, timeout=timeout,
                                                   suppress_origin=origin is None)
@@ -33,6 +34,7 @@ class Client:
         self.unchunker = UnChunker()
         self.unchunker.set_max_message_size(1 << 30)
         self.client = "c0"
+        self.secret = secret
 
     def send(self, method: str, *args, id: str | None = None) -> str:
         rpc = id or f"rpc:{self.client}:{next(self.ids)}"
@@ -57,10 +59,28 @@ class Client:
     def call(self, method: str, *args) -> dict:
         return self.receive(self.send(method, *args))
 
-    def hello(self, secret: str = "wslink-secret") -> dict:
-        reply = self.receive(self.send("wslink.hello", {"secret": secret}, id="system:c0:0"))
+    def hello(self, secret: str | None = None) -> dict:
+        reply = self.receive(self.send("wslink.hello", {"secret": secret or self.secret}, id="system:c0:0"))
         self.client = reply.get("result", {}).get("clientID", "c0")
         return reply
 
     def close(self) -> None:
         self.ws.close()
+
+
+def page_secret(url: str) -> str:
+    """The wslink secret of an explorer's run, as its page learns it: the `?secret=` of the
+    redirect answering the printed address (with its token)."""
+    import urllib.error
+    import urllib.request
+
+    class Stop(urllib.request.HTTPRedirectHandler):
+        def redirect_request(self, *a, **k):
+            return None
+    try:
+        urllib.request.build_opener(Stop).open(url, timeout=CEILING)
+    except urllib.error.HTTPError as exc:
+        if exc.code == 302:
+            return exc.headers["Location"].split("secret=", 1)[1]
+        raise
+    raise RuntimeError(f"{url}: no redirect with the page's secret")
