@@ -45,7 +45,7 @@ import numpy as np
 import skfem
 from taxel.meshing.cost import SolveLimit, check_fits
 from taxel.meshing.layout import Layout, is_graded
-from taxel.meshing.sizing import _rim_field, _size_field, _two_sided
+from taxel.meshing.sizing import rim_field, size_field, two_sided
 
 
 @dataclass
@@ -140,7 +140,7 @@ def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | N
                 out = occ.extrude(plan, *step, numElements=n, heights=heights, recombine=False)
             plan = [out[i - 1] for i, e in enumerate(out) if e[0] == lay.dim]
         occ.synchronize()
-        _size_field(gmsh, lay)
+        size_field(gmsh, lay)
         gmsh.model.mesh.generate(lay.dim)
         groups = _classify(gmsh, lay)
         for (dim, name), tags in groups.items():
@@ -152,7 +152,7 @@ def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | N
 
 def _plan(occ, lay: Layout):
     """Plan entities at z = 0, fragmented at every patch edge."""
-    patches = list(lay.taxels) + ([lay.load] if lay.load and not _rim_field(lay) else [])
+    patches = list(lay.taxels) + ([lay.load] if lay.load and not rim_field(lay) else [])
     if lay.dim == 2:
         xs = lay.breakpoints()
         pts = [occ.addPoint(x, 0, 0) for x in xs]
@@ -195,7 +195,7 @@ def vertical_divisions(lay: Layout, layer):
     if not is_graded(lay, layer):
         return [lay.piezo_layers], [1.0]
     if lay.contact_size is not None and layer is lay.layers[-1] and layer.name != "silicone_below":
-        hs = _two_sided(layer.thickness, lay.piezo_size, min(lay.contact_size, lay.size), lay.size)
+        hs = two_sided(layer.thickness, lay.piezo_size, min(lay.contact_size, lay.size), lay.size)
         return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
     h, hs, total = lay.piezo_size, [], 0.0
     while total < layer.thickness * (1 - 1e-9):
@@ -251,8 +251,8 @@ def _classify(gmsh, lay: Layout):
                 add(D - 1, "bottom", tag)
             if abs(zc - H) < tol:
                 add(D - 1, "top", tag)
-                if lay.load is None or _rim_field(lay) or lay.load.contains(xc, yc):
-                    add(D - 1, "load", tag)         # a punch (_rim_field): the contact finds where
+                if lay.load is None or rim_field(lay) or lay.load.contains(xc, yc):
+                    add(D - 1, "load", tag)         # a punch (rim_field): the contact finds where
             for el in lay.electrodes:
                 if abs(zc - el.z) < tol and (not el.patches or any(p.contains(xc, yc) for p in el.patches)):
                     add(D - 1, el.name, tag)

@@ -1,8 +1,8 @@
 """gmsh's mesh size fields of a layout: fine at the piezo's edges and under the load.
 
 The size grows from `piezo_size` at a taxel's edges (and from `contact_size` at the
-rim of a punch, `_rim_field`) to `size` away from them (gmsh Threshold fields on the
-distance to those edges, combined by a Min field); through a layer, `_two_sided`
+rim of a punch, `rim_field`) to `size` away from them (gmsh Threshold fields on the
+distance to those edges, combined by a Min field); through a layer, `two_sided`
 grades the divisions from each face's size to the interior's. Split out of
 meshing.build (which meshes with them).
 """
@@ -15,7 +15,7 @@ import numpy as np
 from taxel.meshing.layout import Layout, is_graded
 
 
-def _two_sided(thickness, h_bottom, h_top, h_max):
+def two_sided(thickness, h_bottom, h_top, h_max):
     """Element heights through a layer graded by 1.5 from both ends (h_bottom next to the
     piezo, h_top at the top surface under a punch) to at most h_max, scaled to fill it."""
     lo, hi, a, b = [], [], h_bottom, h_top
@@ -29,7 +29,7 @@ def _two_sided(thickness, h_bottom, h_top, h_max):
     return np.array(lo + hi[::-1]) * thickness / (sum(lo) + sum(hi))
 
 
-def _size_field(gmsh, lay: Layout):
+def size_field(gmsh, lay: Layout):
     opt = gmsh.option
     opt.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
     opt.setNumber("Mesh.MeshSizeFromPoints", 0)
@@ -42,7 +42,7 @@ def _size_field(gmsh, lay: Layout):
     # the taxel edges on the piezo's faces and the punch's rim on the top surface
     at_piezo = sorted({z for L in piezo for z in (L.z0, L.z1)}) if free else [0.0]
     at_top = [lay.height] if free else [0.0]
-    edges = list(lay.taxels) + ([lay.load] if lay.load and not free and not _rim_field(lay) else [])
+    edges = list(lay.taxels) + ([lay.load] if lay.load and not free and not rim_field(lay) else [])
     if not edges and lay.load is None:
         return
     far = [p for p in lay.taxels if lay.far_taxel != 1.0 and not lay.near_load(p)]
@@ -52,7 +52,7 @@ def _size_field(gmsh, lay: Layout):
         fields.append(_threshold(gmsh, lay, far, min(lay.far_taxel * lay.piezo_size, lay.size), 0.0, at_piezo))
     if free and lay.load is not None and lay.contact_size is None:
         fields.append(_threshold(gmsh, lay, [lay.load], lay.piezo_size, 0.0, at_top))
-    if _rim_field(lay):                                  # the band under the punch's rounded edge
+    if rim_field(lay):                                  # the band under the punch's rounded edge
         fields.append(_rim_threshold(gmsh, lay, min(lay.contact_size, lay.piezo_size), at_top[0] if free else None))
     elif lay.contact_size is not None and lay.load is not None:
         fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim, at_top))
@@ -107,7 +107,7 @@ def _threshold(gmsh, lay: Layout, patches, size_min, dist_min, heights=(0.0,)):
     return thr
 
 
-def _rim_field(lay: Layout) -> bool:
+def rim_field(lay: Layout) -> bool:
     """A 3D punch with a rounded edge: its rim is a size field (_rim_threshold), not a
     plan curve. Where the punch touches is the contact's outcome, not a boundary of the
     geometry; and a rim circle fragmented with a taxel square it touches (the thesis

@@ -20,7 +20,6 @@ solves together need at most session.MEMORY_BUDGET of this machine's memory.
 
 from __future__ import annotations
 
-import asyncio
 import copy
 import threading
 from concurrent.futures import ThreadPoolExecutor
@@ -29,10 +28,21 @@ from pathlib import Path
 
 from trame.app import get_server
 from trame.ui.vuetify3 import SinglePageLayout
-from trame.widgets import html, vuetify3 as v3
+from trame.widgets import html
+from trame.widgets import vuetify3 as v3
 
 from taxel.explore import session as S
-from taxel.explore.controls import LAWS, LOADS, MODELS, NUMBERS, READOUTS, ControlValues, FieldError, piezo_names, scene_of
+from taxel.explore.controls import (
+    LAWS,
+    LOADS,
+    MODELS,
+    NUMBERS,
+    READOUTS,
+    ControlValues,
+    FieldError,
+    piezo_names,
+    scene_of,
+)
 from taxel.explore.front import Front
 from taxel.explore.tab import Tab
 from taxel.explore.wire import MAX_MESSAGE, Refusals, Wire
@@ -225,13 +235,11 @@ class Explorer:
     def _build(self):
         with SinglePageLayout(self.server) as layout:
             layout.title.set_text(f"taxel explore: {self.base.name}")
-            with layout.content:
-                with v3.VContainer(fluid=True):
-                    with v3.VRow():
-                        with v3.VCol(cols=5):
-                            self._controls()
-                        with v3.VCol(cols=7):
-                            self._views()
+            with layout.content, v3.VContainer(fluid=True), v3.VRow():
+                with v3.VCol(cols=5):
+                    self._controls()
+                with v3.VCol(cols=7):
+                    self._views()
 
     def _controls(self):
         for n in NUMBERS:

@@ -22,7 +22,7 @@ import asyncio
 from dataclasses import dataclass, field
 
 from taxel.explore import session as S
-from taxel.explore.controls import NUMBERS, ControlValues, FieldError, scene_of
+from taxel.explore.controls import NUMBERS, ControlValues, FieldError
 from taxel.scene import Scene
 from taxel.units import MAX_TEXT, engineering
 

@@ -17,7 +17,9 @@ event loop with one long value. Here, on the wslink handler of the running serve
   another page;
 - pace: a connection's messages are taken at most RATE a second (a burst of BURST);
   beyond that its socket is read no faster (back-pressure on that connection only);
-- connections: at most MAX_PAGES at once;
+- connections: at most MAX_PAGES at once; messages go out one at a time per connection
+  (not under wslink's one lock for all), and a page that does not read them within
+  SEND_TIMEOUT is closed: a stalled reader holds up no other page;
 - every refusal is one line on stderr (Refusals: at most LINES per connection in
   WINDOW seconds, then one line saying how many more), never a traceback.
 """
@@ -29,14 +31,16 @@ import sys
 import time
 from dataclasses import dataclass, field
 
+import msgpack
 from aiohttp import WSMsgType
-from wslink.chunking import UnChunker
+from wslink.chunking import UnChunker, generate_chunks
 
 MAX_MESSAGE = 2 * 1024 * 1024      # bytes: the largest message a page may send (its largest is a few kB)
 MAX_PENDING = 4                    # messages half-received at once, per connection
 MAX_PAGES = 32                     # connections at once
 RATE, BURST = 500.0, 500           # messages a second per connection, and its burst
 LINES, WINDOW = 20, 10.0           # refusal lines per connection per window (s)
+SEND_TIMEOUT = 5.0                 # s: a page that reads none of a message in this long is closed
 METHODS = ("trame.state.get", "trame.state.update", "trame.trigger", "trame.lifecycle.update",
            "trame.error.client")
 
@@ -92,6 +96,7 @@ class Wire:
         self.explorer = explorer
         self.refuse = refusals or Refusals()
         self.pace: dict[str, list[float]] = {}
+        self.locks: dict[int, asyncio.Lock] = {}
 
     def install(self, wslink_server) -> None:
         import wslink.protocol
@@ -129,6 +134,7 @@ class Wire:
 
         async def close(client_id):
             self.pace.pop(client_id, None)
+            self.locks.pop(id(h.connections.get(client_id)), None)
             self.refuse.seen.pop(client_id, None)
             self.explorer.closed(client_id)
             await on_close(client_id)
@@ -148,8 +154,49 @@ class Wire:
             if client_id in h.connections and not h.connections[client_id].closed:
                 await h.sendWrappedMessage(rpc["id"], result, method=method, client_id=client_id)
 
+        async def send(rpcid, content, method="", client_id=None, skip_last_active_client=False):
+            sockets = h.getAuthenticatedWebsockets(client_id, skip_last_active_client)
+            await self._send(h, {"wslink": "1.0", "id": rpcid, "result": content}, sockets)
+
+        async def send_error(rpcid, code, message, data=None, client_id=None):   # never a traceback sent
+            sockets = [h.connections.get(client_id)] if client_id else list(h.connections.values())
+            await self._send(h, {"wslink": "1.0", "id": rpcid, "error": {"code": code, "message": message}},
+                             sockets)
+
         h.onConnect, h.onMessage, h.onClose, h.onCompleteMessage = connect, message, close, complete
+        h.sendWrappedMessage, h.sendWrappedError = send, send_error
         self.explorer.publish = lambda client_id, data: h.publish("trame.state.topic", data, client_id=client_id)
+
+    async def _send(self, h, wrapper: dict, sockets: list) -> None:
+        """A message to each socket: one send at a time per socket (aiohttp's rule), not one
+        for all (wslink's lock); a socket whose page does not read within SEND_TIMEOUT is
+        closed, so it holds up no one else."""
+        try:
+            packed = msgpack.packb(wrapper)
+        except Exception:
+            packed = msgpack.packb({"wslink": "1.0", "id": wrapper["id"],
+                                    "error": {"code": -32002, "message": "result not serializable"}})
+        for ws in sockets:
+            if ws is None or ws.closed:
+                continue
+            lock = self.locks.setdefault(id(ws), asyncio.Lock())
+            try:
+                async with lock:
+                    await asyncio.wait_for(self._chunks(ws, packed), SEND_TIMEOUT)
+            except TimeoutError:
+                client = next((c for c, w in h.connections.items() if w is ws), "?")
+                self.refuse(client, f"a page that does not read its messages ({SEND_TIMEOUT:g} s); connection closed")
+                transport = getattr(getattr(ws, "_writer", None), "transport", None)
+                if transport is not None:
+                    transport.abort()
+            except (ConnectionError, RuntimeError):     # the page left meanwhile
+                pass
+
+    @staticmethod
+    async def _chunks(ws, packed: bytes) -> None:
+        import wslink.protocol
+        for chunk in generate_chunks(packed, wslink.protocol.MAX_MSG_SIZE):
+            await ws.send_bytes(chunk)
 
     def _call(self, client_id: str, method: str, args: list):
         ex = self.explorer
