@@ -4,8 +4,10 @@ Starts `taxel explore thesis-pzt-single-2d` on a free port (with its token), the
 one run, on one machine:
 
 1. one page alone moves a control for `--seconds`, each move waited for;
-2. `--tabs` pages at once (each its own connection and design, page i on control
-   SLIDERS[i % 6]) do the same for `--seconds`, while `--hostile` clients attack:
+2. `--tabs` pages at once, the same way (each its own connection and design);
+3. `--tabs` pages at once (each its own connection and design, page i on control
+   SLIDERS[i % 6]) do the same for `--seconds`, while `--hostile` clients attack, each in its
+   own process (so it competes with the pages for the cores, not for this process):
    - hostile 0, a flood: control changes and figure requests sent without waiting and
      without reading the answers (the server paces it, then closes it as a page that
      does not read; it reconnects);
@@ -21,12 +23,13 @@ pushed answer newer than it (the page's answer count up, busy false).
 CPU time separated from waiting: per phase, the explorer's CPU seconds (psutil: user +
 system of its process and children) against the phase's wall seconds; per move, the
 server's own answer time (the page's "solved in" / "from the store in" milliseconds)
+and the explorer's CPU milliseconds per move (its CPU seconds over the moves answered)
 beside the latency: the rest is waiting (the 20 ms debounce, the lanes' queues, the
 transport, and the other processes on these cores).
 
 Reports p50/p95/max of the pages' latencies in both phases and their ratio (goal:
 p95 with ten pages and two hostile clients within 2x one page alone), the hostile
-clients' counts and the refusal times, and writes benchmarks/results/explore_load.json.
+clients' counts and the refusal times, and writes docs/explore_load.json (the docs read it).
 Bounded: `--seconds` per phase (at most 600), `--tabs` at most 16, every loop ends at
 its phase's deadline; loopback only.
 
@@ -53,7 +56,7 @@ from taxel.explore.controls import NUMBERS
 
 SLIDERS = ["silicone_above", "gap", "taxel_width", "piezo_thickness", "force", "silicone_below"]
 STEPS = [1, 2, 3, 4, 3, 2, 1, 0]                     # ArrowRight x4, ArrowLeft x4, ...
-RESULT = Path(__file__).parent / "results" / "explore_load.json"
+RESULT = Path(__file__).resolve().parents[1] / "docs" / "explore_load.json"   # the docs read it ({bench})
 
 
 class Page:
@@ -80,14 +83,13 @@ def solve_ms(text: str) -> float | None:
     return float(m.group(1)) / 1e3 if m else None
 
 
-def page(url: str, seconds: float, control: str, rows: list, errors: list, ready: threading.Barrier | None):
+def page(url: str, seconds: float, control: str, rows: list, errors: list, start: float):
     n = next(x for x in NUMBERS if x.name == control)
     try:
         p = Page(url)
         p.pump(lambda s: s["answers"] >= 1 and not s["busy"], 300)
         base = float(p.state[f"t_{control}"])
-        if ready is not None:
-            ready.wait(600)
+        time.sleep(max(0.0, start - time.time()))
         end, k = time.monotonic() + seconds, 0
         while time.monotonic() < end:
             before = p.state["answers"]
@@ -155,34 +157,54 @@ def cpu(proc: psutil.Process) -> float:
     return total
 
 
+def hostile_process(kind: str, url: str, seconds: float, start: float, queue) -> None:
+    """A hostile client in its own process (not competing with the pages for this one's GIL)."""
+    counts = {"sent": 0, "closed": 0, "frames": 0, "chunks": 0, "errors": 0}
+    refusals: list[float] = []
+    time.sleep(max(0.0, start - time.time()))
+    if kind == "flood":
+        flood(url, seconds, counts)
+    else:
+        attacker(url, seconds, counts, refusals)
+    queue.put((counts, refusals))
+
+
 def phase(app, tabs: int, seconds: float, hostile: int) -> dict:
+    import multiprocessing
     rows, errors, refusals = [], [], []
     counts = {"sent": 0, "closed": 0, "frames": 0, "chunks": 0, "errors": 0}
-    ready = threading.Barrier(tabs + hostile) if tabs > 1 or hostile else None
-
-    def start_hostile(fn, *args):
-        if ready is not None:
-            ready.wait(600)
-        fn(*args)
-    threads = [threading.Thread(target=page, args=(app.url, seconds, SLIDERS[i % len(SLIDERS)], rows, errors, ready))
+    start = time.time() + 10                        # the pages' first answers, then all start together
+    threads = [threading.Thread(target=page, args=(app.url, seconds, SLIDERS[i % len(SLIDERS)], rows, errors, start))
                for i in range(tabs)]
-    threads += [threading.Thread(target=start_hostile, args=(flood, app.url, seconds, counts)) for _ in range(hostile > 0)]
-    threads += [threading.Thread(target=start_hostile, args=(attacker, app.url, seconds, counts, refusals))
-                for _ in range(hostile > 1)]
+    ctx = multiprocessing.get_context("spawn")
+    queue = ctx.Queue()
+    procs = [ctx.Process(target=hostile_process, args=(kind, app.url, seconds, start, queue))
+             for kind in ("flood", "attacker")[:hostile]]
+    for p in procs:
+        p.start()
     proc = psutil.Process(app.proc.pid)
-    c0, t0 = cpu(proc), time.monotonic()
     for t in threads:
         t.start()
+    time.sleep(max(0.0, start - time.time()))
+    c0, t0 = cpu(proc), time.monotonic()
     for t in threads:
         t.join()
     wall = time.monotonic() - t0
+    for _ in procs:
+        got, ref = queue.get(timeout=120)
+        for k, v in got.items():
+            counts[k] += v
+        refusals += ref
+    for p in procs:
+        p.join(30)
     lat = [r[0] for r in rows]
     solve = [r[1] for r in rows if r[1] is not None]
     return {"tabs": tabs, "hostile": hostile, "moves": len(rows), "errors": len(errors),
             "error_kinds": sorted(set(errors))[:3], "p50_s": pct(lat, 50), "p95_s": pct(lat, 95),
             "max_s": max(lat, default=float("nan")), "server_answer_p50_s": pct(solve, 50),
             "server_answer_p95_s": pct(solve, 95), "wait_p50_s": pct([a - b for a, b in rows if b is not None], 50),
-            "wall_s": wall, "server_cpu_s": cpu(proc) - c0, "hostile_counts": counts,
+            "wall_s": wall, "server_cpu_s": (used := cpu(proc) - c0),
+            "server_cpu_per_move_ms": 1e3 * used / max(len(rows), 1), "hostile_counts": counts,
             "long_value_refusal_p50_s": pct(refusals, 50), "long_value_refusal_max_s": max(refusals, default=None)}
 
 
@@ -202,23 +224,25 @@ def main():
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as out, ExplorerProcess("thesis-pzt-single-2d", Path(out) / "out", 300.0) as app:
         alone = phase(app, 1, args.seconds, 0)
+        pages = phase(app, args.tabs, args.seconds, 0)
         many = phase(app, args.tabs, args.seconds, args.hostile)
         refused = sum("refused" in ln for ln in app.log)
         tracebacks = sum("Traceback" in ln for ln in app.log)
     res = {"date": time.strftime("%Y-%m-%d"), "cores": os.cpu_count(), "load_average_before": load0,
-           "load_average_after": os.getloadavg()[0], "seconds": args.seconds, "alone": alone, "loaded": many,
+           "load_average_after": os.getloadavg()[0], "seconds": args.seconds, "alone": alone, "pages": pages, "loaded": many,
            "p95_ratio": many["p95_s"] / alone["p95_s"], "p50_ratio": many["p50_s"] / alone["p50_s"],
+           "p95_ratio_pages_only": pages["p95_s"] / alone["p95_s"],
            "refusal_lines": refused, "tracebacks": tracebacks}
     RESULT.parent.mkdir(exist_ok=True)
     RESULT.write_text(json.dumps(res, indent=1))
     print(f"slider-to-answer latency of well-behaved pages, {args.seconds:g} s per phase, loopback, "
           f"{os.cpu_count()} cores, load average {load0:.1f} before")
     print(f"{'pages':>5} {'hostile':>7} {'moves':>6} {'p50':>8} {'p95':>8} {'max':>8} {'answer p50':>10} "
-          f"{'wait p50':>9} {'server CPU':>11} {'errors':>6}")
-    for r in (alone, many):
+          f"{'wait p50':>9} {'server CPU':>11} {'CPU/move':>9} {'errors':>6}")
+    for r in (alone, pages, many):
         print(f"{r['tabs']:>5} {r['hostile']:>7} {r['moves']:>6} {r['p50_s']:>6.3f} s {r['p95_s']:>6.3f} s "
               f"{r['max_s']:>6.3f} s {r['server_answer_p50_s']:>8.3f} s {r['wait_p50_s']:>7.3f} s "
-              f"{r['server_cpu_s'] / r['wall_s']:>9.2f} c {r['errors']:>6}")
+              f"{r['server_cpu_s'] / r['wall_s']:>9.2f} c {r['server_cpu_per_move_ms']:>6.1f} ms {r['errors']:>6}")
         for e in r["error_kinds"]:
             print(f"      error: {e}")
     h = many["hostile_counts"]
@@ -227,6 +251,7 @@ def main():
           f"(median), at most {many['long_value_refusal_max_s'] or float('nan'):.3f} s")
     print(f"p95 ratio, {args.tabs} pages and {args.hostile} hostile over 1 page alone: {res['p95_ratio']:.2f} "
           f"({'within' if res['p95_ratio'] <= 2 else 'beyond'} the 2x goal); median {res['p50_ratio']:.2f}x; "
+          f"{args.tabs} pages without the hostile clients: p95 {res['p95_ratio_pages_only']:.2f}x; "
           f"{refused} refusal lines, {tracebacks} tracebacks in the explorer's log; wrote {RESULT}")
 
 

@@ -146,7 +146,8 @@ class ExplorerProcess:
         env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", **(env or {})}
         self.proc = subprocess.Popen([*prefix, sys.executable, "-m", "taxel.cli", "explore", scene, "--port",
                                       str(self.port), "--out", str(out), *extra],
-                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env, cwd=cwd)
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env, cwd=cwd,
+                                     start_new_session=True)     # its own group: close() ends it all
         self.log: list[str] = []
         end = time.monotonic() + limit
         for line in self.proc.stdout:
@@ -168,12 +169,17 @@ class ExplorerProcess:
             self.log.append(line)
 
     def close(self):
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(15)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
+        """End the explorer and every process of its group (3D workers; under a `prefix`
+        such as strace, the traced explorer too)."""
+        import signal
+        try:
+            os.killpg(self.proc.pid, signal.SIGTERM)
+        except ProcessLookupError:
+            return
+        try:
+            self.proc.wait(15)
+        except subprocess.TimeoutExpired:
+            os.killpg(self.proc.pid, signal.SIGKILL)
 
     def __enter__(self):
         return self
