@@ -47,4 +47,4 @@ def _explore(args):
         print(f"taxel explore: listening on {args.host}:{args.port}, reachable from other machines, only with "
               f"the token in the printed address; warning: {TLS_ADVICE.replace('PORT', str(args.port))}",
               file=sys.stderr, flush=True)
-    api.explore(args.scene, args.out, host=args.host, port=args.port, token=not args.no_token)
+    api.serve_explorer(args.scene, args.out, host=args.host, port=args.port, token=not args.no_token)
