@@ -223,3 +223,34 @@ def test_a_solve_that_would_not_fit_is_refused_with_its_size():
         S.check_fits(scene, share=0.5 * cost.bytes / cost.memory)
     msg = str(err.value)
     assert "3D" in msg and f"{cost.unknowns:.3g} unknowns" in msg and "GB" in msg and "\n" not in msg
+
+
+def test_the_host_is_checked_on_every_bind_and_the_cookie_is_per_port():
+    """A bind on every interface still refuses a Host that is not this machine's (DNS
+    rebinding of a name to this machine's address); two ports' cookies differ, and neither
+    is the token."""
+    import socket
+
+    from aiohttp.test_utils import make_mocked_request
+
+    from taxel.explore.guard import Guard
+    g = Guard("0.0.0.0", 8123, "t0ken")
+
+    def why(host):
+        return g.why_refused(make_mocked_request("GET", "/?token=t0ken", headers={"Host": host}))
+    assert why("127.0.0.1:8123") is None and why(f"{socket.gethostname()}:8123") is None
+    assert "DNS rebinding" in why("evil.example:8123") and "DNS rebinding" in why("127.0.0.1:9999")
+    other = Guard("0.0.0.0", 8124, "t0ken")
+    assert g.cookie != other.cookie and g.cookie_value() != other.cookie_value()
+    assert "t0ken" not in g.cookie_value() and g.secret != "wslink-secret"
+
+
+def test_the_memory_caps_add_up():
+    """The 3D solve, the slow lane's 2D solve and the fast lane's small solves, all at once,
+    within the explorer's budget of this machine's memory (taxel.explore.session)."""
+    from taxel.explore import app as A
+    from taxel.explore import session as S
+    from taxel.meshing.cost import unknowns_cost
+    small = unknowns_cost(S.SMALL_UNKNOWNS, 2)
+    total = S.MEMORY_3D + S.MEMORY_2D + A.FAST_WORKERS * small.bytes / small.memory
+    assert total <= S.MEMORY_BUDGET < 0.5
