@@ -21,7 +21,9 @@ solves together need at most session.MEMORY_BUDGET of this machine's memory.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import threading
+from collections import OrderedDict
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -50,6 +52,7 @@ from taxel.scene import Scene
 from taxel.schema import to_data
 
 FAST_WORKERS = 2
+RECENT = 256            # designs whose answers the explorer keeps in memory (a few kB each)
 
 
 def _decimals(step: float) -> int:
@@ -79,6 +82,7 @@ class Explorer:
                            ThreadPoolExecutor(1, thread_name_prefix="explore-slow"))
         self._sessions = threading.local()              # one store connection per thread
         self.tabs: dict[str, Tab] = {}
+        self._recent: OrderedDict = OrderedDict()      # design key -> (scene, answer): Explorer.recall
         self.refuse = Refusals()
         self.publish = lambda client, data: None        # set by Wire.install when the server binds
         self.initial = self._init_state(ControlValues.of(scene))
@@ -157,6 +161,20 @@ class Explorer:
 
     def answer(self, scene: Scene) -> S.Answer:
         return self.session().answer(scene)
+
+    def recall(self, design: ControlValues) -> tuple[Scene, S.Answer] | None:
+        """A design answered lately (the last RECENT designs, any page's): its scene and
+        answer, shown as from the store (0 ms); None otherwise. On the event loop only."""
+        hit = self._recent.get(design.key())
+        if hit is None:
+            return None
+        self._recent.move_to_end(design.key())
+        return hit[0], dataclasses.replace(hit[1], seconds=0.0, cached=True)
+
+    def remember(self, design: ControlValues, scene: Scene, answer: S.Answer) -> None:
+        self._recent[design.key()] = (scene, answer)
+        if len(self._recent) > RECENT:
+            self._recent.popitem(last=False)
 
     # -- the optimization's front -------------------------------------------------------------------
     def load_front(self, tab: Tab, i):

@@ -13,7 +13,9 @@ base scene (controls.scene_of: the scene schema's checks, as `taxel solve` makes
 them; a refused value is shown beside its field and logged in one line), its solve
 cost checked against the explorer's 2D cap (session.check_fits), and answered from
 the study store or solved: a small solve in the fast lane, a large one in the slow
-lane, so one large design never holds up the others' small ones.
+lane, so one large design never holds up the others' small ones. A design answered
+lately (by any page) is answered from the explorer's memory (Explorer.recall), on the
+event loop, without reading or solving it again.
 """
 
 from __future__ import annotations
@@ -137,8 +139,17 @@ class Tab:
     async def _update(self, gen: int):
         ex = self.explorer
         loop = asyncio.get_running_loop()
+        design = self.design()
+        hit = ex.recall(design)                        # a design answered lately, by any page
+        if hit is not None:
+            self.scene = hit[0]
+            self.push(**{f"e_{n.name}": [] for n in NUMBERS}, e_piezo=[], message="", **self._shown(hit[1]),
+                      busy=False, answers=self.state["answers"] + 1)
+            if ex.front is not None:
+                await self._plot_front(hit[1], hit[0], gen)
+            return
         try:
-            scene, cost = await loop.run_in_executor(ex.lanes.fast, ex.prepare, self.design())
+            scene, cost = await loop.run_in_executor(ex.lanes.fast, ex.prepare, design)
         except FieldError as exc:
             if gen == self.generation:
                 self._refused(exc)
@@ -159,6 +170,7 @@ class Tab:
         if ans is None or gen != self.generation:
             return
         self.scene = scene
+        ex.remember(design, scene, ans)
         self.push(**self._shown(ans), busy=False, answers=self.state["answers"] + 1)
         if ex.front is not None:
             await self._plot_front(ans, scene, gen)
