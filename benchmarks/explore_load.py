@@ -17,7 +17,9 @@ one run, on one machine:
 
 A page speaks the page's protocol (taxel.explore.client, as trame's page does when a
 slider moves: `trame.state.update` of the control's text, the slider's next step,
-ArrowRight x4, ArrowLeft x4, ...), and a move's latency is from sending it to the
+ArrowRight x4, ArrowLeft x4, ...: designs seen before come back, and the explorer answers
+them from memory; with `--fresh` every move is a design never seen, so each is solved,
+written to docs/explore_load_fresh.json), and a move's latency is from sending it to the
 pushed answer newer than it (the page's answer count up, busy false).
 
 CPU time separated from waiting: per phase, the explorer's CPU seconds (psutil: user +
@@ -57,6 +59,7 @@ from taxel.explore.controls import NUMBERS
 SLIDERS = ["silicone_above", "gap", "taxel_width", "piezo_thickness", "force", "silicone_below"]
 STEPS = [1, 2, 3, 4, 3, 2, 1, 0]                     # ArrowRight x4, ArrowLeft x4, ...
 RESULT = Path(__file__).resolve().parents[1] / "docs" / "explore_load.json"   # the docs read it ({bench})
+PHASES: list[tuple[int, int]] = []                   # (pages, hostile) of each phase, in order
 
 
 class Page:
@@ -83,7 +86,7 @@ def solve_ms(text: str) -> float | None:
     return float(m.group(1)) / 1e3 if m else None
 
 
-def page(url: str, seconds: float, control: str, rows: list, errors: list, start: float):
+def page(url: str, seconds: float, control: str, rows: list, errors: list, start: float, fresh: int | None = None):
     n = next(x for x in NUMBERS if x.name == control)
     try:
         p = Page(url)
@@ -93,12 +96,13 @@ def page(url: str, seconds: float, control: str, rows: list, errors: list, start
         end, k = time.monotonic() + seconds, 0
         while time.monotonic() < end:
             before = p.state["answers"]
-            value = f"{base + STEPS[k % len(STEPS)] * n.step:.4g}"
+            value = (f"{base + STEPS[k % len(STEPS)] * n.step:.4g}" if fresh is None else   # the slider's steps
+                     f"{base * (1 + 1e-5 * (64 * k + fresh + 1)):.9g}")                     # a new design each move
             t0 = time.monotonic()
             p.c.send("trame.state.update", [{"key": f"t_{control}", "value": value}])
             try:
                 st = p.pump(lambda s, b=before: s["answers"] > b and not s["busy"], 60)
-                rows.append((time.monotonic() - t0, solve_ms(st["answer_time"])))
+                rows.append((time.monotonic() - t0, solve_ms(st["answer_time"]), st["answer_time"].startswith("solved")))
             except TimeoutError as exc:
                 errors.append(str(exc))
             k += 1
@@ -169,12 +173,13 @@ def hostile_process(kind: str, url: str, seconds: float, start: float, queue) ->
     queue.put((counts, refusals))
 
 
-def phase(app, tabs: int, seconds: float, hostile: int) -> dict:
+def phase(app, tabs: int, seconds: float, hostile: int, fresh: bool = False) -> dict:
     import multiprocessing
     rows, errors, refusals = [], [], []
     counts = {"sent": 0, "closed": 0, "frames": 0, "chunks": 0, "errors": 0}
     start = time.time() + 10                        # the pages' first answers, then all start together
-    threads = [threading.Thread(target=page, args=(app.url, seconds, SLIDERS[i % len(SLIDERS)], rows, errors, start))
+    threads = [threading.Thread(target=page, args=(app.url, seconds, SLIDERS[i % len(SLIDERS)], rows, errors, start,
+                                                   i + 16 * PHASES.index((tabs, hostile)) if fresh else None))
                for i in range(tabs)]
     ctx = multiprocessing.get_context("spawn")
     queue = ctx.Queue()
@@ -202,7 +207,8 @@ def phase(app, tabs: int, seconds: float, hostile: int) -> dict:
     return {"tabs": tabs, "hostile": hostile, "moves": len(rows), "errors": len(errors),
             "error_kinds": sorted(set(errors))[:3], "p50_s": pct(lat, 50), "p95_s": pct(lat, 95),
             "max_s": max(lat, default=float("nan")), "server_answer_p50_s": pct(solve, 50),
-            "server_answer_p95_s": pct(solve, 95), "wait_p50_s": pct([a - b for a, b in rows if b is not None], 50),
+            "server_answer_p95_s": pct(solve, 95), "wait_p50_s": pct([a - b for a, b, _ in rows if b is not None], 50),
+            "solved_fraction": sum(r[2] for r in rows) / max(len(rows), 1),
             "wall_s": wall, "server_cpu_s": (used := cpu(proc) - c0),
             "server_cpu_per_move_ms": 1e3 * used / max(len(rows), 1), "hostile_counts": counts,
             "long_value_refusal_p50_s": pct(refusals, 50), "long_value_refusal_max_s": max(refusals, default=None)}
@@ -218,31 +224,34 @@ def main():
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--tabs", type=int, default=10)
     ap.add_argument("--hostile", type=int, default=2)
+    ap.add_argument("--fresh", action="store_true",
+                    help="every move a design never seen (each one solved), not the slider's steps back and forth")
     args = ap.parse_args()
     if not (0 < args.seconds <= 600 and 1 <= args.tabs <= 16 and 0 <= args.hostile <= 2):
         ap.error("--seconds in (0, 600], --tabs in 1..16, --hostile in 0..2")
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as out, ExplorerProcess("thesis-pzt-single-2d", Path(out) / "out", 300.0) as app:
-        alone = phase(app, 1, args.seconds, 0)
-        pages = phase(app, args.tabs, args.seconds, 0)
-        many = phase(app, args.tabs, args.seconds, args.hostile)
+        PHASES[:] = [(1, 0), (args.tabs, 0), (args.tabs, args.hostile)]
+        alone = phase(app, 1, args.seconds, 0, args.fresh)
+        pages = phase(app, args.tabs, args.seconds, 0, args.fresh)
+        many = phase(app, args.tabs, args.seconds, args.hostile, args.fresh)
         refused = sum("refused" in ln for ln in app.log)
         tracebacks = sum("Traceback" in ln for ln in app.log)
     res = {"date": time.strftime("%Y-%m-%d"), "cores": os.cpu_count(), "load_average_before": load0,
-           "load_average_after": os.getloadavg()[0], "seconds": args.seconds, "alone": alone, "pages": pages, "loaded": many,
+           "load_average_after": os.getloadavg()[0], "seconds": args.seconds, "fresh": args.fresh, "alone": alone, "pages": pages, "loaded": many,
            "p95_ratio": many["p95_s"] / alone["p95_s"], "p50_ratio": many["p50_s"] / alone["p50_s"],
            "p95_ratio_pages_only": pages["p95_s"] / alone["p95_s"],
            "refusal_lines": refused, "tracebacks": tracebacks}
-    RESULT.parent.mkdir(exist_ok=True)
-    RESULT.write_text(json.dumps(res, indent=1))
+    result = RESULT.with_name("explore_load_fresh.json") if args.fresh else RESULT
+    result.write_text(json.dumps(res, indent=1))
     print(f"slider-to-answer latency of well-behaved pages, {args.seconds:g} s per phase, loopback, "
           f"{os.cpu_count()} cores, load average {load0:.1f} before")
     print(f"{'pages':>5} {'hostile':>7} {'moves':>6} {'p50':>8} {'p95':>8} {'max':>8} {'answer p50':>10} "
-          f"{'wait p50':>9} {'server CPU':>11} {'CPU/move':>9} {'errors':>6}")
+          f"{'wait p50':>9} {'server CPU':>11} {'CPU/move':>9} {'solved':>7} {'errors':>6}")
     for r in (alone, pages, many):
         print(f"{r['tabs']:>5} {r['hostile']:>7} {r['moves']:>6} {r['p50_s']:>6.3f} s {r['p95_s']:>6.3f} s "
               f"{r['max_s']:>6.3f} s {r['server_answer_p50_s']:>8.3f} s {r['wait_p50_s']:>7.3f} s "
-              f"{r['server_cpu_s'] / r['wall_s']:>9.2f} c {r['server_cpu_per_move_ms']:>6.1f} ms {r['errors']:>6}")
+              f"{r['server_cpu_s'] / r['wall_s']:>9.2f} c {r['server_cpu_per_move_ms']:>6.1f} ms {100 * r['solved_fraction']:>5.0f} % {r['errors']:>6}")
         for e in r["error_kinds"]:
             print(f"      error: {e}")
     h = many["hostile_counts"]
@@ -252,7 +261,7 @@ def main():
     print(f"p95 ratio, {args.tabs} pages and {args.hostile} hostile over 1 page alone: {res['p95_ratio']:.2f} "
           f"({'within' if res['p95_ratio'] <= 2 else 'beyond'} the 2x goal); median {res['p50_ratio']:.2f}x; "
           f"{args.tabs} pages without the hostile clients: p95 {res['p95_ratio_pages_only']:.2f}x; "
-          f"{refused} refusal lines, {tracebacks} tracebacks in the explorer's log; wrote {RESULT}")
+          f"{refused} refusal lines, {tracebacks} tracebacks in the explorer's log; wrote {result}")
 
 
 if __name__ == "__main__":
