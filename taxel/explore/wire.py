@@ -150,7 +150,11 @@ class Wire:
             if method not in METHODS:
                 self.refuse(client_id, f"the method {method[:60]!r}")
                 return await h.sendWrappedError(rpc["id"], -32601, "refused method", client_id=client_id)
-            result = self._call(client_id, method, args)
+            try:
+                result = self._call(client_id, method, args)
+            except Exception as exc:                 # a bug or the disk: one line, the connection goes on
+                self.refuse(client_id, f"{method} failed ({type(exc).__name__}: {str(exc)[:120]})")
+                return await h.sendWrappedError(rpc["id"], -32000, "failed", client_id=client_id)
             if client_id in h.connections and not h.connections[client_id].closed:
                 await h.sendWrappedMessage(rpc["id"], result, method=method, client_id=client_id)
 
