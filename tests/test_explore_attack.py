@@ -133,8 +133,9 @@ def test_a_pages_state_never_reaches_another_page(app):
         b.close()
 
 
+@pytest.mark.slow
 def test_a_flood_is_bounded_and_figures_queue_one_per_page(app):
-    """1200 moves and 6 figure requests sent without waiting: the flood is paced (one line),
+    """700 moves and 6 figure requests sent without waiting: the flood is paced (one line),
     one figure is made (the others refused), and another page is answered meanwhile."""
     a, b = _page(app), _page(app)
     try:
@@ -142,14 +143,14 @@ def test_a_flood_is_bounded_and_figures_queue_one_per_page(app):
         assert f"trigger('{section}'" in _state(a)["trame__template_main"].split('id="section"')[1][:300]
         for _ in range(6):
             a.send("trame.trigger", section, [], {})
-        for i in range(1200):
+        for i in range(700):
             a.send("trame.state.update", [{"key": "t_silicone_above", "value": f"{0.5 + (i % 40) * 0.05:.2f}"}])
         before = _state(b)["voltage"]
         _set(b, t_force="3")
         poll_until_state(b, app, lambda s: not s["busy"] and s["voltage"] != before, "the other page's answer")
         st = poll_until_state(a, app, lambda s: not s["busy"] and not s["extra_busy"] and s["figure"],
                               "the flooding page's last answer and its figure")
-        assert st["t_silicone_above"] == f"{0.5 + (1199 % 40) * 0.05:.2f}"
+        assert st["t_silicone_above"] == f"{0.5 + (699 % 40) * 0.05:.2f}"
         assert _lines(app, "messages a second: read slower")
         assert len(_lines(app, "a figure is being made for this page already")) >= 1
     finally:
