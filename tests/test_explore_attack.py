@@ -218,6 +218,8 @@ def test_no_process_of_the_explorer_writes_outside_its_output_folder(tmp_path):
             poll_until_state(c, app, lambda s: s["answer3d"] and s["figure"], "the 3D answer and the figure")
         finally:
             c.close()
+    text = trace.read_text(errors="replace")
+    assert text.count("fltk.prefs") >= 2                 # gmsh started under the trace (the explorer, the worker)
     written = _written(trace, tmp_path)
     allowed = (out.resolve(), Path("/dev"), Path("/proc"))
     outside = sorted(str(p) for p in written if not any(p.resolve().is_relative_to(a) for a in allowed))
