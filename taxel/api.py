@@ -203,7 +203,8 @@ def serve_explorer(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", fo
     from taxel.explore.guard import check_bind, new_token
     token = new_token() if token is True else (token or None)
     check_bind(host, token)
-    folder = Path(folder) if folder is not None else Path("out") / "explore" / scene.name
+    from taxel.explore.confine import confine
+    folder = confine(Path(folder) if folder is not None else Path("out") / "explore" / scene.name)
     Explorer(scene, folder, store=store, front=front).serve(host, port, token)
 
 

@@ -114,6 +114,9 @@ class Scene(Strict):
                              f"({m.size * 1e3:g} mm); the piezo size is the fine one: make it smaller")
         if self.array is not None:
             a = self.array
+            if a.gap < 0:
+                raise ValueError(f"array.gap = {a.gap * 1e3:g} mm: a negative edge-to-edge gap makes the taxels "
+                                 "overlap; give a gap >= 0, e.g. \"1 mm\"")
             if a.gap < GEOMETRY[0] and a.rows * a.cols > 1:
                 raise ValueError(f"array.gap = {a.gap * 1e3:g} mm makes the taxels overlap or touch; "
                                  "use an edge-to-edge gap of at least 1 um")
@@ -143,6 +146,9 @@ class Scene(Strict):
         ld = self.load
         if ld.kind == "pressure" and ld.pressure is None:
             raise ValueError("load.pressure is missing for kind = 'pressure'; e.g. \"10 kPa\"")
+        if ld.force is not None and ld.force < 0:
+            raise ValueError(f"load.force = {ld.force:g} N: a press pushes, the force is its size (>= 0); "
+                             "a pull is not modelled, e.g. \"1 N\"")
         if ld.kind != "pressure" and ld.force is None:
             raise ValueError(f"load.force is missing for kind = '{ld.kind}'; e.g. \"0.5 N\"")
         driven = any(not isinstance(electrode_state(v, f"electrodes.{k}"), str) for k, v in self.electrodes.items())

@@ -137,7 +137,15 @@ def friction_law(v):
         return v
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
         raise ValueError(f'expected "frictionless", "sticking" or a Coulomb coefficient >= 0 such as 0.4, got {v!r}')
+    if v > MAX_FRICTION:
+        raise ValueError(f"a Coulomb coefficient of {v:g} is beyond any measured for a silicone (about 0.2 to 3, "
+                         f"up to {MAX_FRICTION:g} here): for no slip at all write \"sticking\"")
     return float(v)
+
+
+# the largest Coulomb coefficient accepted: tacky silicones on glass or steel measure about 0.2 to 3;
+# a far larger one is "sticking" (and overflows the return mapping's slip bound, mu * pressure)
+MAX_FRICTION = 10.0
 
 
 FrictionLaw = Annotated[Literal["frictionless", "sticking"] | float | None, BeforeValidator(friction_law)]

@@ -46,10 +46,20 @@ def registry() -> pint.UnitRegistry:
         return pint.UnitRegistry()
 
 
+# the longest quantity text read: pint's tokenizer takes time growing with the square of a
+# number's length (16k digits: 7-11 s), so a longer text is refused before it is parsed
+MAX_TEXT = 100
+
+
 def quantity(text: str) -> pint.Quantity:
     """A pint quantity from a string ("Ohm" and "ohm" both read as ohms; "34 degC", an
-    offset unit pint cannot multiply, as the number in that unit)."""
-    text = str(text).replace("Ohm", "ohm")
+    offset unit pint cannot multiply, as the number in that unit); UnitError for a text
+    longer than MAX_TEXT characters (no quantity needs it), before it is parsed."""
+    text = str(text)
+    if len(text) > MAX_TEXT:
+        raise UnitError(f"a quantity of {len(text)} characters ({text[:20]!r}...): at most {MAX_TEXT}; "
+                        "write e.g. \"1 mm\"")
+    text = text.replace("Ohm", "ohm")
     try:
         return registry().Quantity(text)
     except Exception as exc:
@@ -78,6 +88,8 @@ def to_si(value, unit: str, what: str, *, si_numbers: bool = False, positive: bo
         raise UnitError(f"expected a {what} such as \"1 {hint}\"")
     try:
         q = quantity(value)
+    except UnitError:
+        raise
     except Exception:
         raise UnitError(f"cannot read {value!r} as a {what}; write e.g. \"1 {hint}\"") from None
     if isinstance(q, (int, float)) or q.dimensionless:
@@ -112,6 +124,8 @@ def in_unit(value, unit: str | None = None) -> tuple[float, str]:
     else:
         try:
             q = quantity(value)
+        except UnitError:
+            raise
         except Exception:
             raise UnitError(f"cannot read {value!r} as a quantity") from None
         if unit is None:

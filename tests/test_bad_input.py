@@ -704,6 +704,33 @@ RANGES = [
                                                              "give at most --seconds"), out="s.bin"),
 ]
 
+# ------------------------------------------------------------------------- hostile input on the newer features
+def _skin_file(folder):
+    from test_skin import first_order_skin
+    first_order_skin().save(folder / "skin.npz")
+
+
+def _free_port() -> str:
+    from taxel.explore.browser import free_port
+    return str(free_port())
+
+
+PROBE_LOAD = '[load]\nkind = "probe"\ncontact = true\nradius = "1 mm"\n'
+HOSTILE = [
+    Case("skin-dataset-too-large", ["skin", "dataset", "skin.npz", "-o", "d.h5", "--presses", "1000000",
+                                    "--duration", "60"], ("--presses 1000000", "GB", "half this machine's memory",
+                                                          "give at most --presses"), setup=_skin_file, out="d.h5"),
+    Case("skin-dataset-empty-skin-file", ["skin", "dataset", "empty.npz", "-o", "d.h5"],
+         ("empty.npz", "not a skin file"), {"empty.npz": b""}, out="d.h5"),
+    option("skin-checks-0", ["skin", "thesis-pzt-3x3-2d", "-o", "s.npz"], "--checks", "0", ">= 1", out="s.npz"),
+    Case("explore-out-cannot-be-created", ["explore", "--port", _free_port(), "--out", "f/explore"],
+         ("f/explore", "Not a directory"), {"f": "a file, not a folder\n"}),
+    scene("friction-1e9", ARRAY + PROBE_LOAD + "friction = 1e9\n", "load.friction", "sticking"),
+    scene("force-negative", ARRAY + '[load]\nforce = "-1 N"\n', "load.force", ">= 0"),
+    scene("gap-negative-one-taxel", ARRAY + 'gap = "-1 mm"\n', "array.gap", ">= 0"),
+    scene("width-5000-digits", ARRAY + f'taxel_width = "{"1" * 5000} mm"\n', "array.taxel_width", "at most 100"),
+]
+
 # ------------------------------------------------------------------------- a tolerance study's [requirements]
 TOLERANCE = ('base = "thesis-pzt-3x3-2d"\nsampling = "tolerance"\nsamples = 2\n[overrides]\n"mesh.size" = "1 mm"\n'
              '[[parameters]]\npath = "array.gap"\ntolerance = "0.2 mm"\n')
@@ -726,7 +753,7 @@ REQUIREMENTS = [study(f"requirement-{id}", TOLERANCE + f"[requirements]\n{line}\
 
 
 CASES = (SCENES + MORE_SCENES + CONTACT + MATERIALS + SOLVE + STUDIES + STUDY_FILES + OPTIMIZE + OPTIMIZE_FILES
-         + FIT + FIT_MORE + REPORTS + MEASURE + RANGES + REQUIREMENTS)
+         + FIT + FIT_MORE + REPORTS + MEASURE + RANGES + HOSTILE + REQUIREMENTS)
 
 
 def test_the_table_is_large_covers_every_command_and_has_no_duplicate():

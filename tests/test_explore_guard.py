@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 from waits import CEILING, poll_until
-from wslink_client import Client, HandshakeRefused
+from wslink_client import Client, HandshakeRefused, page_secret
 
 from taxel.explore.browser import ExplorerProcess
 
@@ -30,6 +30,7 @@ def app(tmp_path_factory):
     root = tmp_path_factory.mktemp("explore-guard")
     with ExplorerProcess(SCENE, root / "out", CEILING, cwd=root) as proc:
         proc.root = root
+        proc.secret = page_secret(proc.url)
         keep = _ws(proc)          # trame ends a server left without a client: one stays connected
         keep.hello()
         yield proc
@@ -39,7 +40,8 @@ def app(tmp_path_factory):
 def _ws(app, token=True, origin="same", host=None):
     tok = app.url.split("token=")[1]
     url = f"ws://127.0.0.1:{app.port}/ws" + (f"?token={tok}" if token else "")
-    return Client(url, origin=f"http://127.0.0.1:{app.port}" if origin == "same" else origin, host=host)
+    return Client(url, origin=f"http://127.0.0.1:{app.port}" if origin == "same" else origin, host=host,
+                  secret=getattr(app, "secret", "wslink-secret"))
 
 
 def _refusals(app, words):
@@ -69,18 +71,35 @@ def test_a_foreign_host_is_refused_dns_rebinding(app):
     _refusals(app, "Host 'evil.example")
 
 
-def test_the_page_needs_the_token_and_the_token_sets_a_cookie(app):
+def test_the_page_needs_the_token_and_the_token_sets_a_cookie_that_is_not_the_token(app):
+    """The printed address is answered by a redirect to the page with this run's wslink secret
+    (never wslink's public default) and a cookie named after the port holding an HMAC of the
+    token: the cookie another port of 127.0.0.1 receives is not the token."""
     base = f"http://127.0.0.1:{app.port}/index.html"
     with pytest.raises(urllib.error.HTTPError) as err:
         urllib.request.urlopen(base, timeout=CEILING)
     assert err.value.code == 403
-    with urllib.request.urlopen(base + "?" + app.url.split("?")[1], timeout=CEILING) as r:
-        assert r.status == 200
-        cookie = r.headers["Set-Cookie"]
+    token = app.url.split("token=")[1]
+
+    class Stop(urllib.request.HTTPRedirectHandler):
+        def redirect_request(self, *a, **k):
+            return None
+    with pytest.raises(urllib.error.HTTPError) as err:
+        urllib.request.build_opener(Stop).open(base + "?token=" + token, timeout=CEILING)
+    assert err.value.code == 302
+    cookie, where = err.value.headers["Set-Cookie"], err.value.headers["Location"]
     assert f"taxel-explore-{app.port}=" in cookie and "HttpOnly" in cookie and "SameSite=Strict" in cookie
-    req = urllib.request.Request(base, headers={"Cookie": cookie.split(";")[0]})
+    assert token not in cookie and token not in where
+    secret = where.split("secret=")[1]
+    assert secret != "wslink-secret" and len(secret) >= 32 and secret == app.secret
+    req = urllib.request.Request(f"http://127.0.0.1:{app.port}{where}", headers={"Cookie": cookie.split(";")[0]})
     with urllib.request.urlopen(req, timeout=CEILING) as r:
         assert r.status == 200
+    c = _ws(app)                                     # the public default secret no longer opens the WebSocket
+    try:
+        assert "error" in c.hello("wslink-secret")
+    finally:
+        c.close()
 
 
 def test_with_the_token_and_its_own_origin_the_websocket_opens(app):
@@ -168,12 +187,13 @@ def poll_until_state(c, app, predicate, what):
 
 
 def test_a_flood_of_moves_is_answered_once_with_the_newest(app):
-    """2000 moves sent without waiting: one update loop, one solve waiting (the newest); the
-    answer shown is the last value's, and the server answers at once afterwards."""
+    """800 moves sent without waiting (past the pace of 500 a second): one update loop, one
+    solve waiting (the newest); the answer shown is the last value's, and the server answers
+    at once afterwards."""
     c = _ws(app)
     c.hello()
     try:
-        for i in range(2000):
+        for i in range(800):
             c.send("trame.state.update", [{"key": "t_silicone_above", "value": f"{0.5 + (i % 40) * 0.05:.2f}"}])
         _set(c, t_silicone_above="1.55")
         st = poll_until_state(c, app, lambda s: not s["busy"] and s["voltage"] and not s["message"],
@@ -183,13 +203,14 @@ def test_a_flood_of_moves_is_answered_once_with_the_newest(app):
         assert time.monotonic() - t0 < CEILING
     finally:
         c.close()
-    c2 = _ws(app)                 # a second connection sees the same design: the state is shared
+    c2 = _ws(app)                 # a second connection has its own design: the base scene's
     c2.hello()
     try:
-        assert _state(c2)["t_silicone_above"] == "1.55"
+        assert _state(c2)["t_silicone_above"] == "1"
     finally:
         c2.close()
     assert st["voltage"] and app.proc.poll() is None
+    assert any("messages a second: read slower" in ln for ln in app.log)      # the flood was paced
 
 
 def test_a_solve_that_would_not_fit_is_refused_with_its_size():
@@ -204,3 +225,34 @@ def test_a_solve_that_would_not_fit_is_refused_with_its_size():
         S.check_fits(scene, share=0.5 * cost.bytes / cost.memory)
     msg = str(err.value)
     assert "3D" in msg and f"{cost.unknowns:.3g} unknowns" in msg and "GB" in msg and "\n" not in msg
+
+
+def test_the_host_is_checked_on_every_bind_and_the_cookie_is_per_port():
+    """A bind on every interface still refuses a Host that is not this machine's (DNS
+    rebinding of a name to this machine's address); two ports' cookies differ, and neither
+    is the token."""
+    import socket
+
+    from aiohttp.test_utils import make_mocked_request
+
+    from taxel.explore.guard import Guard
+    g = Guard("0.0.0.0", 8123, "t0ken")
+
+    def why(host):
+        return g.why_refused(make_mocked_request("GET", "/?token=t0ken", headers={"Host": host}))
+    assert why("127.0.0.1:8123") is None and why(f"{socket.gethostname()}:8123") is None
+    assert "DNS rebinding" in why("evil.example:8123") and "DNS rebinding" in why("127.0.0.1:9999")
+    other = Guard("0.0.0.0", 8124, "t0ken")
+    assert g.cookie != other.cookie and g.cookie_value() != other.cookie_value()
+    assert "t0ken" not in g.cookie_value() and g.secret != "wslink-secret"
+
+
+def test_the_memory_caps_add_up():
+    """The 3D solve, the slow lane's 2D solve and the fast lane's small solves, all at once,
+    within the explorer's budget of this machine's memory (taxel.explore.session)."""
+    from taxel.explore import app as A
+    from taxel.explore import session as S
+    from taxel.meshing.cost import unknowns_cost
+    small = unknowns_cost(S.SMALL_UNKNOWNS, 2)
+    total = S.MEMORY_3D + S.MEMORY_2D + A.FAST_WORKERS * small.bytes / small.memory
+    assert total <= S.MEMORY_BUDGET < 0.5

@@ -1,66 +1,13 @@
-"""A minimal wslink client (the protocol trame's page speaks over its WebSocket), for tests
-that talk to `taxel explore` as a crafted client would: msgpack messages in wslink's
-chunks (wslink.chunking, the library's own framing)."""
+"""The wslink client of the explorer's tests (taxel.explore.client), with the tests' ceiling."""
 
 from __future__ import annotations
 
-import itertools
+from functools import partial
 
-import msgpack
-import websocket
 from waits import CEILING
-from wslink.chunking import UnChunker, generate_chunks
 
+from taxel.explore import client as _client
 
-class HandshakeRefused(Exception):
-    """The server answered the WebSocket upgrade with an HTTP error (`status`)."""
-
-    def __init__(self, status: int):
-        super().__init__(f"HTTP {status}")
-        self.status = status
-
-
-class Client:
-    """One WebSocket connection to a trame server's /ws."""
-
-    def __init__(self, url: str, origin: str | None = None, host: str | None = None, timeout: float = CEILING):
-        try:
-            self.ws = websocket.create_connection(url, origin=origin, host=host, timeout=timeout,
-                                                  suppress_origin=origin is None)
-        except websocket.WebSocketBadStatusException as exc:
-            raise HandshakeRefused(exc.status_code) from None
-        self.ids = itertools.count(1)
-        self.unchunker = UnChunker()
-        self.unchunker.set_max_message_size(1 << 30)
-        self.client = "c0"
-
-    def send(self, method: str, *args, id: str | None = None) -> str:
-        rpc = id or f"rpc:{self.client}:{next(self.ids)}"
-        packed = msgpack.packb({"wslink": "1.0", "id": rpc, "method": method, "args": list(args), "kwargs": {}})
-        for chunk in generate_chunks(packed, 512 * 1024):
-            self.ws.send_binary(chunk)
-        return rpc
-
-    def receive(self, rpc: str) -> dict:
-        """The reply to `rpc` (messages pushed meanwhile are skipped)."""
-        while True:
-            frame = self.ws.recv()
-            if isinstance(frame, str):
-                continue
-            msg = self.unchunker.process_chunk(frame)
-            if msg is None:
-                continue
-            data = msg if isinstance(msg, dict) else msgpack.unpackb(msg, strict_map_key=False)
-            if data.get("id") == rpc:
-                return data
-
-    def call(self, method: str, *args) -> dict:
-        return self.receive(self.send(method, *args))
-
-    def hello(self, secret: str = "wslink-secret") -> dict:
-        reply = self.receive(self.send("wslink.hello", {"secret": secret}, id="system:c0:0"))
-        self.client = reply.get("result", {}).get("clientID", "c0")
-        return reply
-
-    def close(self) -> None:
-        self.ws.close()
+HandshakeRefused = _client.HandshakeRefused
+Client = partial(_client.Client, timeout=CEILING)
+page_secret = partial(_client.page_secret, timeout=CEILING)

@@ -43,6 +43,8 @@ def _explore(args):
         raise InputError(f"--host {args.host} --port {args.port}: cannot bind ({exc.strerror or exc}); "
                          "choose another --port or a local --host") from None
     if args.host not in ("127.0.0.1", "localhost", "::1"):
-        print(f"taxel explore: listening on {args.host}:{args.port}, reachable from other machines; "
-              "only with the token in the printed address", file=sys.stderr, flush=True)
+        from taxel.explore.guard import TLS_ADVICE
+        print(f"taxel explore: listening on {args.host}:{args.port}, reachable from other machines, only with "
+              f"the token in the printed address; warning: {TLS_ADVICE.replace('PORT', str(args.port))}",
+              file=sys.stderr, flush=True)
     api.serve_explorer(args.scene, args.out, host=args.host, port=args.port, token=not args.no_token)

@@ -25,8 +25,9 @@ def register(sub) -> None:
     p.add_argument("-o", "--out", required=True, metavar="FILE", help="FILE.npz (a skin) or FILE.h5 (a dataset)")
     p.add_argument("--dt", type=number(0, 1, low_open=True, unit="s"), default=None, metavar="S", help="the simulator's step, s (default 0.001)")
     p.add_argument("--per-pitch", type=number(2, 16, integer=True), default=None, metavar="N", help="FEM presses per pitch (default 8)")
-    p.add_argument("--checks", type=number(0, 16, integer=True), default=None, metavar="N",
-                   help="FEM presses between the knots that measure the influence's interpolation error (default 4)")
+    p.add_argument("--checks", type=number(1, 16, integer=True), default=None, metavar="N",
+                   help="FEM presses between the knots that measure the influence's interpolation error "
+                        "(default 4; at least 1: the error is measured there)")
     p.add_argument("--rig", default=None, metavar="RIG", help="a bench rig (name or TOML): its ADC and conditioning")
     p.add_argument("--presses", type=number(1, 1_000_000, integer=True), default=None, metavar="N", help="dataset: presses (default 200)")
     p.add_argument("--seed", type=number(0, 2**32 - 1, integer=True), default=None, metavar="N", help="dataset: the random seed (default 0)")
@@ -62,7 +63,12 @@ def _dataset(args):
         raise ValueError(f"-o {out}: use FILE.h5")
     if not out.parent.is_dir():
         raise ValueError(f"-o {out}: folder {out.parent} does not exist; create it first")
-    skin = SkinModel.load(args.skin)
+    try:
+        skin = SkinModel.load(args.skin)
+    except EOFError:                 # numpy's word for an empty or cut file
+        raise ValueError(f"{args.skin}: not a skin file (empty or cut short); write one with "
+                         "taxel skin SCENE -o FILE.npz") from None
+    _fits(skin, args.presses, args.duration)
     dataset.write(skin, out, args.presses, args.seed, args.duration, not args.no_noise)
     b = dataset.baseline(dataset.read(out))
     print(f"wrote {out}: {args.presses} presses, seed {args.seed}; baseline ({b['method']}):")
@@ -70,6 +76,18 @@ def _dataset(args):
         if k != "method":
             print(f"  {k:7s} {v['presses']:4d} presses: position error median {v['position_error_mm_median']:.2f} mm, "
                   f"rms {v['position_error_mm_rms']:.2f} mm; force error median |{v['force_error_pc_median_abs']:.1f}| %")
+
+
+def _fits(skin, presses: int, duration: float) -> None:
+    """Refuse, before any press is run, a dataset whose voltages and forces (float64, held
+    in memory until written) need more than half this machine's memory."""
+    from taxel.meshing.cost import machine_memory
+    per_press = max(1, round(duration / skin.dt)) * (skin.rows * skin.cols + 1) * 8
+    have = machine_memory() / 2
+    if presses * per_press > have:
+        raise ValueError(f"--presses {presses} --duration {duration:g}: about {presses * per_press / 1e9:.3g} GB "
+                         f"of voltages and forces, more than {have / 1e9:.3g} GB (half this machine's memory); "
+                         f"give at most --presses {int(have // per_press)} at this duration")
 
 
 def _skin(args):

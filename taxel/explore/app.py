@@ -1,300 +1,263 @@
 """The explorer's page (trame, pyvista's web backend; Vue 3 + Vuetify 3).
 
 Every control is a slider and a text field in its display unit, or a choice.
-A moved control starts an update: after a short pause for more moves (20 ms),
-the design is applied to the base scene (a refused value shows the scene's
-one-line message beside its field) and answered by the session's worker thread
-(the study store: a design seen before is read, not solved). A stale update
-(a newer move came in) is dropped before it is solved, and its answer is never
-shown. 3D runs in a separate process (session.Job3D), polled here; a moved
-control cancels it. Figures on request (section, error estimate, frequency
-response, voltage-force curve) run in a second worker, so they never hold up
-the numbers.
+Every page (a connection) has its own design (taxel.explore.tab: one tab's moves
+never change another's); what a page may send is checked on the WebSocket first
+(taxel.explore.wire) and every HTTP request by taxel.explore.guard. The explorer
+holds what the pages share: the base scene, the study store (a design seen before,
+by any page, is read, not solved) and the lanes the work runs in, off the event loop:
+
+- the fast lane (FAST_WORKERS threads): reading a design and solving a small one
+  (at most SMALL_UNKNOWNS unknowns, well under a second);
+- the slow lane (one thread): a larger design (up to the 2D cap, session.MEMORY_2D
+  of this machine's memory) and the figures on request (section, error estimate,
+  frequency response, voltage-force curve), one at a time;
+- 3D: one process at a time (session.Job3D, up to session.MEMORY_3D).
+
+So the caps add up: the slow lane's solve, the 3D solve and the fast lane's small
+solves together need at most session.MEMORY_BUDGET of this machine's memory.
 """
 
 from __future__ import annotations
 
-import asyncio
+import copy
+import dataclasses
+import threading
+from collections import OrderedDict
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
-from trame.app import asynchronous, get_server
+from trame.app import get_server
 from trame.ui.vuetify3 import SinglePageLayout
-from trame.widgets import html, vuetify3 as v3
+from trame.widgets import html
+from trame.widgets import vuetify3 as v3
 
 from taxel.explore import session as S
+from taxel.explore.controls import (
+    LAWS,
+    LOADS,
+    MODELS,
+    NUMBERS,
+    READOUTS,
+    ControlValues,
+    FieldError,
+    piezo_names,
+    scene_of,
+)
 from taxel.explore.front import Front
-from taxel.explore.controls import LAWS, LOADS, MODELS, NUMBERS, READOUTS, ControlValues, FieldError, piezo_names, scene_of
+from taxel.explore.tab import Tab
+from taxel.explore.wire import MAX_MESSAGE, Refusals, Wire
 from taxel.scene import Scene
 from taxel.schema import to_data
-from taxel.units import engineering
 
-DEBOUNCE = 0.02     # s: moves closer together than this are answered once
+FAST_WORKERS = 2
+RECENT = 256            # designs whose answers the explorer keeps in memory (a few kB each)
 
 
 def _decimals(step: float) -> int:
     return max(0, -int(f"{step:e}".split("e")[1]))
 
 
+@dataclass
+class Lanes:
+    """Where the explorer's work runs (module docstring)."""
+
+    fast: ThreadPoolExecutor
+    slow: ThreadPoolExecutor
+    small: float = S.SMALL_UNKNOWNS
+
+
 class Explorer:
-    """One explorer app: the base scene, its session (store in `folder`) and the page."""
+    """One explorer app: the base scene, its store (in `folder`), the pages and their page."""
 
     def __init__(self, scene: Scene, folder: Path, store: Path | None = None, name: str = "taxel-explore",
                  front: Front | None = None):
         self.base, self.folder, self.front = scene, Path(folder), front
         self.server = get_server(name, client_type="vue3")
+        self.server.options["ws_max_msg_size"] = MAX_MESSAGE     # aiohttp refuses a longer frame
         self.state, self.ctrl = self.server.state, self.server.controller
-        self.session = S.Session(store if store is not None else self.folder / "store")
-        self.solver = ThreadPoolExecutor(1, thread_name_prefix="explore-2d")     # the numbers
-        self.extras = ThreadPoolExecutor(1, thread_name_prefix="explore-extra")  # figures on request
-        self.plots = ThreadPoolExecutor(1, thread_name_prefix="explore-front")   # the front with the design
-        self.generation = 0
-        self._updating: asyncio.Task | None = None      # the one update loop (at most one solve queued)
-        self.job3d: S.Job3D | None = None
-        self.scene: Scene | None = None
-        self._init_state(ControlValues.of(scene))
+        self.store = store if store is not None else self.folder / "store"
+        self.lanes = Lanes(ThreadPoolExecutor(FAST_WORKERS, thread_name_prefix="explore-fast"),
+                           ThreadPoolExecutor(1, thread_name_prefix="explore-slow"))
+        self._sessions = threading.local()              # one store connection per thread
+        self.tabs: dict[str, Tab] = {}
+        self._recent: OrderedDict = OrderedDict()      # design key -> (scene, answer): Explorer.recall
+        self.refuse = Refusals()
+        self.publish = lambda client, data: None        # set by Wire.install when the server binds
+        self.initial = self._init_state(ControlValues.of(scene))
         self._build()
-        keys = [f"t_{n.name}" for n in NUMBERS] + ["piezo", "load", "law", "model", "readout"]
-        self.state.change(*keys)(self._changed)
+        self.triggers = {self.export: 0, self.load_front: 1, self.send_to_optimization: 0, self.solve_3d: 0,
+                         self.section: 0, self.error_estimate: 0, self.frequency: 0, self.force_curve: 0}
 
-    # -- state ---------------------------------------------------------------------------------
-    def _init_state(self, d: ControlValues):
-        st = self.state
+    # -- state: the page's defaults; each page's own copy is its Tab's -------------------------------
+    def _init_state(self, d: ControlValues) -> dict:
+        st = {}
         for n in NUMBERS:
             st[f"t_{n.name}"] = d.numbers[n.name]
             st[f"x_{n.name}"] = float(d.numbers[n.name])
             st[f"e_{n.name}"] = []
         st.update({"piezo": d.piezo, "load": d.load, "law": d.law, "model": d.model, "readout": d.readout,
                    "e_piezo": [], "message": "", "voltage": "", "answer_model": "", "answer_time": "",
-                   "bars": [], "crosstalk": "", "note": "", "busy": False, "answers": 0, "busy3d": False, "progress3d": "",
-                   "answer3d": "", "figure": "", "figure_title": "", "error_lines": [], "extra_busy": False,
-                   "export_name": self.base.name, "export_msg": "", "scene_name": self.base.name,
-                   "has_front": self.front is not None, "front_image": "", "front_current": "", "send_msg": "",
-                   "front_rows": self.front.rows() if self.front else [],
-                   "front_note": (f"no control for {', '.join(self.front.unmatched)}: not loaded"
-                                  if self.front and self.front.unmatched else "")})
+                   "bars": [], "crosstalk": "", "note": "", "busy": False, "answers": 0, "busy3d": False,
+                   "progress3d": "", "answer3d": "", "figure": "", "figure_title": "", "error_lines": [],
+                   "extra_busy": False, "export_name": self.base.name, "export_msg": "",
+                   "scene_name": self.base.name, "front_image": "", "front_current": "", "send_msg": ""})
+        self.state.update(st)
+        self.state.update({"has_front": self.front is not None,
+                           "front_rows": self.front.rows() if self.front else [],
+                           "front_note": (f"no control for {', '.join(self.front.unmatched)}: not loaded"
+                                          if self.front and self.front.unmatched else "")})
+        return st
 
-    def design(self) -> ControlValues:
-        st = self.state
-        return ControlValues({n.name: str(st[f"t_{n.name}"]) for n in NUMBERS}, st.piezo, st.load, st.law,
-                      st.model, st.readout)
+    # -- the pages (called by wire.Wire with the connection's id) --------------------------------------
+    def tab(self, client: str) -> Tab:
+        t = self.tabs.get(client)
+        if t is None:
+            t = self.tabs[client] = Tab(client, self, copy.deepcopy(self.initial))
+            t.changed()                                  # its first answer
+        return t
 
-    # -- updates -------------------------------------------------------------------------------
-    def _changed(self, **_):
-        self.generation += 1
-        if self.job3d is not None and self.job3d.running():
-            self.job3d.cancel()
-            self.state.busy3d, self.state.progress3d = False, "3D solve cancelled: the design changed"
-        if self._updating is None or self._updating.done():
-            self._updating = asynchronous.create_task(self._update_loop())
+    def state_of(self, client: str) -> dict:
+        from trame_server.utils import clean_state
+        full = self.server.get_server_state()
+        ok, _ = clean_state({**full["state"], **self.tab(client).state})
+        return {**full, "state": ok}
 
-    async def _update_loop(self):
-        """Answer the newest design, once moves pause for DEBOUNCE: one solve at a time, and
-        however many moves come in (every connection shares the design), one waiting: the newest."""
-        while True:
-            gen = self.generation
-            await asyncio.sleep(DEBOUNCE)
-            if gen != self.generation:
-                continue
-            await self._update(gen)
-            if gen == self.generation:
-                return
+    def update(self, client: str, changes: list[dict]) -> None:
+        self.tab(client).apply(changes)
 
-    async def _update(self, gen: int):
-        st = self.state
+    def trigger(self, client: str, name, args: list) -> None:
+        fn = self.ctrl.trigger_fn(name) if isinstance(name, str) else None
+        if fn not in self.triggers:
+            self.refuse(client, f"the trigger {str(name)[:40]!r}")
+            return
+        if len(args) != self.triggers[fn]:
+            self.refuse(client, f"{fn.__name__}: {len(args)} arguments, expected {self.triggers[fn]}")
+            return
+        fn(self.tab(client), *args)
+
+    def closed(self, client: str) -> None:
+        t = self.tabs.pop(client, None)
+        if t is not None:
+            t.close()
+
+    # -- work in the lanes (any thread) ---------------------------------------------------------------
+    def session(self) -> S.Session:
+        """This thread's session (a Store keeps its SQLite connection in its thread)."""
+        if getattr(self._sessions, "s", None) is None:
+            self._sessions.s = S.Session(self.store)
+        return self._sessions.s
+
+    def prepare(self, design: ControlValues) -> tuple[Scene, object]:
+        """The design's scene and solve cost; FieldError (one line) where it is refused."""
         try:
-            scene = scene_of(self.base, self.design())
-            S.check_fits(scene)
-        except S.TooLarge as exc:
-            with st:
-                st.message, st.busy = str(exc), False
-            return
-        except Exception as exc:                       # a value no control makes (a crafted message)
-            if not isinstance(exc, FieldError):
-                exc = FieldError(f"refused: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}", None)
-            with st:
-                for n in NUMBERS:
-                    st[f"e_{n.name}"] = [str(exc)] if exc.field == n.name else []
-                st.e_piezo = [str(exc)] if exc.field == "piezo" else []
-                st.message = "" if exc.field in {n.name for n in NUMBERS} | {"piezo"} else str(exc)
-            return
-        with st:
-            for n in NUMBERS:
-                st[f"e_{n.name}"] = []
-            st.e_piezo, st.message, st.busy = [], "", True
+            scene = scene_of(self.base, design)
+            return scene, S.check_fits(scene, S.MEMORY_2D)
+        except FieldError:
+            raise
+        except Exception as exc:                        # TooLarge, or a value no control makes
+            raise FieldError(str(exc).splitlines()[0] if str(exc) else type(exc).__name__, None) from None
 
-        def work():
-            return self.session.answer(scene) if gen == self.generation else None
-        try:
-            ans = await asyncio.get_running_loop().run_in_executor(self.solver, work)
-        except Exception as exc:                       # a failed solve: its one line, the app goes on
-            with st:
-                st.message, st.busy = f"the solve failed: {str(exc).splitlines()[0]}", False
-            return
-        if ans is None or gen != self.generation:
-            return
-        self.scene = scene
-        with st:
-            self._show(ans)
-            st.busy = False
-            st.answers += 1                            # answers shown (the load benchmark waits on it)
-        if self.front is not None:
-            await self._plot_front(ans, scene, gen)
+    def answer(self, scene: Scene) -> S.Answer:
+        return self.session().answer(scene)
 
-    def _show(self, a: S.Answer):
-        st = self.state
-        v = a.pressed_voltage
-        st.voltage = engineering(v, "V") if v is not None else "-"
-        st.answer_model = a.model
-        st.answer_time = ("from the store" if a.cached else "solved") + f" in {a.seconds * 1e3:.0f} ms"
-        top = max((abs(x) for x in a.voltages.values()), default=1.0) or 1.0
-        st.bars = [{"name": k, "text": engineering(x, "V"), "width": f"{100 * abs(x) / top:.1f}%",
-                    "colour": "#c0392b" if x < 0 else "#2e86c1"} for k, x in a.voltages.items()]
-        st.crosstalk = f"{100 * a.crosstalk:.1f} %" if a.crosstalk is not None else "- (one taxel)"
-        st.note = a.note
+    def recall(self, design: ControlValues) -> tuple[Scene, S.Answer] | None:
+        """A design answered lately (the last RECENT designs, any page's): its scene and
+        answer, shown as from the store (0 ms); None otherwise. On the event loop only."""
+        hit = self._recent.get(design.key())
+        if hit is None:
+            return None
+        self._recent.move_to_end(design.key())
+        return hit[0], dataclasses.replace(hit[1], seconds=0.0, cached=True)
+
+    def remember(self, design: ControlValues, scene: Scene, answer: S.Answer) -> None:
+        self._recent[design.key()] = (scene, answer)
+        if len(self._recent) > RECENT:
+            self._recent.popitem(last=False)
 
     # -- the optimization's front -------------------------------------------------------------------
-    async def _plot_front(self, a: S.Answer, scene: Scene, gen: int):
-        v, f = a.pressed_voltage, scene.load.force
-        current = (abs(v) / f, a.crosstalk) if v is not None and f and a.crosstalk is not None else None
-        url = await asyncio.get_running_loop().run_in_executor(self.plots, self.front.image, current)
-        if gen == self.generation:
-            with self.state:
-                self.state.front_image = url
-                self.state.front_current = ("current design (the star): -" if current is None else
-                                            f"current design (the star): {current[0]:.4g} V/N, "
-                                            f"{100 * current[1]:.2f} %")
-
-    def load_front(self, i: int):
-        """Put front design `i`'s variables into the controls (the change solves it)."""
-        if self.front is None or not isinstance(i, int) or not 0 <= i < len(self.front.designs):
-            self.state.send_msg = f"no front design {str(i)[:20]!r}"
+    def load_front(self, tab: Tab, i):
+        """Put front design `i`'s variables into the page's controls (the change solves it)."""
+        if self.front is None or isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(self.front.designs):
+            tab.push(send_msg=f"no front design {str(i)[:20]!r}")
             return
         d = self.front.designs[i]
-        with self.state:
-            for name, value in d.values.items():
-                self.state[f"t_{name}"] = f"{value:.6g}"
-                self.state[f"x_{name}"] = float(value)
-            self.state.send_msg = f"loaded the front design {d.label}"
+        changes = {}
+        for name, value in d.values.items():
+            changes[f"t_{name}"], changes[f"x_{name}"] = f"{value:.6g}", float(value)
+        tab.push(**changes, send_msg=f"loaded the front design {d.label}")
+        tab.changed()
 
-    def send_to_optimization(self):
-        """Write the current design as a scene TOML and an optimization TOML starting at it."""
+    def send_to_optimization(self, tab: Tab):
+        """Write the page's design as a scene TOML and an optimization TOML starting at it."""
         from taxel.studies.measured.calibrate import toml_text
         if self.front is None:
             return
-        self.export()
-        if not str(self.state.export_msg).startswith("wrote "):
-            self.state.send_msg = self.state.export_msg
+        path = self.export(tab)
+        if path is None:
+            tab.push(send_msg=tab.state["export_msg"])
             return
-        scene_path = Path(str(self.state.export_msg).removeprefix("wrote "))
-        values = {n.name: n.value(self.scene) for n in NUMBERS if n.name != "offset"}
-        data = self.front.optimization_data(values, scene_path.name)
-        path = scene_path.with_name(f"{scene_path.stem}-optimization.toml")
-        path.write_text(f"# written by taxel explore: {self.front.result.name} starting at the design "
-                        f"{scene_path.name}\n" + toml_text(data))
-        self.state.send_msg = f"wrote {path.resolve()}"
+        values = {n.name: n.value(tab.scene) for n in NUMBERS if n.name != "offset"}
+        data = self.front.optimization_data(values, path.name)
+        out = path.with_name(f"{path.stem}-optimization.toml")
+        out.write_text(f"# written by taxel explore: {self.front.result.name} starting at the design "
+                       f"{path.name}\n" + toml_text(data))
+        tab.push(send_msg=f"wrote {out.resolve()}")
 
-    # -- 3D --------------------------------------------------------------------------------------
-    def solve_3d(self):
-        if self.scene is None or self.job3d is not None and self.job3d.running():
-            return                                       # one 3D solve at a time
-        try:
-            self.job3d = job = self.session.start_3d(self.scene)
-        except (S.TooLarge, ValueError) as exc:          # refused before it starts, with its size
-            self.state.busy3d, self.state.progress3d, self.state.answer3d = False, str(exc).splitlines()[0], ""
+    # -- 3D and figures: the page's own (tab.Tab) ---------------------------------------------------------
+    def solve_3d(self, tab: Tab):
+        tab.solve_3d()
+
+    def section(self, tab: Tab):
+        if tab.scene is not None and tab.scene.model.type == "3d":
             return
-        self.state.busy3d, self.state.progress3d, self.state.answer3d = True, "3D solve started (coarse mesh)", ""
-        asynchronous.create_task(self._watch_3d(job))
+        tab.extra("deformed section, coloured by potential", S.section_image)
 
-    async def _watch_3d(self, job: S.Job3D):
-        st = self.state
-        while job.running():
-            with st:
-                st.progress3d = f"3D solve running (coarse mesh): {job.elapsed:.1f} s"
-            await asyncio.sleep(0.25)
-        if job.cancelled:
-            return
-        try:
-            a = job.result()
-            text = (f"3D: {engineering(a.pressed_voltage, 'V')} ({a.model}, coarse mesh, "
-                    f"{a.seconds:.1f} s)")
-        except RuntimeError as exc:
-            text = f"3D solve failed: {exc}"
-        with st:
-            st.busy3d, st.progress3d, st.answer3d = False, "3D solve done", text
+    def error_estimate(self, tab: Tab):
+        tab.extra("error estimate of the current model", S.error_lines)
 
-    # -- figures on request ----------------------------------------------------------------------
-    def _extra(self, title: str, fn):
-        scene = self.scene
-        if scene is None or self.state.extra_busy:
-            return
-        self.state.extra_busy, self.state.figure_title = True, f"{title}: working..."
+    def frequency(self, tab: Tab):
+        tab.extra("frequency response through the readout", S.frequency_image)
 
-        async def run():
-            try:
-                out = await asyncio.get_running_loop().run_in_executor(self.extras, fn, scene)
-                msg = title
-            except Exception as exc:
-                out, msg = None, f"{title} failed: {str(exc).splitlines()[0]}"
-            with self.state:
-                if isinstance(out, list):
-                    self.state.error_lines = out
-                elif out is not None:
-                    self.state.figure = out
-                self.state.figure_title, self.state.extra_busy = msg, False
-        asynchronous.create_task(run())
+    def force_curve(self, tab: Tab):
+        load = tab.state["load"]
 
-    def section(self):
-        if self.scene is not None and self.scene.model.type == "3d":
-            return
-        self._extra("deformed section, coloured by potential", S.section_image)
-
-    def error_estimate(self):
-        self._extra("error estimate of the current model", S.error_lines)
-
-    def frequency(self):
-        self._extra("frequency response through the readout", S.frequency_image)
-
-    def force_curve(self):
         def curve(scene):
             f = scene.load.force or 1.0
-            sess = S.Session(self.session.folder)          # this worker thread's own store connection
-            try:
-                pts = sess.force_curve(scene, [f * k / 5 for k in range(1, 6)])
-            finally:
-                sess.close()
-            return S.curve_image(pts, f"{self.state.load} load: pressed-taxel voltage")
-        self._extra("voltage-force curve", curve)
+            pts = self.session().force_curve(scene, [f * k / 5 for k in range(1, 6)])
+            return S.curve_image(pts, f"{load} load: pressed-taxel voltage")
+        tab.extra("voltage-force curve", curve)
 
     # -- export ----------------------------------------------------------------------------------
-    def export(self):
+    def export(self, tab: Tab) -> Path | None:
+        """The page's design as a scene TOML under the output folder's exports/ (its path)."""
         from taxel.schema import NAME
         from taxel.studies.measured.calibrate import toml_text
-        name = str(self.state.export_name).strip()
+        name = str(tab.state["export_name"]).strip()
         if not NAME.fullmatch(name):
-            self.state.export_msg = (f"{name!r} is not a file name: use letters, digits, '.', '_', '+' or '-'")
-            return
-        if self.scene is None:
-            self.state.export_msg = "no valid design to save yet"
-            return
+            tab.push(export_msg=f"{name[:40]!r} is not a file name: use letters, digits, '.', '_', '+' or '-'")
+            return None
+        if tab.scene is None:
+            tab.push(export_msg="no valid design to save yet")
+            return None
         path = self.folder / "exports" / f"{name}.toml"
         path.parent.mkdir(parents=True, exist_ok=True)
-        data = to_data(self.scene)
+        data = to_data(tab.scene)
         data["name"] = name
         path.write_text(f"# saved by taxel explore from {self.base.name}\n" + toml_text(data))
-        self.state.export_msg = f"wrote {path.resolve()}"
+        tab.push(export_msg=f"wrote {path.resolve()}")
+        return path
 
     # -- page ------------------------------------------------------------------------------------
     def _build(self):
         with SinglePageLayout(self.server) as layout:
             layout.title.set_text(f"taxel explore: {self.base.name}")
-            with layout.content:
-                with v3.VContainer(fluid=True):
-                    with v3.VRow():
-                        with v3.VCol(cols=5):
-                            self._controls()
-                        with v3.VCol(cols=7):
-                            self._views()
+            with layout.content, v3.VContainer(fluid=True), v3.VRow():
+                with v3.VCol(cols=5):
+                    self._controls()
+                with v3.VCol(cols=7):
+                    self._views()
 
     def _controls(self):
         for n in NUMBERS:
@@ -374,17 +337,29 @@ class Explorer:
     # -- serving ---------------------------------------------------------------------------------
     def serve(self, host: str = "127.0.0.1", port: int = 8080, token: str | None = None):
         """Serve the page until interrupted; prints the address (with the token) when ready.
-        Every request and the WebSocket pass taxel.explore.guard (token, Host, Origin)."""
+        Every request passes taxel.explore.guard (token, Host, Origin), every WebSocket
+        message taxel.explore.wire; the wslink secret is a new one of this run's (guard)."""
         from taxel.explore.guard import Guard, check_bind
         check_bind(host, token)
         guard = Guard(host, port, token)
+        wire = Wire(self, self.refuse)
 
         @self.ctrl.add("on_server_bind")
         def bind(wslink_server):
             wslink_server.app.middlewares.insert(0, guard.middleware())
+            for h in wslink_server._ws_handlers:
+                h.serverProtocol.updateSecret(guard.secret)
+            wire.install(wslink_server)
 
         @self.ctrl.add("on_server_ready")
         def ready(**_):
-            self._changed()                              # the first answer
+            # the base design into the store, so every page's first answer is read, not solved
+            self.lanes.fast.submit(self._warm)
             print(f"taxel explore: serving {self.base.name} at {guard.url()}", flush=True)
         self.server.start(host=host, port=port, open_browser=False, show_connection_info=False)
+
+    def _warm(self):
+        try:
+            self.answer(self.prepare(ControlValues.of(self.base))[0])
+        except Exception:                                # the page shows the base design's refusal itself
+            pass

@@ -133,18 +133,21 @@ def free_port() -> int:
 
 
 class ExplorerProcess:
-    """`taxel explore SCENE --port P --out DIR [extra...]` in a subprocess; ready when it prints
+    """`taxel explore SCENE --port P --out DIR [extra...]` in a subprocess (after `prefix`, e.g.
+    strace); ready when it prints
     its address (the first solve has then been started, not finished); `url` is that address,
     with its token; `log` its output lines (stdout and stderr), read on in a thread."""
 
-    def __init__(self, scene: str, out: str | Path, limit: float = 180.0, *extra: str, cwd: str | Path | None = None):
+    def __init__(self, scene: str, out: str | Path, limit: float = 180.0, *extra: str, cwd: str | Path | None = None,
+                 prefix: tuple[str, ...] = (), env: dict | None = None):
         import sys
         import threading
         self.port = free_port()
-        env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
-        self.proc = subprocess.Popen([sys.executable, "-m", "taxel.cli", "explore", scene, "--port",
+        env = {**os.environ, "MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", **(env or {})}
+        self.proc = subprocess.Popen([*prefix, sys.executable, "-m", "taxel.cli", "explore", scene, "--port",
                                       str(self.port), "--out", str(out), *extra],
-                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env, cwd=cwd)
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env, cwd=cwd,
+                                     start_new_session=True)     # its own group: close() ends it all
         self.log: list[str] = []
         end = time.monotonic() + limit
         for line in self.proc.stdout:
@@ -166,12 +169,17 @@ class ExplorerProcess:
             self.log.append(line)
 
     def close(self):
-        if self.proc.poll() is None:
-            self.proc.terminate()
-            try:
-                self.proc.wait(15)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
+        """End the explorer and every process of its group (3D workers; under a `prefix`
+        such as strace, the traced explorer too)."""
+        import signal
+        try:
+            os.killpg(self.proc.pid, signal.SIGTERM)
+        except ProcessLookupError:
+            return
+        try:
+            self.proc.wait(15)
+        except subprocess.TimeoutExpired:
+            os.killpg(self.proc.pid, signal.SIGKILL)
 
     def __enter__(self):
         return self

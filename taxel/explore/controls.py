@@ -83,6 +83,10 @@ class ControlValues:
     model: str = "2D"
     readout: str = "open"
 
+    def key(self) -> tuple:
+        """The design as a hashable key (the explorer's memory of recent answers)."""
+        return (tuple(sorted(self.numbers.items())), self.piezo, self.load, self.law, self.model, self.readout)
+
     @classmethod
     def of(cls, scene: Scene) -> ControlValues:
         """The controls' values of a scene (an array scene)."""

@@ -16,9 +16,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from taxel.analyses.results import result_kind
 from taxel.explore.controls import NUMBERS, Number
 from taxel.optimize.metrics import METRIC_TABLE, PLAIN
-from taxel.analyses.results import result_kind
 from taxel.optimize.result import KINDS, OptimizationResult
 from taxel.units import quantity
 
