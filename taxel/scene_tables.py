@@ -71,7 +71,7 @@ class ModelTable(Strict):
 
 # The mesh a scene without mesh.size gets, per model type of an array scene: (size,
 # piezo_size; None: size / 4), measured within 0.5 % on the thesis taxel's pressed-taxel
-# voltage (benchmarks/default_mesh.py, docs/benchmarks.md). 3D: estimate.CHEAP_3D's mesh.
+# voltage (benchmarks/default_mesh.py, docs/benchmarks.md). 3D: the error estimate's cheapest 3D mesh (taxel.analyses.accuracy.CHEAP_3D).
 DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
                 "axisymmetric": (0.5e-3, None), "3d": (1.5e-3, 0.6e-3)}
 # A 3D array scene pressed by a flat punch in contact (Scene.pressed_by_punch) without mesh.size:
