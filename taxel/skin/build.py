@@ -23,14 +23,12 @@ outside: points and normal forces in, as simulators give them).
 
 The interpolation error of G is measured: `checks` FEM presses halfway between knots
 (in the row's first half; the row is mirror-symmetric), against the spline there.
-h, the pressed path of the reduced model's state space (all its electrodes' modes,
-185 states for the thesis 3 x 3 section), is cut to the modes that matter for this
-path (`truncate`: modal truncation with the dropped modes' static parts kept, the
-greedy order and measured-error stop of fem.dynamics.realize; python-control's
-balanced truncation (balred, slycot), tried, lost the path at every order 4-16 on this
-stiff SI-scaled system: relative errors 0.6-1.7) with its error measured over 0.01 Hz..1 / (2 dt); then it
-is discretized at the simulator's step dt with scipy.signal.cont2discrete, first-
-order hold (exact for forces linear between steps). Noise: the scene's chain
+h, the pressed path through the scene's readout chain, is taxel.skin.readout's: the
+path up to the chain's per-electrode stages cut to its dominant modes, the stages
+(charge amplifier, notch) multiplied in as poles and residues, every pole mapped to
+e^(l dt) and the residues fitted to the solver's sweep of the same path; its error
+against that sweep (`dynamics_error`) and the band where it holds 1 % and 1 degree
+(`band`) are stored. Noise: the scene's chain
 (taxel.analyses.noise: per-source PSDs at the reference taxel's readout output, with a
 rig its ADC) and the saturation (amplifier swing or ADC range). With a rig, the rig's
 conditioning of the reference taxel's channel is the skin's readout chain (for h and
@@ -45,7 +43,6 @@ import json
 from datetime import datetime, timezone
 
 import numpy as np
-from scipy import signal
 from scipy.interpolate import CubicSpline
 
 from taxel.scene import Scene, SceneError
@@ -56,6 +53,7 @@ from taxel.analyses.noise import chain as noise_chain
 from taxel.analyses.noise import noise as noise_budget
 from taxel.analyses.noise import with_readout
 from taxel.analyses.version import code_version
+from taxel.skin import readout as readout_mod
 from taxel.skin.model import SkinModel
 
 
@@ -115,69 +113,6 @@ def influence_check(scene: Scene, infl, checks: int) -> tuple[np.ndarray, np.nda
     return x, G_fem, infl.at(x)
 
 
-def _response(lam, r, D, s) -> np.ndarray:
-    return (r[None, :] / (s[:, None] - lam[None, :])).sum(axis=1) + D
-
-
-def _merge(lam, r, rtol: float = 1e-5):
-    """Poles equal within rtol merged into one with the summed residue (exact for equal
-    poles: every taxel's electrode has the same RC pole, and eig splits such a cluster
-    into eigenvectors whose residues are large and cancel)."""
-    order = np.argsort(lam.real + 1e-3j * lam.imag)
-    lam, r = lam[order], r[order]
-    out_l, out_r = [lam[0]], [r[0]]
-    for l_, r_ in zip(lam[1:], r[1:]):
-        if abs(l_ - out_l[-1]) <= rtol * abs(l_):
-            out_r[-1] += r_
-        else:
-            out_l.append(l_)
-            out_r.append(r_)
-    return np.array(out_l), np.array(out_r)
-
-
-def truncate(A, B, C, D, band, tol: float = 3e-3, points: int = 300):
-    """A SISO state space cut to its dominant modes (module docstring): (A, B, C, D) real,
-    and the measured error max |h - h_full| / max |h_full| on `points` log-spaced
-    frequencies over `band`."""
-    lam, W = np.linalg.eig(A)
-    r = (C @ W)[0] * np.linalg.solve(W, B)[:, 0]          # residues
-    lam, r = _merge(lam, r)
-    s = 2j * np.pi * np.geomspace(band[0], band[1], points)
-    H = _response(lam, r, D[0, 0], s)
-    scale = np.abs(H).max()
-    drop_err = (r[None, :] * s[:, None] / (lam[None, :] * (s[:, None] - lam[None, :])))   # dropping i, static kept
-    upper = lam.imag >= 0                                  # a conjugate pair counted once
-    order = np.argsort(np.abs(drop_err).max(axis=0) / np.where(lam.imag > 0, 0.5, 1.0))
-    order = [i for i in order if upper[i]]
-    total, dropped = np.zeros(len(s), complex), []
-    for i in order:
-        members = [i] + ([int(np.argmin(np.abs(lam - lam[i].conj())))] if lam[i].imag > 0 else [])
-        trial = total + drop_err[:, members].sum(axis=1)
-        if np.abs(trial).max() > tol * scale:
-            break
-        total, dropped = trial, dropped + members
-    keep = np.setdiff1d(np.arange(len(lam)), dropped)
-    d = float((D[0, 0] - (r[dropped] / lam[dropped]).sum()).real)
-    blocks, Bs, Cs = [], [], []
-    for i in keep:
-        if lam[i].imag < 0:
-            continue
-        if lam[i].imag > 0:
-            sg, w = lam[i].real, lam[i].imag
-            blocks.append(np.array([[sg, -w], [w, sg]]))
-            Bs += [1.0, 0.0]
-            Cs += [2 * r[i].real, -2 * r[i].imag]
-        else:
-            blocks.append(np.array([[lam[i].real]]))
-            Bs.append(1.0)
-            Cs.append(r[i].real)
-    from scipy.linalg import block_diag
-    Ar = block_diag(*blocks) if blocks else np.zeros((0, 0))
-    Br, Cr, Dr = np.array(Bs)[:, None], np.array(Cs)[None, :], np.array([[d]])
-    Hr = (Cr @ np.linalg.solve(s[:, None, None] * np.eye(len(Br)) - Ar, Br[None]))[:, 0, 0] + d
-    return Ar, Br, Cr, Dr, float(np.abs(Hr - H).max() / scale)
-
-
 def reference(scene: Scene) -> Scene:
     """The scene pressing its middle taxel's footprint (the reduced model's input)."""
     m = scene.array.rows // 2
@@ -199,10 +134,10 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     xc, G_fem, G_spl = influence_check(ref, infl, checks)
     err = float(np.max(np.abs(G_fem - G_spl))) if len(xc) else float("nan")
     rm = reduced.cached(ref, inputs="probe", output="readout")
-    i, j = rm.pressed()
-    ss = rm.state_space()
-    A, B, C, D, cut = truncate(ss.A, ss.B[:, [j]], ss.C[[i], :], ss.D[[i]][:, [j]], (0.01, 0.5 / dt))
-    Ad, Bd, Cd, Dd, _ = signal.cont2discrete((A, B, C, D), dt, method="foh")
+    h, cut = readout_mod.path(rm, (0.01, 0.5 / dt))
+    A, B, C, D = h.state_space()
+    disc = readout_mod.discretize(h, dt, lambda f: readout_mod.sweep(rm, f))
+    Ad, Bd, Cd, Dd = disc.state_space()
     nr = noise_budget(ref, rig, band=(ref.analysis.f_min, max(0.5 / dt, 2 * ref.analysis.f_min)))
     # the runtime quantizes with the ADC itself: its quantisation is not also added as a noise source
     sources = {k: v for k, v in nr.psd.items() if not (rig is not None and k.startswith("ADC"))}
@@ -224,4 +159,5 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
         noise_freqs=np.asarray(nr.freqs, float), noise_psd=np.array([np.asarray(v, float) for v in sources.values()]),
         noise_sources=list(sources), saturation=float(nr.saturation_output), adc=adc, influence_error=err,
         check_x=xc, check_G_fem=G_fem, check_G_spline=G_spl, reduction_error=float(rm.measured_error) + cut,
+        dynamics_error=disc.error + float(rm.measured_error), band=disc.band,
         readout=rm.readout_label, provenance=prov)

@@ -14,8 +14,12 @@ G_c the influence function of column c (1 at its own centre), a cubic spline sto
 as its piecewise coefficients (`knots`, `coef`); g_rc = S_r S_c / S_ref^2 the taxels'
 sensitivities relative to the reference taxel's S_ref; h the reference taxel's path
 from a force on its footprint to its readout output (the reduced FEM model,
-`taxel reduce`), discretized at the skin's step `dt` (first-order hold, exact for
-forces linear between steps) as x[k+1] = Ad x[k] + Bd u[k], v[k] = Cd x[k] + Dd u[k].
+`taxel reduce`) through the scene's readout chain, discretized at the skin's step `dt`
+as x[k+1] = Ad x[k] + Bd u[k], v[k] = Cd x[k] + Dd u[k] (taxel.skin.readout: each pole
+l at e^(l dt), the residues fitted to the solver's frequency sweep; `dynamics_error` its
+measured error against that sweep over 1 Hz .. `band`, the band where it holds 1 % in
+magnitude and 1 degree in phase). Sign: the solver's (a charge amplifier's output is
+-Q_sc / C_f in its passband).
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-FORMAT = "taxel-skin/1"
+FORMAT = "taxel-skin/2"
 
 _POWERS = np.array([3.0, 2.0, 1.0, 0.0])
 _ARRAYS = ("knots", "coef", "gain", "Ad", "Bd", "Cd", "Dd", "A", "B", "C", "D", "noise_freqs", "noise_psd",
@@ -67,6 +71,8 @@ class SkinModel:
     reduction_error: float       # h's error: the reduced model's against direct FEM solves + its modal cut's
     readout: str                 # the readout chain in words
     provenance: dict = field(default_factory=dict)   # scene (data), scene_sha256, taxel_version, built
+    dynamics_error: float = float("nan")   # Ad..Dd against the solver's sweep, of its peak, over 1 Hz .. band
+    band: float = float("nan")             # Hz: up to here within 1 % in magnitude and 1 degree in phase
     format: str = FORMAT
 
     @property
@@ -104,7 +110,8 @@ class SkinModel:
         path = path if hasattr(path, "write") else Path(path)
         meta = {k: getattr(self, k) for k in ("rows", "cols", "pitch", "taxel_width", "margin", "sensitivity", "dt",
                                                "noise_sources", "saturation", "adc", "influence_error",
-                                               "reduction_error", "readout", "provenance", "format")}
+                                               "reduction_error", "readout", "provenance", "format",
+                                               "dynamics_error", "band")}
         meta["saturation"] = None if not np.isfinite(self.saturation) else self.saturation
         np.savez_compressed(path, meta=np.array(json.dumps(meta)), **{k: getattr(self, k) for k in _ARRAYS})
         return path

@@ -288,7 +288,7 @@ class SkinRuntime:
         forced response a linear convolution by FFT (zero-padded to 2 L: no wrap-around)."""
         L, E, T = U.shape
         lam, w, D = self._lam[:, 0], self._w[0, :-1], self._w[0, -1].real
-        Pk = np.exp(np.arange(L + 1)[:, None] * np.log(lam)[None, :])              # (L + 1, n): lambda^k
+        Pk = lam[None, :] ** np.arange(L + 1)[:, None]                              # (L + 1, n): lambda^k (0^0 = 1)
         h = np.empty(L)
         h[0] = D
         h[1:] = (Pk[:L - 1] @ w).real
