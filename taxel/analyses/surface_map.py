@@ -67,7 +67,7 @@ class Footprint:
         return off, wts / wts.sum()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ProbeCorrection:
     """The rig's probe on the Yeoh silicone against the linear map: at each knot
     (x_k, y_l) of a coarse grid and each force F_m, the ratio of the pressed best
@@ -92,7 +92,7 @@ class ProbeCorrection:
         return np.array([np.interp(f, self.forces, per_force[:, i]) for i in range(pts.shape[0])])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)        # arrays: compare fields with np.array_equal
 class SurfaceMap:
     """Every taxel's short-circuit charge per newton of a point force at each grid
     point of the top surface, and the capacitance matrix (module docstring)."""
@@ -104,6 +104,7 @@ class SurfaceMap:
     capacitance: np.ndarray       # (ntaxels, ntaxels) F, the taxels' Maxwell capacitance matrix
     correction: ProbeCorrection | None = None
     info: dict = field(default_factory=dict, compare=False)   # scene name, mesh, solves, seconds
+    centres: np.ndarray | None = None   # (ntaxels, 2) m, each taxel's centre (the array's plan)
 
     def __post_init__(self):
         n = len(self.taxels)
@@ -183,6 +184,8 @@ class SurfaceMap:
         arrays = {"x": self.x, "y": self.y, "charge_per_newton": self.charge_per_newton,
                   "capacitance": self.capacitance}
         meta = {"format": FORMAT, "taxels": list(self.taxels), "info": self.info}
+        if self.centres is not None:
+            arrays["centres"] = self.centres
         if self.correction is not None:
             c = self.correction
             arrays.update(corr_x=c.x, corr_y=c.y, corr_forces=c.forces, corr_factor=c.factor)
@@ -204,6 +207,68 @@ class SurfaceMap:
                     corr = ProbeCorrection(z["corr_x"], z["corr_y"], z["corr_forces"], z["corr_factor"],
                                            Footprint(**meta["footprint"]))
                 return cls(z["x"], z["y"], tuple(meta["taxels"]), z["charge_per_newton"], z["capacitance"],
-                           corr, meta.get("info", {}))
+                           corr, meta.get("info", {}), z["centres"] if "centres" in z else None)
         except (OSError, KeyError, ValueError, json.JSONDecodeError) as exc:
             raise ValueError(f"{path}: not a surface map file ({exc}); write one with SurfaceMap.to_file") from None
+
+
+# -- building ------------------------------------------------------------------------
+
+def map_scene(scene):
+    """The scene whose linear 3D static model the map is solved on: the scene's array,
+    materials and mesh, a linear silicone, no load patch (a pressure over the whole top:
+    the load is not solved, only the electrodes are driven), every taxel grounded (the
+    electrodes are held by the reciprocal solve), mirror planes where the array has them."""
+    from taxel.scene import SceneError
+    if scene.array is None or scene.model.type != "3d":
+        raise SceneError("surface map: needs a 3d array scene (model.type = '3d' and an [array] table)")
+    return scene.replace(**{"model.silicone": "linear", "analysis.type": "static", "load.kind": "pressure",
+                            "load.pressure": 1.0, "electrodes": {"ground": "ground", "taxels": "ground"},
+                            "model.fidelity": "fixed"})
+
+
+def default_spacing(scene) -> float:
+    """The grid step: an eighth of the narrower of the taxel and the gap, 0.1 mm at least."""
+    a = scene.array
+    return max(1e-4, min(a.taxel_width, a.gap if a.gap > 0 else a.taxel_width) / 8)
+
+
+def build(scene, spacing: float | None = None, method: str = "auto") -> SurfaceMap:
+    """The linear surface map of a 3D array scene (`map_scene`), on a grid of `spacing`
+    (m; default `default_spacing`) over the whole top surface, from one factorization per
+    mirror class (fem.static.surface_response). Raises SceneError for a scene that is not
+    a 3D array."""
+    import time
+    from taxel.fem import assembly, static
+    from taxel.analyses.problem import problem
+
+    t0 = time.perf_counter()
+    sc = map_scene(scene)
+    prob = problem(sc)
+    lay = prob.mesh.layout
+    t1 = time.perf_counter()
+    sy = assembly.assemble(prob)
+    t2 = time.perf_counter()
+    h = spacing or default_spacing(scene)
+    hx, hy = lay.plan.half, lay.plan_half_y
+    x = np.linspace(-hx, hx, int(np.ceil(2 * hx / h)) + 1)
+    y = np.linspace(-hy, hy, int(np.ceil(2 * hy / h)) + 1)
+    X, Y = np.meshgrid(x, y)
+    z = lay.height * (1 - 1e-9)
+    pts = np.stack([X.ravel(), Y.ravel(), np.full(X.size, z)])
+    res = static.surface_response(sy, pts, method)
+    t3 = time.perf_counter()
+    taxels = [k for k in res.names if k.startswith("taxel_")]
+    keep = [res.names.index(k) for k in taxels]
+    R = res.R[keep].reshape(len(taxels), 3, len(y), len(x))
+    centre = {t.name: (t.x, t.y) for t in lay.taxels} if not lay.planes else None
+    if centre is None:
+        from taxel.analyses.geometry import layout
+        from taxel.analyses.problem import check
+        centre = {t.name: (t.x, t.y) for t in layout(sc.replace(**{"model.symmetry": "full"}), check(sc)).taxels}
+    info = {"scene": scene.name, "unknowns": int(sy.A.shape[0]), "planes": list(lay.planes),
+            "factorizations": res.factorizations, "right_hand_sides": res.right_hand_sides,
+            "residual": res.residual, "solver": res.solver, "spacing": h,
+            "seconds": {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0}}
+    return SurfaceMap(x, y, tuple(taxels), R, res.capacitance[np.ix_(keep, keep)], None, info,
+                      np.array([centre[k] for k in taxels]))
