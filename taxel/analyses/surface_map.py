@@ -146,10 +146,8 @@ class SurfaceMap:
         pts = np.atleast_2d(np.asarray(points, float))
         f = np.broadcast_to(np.asarray(forces, float), (pts.shape[0], 3))
         off, w = (footprint or Footprint()).quadrature()
-        q = np.zeros((pts.shape[0], len(self.taxels)))
-        for o, wt in zip(off, w):
-            q += wt * np.einsum("ntk,nk->nt", self.response(pts + o), f)
-        return q
+        R = self.response((pts[:, None, :] + off[None, :, :]).reshape(-1, 2)).reshape(pts.shape[0], len(w), -1, 3)
+        return np.einsum("nqtk,q,nk->nt", R, w, f)
 
     def voltage(self, points, forces, footprint: Footprint | None = None) -> np.ndarray:
         """(n, ntaxels) V: open-circuit voltages, every taxel open, V = -C^-1 Q_sc."""
