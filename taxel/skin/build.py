@@ -43,7 +43,6 @@ import json
 from datetime import datetime, timezone
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name, to_data
@@ -54,6 +53,7 @@ from taxel.analyses.noise import noise as noise_budget
 from taxel.analyses.noise import with_readout
 from taxel.analyses.version import code_version
 from taxel.skin import readout as readout_mod
+from taxel.skin import spatial
 from taxel.skin.model import SkinModel
 
 
@@ -70,9 +70,9 @@ def check(scene: Scene, dt: float, per_pitch: int, checks: int) -> None:
     a = scene.array
     if a is None:
         raise SceneError("taxel skin needs a taxel-array scene ([array]); use e.g. thesis-pzt-3x3-2d")
-    if a.rows != a.cols:
-        raise SceneError(f"array.rows = {a.rows}, array.cols = {a.cols}: the skin's influence is separable and "
-                         "alike in both directions; use a square array (rows = cols)")
+    if a.rows != a.cols and scene.model.type != "3d":
+        raise SceneError(f"array.rows = {a.rows}, array.cols = {a.cols}: a skin from a 2D section is separable and "
+                         "alike in both directions; use a square array (rows = cols) or model.type = '3d'")
     if a.rows < 2:
         raise SceneError("array.rows = 1: a skin needs at least 2 x 2 taxels")
     if scene.load.kind == "probe" and scene.load.contact:
@@ -119,25 +119,40 @@ def reference(scene: Scene) -> Scene:
     return scene.replace(**{"load.kind": "taxel", "load.taxel": [m, m], "load.force": 1.0})
 
 
-def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, rig=None) -> SkinModel:
-    """The skin of a scene (module docstring)."""
+def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, rig=None,
+          surface_map=None) -> SkinModel:
+    """The skin of a scene (module docstring). A 3D scene: the spatial model from its surface
+    map (`surface_map`, else built: one 3D solve per electrode class), h from its 2D section."""
     check(scene, dt, per_pitch, checks)
     a = scene.array
     m = a.cols // 2
-    ref = reference(scene)
+    three_d = scene.model.type == "3d"
+    section = scene.replace(**{"model.type": "plane_strain"}) if three_d else scene
+    ref = reference(section)
     if rig is not None:          # the rig's conditioning of the reference taxel's channel is the skin's chain
         ref = with_readout(ref, noise_chain(ref, rig, electrode_name(*ref.load.taxel)).readout)
-    infl = influence_mod.influence(ref, per_pitch=per_pitch)
-    spline = CubicSpline(infl.x, infl.G, axis=0)
-    S = np.asarray(infl.sensitivity, float)
-    gain = np.outer(S[:a.rows], S) / S[m] ** 2
-    xc, G_fem, G_spl = influence_check(ref, infl, checks)
-    err = float(np.max(np.abs(G_fem - G_spl))) if len(xc) else float("nan")
     rm = reduced.cached(ref, inputs="probe", output="readout")
     h, cut = readout_mod.path(rm, (0.01, 0.5 / dt))
     A, B, C, D = h.state_space()
     disc = readout_mod.discretize(h, dt, lambda f: readout_mod.sweep(rm, f))
     Ad, Bd, Cd, Dd = disc.state_space()
+    pitch = a.taxel_width + a.gap
+    if three_d:
+        from taxel.analyses import surface_map as smap
+        from taxel.fem import dynamics
+        mp = surface_map if surface_map is not None else smap.build(scene)
+        V, Ci = dynamics.ports(rm.red, [1e-3])
+        i, _ = rm.pressed()
+        voltage = rm.readout.circuit == "open"
+        per_newton = float(V[0, i, 0].real) if voltage else float((-np.linalg.solve(Ci[0], V[0])[i, 0]).real)
+        sp = spatial.from_map(mp, a.rows, a.cols, pitch, a.taxel_width, per_newton, voltage)
+        ref_q = spatial.footprint_average(mp, electrode_name(a.rows - 1 - m, m), a.taxel_width / 2)
+        S_ref = float(-(-np.linalg.solve(mp.capacitance, ref_q[:, 2]))[mp.index(electrode_name(a.rows - 1 - m, m))])
+    else:
+        infl = influence_mod.influence(ref, per_pitch=per_pitch)
+        xc, G_fem, _ = influence_check(ref, infl, checks)
+        sp = spatial.separable(a.rows, a.cols, float(infl.pitch), infl, per_pitch, xc, G_fem)
+        S_ref = float(np.asarray(infl.sensitivity, float)[m])
     nr = noise_budget(ref, rig, band=(ref.analysis.f_min, max(0.5 / dt, 2 * ref.analysis.f_min)))
     # the runtime quantizes with the ADC itself: its quantisation is not also added as a noise source
     sources = {k: v for k, v in nr.psd.items() if not (rig is not None and k.startswith("ADC"))}
@@ -151,13 +166,15 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
             "scene_sha256": hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest(),
             "taxel_version": _version(), "code_version": code_version(),
             "built": datetime.now(timezone.utc).isoformat(timespec="seconds"), "per_pitch": per_pitch,
-            "rig": getattr(rig, "name", None), "fem_presses": int(infl.solves) + len(xc)}
+            "rig": getattr(rig, "name", None), "fem_solves": sp.solves + len(sp.check_points) * (not three_d)}
     return SkinModel(
-        rows=a.rows, cols=a.cols, pitch=float(infl.pitch), taxel_width=float(a.taxel_width), margin=float(a.margin),
-        knots=np.asarray(infl.x, float), coef=np.asarray(spline.c, float), gain=gain, sensitivity=float(S[m]),
+        rows=a.rows, cols=a.cols, pitch=float(pitch), taxel_width=float(a.taxel_width), margin=float(a.margin),
+        grid_x=sp.grid_x, grid_y=sp.grid_y, influence=sp.W, spatial=sp.label, sensitivity=S_ref,
         dt=float(dt), Ad=Ad, Bd=Bd, Cd=Cd, Dd=Dd, A=A, B=B, C=C, D=D,
         noise_freqs=np.asarray(nr.freqs, float), noise_psd=np.array([np.asarray(v, float) for v in sources.values()]),
-        noise_sources=list(sources), saturation=float(nr.saturation_output), adc=adc, influence_error=err,
-        check_x=xc, check_G_fem=G_fem, check_G_spline=G_spl, reduction_error=float(rm.measured_error) + cut,
-        dynamics_error=disc.error + float(rm.measured_error), band=disc.band,
-        readout=rm.readout_label, provenance=prov)
+        noise_sources=list(sources), saturation=float(nr.saturation_output), adc=adc, influence_error=sp.error,
+        check_points=sp.check_points, check_fem=sp.check_source,
+        check_model=spatial.bilinear(sp.grid_x, sp.grid_y, sp.W, sp.check_points)[..., 2] if len(sp.check_points)
+        else np.zeros((0, a.rows * a.cols)),
+        reduction_error=float(rm.measured_error) + cut, dynamics_error=disc.error + float(rm.measured_error),
+        band=disc.band, readout=rm.readout_label, provenance=prov)
