@@ -152,8 +152,9 @@ class SkinRuntime:
             if len(g) < 2 or not np.allclose(np.diff(g), (g[-1] - g[0]) / (len(g) - 1), rtol=1e-9, atol=0):
                 raise ValueError(f"skin file: {name} is not evenly spaced; rebuild the skin")
         self._nx, self._ny = len(gx), len(gy)
-        self._o = np.array([gx[0], gy[0]])
         self._ih = np.array([(len(gx) - 1) / (gx[-1] - gx[0]), (len(gy) - 1) / (gy[-1] - gy[0])])
+        self._oih = np.array([gx[0], gy[0]]) * self._ih
+        self._stride, self._xyz = np.array([1, len(gx)], dtype=np.intp), np.arange(3)
         self._top = np.array([len(gx) - 1.0, len(gy) - 1.0])
         W = np.asarray(model.influence, float).transpose(2, 3, 1, 0)                 # (ny, nx, 3, T)
         self._W3 = np.ascontiguousarray(W.reshape(-1, T))
@@ -166,7 +167,7 @@ class SkinRuntime:
         form = diagonal_form(model.Ad, model.Bd, model.Cd, model.Dd)
         self.diagonal = form is not None
         if self.diagonal:
-            lam, w = form
+            lam, w = form[0].astype(complex), form[1].astype(complex)
             n = len(lam)
             # Z = [modes (n rows); u (1 row)]: w @ Z is the output; lambda stored repeated per taxel
             # (broadcasting it along the inner axis costs more than the arithmetic here)
@@ -290,19 +291,22 @@ class SkinRuntime:
 
     def _loads(self, p, f) -> np.ndarray:
         """sum_j sum_d W_kd(p_j) f_jd (..., T), bilinear (module docstring)."""
-        t = np.clip((p - self._o) * self._ih, 0.0, self._top)
-        i = np.minimum(t.astype(np.intp), self._last)                                     # the last cell at the far end
+        t = p * self._ih
+        t -= self._oih                                                                 # grid units
+        np.maximum(t, 0.0, out=t)
+        np.minimum(t, self._top, out=t)
+        i = t.astype(np.intp)
+        np.minimum(i, self._last, out=i)                                               # the last cell at the far end
         d = t - i
-        cell = (i[..., 1] * self._nx + i[..., 0])[..., None] + self._corner            # (..., m, 4)
-        dx, dy = d[..., 0:1], d[..., 1:2]
-        wx = np.concatenate([1 - dx, dx, 1 - dx, dx], axis=-1)
-        wc = wx * np.concatenate([1 - dy, 1 - dy, dy, dy], axis=-1)                      # (..., m, 4)
+        cell = (i @ self._stride)[..., None] + self._corner                             # (..., m, 4)
+        a = np.stack((1.0 - d, d), axis=-1)                                             # (..., m, xy, 2)
+        w = a[..., 1, :, None] * a[..., 0, None, :]                                     # (..., m, 2, 2): corners
         lead = p.shape[:-2]
-        if f.shape == p.shape[:-1]:                                                        # normal only
-            c = (wc * f[..., None]).reshape(*lead, 1, -1)
-            return (c @ self._Wz[cell.reshape(*lead, -1)])[..., 0, :]
-        c = (wc[..., None] * f[..., None, :]).reshape(*lead, 1, -1)                         # (..., 1, m 4 3)
-        rows = (cell[..., None] * 3 + np.arange(3)).reshape(*lead, -1)
+        if f.shape == p.shape[:-1]:                                                      # normal only
+            w *= f[..., None, None]
+            return (w.reshape(*lead, 1, -1) @ self._Wz[cell.reshape(*lead, -1)])[..., 0, :]
+        c = (w[..., None] * f[..., None, None, :]).reshape(*lead, 1, -1)                 # (..., 1, m 4 3)
+        rows = (cell[..., None] * 3 + self._xyz).reshape(*lead, -1)
         return (c @ self._W3[rows])[..., 0, :]
 
     def step(self, points, forces) -> np.ndarray:

@@ -17,8 +17,9 @@ shear components. Frames: the skin's origin is taxel (0, 0)'s centre and its row
 at y = r pitch, so the skin's row r is the scene's (and the map's) row rows - 1 - r
 (the scene numbers rows from +y down); x_skin = x_map + (cols - 1) pitch / 2,
 y_skin = y_map + (rows - 1) pitch / 2, z alike (a right-handed frame kept).
-The skin samples the map on its own grid (the map's grid points: no resampling), and
-interpolates bilinearly between them; its error is measured at every cell's centre
+The skin samples the map's bicubic spline on the map's grid halved (or on the map's
+grid itself where the halved table would pass TABLE_BYTES: an 8 x 8 array), and
+interpolates bilinearly between its points; its error is measured at every cell's centre
 against the map's bicubic spline there (`influence_error`, of the largest |W_z|).
 
 From a 2D section (`separable`, the skin before the map): W_rc,z(x, y) = -g_rc G_r(y) G_c(x)
@@ -35,6 +36,8 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from taxel.schema import electrode_name
+
+TABLE_BYTES = 64e6            # the map's grid halved (its bicubic spline sampled) while the table stays below this
 
 
 @dataclass(frozen=True)
@@ -76,12 +79,18 @@ def from_map(m, rows: int, cols: int, pitch: float, taxel_width: float, per_newt
     """W from a SurfaceMap (module docstring); per_newton the path's static charge (C/N) or,
     with `voltage`, its open-circuit voltage (V/N) per newton pressing its footprint."""
     order = [m.index(electrode_name(rows - 1 - r, c)) for r in range(rows) for c in range(cols)]
-    Q = m.charge_per_newton[order]                                       # (T, 3, ny, nx), skin order
+    T = len(order)
+    refine = 2 if (2 * len(m.x)) * (2 * len(m.y)) * 3 * T * 8 <= TABLE_BYTES else 1
+    xs = np.linspace(m.x[0], m.x[-1], refine * (len(m.x) - 1) + 1)
+    ys = np.linspace(m.y[0], m.y[-1], refine * (len(m.y) - 1) + 1)
+    X, Y = np.meshgrid(xs, ys)
+    Q = m.response(np.stack([X.ravel(), Y.ravel()], axis=1))[:, order]          # (ny nx, T, 3), skin order
+    Q = Q.reshape(len(ys), len(xs), T, 3).transpose(2, 3, 0, 1)                  # (T, 3, ny, nx)
     if voltage:
         Ci = np.linalg.inv(m.capacitance[np.ix_(order, order)])
         Q = -np.einsum("kl,ldyx->kdyx", Ci, Q)
     W = Q / per_newton
-    gx, gy = m.x + (cols - 1) * pitch / 2, m.y + (rows - 1) * pitch / 2
+    gx, gy = xs + (cols - 1) * pitch / 2, ys + (rows - 1) * pitch / 2
     # the check: every cell's centre, the map's bicubic spline against the bilinear table
     cx, cy = 0.5 * (gx[1:] + gx[:-1]), 0.5 * (gy[1:] + gy[:-1])
     X, Y = np.meshgrid(cx, cy)
