@@ -28,6 +28,7 @@ printed from it).
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import time
@@ -37,15 +38,28 @@ import numpy as np
 
 import taxel
 from taxel.skin.build import build
+from taxel.skin.model import SkinModel
 from taxel.skin.runtime import SkinRuntime
 
 STEPS, ROUNDS = 2000, 7
 
 
-def skin(n: int):
+def skin(n: int) -> SkinModel:
+    """The n x n skin, built once and kept in the user's cache (keyed by the scene and the code version)."""
+    from taxel.analyses.crosstalk import cache_dir
+    from taxel.analyses.version import code_version
+    from taxel.schema import to_data
     sc = taxel.load("thesis-pzt-3x3-2d").replace(**{"readout.circuit": "resistor", "mesh.size": "1 mm",
                                                      "mesh.piezo_size": "0.2 mm", "array.rows": n, "array.cols": n})
-    return build(sc, dt=1e-3, checks=0)
+    key = hashlib.sha256(json.dumps([to_data(sc), code_version(), "skin-bench"], sort_keys=True).encode()).hexdigest()
+    path = cache_dir() / f"skin-bench-{key[:16]}.npz"
+    try:
+        return SkinModel.load(path)
+    except ValueError:
+        sk = build(sc, dt=1e-3, checks=0)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        sk.save(path)
+        return sk
 
 
 def cases(sk):
