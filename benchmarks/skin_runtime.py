@@ -46,8 +46,8 @@ STEPS, ROUNDS = 2000, 7
 
 def skin(n: int) -> SkinModel:
     """The n x n skin, built once and kept in the user's cache (keyed by the scene and the code version)."""
-    from taxel.analyses.crosstalk import cache_dir
-    from taxel.analyses.version import code_version
+    from taxel.analyses.solves.crosstalk import cache_dir
+    from taxel.analyses.solves.version import code_version
     from taxel.schema import to_data
     sc = taxel.load("thesis-pzt-3x3-2d").replace(**{"readout.circuit": "resistor", "mesh.size": "1 mm",
                                                      "mesh.piezo_size": "0.2 mm", "array.rows": n, "array.cols": n})

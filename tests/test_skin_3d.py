@@ -41,7 +41,7 @@ def static_gain(sk) -> float:
 
 @pytest.mark.parametrize("where", ["diagonal", "gap", "edge"])
 def test_normal_and_shear_against_direct_3d_solves(setup, where):
-    from taxel.analyses.problem import problem
+    from taxel.analyses.model.problem import problem
     from taxel.analyses.surface_map import map_scene
     from taxel.fem import assembly, static
     scene, m, sk = setup

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import taxel
-from taxel.analyses.problem import problem
+from taxel.analyses.model.problem import problem
 from taxel.analyses.surface_map import Footprint, SurfaceMap, build, map_scene
 from taxel.fem import assembly, static
 

@@ -28,7 +28,7 @@ import taxel
 from taxel.skin.mujoco import MujocoSkin, fingertip_xml
 
 scene = taxel.load("thesis-pzt-3x3-3d").replace(**{"readout.circuit": "resistor", "readout.R": 5e8})
-skin = taxel.skin(scene, dt=1e-3)
+skin = taxel.build_skin(scene, dt=1e-3)
 print(f"{skin.rows} x {skin.cols} skin from the {skin.spatial}; {skin.Ad.shape[0]} states; interpolation error "
       f"{skin.influence_error:.1e} of the peak; readout: {skin.readout}, within 1 % and 1 degree of the solver's "
       f"sweep up to {skin.band:.0f} Hz")

@@ -238,7 +238,7 @@ def build(scene, spacing: float | None = None, method: str = "auto") -> SurfaceM
     a 3D array."""
     import time
     from taxel.fem import assembly, static
-    from taxel.analyses.problem import problem
+    from taxel.analyses.model.problem import problem
 
     t0 = time.perf_counter()
     sc = map_scene(scene)
@@ -261,8 +261,8 @@ def build(scene, spacing: float | None = None, method: str = "auto") -> SurfaceM
     R = res.R[keep].reshape(len(taxels), 3, len(y), len(x))
     centre = {t.name: (t.x, t.y) for t in lay.taxels} if not lay.planes else None
     if centre is None:
-        from taxel.analyses.geometry import layout
-        from taxel.analyses.problem import check
+        from taxel.analyses.model.geometry import layout
+        from taxel.analyses.model.problem import check
         centre = {t.name: (t.x, t.y) for t in layout(sc.replace(**{"model.symmetry": "full"}), check(sc)).taxels}
     info = {"scene": scene.name, "unknowns": int(sy.A.shape[0]), "planes": list(lay.planes),
             "factorizations": res.factorizations, "right_hand_sides": res.right_hand_sides,

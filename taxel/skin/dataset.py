@@ -181,10 +181,10 @@ def calibrate(skin: SkinModel, t: np.ndarray, kind: str) -> np.ndarray:
 
 
 def row_influence(sk: SkinModel):
-    """The estimator's separable influence (taxel.analyses.influence.Influence) read off the
+    """The estimator's separable influence (taxel.analyses.surface.influence.Influence) read off the
     skin's W along its middle row: G_c(x) = W_z of taxel (mid, c) at (x, mid pitch) over its
     value at the taxel's centre (the estimator's model; the skin itself may not be separable)."""
-    from taxel.analyses.influence import Influence
+    from taxel.analyses.surface.influence import Influence
     from taxel.skin.spatial import bilinear
     mid = sk.rows // 2
     x = sk.grid_x

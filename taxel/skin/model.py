@@ -18,7 +18,7 @@ taxel k collects per newton along d at a point, over the reference taxel's charg
 per newton of a press on its own footprint (so W_k,z = -1 for a press there: the
 sign of a press is f_z < 0). From a 3D scene it is the surface map's (taxel.analyses.
 surface_map: every taxel, normal and both shears, non-separable); from a 2D section,
-the separable normal-only influence of taxel.analyses.influence (shear columns zero;
+the separable normal-only influence of taxel.analyses.surface.influence (shear columns zero;
 `spatial` says which). h the reference taxel's path from a force on its footprint to
 its readout output through the scene's readout chain, as poles and residues
 (taxel.skin.readout), discretized at the skin's step `dt` by first-order hold as

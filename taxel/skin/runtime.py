@@ -45,7 +45,7 @@ arithmetic, sets the time at these sizes):
   for callers that guarantee finite float arrays of the right shapes.
 
 Noise (on request): independent per taxel, Gaussian with the stored per-source PSDs'
-sum (taxel.analyses.noise: the scene's noise model, 1/f corners and all) from their
+sum (taxel.analyses.solves.noise: the scene's noise model, 1/f corners and all) from their
 lowest frequency to the step's Nyquist frequency 1 / (2 dt): white noise filtered by
 an FIR filter of NOISE_TAPS taps whose gain is sqrt(S(f) / (2 dt)) (zero below the
 lowest stored frequency; Hann-windowed), drawn in blocks of `block` steps with the

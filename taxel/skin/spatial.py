@@ -24,7 +24,7 @@ against the map's bicubic spline there (`influence_error`, of the largest |W_z|)
 
 From a 2D section (`separable`, the skin before the map): W_rc,z(x, y) = -g_rc G_r(y) G_c(x)
 with G the row's influence from static FEM presses of a taxel-wide flat probe
-(taxel.analyses.influence), g_rc = S_r S_c / S_ref^2; shear columns zero. Sampled on a
+(taxel.analyses.surface.influence), g_rc = S_r S_c / S_ref^2; shear columns zero. Sampled on a
 grid of pitch / (2 per_pitch); its check is `checks` FEM presses between the knots.
 """
 
