@@ -35,17 +35,20 @@ def test_stages_are_the_solvers_circuits():
 
 
 def _skin(h: sr.Poles) -> SkinModel:
-    """A 2 x 2 skin whose every taxel has the readout dynamics h (one knot span, G = 1)."""
+    """A 2 x 2 skin whose every taxel has the readout dynamics h (W_z = -1 everywhere)."""
     d = sr.discretize(h, DT, h.frf_hz)
     Ad, Bd, Cd, Dd = d.state_space()
     A, B, C, D = h.state_space()
-    x = np.array([-1.0, 0.0, 1.0]) * 0.02
-    coef = np.zeros((4, 2, 2))
-    coef[3] = 1.0
+    g = np.array([-0.02, 0.0, 0.02])
+    W = np.zeros((4, 3, 3, 3))
+    W[:, 2] = -1.0
     f = np.geomspace(1, 1000, 5)
-    return SkinModel(2, 2, 7e-3, 4e-3, 3e-3, x, coef, np.ones((2, 2)), 1.0, DT, Ad, Bd, Cd, Dd, A, B, C, D,
-                     f, np.zeros((1, 5)), ["none"], np.inf, None, 0.0, np.zeros(0), np.zeros((0, 2)),
-                     np.zeros((0, 2)), 0.0, "test", {}, d.error, d.band)
+    return SkinModel(rows=2, cols=2, pitch=7e-3, taxel_width=4e-3, margin=3e-3, grid_x=g, grid_y=g, influence=W,
+                     spatial="uniform", sensitivity=1.0, dt=DT, Ad=Ad, Bd=Bd, Cd=Cd, Dd=Dd, A=A, B=B, C=C, D=D,
+                     noise_freqs=f, noise_psd=np.zeros((1, 5)), noise_sources=["none"], saturation=np.inf, adc=None,
+                     influence_error=0.0, check_points=np.zeros((0, 2)), check_fem=np.zeros((0, 4)),
+                     check_model=np.zeros((0, 4)), reduction_error=0.0, readout="test", dynamics_error=d.error,
+                     band=d.band)
 
 
 @pytest.mark.parametrize("circuit", ["charge_amplifier", "resistor"])
