@@ -1,34 +1,26 @@
 r"""A skin file from the FEM: `build(scene)` (taxel skin SCENE -o skin.npz).
 
 Physics. The taxel array is linear (small strain, linear piezoelectricity, a linear
-readout), so a normal force F(t) at a surface point p reaches taxel k through the
-FEM's path from p to k. The skin factors that path as v_k(t) = h(s) [W_k(p) F(t)],
-the spatial factor W_k(p) the static FEM's influence and the temporal factor h the
-reference taxel's own dynamics through its readout. The array is taken, as in
-taxel.analyses.solves.crosstalk and .influence, separable and alike in its two directions:
-W_rc(x, y) = g_rc G_r(y) G_c(x), G_c = V_c(x) / V_c(x_c) the row's influence
-functions from static FEM presses (a flat probe as wide as a taxel, pressed every
-pitch / per_pitch; taxel.analyses.surface.influence), g_rc = S_r S_c / S_ref^2 the columns'
-and rows' open-circuit sensitivities S relative to the reference (middle) taxel's.
-The factoring is exact at low frequency (the quasi-static influence) and for presses
-on the reference taxel; it assumes the other paths share h's frequency dependence,
-which the pad's resonances (from 585 Hz in the coarse thesis 3 x 3 section) break at
-fast edges between taxels (benchmarks/skin_accuracy.py measures it).
-Every taxel shares h = the reference taxel's path from a force on its footprint to
-its readout output, the reduced FEM model of `taxel reduce` (inputs: that taxel's
-load; the causal loss law kept), so that at DC (open circuit) h = S_ref and a press at
-a taxel's centre gives S_k F there (tests/test_skin_fem.py checks the whole against the
-FEM transient at and between taxels). Assumed also: the force is normal (shear and the probe's contact mechanics are
-outside: points and normal forces in, as simulators give them).
+readout), so a force f(t) at a surface point p reaches taxel k through the FEM's path
+from p to k. The skin factors that path as v_k(t) = h(s) [sum_d W_kd(p) f_d(t)], the
+spatial factor W the static FEM's influence (taxel.skin.spatial: from a 3D scene its
+surface map, normal and shear, non-separable; from a 2D section the separable
+normal-only influence of taxel.analyses.surface.influence, pressed by a taxel-wide
+flat probe every pitch / per_pitch, with `checks` FEM presses between knots measuring
+its interpolation) and the temporal factor h the reference (middle) taxel's own
+dynamics through its readout, the reduced FEM model of `taxel reduce` (of the 2D
+section for a 3D scene; inputs: that taxel's load; the causal loss law kept). The
+factoring is exact at low frequency (the quasi-static influence) and for presses on
+the reference taxel; it assumes the other paths share h's frequency dependence, which
+the pad's resonances (from 585 Hz in the coarse thesis 3 x 3 section) break at fast
+edges between taxels (benchmarks/skin_accuracy.py measures it). The linear silicone
+only: the surface map has no probe correction for a Yeoh silicone yet (issue 54).
 
-The interpolation error of G is measured: `checks` FEM presses halfway between knots
-(in the row's first half; the row is mirror-symmetric), against the spline there.
 h, the pressed path through the scene's readout chain, is taxel.skin.readout's: the
 path up to the chain's per-electrode stages cut to its dominant modes, the stages
 (charge amplifier, notch) multiplied in as poles and residues, every pole mapped to
-e^(l dt) and the residues fitted to the solver's sweep of the same path; its error
-against that sweep (`dynamics_error`) and the band where it holds 1 % and 1 degree
-(`band`) are stored. Noise: the scene's chain
+e^(l dt), first-order hold; its error against the solver's sweep of the same path
+(`dynamics_error`) and the band where it holds 1 % and 1 degree (`band`) are stored. Noise: the scene's chain
 (taxel.analyses.solves.noise: per-source PSDs at the reference taxel's readout output, with a
 rig its ADC) and the saturation (amplifier swing or ADC range). With a rig, the rig's
 conditioning of the reference taxel's channel is the skin's readout chain (for h and
@@ -78,7 +70,8 @@ def check(scene: Scene, dt: float, per_pitch: int, checks: int) -> None:
     if scene.load.kind == "probe" and scene.load.contact:
         raise SceneError("load.contact = true: the skin is the linear sensor; use load.kind = 'taxel'")
     if scene.model.silicone == "yeoh":
-        raise SceneError("model.silicone = 'yeoh': the skin is the linear sensor; use model.silicone = 'linear'")
+        raise SceneError("model.silicone = 'yeoh': the skin is the linear sensor (the surface map has no probe "
+                         "correction for Yeoh yet); use model.silicone = 'linear'")
     if not (np.isfinite(dt) and 1e-6 <= dt <= 0.1):
         raise SceneError(f"--dt {dt:g}: the simulator's step in seconds, between 1e-6 and 0.1 (e.g. 0.001)")
     if per_pitch not in (2, 4, 8, 16):

@@ -46,6 +46,7 @@ import numpy as np
 
 from taxel.fem import dynamics
 from taxel.fem.readout import Readout
+from taxel.skin.discrete import first_order_hold
 
 
 @dataclass(frozen=True)
@@ -198,26 +199,10 @@ def real_blocks(poles, residues, d):
     return A, np.array(Bs).reshape(-1, 1), np.array(Cs).reshape(1, -1), np.array([[float(d)]])
 
 
-def first_order_hold(h: Poles, dt: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """(mu, w, D) of h discretized by first-order hold, mode by mode: x' = l x + r u with u
-    linear over a step gives x[k+1] = E x[k] + (phi1 - phi2) u[k] + phi2 u[k+1],
-    E = e^(l dt), phi1 = (E - 1) / l, phi2 = (E - 1 - l dt) / (l^2 dt), so
-    H(z) = r phi2 + r (phi1 - phi2 + phi2 E) / (z - E)."""
-    lam = h.lam
-    x = lam * dt
-    E = np.exp(x)
-    small = np.abs(x) < 1e-3
-    xs = np.where(small, 1.0, x)
-    ls = np.where(small, 1.0, lam)
-    phi1 = np.where(small, dt * (1 + x / 2 + x ** 2 / 6), (E - 1) / ls)
-    phi2 = np.where(small, dt * (0.5 + x / 6 + x ** 2 / 24), (E - 1 - xs) / (xs * ls))
-    return E, h.r * (phi1 - phi2 + phi2 * E), float((h.d + (h.r * phi2).sum()).real)
-
-
 def discretize(h: Poles, dt: float, target, f_low: float = 1.0, points: int = 1600) -> Discrete:
     """h by first-order hold (module docstring), measured against `target(freqs)`, the
     solver's sweep (complex), on `points` log-spaced frequencies from f_low to 0.4 / dt."""
-    mu, w, D = first_order_hold(h, dt)
+    mu, w, D = first_order_hold(h.lam, h.r, h.d, dt)
     fc = np.geomspace(f_low, 0.4 / dt, points)
     probe = Discrete(mu, w, D, 0.0, 0.0, 0.0, 0.0)
     Hd, Hs = probe.frf(fc, dt), target(fc)
