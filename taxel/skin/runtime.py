@@ -39,7 +39,9 @@ arithmetic, sets the time at these sizes):
 - The influence, bilinear on its grid: each contact's cell (one scaling, one floor),
   its four corners' rows of the table W (one gather: (cells x 3, taxels), or the z
   plane alone for normal-only forces) and their weights times the force's components,
-  summed over contacts, corners and directions in one product.
+  summed over contacts, corners and directions in one product. One skin with up to 8
+  contacts finds the cells and weights in Python floats (a dozen numpy calls cost
+  more than the arithmetic at that size): one gather and one product.
 - Noise drawn in blocks of `block` steps from the seeded generator.
 - `check=False` skips the input checks (shapes; finite values, checked on the loads)
   for callers that guarantee finite float arrays of the right shapes.
@@ -64,6 +66,7 @@ from taxel.skin.discrete import diagonal_form, first_order_hold
 from taxel.skin.model import SkinModel
 
 _RUN_BLOCK = 1024               # steps per block of `run`'s convolution
+_FEW = 8                        # contacts up to which one skin's step finds cells in Python floats
 NOISE_TAPS = 1024
 _SLOW = 2 * np.pi * 20.0        # rad/s: real poles slower than this are the readout's time constants
 
@@ -118,6 +121,9 @@ class SkinRuntime:
         self._ih = np.array([(len(gx) - 1) / (gx[-1] - gx[0]), (len(gy) - 1) / (gy[-1] - gy[0])])
         self._oih = np.array([gx[0], gy[0]]) * self._ih
         self._stride, self._xyz = np.array([1, len(gx)], dtype=np.intp), np.arange(3)
+        self._sgn, self._one = np.array([-1.0, 1.0]), np.array([1.0, 0.0])
+        self._scalars = (float(self._ih[0]), float(self._ih[1]), float(self._oih[0]), float(self._oih[1]),
+                         len(gx) - 1.0, len(gy) - 1.0, len(gx) - 2, len(gy) - 2, len(gx))
         self._top = np.array([len(gx) - 1.0, len(gy) - 1.0])
         W = np.asarray(model.influence, float).transpose(2, 3, 1, 0)                 # (ny, nx, 3, T)
         self._W3 = np.ascontiguousarray(W.reshape(-1, T))
@@ -262,15 +268,37 @@ class SkinRuntime:
         np.minimum(i, self._last, out=i)                                               # the last cell at the far end
         d = t - i
         cell = (i @ self._stride)[..., None] + self._corner                             # (..., m, 4)
-        a = np.stack((1.0 - d, d), axis=-1)                                             # (..., m, xy, 2)
+        a = d[..., None] * self._sgn
+        a += self._one                                                                  # (..., m, xy, 2): 1 - d, d
         w = a[..., 1, :, None] * a[..., 0, None, :]                                     # (..., m, 2, 2): corners
         lead = p.shape[:-2]
         if f.shape == p.shape[:-1]:                                                      # normal only
             w *= f[..., None, None]
-            return (w.reshape(*lead, 1, -1) @ self._Wz[cell.reshape(*lead, -1)])[..., 0, :]
+            return (w.reshape(*lead, 1, -1) @ self._Wz.take(cell.reshape(*lead, -1), axis=0))[..., 0, :]
         c = (w[..., None] * f[..., None, None, :]).reshape(*lead, 1, -1)                 # (..., 1, m 4 3)
         rows = (cell[..., None] * 3 + self._xyz).reshape(*lead, -1)
         return (c @ self._W3[rows])[..., 0, :]
+
+    def _loads_few(self, p, f) -> np.ndarray:
+        """_loads for one skin and a few contacts: the cell and the weights in Python floats
+        (cheaper than a dozen numpy calls at this size), then one gather and one product."""
+        ihx, ihy, ox, oy, tx_, ty_, lx, ly, nx = self._scalars
+        rows, coef = [], []
+        normal = f.ndim == 1
+        for (x, y), F in zip(p.tolist(), f.tolist()):
+            tx, ty = min(max(x * ihx - ox, 0.0), tx_), min(max(y * ihy - oy, 0.0), ty_)
+            ix, iy = min(int(tx), lx), min(int(ty), ly)
+            dx, dy = tx - ix, ty - iy
+            c = iy * nx + ix
+            w = ((1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy)
+            if normal:
+                rows += (c, c + 1, c + nx, c + nx + 1)
+                coef += (F * w[0], F * w[1], F * w[2], F * w[3])
+            else:
+                for cc, wc in zip((c, c + 1, c + nx, c + nx + 1), w):
+                    rows += (3 * cc, 3 * cc + 1, 3 * cc + 2)
+                    coef += (wc * F[0], wc * F[1], wc * F[2])
+        return np.array(coef) @ (self._Wz if normal else self._W3).take(rows, axis=0)
 
     def step(self, points, forces) -> np.ndarray:
         """Advance one dt with forces (m, 3) N in the skin frame (or normal forces (m,) N,
@@ -278,7 +306,10 @@ class SkinRuntime:
         and forces (E, m, 3) or (E, m): (E, rows, cols) V."""
         if self.check:
             points, forces = self._inputs(points, forces, self.shape[:-2])
-        u = self._loads(points, forces).reshape(-1, 1, self._T)
+        if self.envs is None and len(points) <= _FEW:
+            u = self._loads_few(np.asarray(points, float), np.asarray(forces, float))
+        else:
+            u = self._loads(points, forces).reshape(-1, 1, self._T)
         if self.check:
             self._finite(u)
         if self.diagonal:
