@@ -12,8 +12,8 @@
 The skin body's frame is the skin's frame: origin at taxel (0, 0)'s centre on the
 surface, x along the columns, y along the rows, z out of the surface (the example's
 pad is so). Each step reads every active contact with a geom of that body
-(`d.contact[:d.ncon]`): its force (mujoco.mj_contactForce: normal and both friction
-components in the contact frame) turned into the force on the skin in the skin frame
+(`d.contact`): its force (normal and both friction components in the contact frame:
+`d.efc_force` for elliptic cones, else mujoco.mj_contactForce) turned into the force on the skin in the skin frame
 (a press has f_z < 0), and its point.
 
 A contact as a patch (`patches`). MuJoCo resolves a body on the pad into a few contact
@@ -50,7 +50,7 @@ import numpy as np
 from taxel.skin.model import SkinModel
 from taxel.skin.runtime import SkinRuntime
 
-_RINGS, _SPOKES, _ALONG = 5, 12, 16
+_RINGS, _SPOKES, _ALONG = 3, 8, 12
 
 
 def fingertip_xml() -> str:
@@ -82,6 +82,9 @@ def strip(axis: np.ndarray, length: float, half: float) -> tuple[np.ndarray, np.
     return off.reshape(-1, 2), wts / wts.sum()
 
 
+_UNIT = {False: disc(1.0, False), True: disc(1.0, True)}      # a disc of unit radius: uniform, Hertzian
+
+
 class MujocoSkin:
     """A SkinRuntime fed by a MuJoCo model's contacts on one body (module docstring)."""
 
@@ -102,24 +105,26 @@ class MujocoSkin:
     def contacts(self, data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(points (m, 2) m, forces (m, 3) N on the skin in the skin frame, the other geom's id (m,))."""
         mj, m = self._mj, self.model
-        R, p0 = data.xmat[self.body].reshape(3, 3), data.xpos[self.body]
-        pts, fs, geoms = [], [], []
-        for i in range(data.ncon):
-            c = data.contact[i]
-            b1, b2 = m.geom_bodyid[c.geom1], m.geom_bodyid[c.geom2]
-            if c.exclude or self.body not in (b1, b2):
-                continue
-            mj.mj_contactForce(m, data, i, self._f)
-            if self._f[0] <= 0:
-                continue
-            on_geom2 = c.frame.reshape(3, 3).T @ self._f[:3]           # world: the force geom1 puts on geom2
-            f = on_geom2 if b2 == self.body else -on_geom2
-            pts.append(R.T @ (c.pos - p0))
-            fs.append(R.T @ f)
-            geoms.append(c.geom2 if b1 == self.body else c.geom1)
-        if not fs:
+        c = data.contact                                      # the struct-of-arrays view: every contact at once
+        b1, b2 = m.geom_bodyid[c.geom1], m.geom_bodyid[c.geom2]
+        idx = np.flatnonzero((c.exclude == 0) & ((b1 == self.body) | (b2 == self.body)))
+        if not len(idx):
             return np.zeros((0, 2)), np.zeros((0, 3)), np.zeros(0, int)
-        return np.array(pts)[:, :2], np.array(fs), np.array(geoms)
+        adr, dim = c.efc_address[idx], c.dim[idx]
+        if m.opt.cone == mj.mjtCone.mjCONE_ELLIPTIC and np.all(adr >= 0) and np.all(dim >= 3):
+            f = data.efc_force[adr[:, None] + np.arange(3)]     # elliptic: the contact-frame force itself
+        else:
+            f = np.empty((len(idx), 3))
+            for k, i in enumerate(idx):
+                mj.mj_contactForce(m, data, int(i), self._f)
+                f[k] = self._f[:3]
+        keep = f[:, 0] > 0
+        idx, f = idx[keep], f[keep]
+        on_geom2 = np.einsum("cji,cj->ci", c.frame[idx].reshape(-1, 3, 3), f)    # world: geom1's force on geom2
+        sign = np.where(b2[idx] == self.body, 1.0, -1.0)[:, None]
+        R, p0 = data.xmat[self.body].reshape(3, 3), data.xpos[self.body]
+        geoms = np.where(b1[idx] == self.body, c.geom2[idx], c.geom1[idx])
+        return (c.pos[idx] - p0) @ R[:, :2], (sign * on_geom2) @ R, geoms
 
     def patches(self, data) -> tuple[np.ndarray, np.ndarray]:
         """(points (n, 2), forces (n, 3)): each touching geom's contacts as its patch (module docstring)."""
@@ -136,10 +141,12 @@ class MujocoSkin:
             kind, size = m.geom_type[g], m.geom_size[g]
             centre = (R.T @ (data.geom_xpos[g] - data.xpos[self.body]))[:2]     # the geom's centre over the surface
             if kind == mj.mjtGeom.mjGEOM_CYLINDER:
-                off, w = disc(float(size[0]), False)
+                off, w = _UNIT[False]
+                off = off * float(size[0])
             elif kind == mj.mjtGeom.mjGEOM_SPHERE and N > 0:
                 a = min(float(size[0]), (3 * N * float(size[0]) / (4 * self.modulus)) ** (1 / 3))
-                off, w = disc(a, True)
+                off, w = _UNIT[True]
+                off = off * a
             elif kind == mj.mjtGeom.mjGEOM_CAPSULE and N > 0:
                 axis = (R.T @ data.geom_xmat[g].reshape(3, 3)[:, 2])[:2]
                 length = 2 * float(size[1])
