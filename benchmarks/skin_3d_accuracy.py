@@ -17,17 +17,17 @@ centre). Writes benchmarks/results/skin_3d_accuracy.json.
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
 
 import taxel
-from taxel.analyses.model.problem import problem
-from taxel.analyses.surface_map import build as map_build, map_scene
-from taxel.fem import assembly, static
-from taxel.schema import electrode_name
+from taxel.analyses.surface_map import build as map_build
 from taxel.skin.build import build
-from taxel.skin.runtime import SkinRuntime
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from skin_3d_loads import POINTS, NodalLoads  # noqa: E402
 
 
 def main():
@@ -35,43 +35,21 @@ def main():
                                                         "load.taxel": [1, 1]})
     m = map_build(scene)
     sk = build(scene, dt=1e-3, checks=0, surface_map=m)
-    p = sk.pitch
-    sy = assembly.assemble(problem(map_scene(scene.replace(**{"model.symmetry": "full"}))))
-    driven = [k for k, s in sy.electrodes.states.items() if s != "reference"]
-    ub = next(iter(sy.ubases.values()))
-    top = np.unique(sy.tm.mesh.facets[:, sy.tm.facets["top"]])
-    xy = sy.tm.mesh.p[:2, top].T
-    shift = np.array([(sk.cols - 1) * p / 2, (sk.rows - 1) * p / 2])          # map frame -> skin frame
-    gain = float((sk.Cd @ np.linalg.solve(np.eye(len(sk.Ad)) - sk.Ad, sk.Bd) + sk.Dd)[0, 0])
-    rt = SkinRuntime(sk)
-    order = [driven.index(electrode_name(sk.rows - 1 - r, c)) for r in range(sk.rows) for c in range(sk.cols)]
-    mo = [m.index(driven[i]) for i in order]
-    Cmat = m.capacitance[np.ix_(mo, mo)]
-
-    def three(c, k):
-        nodes = top[np.hypot(*(xy - (np.asarray(c) - shift)).T) <= 1.6e-3]
-        pts = sy.tm.mesh.p[:2, nodes].T
-        F = np.zeros((sy.A.shape[0], 1))
-        F[[ub.nodal_dofs[k, n] for n in nodes], 0] = 1.0 / len(nodes)
-        V = -np.linalg.solve(Cmat, static.direct_charges(sy, F, driven)[:, 0][order])
-        f = np.zeros((len(nodes), 3))
-        f[:, k] = 1.0 / len(nodes)
-        return gain * rt.loads(pts + shift, f).ravel(), m.voltage(pts, f).sum(axis=0)[mo], V
-
+    loads = NodalLoads(scene, m, sk)
     rows = []
     print("| point | load | skin vs FEM | map vs FEM | skin vs map | load's peak | of the pressed taxel's peak |")
     print("|---|---|---|---|---|---|---|")
-    for where, c in {"diagonal": (0.25 * p, 0.25 * p), "gap": (0.5 * p, 0.0),
-                     "edge": (-(sk.taxel_width / 2 + 1.5e-3), 0.0)}.items():
-        near = np.round(np.clip(np.array(c) / p, 0, [sk.cols - 1, sk.rows - 1])) * p
-        ref = np.abs(three(near, 2)[2]).max()
+    for where, at in POINTS.items():
+        c = at(sk.pitch, sk.taxel_width)
+        ref = loads.pressed_peak(c)
         for k in range(3):
-            v, vm, V = three(c, k)
+            v, vm, V = loads.voltages(c, k)
             pk = np.abs(V).max()
+            big = np.abs(V) > 0.01 * ref
             row = {"point": where, "load": "xyz"[k], "skin_fem": float(np.abs(v - V).max() / pk),
                    "map_fem": float(np.abs(vm - V).max() / pk), "skin_map": float(np.abs(v - vm).max() / pk),
                    "peak_V": float(pk), "skin_fem_of_pressed_peak": float(np.abs(v - V).max() / ref),
-                   "signs_agree": bool(np.all(np.sign(v[np.abs(V) > 0.01 * ref]) == np.sign(V[np.abs(V) > 0.01 * ref])))}
+                   "signs_agree": bool(np.all(np.sign(v[big]) == np.sign(V[big])))}
             rows.append(row)
             print(f"| {where} | {'xyz'[k]} | {100 * row['skin_fem']:.2f} % | {100 * row['map_fem']:.2f} % | "
                   f"{100 * row['skin_map']:.2f} % | {pk:.3g} V | {100 * row['skin_fem_of_pressed_peak']:.2f} % |")

@@ -18,7 +18,7 @@ import pytest
 
 import taxel
 from taxel.schema import electrode_name
-from taxel.skin.runtime import SkinRuntime
+from skin_3d_loads import POINTS, NodalLoads
 
 pytestmark = pytest.mark.slow
 
@@ -35,47 +35,14 @@ def setup():
     return scene, m, build(scene, dt=1e-3, checks=0, surface_map=m)
 
 
-def static_gain(sk) -> float:
-    """h(0) of the discrete readout: Cd (I - Ad)^-1 Bd + Dd."""
-    return float((sk.Cd @ np.linalg.solve(np.eye(len(sk.Ad)) - sk.Ad, sk.Bd) + sk.Dd)[0, 0])
-
-
-@pytest.mark.parametrize("where", ["diagonal", "gap", "edge"])
+@pytest.mark.parametrize("where", list(POINTS))
 def test_normal_and_shear_against_direct_3d_solves(setup, where):
-    from taxel.analyses.model.problem import problem
-    from taxel.analyses.surface_map import map_scene
-    from taxel.fem import assembly, static
     scene, m, sk = setup
-    p = sk.pitch
-    centre = {"diagonal": (0.25 * p, 0.25 * p), "gap": (0.5 * p, 0.0), "edge": (-(sk.taxel_width / 2 + 1.5e-3), 0.0)}
-    sy = assembly.assemble(problem(map_scene(scene.replace(**{"model.symmetry": "full"}))))
-    driven = [k for k, s in sy.electrodes.states.items() if s != "reference"]
-    ub = next(iter(sy.ubases.values()))
-    top = np.unique(sy.tm.mesh.facets[:, sy.tm.facets["top"]])
-    xy = sy.tm.mesh.p[:2, top].T
-    shift = np.array([(sk.cols - 1) * p / 2, (sk.rows - 1) * p / 2])       # map frame -> skin frame
-    order = [driven.index(electrode_name(sk.rows - 1 - r, col)) for r in range(sk.rows) for col in range(sk.cols)]
-    Cmat = m.capacitance[np.ix_([m.index(driven[i]) for i in order], [m.index(driven[i]) for i in order])]
-    rt = SkinRuntime(sk)
-    gain = static_gain(sk)
-
-    def pair(c, k):
-        """(skin, FEM) open-circuit voltages (taxels,) of 1 N along k spread over the top nodes within
-        1.6 mm of c (skin frame)."""
-        nodes = top[np.hypot(*(xy - (np.asarray(c) - shift)).T) <= 1.6e-3]
-        assert len(nodes) >= 3
-        F = np.zeros((sy.A.shape[0], 1))
-        F[[ub.nodal_dofs[k, n] for n in nodes], 0] = 1.0 / len(nodes)
-        V = -np.linalg.solve(Cmat, static.direct_charges(sy, F, driven)[:, 0][order])
-        f = np.zeros((len(nodes), 3))
-        f[:, k] = 1.0 / len(nodes)
-        return gain * rt.loads(sy.tm.mesh.p[:2, nodes].T + shift, f).ravel(), V
-
-    # the pressed taxel's peak: 1 N pressed (along -z) on the nearest taxel's centre, by the FEM
-    near = np.round(np.clip(np.array(centre[where]) / p, 0, [sk.cols - 1, sk.rows - 1])) * p
-    peak = np.abs(pair(near, 2)[1]).max()
+    loads = NodalLoads(scene, m, sk)
+    c = POINTS[where](sk.pitch, sk.taxel_width)
+    peak = loads.pressed_peak(c)
     for k in range(3):                                   # x, y (shear) and z (normal) alike
-        v, V = pair(centre[where], k)
+        v, _, V = loads.voltages(c, k)
         assert np.abs(v - V).max() < 0.02 * peak, (where, "xyz"[k], v, V, peak)
         big = np.abs(V) > 0.01 * peak
         assert np.all(np.sign(v[big]) == np.sign(V[big])), (where, "xyz"[k])
