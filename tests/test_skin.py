@@ -184,8 +184,8 @@ def test_step_run_and_envs_are_the_direct_simulation(Ad):
 def test_run_draws_the_noise_of_the_steps():
     sk = first_order_skin(noise_psd=1e-8)
     P, F = np.full((700, 1, 2), 7e-3), np.ones((700, 1))      # 700 steps: across blocks of 256 draws
-    a = SkinRuntime(sk, noise=True, seed=5)
-    b = SkinRuntime(sk, noise=True, seed=5).run(P, F)
+    a = SkinRuntime(sk, noise=True, seed=5, block=256)
+    b = SkinRuntime(sk, noise=True, seed=5, block=256).run(P, F)
     assert np.abs(np.array([a.step(p, f) for p, f in zip(P, F)]) - b).max() < 1e-12
 
 

@@ -42,7 +42,7 @@ arithmetic, sets the time at these sizes):
   summed over contacts, corners and directions in one product. One skin with up to 8
   contacts finds the cells and weights in Python floats (a dozen numpy calls cost
   more than the arithmetic at that size): one gather and one product.
-- Noise drawn in blocks of `block` steps from the seeded generator.
+- Noise drawn in blocks of `block` steps (2048: the FIR filter of 1024 taps costs one FFT per block).
 - `check=False` skips the input checks (shapes; finite values, checked on the loads)
   for callers that guarantee finite float arrays of the right shapes.
 
@@ -88,7 +88,7 @@ class SkinRuntime:
     """One skin's (or E skins') state between simulator steps (module docstring)."""
 
     def __init__(self, model: SkinModel, noise: bool = False, seed: int | None = None, dt: float | None = None,
-                 envs: int | None = None, check: bool = True, block: int = 256,
+                 envs: int | None = None, check: bool = True, block: int = 2048,
                  randomization: Randomization | None = None):
         if dt is not None and abs(dt - model.dt) > 1e-9 * model.dt:
             raise ValueError(f"dt = {dt:g} s: this skin is discretized at {model.dt:g} s; rebuild it with "
