@@ -1,5 +1,5 @@
 """The skin from the 3D surface map against direct 3D FEM solves (slow: a 2 x 2 PZT array,
-the minimum a skin has, on the example's 3D mesh, 1.5 mm / 0.6 mm; about 2 minutes in all).
+the minimum a skin has, on the example's 3D mesh, 1.5 mm / 0.6 mm; about 5 minutes of CPU in all).
 
 - normal and shear loads: nodal forces on top-surface nodes around three off-centre
   positions (diagonal, gap, edge), each taxel's open-circuit voltage by direct 3D solves
@@ -35,10 +35,14 @@ def setup():
     return scene, m, build(scene, dt=1e-3, checks=0, surface_map=m)
 
 
+@pytest.fixture(scope="module")
+def loads(setup):
+    return NodalLoads(*setup)                      # the full model assembled once for the three points
+
+
 @pytest.mark.parametrize("where", list(POINTS))
-def test_normal_and_shear_against_direct_3d_solves(setup, where):
-    scene, m, sk = setup
-    loads = NodalLoads(scene, m, sk)
+def test_normal_and_shear_against_direct_3d_solves(setup, loads, where):
+    sk = setup[2]
     c = POINTS[where](sk.pitch, sk.taxel_width)
     peak = loads.pressed_peak(c)
     for k in range(3):                                   # x, y (shear) and z (normal) alike
