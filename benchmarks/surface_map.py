@@ -1,0 +1,135 @@
+"""The 3D surface map (taxel.analyses.surface_map): what it costs, how well it agrees with
+direct 3D solves, and what the coverage search on it costs.
+
+    python benchmarks/surface_map.py              # 3x3 cost + coverage search + validation (12 presses)
+    python benchmarks/surface_map.py --8x8        # also the 8x8 array's map cost
+    python benchmarks/surface_map.py --no-validate
+
+Parts, printed and written to benchmarks/results/surface_map.json:
+
+1. cost: the thesis PZT 3x3 array's linear map (thesis-pzt-3x3-3d on the array mesh
+   MESH: 2 mm / 0.8 mm, two elements through the PZT; a quarter model, four mirror
+   classes), phases in wall seconds and CPU seconds, unknowns; with --8x8 the same for
+   the 8x8 array (benchmarks/array_8x8.py's array).
+2. coverage search: coverage and the localization error on the 3x3 map at 0.2 N, 1 mV,
+   the rig's 4 mm flat punch (taxel.analyses.map_metrics): median of 5 wall seconds each.
+3. validation: the map against direct 3D solves (a flat 4 mm disc, 1 N, linear, the same
+   mesh sizes; mirror planes where the press allows) at 12 positions: the taxel centre,
+   four along the diagonal to the corner between four taxels, four along the middle row
+   (taxel edge, quarter and half gap, the edge taxel's centre and its outer edge) and two
+   on the corner taxel. Per position: the pressed taxel's map error relative to the
+   direct centre value, and the largest neighbour error relative to the pressed taxel's
+   direct peak, with the signs.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import taxel
+from taxel.analyses import map_metrics, solve_static
+from taxel.analyses.surface_map import Footprint, build
+
+MESH = {"mesh.size": "2 mm", "mesh.piezo_size": "0.8 mm", "mesh.piezo_layers": 2}
+OUT = Path(__file__).parent / "results" / "surface_map.json"
+
+
+def scene(n: int = 3):
+    return taxel.load("thesis-pzt-3x3-3d").replace(**{**MESH, "array.rows": n, "array.cols": n,
+                                                      "load.taxel": [n // 2, n // 2]})
+
+
+def cost(n: int = 3):
+    t0, c0 = time.perf_counter(), time.process_time()
+    m = build(scene(n))
+    rec = {"wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0, **m.info,
+           "load_average": os.getloadavg()[0]}
+    print(f"{n}x{n} map: {rec['unknowns']} unknowns, {rec['factorizations']} factorizations, "
+          f"{rec['right_hand_sides']} right-hand sides, wall {rec['wall_s']:.1f} s, CPU {rec['cpu_s']:.1f} s "
+          f"(mesh {rec['seconds']['mesh']:.1f}, assemble {rec['seconds']['assemble']:.1f}, "
+          f"solve {rec['seconds']['solve']:.1f}); load average {rec['load_average']:.1f}", flush=True)
+    return m, rec
+
+
+def search(m) -> dict:
+    fp = Footprint(2e-3, "flat")
+    tc, tl = [], []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        cov = map_metrics.coverage(m, 0.2, 1e-3, fp)
+        tc.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        loc = map_metrics.localization(m, 0.2, 1e-3, fp)
+        tl.append(time.perf_counter() - t0)
+    rec = {"coverage_s": statistics.median(tc), "localization_s": statistics.median(tl), **cov.record(),
+           **loc.record(), "grid": [len(cov.x), len(cov.y)]}
+    print(f"coverage search {rec['coverage_s']:.2f} s (grid {len(cov.x)} x {len(cov.y)} + local search): "
+          f"coverage {100 * cov.fraction:.1f} %, 3D minimum {cov.minimum:.3f}x the 3 sigma threshold at "
+          f"({1e3 * cov.minimum_at[0]:.2f}, {1e3 * cov.minimum_at[1]:.2f}) mm; localization {rec['localization_s']:.2f} s: "
+          f"rms {1e3 * loc.rms_m:.3f} mm, p95 {1e3 * loc.p95_m:.3f} mm, worst {1e3 * loc.worst_m:.3f} mm", flush=True)
+    return rec
+
+
+def positions(sc):
+    a = sc.array
+    w, p = a.taxel_width, a.taxel_width + a.gap
+    return {"taxel centre": (0, 0), "diagonal p/8": (p / 8, p / 8), "diagonal p/4": (p / 4, p / 4),
+            "diagonal 3p/8": (3 * p / 8, 3 * p / 8), "corner of four taxels": (p / 2, p / 2),
+            "taxel edge": (w / 2, 0), "row p/4": (p / 4, 0), "gap middle": (p / 2, 0),
+            "edge taxel centre": (p, 0), "edge taxel outer edge": (p + w / 2, 0),
+            "corner taxel centre": (p, p), "corner taxel off-centre": (p + 1.5e-3, p + 1.5e-3)}
+
+
+def direct(sc, x, y, force=1.0):
+    """Open-circuit voltages per newton of a flat disc press (the rig's punch as a pressure
+    patch) centred at (x, y) from the array centre, every taxel open."""
+    c = (sc.array.cols - 1) // 2
+    s = sc.replace(**{"load.kind": "probe", "load.taxel": [c, c], "load.radius": "2 mm", "load.profile": "flat",
+                      "load.offset": [float(x), float(y)], "load.force": force, "model.symmetry": "auto"})
+    v = solve_static(s).voltages()
+    return v
+
+
+def validate(m, sc) -> dict:
+    fp = Footprint(2e-3, "flat")
+    out, centre = {}, None
+    for name, (x, y) in positions(sc).items():
+        t0 = time.perf_counter()
+        v = direct(sc, x, y)
+        vd = np.array([v[k] for k in m.taxels])
+        vm = m.press([(x, y)], 1.0, fp)[0]          # the middle taxel's offset is the plan position
+        if centre is None:
+            centre = abs(vd).max()
+        k = int(np.argmax(np.abs(vd)))
+        others = [i for i in range(len(vd)) if i != k]
+        nb_err = max(abs(vm[i] - vd[i]) for i in others) / abs(vd[k])
+        signs = all(np.sign(vm[i]) == np.sign(vd[i]) for i in others if abs(vd[i]) > 2e-3 * abs(vd[k]))
+        out[name] = {"x_mm": 1e3 * x, "y_mm": 1e3 * y, "pressed": m.taxels[k], "direct_V_per_N": vd.tolist(),
+                     "map_V_per_N": vm.tolist(), "pressed_error_of_centre": float((vm[k] - vd[k]) / centre),
+                     "neighbour_error_of_peak": float(nb_err), "signs_agree": bool(signs),
+                     "direct_s": time.perf_counter() - t0}
+        r = out[name]
+        print(f"{name:26s} ({1e3 * x:5.2f}, {1e3 * y:5.2f}) mm  pressed {m.taxels[k]} direct {vd[k]:+.4f} map "
+              f"{vm[k]:+.4f} V/N ({100 * r['pressed_error_of_centre']:+.2f} % of centre); neighbours within "
+              f"{100 * nb_err:.3f} % of the peak, signs {'agree' if signs else 'DIFFER'}; {r['direct_s']:.0f} s", flush=True)
+    return out
+
+
+if __name__ == "__main__":
+    res = json.loads(OUT.read_text()) if OUT.exists() else {}
+    m, res["3x3"] = cost(3)
+    res["search_3x3"] = search(m)
+    if "--no-validate" not in sys.argv:
+        res["validation_3x3"] = validate(m, scene(3))
+    if "--8x8" in sys.argv:
+        _, res["8x8"] = cost(8)
+    OUT.parent.mkdir(exist_ok=True)
+    OUT.write_text(json.dumps(res, indent=1))
+    print(f"wrote {OUT}")
