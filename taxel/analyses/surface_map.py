@@ -210,6 +210,34 @@ class SurfaceMap:
             raise ValueError(f"{path}: not a surface map file ({exc}); write one with SurfaceMap.to_file") from None
 
 
+# -- a mesh's own load patch -------------------------------------------------------
+
+# Dunavant's degree-4 rule on a triangle: barycentric points, weights summing to 1
+_TRI_B = np.array([[0.445948490915965, 0.445948490915965, 0.108103018168070],
+                   [0.445948490915965, 0.108103018168070, 0.445948490915965],
+                   [0.108103018168070, 0.445948490915965, 0.445948490915965],
+                   [0.091576213509771, 0.091576213509771, 0.816847572980459],
+                   [0.091576213509771, 0.816847572980459, 0.091576213509771],
+                   [0.816847572980459, 0.091576213509771, 0.091576213509771]])
+_TRI_W = np.array([0.223381589678011] * 3 + [0.109951743655322] * 3) / 0.999999999999999
+
+
+def patch_quadrature(tm) -> tuple[np.ndarray, np.ndarray]:
+    """Points (n, 2) m and weights (n,) summing to 1 of a 3D tagged mesh's "load" facets (a
+    uniform pressure patch as that mesh discretizes it: a disc is a polygon there), unfolded
+    over its mirror planes: `m.charge(points, -F * weights[:, None] * e_z).sum(0)` is the
+    map's answer to the same load a direct solve on that mesh carries."""
+    f = tm.facets["load"]
+    P = tm.mesh.p[:, tm.mesh.facets[:, f]]                               # (3, 3 vertices, nf)
+    area = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0], axis=0), axis=0)
+    pts = np.einsum("qk,dkf->fqd", _TRI_B, P)[..., :2].reshape(-1, 2)
+    w = (area[:, None] * _TRI_W[None, :]).ravel()
+    images = [pts]
+    for k in tm.layout.planes:
+        images += [q * np.where(np.arange(2) == k, -1.0, 1.0) for q in images]
+    return np.concatenate(images), np.tile(w, len(images)) / (w.sum() * len(images))
+
+
 # -- building ------------------------------------------------------------------------
 
 def map_scene(scene):
