@@ -1,4 +1,4 @@
-"""The 3D surface map (taxel.analyses.surface_map): what it costs, how well it agrees with
+"""The 3D surface map (taxel.analyses.surface.surface_map): what it costs, how well it agrees with
 direct 3D solves, and what the coverage search on it costs.
 
     python benchmarks/surface_map.py              # 3x3 cost + coverage search + validation (12 presses)
@@ -12,7 +12,7 @@ Parts, printed and written to benchmarks/results/surface_map.json:
    classes), phases in wall seconds and CPU seconds, unknowns; with --8x8 the same for
    the 8x8 array (benchmarks/array_8x8.py's array).
 2. coverage search: coverage and the localization error on the 3x3 map at 0.2 N, 1 mV,
-   the rig's 4 mm flat punch (taxel.analyses.map_metrics): median of 5 wall seconds each.
+   the rig's 4 mm flat punch (taxel.analyses.surface.map_metrics): median of 5 wall seconds each.
 3. validation: the map against direct 3D solves (a flat 4 mm disc, 1 N, linear, the same
    mesh sizes; mirror planes where the press allows) at 12 positions: the taxel centre,
    four along the diagonal to the corner between four taxels, four along the middle row
@@ -37,8 +37,9 @@ from pathlib import Path
 import numpy as np
 
 import taxel
-from taxel.analyses import map_metrics, solve_static
-from taxel.analyses.surface_map import Footprint, build, patch_quadrature
+from taxel.analyses import solve_static
+from taxel.analyses.surface import map_metrics
+from taxel.analyses.surface.surface_map import Footprint, build, patch_quadrature
 
 MESH = {"mesh.size": "2 mm", "mesh.piezo_size": "0.8 mm", "mesh.piezo_layers": 2}
 OUT = Path(__file__).parent / "results" / "surface_map.json"

@@ -145,7 +145,7 @@ def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]
 
 
 def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer:
-    from taxel.analyses.error_estimate import CHEAP_3D_ERROR
+    from taxel.analyses.accuracy.error_estimate import CHEAP_3D_ERROR
     a = rec["answer"]
     ref = rec["reference"]
     x_ref = _lengths(ref)

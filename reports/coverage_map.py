@@ -1,4 +1,4 @@
-"""The coverage map of a design (its 3D surface map, taxel.analyses.map_metrics): a figure
+"""The coverage map of a design (its 3D surface map, taxel.analyses.surface.map_metrics): a figure
 of the top surface with the best taxel's margin over the detection threshold, the dead
 zones (margin < 1) shaded, the taxels outlined and the 3D minimum marked; and the
 section's text: the definition (force, threshold, noise, footprint), the 3D minimum,
@@ -86,8 +86,8 @@ def row_text(row: dict) -> str:
 def draw_rows(folder: Path, rows: list[dict]) -> list[tuple[dict, Path | None]]:
     """Each row of OUT/coverage.json with its figure (drawn next to its map file; None when
     the row has no map)."""
-    from taxel.analyses import map_metrics
-    from taxel.analyses.surface_map import Footprint, SurfaceMap
+    from taxel.analyses.surface import map_metrics
+    from taxel.analyses.surface.surface_map import Footprint, SurfaceMap
     out = []
     for row in rows:
         path = None

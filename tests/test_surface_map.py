@@ -1,4 +1,4 @@
-"""The surface map (taxel.analyses.surface_map, fem.static.surface_response): the
+"""The surface map (taxel.analyses.surface.surface_map, fem.static.surface_response): the
 reciprocity identity against direct solves, the mirror classes against the full model,
 the map's sampling and files."""
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import taxel
-from taxel.analyses.problem import problem
-from taxel.analyses.surface_map import Footprint, SurfaceMap, build, map_scene
+from taxel.analyses.model.problem import problem
+from taxel.analyses.surface.surface_map import Footprint, SurfaceMap, build, map_scene
 from taxel.fem import assembly, static
 
 SMALL = {"array.rows": 1, "array.cols": 2, "mesh.size": "4 mm", "mesh.piezo_size": "2 mm", "array.margin": "2 mm", "load.taxel": [0, 0]}

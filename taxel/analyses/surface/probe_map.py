@@ -1,6 +1,6 @@
 """The rig's probe on the Yeoh silicone, as a correction of the linear surface map.
 
-The linear map (taxel.analyses.surface_map) is the small-force limit. At the rig's load
+The linear map (taxel.analyses.surface.surface_map) is the small-force limit. At the rig's load
 the silicone is stretched and the punch's contact is what it is, so at a coarse grid of
 knots (x_k, y_l) the map is corrected by 3D presses of the rig's probe (a rigid flat
 punch with a rounded edge, sticking, on Yeoh silicone, force-controlled): the factor
@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 
-from taxel.analyses.surface_map import Footprint, ProbeCorrection, SurfaceMap
+from taxel.analyses.surface.surface_map import Footprint, ProbeCorrection, SurfaceMap
 
 PROBE = {"shape": "flat", "radius": 2e-3, "edge_radius": 2e-4, "friction": "sticking"}
 
@@ -52,7 +52,7 @@ def press_scene(scene, x: float, y: float, force: float, probe: dict | None = No
 def press_factor(scene, m: SurfaceMap, x: float, y: float, forces, probe: dict | None = None) -> dict:
     """The factor at (x, y) for each of `forces` (N, ascending; interpolated along the
     press's load path), from one 3D press to the largest; with its cost."""
-    from taxel.analyses.analysis import solve_static
+    from taxel.analyses.solves.analysis import solve_static
     p = {**PROBE, **(probe or {})}
     forces = np.asarray(forces, float)
     t0 = time.perf_counter()

@@ -1,5 +1,5 @@
 """Coverage, localization error and crosstalk of a design, from its 3D surface map
-(taxel.analyses.surface_map): no 2D section, no separability.
+(taxel.analyses.surface.surface_map): no 2D section, no separability.
 
 Coverage (the seed, section 2: a wider gap opens non-sensitive regions, where a press
 gives no signal). The press: the user's probe footprint (a disc of the probe's radius,
@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from taxel.analyses.surface_map import Footprint, SurfaceMap
+from taxel.analyses.surface.surface_map import Footprint, SurfaceMap
 
 SIGMAS = 3.0
 

@@ -13,7 +13,7 @@ short-circuit charges (what a charge amplifier integrates), open-circuit voltage
 follow through the capacitance matrix, V = -C^-1 Q_sc (every taxel open at once,
 the common ground the reference). Between grid points the map is a bicubic spline.
 
-    m = surface_map(scene)                           # taxel.analyses.surface_map.build
+    m = surface_map(scene)                           # taxel.analyses.surface.surface_map.build
     m.charge([(x, y)], [(0, 0, -1.0)])              # C, a 1 N point press at (x, y)
     m.voltage(points, forces, Footprint(2e-3))       # V, open circuit, a 2 mm disc probe
     m.crosstalk((x, y), "taxel_0_1")                 # signed ratio to the best taxel
@@ -266,7 +266,7 @@ def build(scene, spacing: float | None = None, method: str = "auto") -> SurfaceM
     a 3D array."""
     import time
     from taxel.fem import assembly, static
-    from taxel.analyses.problem import problem
+    from taxel.analyses.model.problem import problem
 
     t0 = time.perf_counter()
     sc = map_scene(scene)
@@ -289,8 +289,8 @@ def build(scene, spacing: float | None = None, method: str = "auto") -> SurfaceM
     R = res.R[keep].reshape(len(taxels), 3, len(y), len(x))
     centre = {t.name: (t.x, t.y) for t in lay.taxels} if not lay.planes else None
     if centre is None:
-        from taxel.analyses.geometry import layout
-        from taxel.analyses.problem import check
+        from taxel.analyses.model.geometry import layout
+        from taxel.analyses.model.problem import check
         centre = {t.name: (t.x, t.y) for t in layout(sc.replace(**{"model.symmetry": "full"}), check(sc)).taxels}
     info = {"scene": scene.name, "unknowns": int(sy.A.shape[0]), "planes": list(lay.planes),
             "factorizations": res.factorizations, "right_hand_sides": res.right_hand_sides,
