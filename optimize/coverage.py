@@ -142,9 +142,15 @@ def same(a: dict, b: dict, tol_mm: float = 1e-6) -> bool:
 
 
 def of(folder: Path, x_mm: dict) -> dict:
-    """The influence metrics OUT/coverage.json holds for design `x_mm` ({} when none)."""
+    """The influence metrics OUT/coverage.json holds for design `x_mm` ({} when none), and
+    CHECK_ERRORS {metric: why} when its check failed."""
     row = next((r for r in record(folder) if same(r["x_mm"], x_mm)), None)
-    return {k: row[k] for k in INFLUENCE_METRICS if row.get(k) is not None} if row else {}
+    if row is None:
+        return {}
+    got = {k: row[k] for k in INFLUENCE_METRICS if row.get(k) is not None}
+    if row.get("error"):             # the check failed: the design is never recommended (requirements.judge)
+        got[CHECK_ERRORS] = {k: row["error"] for k in INFLUENCE_METRICS if row.get(k) is None}
+    return got
 
 
 def judge_lazily(candidates: list[dict], reqs: list, compute, always=()) -> None:
