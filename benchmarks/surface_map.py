@@ -22,7 +22,7 @@ Parts, printed and written to benchmarks/results/surface_map.json:
    2.6 % less area than the disc, which moves the pressed taxel by about 1 %) and with the
    exact disc beside it. Per position: the pressed taxel's map error relative to the
    direct centre value, and the largest neighbour error relative to the pressed taxel's
-   direct peak, with the signs.
+   peak (its centre value) and of its value at that position, with the signs.
 """
 
 from __future__ import annotations
@@ -115,17 +115,18 @@ def validate(m, sc) -> dict:
             centre = abs(vd).max()
         k = int(np.argmax(np.abs(vd)))
         others = [i for i in range(len(vd)) if i != k]
-        nb_err = max(abs(vm[i] - vd[i]) for i in others) / abs(vd[k])
+        nb_err = max(abs(vm[i] - vd[i]) for i in others) / centre      # of the pressed taxel's peak (its centre value)
+        nb_here = max(abs(vm[i] - vd[i]) for i in others) / abs(vd[k])   # of the pressed taxel's value here
         signs = all(np.sign(vm[i]) == np.sign(vd[i]) for i in others if abs(vd[i]) > 2e-3 * abs(vd[k]))
         out[name] = {"x_mm": 1e3 * x, "y_mm": 1e3 * y, "pressed": m.taxels[k], "direct_V_per_N": vd.tolist(),
                      "map_V_per_N": vm.tolist(), "map_disc_V_per_N": vdisc.tolist(),
                      "disc_pressed_error_of_centre": float((vdisc[k] - vd[k]) / centre), "pressed_error_of_centre": float((vm[k] - vd[k]) / centre),
-                     "neighbour_error_of_peak": float(nb_err), "signs_agree": bool(signs),
+                     "neighbour_error_of_peak": float(nb_err), "neighbour_error_of_pressed_here": float(nb_here), "signs_agree": bool(signs),
                      "direct_s": time.perf_counter() - t0}
         r = out[name]
         print(f"{name:26s} ({1e3 * x:5.2f}, {1e3 * y:5.2f}) mm  pressed {m.taxels[k]} direct {vd[k]:+.4f} map "
               f"{vm[k]:+.4f} V/N ({100 * r['pressed_error_of_centre']:+.2f} % of centre); neighbours within "
-              f"{100 * nb_err:.3f} % of the peak, signs {'agree' if signs else 'DIFFER'}; the map's exact disc "
+              f"{100 * nb_err:.3f} % of the peak ({100 * nb_here:.3f} % of the pressed value here), signs {'agree' if signs else 'DIFFER'}; the map's exact disc "
               f"{vdisc[k]:+.4f} ({100 * r['disc_pressed_error_of_centre']:+.2f} %); {r['direct_s']:.0f} s", flush=True)
     return out
 

@@ -149,6 +149,28 @@ class SurfaceMap:
         R = self.response((pts[:, None, :] + off[None, :, :]).reshape(-1, 2)).reshape(pts.shape[0], len(w), -1, 3)
         return np.einsum("nqtk,q,nk->nt", R, w, f)
 
+    def averaged(self, footprint: Footprint) -> "SurfaceMap":
+        """This map with every grid value averaged over `footprint` centred there: the same
+        grid's response to a force spread over the footprint (its quadrature, one spline
+        call), so that a search over many presses costs point evaluations."""
+        if footprint.radius == 0:
+            return self
+        if footprint in self._averages:
+            return self._averages[footprint]
+        X, Y = np.meshgrid(self.x, self.y)
+        pts = np.column_stack([X.ravel(), Y.ravel()])
+        off, w = footprint.quadrature()
+        R = self.response((pts[:, None, :] + off[None, :, :]).reshape(-1, 2)).reshape(len(pts), len(w), -1, 3)
+        avg = np.einsum("nqtk,q->tkn", R, w).reshape(len(self.taxels), 3, len(self.y), len(self.x))
+        out = self._averages[footprint] = SurfaceMap(
+            self.x, self.y, self.taxels, avg, self.capacitance, None,
+            {**self.info, "averaged_over": {"radius_m": footprint.radius, "profile": footprint.profile}}, self.centres)
+        return out
+
+    @cached_property
+    def _averages(self) -> dict:
+        return {}
+
     def voltage(self, points, forces, footprint: Footprint | None = None) -> np.ndarray:
         """(n, ntaxels) V: open-circuit voltages, every taxel open, V = -C^-1 Q_sc."""
         return -np.linalg.solve(self.capacitance, self.charge(points, forces, footprint).T).T
