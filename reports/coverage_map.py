@@ -5,7 +5,7 @@ section's text: the definition (force, threshold, noise, footprint), the 3D mini
 the localization error (rms, 95th percentile, worst case).
 
     figure(m, cov, path)              # PNG
-    section(rows)                     # HTML of OUT/coverage.json's rows with their figures
+    draw_folder(folder)               # every design's map into the folder (coverage-map-*.png)
 
 The figure is drawn from the map file OUT/maps/<key>.npz the row names, so the report
 needs no solve.
@@ -13,7 +13,6 @@ needs no solve.
 
 from __future__ import annotations
 
-import html
 from pathlib import Path
 
 import numpy as np
@@ -26,9 +25,11 @@ def figure(m, cov, path, title: str = "") -> Path:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.2, 4.4))
     X, Y = 1e3 * cov.x, 1e3 * cov.y
-    im = ax.pcolormesh(X, Y, cov.margin, shading="auto", cmap="viridis", vmin=0,
-                       vmax=max(2.0, float(np.percentile(cov.margin, 95))))
-    fig.colorbar(im, ax=ax, label="best taxel |V| / threshold")
+    from matplotlib.colors import LogNorm
+    lo, hi = min(0.5, float(cov.margin.min())), max(2.0, float(cov.margin.max()))
+    im = ax.pcolormesh(X, Y, cov.margin, shading="auto", cmap="viridis", norm=LogNorm(lo, hi))
+    fig.colorbar(im, ax=ax, label="best taxel |V| / threshold (log)")
+    ax.contour(X, Y, cov.margin, levels=[2.0], colors="orange", linewidths=0.6, linestyles="dashed")
     if cov.dead.any():
         ax.contourf(X, Y, cov.dead.astype(float), levels=[0.5, 1.5], colors="none", hatches=["////"])
         ax.contour(X, Y, cov.margin, levels=[1.0], colors="red", linewidths=1.2)
@@ -44,7 +45,7 @@ def figure(m, cov, path, title: str = "") -> Path:
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     ax.set_aspect("equal")
-    ax.set_title(title or f"coverage {100 * cov.fraction:.1f} % at {cov.force_N:g} N", fontsize=9)
+    ax.set_title(title or f"coverage {100 * cov.fraction:.1f} % at {cov.force_N:g} N", fontsize=7, wrap=True)
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)
@@ -83,9 +84,9 @@ def row_text(row: dict) -> str:
     return "; ".join(parts)
 
 
-def draw_rows(folder: Path, rows: list[dict]) -> list[tuple[dict, Path | None]]:
-    """Each row of OUT/coverage.json with its figure (drawn next to its map file; None when
-    the row has no map)."""
+def draw_rows(folder: Path, rows: list[dict], scratch: Path | None = None) -> list[tuple[dict, Path | None]]:
+    """Each row of OUT/coverage.json with its figure (drawn into `scratch`, default next to
+    its map file; None when the row has no map)."""
     from taxel.analyses.surface import map_metrics
     from taxel.analyses.surface.surface_map import Footprint, SurfaceMap
     out = []
@@ -97,23 +98,44 @@ def draw_rows(folder: Path, rows: list[dict]) -> list[tuple[dict, Path | None]]:
             cov = map_metrics.coverage(m, row["force_N"], row["noise_V"],
                                        Footprint(fp.get("radius_m", 0.0), fp.get("profile", "flat")),
                                        row.get("sigmas", map_metrics.SIGMAS))
-            path = figure(m, cov, (Path(folder) / row["map"]).with_suffix(".png"),
-                          ", ".join(f"{k} {v:g} mm" for k, v in row.get("x_mm", {}).items()))
+            png = Path(row["map"]).with_suffix(".png").name
+            path = figure(m, cov, (Path(scratch) / png) if scratch is not None else
+                          (Path(folder) / row["map"]).with_suffix(".png"), f"{_name(row)}\n{row_text(row)}")
         out.append((row, path))
     return out
 
 
-def section(folder: Path, rows: list[dict]) -> str:
-    """The report's coverage section (HTML): the definition, then per design its line and figure."""
-    drawn = draw_rows(folder, rows)
-    if not drawn:
-        return ""
-    parts = ["<section><h3>Coverage and localization on the 3D surface map</h3>",
-             f"<p>{html.escape(definition(drawn[0][0]))}</p>"]
-    for row, path in drawn:
-        name = ", ".join(f"{k} {v:g} mm" for k, v in row.get("x_mm", {}).items())
-        parts.append(f"<p><b>{html.escape(name)}</b>: {html.escape(row_text(row))}</p>")
+def draw_folder(folder: Path) -> list[Path]:
+    """The coverage map of every design of OUT/coverage.json with a map, drawn into the
+    folder as coverage-map-<design>.png (the optimization page embeds a folder's figures);
+    nothing when the run judged no design's coverage."""
+    out = []
+    for row, path in draw_rows(folder, record_rows(folder), Path(folder)):
         if path is not None:
-            parts.append(f'<img src="{html.escape(str(Path(path).relative_to(folder)))}" alt="coverage map of {html.escape(name)}">')
-    parts.append("</section>")
-    return "\n".join(parts)
+            named = Path(folder) / ("coverage-map-" + "-".join(f"{k}-{v:g}mm" for k, v in row.get("x_mm", {}).items())
+                                    + ".png")
+            out.append(path.replace(named))
+    return out
+
+
+def record_rows(folder: Path) -> list[dict]:
+    """The rows of OUT/coverage.json (optimize.coverage.RECORD), read here: reports read files."""
+    import json
+    from taxel.optimize.coverage import RECORD
+    path = Path(folder) / RECORD
+    return json.loads(path.read_text())["designs"] if path.exists() else []
+
+
+CAPTION = ("Coverage map on the design's 3D surface map: the best taxel's open-circuit voltage over the detection "
+           "threshold for a press of the smallest force of interest over the probe's footprint (k = 3 times the "
+           "noise), between the outer taxels' centres; hatched where it is below (dead zones), red the threshold's "
+           "contour, dashed twice the threshold, the circle the searched 3D minimum; the title gives the coverage, the 3D minimum and the "
+           "localization error's rms, 95th percentile and worst case.")
+
+
+def _name(row: dict) -> str:
+    return ", ".join(f"{k} {v:g} mm" for k, v in row.get("x_mm", {}).items())
+
+
+def _mm(v):
+    return None if v is None else 1e3 * v

@@ -53,6 +53,8 @@ def answer_coverage(front_dir: Path) -> float:
             tried.append(x)
             got = prob.influence_metrics([x[n] for n in prob.names])
             coverage.add(front_dir, {n: x[n] for n in prob.names}, got)
+    from taxel.reports.coverage_map import draw_folder
+    draw_folder(front_dir)                 # the designs' coverage maps, on the optimization page
     return time.perf_counter() - t0
 
 

@@ -315,6 +315,7 @@ def build(scene, spacing: float | None = None, method: str = "auto") -> SurfaceM
         from taxel.analyses.model.problem import check
         centre = {t.name: (t.x, t.y) for t in layout(sc.replace(**{"model.symmetry": "full"}), check(sc)).taxels}
     info = {"scene": scene.name, "unknowns": int(sy.A.shape[0]), "planes": list(lay.planes),
+            "taxel_width": float(scene.array.taxel_width),
             "factorizations": res.factorizations, "right_hand_sides": res.right_hand_sides,
             "residual": res.residual, "solver": res.solver, "spacing": h,
             "seconds": {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0}}
