@@ -28,7 +28,7 @@ def figure(m, cov, path, title: str = "") -> Path:
     from matplotlib.colors import LogNorm
     lo, hi = min(0.5, float(cov.margin.min())), max(2.0, float(cov.margin.max()))
     im = ax.pcolormesh(X, Y, cov.margin, shading="auto", cmap="viridis", norm=LogNorm(lo, hi))
-    fig.colorbar(im, ax=ax, label="best taxel |V| / threshold (log)")
+    fig.colorbar(im, ax=ax, label="best taxel |V| over the threshold (ratio, log scale)")
     ax.contour(X, Y, cov.margin, levels=[2.0], colors="orange", linewidths=0.6, linestyles="dashed")
     if cov.dead.any():
         ax.contourf(X, Y, cov.dead.astype(float), levels=[0.5, 1.5], colors="none", hatches=["////"])
