@@ -2,15 +2,18 @@
 direct 3D solves, and what the coverage search on it costs.
 
     python benchmarks/surface_map.py              # 3x3 cost + coverage search + validation (12 presses)
-    python benchmarks/surface_map.py --8x8        # also the 8x8 array's map cost
+    python benchmarks/surface_map.py --8x8        # the 8x8 array's map cost alone (surface_map_8x8.json)
     python benchmarks/surface_map.py --no-validate
+    python benchmarks/surface_map.py --probe      # the probe correction alone (surface_map_probe.json)
 
 Parts, printed and written to benchmarks/results/surface_map.json:
 
 1. cost: the thesis PZT 3x3 array's linear map (thesis-pzt-3x3-3d on the array mesh
    MESH: 2 mm / 0.8 mm, two elements through the PZT; a quarter model, four mirror
    classes), phases in wall seconds and CPU seconds, unknowns; with --8x8 the same for
-   the 8x8 array (benchmarks/array_8x8.py's array).
+   the 8x8 array (benchmarks/array_8x8.py's array) on MESH_8x8 (2.5 mm / 1 mm: the array
+   mesh's 8x8 solve peaks at 3.5 GB, over this machine's share per process), written to
+   results/surface_map_8x8.json.
 2. coverage search: coverage and the localization error on the 3x3 map at 0.2 N, 1 mV,
    the rig's 4 mm flat punch (taxel.analyses.surface.map_metrics): median of 5 wall seconds each.
 3. validation: the map against direct 3D solves (a flat 4 mm disc, 1 N, linear, the same
@@ -23,6 +26,11 @@ Parts, printed and written to benchmarks/results/surface_map.json:
    exact disc beside it. Per position: the pressed taxel's map error relative to the
    direct centre value, and the largest neighbour error relative to the pressed taxel's
    peak (its centre value) and of its value at that position, with the signs.
+4. with --probe: the probe correction (taxel.analyses.surface.probe_map) on the 3x3 map:
+   3D presses of the rig's probe (4 mm flat punch, 0.2 mm edge, sticking, Yeoh, the press
+   mesh) at two knots on the middle row (the centre: a quarter model; mid-gap: a half
+   model), the factor at 0.2, 0.5 and 1 N, what each press costs, and the correction's
+   error at a point between the knots (a quarter pitch from the centre) against a press there.
 """
 
 from __future__ import annotations
@@ -42,11 +50,12 @@ from taxel.analyses.surface import map_metrics
 from taxel.analyses.surface.surface_map import Footprint, build, patch_quadrature
 
 MESH = {"mesh.size": "2 mm", "mesh.piezo_size": "0.8 mm", "mesh.piezo_layers": 2}
+MESH_8x8 = {"mesh.size": "2.5 mm", "mesh.piezo_size": "1 mm", "mesh.piezo_layers": 2}
 OUT = Path(__file__).parent / "results" / "surface_map.json"
 
 
 def scene(n: int = 3):
-    return taxel.load("thesis-pzt-3x3-3d").replace(**{**MESH, "array.rows": n, "array.cols": n,
+    return taxel.load("thesis-pzt-3x3-3d").replace(**{**(MESH if n == 3 else MESH_8x8), "array.rows": n, "array.cols": n,
                                                       "load.taxel": [n // 2, n // 2]})
 
 
@@ -131,14 +140,44 @@ def validate(m, sc) -> dict:
     return out
 
 
+def probe() -> dict:
+    from taxel.analyses.surface.probe_map import factor_error, probe_correction
+    sc = scene(3)
+    m = build(sc)
+    p = sc.array.taxel_width + sc.array.gap
+    t0, c0 = time.perf_counter(), time.process_time()
+    corr, cost_ = probe_correction(sc, m, [0.0, p / 2], [0.0], [0.2, 0.5, 1.0])
+    rec = {"knots_x_mm": [0.0, 1e3 * p / 2], "forces_N": corr.forces.tolist(), "factor": corr.factor[:, 0, :].tolist(),
+           **cost_, "wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0}
+    print(f"probe correction: factors at the centre {np.round(corr.factor[:, 0, 0], 4).tolist()}, mid-gap "
+          f"{np.round(corr.factor[:, 0, 1], 4).tolist()} at {corr.forces.tolist()} N; presses "
+          + ", ".join(f"{c['seconds']:.0f} s ({c['unknowns']} unknowns, planes {c['planes']})" for c in cost_["presses"]),
+          flush=True)
+    rec["between_knots"] = factor_error(sc, m, corr, [(p / 4, 0.0)])
+    print(f"between knots (quarter pitch): error {np.round(100 * np.array(rec['between_knots'][0]['error']), 2).tolist()} %",
+          flush=True)
+    return rec
+
+
 if __name__ == "__main__":
+    if "--probe" in sys.argv:
+        path = OUT.with_name("surface_map_probe.json")
+        path.parent.mkdir(exist_ok=True)
+        path.write_text(json.dumps(probe(), indent=1))
+        print(f"wrote {path}")
+        sys.exit(0)
+    if "--8x8" in sys.argv:
+        _, rec = cost(8)
+        path = OUT.with_name("surface_map_8x8.json")
+        path.parent.mkdir(exist_ok=True)
+        path.write_text(json.dumps({"8x8": rec}, indent=1))
+        print(f"wrote {path}")
+        sys.exit(0)
     res = json.loads(OUT.read_text()) if OUT.exists() else {}
     m, res["3x3"] = cost(3)
     res["search_3x3"] = search(m)
     if "--no-validate" not in sys.argv:
         res["validation_3x3"] = validate(m, scene(3))
-    if "--8x8" in sys.argv:
-        _, res["8x8"] = cost(8)
     OUT.parent.mkdir(exist_ok=True)
     OUT.write_text(json.dumps(res, indent=1))
     print(f"wrote {OUT}")

@@ -85,8 +85,11 @@ class ProbeCorrection:
         from scipy.interpolate import RegularGridInterpolator
         pts = np.atleast_2d(np.asarray(points, float))
         f = np.clip(force, self.forces[0], self.forces[-1])
-        per_force = np.array([RegularGridInterpolator((self.y, self.x), fk, bounds_error=False, fill_value=None)(
-            pts[:, ::-1]) for fk in self.factor])                           # (m, n)
+        if len(self.y) == 1:                   # one row of knots: linear along x (clamped)
+            per_force = np.array([np.interp(pts[:, 0], self.x, fk[0]) for fk in self.factor])
+        else:
+            per_force = np.array([RegularGridInterpolator((self.y, self.x), fk, bounds_error=False, fill_value=None)(
+                pts[:, ::-1]) for fk in self.factor])                       # (m, n)
         if len(self.forces) == 1:
             return per_force[0]
         return np.array([np.interp(f, self.forces, per_force[:, i]) for i in range(pts.shape[0])])
