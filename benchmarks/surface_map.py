@@ -5,6 +5,7 @@ direct 3D solves, and what the coverage search on it costs.
     python benchmarks/surface_map.py --8x8        # the 8x8 array's map cost alone (surface_map_8x8.json)
     python benchmarks/surface_map.py --no-validate
     python benchmarks/surface_map.py --probe      # the probe correction alone (surface_map_probe.json)
+    python benchmarks/surface_map.py --designs    # the answer's per-design cost (surface_map_designs.json)
 
 Parts, printed and written to benchmarks/results/surface_map.json:
 
@@ -26,6 +27,9 @@ Parts, printed and written to benchmarks/results/surface_map.json:
    exact disc beside it. Per position: the pressed taxel's map error relative to the
    direct centre value, and the largest neighbour error relative to the pressed taxel's
    peak (its centre value) and of its value at that position, with the signs.
+5. with --designs: what the main job's answer pays per design: optimize.coverage.
+   influence_metrics (map, coverage, localization) of the thesis PZT and PVDF designs from
+   their 2D base scenes (made 3D on optimize.coverage.MAP_MESH), wall and CPU seconds.
 4. with --probe: the probe correction (taxel.analyses.surface.probe_map) on the 3x3 map:
    3D presses of the rig's probe (4 mm flat punch, 0.2 mm edge, sticking, Yeoh, the press
    mesh) at two knots on the middle row (the centre: a quarter model; mid-gap: a half
@@ -159,7 +163,28 @@ def probe() -> dict:
     return rec
 
 
+def designs() -> dict:
+    from taxel.optimize.coverage import influence_metrics
+    out = {}
+    for name in ("thesis-pzt-3x3-2d", "thesis-pvdf-3x3-2d"):
+        t0, c0 = time.perf_counter(), time.process_time()
+        got = influence_metrics(taxel.load(name), 0.2, 1e-3)
+        out[name] = {**got, "wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0,
+                     "load_average": os.getloadavg()[0]}
+        r = out[name]
+        print(f"{name}: coverage {r['coverage']}, 3D minimum {r.get('coverage_minimum')}, localization "
+              f"{r.get('localization_error')}; {r.get('unknowns')} unknowns, wall {r['wall_s']:.0f} s, CPU "
+              f"{r['cpu_s']:.0f} s (load {r['load_average']:.1f})", flush=True)
+    return out
+
+
 if __name__ == "__main__":
+    if "--designs" in sys.argv:
+        path = OUT.with_name("surface_map_designs.json")
+        path.parent.mkdir(exist_ok=True)
+        path.write_text(json.dumps(designs(), indent=1, default=str))
+        print(f"wrote {path}")
+        sys.exit(0)
     if "--probe" in sys.argv:
         path = OUT.with_name("surface_map_probe.json")
         path.parent.mkdir(exist_ok=True)
