@@ -1,7 +1,7 @@
 """The 3D skin (from the surface map) against direct 3D solves, normal and shear.
 
 A 2 x 2 PZT array (thesis-pzt-3x3-3d with array.rows = array.cols = 2, its 1.5 mm /
-0.6 mm mesh, open circuit): its surface map (taxel.analyses.surface_map) and skin
+0.6 mm mesh, open circuit): its surface map (taxel.analyses.surface.surface_map) and skin
 (taxel.skin.build); 1 N spread over the top-surface nodes within 1.6 mm of three
 off-centre points (a quarter pitch along the diagonal, mid-gap, in the edge margin),
 along x, y and z in turn. Each taxel's open-circuit voltage by direct 3D solves
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 import taxel
-from taxel.analyses.surface_map import build as map_build
+from taxel.analyses.surface.surface_map import build as map_build
 from taxel.skin.build import build
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))

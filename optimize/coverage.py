@@ -1,5 +1,5 @@
 """The influence metrics of a design, coverage and localization_error: both from its 3D
-surface map (taxel.analyses.surface_map: every taxel's response to a force anywhere on
+surface map (taxel.analyses.surface.surface_map: every taxel's response to a force anywhere on
 the top surface, by reciprocity from one linear 3D solve per mirror class), at the
 smallest force of interest, against one noise floor, for the probe's footprint.
 
@@ -53,7 +53,7 @@ MAP_MESH = ("2 mm", "0.8 mm")     # mesh.size, mesh.piezo_size of a 2D design's 
 CHECK_ERRORS = "check_errors"     # a candidate's {metric: why it could not be checked}
 
 
-def map_scene(scene):
+def design_map_scene(scene):
     """The 3D scene whose map judges a design: the scene itself when 3D, else made 3D on MAP_MESH."""
     if scene.model.type == "3d":
         return scene
@@ -63,7 +63,7 @@ def map_scene(scene):
 
 def default_footprint(scene, probe=None):
     """The probe's footprint (module docstring): `probe` an optimize.probe.ProbePress or None."""
-    from taxel.analyses.surface_map import Footprint
+    from taxel.analyses.surface.surface_map import Footprint
     from taxel import units as U
     if probe is not None and getattr(probe, "radius", None) is not None:
         r = U.in_unit(probe.radius, "m")[0] if not isinstance(probe.radius, (int, float)) else float(probe.radius)
@@ -73,9 +73,9 @@ def default_footprint(scene, probe=None):
 
 def design_map(scene, out: Path | None = None):
     """The surface map of a design (module docstring), read from OUT/maps when it is there."""
-    from taxel.analyses.surface_map import SurfaceMap, build
+    from taxel.analyses.surface.surface_map import SurfaceMap, build
     from taxel.schema import to_data
-    s3 = map_scene(scene)
+    s3 = design_map_scene(scene)
     key = hashlib.sha256(json.dumps(to_data(s3), sort_keys=True, default=str).encode()).hexdigest()[:16]
     path = Path(out) / MAPS / f"{key}.npz" if out is not None else None
     if path is not None and path.exists():
@@ -94,7 +94,7 @@ def influence_metrics(scene, force: float, noise_V: float, min_detectable_force:
     (its file under OUT), seconds} of a design (a taxel-array scene). When the check cannot
     be made (a mesh or solve that fails) the metrics are None and `error` says why (one line).
     `per_pitch` is kept for callers of the 2D scan; the map does not use it."""
-    from taxel.analyses import map_metrics
+    from taxel.analyses.surface import map_metrics
     t0 = time.perf_counter()
     fp = footprint or default_footprint(scene)
     try:
@@ -142,9 +142,15 @@ def same(a: dict, b: dict, tol_mm: float = 1e-6) -> bool:
 
 
 def of(folder: Path, x_mm: dict) -> dict:
-    """The influence metrics OUT/coverage.json holds for design `x_mm` ({} when none)."""
+    """The influence metrics OUT/coverage.json holds for design `x_mm` ({} when none), and
+    CHECK_ERRORS {metric: why} when its check failed."""
     row = next((r for r in record(folder) if same(r["x_mm"], x_mm)), None)
-    return {k: row[k] for k in INFLUENCE_METRICS if row.get(k) is not None} if row else {}
+    if row is None:
+        return {}
+    got = {k: row[k] for k in INFLUENCE_METRICS if row.get(k) is not None}
+    if row.get("error"):             # the check failed: the design is never recommended (requirements.judge)
+        got[CHECK_ERRORS] = {k: row["error"] for k in INFLUENCE_METRICS if row.get(k) is None}
+    return got
 
 
 def judge_lazily(candidates: list[dict], reqs: list, compute, always=()) -> None:

@@ -7,7 +7,7 @@ spline) and by the skin (its held output: the readout's static gain times W)."""
 import numpy as np
 
 from taxel.analyses.model.problem import problem
-from taxel.analyses.surface_map import map_scene
+from taxel.analyses.surface.surface_map import map_scene
 from taxel.fem import assembly, static
 from taxel.schema import electrode_name
 from taxel.skin.runtime import SkinRuntime

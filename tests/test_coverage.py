@@ -180,3 +180,17 @@ def test_a_failed_coverage_check_is_reported_and_never_recommended(tmp_path):
     cands = [{"sensitivity": 2.0, CHECK_ERRORS: {"coverage": "gmsh: Could not create line"}},
              {"sensitivity": 1.0, "coverage": 1.0}]
     assert choose(cands, reqs).recommended == 1
+
+
+def test_a_failed_check_in_the_record_keeps_the_answer_from_recommending_it(tmp_path):
+    """OUT/coverage.json's row of a design whose map failed carries its error; the answer's
+    values read from it (optimize.coverage.of) exclude the design from the recommendation."""
+    from taxel.optimize import coverage as C
+    from taxel.optimize.requirements import choose, read
+    C.add(tmp_path, {"gap": 3.0}, {"coverage": None, "localization_error": None,
+                                   "error": "the 3D surface map failed: Could not create line"})
+    C.add(tmp_path, {"gap": 4.0}, {"coverage": 1.0, "localization_error": 1e-4})
+    bad, good = C.of(tmp_path, {"gap": 3.0}), C.of(tmp_path, {"gap": 4.0})
+    assert bad[C.CHECK_ERRORS]["coverage"].endswith("Could not create line") and C.CHECK_ERRORS not in good
+    reqs = read({"coverage": ">= 100 %"})
+    assert choose([{"sensitivity": 2.0, **bad}, {"sensitivity": 1.0, **good}], reqs).recommended == 1

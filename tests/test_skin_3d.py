@@ -28,7 +28,7 @@ SMALL = {"array.rows": 2, "array.cols": 2, "readout.circuit": "open",
 
 @pytest.fixture(scope="module")
 def setup():
-    from taxel.analyses.surface_map import build as map_build
+    from taxel.analyses.surface.surface_map import build as map_build
     from taxel.skin.build import build
     scene = taxel.load("thesis-pzt-3x3-3d").replace(**SMALL)
     m = map_build(scene)

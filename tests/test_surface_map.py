@@ -1,4 +1,4 @@
-"""The surface map (taxel.analyses.surface_map, fem.static.surface_response): the
+"""The surface map (taxel.analyses.surface.surface_map, fem.static.surface_response): the
 reciprocity identity against direct solves, the mirror classes against the full model,
 the map's sampling and files."""
 
@@ -7,7 +7,7 @@ import pytest
 
 import taxel
 from taxel.analyses.model.problem import problem
-from taxel.analyses.surface_map import Footprint, SurfaceMap, build, map_scene
+from taxel.analyses.surface.surface_map import Footprint, SurfaceMap, build, map_scene
 from taxel.fem import assembly, static
 
 SMALL = {"array.rows": 1, "array.cols": 2, "mesh.size": "4 mm", "mesh.piezo_size": "2 mm", "array.margin": "2 mm", "load.taxel": [0, 0]}
@@ -79,3 +79,37 @@ def test_map_file_round_trip(tmp_path):
     assert np.allclose(m.voltage(p, (1.0, 0, 0)), -np.linalg.solve(m.capacitance, m.charge(p, (1.0, 0, 0)).T).T)
     off, w = Footprint(1e-3, "round").quadrature()
     assert np.isclose(w.sum(), 1) and np.abs(off).max() < 1e-3
+
+
+@pytest.mark.slow       # one 3x3 map and six direct 3D solves (three of them full models), minutes
+def test_map_agrees_with_direct_solves_on_the_thesis_array():
+    """The thesis PZT 3x3 array on its array mesh (2 mm / 0.8 mm, two elements through the
+    PZT): the map against direct 3D solves of a flat 4 mm disc (1 N, linear, every taxel open)
+    at the centre, along the diagonal, at the corner between four taxels, mid-gap, at the
+    edge taxel's outer edge and off the corner taxel's centre (benchmarks/surface_map.py does
+    twelve). The map is pressed with each solve's own load (its mesh's polygon of the disc,
+    patch_quadrature): the pressed taxel within 2 % of its centre value (its peak), every other
+    taxel within 0.3 % of that peak (the issue's goal is 0.2 %: met at eleven of the twelve
+    positions of the benchmark, 0.22 % at the corner between four taxels, where the four
+    read alike), with the same sign where it is above 0.2 %."""
+    from taxel.analyses import solve_static
+    from taxel.analyses.surface.surface_map import patch_quadrature
+    sc = taxel.load("thesis-pzt-3x3-3d").replace(**{"mesh.size": "2 mm", "mesh.piezo_size": "0.8 mm"})
+    m = build(sc)
+    w, p = 4e-3, 7e-3
+    centre = None
+    for x, y in [(0, 0), (p / 4, p / 4), (p / 2, p / 2), (p / 2, 0), (p + w / 2, 0), (p + 1.5e-3, p + 1.5e-3)]:
+        s = sc.replace(**{"load.kind": "probe", "load.taxel": [1, 1], "load.radius": "2 mm", "load.profile": "flat",
+                          "load.offset": [x, y], "model.symmetry": "auto"})
+        r = solve_static(s)
+        vd = np.array([r.voltages()[k] for k in m.taxels])
+        pts, wts = patch_quadrature(r.solution.mesh)
+        vm = -np.linalg.solve(m.capacitance, m.charge(pts, np.column_stack([0 * wts, 0 * wts, -wts])).sum(0))
+        centre = centre or abs(vd).max()
+        k = int(np.argmax(np.abs(vd)))
+        assert abs(vm[k] - vd[k]) <= 0.02 * centre, (x, y)
+        for i in range(len(vd)):
+            if i != k:
+                assert abs(vm[i] - vd[i]) <= 3e-3 * centre, (x, y, m.taxels[i])
+                if abs(vd[i]) > 2e-3 * centre:
+                    assert np.sign(vm[i]) == np.sign(vd[i]), (x, y, m.taxels[i])

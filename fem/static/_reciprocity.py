@@ -55,6 +55,7 @@ from . import _symmetry as symmetry
 # factorization): at fem.linalg's default 1e-13 the identity held to 1.4e-8 on a small 3D
 # array, at this one to 2.7e-9 (tests/test_surface_map.py)
 REFINE = 1e-16
+INSIDE = 1e-8         # surface points are read this fraction of the model's extent inside it
 
 
 @dataclass
@@ -126,7 +127,11 @@ def displacement_probe(sy: System, points: np.ndarray) -> sp.csr_matrix:
     basis = CellBasis(sy.tm.mesh, ub.elem, intorder=1)
     if basis.N != sy.offsets["u"].stop - sy.offsets["u"].start:
         raise RuntimeError("displacement basis numbering differs from the assembled one")
-    return basis.probes(np.asarray(points, float)).tocsr()
+    p = np.asarray(points, float)
+    lo, hi = sy.tm.mesh.p.min(axis=1), sy.tm.mesh.p.max(axis=1)
+    eps = INSIDE * (hi - lo)             # on the outline or the top: a hair inside (scikit-fem's finder
+    p = np.clip(p, (lo + eps)[:, None], (hi - eps)[:, None])     # misses points on the boundary)
+    return basis.probes(p).tocsr()
 
 
 @dataclass

@@ -131,7 +131,7 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     Ad, Bd, Cd, Dd = disc.state_space()
     pitch = a.taxel_width + a.gap
     if three_d:
-        from taxel.analyses import surface_map as smap
+        from taxel.analyses.surface import surface_map as smap
         from taxel.fem import dynamics
         mp = surface_map if surface_map is not None else smap.build(scene)
         V, Ci = dynamics.ports(rm.red, [1e-3])

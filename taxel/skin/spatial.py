@@ -2,7 +2,7 @@ r"""The skin's spatial model W (taxels, 3, ny, nx): the load each taxel sees per
 a point force along x, y, z at each point of an evenly spaced grid of the surface
 (taxel.skin.model), from the 3D surface map or from a 2D section.
 
-From the 3D surface map (`from_map`; taxel.analyses.surface_map, issue 54). The map
+From the 3D surface map (`from_map`; taxel.analyses.surface.surface_map, issue 54). The map
 gives every taxel's short-circuit charge Q_kd(p) per newton along d at p (C/N, z the
 outward normal, its origin at the array's centre, its rows numbered from +y down). The
 skin's h is a path "per newton on the reference taxel's footprint" (taxel.skin.build),

@@ -13,7 +13,7 @@ short-circuit charges (what a charge amplifier integrates), open-circuit voltage
 follow through the capacitance matrix, V = -C^-1 Q_sc (every taxel open at once,
 the common ground the reference). Between grid points the map is a bicubic spline.
 
-    m = surface_map(scene)                           # taxel.analyses.surface_map.build
+    m = surface_map(scene)                           # taxel.analyses.surface.surface_map.build
     m.charge([(x, y)], [(0, 0, -1.0)])              # C, a 1 N point press at (x, y)
     m.voltage(points, forces, Footprint(2e-3))       # V, open circuit, a 2 mm disc probe
     m.crosstalk((x, y), "taxel_0_1")                 # signed ratio to the best taxel
@@ -85,8 +85,11 @@ class ProbeCorrection:
         from scipy.interpolate import RegularGridInterpolator
         pts = np.atleast_2d(np.asarray(points, float))
         f = np.clip(force, self.forces[0], self.forces[-1])
-        per_force = np.array([RegularGridInterpolator((self.y, self.x), fk, bounds_error=False, fill_value=None)(
-            pts[:, ::-1]) for fk in self.factor])                           # (m, n)
+        if len(self.y) == 1:                   # one row of knots: linear along x (clamped)
+            per_force = np.array([np.interp(pts[:, 0], self.x, fk[0]) for fk in self.factor])
+        else:
+            per_force = np.array([RegularGridInterpolator((self.y, self.x), fk, bounds_error=False, fill_value=None)(
+                pts[:, ::-1]) for fk in self.factor])                       # (m, n)
         if len(self.forces) == 1:
             return per_force[0]
         return np.array([np.interp(f, self.forces, per_force[:, i]) for i in range(pts.shape[0])])
@@ -149,6 +152,28 @@ class SurfaceMap:
         R = self.response((pts[:, None, :] + off[None, :, :]).reshape(-1, 2)).reshape(pts.shape[0], len(w), -1, 3)
         return np.einsum("nqtk,q,nk->nt", R, w, f)
 
+    def averaged(self, footprint: Footprint) -> "SurfaceMap":
+        """This map with every grid value averaged over `footprint` centred there: the same
+        grid's response to a force spread over the footprint (its quadrature, one spline
+        call), so that a search over many presses costs point evaluations."""
+        if footprint.radius == 0:
+            return self
+        if footprint in self._averages:
+            return self._averages[footprint]
+        X, Y = np.meshgrid(self.x, self.y)
+        pts = np.column_stack([X.ravel(), Y.ravel()])
+        off, w = footprint.quadrature()
+        R = self.response((pts[:, None, :] + off[None, :, :]).reshape(-1, 2)).reshape(len(pts), len(w), -1, 3)
+        avg = np.einsum("nqtk,q->tkn", R, w).reshape(len(self.taxels), 3, len(self.y), len(self.x))
+        out = self._averages[footprint] = SurfaceMap(
+            self.x, self.y, self.taxels, avg, self.capacitance, None,
+            {**self.info, "averaged_over": {"radius_m": footprint.radius, "profile": footprint.profile}}, self.centres)
+        return out
+
+    @cached_property
+    def _averages(self) -> dict:
+        return {}
+
     def voltage(self, points, forces, footprint: Footprint | None = None) -> np.ndarray:
         """(n, ntaxels) V: open-circuit voltages, every taxel open, V = -C^-1 Q_sc."""
         return -np.linalg.solve(self.capacitance, self.charge(points, forces, footprint).T).T
@@ -210,6 +235,34 @@ class SurfaceMap:
             raise ValueError(f"{path}: not a surface map file ({exc}); write one with SurfaceMap.to_file") from None
 
 
+# -- a mesh's own load patch -------------------------------------------------------
+
+# Dunavant's degree-4 rule on a triangle: barycentric points, weights summing to 1
+_TRI_B = np.array([[0.445948490915965, 0.445948490915965, 0.108103018168070],
+                   [0.445948490915965, 0.108103018168070, 0.445948490915965],
+                   [0.108103018168070, 0.445948490915965, 0.445948490915965],
+                   [0.091576213509771, 0.091576213509771, 0.816847572980459],
+                   [0.091576213509771, 0.816847572980459, 0.091576213509771],
+                   [0.816847572980459, 0.091576213509771, 0.091576213509771]])
+_TRI_W = np.array([0.223381589678011] * 3 + [0.109951743655322] * 3) / 0.999999999999999
+
+
+def patch_quadrature(tm) -> tuple[np.ndarray, np.ndarray]:
+    """Points (n, 2) m and weights (n,) summing to 1 of a 3D tagged mesh's "load" facets (a
+    uniform pressure patch as that mesh discretizes it: a disc is a polygon there), unfolded
+    over its mirror planes: `m.charge(points, -F * weights[:, None] * e_z).sum(0)` is the
+    map's answer to the same load a direct solve on that mesh carries."""
+    f = tm.facets["load"]
+    P = tm.mesh.p[:, tm.mesh.facets[:, f]]                               # (3, 3 vertices, nf)
+    area = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0], axis=0), axis=0)
+    pts = np.einsum("qk,dkf->fqd", _TRI_B, P)[..., :2].reshape(-1, 2)
+    w = (area[:, None] * _TRI_W[None, :]).ravel()
+    images = [pts]
+    for k in tm.layout.planes:
+        images += [q * np.where(np.arange(2) == k, -1.0, 1.0) for q in images]
+    return np.concatenate(images), np.tile(w, len(images)) / (w.sum() * len(images))
+
+
 # -- building ------------------------------------------------------------------------
 
 def map_scene(scene):
@@ -265,6 +318,7 @@ def build(scene, spacing: float | None = None, method: str = "auto") -> SurfaceM
         from taxel.analyses.model.problem import check
         centre = {t.name: (t.x, t.y) for t in layout(sc.replace(**{"model.symmetry": "full"}), check(sc)).taxels}
     info = {"scene": scene.name, "unknowns": int(sy.A.shape[0]), "planes": list(lay.planes),
+            "taxel_width": float(scene.array.taxel_width),
             "factorizations": res.factorizations, "right_hand_sides": res.right_hand_sides,
             "residual": res.residual, "solver": res.solver, "spacing": h,
             "seconds": {"mesh": t1 - t0, "assemble": t2 - t1, "solve": t3 - t2, "total": t3 - t0}}

@@ -1,5 +1,5 @@
 """Coverage, localization error and crosstalk of a design, from its 3D surface map
-(taxel.analyses.surface_map): no 2D section, no separability.
+(taxel.analyses.surface.surface_map): no 2D section, no separability.
 
 Coverage (the seed, section 2: a wider gap opens non-sensitive regions, where a press
 gives no signal). The press: the user's probe footprint (a disc of the probe's radius,
@@ -16,7 +16,9 @@ has a taxel on either side in each direction; beyond it a press is over an outer
 or off the sensing area). coverage = the fraction of that area where the press is
 detected (on a grid of every map step / 2); the 3D minimum = the smallest margin over
 the area, searched on the grid and refined by a bounded local search from the grid's
-worst point, with its location. Dead zones: where margin < 1.
+worst point (on the exact footprint; the grid reads the map averaged over the footprint
+once, SurfaceMap.averaged), with its location. Dead zones: where margin < 1. The fraction
+is the grid's; a dip below 1 narrower than the grid step shows in the minimum only.
 
 Localization error: the Cramer-Rao bound of an unbiased estimate of (x, y, F) from the
 taxels' open-circuit voltages with white noise sigma on each, cov = sigma^2 (J^T J)^-1,
@@ -35,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from taxel.analyses.surface_map import Footprint, SurfaceMap
+from taxel.analyses.surface.surface_map import Footprint, SurfaceMap
 
 SIGMAS = 3.0
 
@@ -99,12 +101,15 @@ def coverage(m: SurfaceMap, force: float, noise_V: float, footprint: Footprint |
     if m.centres is None or len(m.taxels) < 2:
         raise ValueError("coverage needs a map of an array of at least two taxels (its centres)")
     fp = footprint or Footprint()
+    ma = m.averaged(fp)                   # the footprint's press at every grid point, once
     x, y = _grid(m, step)
     X, Y = np.meshgrid(x, y)
-    margin = best_margin(m, np.column_stack([X.ravel(), Y.ravel()]), force, noise_V, fp, sigmas).reshape(X.shape)
+    margin = best_margin(ma, np.column_stack([X.ravel(), Y.ravel()]), force, noise_V, Footprint(), sigmas
+                         ).reshape(X.shape)
     i = np.unravel_index(np.argmin(margin), margin.shape)
     x0, x1, y0, y1 = sensing_area(m)
-    res = minimize(lambda p: best_margin(m, [p], force, noise_V, fp, sigmas)[0], [X[i], Y[i]],
+    res = minimize(lambda p: best_margin(m, [np.clip(p, [x0, y0], [x1, y1])], force, noise_V, fp, sigmas)[0],
+                   [X[i], Y[i]],
                    method="Nelder-Mead",
                    options={"xatol": 1e-6, "fatol": 1e-9, "maxiter": 200})
     p = np.clip(res.x, [x0, y0], [x1, y1])
@@ -140,13 +145,14 @@ def localization(m: SurfaceMap, force: float, noise_V: float, footprint: Footpri
     if not (force > 0 and noise_V > 0):
         raise ValueError(f"localization needs a positive force and noise (got {force}, {noise_V})")
     fp = footprint or Footprint()
+    ma = m.averaged(fp)
     x, y = _grid(m, step)
     X, Y = np.meshgrid(x, y)
     P = np.column_stack([X.ravel(), Y.ravel()])
     h = 0.25 * float(np.diff(m.x).mean())
-    V = m.press(P, force, fp)
-    dx = (m.press(P + [h, 0], force, fp) - m.press(P - [h, 0], force, fp)) / (2 * h)
-    dy = (m.press(P + [0, h], force, fp) - m.press(P - [0, h], force, fp)) / (2 * h)
+    V = ma.press(P, force)
+    dx = (ma.press(P + [h, 0], force) - ma.press(P - [h, 0], force)) / (2 * h)
+    dy = (ma.press(P + [0, h], force) - ma.press(P - [0, h], force)) / (2 * h)
     J = np.stack([dx, dy, V / force], axis=2)                     # (n, ntaxels, 3): V is linear in F
     JTJ = np.einsum("nti,ntj->nij", J, J)
     err = np.full(len(P), np.nan)
