@@ -9,7 +9,9 @@ along x, y and z in turn. Each taxel's open-circuit voltage by direct 3D solves
 spline) and by the skin (its held output: the readout's static gain times its bilinear
 W). Errors: the largest difference over the taxels, of that load's own largest |V_FEM|
 and of the pressed taxel's peak (1 N pressed by the same nodes on the nearest taxel's
-centre). Writes benchmarks/results/skin_3d_accuracy.json.
+centre). Then the MuJoCo flat probe pressed centrally to 1 N through MujocoSkin (its
+footprint's patch) against the 3D FEM's static press by the same probe. Writes
+benchmarks/results/skin_3d_accuracy.json.
 
     MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/skin_3d_accuracy.py
 """
@@ -27,7 +29,7 @@ from taxel.analyses.surface.surface_map import build as map_build
 from taxel.skin.build import build
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from skin_3d_loads import POINTS, NodalLoads  # noqa: E402
+from skin_3d_loads import POINTS, NodalLoads, mujoco_probe  # noqa: E402
 
 
 def main():
@@ -53,10 +55,14 @@ def main():
             rows.append(row)
             print(f"| {where} | {'xyz'[k]} | {100 * row['skin_fem']:.2f} % | {100 * row['map_fem']:.2f} % | "
                   f"{100 * row['skin_map']:.2f} % | {pk:.3g} V | {100 * row['skin_fem_of_pressed_peak']:.2f} % |")
+    probe = mujoco_probe(scene, sk)
+    print(f"MuJoCo flat probe (2 mm), 1 N centred on taxel (1, 1): skin {probe['skin_V_per_N']:.4g} V/N, 3D FEM press "
+          f"{probe['fem_V_per_N']:.4g} V/N ({100 * probe['error']:+.2f} %); its 4 rim contacts as points "
+          f"{probe['rim_points_V_per_N']:.4g} V/N")
     out = Path(__file__).parent / "results" / "skin_3d_accuracy.json"
     out.parent.mkdir(exist_ok=True)
-    out.write_text(json.dumps({"rows": rows, "influence_error": sk.influence_error, "map_info": m.info}, indent=1,
-                              default=str))
+    out.write_text(json.dumps({"rows": rows, "influence_error": sk.influence_error, "mujoco_probe": probe,
+                               "map_info": m.info}, indent=1, default=str))
     print(f"wrote {out}")
 
 

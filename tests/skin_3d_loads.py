@@ -52,3 +52,31 @@ class NodalLoads:
         sk = self.sk
         near = np.round(np.clip(np.array(c) / sk.pitch, 0, [sk.cols - 1, sk.rows - 1])) * sk.pitch
         return float(np.abs(self.voltages(near, 2)[2]).max())
+
+
+def mujoco_probe(scene, sk) -> dict:
+    """The MuJoCo flat probe pressed centrally to 1 N (held 2.9 s) through MujocoSkin against the
+    3D FEM's static press by the same probe (taxel.solve), the pressed taxel's V/N."""
+    import mujoco
+    import taxel
+    from taxel.skin.mujoco import MujocoSkin, fingertip_xml
+    fem = taxel.solve(scene.replace(**{"load.kind": "probe", "load.taxel": [0, 1], "load.radius": 2e-3,
+                                       "load.profile": "flat", "load.offset": [0.0, 0.0], "load.force": 1.0}))
+    V = fem.voltages()[electrode_name(0, 1)]                     # the skin's taxel (1, 1): its row flipped
+    mj = mujoco.MjModel.from_xml_path(fingertip_xml())
+    d = mujoco.MjData(mj)
+    skin = MujocoSkin(mj, sk, body="pad")
+    b0 = mj.body("probe").pos
+    for i in range(3000):
+        d.ctrl[:] = 0.0
+        d.ctrl[mj.actuator("sphere_z").id] = d.ctrl[mj.actuator("edge_z").id] = 0.004
+        d.ctrl[mj.actuator("probe_x").id], d.ctrl[mj.actuator("probe_y").id] = 0.007 - b0[0], 0.007 - b0[1]
+        down = min(i / 100, 1.0)
+        d.ctrl[mj.actuator("probe_z").id] = 0.004 * (1 - down) - 1.0 / 100 * down
+        mujoco.mj_step(mj, d)
+        v = skin.step(d)
+    N = -skin.patches(d)[1][:, 2].sum()
+    pts, f, _ = skin.contacts(d)
+    gain = float((sk.Cd @ np.linalg.solve(np.eye(len(sk.Ad)) - sk.Ad, sk.Bd) + sk.Dd)[0, 0])
+    return {"skin_V_per_N": float(v[1, 1] / N), "fem_V_per_N": float(V), "error": float(v[1, 1] / N / V - 1),
+            "rim_points_V_per_N": float(gain * skin.runtime.loads(pts, f)[1, 1] / N), "force_N": float(N)}

@@ -17,8 +17,7 @@ import numpy as np
 import pytest
 
 import taxel
-from taxel.schema import electrode_name
-from skin_3d_loads import POINTS, NodalLoads
+from skin_3d_loads import POINTS, NodalLoads, mujoco_probe
 
 pytestmark = pytest.mark.slow
 
@@ -53,24 +52,7 @@ def test_normal_and_shear_against_direct_3d_solves(setup, loads, where):
 
 
 def test_mujoco_flat_probe_against_the_3d_press(setup):
-    import mujoco
-    from taxel.skin.mujoco import MujocoSkin, fingertip_xml
     scene, m, sk = setup
-    fem = taxel.solve(scene.replace(**{"load.kind": "probe", "load.taxel": [0, 1], "load.radius": 2e-3,
-                                       "load.profile": "flat", "load.offset": [0.0, 0.0], "load.force": 1.0}))
-    V = fem.voltages()[electrode_name(0, 1)]
-    mj = mujoco.MjModel.from_xml_path(fingertip_xml())
-    d = mujoco.MjData(mj)
-    skin = MujocoSkin(mj, sk, body="pad")
-    b0 = mj.body("probe").pos
-    for i in range(3000):                                 # pressed in 0.1 s, held 2.9 s: the loss law settles
-        d.ctrl[:] = 0.0
-        d.ctrl[mj.actuator("sphere_z").id] = d.ctrl[mj.actuator("edge_z").id] = 0.004
-        d.ctrl[mj.actuator("probe_x").id], d.ctrl[mj.actuator("probe_y").id] = 0.007 - b0[0], 0.007 - b0[1]
-        down = min(i / 100, 1.0)
-        d.ctrl[mj.actuator("probe_z").id] = 0.004 * (1 - down) - 1.0 / 100 * down
-        mujoco.mj_step(mj, d)
-        v = skin.step(d)
-    N = -skin.patches(d)[1][:, 2].sum()
-    assert N == pytest.approx(1.0, rel=0.05)
-    assert v[1, 1] / N == pytest.approx(V, rel=0.05)
+    probe = mujoco_probe(scene, sk)
+    assert probe["force_N"] == pytest.approx(1.0, rel=0.05)
+    assert abs(probe["error"]) < 0.05                              # 2.6 % measured (benchmarks/skin_3d_accuracy.py)
