@@ -45,8 +45,8 @@ def main():
             e = [error(scene, sk, k * sk.pitch, h) for sk in skins.values()]
             print(f"| {where} | {h} | {100 * e[0]:.2f} % | {100 * e[1]:.2f} % |")
     sk = skins[1e-3]
-    print(f"influence error at {len(sk.check_x)} FEM presses between knots: {sk.influence_error:.2e} of G's peak; "
-          f"h: {sk.Ad.shape[0]} states, dynamics error {sk.reduction_error:.1e}")
+    print(f"influence error at {len(sk.check_points)} FEM presses between knots: {sk.influence_error:.2e} of W's peak; "
+          f"h: {sk.Ad.shape[0]} states, dynamics error {sk.dynamics_error:.1e} against the sweep (to {sk.band:.3g} Hz)")
 
 
 if __name__ == "__main__":

@@ -44,8 +44,8 @@ from pathlib import Path
 import numpy as np
 import skfem
 from taxel.meshing.cost import SolveLimit, check_fits
-from taxel.meshing.layout import Layout, is_graded
-from taxel.meshing.sizing import rim_field, size_field, two_sided
+from taxel.meshing.layout import Layout
+from taxel.meshing.sizes import rim_field, size_field, is_free, vertical_divisions
 
 
 @dataclass
@@ -181,33 +181,6 @@ def _plan(occ, lay: Layout):
         occ.synchronize()
         faces = [e for e in faces if e not in drop]
     return faces
-
-
-def is_free(lay: Layout, layer) -> bool:
-    """A graded silicone layer of a free 3D layout (Layout.free): meshed by the 3D
-    mesher with the 3D size field, not extruded from the plan mesh."""
-    return lay.free and lay.dim == 3 and is_graded(lay, layer)
-
-
-def vertical_divisions(lay: Layout, layer):
-    """(numElements, heights) for one layer's extrusion (meshing.cost checks the
-    count before this runs)."""
-    if not is_graded(lay, layer):
-        return [lay.piezo_layers], [1.0]
-    if lay.contact_size is not None and layer is lay.layers[-1] and layer.name != "silicone_below":
-        hs = two_sided(layer.thickness, lay.piezo_size, min(lay.contact_size, lay.size), lay.size)
-        return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
-    h, hs, total = lay.piezo_size, [], 0.0
-    while total < layer.thickness * (1 - 1e-9):
-        hs.append(min(h, lay.size))
-        total += hs[-1]
-        h *= 1.5
-    hs = np.array(hs) * layer.thickness / sum(hs)
-    if len(hs) > 1 and hs[-1] < 0.5 * hs[-2]:       # merge a sliver into its neighbour
-        hs = np.append(hs[:-2], hs[-2] + hs[-1])
-    if layer.name == "silicone_below":             # fine end next to the piezo, on top
-        hs = hs[::-1]
-    return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
 
 
 def region_name(patch):

@@ -2,7 +2,7 @@
 
 The plan is meshed with the size field of meshing.build (piezo_size at taxel and
 load edges, growing linearly to size over 2 size, at most 2 piezo_size inside
-taxels) and extruded layer by layer (meshing.build.vertical_divisions, counted in closed form). The count
+taxels) and extruded layer by layer (meshing.sizes.vertical_divisions, counted in closed form). The count
 of plan elements is the integral of the element density over the plan,
 1 / h(x) per length on a line, 4 / (sqrt(3) h^2) triangles per area on a face
 (equilateral triangles of side h), sampled on a grid. Vertices follow from
@@ -63,7 +63,7 @@ def _size(lay: Layout, x, y):
 
 
 def _divisions(lay: Layout, layer) -> float:
-    """Elements through a layer (meshing.build.vertical_divisions, in closed form):
+    """Elements through a layer (meshing.sizes.vertical_divisions, in closed form):
     sizes piezo_size * 1.5^k up to size, then size."""
     if not is_graded(lay, layer):
         return lay.piezo_layers

@@ -9,7 +9,7 @@ one layer and one material, so no element straddles an interface. Plan lines
 follow the rim circle, so the footprint's square is fine throughout: the punch's rim crosses
 it at every angle). The lines between two marks are spaced by the integral of 1/h
 (equidistribution), so the marks are grid lines. Vertically the layers are divided as the
-extruded tetrahedral meshes are (meshing.build.vertical_divisions): `piezo_layers` through
+extruded tetrahedral meshes are (meshing.sizes.vertical_divisions): `piezo_layers` through
 the piezo, silicone graded from `piezo_size` next to the piezo to `size`, under a punch the
 top layer graded to `contact_size` at the top surface.
 
@@ -28,7 +28,8 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from taxel.meshing.build import TaggedMesh, region_name, vertical_divisions
+from taxel.meshing.build import TaggedMesh, region_name
+from taxel.meshing.sizes import vertical_divisions
 from taxel.meshing.cost import MeshTooLarge, SolveLimit, unknowns_cost
 from taxel.meshing.layout import Layout
 

@@ -125,10 +125,13 @@ class Verdict:
 
 def judge(values: dict, reqs: list[Requirement]) -> Verdict:
     """`values` (metric -> SI value) against `reqs`. A requirement whose metric the
-    design lacks is not evaluated (its margin None) and does not exclude the design."""
+    design lacks is not evaluated (its margin None) and does not exclude the design; one
+    whose check failed (values["check_errors"], optimize.coverage) does."""
     margins = {r.metric: r.margin(values.get(r.metric)) for r in reqs}
     known = {k: m for k, m in margins.items() if m is not None}
     tol = {r.metric: r.tolerance for r in reqs}
+    if set(values.get("check_errors") or {}) & set(margins):    # a check that failed (optimize.coverage):
+        known = {**known, **{k: -math.inf for k in values["check_errors"] if k in margins}}   # never recommended
     perf = sorted(0.0 if abs(m) <= r.tolerance else m
                   for r in reqs if not r.limit and (m := margins[r.metric]) is not None)
     worst = min(known.items(), key=lambda kv: kv[1]) if known else None

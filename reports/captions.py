@@ -43,6 +43,9 @@ def caption(path: Path) -> str:
         out, par = m.groups()
         return (f"Parameter study: {_OUTPUTS.get(out, out.replace('_', ' '))} against "
                 f"{par.replace('_', ' ')}, one line per value of the other parameters, one panel per material.")
+    if name.startswith("coverage-map-"):
+        from taxel.reports.coverage_map import CAPTION
+        return CAPTION
     if name.endswith("-bode.png"):
         return ("Frequency response: the readout output per newton (magnitude, top) and its phase (unwrapped, "
                 "bottom); the notch and the resonance are marked.")

@@ -1,6 +1,7 @@
 """The figures of an optimization result (optimize.result.OptimizationResult):
 optimum-convergence.png for an optimum, pareto.png for a front (the reference
-design marked). The result writes its own numbers (result.json, optimum.json,
+design marked), and the 3D coverage map of each design whose coverage the run judged
+(coverage-map-*.png, reports.coverage_map). The result writes its own numbers (result.json, optimum.json,
 optimum-history.csv, front.json: OptimizationResult.to_folder)."""
 
 from __future__ import annotations
@@ -22,7 +23,8 @@ def draw(result: OptimizationResult, out: Path) -> list[Path]:
         paths.append(convergence(result, out / "optimum-convergence.png"))
     if result.runs:
         paths.append(front(result, out / "pareto.png"))
-    return paths
+    from taxel.reports.coverage_map import draw_folder
+    return paths + draw_folder(out)          # the designs' 3D coverage maps, where the run judged coverage
 
 
 def convergence(result: OptimizationResult, path: Path) -> Path:

@@ -222,10 +222,12 @@ def reduce(scene: Scene | str | Path | dict, inputs: str | None = None, output: 
 def build_skin(scene: Scene | str | Path | dict, out: str | Path | None = None, dt: float = 1e-3, per_pitch: int = 8,
          checks: int = 4, rig: str | Path | None = None):
     """The scene's skin (taxel.skin.model.SkinModel): the sensor model a simulator runs
-    with taxel.skin.runtime.SkinRuntime (layout, influence with its measured
-    interpolation error, the readout dynamics discretized at `dt`, noise, saturation,
-    provenance); written to `out` (.npz) when given. `rig`: a bench rig (name or file)
-    whose conditioning and ADC the skin's noise and quantization take."""
+    with taxel.skin.runtime.SkinRuntime (layout, the influence W of normal and shear forces
+    with its measured interpolation error: from the 3D surface map for a 3D scene, the 2D
+    section's separable normal influence otherwise; the readout dynamics discretized at
+    `dt` with its error against the solver's sweep; noise, saturation, provenance);
+    written to `out` (.npz) when given. `rig`: a bench rig (name or file) whose
+    conditioning and ADC the skin's noise and quantization take."""
     from taxel.skin.build import build
     sc = scene if isinstance(scene, Scene) else load(scene)
     r = None

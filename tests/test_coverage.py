@@ -85,7 +85,7 @@ def _answer(tmp_path, requirements: str):
     return headline_front(out), out
 
 
-@pytest.mark.slow       # about 30 static 2D solves (the three designs and their influence functions)
+@pytest.mark.slow       # three designs' 2D solves and their 3D surface maps
 def test_the_coverage_requirement_refuses_the_design_with_a_dead_zone(tmp_path, fresh_cache):
     """Without requirements the answer takes the widest gap (14 mm: more sensitive and far less
     crosstalk than the 3 mm reference); with coverage >= 100 % at 0.2 N it refuses it (a dead
@@ -95,8 +95,9 @@ def test_the_coverage_requirement_refuses_the_design_with_a_dead_zone(tmp_path, 
     held, out = _answer(tmp_path / "held", 'coverage = ">= 100 %"\n')
     assert held.recommended is not None and held.recommended.gap_mm == pytest.approx(4.0)
     rows = {r["x_mm"]["gap"]: r for r in json.loads((out / "coverage.json").read_text())["designs"]}
-    assert rows[14.0]["coverage"] < 1.0 and rows[14.0]["dead_mm"]
+    assert rows[14.0]["coverage"] < 1.0 and rows[14.0]["coverage_minimum"] < 1.0
     assert rows[4.0]["coverage"] == 1.0 and rows[3.0]["coverage"] == 1.0
+    assert 1.0 < rows[3.0]["coverage_minimum"] < 15.7      # the 3D minimum, not the 2D scan's 15.7
     assert rows[14.0]["noise_source"] == "noise on each open-circuit peak" and rows[14.0]["sigmas"] == SIGMAS
     # the localization error at 0.2 N: finite where every press is found, larger with a dead zone
     loc = {g: r["localization_error"] for g, r in rows.items()}
@@ -128,7 +129,7 @@ def test_bad_coverage_input_is_one_line_naming_the_key(tmp_path):
         assert key in str(err.value) and "\n" not in str(err.value), str(err.value)
 
 
-@pytest.mark.slow       # about 18 static 2D solves: the influence functions of two designs
+@pytest.mark.slow       # the 3D surface maps of two designs
 def test_the_main_jobs_answer_is_judged_on_coverage(tmp_path, fresh_cache):
     """The main job's PZT front records (tests/data/answer) with the built-in requirements but pitch:
     taxel.jobs.answer_coverage solves the thesis and the recommended design's coverage, the
@@ -158,3 +159,38 @@ def test_the_main_jobs_answer_is_judged_on_coverage(tmp_path, fresh_cache):
     assert len(rows) == 2 and all(r["force_N"] == 0.2 and r["noise_V"] == 1e-3 for r in rows)
     thesis_ladder = [g for g in a.ladders() if g["role"] == "thesis"][0]["rows"]
     assert [r[4] for r in thesis_ladder if r[0].startswith("1.")] == ["100 %"]
+
+
+def test_a_failed_coverage_check_is_reported_and_never_recommended(tmp_path):
+    """A design whose coverage cannot be checked (here its 3D map's mesh cannot fit this
+    machine: refused before gmsh runs) gets the error in its row and is not recommended,
+    however sensitive; with every candidate failing, none is."""
+    from taxel.optimize.coverage import CHECK_ERRORS, influence_metrics, judge_lazily
+    from taxel.optimize.requirements import choose, read
+    sc = taxel.load("thesis-pzt-3x3-3d").replace(**{"mesh.size": "0.02 mm", "mesh.piezo_size": "0.01 mm"})
+    got = influence_metrics(sc, 0.2, 1e-3, out=tmp_path)
+    assert got["coverage"] is None and got["error"].startswith("the 3D surface map failed: ")
+    assert "\n" not in got["error"]
+    reqs = read({"coverage": ">= 100 %"})
+    cands = [{"sensitivity": 2.0}, {"sensitivity": 1.0}]
+    judge_lazily(cands, reqs, lambda i: influence_metrics(sc, 0.2, 1e-3, out=tmp_path))
+    assert all(CHECK_ERRORS in c and "coverage" in c[CHECK_ERRORS] for c in cands)
+    assert choose(cands, reqs).recommended is None
+    # the same design with its check made is recommended over a more sensitive one whose check failed
+    cands = [{"sensitivity": 2.0, CHECK_ERRORS: {"coverage": "gmsh: Could not create line"}},
+             {"sensitivity": 1.0, "coverage": 1.0}]
+    assert choose(cands, reqs).recommended == 1
+
+
+def test_a_failed_check_in_the_record_keeps_the_answer_from_recommending_it(tmp_path):
+    """OUT/coverage.json's row of a design whose map failed carries its error; the answer's
+    values read from it (optimize.coverage.of) exclude the design from the recommendation."""
+    from taxel.optimize import coverage as C
+    from taxel.optimize.requirements import choose, read
+    C.add(tmp_path, {"gap": 3.0}, {"coverage": None, "localization_error": None,
+                                   "error": "the 3D surface map failed: Could not create line"})
+    C.add(tmp_path, {"gap": 4.0}, {"coverage": 1.0, "localization_error": 1e-4})
+    bad, good = C.of(tmp_path, {"gap": 3.0}), C.of(tmp_path, {"gap": 4.0})
+    assert bad[C.CHECK_ERRORS]["coverage"].endswith("Could not create line") and C.CHECK_ERRORS not in good
+    reqs = read({"coverage": ">= 100 %"})
+    assert choose([{"sensitivity": 2.0, **bad}, {"sensitivity": 1.0, **good}], reqs).recommended == 1

@@ -231,3 +231,19 @@ def test_3d_punch_rim_leaves_no_slivers_where_it_meets_the_taxel_edge(name):
     c = X.mean(axis=1)
     near = np.abs(np.hypot(c[0], c[1]) - 2e-3) < 0.5e-3
     assert near.sum() > 100 and _smallest_dihedral(X[:, :, near]).min() > 8.0
+
+
+@pytest.mark.parametrize("pitches", [1, 2])
+def test_a_press_on_another_taxels_footprint_meshes(pitches):
+    """The 4x4 PVDF array at a 3 mm gap, pressed by a taxel-wide probe one or two pitches
+    from the taxel its offset is measured from (the influence functions' and the skin's
+    presses): the load's edges fall on that taxel's up to round-off (8.7e-19 m apart), which
+    made gmsh fail ("Could not create line"); the edges are one point now."""
+    scene = load("thesis-pvdf-3x3-2d").replace(**{
+        "array.rows": 4, "array.cols": 4, "array.gap": "3 mm", "load.kind": "probe", "load.taxel": [1, 0],
+        "load.radius": "2 mm", "load.offset": [pitches * 7e-3, 0.0], "load.profile": "flat", "mesh.size": "2 mm"})
+    lay = scene_layout(scene, scene_materials(scene))
+    xs = np.array(lay.breakpoints())
+    assert np.diff(xs).min() > 1e-6
+    tm = mesh(scene)
+    assert tm.facets["load"].size > 0

@@ -9,7 +9,6 @@ import sys
 import numpy as np
 import pytest
 from scipy import signal
-from scipy.interpolate import CubicSpline
 
 from taxel.cli import main
 from taxel.skin.model import SkinModel
@@ -18,18 +17,35 @@ from taxel.skin.runtime import SkinRuntime
 TAU, S, DT = 0.05, 0.8, 1e-3
 
 
-def first_order_skin(noise_psd=0.0, saturation=np.inf, adc=None) -> SkinModel:
+PITCH = 7e-3
+GRID = np.linspace(-PITCH, 3 * PITCH, 33)
+
+
+def tent(s, c):
+    return np.clip(1 - np.abs(np.asarray(s) - c * PITCH) / PITCH, 0, None)
+
+
+def tent_influence(gain=None, rows=3, cols=3, shear=0.0) -> np.ndarray:
+    """W (taxels, 3, ny, nx): a press (f_z < 0) seen as gain tent_r(y) tent_c(x); a shear along
+    x as `shear` times the same (the kinks on grid points: bilinear is exact)."""
+    g = np.ones((rows, cols)) if gain is None else gain
+    W = np.zeros((rows * cols, 3, len(GRID), len(GRID)))
+    for r in range(rows):
+        for c in range(cols):
+            base = g[r, c] * np.outer(tent(GRID, r), tent(GRID, c))
+            W[r * cols + c, 2], W[r * cols + c, 0] = -base, shear * base
+    return W
+
+
+def first_order_skin(noise_psd=0.0, saturation=np.inf, adc=None, freqs=None) -> SkinModel:
     """A 3 x 3 skin whose h(s) = S / (1 + s tau) and whose influence is a tent of one pitch."""
-    pitch = 7e-3
-    x = np.linspace(-pitch, 3 * pitch, 33)
-    G = np.stack([np.clip(1 - np.abs(x - c * pitch) / pitch, 0, None) for c in range(3)], axis=1)
-    sp = CubicSpline(x, G, axis=0)
     A, B, C, D = np.array([[-1 / TAU]]), np.array([[1.0]]), np.array([[S / TAU]]), np.array([[0.0]])
     Ad, Bd, Cd, Dd, _ = signal.cont2discrete((A, B, C, D), DT, method="foh")
-    f = np.geomspace(1, 1000, 50)
-    return SkinModel(3, 3, pitch, 4e-3, 3e-3, x, sp.c, np.ones((3, 3)), S, DT, Ad, Bd, Cd, Dd, A, B, C, D,
-                     f, np.full((1, 50), noise_psd), ["white"], saturation, adc, 0.0, np.zeros(0),
-                     np.zeros((0, 3)), np.zeros((0, 3)), 0.0, "test", {"scene_name": "test"})
+    f = np.geomspace(1, 1000, 50) if freqs is None else freqs
+    psd = np.full((1, len(f)), noise_psd) if np.ndim(noise_psd) == 0 else np.asarray(noise_psd)[None]
+    return SkinModel(3, 3, PITCH, 4e-3, 3e-3, GRID, GRID, tent_influence(shear=0.5), "tents", S, DT,
+                     Ad, Bd, Cd, Dd, A, B, C, D, f, psd, ["white"], saturation, adc, 0.0, np.zeros((0, 2)),
+                     np.zeros((0, 9)), np.zeros((0, 9)), 0.0, "test", {"scene_name": "test"})
 
 
 def test_step_response_is_the_closed_form():
@@ -50,6 +66,11 @@ def test_superposition_and_influence():
     both = rt.loads([[3.5e-3, 7e-3], [7e-3, 10e-3]], [2.0, 1.0])
     assert np.allclose(both, a + b)
     assert a.reshape(3, 3)[1] == pytest.approx([1.0, 1.0, 0.0])      # halfway: half of 2 N on each neighbour
+    # a force with direction: (0, 0, -F) is the normal F; the shear along x is its own channel
+    assert np.allclose(rt.loads([[3.5e-3, 7e-3]], [[0.0, 0.0, -2.0]]), a)
+    sx = rt.loads([[3.5e-3, 7e-3]], [[2.0, 0.0, 0.0]]).reshape(3, 3)[1]
+    assert sx == pytest.approx([0.5, 0.5, 0.0])                          # shear 0.5 x the tent, 2 N
+    assert np.allclose(rt.loads([[3.5e-3, 7e-3]], [[2.0, 0.0, -2.0]]).reshape(3, 3)[1], [1.5, 1.5, 0.0])
 
 
 def test_noise_is_seeded_and_has_the_band_rms():
@@ -72,7 +93,7 @@ def test_saturation_and_adc():
 def test_file_round_trip(tmp_path):
     sk = first_order_skin(adc={"bits": 16, "lo": -10.0, "hi": 10.0, "gain": 1.0, "offset": 0.0})
     back = SkinModel.load(sk.save(tmp_path / "skin.npz"))
-    assert np.array_equal(back.Ad, sk.Ad) and np.array_equal(back.coef, sk.coef) and back.adc == sk.adc
+    assert np.array_equal(back.Ad, sk.Ad) and np.array_equal(back.influence, sk.influence) and back.adc == sk.adc
     assert not np.isfinite(back.saturation)
     (tmp_path / "other.npz").write_bytes(b"not a file")
     with pytest.raises(ValueError, match="not a skin file"):
@@ -122,18 +143,21 @@ def resonant_skin(Ad=None) -> SkinModel:
     A, B, C, D = signal.tf2ss([0.3, 40.0, 9e4], np.polymul([1, 60.0, 9e4], [1, 25.0]))
     Ad, Bd, Cd, Dd, _ = (signal.cont2discrete((A, B, C, D), DT, method="foh") if Ad is None else
                          (Ad, np.ones((len(Ad), 1)), np.ones((1, len(Ad))), np.array([[0.1]]), None))
-    sk.rows, sk.cols, sk.gain = 2, 3, np.array([[1.0, 0.9, 1.2], [0.8, 1.1, 1.0]])
+    sk.rows, sk.cols = 2, 3
+    sk.influence = tent_influence(np.array([[1.0, 0.9, 1.2], [0.8, 1.1, 1.0]]), 2, 3)
+    sk.check_fem = sk.check_model = np.zeros((0, 6))
     sk.Ad, sk.Bd, sk.Cd, sk.Dd, sk.A, sk.B, sk.C, sk.D = Ad, Bd, Cd, Dd, A, B, C, D
     return sk
 
 
 def direct(sk, P, F) -> np.ndarray:
-    """The skin by scipy alone: the loads from the scipy spline, each taxel through dlsim."""
-    sp = CubicSpline(sk.knots, np.stack([np.clip(1 - np.abs(sk.knots - c * sk.pitch) / sk.pitch, 0, None)
-                                         for c in range(3)], axis=1), axis=0)
-    lo, hi = sk.knots[0], sk.knots[-1]
-    gx, gy = sp(np.clip(P[..., 0], lo, hi))[..., :sk.cols], sp(np.clip(P[..., 1], lo, hi))[..., :sk.rows]
-    U = np.einsum("km,kmr,kmc->krc", F, gy, gx) * sk.gain
+    """The skin by scipy alone: the loads from the tents, each taxel through dlsim."""
+    gain = np.array([[1.0, 0.9, 1.2], [0.8, 1.1, 1.0]])
+    lo, hi = GRID[0], GRID[-1]
+    x, y = np.clip(P[..., 0], lo, hi), np.clip(P[..., 1], lo, hi)
+    gx = np.stack([tent(x, c) for c in range(sk.cols)], axis=-1)
+    gy = np.stack([tent(y, r) for r in range(sk.rows)], axis=-1)
+    U = np.einsum("km,kmr,kmc->krc", F, gy, gx) * gain
     sys_ = (sk.Ad, sk.Bd, sk.Cd, sk.Dd, DT)
     V = np.stack([signal.dlsim(sys_, U[:, r, c])[1][:, 0] for r in range(sk.rows) for c in range(sk.cols)], axis=1)
     return V.reshape(len(F), sk.rows, sk.cols)
@@ -160,13 +184,14 @@ def test_step_run_and_envs_are_the_direct_simulation(Ad):
 def test_run_draws_the_noise_of_the_steps():
     sk = first_order_skin(noise_psd=1e-8)
     P, F = np.full((700, 1, 2), 7e-3), np.ones((700, 1))      # 700 steps: across blocks of 256 draws
-    a = SkinRuntime(sk, noise=True, seed=5)
-    b = SkinRuntime(sk, noise=True, seed=5).run(P, F)
+    a = SkinRuntime(sk, noise=True, seed=5, block=256)
+    b = SkinRuntime(sk, noise=True, seed=5, block=256).run(P, F)
     assert np.abs(np.array([a.step(p, f) for p, f in zip(P, F)]) - b).max() < 1e-12
 
 
 @pytest.mark.parametrize("points, forces, words", [
-    ([[7e-3, 7e-3]], [1.0, 2.0], "give points (m, 2) m and forces (m,) N"),
+    ([[7e-3, 7e-3]], [1.0, 2.0], "give points (m, 2) m and forces (m, 3) N"),
+    ([[7e-3, 7e-3]], [[1.0, 2.0]], "or normal forces (m,) N"),
     ([7e-3, 7e-3], [1.0], "give points (m, 2) m"),
     ([[7e-3, 7e-3]], [np.nan], "not finite"),
 ])

@@ -17,7 +17,7 @@ def test_round_trip_and_seed(tmp_path):
     assert a.voltage.shape == (8, 100, 3, 3) and a.attrs["format"] == dataset.FORMAT and a.attrs["seed"] == 5
     assert np.array_equal(a.voltage, b.voltage) and np.array_equal(a.position, b.position)
     assert list(a.probe) == list(b.probe) and not np.array_equal(a.position, c.position)
-    assert np.array_equal(a.skin.Ad, sk.Ad) and np.array_equal(a.skin.coef, sk.coef)
+    assert np.array_equal(a.skin.Ad, sk.Ad) and np.array_equal(a.skin.influence, sk.influence)
     # the labels are the truth the voltages came from: re-run press 0 through the runtime, noise-free
     clean = dataset.read(dataset.write(sk, tmp_path / "d.h5", presses=8, seed=5, duration=0.1, noise=False))
     sigma = np.sqrt(1e-10 * (500 - 1))                 # the PSD over 1 Hz..Nyquist (taxel.skin.runtime)

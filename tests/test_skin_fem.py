@@ -44,11 +44,11 @@ def test_runtime_matches_fem_chirp_between_taxels(scene):
 
 def test_influence_between_knots_matches_fem_presses(scene):
     sk = build(scene, dt=1e-3, checks=2)
-    assert len(sk.check_x) == 2 and sk.influence_error == pytest.approx(
-        np.abs(sk.check_G_fem - sk.check_G_spline).max())
-    assert sk.influence_error < 0.01                  # of G's peak (1)
-    # an independent FEM press a quarter of the way between two knots, through the runtime
-    x = sk.knots[5] + 0.25 * (sk.knots[6] - sk.knots[5])
+    assert len(sk.check_points) == 2 and sk.influence_error == pytest.approx(
+        np.abs(sk.check_fem - sk.check_model).max() / np.abs(sk.influence[:, 2]).max())
+    assert sk.influence_error < 0.01                  # of W's peak
+    # an independent FEM press a quarter of the way between two grid points, through the runtime
+    x = sk.grid_x[10] + 0.25 * (sk.grid_x[11] - sk.grid_x[10])
     ref = scene.replace(**{"load.kind": "taxel", "load.taxel": [1, 1], "load.force": 1.0})
     V = press_voltages(ref, x)                                 # open-circuit volts per newton
     rt = SkinRuntime(sk)

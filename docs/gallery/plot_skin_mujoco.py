@@ -1,19 +1,23 @@
 """
-A taxel skin in MuJoCo: volts from contacts
-===========================================
+A taxel skin in MuJoCo: volts from contacts, normal and shear
+=============================================================
 
 The thesis 3x3 PZT array (500 Mohm readout) as a MuJoCo sensor. ``taxel.skin``
-builds its skin file from the FEM (the influence of a press at any point on every
-taxel, the taxel's reduced dynamics through its readout, the noise budget); the
-example fingertip model (``taxel/skin/fingertip.xml``) carries the array on its pad,
-and four presses follow one another: a flat probe on the middle taxel, an edge
-along the gap between the first two columns, a sphere between two rows, and the
-sphere slipping across the middle row. Each simulator step,
-``taxel.skin.mujoco.MujocoSkin`` reads the contacts on the pad (points and normal
-forces) and the numpy runtime returns the nine voltages, here with the chain's
-noise. A piezo taxel reports the force's change, not the force: the voltages decay
-while a press is held (the readout's high-pass, tau = R C_p) and swing negative when
-it is released. (A coarse mesh, 1 mm / 0.2 mm, keeps the gallery quick.)
+builds its skin file from the FEM: the 3D surface map (every taxel's charge per
+newton of a force along x, y and z at every point of the surface, by reciprocity:
+one 3D solve per electrode class), the taxel's reduced dynamics through its readout
+(its 2D section), the noise budget. The example fingertip model
+(``taxel/skin/fingertip.xml``) carries the array on its pad, and five presses follow one
+another: a flat probe on the middle taxel, an edge along the gap between the first two
+columns, a sphere between two rows, the sphere slipping across the middle row, and the
+flat probe pressed on the middle taxel and dragged 2 mm along x (friction 0.3: a
+tangential load on the skin). Each simulator step ``taxel.skin.mujoco.MujocoSkin``
+turns the contacts on the pad into the pressure over the touching geom's footprint
+(normal and tangential) and the numpy runtime returns the nine voltages, here with
+the chain's noise. A piezo taxel reports the force's change, not the force: the
+voltages decay while a press is held (the readout's high-pass, tau = R C_p) and swing
+negative when it is released; the drag's tangential force loads the taxels on either
+side of the probe with opposite signs.
 """
 
 import matplotlib.pyplot as plt
@@ -23,11 +27,11 @@ import numpy as np
 import taxel
 from taxel.skin.mujoco import MujocoSkin, fingertip_xml
 
-scene = taxel.load("thesis-pzt-3x3-2d").replace(
-    **{"readout.circuit": "resistor", "readout.R": 5e8, "mesh.size": "1 mm", "mesh.piezo_size": "0.2 mm"})
-skin = taxel.build_skin(scene, dt=1e-3, checks=2)
-print(f"{skin.rows} x {skin.cols} skin, {skin.Ad.shape[0]} states, influence interpolation error "
-      f"{skin.influence_error:.1e}, readout: {skin.readout}")
+scene = taxel.load("thesis-pzt-3x3-3d").replace(**{"readout.circuit": "resistor", "readout.R": 5e8})
+skin = taxel.build_skin(scene, dt=1e-3)
+print(f"{skin.rows} x {skin.cols} skin from the {skin.spatial}; {skin.Ad.shape[0]} states; interpolation error "
+      f"{skin.influence_error:.1e} of the peak; readout: {skin.readout}, within 1 % and 1 degree of the solver's "
+      f"sweep up to {skin.band:.0f} Hz")
 
 m = mujoco.MjModel.from_xml_path(fingertip_xml())
 d = mujoco.MjData(m)
@@ -36,7 +40,7 @@ sensor = MujocoSkin(m, skin, body="pad", noise=True, seed=0)
 p = skin.pitch
 # (indenter, x, y, peak force N, x at the end (a slip) or None)
 presses = [("probe", p, p, 1.0, None), ("edge", p / 2, p, 1.0, None), ("sphere", p, p / 2, 1.5, None),
-           ("sphere", 0.0, p, 1.0, 2 * p)]
+           ("sphere", 0.0, p, 1.0, 2 * p), ("probe", p, p, 1.0, p + 2e-3)]
 SEG = 0.6                      # s per press
 T = SEG * len(presses)
 
@@ -64,21 +68,30 @@ def control(t):
 
 steps = int(round(T / m.opt.timestep))
 t = np.arange(steps) * m.opt.timestep
-force, volts = np.zeros(steps), np.zeros((steps, 3, 3))
+force, shear, volts = np.zeros(steps), np.zeros(steps), np.zeros((steps, 3, 3))
 for i in range(steps):
     d.ctrl[:] = control(t[i])
     mujoco.mj_step(m, d)
-    pts, f = sensor.contacts(d)
-    force[i] = f.sum()
+    pts, f = sensor.patches(d)                 # the footprints' points and forces (skin frame, a press f_z < 0)
+    force[i], shear[i] = -f[:, 2].sum(), f[:, 0].sum()
     volts[i] = sensor.runtime.step(pts, f)
+
+# The drag's tangential load alone, held (the readout's static gain times W's shear plane):
+# the taxels beside the probe along x see it with opposite signs.
+pts_drag, f_drag = np.array([[p, p]]), np.array([[1.0, 0.0, 0.0]])
+u_drag = sensor.runtime.loads(pts_drag, f_drag)
+print("a 1 N tangential load (+x) at the middle taxel's centre: the force each taxel of the middle row sees",
+      np.round(u_drag[1], 3), "N (pressing it: 1 N on its own taxel)")
 
 # %%
 # The contact force MuJoCo computes on the pad, and the nine taxels' voltages.
 fig, (a, b) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
-a.plot(t, force, "k")
-a.set(ylabel="contact normal force (N)")
+a.plot(t, force, "k", label="normal (pressing)")
+a.plot(t, shear, "C3", label="tangential, x")
+a.set(ylabel="contact force on the pad (N)")
+a.legend(fontsize=7, loc="center right")
 for k, (name, _x, _y, _F, x_end) in enumerate(presses):
-    a.text(k * SEG + 0.02, 0.9 * force.max(), "sphere slip" if x_end is not None else name)
+    a.text(k * SEG + 0.02, 0.9 * force.max(), f"{name} slip" if x_end is not None else name)
 for r in range(3):
     for c in range(3):
         b.plot(t, 1e3 * volts[:, r, c], lw=0.8, label=f"taxel ({r}, {c})")

@@ -57,15 +57,17 @@ def available(method: str) -> bool:
 
 def _pypardiso():
     """pypardiso, imported with PYPARDISO_MKL_RT naming MKL's runtime library where it is
-    installed beside this Python (sys.prefix's lib or Library/bin; a user's own setting kept).
+    installed beside this Python (sys.prefix's lib or Library/bin, or the base Python's under a venv
+    with system site-packages; a user's own setting kept).
     Without it pypardiso walks all of sys.prefix (glob '**/*mkl_rt*') at its import and again
     at its first solver: two walks of 0.86 s of wall time in cProfile of the 3D probe press on a
     loaded machine (file-system time: `farm-bench` of `taxel solve thesis-pzt-probe-3d --json`
     against the code before, 3 pairs at load 7, system CPU 0.63 against 0.99 s, total CPU
     0.98 x, the wall times within the load's noise)."""
     if "PYPARDISO_MKL_RT" not in os.environ:
-        found = sorted(glob.glob(os.path.join(sys.prefix, "lib", "libmkl_rt.*"))
-                       + glob.glob(os.path.join(sys.prefix, "Library", "bin", "mkl_rt*.dll")), key=len)
+        found = sorted((f for prefix in dict.fromkeys((sys.prefix, sys.base_prefix))   # a venv over a system Python
+                        for f in glob.glob(os.path.join(prefix, "lib", "libmkl_rt.*"))
+                        + glob.glob(os.path.join(prefix, "Library", "bin", "mkl_rt*.dll"))), key=len)
         if found:
             os.environ["PYPARDISO_MKL_RT"] = found[0]
     import pypardiso

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from taxel.cli.files import number
 
 
@@ -106,6 +108,9 @@ def _skin(args):
     model.save(out)
     print(f"skin of {model.provenance['scene_name']}: {model.rows} x {model.cols} taxels, pitch "
           f"{1e3 * model.pitch:g} mm, {model.Ad.shape[0]} states at dt {model.dt:g} s, {model.readout}")
-    print(f"  influence: {len(model.knots)} knots, interpolation error {model.influence_error:.1e} of G's peak "
-          f"at {len(model.check_x)} FEM presses between knots; dynamics error {model.reduction_error:.1e}")
+    err = (f"interpolation error {model.influence_error:.1e} of its peak ({len(model.check_points)} checks kept)"
+           if np.isfinite(model.influence_error) else "interpolation error not measured (--checks 0)")
+    print(f"  influence: {model.spatial}; {err}")
+    print(f"  dynamics: error {model.dynamics_error:.1e} of the peak against the solver's sweep; within 1 % and "
+          f"1 degree from 1 Hz to {model.band:.3g} Hz")
     print(f"wrote {out}")

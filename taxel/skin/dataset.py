@@ -180,13 +180,25 @@ def calibrate(skin: SkinModel, t: np.ndarray, kind: str) -> np.ndarray:
     return S
 
 
+def row_influence(sk: SkinModel):
+    """The estimator's separable influence (taxel.analyses.surface.influence.Influence) read off the
+    skin's W along its middle row: G_c(x) = W_z of taxel (mid, c) at (x, mid pitch) over its
+    value at the taxel's centre (the estimator's model; the skin itself may not be separable)."""
+    from taxel.analyses.surface.influence import Influence
+    from taxel.skin.spatial import bilinear
+    mid = sk.rows // 2
+    x = sk.grid_x
+    W = bilinear(sk.grid_x, sk.grid_y, sk.influence, np.stack([x, np.full(len(x), mid * sk.pitch)], axis=1))
+    cols = [mid * sk.cols + c for c in range(sk.cols)]
+    at_c = bilinear(sk.grid_x, sk.grid_y, sk.influence, sk.centres()[mid])[np.arange(sk.cols), cols, 2]
+    return Influence(sk.pitch, x, W[:, cols, 2] / at_c)
+
+
 def baseline(data: Dataset) -> dict:
     """The model-based estimator's scores on a dataset (module docstring)."""
-    from taxel.analyses.surface.influence import Influence
     from taxel.studies.measured.localize import fit_press
     sk = data.skin
-    G = sk.influence(sk.knots)
-    infl = Influence(sk.pitch, sk.knots, G)
+    infl = row_influence(sk)
     rows, cols = np.divmod(np.arange(sk.taxels), sk.cols)
     S = {h: calibrate(sk, data.t, h) for h in HISTORIES}
     v = readings(data.voltage)

@@ -1,21 +1,31 @@
 """The skin file: everything a simulator needs of a designed taxel array (numpy only).
 
-Frame: the skin's surface plane, x along the columns, y along the rows, in metres
-from taxel (0, 0)'s centre; taxel (r, c) is centred at (c pitch, r pitch).
+Frame (the skin frame): the sensor's top surface, x along the columns, y along the
+rows, in metres from taxel (0, 0)'s centre (taxel (r, c) is centred at
+(c pitch, r pitch)), z its outward normal. A contact's force is the force on the skin
+in that frame: a press has f_z < 0; a normal-only force is given as its magnitude
+F > 0 (pressing), the same as (0, 0, -F).
 
-The sensor model (built by taxel.skin.build from the FEM, the module docstring there
-derives it): a normal force F_j(t) at the point p_j = (x_j, y_j) of the surface drives
-taxel (r, c) through the separable influence of taxel.analyses.surface.influence,
+The sensor model (built by taxel.skin.build, whose docstring derives it): a force
+f_j(t) at the point p_j of the surface drives taxel k through its spatial influence,
 
-    u_rc(t) = g_rc * sum_j F_j(t) G_r(y_j) G_c(x_j)          (N, the force "seen" by the taxel)
-    v_rc    = h(s) u_rc                                      (V, the readout's output)
+    u_k(t) = sum_j sum_d W_kd(p_j) f_jd(t)                 (N, the force "seen" by taxel k)
+    v_k    = h(s) u_k                                      (V, the readout's output)
 
-G_c the influence function of column c (1 at its own centre), a cubic spline stored
-as its piecewise coefficients (`knots`, `coef`); g_rc = S_r S_c / S_ref^2 the taxels'
-sensitivities relative to the reference taxel's S_ref; h the reference taxel's path
-from a force on its footprint to its readout output (the reduced FEM model,
-`taxel reduce`), discretized at the skin's step `dt` (first-order hold, exact for
-forces linear between steps) as x[k+1] = Ad x[k] + Bd u[k], v[k] = Cd x[k] + Dd u[k].
+W (`influence`, (taxels, 3, ny, nx)) a plain array on an evenly spaced grid of the
+surface (`grid_x`, `grid_y`), bilinear between its points: the short-circuit charge
+taxel k collects per newton along d at a point, over the reference taxel's charge
+per newton of a press on its own footprint (so W_k,z = -1 for a press there: the
+sign of a press is f_z < 0). From a 3D scene it is the surface map's (taxel.analyses.
+surface_map: every taxel, normal and both shears, non-separable); from a 2D section,
+the separable normal-only influence of taxel.analyses.surface.influence (shear columns zero;
+`spatial` says which). h the reference taxel's path from a force on its footprint to
+its readout output through the scene's readout chain, as poles and residues
+(taxel.skin.readout), discretized at the skin's step `dt` by first-order hold as
+x[k+1] = Ad x[k] + Bd u[k], v[k] = Cd x[k] + Dd u[k]; `dynamics_error` its measured
+error against the solver's frequency sweep over 1 Hz .. `band`, the band where it
+holds 1 % in magnitude and 1 degree in phase. Sign: the solver's (a charge
+amplifier's output is -Q_sc / C_f in its passband).
 """
 
 from __future__ import annotations
@@ -26,11 +36,10 @@ from pathlib import Path
 
 import numpy as np
 
-FORMAT = "taxel-skin/1"
+FORMAT = "taxel-skin/2"
 
-_POWERS = np.array([3.0, 2.0, 1.0, 0.0])
-_ARRAYS = ("knots", "coef", "gain", "Ad", "Bd", "Cd", "Dd", "A", "B", "C", "D", "noise_freqs", "noise_psd",
-           "check_x", "check_G_fem", "check_G_spline")
+_ARRAYS = ("grid_x", "grid_y", "influence", "Ad", "Bd", "Cd", "Dd", "A", "B", "C", "D", "noise_freqs", "noise_psd",
+           "check_points", "check_fem", "check_model")
 
 
 @dataclass
@@ -42,10 +51,11 @@ class SkinModel:
     pitch: float                 # m, taxel centre to centre
     taxel_width: float           # m
     margin: float                # m, silicone beyond the outer taxels' edges
-    knots: np.ndarray            # (m,) m, the influence spline's breakpoints (the FEM press positions)
-    coef: np.ndarray             # (4, m-1, n) cubic coefficients of G_c on each interval (scipy PPoly layout)
-    gain: np.ndarray             # (rows, cols) g_rc, relative sensitivities
-    sensitivity: float           # V/N, S_ref: the reference taxel's open-circuit voltage per newton on its centre
+    grid_x: np.ndarray           # (nx,) m, evenly spaced (skin frame)
+    grid_y: np.ndarray           # (ny,) m
+    influence: np.ndarray        # (taxels, 3, ny, nx) W_kd: N seen per N of force along x, y, z (z outward)
+    spatial: str                 # where W comes from, in words
+    sensitivity: float           # V/N, S_ref: the reference taxel's open-circuit voltage per newton on its footprint
     dt: float                    # s, the step Ad..Dd are discretized at
     Ad: np.ndarray
     Bd: np.ndarray
@@ -60,13 +70,15 @@ class SkinModel:
     noise_sources: list[str]
     saturation: float            # V, the largest |output| before clipping (inf: none)
     adc: dict | None             # {bits, lo, hi, gain, offset} or None (no ADC)
-    influence_error: float       # max |G_spline - G_fem| at the check points, of G's peak (1)
-    check_x: np.ndarray          # (k,) m, FEM presses between the spline's knots
-    check_G_fem: np.ndarray      # (k, n)
-    check_G_spline: np.ndarray   # (k, n)
+    influence_error: float       # max |W_model - W_check| over the checks, of W's peak (1)
+    check_points: np.ndarray     # (k, 2) m, presses between grid points (skin frame)
+    check_fem: np.ndarray        # (k, taxels) W_z there from the source (FEM presses or the map's spline)
+    check_model: np.ndarray      # (k, taxels) the skin's bilinear W_z there
     reduction_error: float       # h's error: the reduced model's against direct FEM solves + its modal cut's
     readout: str                 # the readout chain in words
     provenance: dict = field(default_factory=dict)   # scene (data), scene_sha256, taxel_version, built
+    dynamics_error: float = float("nan")   # Ad..Dd against the solver's sweep, of its peak, over 1 Hz .. band
+    band: float = float("nan")             # Hz: up to here within 1 % in magnitude and 1 degree in phase
     format: str = FORMAT
 
     @property
@@ -83,28 +95,13 @@ class SkinModel:
         e = self.taxel_width / 2 + self.margin
         return -e, (self.cols - 1) * self.pitch + e, -e, (self.rows - 1) * self.pitch + e
 
-    def influence(self, s) -> np.ndarray:
-        """G_c(s) of every column (the spline; s clipped to the knots' span): (len(s), n).
-        The knots are evenly spaced (taxel.analyses.surface.influence samples), so the interval
-        is found by division, not by a search."""
-        if not hasattr(self, "_pp"):
-            k = self.knots
-            self._pp = (float(k[0]), float((k[-1] - k[0]) / (len(k) - 1)), len(k) - 1,
-                        np.ascontiguousarray(self.coef.transpose(1, 0, 2)))     # (intervals, 4, n)
-            if not np.allclose(np.diff(k), self._pp[1], rtol=1e-9, atol=0):
-                raise ValueError("skin file: the influence knots are not evenly spaced; rebuild the skin")
-        x0, h, m, co = self._pp
-        t = np.minimum(np.maximum((np.asarray(s, float) - x0) / h, 0.0), m)
-        i = np.minimum(t.astype(np.intp), m - 1)
-        powers = ((t - i) * h)[:, None, None] ** _POWERS          # (k, 1, 4): d^3, d^2, d, 1
-        return np.matmul(powers, co[i])[:, 0, :]
-
     def save(self, path):
         """Write the skin as .npz to a path (returned as a Path) or a binary file object."""
         path = path if hasattr(path, "write") else Path(path)
         meta = {k: getattr(self, k) for k in ("rows", "cols", "pitch", "taxel_width", "margin", "sensitivity", "dt",
-                                               "noise_sources", "saturation", "adc", "influence_error",
-                                               "reduction_error", "readout", "provenance", "format")}
+                                               "noise_sources", "spatial", "saturation", "adc", "influence_error",
+                                               "reduction_error", "readout", "provenance", "format",
+                                               "dynamics_error", "band")}
         meta["saturation"] = None if not np.isfinite(self.saturation) else self.saturation
         np.savez_compressed(path, meta=np.array(json.dumps(meta)), **{k: getattr(self, k) for k in _ARRAYS})
         return path

@@ -1,11 +1,12 @@
 """The skin at the simulator's step: contact forces and points -> each taxel's voltage.
 
 Numpy only (no FEM, no simulator, no compiled code of its own): any simulator that
-can list the normal contact forces on the skin body and their points in the skin's
-frame calls
+can list the contact forces on the skin body and their points in the skin's frame
+(taxel.skin.model: x, y along the surface, z its outward normal) calls
 
     skin = SkinRuntime(SkinModel.load("skin.npz"), noise=True, seed=0)
-    v = skin.step(points, forces)      # every dt: points (m, 2) in m, forces (m,) in N -> (rows, cols) V
+    v = skin.step(points, forces)      # every dt: points (m, 2) in m, forces (m, 3) in N -> (rows, cols) V
+    v = skin.step(points, presses)     # or normal only: (m,) N, > 0 pressing (the same as (0, 0, -F))
 
 or, for E environments stepped together (one skin each, same file),
 
@@ -13,9 +14,11 @@ or, for E environments stepped together (one skin each, same file),
     v = skins.step(points, forces)     # points (E, m, 2), forces (E, m) -> (E, rows, cols) V
 
 (an environment with fewer contacts pads with zero forces), and `run` takes a whole
-history of steps in one call.
+history of steps in one call. `reset(envs)` clears the state of some environments
+(all by default) and, with a `Randomization`, draws their gain, unit-to-unit spread
+and time constant anew.
 
-The model (taxel.skin.model): u_rc = g_rc sum_j F_j G_r(y_j) G_c(x_j), then each taxel's
+The model (taxel.skin.model): u_k = sum_j sum_d W_kd(p_j) f_jd, then each taxel's
 state advances through the discretized readout dynamics x' = Ad x + Bd u,
 v = Cd x + Dd u (one input, one output, shared by all taxels).
 
@@ -33,64 +36,60 @@ arithmetic, sets the time at these sizes):
   lambda, Z[:modes] += u. At load the diagonal form is checked against Ad..Dd (their impulse responses
   over 400 steps); a file where it does not hold (V ill-conditioned) is stepped through
   the dense product [x'; v] = [[Ad, Bd], [Cd, Dd]] [x; u] instead.
-- The influence spline in a scaled variable: with the knots evenly spaced by h,
-  s -> t = (s - s0) / h, interval i = floor(t), d = t - i in [0, 1), and the stored
-  coefficients rescaled once to d, G(s) = (d^3, d^2, d, 1) . C_i: one divmod, one
-  power, one gather, one dot product (np.vecdot: a loop in numpy, not a BLAS call per
-  contact) for the x and y of all contacts (s beyond the knots takes the end value
-  through a constant piece at each end and a clipped index); sum_j F_j G_r(y_j) G_c(x_j)
-  is then one scaling and one product.
-- Noise drawn in blocks of `block` steps from the seeded generator.
+- The influence, bilinear on its grid: each contact's cell (one scaling, one floor),
+  its four corners' rows of the table W (one gather: (cells x 3, taxels), or the z
+  plane alone for normal-only forces) and their weights times the force's components,
+  summed over contacts, corners and directions in one product. One skin with up to 8
+  contacts finds the cells and weights in Python floats (a dozen numpy calls cost
+  more than the arithmetic at that size): one gather and one product.
+- Noise drawn in blocks of `block` steps (2048: the FIR filter of 1024 taps costs one FFT per block).
 - `check=False` skips the input checks (shapes; finite values, checked on the loads)
   for callers that guarantee finite float arrays of the right shapes.
 
-Noise (on request): independent per taxel and step, Gaussian with the variance of the
-stored per-source PSDs integrated from their lowest frequency to the step's Nyquist
-frequency 1 / (2 dt) (white at the step rate: the spectral shape inside the band is
-not reproduced), then the saturation (clip at +-saturation) and, with an ADC, its
-quantization (the ADC's input gain v + offset coded in 2^bits steps over its range,
-referred back to the readout output).
+Noise (on request): independent per taxel, Gaussian with the stored per-source PSDs'
+sum (taxel.analyses.solves.noise: the scene's noise model, 1/f corners and all) from their
+lowest frequency to the step's Nyquist frequency 1 / (2 dt): white noise filtered by
+an FIR filter of NOISE_TAPS taps whose gain is sqrt(S(f) / (2 dt)) (zero below the
+lowest stored frequency; Hann-windowed), drawn in blocks of `block` steps with the
+filter's memory carried between blocks. Then the saturation (clip at +-saturation)
+and, with an ADC, its quantization (the ADC's input gain v + offset coded in 2^bits
+steps over its range, referred back to the readout output).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from taxel.skin.discrete import diagonal_form, first_order_hold
 from taxel.skin.model import SkinModel
 
-_POWERS = np.array([3.0, 2.0, 1.0, 0.0])
-_CHECK_STEPS = 400
 _RUN_BLOCK = 1024               # steps per block of `run`'s convolution
+_FEW = 8                        # contacts up to which one skin's step finds cells in Python floats
+NOISE_TAPS = 1024
+_SLOW = 2 * np.pi * 20.0        # rad/s: real poles slower than this are the readout's time constants
 
 
-def diagonal_form(Ad, Bd, Cd, Dd) -> tuple[np.ndarray, np.ndarray] | None:
-    """(lambda (k,), w (k + 1,)) of the diagonal form (module docstring), or None if it
-    does not reproduce Ad..Dd's impulse response to 1e-9 of its peak."""
-    lam, V = np.linalg.eig(Ad)
-    try:
-        b = np.linalg.solve(V, Bd[:, 0])
-    except np.linalg.LinAlgError:
-        return None
-    cb = (Cd[0] @ V) * b
-    keep = (lam.imag >= 0) & (np.abs(cb) > 0)
-    lam, w = lam[keep], np.where(lam[keep].imag > 0, 2.0, 1.0) * cb[keep]
-    h_ref, x = np.empty(_CHECK_STEPS), Bd[:, 0].copy()          # impulse response: Dd, then Cd Ad^(k-1) Bd
-    h_ref[0] = Dd[0, 0]
-    for k in range(1, _CHECK_STEPS):
-        h_ref[k], x = Cd[0] @ x, Ad @ x
-    h = np.empty(_CHECK_STEPS)
-    h[0] = Dd[0, 0]
-    h[1:] = (lam[None, :] ** np.arange(_CHECK_STEPS - 1)[:, None] @ w).real
-    if not np.all(np.isfinite(h)) or np.abs(h - h_ref).max() > 1e-9 * max(np.abs(h_ref).max(), 1e-300):
-        return None
-    return lam, np.append(w, Dd[0, 0])
+@dataclass(frozen=True)
+class Randomization:
+    """Per-environment draws at `reset` (relative standard deviations, log-normal):
+    `gain` one factor per environment on every taxel, `spread` one per taxel (unit-to-unit),
+    `tau` one factor per environment on the readout's time constants (every real pole of
+    h slower than 20 Hz: the resistor's R C or the charge amplifier's R_f C_f, and the
+    silicone's slow relaxation; its residue scaled alike, so the passband gain stays)."""
+
+    gain: float = 0.0
+    spread: float = 0.0
+    tau: float = 0.0
 
 
 class SkinRuntime:
     """One skin's (or E skins') state between simulator steps (module docstring)."""
 
     def __init__(self, model: SkinModel, noise: bool = False, seed: int | None = None, dt: float | None = None,
-                 envs: int | None = None, check: bool = True, block: int = 256):
+                 envs: int | None = None, check: bool = True, block: int = 2048,
+                 randomization: Randomization | None = None):
         if dt is not None and abs(dt - model.dt) > 1e-9 * model.dt:
             raise ValueError(f"dt = {dt:g} s: this skin is discretized at {model.dt:g} s; rebuild it with "
                              f"taxel skin SCENE --dt {dt:g} or step the simulator at {model.dt:g} s")
@@ -99,11 +98,10 @@ class SkinRuntime:
         self.model, self.envs, self.check = model, envs, check
         rows, cols, T = model.rows, model.cols, model.taxels
         self.shape = (rows, cols) if envs is None else (int(envs), rows, cols)
-        E = 1 if envs is None else int(envs)
-        self.g = model.gain.reshape(T).astype(float)
-        self.sigma = self.noise_rms() if noise else 0.0
+        self._E = E = 1 if envs is None else int(envs)
         self.rng, self.block = np.random.default_rng(seed), int(block)
-        self._noise, self._k = np.zeros((0, E, T)), 0
+        self.randomization = randomization
+        self._noise_setup(noise)
         a = model.adc
         # ADC: code = clip(rint(gain / lsb v + (offset - lo) / lsb), 0, 2^bits - 1), v = lsb / gain code + (lo - offset) / gain
         if a is not None:
@@ -114,38 +112,62 @@ class SkinRuntime:
             self._adc = None
         s = model.saturation
         self._sat = float(s) if np.isfinite(s) else None
-        # the influence spline in the scaled variable (module docstring)
-        k = np.asarray(model.knots, float)
-        h = float((k[-1] - k[0]) / (len(k) - 1))
-        if not np.allclose(np.diff(k), h, rtol=1e-9, atol=0):
-            raise ValueError("skin file: the influence knots are not evenly spaced; rebuild the skin")
-        self._t0, self._inv_h = float(k[0]) / h - 1.0, 1.0 / h
-        # rescaled to d, and one constant piece added at each end (the end values): an index
-        # clipped to the table then gives G at the nearer end for s beyond the knots, whatever d is
-        co = (model.coef * h ** _POWERS[:, None, None]).transpose(1, 0, 2)            # (intervals, 4, n)
-        ends = np.zeros((2, 4, co.shape[2]))
-        ends[0, 3], ends[1, 3] = co[0, 3], co[-1].sum(axis=0)                       # G(s0), G(s_end) (d = 1)
-        self._coef = np.ascontiguousarray(np.concatenate([ends[:1], co, ends[1:]]).transpose(0, 2, 1))   # (., n, 4)
+        # the influence table (module docstring): rows cell * 3 + direction, and the z plane alone
+        gx, gy = np.asarray(model.grid_x, float), np.asarray(model.grid_y, float)
+        for g, name in ((gx, "grid_x"), (gy, "grid_y")):
+            if len(g) < 2 or not np.allclose(np.diff(g), (g[-1] - g[0]) / (len(g) - 1), rtol=1e-9, atol=0):
+                raise ValueError(f"skin file: {name} is not evenly spaced; rebuild the skin")
+        self._nx, self._ny = len(gx), len(gy)
+        self._ih = np.array([(len(gx) - 1) / (gx[-1] - gx[0]), (len(gy) - 1) / (gy[-1] - gy[0])])
+        self._oih = np.array([gx[0], gy[0]]) * self._ih
+        self._stride, self._xyz = np.array([1, len(gx)], dtype=np.intp), np.arange(3)
+        self._sgn, self._one = np.array([-1.0, 1.0]), np.array([1.0, 0.0])
+        self._scalars = (float(self._ih[0]), float(self._ih[1]), float(self._oih[0]), float(self._oih[1]),
+                         len(gx) - 1.0, len(gy) - 1.0, len(gx) - 2, len(gy) - 2, len(gx))
+        self._top = np.array([len(gx) - 1.0, len(gy) - 1.0])
+        W = np.asarray(model.influence, float).transpose(2, 3, 1, 0)                 # (ny, nx, 3, T)
+        self._W3 = np.ascontiguousarray(W.reshape(-1, T))
+        self._Wz = np.ascontiguousarray(-W[:, :, 2, :].reshape(-1, T))               # a press F > 0 is f_z = -F
+        self._corner = np.array([0, 1, self._nx, self._nx + 1])
+        self._last = np.array([len(gx) - 2, len(gy) - 2])
         self._rows, self._cols, self._T = rows, cols, T
+        self.g = np.ones((E, 1, T))
         # the dynamics: diagonal form, or the dense product where it does not hold
         form = diagonal_form(model.Ad, model.Bd, model.Cd, model.Dd)
         self.diagonal = form is not None
         if self.diagonal:
-            lam, w = form
+            lam, w = form[0].astype(complex), form[1].astype(complex)
             n = len(lam)
             # Z = [modes (n rows); u (1 row)]: w @ Z is the output; lambda stored repeated per taxel
             # (broadcasting it along the inner axis costs more than the arithmetic here)
-            self._lam = np.repeat(lam[:, None], T, axis=1)
-            self._w = w[None, :]
-            self._gc = self.g.astype(complex)                 # u g complex: no cast writing into Z
+            self._lam = np.repeat(np.repeat(lam[None, :, None], T, axis=2), E, axis=0)
+            self._w = np.repeat(w[None, None, :], E, axis=0)
             self._Z = np.zeros((E, n + 1, T), complex)
             self._modes, self._urep = self._Z[:, :n], self._Z[:, n:]
             self._out = np.zeros((E, 1, T), complex)
         else:
+            if randomization is not None and randomization.tau:
+                raise ValueError("randomization.tau needs the diagonal form; this skin's Ad has none")
             n = model.Ad.shape[0]
             self._M = np.block([[model.Ad, model.Bd[:, :1]], [model.Cd[:1], model.Dd[:1, :1]]])
             self._Z, self._Znew = np.zeros((E, n + 1, T)), np.zeros((E, n + 1, T))
             self._urep = self._Z[:, n:]
+        if randomization is not None:
+            self.reset()
+
+    # -- noise ---------------------------------------------------------------------
+    def _noise_setup(self, on: bool) -> None:
+        """The noise's FIR taps (module docstring); sigma its rms per step (0: off)."""
+        self.sigma = self.noise_rms() if on else 0.0
+        self._noise, self._k = np.zeros((0, self._E, self.model.taxels)), 0
+        if not self.sigma:
+            return
+        m = self.model
+        f = np.fft.rfftfreq(NOISE_TAPS, m.dt)
+        S = np.interp(f, m.noise_freqs, m.noise_psd.sum(axis=0), left=0.0, right=0.0)
+        h = np.fft.fftshift(np.fft.irfft(np.sqrt(S / (2 * m.dt)), NOISE_TAPS)) * np.hanning(NOISE_TAPS)
+        self._taps = h
+        self._white = self.rng.standard_normal((NOISE_TAPS - 1, self._E, m.taxels))
 
     def noise_rms(self) -> float:
         """V rms per taxel and step: the PSDs integrated up to 1 / (2 dt) (module docstring)."""
@@ -155,16 +177,69 @@ class SkinRuntime:
         total = self.model.noise_psd[:, keep].sum(axis=0)
         return float(np.sqrt(np.trapezoid(total, f[keep]))) if keep.sum() > 1 else 0.0
 
-    def reset(self) -> None:
-        self._Z[:] = 0.0
+    def _fill(self) -> None:
+        """The next `block` steps of noise: white filtered by the taps, the memory carried."""
+        L, B = NOISE_TAPS, self.block
+        white = np.concatenate([self._white, self.rng.standard_normal((B, self._E, self.model.taxels))])
+        N = 1 << int(np.ceil(np.log2(len(white) + L)))
+        col = np.fft.irfft(np.fft.rfft(white, N, axis=0) * np.fft.rfft(self._taps, N)[:, None, None], N, axis=0)
+        self._noise, self._k = col[L - 1:L - 1 + B], 0
+        self._white = white[-(L - 1):]
 
+    def _draw(self) -> np.ndarray:
+        """The next step's noise (envs, 1, taxels) V."""
+        if self._k == len(self._noise):
+            self._fill()
+        self._k += 1
+        return self._noise[self._k - 1][:, None, :]
+
+    def _draws(self, nt: int) -> np.ndarray:
+        """The next nt steps' noise (nt, envs, taxels) V: the same numbers nt calls of _draw give."""
+        parts = []
+        while nt:
+            if self._k == len(self._noise):
+                self._fill()
+            take = min(nt, len(self._noise) - self._k)
+            parts.append(self._noise[self._k:self._k + take])
+            self._k, nt = self._k + take, nt - take
+        return np.concatenate(parts)
+
+    # -- environments ------------------------------------------------------------------
+    def reset(self, envs=None) -> None:
+        """Clear the state of environments `envs` (indices or a boolean mask; all by default)
+        and, with a Randomization, draw their gain, spread and time constants anew."""
+        sel = np.arange(self._E)[np.asarray(envs)] if envs is not None else np.arange(self._E)
+        sel = np.atleast_1d(sel)
+        self._Z[sel] = 0.0
+        r = self.randomization
+        if r is None or not len(sel):
+            return
+        k = len(sel)
+        self.g[sel] = (np.exp(r.gain * self.rng.standard_normal((k, 1, 1)))
+                       * np.exp(r.spread * self.rng.standard_normal((k, 1, self._T))))
+        if r.tau and self.diagonal:
+            lam0, W0 = np.linalg.eig(self.model.A)
+            res = (self.model.C[0] @ W0) * np.linalg.solve(W0, self.model.B[:, 0])
+            slow = (np.abs(lam0.imag) == 0) & (np.abs(lam0) < _SLOW)
+            for e, fac in zip(sel, np.exp(r.tau * self.rng.standard_normal(k))):
+                lam, rr = np.where(slow, lam0 / fac, lam0), np.where(slow, res / fac, res)
+                mu, w, D = first_order_hold(lam, rr, float(self.model.D[0, 0]), self.model.dt)
+                up = mu.imag >= 0
+                wu = np.where(mu[up].imag > 0, 2.0, 1.0) * w[up]
+                if len(wu) != self._lam.shape[1]:
+                    raise ValueError("skin file: A and Ad have different modes; rebuild the skin")
+                self._lam[e] = mu[up][:, None]
+                self._w[e, 0] = np.append(wu, D)
+
+    # -- loads -----------------------------------------------------------------------
     def _inputs(self, points, forces, lead: tuple) -> tuple[np.ndarray, np.ndarray]:
-        """points (*lead, m, 2), forces (*lead, m) as float arrays; ValueError (one line) otherwise.
-        (Finite values are checked on the loads they give: a NaN or inf anywhere reaches them.)"""
+        """points (*lead, m, 2), forces (*lead, m) or (*lead, m, 3) as float arrays; ValueError (one line) otherwise."""
         p, f = np.asarray(points, float), np.asarray(forces, float)
-        if f.shape[:-1] != lead or p.shape != (*f.shape, 2) or f.ndim != len(lead) + 1:
+        if p.ndim != len(lead) + 2 or p.shape[:-2] != lead or p.shape[-1] != 2 or f.shape not in (
+                p.shape[:-1], (*p.shape[:-1], 3)):
             want = "".join(f"{n}, " for n in lead)
-            raise ValueError(f"points {p.shape}, forces {f.shape}: give points ({want}m, 2) m and forces ({want}m,) N")
+            raise ValueError(f"points {p.shape}, forces {f.shape}: give points ({want}m, 2) m and forces ({want}m, 3) "
+                             f"N in the skin frame, or normal forces ({want}m,) N")
         return p, f
 
     @staticmethod
@@ -173,35 +248,72 @@ class SkinRuntime:
             raise ValueError("points or forces not finite: give finite contact points (m) and forces (N)")
 
     def loads(self, points, forces) -> np.ndarray:
-        """u (..., rows, cols) N: the force each taxel sees from normal forces (..., m) at points (..., m, 2)."""
-        p = np.asarray(points, float)
-        f = np.asarray(forces, float)
-        if f.ndim == 0 or p.shape != (*f.shape, 2):
-            raise ValueError(f"points {p.shape}, forces {f.shape}: give points (..., m, 2) m and forces (..., m) N")
-        u = self._loads(p, f) * self.g.reshape(self._rows, self._cols)
+        """u (..., rows, cols) N: the force each taxel sees from forces (..., m, 3) in the skin
+        frame, or normal forces (..., m) > 0 pressing, at points (..., m, 2)."""
+        p, f = np.asarray(points, float), np.asarray(forces, float)
+        if p.ndim < 2 or p.shape[-1] != 2 or f.shape not in (p.shape[:-1], (*p.shape[:-1], 3)):
+            raise ValueError(f"points {p.shape}, forces {f.shape}: give points (..., m, 2) m and forces "
+                             "(..., m, 3) or (..., m) N")
+        u = self._loads(p, f).reshape(*p.shape[:-2], self._rows, self._cols)
         self._finite(u)
         return u
 
     def _loads(self, p, f) -> np.ndarray:
-        """sum_j F_j G_r(y_j) G_c(x_j) (..., rows, cols), without the gains (module docstring)."""
-        t = p * self._inv_h
-        t -= self._t0                                         # t = (s - s0) / h + 1: interval + 1 (the end piece)
-        i, d = np.divmod(t, 1.0)
-        d = d[..., None] ** _POWERS                           # (..., m, 2, 4)
-        # (..., m, 2, n); vecdot, not matmul: a loop in numpy, not one BLAS call per contact
-        G = np.vecdot(self._coef.take(i.astype(np.intp), axis=0, mode="clip"), d[..., None, :])
-        return (G[..., 1, :self._rows].mT * f[..., None, :]) @ G[..., 0, :self._cols]   # sum_j F_j G_r(y_j) G_c(x_j)
+        """sum_j sum_d W_kd(p_j) f_jd (..., T), bilinear (module docstring)."""
+        t = p * self._ih
+        t -= self._oih                                                                 # grid units
+        np.maximum(t, 0.0, out=t)
+        np.minimum(t, self._top, out=t)
+        i = t.astype(np.intp)
+        np.minimum(i, self._last, out=i)                                               # the last cell at the far end
+        d = t - i
+        cell = (i @ self._stride)[..., None] + self._corner                             # (..., m, 4)
+        a = d[..., None] * self._sgn
+        a += self._one                                                                  # (..., m, xy, 2): 1 - d, d
+        w = a[..., 1, :, None] * a[..., 0, None, :]                                     # (..., m, 2, 2): corners
+        lead = p.shape[:-2]
+        if f.shape == p.shape[:-1]:                                                      # normal only
+            w *= f[..., None, None]
+            return (w.reshape(*lead, 1, -1) @ self._Wz.take(cell.reshape(*lead, -1), axis=0))[..., 0, :]
+        c = (w[..., None] * f[..., None, None, :]).reshape(*lead, 1, -1)                 # (..., 1, m 4 3)
+        rows = (cell[..., None] * 3 + self._xyz).reshape(*lead, -1)
+        return (c @ self._W3[rows])[..., 0, :]
+
+    def _loads_few(self, p, f) -> np.ndarray:
+        """_loads for one skin and a few contacts: the cell and the weights in Python floats
+        (cheaper than a dozen numpy calls at this size), then one gather and one product."""
+        ihx, ihy, ox, oy, tx_, ty_, lx, ly, nx = self._scalars
+        rows, coef = [], []
+        normal = f.ndim == 1
+        for (x, y), F in zip(p.tolist(), f.tolist()):
+            tx, ty = min(max(x * ihx - ox, 0.0), tx_), min(max(y * ihy - oy, 0.0), ty_)
+            ix, iy = min(int(tx), lx), min(int(ty), ly)
+            dx, dy = tx - ix, ty - iy
+            c = iy * nx + ix
+            w = ((1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy)
+            if normal:
+                rows += (c, c + 1, c + nx, c + nx + 1)
+                coef += (F * w[0], F * w[1], F * w[2], F * w[3])
+            else:
+                for cc, wc in zip((c, c + 1, c + nx, c + nx + 1), w):
+                    rows += (3 * cc, 3 * cc + 1, 3 * cc + 2)
+                    coef += (wc * F[0], wc * F[1], wc * F[2])
+        return np.array(coef) @ (self._Wz if normal else self._W3).take(rows, axis=0)
 
     def step(self, points, forces) -> np.ndarray:
-        """Advance one dt with normal forces (m,) N at points (m, 2) m (skin frame): (rows, cols) V;
-        with envs = E, points (E, m, 2) and forces (E, m): (E, rows, cols) V."""
+        """Advance one dt with forces (m, 3) N in the skin frame (or normal forces (m,) N,
+        > 0 pressing) at points (m, 2) m: (rows, cols) V; with envs = E, points (E, m, 2)
+        and forces (E, m, 3) or (E, m): (E, rows, cols) V."""
         if self.check:
             points, forces = self._inputs(points, forces, self.shape[:-2])
-        u = self._loads(points, forces).reshape(-1, 1, self._T)
+        if self.envs is None and len(points) <= _FEW:
+            u = self._loads_few(np.asarray(points, float), np.asarray(forces, float))
+        else:
+            u = self._loads(points, forces).reshape(-1, 1, self._T)
         if self.check:
             self._finite(u)
         if self.diagonal:
-            np.multiply(u, self._gc, out=self._urep)
+            np.multiply(u, self.g, out=self._urep)
             np.matmul(self._w, self._Z, out=self._out)
             v = self._out.real.copy() if not self.sigma else self._out.real + self._draw()
             self._modes *= self._lam
@@ -214,26 +326,6 @@ class SkinRuntime:
             v = self._Z[:, n:].copy() if not self.sigma else self._Z[:, n:] + self._draw()
             self._urep = self._Z[:, n:]
         return self._output(v).reshape(self.shape)
-
-    def _draw(self) -> np.ndarray:
-        """The next step's noise (envs, 1, taxels) V, from blocks of `block` steps."""
-        if self._k == len(self._noise):
-            self._noise = self.sigma * self.rng.standard_normal((self.block, *self._noise.shape[1:]))
-            self._k = 0
-        self._k += 1
-        return self._noise[self._k - 1][:, None, :]
-
-    def _draws(self, nt: int) -> np.ndarray:
-        """The next nt steps' noise (nt, envs, taxels) V: the same numbers nt calls of _draw give."""
-        parts = []
-        while nt:
-            if self._k == len(self._noise):
-                self._noise = self.sigma * self.rng.standard_normal((self.block, *self._noise.shape[1:]))
-                self._k = 0
-            take = min(nt, len(self._noise) - self._k)
-            parts.append(self._noise[self._k:self._k + take])
-            self._k, nt = self._k + take, nt - take
-        return np.concatenate(parts)
 
     def _output(self, v) -> np.ndarray:
         """Saturation and the ADC applied in place to voltages v (noise already added)."""
@@ -252,15 +344,15 @@ class SkinRuntime:
         return v
 
     def run(self, points, forces) -> np.ndarray:
-        """A whole history from the current state: points (nt, [E,] m, 2), forces (nt, [E,] m)
-        -> (nt, [E,] rows, cols) V; the same voltages (and noise) as nt calls of `step`, for
+        """A whole history from the current state: points (nt, [E,] m, 2), forces (nt, [E,] m, 3)
+        or (nt, [E,] m) -> (nt, [E,] rows, cols) V; the same voltages (and noise) as nt calls of `step`, for
         contacts known ahead (a recorded or scripted trajectory, a data set): the loads of
         all steps are one vectorized evaluation and, in the diagonal form, the dynamics a
         convolution per block of steps (`_block`) instead of a loop over steps."""
         forces = np.asarray(forces, float)
         points, forces = self._inputs(points, forces, (len(forces), *self.shape[:-2]))
         nt = len(forces)
-        U = self._loads(points, forces).reshape(nt, -1, self._T) * self.g          # (nt, E, taxels)
+        U = self._loads(points, forces).reshape(nt, -1, self._T) * self.g[:, 0]    # (nt, E, taxels)
         self._finite(U)
         V = np.empty(U.shape)
         if self.diagonal:
@@ -287,19 +379,19 @@ class SkinRuntime:
         the free response and the end state as products with the powers lambda^k, the
         forced response a linear convolution by FFT (zero-padded to 2 L: no wrap-around)."""
         L, E, T = U.shape
-        lam, w, D = self._lam[:, 0], self._w[0, :-1], self._w[0, -1].real
-        Pk = np.exp(np.arange(L + 1)[:, None] * np.log(lam)[None, :])              # (L + 1, n): lambda^k
-        h = np.empty(L)
-        h[0] = D
-        h[1:] = (Pk[:L - 1] @ w).real
-        N = 2 * L
-        V = np.fft.irfft(np.fft.rfft(U, N, axis=0) * np.fft.rfft(h, N)[:, None, None], N, axis=0)[:L]
-        z0 = self._modes                                                            # (E, n, T)
-        if z0.any():                                                                # the free response
-            V += (Pk[:L] @ (w[:, None] * z0)).real.transpose(1, 0, 2)
-        R = np.ascontiguousarray(Pk[L - 1::-1].T)                                   # (n, L): lambda^(L-1-j)
-        U2 = U.reshape(L, E * T)                                                    # real: two real products
-        ends = (R.real @ U2 + 1j * (R.imag @ U2)).reshape(-1, E, T).transpose(1, 0, 2)
-        z0 *= Pk[L][:, None]
-        z0 += ends
+        V = np.empty(U.shape)
+        for e in range(E):                  # each environment its own modes (Randomization.tau)
+            lam, w, D = self._lam[e, :, 0], self._w[e, 0, :-1], self._w[e, 0, -1].real
+            Pk = lam[None, :] ** np.arange(L + 1)[:, None]                          # (L + 1, n): lambda^k (0^0 = 1)
+            h = np.empty(L)
+            h[0] = D
+            h[1:] = (Pk[:L - 1] @ w).real
+            N = 2 * L
+            V[:, e] = np.fft.irfft(np.fft.rfft(U[:, e], N, axis=0) * np.fft.rfft(h, N)[:, None], N, axis=0)[:L]
+            z0 = self._modes[e]                                                     # (n, T)
+            if z0.any():                                                            # the free response
+                V[:, e] += (Pk[:L] @ (w[:, None] * z0)).real
+            R = np.ascontiguousarray(Pk[L - 1::-1].T)                               # (n, L): lambda^(L-1-j)
+            z0 *= Pk[L][:, None]
+            z0 += R.real @ U[:, e] + 1j * (R.imag @ U[:, e])
         return V

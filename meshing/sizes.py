@@ -1,10 +1,10 @@
-"""gmsh's mesh size fields of a layout: fine at the piezo's edges and under the load.
-
-The size grows from `piezo_size` at a taxel's edges (and from `contact_size` at the
-rim of a punch, `rim_field`) to `size` away from them (gmsh Threshold fields on the
-distance to those edges, combined by a Min field); through a layer, `two_sided`
-grades the divisions from each face's size to the interior's. Split out of
-meshing.build (which meshes with them).
+"""Element sizes of a layered layout's gmsh mesh (meshing.build): the in-plane size
+fields (`piezo_size` at taxel and load edges growing to `size`, capped inside taxels,
+coarser at the taxels a load misses, the band under a punch's rounded edge; a free 3D
+layout's fields on the piezo's faces and the top surface) and the vertical divisions of
+each extruded layer (`piezo_layers` through a piezo, silicone graded by 1.5 from
+`piezo_size` next to the piezo, from both ends under a punch). The rules are stated in
+meshing.build's docstring; meshing.cost counts the same divisions in closed form.
 """
 
 from __future__ import annotations
@@ -12,10 +12,38 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from taxel.meshing.layout import Layout, is_graded
 
 
-def two_sided(thickness, h_bottom, h_top, h_max):
+def is_free(lay: Layout, layer) -> bool:
+    """A graded silicone layer of a free 3D layout (Layout.free): meshed by the 3D
+    mesher with the 3D size field, not extruded from the plan mesh."""
+    return lay.free and lay.dim == 3 and is_graded(lay, layer)
+
+
+def vertical_divisions(lay: Layout, layer):
+    """(numElements, heights) for one layer's extrusion (meshing.cost checks the
+    count before this runs)."""
+    if not is_graded(lay, layer):
+        return [lay.piezo_layers], [1.0]
+    if lay.contact_size is not None and layer is lay.layers[-1] and layer.name != "silicone_below":
+        hs = _two_sided(layer.thickness, lay.piezo_size, min(lay.contact_size, lay.size), lay.size)
+        return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
+    h, hs, total = lay.piezo_size, [], 0.0
+    while total < layer.thickness * (1 - 1e-9):
+        hs.append(min(h, lay.size))
+        total += hs[-1]
+        h *= 1.5
+    hs = np.array(hs) * layer.thickness / sum(hs)
+    if len(hs) > 1 and hs[-1] < 0.5 * hs[-2]:       # merge a sliver into its neighbour
+        hs = np.append(hs[:-2], hs[-2] + hs[-1])
+    if layer.name == "silicone_below":             # fine end next to the piezo, on top
+        hs = hs[::-1]
+    return [1] * len(hs), list(np.cumsum(hs) / layer.thickness)
+
+
+def _two_sided(thickness, h_bottom, h_top, h_max):
     """Element heights through a layer graded by 1.5 from both ends (h_bottom next to the
     piezo, h_top at the top surface under a punch) to at most h_max, scaled to fill it."""
     lo, hi, a, b = [], [], h_bottom, h_top
