@@ -69,7 +69,7 @@ from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
 from taxel.optimize.coverage import INFLUENCE_METRICS, influence_metrics
-from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN, geometry
+from taxel.optimize.metrics import METRICS, geometry
 from taxel.optimize.probe import PROBE_METRICS, ProbePress, press_scene, stored_press
 from taxel.optimize.requirements import LIMITS
 
@@ -77,7 +77,7 @@ READOUT_METRICS = ("readout_sensitivity", "readout_crosstalk")   # with a [reado
 from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel import units as U
-from taxel.schema import Fraction, Name, Strict, dimensionless_value
+from taxel.schema import Fraction, Name, Strict
 from taxel.scene import Scene, SceneError, parse
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.spec import read_spec, set_value
@@ -116,7 +116,7 @@ class OptimizationSpec(Strict):
     reference: dict[str, Any] = {}
     variables: dict[str, Variable] = Field(min_length=1)
     objective: dict[Literal["maximize", "minimize"], Literal[METRICS]]
-    constraints: dict[Literal[METRICS], str] = {}
+    constraints: dict[str, Any] = {}          # retired: [requirements] is the one table (a one-line error)
     pareto: Pareto | None = None
     algorithm: Algorithm = Algorithm()
     noise: Any = "1 mV"                       # coverage, localization_error: white noise on each taxel peak
@@ -273,25 +273,11 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
         if not a <= s <= b:
             raise OptimizeError(f"variables.{name}: start {var.start} is outside [{var.min}, {var.max}]")
         lo.append(a), hi.append(b), x0.append(s), units.append(unit)
-    cons = []
-    for metric, text in spec.constraints.items():
-        text = text.strip()
-        op = text[:2]
-        if op not in ("<=", ">="):
-            raise OptimizeError(f"constraints.{metric}: write \"<= value\" or \">= value\", got {text!r}")
-        unit = "" if METRIC_TABLE[metric].unit in PLAIN else METRIC_TABLE[metric].unit
-        value = text[2:].strip()
-        if unit:
-            bound = magnitude(value, unit, f"constraints.{metric}")[0]
-        else:
-            try:
-                bound = dimensionless_value(value, "ratio")
-            except ValueError:
-                raise OptimizeError(f"constraints.{metric}: {value!r} is not a number; write e.g. \"<= 0.05\" "
-                                    "or \"<= 5 %\"") from None
-        if not math.isfinite(bound):
-            raise OptimizeError(f"constraints.{metric}: the bound {value!r} is not a finite number")
-        cons.append((metric, op, bound))
+    if spec.constraints:
+        lines = "; ".join(f"{k} = \"{v}\"" for k, v in spec.constraints.items())
+        raise OptimizeError(f"[constraints]: the search obeys [requirements] alone (one table); move {lines} "
+                            "under [requirements]")
+    cons = searched(spec.requirements, OptimizeError)
     problem = Optimization(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
     if spec.press is not None:
         from taxel.optimize.probe import check as check_press
@@ -326,6 +312,19 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
                             "vs crosstalk)")
     check_feasible(problem, OptimizeError)
     return problem
+
+
+def searched(requirements: dict, error=OptimizeError) -> list[tuple[str, str, float]]:
+    """The optimizer's constraints: every [requirements] line (optimize.requirements.read, its
+    bound checked against what the metric can reach), but coverage and localization_error,
+    which take 9 more solves per design and are judged after the search on the designs the
+    answer reaches (optimize.coverage.judge_lazily)."""
+    from taxel.optimize.requirements import RequirementError, read
+    try:
+        reqs = read(requirements)
+    except RequirementError as exc:
+        raise error(str(exc)) from None
+    return [(r.metric, r.op, r.bound) for r in reqs if r.metric not in INFLUENCE_METRICS]
 
 
 def optimize(problem: Optimization, constraints=None, max_evals=None) -> driver.Result:

@@ -1,0 +1,120 @@
+"""The answer of one optimization run: which design its requirements choose, which
+requirement binds, and, when none meets them all, which is missed, by how much, and
+which design comes closest.
+
+    ans = Answer.of(result)          # an OptimizationResult (optimize.result)
+    ans.chosen                       # the Design the requirements choose, or None
+    ans.binding                      # (Requirement, margin): missed by most, or met by least
+    ans.lines()                      # what `taxel optimize` prints and the report shows
+
+A design is a mapping of the optimization's own variables to SI values (`Design.x`),
+with its metrics (SI); the candidates are the reference design (when the spec names
+one) and every design the run ended on (the optimum, or each front run's). The choice
+is optimize.requirements.choose's (its rules 1 to 4).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from taxel.optimize.metrics import METRIC_TABLE
+from taxel.optimize.requirements import Choice, Requirement, choose, implied, read
+from taxel.units import engineering, quantity
+
+
+@dataclass
+class Design:
+    """One candidate: its variables (name -> SI value), its metrics (SI) and what it is."""
+    label: str                                  # "reference", "optimum", "front: crosstalk <= 1.2 %"
+    x: dict[str, float]
+    metrics: dict = field(default_factory=dict)
+    shown: dict[str, str] = field(default_factory=dict)    # name -> the value in the variable's own unit
+
+    def text(self) -> str:
+        """"silicone_above 1 mm, gap 3 mm"."""
+        return ", ".join(f"{n} {self.shown.get(n, f'{v:.4g}')}" for n, v in self.x.items())
+
+
+def _si(value: float, unit: str) -> float:
+    return float(quantity(f"{float(value)!r} {unit}").to_base_units().magnitude) if unit else float(value)
+
+
+@dataclass
+class Answer:
+    """The requirements of a run, its candidates, and the choice among them."""
+    requirements: list[Requirement]
+    designs: list[Design]
+    choice: Choice
+
+    @classmethod
+    def of(cls, result) -> "Answer":
+        """The answer of an OptimizationResult (optimize.result)."""
+        designs = []
+        ref = result.reference
+        if ref and ref.get("sensitivity") is not None:
+            designs.append(Design("reference", {n: _si(ref["x"][n], u) for n, u in zip(result.names, result.units)},
+                                  {k: v for k, v in ref.items() if k != "x"},
+                                  {n: f"{ref['x'][n]:.4g} {u}".strip() for n, u in zip(result.names, result.units)}))
+        runs = [("optimum", result.optimum)] if result.optimum is not None else \
+            [(f"front: crosstalk <= {100 * r.bound:.3g} %", r.result) for r in result.runs if r.bound is not None]
+        for label, r in runs:
+            if r is not None and r.metrics.get("sensitivity") is not None:
+                designs.append(Design(label, {n: _si(v, u) for n, u, v in zip(result.names, result.units, r.x)},
+                                      dict(r.metrics), {n: f"{v:.4g} {u}".strip()
+                                                        for n, u, v in zip(result.names, result.units, r.x)}))
+        reqs = implied(read(result.requirements), ref or {})
+        return cls(reqs, designs, choose([d.metrics for d in designs], reqs))
+
+    @property
+    def chosen(self) -> Design | None:
+        return None if self.choice.recommended is None else self.designs[self.choice.recommended]
+
+    @property
+    def closest(self) -> Design | None:
+        """The chosen design, or the one missing its worst requirement by least."""
+        if self.chosen is not None:
+            return self.chosen
+        if not self.designs:
+            return None
+        worst = [v.worst[1] if v.worst else -1e300 for v in self.choice.verdicts]
+        return self.designs[max(range(len(worst)), key=worst.__getitem__)]
+
+    @property
+    def binding(self) -> tuple[Requirement, float] | None:
+        """The stated requirement the closest design misses by most, or meets by least."""
+        d = self.closest
+        if d is None:
+            return None
+        margins = self.choice.verdicts[self.designs.index(d)].margins
+        known = [(r, margins[r.metric]) for r in self.requirements if r.stated and margins.get(r.metric) is not None
+                 and (margins[r.metric] < 0 or r.bound not in (METRIC_TABLE[r.metric].lo, METRIC_TABLE[r.metric].hi))]
+        return min(known, key=lambda rm: rm[1]) if known else None
+
+    def lines(self) -> list[str]:
+        """The verdict for a person, one requirement a line."""
+        if not [r for r in self.requirements if r.stated]:
+            return []
+        if not self.designs:
+            return ["requirements: no design was evaluated"]
+        d = self.closest
+        v = self.choice.verdicts[self.designs.index(d)]
+        head = (f"requirements: every one met by the {d.label} design ({d.text()})" if self.chosen is not None else
+                f"requirements NOT met by any design; the closest is the {d.label} design ({d.text()})")
+        out = [head]
+        for r in self.requirements:
+            m = v.margins.get(r.metric)
+            value = d.metrics.get(r.metric)
+            shown = "not evaluated" if value is None else _value(r, value)
+            state = "not evaluated" if m is None else ("met" if m >= -r.tolerance - 1e-12 else "MISSED")
+            by = "" if m is None else f" ({'margin' if m >= 0 else 'short by'} {abs(100 * m):.3g} %)"
+            out.append(f"  {r.text()}{'' if r.stated else ' (implied by the reference)'}: {shown}, {state}{by}")
+        b = self.binding
+        if b is not None:
+            out.append(f"  binding: {b[0].text()} ({'met with' if b[1] >= 0 else 'missed by'} {abs(100 * b[1]):.3g} %)")
+        return out
+
+
+def _value(r: Requirement, value: float) -> str:
+    unit = METRIC_TABLE[r.metric].unit
+    return f"{100 * value:.3g} %" if unit == "ratio" else (f"{value:.3g} dB" if unit == "dB" else
+                                                          engineering(value, unit, 3))
