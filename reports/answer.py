@@ -43,7 +43,35 @@ def headline_front(folder: Path) -> FrontAnswer | None:
     if a is not None:
         a.path = Path(folder)
         _through_readout(a, Path(folder) / READOUT_FILE)
+        _bands(a, Path(folder))
     return a
+
+
+DERIVED = ("readout_sensitivity", "charge_sensitivity", "min_detectable_force", "force_range")
+
+
+def _bands(a: FrontAnswer, folder: Path) -> None:
+    """Every number's band with all of its parts (optimize.band): the model's own error (the 3D
+    press mesh's, calibrated) and the probe's friction (friction-band.json), combined; the
+    quantities derived from the sensitivity carry its band (the readout states no component
+    tolerances, the scene no material spread: their parts are absent, the assumptions say so).
+    a.error holds the combined totals, the larger of the two designs' per quantity."""
+    from taxel.optimize.band import Band, friction_share
+    mesh = "3D press mesh" if a.row == 7 else "model error"
+    bands: dict[str, Band] = {}
+    for d in (a.recommended, a.thesis):
+        if d is None:
+            continue
+        share = friction_share(folder, d.role, {"silicone_above": d.silicone_above_mm, "gap": d.gap_mm,
+                                                "silicone_below": d.silicone_below_mm}) or {}
+        for q in ("sensitivity", "crosstalk"):
+            b = Band({mesh: a.error.get(q), "friction": share.get(q)})
+            if q not in bands or b.total > bands[q].total or bands[q].total != bands[q].total:
+                bands[q] = b
+    for q in DERIVED:
+        bands[q] = bands["sensitivity"]
+    a.bands = bands
+    a.error = {q: b.total for q, b in bands.items()}
 
 
 def _through_readout(a: FrontAnswer, path: Path) -> None:
@@ -357,7 +385,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
                 row["open-circuit crosstalk"] = percent(d.crosstalk)
             rows.append(row)
             links.append(_links(a, d, ladders))
-            records += d.records(a.error, a.model)
+            records += d.records(a.error, a.model, a.bands)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
                       "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),

@@ -16,13 +16,19 @@ from taxel.reports.ladder import anchor
 from taxel.reports.tables import eng, percent
 
 
-def _band(value: float, rel: float, unit: str) -> str:
-    """A value with its error band in the same unit: "838 ± 4 mV/N", "0.971 ± 0.049 %"."""
+def _band(value: float, rel: float | None, unit: str) -> str:
+    """A value with its error band in the same unit: "838 ± 4 mV/N", "0.971 ± 0.049 %";
+    a band above 2 % (optimize.band.FLAG) flagged: "838 ± 55 mV/N (band 6.6 % > 2 %)"."""
+    from math import isfinite
+    from taxel.optimize.band import FLAG
+    if rel is None or not isfinite(rel):
+        return (f"{value:.3g} %" if unit == "%" else eng(value, unit, 3)) + " (band not estimated)"
+    flag = f" (band {100 * rel:.2g} % > {100 * FLAG:g} %)" if rel > FLAG else ""
     if unit == "%":
-        return f"{value:.3g} ± {rel * value:.2g} %"
+        return f"{value:.3g} ± {rel * value:.2g} %" + flag
     v = eng(value, unit)
     number, u = v.split(" ", 1)
-    return f"{number} ± {float(number) * rel:.2g} {u}"
+    return f"{number} ± {float(number) * rel:.2g} {u}" + flag
 
 
 @dataclass
@@ -41,24 +47,29 @@ class AnswerDesign:
     margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
     bandwidth_Hz: tuple[float, float] | None = None   # the readout's corners with this design (READOUT_FILE)
 
-    def records(self, error: dict, model: str) -> list[dict]:
+    def records(self, error: dict, model: str, bands: dict | None = None) -> list[dict]:
         """answer.csv's rows of this design: one quantity each, numeric value, relative error
-        (empty: not estimated) and SI unit."""
+        (all of its parts combined, optimize.band; empty: not estimated), its parts, and SI unit."""
         from math import isfinite
         out = []
-        for q, v, unit, err in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
+        for q, v, unit, key in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
                                 ("silicone below", 1e-3 * self.silicone_below_mm, "m", None),
                                 ("gap", 1e-3 * self.gap_mm, "m", None), ("pitch", 1e-3 * self.pitch_mm, "m", None),
-                                ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", error["sensitivity"]),
-                                ("open-circuit crosstalk", self.crosstalk, "1", error["crosstalk"]),
-                                ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N", None),
-                                ("charge per newton", self.values.get("charge_sensitivity"), "C/N", None),
-                                ("minimum detectable force", self.min_detectable_force_N, "N", None),
-                                ("force range to saturation", self.values.get("force_range"), "N", None)):
+                                ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", "sensitivity"),
+                                ("open-circuit crosstalk", self.crosstalk, "1", "crosstalk"),
+                                ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N",
+                                 "readout_sensitivity"),
+                                ("charge per newton", self.values.get("charge_sensitivity"), "C/N", "charge_sensitivity"),
+                                ("minimum detectable force", self.min_detectable_force_N, "N", "min_detectable_force"),
+                                ("force range to saturation", self.values.get("force_range"), "N", "force_range")):
             if v is not None:
+                err = error.get(key) if key else None
+                band = (bands or {}).get(key)
                 out.append({"design": self.role, "material": MATERIALS.get(self.material, self.material),
                             "quantity": q, "value": v, "relative error": err if err is not None and isfinite(err)
-                            else "", "unit": unit, "model": model})
+                            else "", "error parts": band.text() if band is not None else
+                            ("exact (a design variable)" if key is None else ""),
+                            "unit": unit, "model": model})
         return out
 
     def row(self, error: dict) -> dict:
@@ -69,15 +80,17 @@ class AnswerDesign:
                 "pitch (mm)": f"{self.pitch_mm:.2f}",
                 "open-circuit sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
                 "open-circuit crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
-                "min. detectable force": (eng(self.min_detectable_force_N, "N", 3)
+                "min. detectable force": (_band(self.min_detectable_force_N, error.get("min_detectable_force"), "N")
                                           if self.min_detectable_force_N else "not computed"),
-                **({"sensitivity at the readout": eng(self.values["readout_sensitivity"], "V/N", 3)}
+                **({"sensitivity at the readout": _band(self.values["readout_sensitivity"],
+                                                        error.get("readout_sensitivity"), "V/N")}
                    if self.values.get("readout_sensitivity") is not None else {}),
                 **({"crosstalk at the readout": percent(self.values["readout_crosstalk"])}
                    if self.values.get("readout_crosstalk") is not None else {}),
-                **({"charge per newton": eng(self.values["charge_sensitivity"], "C/N", 3)}
+                **({"charge per newton": _band(self.values["charge_sensitivity"], error.get("charge_sensitivity"),
+                                               "C/N")}
                    if self.values.get("charge_sensitivity") is not None else {}),
-                **({"force range to saturation": eng(self.values["force_range"], "N", 3)}
+                **({"force range to saturation": _band(self.values["force_range"], error.get("force_range"), "N")}
                    if self.values.get("force_range") is not None else {})}
 
 
@@ -112,6 +125,7 @@ class FrontAnswer:
     path: Path | None = None                            # the optimization folder (the ladder's records)
     chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
     row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
+    bands: dict = field(default_factory=dict)           # quantity -> optimize.band.Band (all of its parts)
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""

@@ -569,7 +569,7 @@ def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_r
     assert any(t.startswith("ladder-") for t in targets) and any(t.startswith("requirement-") for t in targets)
     for target, shown in links:
         assert target in rows, target
-        number = re.sub(r" ± \S+", "", html.unescape(shown))       # "738 mV/N", "1.02 %", "3.44" (mm)
+        number = re.sub(r" \(band [^)]*\)", "", re.sub(r" ± \S+", "", html.unescape(shown)))   # "738 mV/N", "3.44"
         same = [c for c in rows[target] if c == number or (re.fullmatch(r"[\d.]+", number) and
                                                           c.split()[0] == f"{float(number):.3g}")]
         assert same, (target, shown, rows[target])

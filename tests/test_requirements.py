@@ -254,7 +254,8 @@ def test_charge_voltage_and_the_ladders_capacitance_agree(through_readout):
             assert "parallel plate" in g["note"] and "2D section" in g["note"]
     for row in blk["rows"]:
         cells = dict(zip(blk["cols"], row))
-        q = magnitude(cells["charge per newton"].replace("C/N", "C"))
+        words = cells["charge per newton"].split()                 # "3.3 ± 0.21 nC/N (band ...)"
+        q = magnitude(f"{words[0]} {next(w for w in words if w.endswith('C/N'))[:-2]}")
         words = cells["open-circuit sensitivity"].split()          # "738 ± 85 mV/N"
         v = magnitude(f"{words[0]} {next(w for w in words if w.endswith('V/N'))}")
         material = "PZT" if cells["material"].startswith("PZT") else "PVDF"
