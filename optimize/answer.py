@@ -15,7 +15,7 @@ is optimize.requirements.choose's (its rules 1 to 4).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from taxel.optimize.metrics import METRIC_TABLE
 from taxel.optimize.requirements import Choice, Requirement, choose, implied, read
@@ -33,6 +33,52 @@ class Design:
     def text(self) -> str:
         """"silicone_above 1 mm, gap 3 mm"."""
         return ", ".join(f"{n} {self.shown.get(n, f'{v:.4g}')}" for n, v in self.x.items())
+
+
+@dataclass
+class Price:
+    """What relaxing one requirement buys: the smallest relaxation of its bound, to a
+    candidate's own value, at which the choice moves to another design (`design`, an index
+    into the candidates)."""
+    requirement: Requirement
+    relaxed: float                 # the relaxed bound (SI)
+    design: int
+
+    def text(self, designs: list[dict], chosen: dict | None) -> str:
+        """"localization error ≤ 1 mm binds: at ≤ 1.41 mm, 938 mV/N (+16 %) at 5.11 % crosstalk (-32 %)"."""
+        r = replace(self.requirement, bound=self.relaxed)
+        m = designs[self.design]
+        gain = []
+        for k, unit in (("sensitivity", "V/N"), ("crosstalk", "ratio")):
+            if m.get(k) is None:
+                continue
+            rel = f" ({100 * (m[k] / chosen[k] - 1):+.2g} %)" if chosen and chosen.get(k) else ""
+            gain.append((f"{100 * m[k]:.3g} % crosstalk" if unit == "ratio" else engineering(m[k], unit, 3)) + rel)
+        return f"{self.requirement.text()} binds: at {_bound(r)} the choice is {' at '.join(gain)}"
+
+
+def _bound(r: Requirement) -> str:
+    return r.text()[len(METRIC_TABLE[r.metric].label) + 1:]
+
+
+def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None) -> list[Price]:
+    """For each stated requirement, the smallest relaxation that changes the choice
+    (optimize.requirements.choose) among `candidates`: each candidate's own value that misses
+    it, nearest first, tried as the bound. A requirement with a price is one that binds."""
+    out = []
+    for i, r in enumerate(reqs):
+        if not r.stated:
+            continue
+        missed = sorted({c[r.metric] for c in candidates if c.get(r.metric) is not None
+                         and (r.margin(c[r.metric]) or 0) < -r.tolerance},
+                        key=lambda v: abs(v - r.bound))
+        for v in missed:
+            relaxed = [replace(q, bound=v) if j == i else q for j, q in enumerate(reqs)]
+            ch = choose(candidates, relaxed)
+            if ch.recommended is not None and ch.recommended != chosen:
+                out.append(Price(r, v, ch.recommended))
+                break
+    return out
 
 
 def _si(value: float, unit: str) -> float:
@@ -110,7 +156,12 @@ class Answer:
             out.append(f"  {r.text()}{'' if r.stated else ' (implied by the reference)'}: {shown}, {state}{by}")
         b = self.binding
         if b is not None:
-            out.append(f"  binding: {b[0].text()} ({'met with' if b[1] >= 0 else 'missed by'} {abs(100 * b[1]):.3g} %)")
+            out.append(f"  closest to its bound: {b[0].text()} ({'met with' if b[1] >= 0 else 'missed by'} "
+                       f"{abs(100 * b[1]):.3g} %)")
+        metrics = [x.metrics for x in self.designs]
+        for p in prices(metrics, self.requirements, self.choice.recommended):
+            out.append(f"  {p.text(metrics, self.chosen.metrics if self.chosen else None)} "
+                       f"(the {self.designs[p.design].label} design: {self.designs[p.design].text()})")
         return out
 
 

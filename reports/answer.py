@@ -169,7 +169,17 @@ def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]
     for d, v in zip(designs, ch.verdicts):
         d.margins = v.margins
     best = designs[ch.recommended] if ch.recommended is not None else None
-    return (None if best is thesis else best), reqs, ch.binding, ch.notes
+    return (None if best is thesis else best), reqs, ch.binding, ch.notes, _priced(designs, reqs, ch.recommended)
+
+
+def _priced(designs: list[AnswerDesign], reqs: list, chosen: int | None) -> list[tuple]:
+    """What relaxing each binding requirement buys among the candidates (optimize.answer.prices):
+    (Price, the design then chosen as a copy with role "relaxed-<metric>") per binding requirement."""
+    from dataclasses import replace
+    from taxel.optimize.answer import prices
+    return [(p, replace(designs[p.design], role=f"relaxed-{p.requirement.metric}",
+                        values=dict(designs[p.design].values)))
+            for p in prices([d.values for d in designs], reqs, chosen)]
 
 
 def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer:
@@ -184,7 +194,7 @@ def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAn
     thesis = _design("thesis", x_ref, geo, material, ref[s3], ref[c3])
     rows = [r for r in rec["front_3d"] if r.get(s3) is not None and _lengths(r) != x_ref]
     cands = [_design("recommended", _lengths(r), geo, material, r[s3], r[c3]) for r in rows]
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
+    best, reqs, binding, rule, priced = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     error = dict(VERIFY_3D_ERROR)
     cb = (c or {}).get("best")
     same = best is None or (cb is not None and [round(getattr(best, f"{n}_mm"), 6) for n in names]
@@ -200,7 +210,7 @@ def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAn
     notes = rule + [f"The 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs "
                     "solved in 3D."]
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes,
-                       requirements=reqs, binding=binding, row=row)
+                       requirements=reqs, binding=binding, priced=priced, row=row)
 
 
 def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
@@ -216,7 +226,7 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
     rows = [d for d in rec["front"] if d["x"] != ref["x"] and d.get("sensitivity (V/N)") is not None]
     cands = [_design("recommended", _lengths(d), geo, material, d["sensitivity (V/N)"], d["crosstalk"])
              for d in rows]
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
+    best, reqs, binding, rule, priced = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     b = rows[cands.index(best)] if best is not None else None
     err = max([ref["estimated error"]] + ([b["estimated error"]] if b else []))
     press = rec.get("press", {})
@@ -246,6 +256,7 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                     {"sensitivity": err, "crosstalk": err}, True, notes,
                     "the probe front's estimated error (discretisation + correction + material law, on "
                     "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding,
+                    priced=priced,
                     row=ROW[SELECTION_MODEL])
     pressed_3d(a, rec)
     return a
@@ -276,14 +287,14 @@ def _from_front(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswe
         if xs != ref_x:
             cands.append(_design("recommended", xs, geo, material, m["sensitivity"], m["crosstalk"],
                                  {k: m.get(k) for k in AT_READOUT}))
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
+    best, reqs, binding, rule, priced = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     from taxel.reports.findings import scene_model_label
     scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
     model = f"{scene_model_label(scene)}, the optimization's own load; the front's cheap model, not verified in 3D"
     dropped = sum(1 for r in rec["front"] if not r["run"].get("success", True))
     notes = rule + ([f"{dropped} of the front's {len(rec['front'])} runs found no feasible design."] if dropped else [])
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
-                       False, notes, requirements=reqs, binding=binding)
+                       False, notes, requirements=reqs, binding=binding, priced=priced)
 
 
 def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str) -> FrontAnswer | None:
@@ -303,7 +314,7 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str
         return None
     tm = start[0]
     thesis = _design("thesis", ref_x, geo, material, tm["sensitivity"], tm["crosstalk"])
-    best, reqs, binding, rule = _recommend(spec.requirements, thesis, folder=folder, candidates=[
+    best, reqs, binding, rule, priced = _recommend(spec.requirements, thesis, folder=folder, candidates=[
         _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])])
     from taxel.reports.findings import scene_model_label
     model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "
@@ -311,7 +322,7 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str
     # the 2D model's error against 3D is measured on the full run (front-3d.json): unknown here
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
                        False, rule + ["The candidate: the short local search's best design (taxel demo --small)."],
-                       requirements=reqs, binding=binding)
+                       requirements=reqs, binding=binding, priced=priced)
 
 
 def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:

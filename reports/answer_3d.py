@@ -38,6 +38,11 @@ def pressed_3d(a, rec: dict) -> None:
             + [f"the {r} design's 3D press has no error estimate (its piezo or mesh is not calibrated)"
                for r in above]) + ".")
         return
+    for _, d in a.priced:                   # what relaxing a requirement buys: its own press, when it has one
+        p = press_of(d)
+        if p is not None and not p.failed and p.sensitivity is not None and p.error is not None:
+            d.sensitivity_V_per_N, d.crosstalk = p.sensitivity, p.crosstalk
+            d.values.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk, pressed_3d=True)
     before = {d.role: (d.sensitivity_V_per_N, d.crosstalk) for d in designs}
     for d in designs:
         p = got[d.role]

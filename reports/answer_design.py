@@ -126,6 +126,7 @@ class FrontAnswer:
     chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
     row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
     bands: dict = field(default_factory=dict)           # quantity -> optimize.band.Band (all of its parts)
+    priced: list = field(default_factory=list)          # (optimize.answer.Price, AnswerDesign): a relaxation's design
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
@@ -161,7 +162,7 @@ class FrontAnswer:
                     f"{100 * abs(self.binding[1]):.3g} % by the closest design.")
         if r is None:
             return (f"Keep {self.reference_name}: of the designs found, it meets every requirement with the "
-                    "largest margin.")
+                    "largest margin." + self.prices)
         parts = []
         for name, a, b in (("silicone above", t.silicone_above_mm, r.silicone_above_mm),
                            ("silicone below", t.silicone_below_mm, r.silicone_below_mm)):
@@ -174,4 +175,18 @@ class FrontAnswer:
         gain = r.sensitivity_V_per_N / t.sensitivity_V_per_N - 1
         xt = r.crosstalk / t.crosstalk - 1
         return (f"The trade: {'; '.join(parts) or 'the same geometry'}; for {100 * gain:+.2g} % sensitivity and "
-                f"{100 * xt:+.0f} % crosstalk (relative).")
+                f"{100 * xt:+.0f} % crosstalk (relative)." + self.prices)
+
+    @property
+    def prices(self) -> str:
+        """" What the requirements cost: ..." (each binding requirement, relaxed to the next
+        candidate's value: the design then chosen, its numbers the model's the page names)."""
+        from dataclasses import replace
+        if not self.priced:
+            return " No stated requirement binds among the designs found."
+        chosen = (self.recommended or self.thesis).values
+        return " What the requirements cost: " + "; ".join(
+            replace(p, design=0).text([d.values], chosen)
+            + (f" (silicone {d.silicone_above_mm:.2f} / {d.silicone_below_mm:.2f} mm, gap {d.gap_mm:.2f} mm"
+               + (", its 3D press" if d.values.get("pressed_3d") else ", the candidate selection's estimate") + ")")
+            for p, d in self.priced) + "."
