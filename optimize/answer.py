@@ -136,6 +136,23 @@ class Answer:
                  and (margins[r.metric] < 0 or r.bound not in (METRIC_TABLE[r.metric].lo, METRIC_TABLE[r.metric].hi))]
         return min(known, key=lambda rm: rm[1]) if known else None
 
+    def rows(self) -> list[dict]:
+        """The requirements table: one row per requirement, the chosen (or closest) design's value,
+        its margin and whether it is met."""
+        d = self.closest
+        if d is None or not any(r.stated for r in self.requirements):
+            return []
+        v = self.choice.verdicts[self.designs.index(d)]
+        out = []
+        for r in self.requirements:
+            m = v.margins.get(r.metric)
+            value = d.metrics.get(r.metric)
+            out.append({"requirement": r.text(), "from": "stated" if r.stated else "implied by the reference design",
+                        f"{d.label} design": "not evaluated" if value is None else _value(r, value),
+                        "margin": "" if m is None else f"{100 * m:+.3g} %",
+                        "met": "not evaluated" if m is None else ("yes" if m >= -r.tolerance - 1e-12 else "NO")})
+        return out
+
     def lines(self) -> list[str]:
         """The verdict for a person, one requirement a line."""
         if not [r for r in self.requirements if r.stated]:

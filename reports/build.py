@@ -156,8 +156,22 @@ def _bounds(name: str) -> str | None:
     except Exception:                 # not a built-in problem: its bounds are in its own spec file
         return None
     v = prob.spec.variables
-    return ("Search bounds: " + ", ".join(f"{n.replace('_', ' ')} {x.min} to {x.max}" for n, x in v.items())
-            + "; " + ", ".join(f"{k.replace('_', ' ')} {c}" for k, c in (prob.spec.constraints or {}).items()) + ".")
+    return "Search bounds: " + ", ".join(f"{n.replace('_', ' ')} {x.min} to {x.max}" for n, x in v.items()) + "."
+
+
+def _requirements(folder: Path) -> list[dict]:
+    """The run's requirements against its designs (optimize.answer): the table, and what
+    relaxing each binding one buys; none without a [requirements] table."""
+    from taxel.optimize.answer import Answer
+    from taxel.optimize.result import OptimizationResult
+    if not (folder / "result.json").exists():
+        return []
+    ans = Answer.of(OptimizationResult.from_folder(folder))
+    rows = ans.rows()
+    if not rows:
+        return []
+    return [{"type": "table", "table": tables.table(rows, title="requirements")},
+            {"type": "note", "text": " ".join(ans.lines()[:1] + [ln.strip() for ln in ans.lines() if "binds" in ln])}]
 
 
 def _front_rows(rows: list[dict], ref: dict | None, s_key: str, c_key: str):
@@ -180,6 +194,7 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
     bounds = _bounds(name)
     if bounds:
         blocks.append({"type": "note", "text": bounds})
+    blocks += _requirements(folder)
     if (folder / "front.json").exists():
         rec = read_json(folder / "front.json")
         numbers += findings.front_numbers(rec, cheap)

@@ -249,8 +249,8 @@ def optimum_numbers(rec: dict, model: str) -> list[Headline]:
         out.append(Headline("optimum sensitivity", eng(m["sensitivity"], "V/N", 3), model))
     if m.get("crosstalk") is not None:
         out.append(Headline("optimum crosstalk", percent(m["crosstalk"]), model))
-    out.append(Headline("evaluations", f"{rec['evaluations']} ({'converged' if rec['success'] else 'not converged'})",
-                        model))
+    status = rec.get("message") or ("converged" if rec["success"] else "not converged")   # the driver's own words
+    out.append(Headline("evaluations", f"{rec['evaluations']} ({status})", model))
     return out
 
 
