@@ -59,7 +59,6 @@ the range and the local initial step (0.1) sit well above it.
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
