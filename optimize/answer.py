@@ -81,6 +81,13 @@ def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None) 
     return out
 
 
+def reference_label(name: str) -> str:
+    """What a run calls its reference design: "thesis design" for a built-in optimization (its
+    reference is the seed's design), else "reference design" (the user's own)."""
+    from taxel.optimize.spec import BUILTIN
+    return "thesis design" if name and (BUILTIN / f"{name}.toml").exists() else "reference design"
+
+
 def _si(value: float, unit: str) -> float:
     return float(quantity(f"{float(value)!r} {unit}").to_base_units().magnitude) if unit else float(value)
 

@@ -29,8 +29,12 @@ from taxel.reports.margins import limits, requirement_cols, requirement_ids, req
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
-CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circuit |V| divided by the pressed "
-                        "taxel's, for a press on the middle taxel of the 3x3 array.")
+def crosstalk_definition(answers: list[FrontAnswer]) -> str:
+    """Crosstalk, defined once for the block, on the answers' own array."""
+    sizes = sorted({(a.thesis.values.get("rows"), a.thesis.values.get("cols")) for a in answers} - {(None, None)})
+    where = " or ".join(f"{r}x{c}" for r, c in sizes) or "the"
+    return ("Crosstalk: the largest neighbouring taxel's open-circuit |V| divided by the pressed taxel's, for a "
+            f"press on one taxel of the {where} array (the scene's loaded taxel).")
 
 
 
@@ -126,7 +130,7 @@ def _geometry(array: dict) -> dict:
     def si(key, default):
         return magnitude(array.get(key, default))
     return {"taxel_width": si("taxel_width", "4 mm"), "piezo_thickness": si("piezo_thickness", "0.127 mm"),
-            "margin": si("margin", "3 mm"), "cols": int(array.get("cols", 3)),
+            "margin": si("margin", "3 mm"), "cols": int(array.get("cols", 3)), "rows": int(array.get("rows", 3)),
             "silicone_above": si("silicone_above", "1 mm"), "silicone_below": si("silicone_below", "1 mm"),
             "gap": si("gap", "3 mm")}
 
@@ -138,7 +142,7 @@ def _design(role, x: dict, g: dict, material, s, c, extra: dict | None = None) -
     below = x.get("silicone_below", 1e3 * g["silicone_below"])
     gap = x.get("gap", 1e3 * g["gap"])
     values = {"sensitivity": s, "crosstalk": c, "gap": 1e-3 * gap, "pitch": 1e-3 * (width + gap),
-              "total_thickness": 1e-3 * (above + below) + g["piezo_thickness"],
+              "total_thickness": 1e-3 * (above + below) + g["piezo_thickness"], "rows": g["rows"], "cols": g["cols"],
               "footprint": g["cols"] * 1e-3 * width + (g["cols"] - 1) * 1e-3 * gap + 2 * g["margin"],
               **{k: v for k, v in (extra or {}).items() if v is not None}}
     return AnswerDesign(role, above, below, gap, width + gap, material, s, c,
@@ -317,7 +321,7 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str
     best, reqs, binding, rule, priced = _recommend(spec.requirements, thesis, folder=folder, candidates=[
         _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])])
     from taxel.reports.findings import scene_model_label
-    model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "
+    model = (f"{scene_model_label(scene)}, {geo['rows']}x{geo['cols']} array, the scene's load; a short local search, not verified "
              "in 3D")
     # the 2D model's error against 3D is measured on the full run (front-3d.json): unknown here
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
@@ -364,6 +368,18 @@ def preference(answers: list[FrontAnswer]) -> str | None:
     return text
 
 
+def _assumed(a: FrontAnswer) -> list[dict]:
+    """The answer's assumptions (reports.answer_assumptions), from its folder's scene and its readout's."""
+    from taxel.reports.answer_assumptions import assumptions
+    if a.path is None or not (a.path / "scene.json").exists():
+        return []
+    scene = json.loads((a.path / "scene.json").read_text())
+    chain = json.loads((a.path / READOUT_FILE).read_text()) if (a.path / READOUT_FILE).exists() else {}
+    if chain.get("readout"):                  # the numbers at the readout are the bench chain's
+        scene["readout"] = chain["readout"]
+    return assumptions(scene, chain.get("adc"))
+
+
 def _stack(a: FrontAnswer) -> str | None:
     from taxel.reports.stack import figure
     return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
@@ -400,7 +416,9 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
                       "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
-                      "risks": risks(a), "friction": friction_band.block(a.path), "stack": _stack(a), "stack_caption": _stack_caption(a), "material": MATERIALS.get(a.thesis.material,
+                      "risks": risks(a), "friction": friction_band.block(a.path), "assumptions": _assumed(a),
+                      "bands": "; ".join(f"{q.replace('_', ' ')}: {b.text()}" + (" (above 2 %)" if b.flagged else "")
+                                         for q, b in a.bands.items() if q in ("sensitivity", "crosstalk")), "stack": _stack(a), "stack_caption": _stack_caption(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     parts = [("Recommended: ", None)]
     for i, t in enumerate(titles):
@@ -409,7 +427,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
     return {"title": "".join(t for t, _ in parts), "title_parts": parts, "cols": cols,
             "rows": [[row.get(c, "—") for c in cols] for row in rows],
             "links": [[link.get(c) for c in cols] for link in links],
-            "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
+            "roles": [row["design"] for row in rows], "lines": lines, "definition": crosstalk_definition(answers),
             "records": records, "ladder_cols": LADDER_COLS, "preference": preference(answers),
             "chain": next((a.chain for a in answers if a.chain), None), "dynamics": dynamics(answers, sweep),
             "verified": any(a.verified for a in answers),

@@ -41,15 +41,15 @@ def _requirements(folder: Path) -> list[dict]:
             {"type": "note", "text": " ".join(ans.lines()[:1] + [ln.strip() for ln in ans.lines() if "binds" in ln])}]
 
 
-def _front_rows(rows: list[dict], ref: dict | None, s_key: str, c_key: str):
+def _front_rows(rows: list[dict], ref: dict | None, s_key: str, c_key: str, label: str = "thesis design"):
     """Front rows with a design column, the reference (thesis) design added, and
     each row's mark: reference, dominated or ''."""
     out = [{"design": f"front {i + 1}", **r} for i, r in enumerate(sorted(rows, key=lambda r: r[c_key] or 0))]
     if ref is not None:
-        out.append({"design": "thesis design (reference)", **ref})
+        out.append({"design": f"{label} (reference)", **ref})
     dom = _dominated([(r.get(s_key) or 0.0, r.get(c_key) if r.get(c_key) is not None else float("inf"))
                       for r in out])
-    marks = {id(r): ("reference" if r["design"].startswith("thesis") else "") + (" dominated" if d else "")
+    marks = {id(r): ("reference" if r["design"].startswith(label) else "") + (" dominated" if d else "")
              for r, d in zip(out, dom)}
     return out, lambda r: marks[id(r)].strip()
 
@@ -58,17 +58,24 @@ def optimization_page(folder: Path, out: Path, scene_data) -> dict:
     blocks, numbers, banners = [], [], []
     cheap = findings.scene_model_label(scene_data)
     name = read_json(folder / "result.json").get("name", folder.name) if (folder / "result.json").exists() else folder.name
+    from taxel.optimize.answer import reference_label
+    label = reference_label(name)
     bounds = _bounds(name)
     if bounds:
         blocks.append({"type": "note", "text": bounds})
     blocks += _requirements(folder)
+    if (folder / "scene.json").exists():
+        from taxel.reports.answer_assumptions import assumptions
+        rows = assumptions(read_json(folder / "scene.json"))
+        if rows:
+            blocks.append({"type": "table", "table": tables.table(rows, title="assumptions (values no input file gave)")})
     if (folder / "front.json").exists():
         rec = read_json(folder / "front.json")
-        numbers += findings.front_numbers(rec, cheap)
+        numbers += findings.front_numbers(rec, cheap, label)
         ref = rec.get("reference")
         ref_row = ({**{f"{k} (mm)": v for k, v in ref["x"].items()}, "sensitivity_V_per_N": ref["sensitivity"],
                     "crosstalk": ref["crosstalk"]} if ref else None)
-        rows, mark = _front_rows(rec["front"], ref_row, "sensitivity_V_per_N", "crosstalk")
+        rows, mark = _front_rows(rec["front"], ref_row, "sensitivity_V_per_N", "crosstalk", label)
         cols = ["design"] + [c for c in rows[0] if c.endswith("(mm)")] + ["sensitivity_V_per_N", "crosstalk"]
         blocks += [{"type": "text", "text": f"The 2D front ({cheap}): the most sensitive design at each crosstalk "
                                             "bound (epsilon-constraint)."},
