@@ -54,7 +54,8 @@ class Price:
                 continue
             rel = f" ({100 * (m[k] / chosen[k] - 1):+.2g} %)" if chosen and chosen.get(k) else ""
             gain.append((f"{100 * m[k]:.3g} % crosstalk" if unit == "ratio" else engineering(m[k], unit, 3)) + rel)
-        return f"{self.requirement.text()} binds: at {_bound(r)} the choice is {' at '.join(gain)}"
+        implied = "" if self.requirement.stated else " (implied by the reference design)"
+        return f"{self.requirement.text()}{implied} binds: at {_bound(r)} the choice is {' at '.join(gain)}"
 
 
 def _bound(r: Requirement) -> str:
@@ -62,13 +63,12 @@ def _bound(r: Requirement) -> str:
 
 
 def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None) -> list[Price]:
-    """For each stated requirement, the smallest relaxation that changes the choice
+    """For each requirement (stated, or implied by the reference: then the price is the front's own
+    trade), the smallest relaxation that changes the choice
     (optimize.requirements.choose) among `candidates`: each candidate's own value that misses
     it, nearest first, tried as the bound. A requirement with a price is one that binds."""
     out = []
     for i, r in enumerate(reqs):
-        if not r.stated:
-            continue
         missed = sorted({c[r.metric] for c in candidates if c.get(r.metric) is not None
                          and (r.margin(c[r.metric]) or 0) < -r.tolerance},
                         key=lambda v: abs(v - r.bound))

@@ -76,6 +76,19 @@ def _bands(a: FrontAnswer, folder: Path) -> None:
         bands[q] = bands["sensitivity"]
     a.bands = bands
     a.error = {q: b.total for q, b in bands.items()}
+    top = _largest_force(folder)
+    for d in (a.recommended, a.thesis, *(d for _, d in a.priced)):
+        if d is not None and top is not None:
+            d.values["largest_force"] = top
+
+
+def _largest_force(folder: Path) -> float | None:
+    """The largest force a press of the answer reached (its probe's operating force), N."""
+    path = folder / "probe-front.json"
+    if not path.exists():
+        return None
+    force = json.loads(path.read_text()).get("press", {}).get("force")
+    return magnitude(force) if force else None
 
 
 def _through_readout(a: FrontAnswer, path: Path) -> None:

@@ -11,9 +11,9 @@ from __future__ import annotations
 # [readout] defaults: key -> (what it is, what it moves, its source); the schema's values (taxel.scene.ReadoutTable)
 READOUT = {
     "R_i": ("charge amplifier input resistor", "the upper cutoff 1 / (2 pi R_i (C_p + C_c)): the bandwidth",
-            "assumed (taxel.scene.ReadoutTable); TI SLOA033A's circuit, no value given by the seed"),
+            "the scene's default readout; the circuit is TI SLOA033A's, the seed gives no value"),
     "C_c": ("cable capacitance", "the upper cutoff and the op-amp noise gain: bandwidth, minimum detectable force",
-            "assumed: about 1 m of cable (taxel.scene.ReadoutTable)"),
+            "the scene's default readout: about 1 m of cable"),
     "e_n": ("op-amp voltage noise", "the minimum detectable force", "a TL072-class JFET op-amp, TI SLOS080 (the seed "
             "does not name its op-amp)"),
     "i_n": ("op-amp current noise", "the minimum detectable force", "TI SLOS080 (TL072)"),
@@ -21,7 +21,7 @@ READOUT = {
               "TI SLOS080: +-12 V on +-15 V supplies"),
     "temperature": ("temperature", "the resistors' and the dielectric loss's thermal noise", "23 C, assumed"),
 }
-UNITS = {"R_i": "ohm", "C_c": "F", "e_n": "V/√Hz", "i_n": "A/√Hz", "swing": "V", "temperature": "K"}
+UNITS = {"R_i": "Ω", "C_c": "F", "e_n": "V/√Hz", "i_n": "A/√Hz", "swing": "V", "temperature": "K"}
 CIRCUIT_KEYS = {"charge_amplifier": ("R_i", "C_c", "e_n", "i_n", "swing", "temperature"),
                 "resistor": ("C_c", "e_n", "i_n", "swing", "temperature"), "open": ()}
 
@@ -30,7 +30,7 @@ def _shown(value, unit: str) -> str:
     from taxel.units import engineering, magnitude
     try:
         return engineering(magnitude(value), unit, 3) if unit not in ("K", "V/√Hz", "A/√Hz") else \
-            (f"{magnitude(value):.5g} K" if unit == "K" else engineering(magnitude(value), unit.split("/")[0], 3)
+            (f"{magnitude(value) - 273.15:.3g} °C" if unit == "K" else engineering(magnitude(value), unit.split("/")[0], 3)
              + "/√Hz")
     except Exception:
         return str(value)
@@ -68,20 +68,20 @@ def assumptions(scene: dict, adc: dict | None = None) -> list[dict]:
         if dyn.get("piezo_loss") is None:
             rows.append({"assumed": f"{piezo.name} mechanical loss factor 1/Qm",
                          "value": f"{1 / piezo.Qm:.3g} (Qm = {piezo.Qm:g}), frequency-independent; the lumped "
-                                  f"models take it as viscous at {dyn.get('reference_frequency', '100 Hz')} "
-                                  "([dynamics] reference_frequency)",
+                                  f"models take it as viscous at {_shown(dyn.get('reference_frequency', '100 Hz'), 'Hz')} "
+                                  "(the scene's dynamics reference frequency)",
                          "moves": "the frequency and step responses (their gain near and above the first "
                                   "resonance); not the static sensitivity",
                          "source": f"the built-in {piezo.name} record ({piezo.source or 'no source'}); Qm is "
                                    "not in that table"
                                    if "PVDF" in piezo.name else f"the built-in {piezo.name} record ({piezo.source})"})
         if dyn.get("dielectric_loss") is None and getattr(piezo, "tan_delta", None):
-            rows.append({"assumed": f"{piezo.name} dielectric loss tan(delta)", "value": f"{piezo.tan_delta:g} "
+            rows.append({"assumed": f"{piezo.name} dielectric loss tangent", "value": f"{piezo.tan_delta:g} "
                          "(the datasheet's, at 1 kHz, taken at every frequency)",
                          "moves": "the dielectric-loss noise: the minimum detectable force",
                          "source": f"the built-in {piezo.name} record ({piezo.source})"})
     if str(dyn.get("silicone_loss", defaults["dynamics"]["silicone_loss"])) == str(defaults["dynamics"]["silicone_loss"]):
         rows.append({"assumed": "silicone loss factor", "value": str(defaults["dynamics"]["silicone_loss"]),
                      "moves": "the frequency and step responses (damping of the silicone's resonance)",
-                     "source": "assumed: no sourced damping data for Ecoflex (taxel.scene.DynamicsTable)"})
+                     "source": "the scene's default dynamics: no sourced damping data for Ecoflex"})
     return rows

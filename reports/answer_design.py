@@ -69,7 +69,10 @@ class AnswerDesign:
                             "quantity": q, "value": v, "relative error": err if err is not None and isfinite(err)
                             else "", "error parts": band.text() if band is not None else
                             ("exact (a design variable)" if key is None else ""),
-                            "unit": unit, "model": model})
+                            "unit": unit, "model": model + ("; beyond the largest force solved, "
+                                                            f"{self.values['largest_force']:g} N: a straight line"
+                                                            if key == "force_range" and self.values.get("largest_force")
+                                                            and v > self.values["largest_force"] else "")})
         return out
 
     def row(self, error: dict) -> dict:
@@ -90,8 +93,17 @@ class AnswerDesign:
                 **({"charge per newton": _band(self.values["charge_sensitivity"], error.get("charge_sensitivity"),
                                                "C/N")}
                    if self.values.get("charge_sensitivity") is not None else {}),
-                **({"force range to saturation": _band(self.values["force_range"], error.get("force_range"), "N")}
+                **({"force range to saturation": self.saturation(error)}
                    if self.values.get("force_range") is not None else {})}
+
+    def saturation(self, error: dict) -> str:
+        """The force at which the readout clips: the number when a press reached it, else "beyond the
+        largest force solved" with that force (the straight line past it is not a press)."""
+        f, top = self.values["force_range"], self.values.get("largest_force")
+        if top is not None and f > top * (1 + 1e-9):
+            return (f"beyond {eng(top, 'N', 3)}, the largest force solved (a straight line from it: "
+                    f"{eng(f, 'N', 3)}, not a press)")
+        return _band(f, error.get("force_range"), "N")
 
 
 class NoiseFloor(NamedTuple):
