@@ -14,7 +14,7 @@ SQLite store and reused by later runs).
     [objective]
     maximize = "sensitivity"                      # or minimize = "crosstalk"
 
-    [constraints]                                 # metric = "<= value" or ">= value"
+    [requirements]                                # metric = "<= value" or ">= value": the search obeys them
     total_thickness = "<= 2 mm"
 
     [pareto]                                      # optional: the epsilon-constraint front
@@ -46,8 +46,9 @@ and geometric ones without FEM: total_thickness (silicone above + piezo + below,
 m), footprint (array width along x, m), gap (m), pitch (taxel width + gap, m).
 
 [requirements] states what the sensor must meet (optimize.requirements): the
-yield's spec and the answer's (the report recommends the design meeting every
-requirement with the largest margin).
+search's constraints (`searched`), the yield's spec and the answer's (the report
+recommends the design meeting every requirement with the largest margin). The
+retired [constraints] table is refused with the lines to move.
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective
 jitters at the level of the discretisation error's variation with geometry.
@@ -115,7 +116,6 @@ class OptimizationSpec(Strict):
     reference: dict[str, Any] = {}
     variables: dict[str, Variable] = Field(min_length=1)
     objective: dict[Literal["maximize", "minimize"], Literal[METRICS]]
-    constraints: dict[str, Any] = {}          # retired: [requirements] is the one table (a one-line error)
     pareto: Pareto | None = None
     algorithm: Algorithm = Algorithm()
     noise: Any = "1 mV"                       # coverage, localization_error: white noise on each taxel peak
@@ -124,6 +124,16 @@ class OptimizationSpec(Strict):
     robust: Robust | None = None              # the robust metrics' tolerances (optimize.robust)
     requirements: dict[Literal[METRICS], str] = {}   # the answer's and the yield's spec, e.g. coverage = ">= 100 %"
     press: ProbePress | None = None                # the rig's probe press as the model (optimize.probe)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _retired(cls, data):
+        if isinstance(data, dict) and "constraints" in data:
+            table = data["constraints"] if isinstance(data["constraints"], dict) else {}
+            lines = "; ".join(f"{k} = \"{v}\"" for k, v in table.items()) or "its lines"
+            raise ValueError(f"[constraints]: the search obeys [requirements] alone (one table); move {lines} "
+                             "under [requirements]")
+        return data
 
     @model_validator(mode="after")
     def _check(self):
@@ -272,10 +282,6 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
         if not a <= s <= b:
             raise OptimizeError(f"variables.{name}: start {var.start} is outside [{var.min}, {var.max}]")
         lo.append(a), hi.append(b), x0.append(s), units.append(unit)
-    if spec.constraints:
-        lines = "; ".join(f"{k} = \"{v}\"" for k, v in spec.constraints.items())
-        raise OptimizeError(f"[constraints]: the search obeys [requirements] alone (one table); move {lines} "
-                            "under [requirements]")
     cons = searched(spec.requirements, OptimizeError)
     problem = Optimization(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
     if spec.press is not None:
@@ -354,10 +360,8 @@ gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
 [objective]
 maximize = "robust_sensitivity"
 
-[constraints]
+[requirements]                     # the search obeys them all; a good part meets all but the yield
 yield = ">= 0.9"
-
-[requirements]                     # what a good part is (the yield's spec)
 crosstalk = "<= 8 %"
 
 [resolution]                       # the noise metrics' chain
