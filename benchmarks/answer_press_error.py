@@ -20,7 +20,7 @@ press's own a-posteriori estimate costs 2 x the press (benchmarks/press_speed.py
       sensitivity:  e_s = SAFETY x (E_SINGLE + R |rho(sqrt 2) / rho(1) - 1|)
       crosstalk:    e_c = SAFETY x R |c(sqrt 2) / c(1) - 1|
 
-  with SAFETY = 1.25, the three-mesh safety factor of taxel.analyses.error_estimate.
+  with SAFETY = 1.25, the three-mesh safety factor of taxel.analyses.accuracy.error_estimate.
   (The crosstalk, a ratio of two voltages of the same press, has no nested reference:
   its band is its own move under refinement, extrapolated at the same order.)
 

@@ -1,4 +1,4 @@
-"""The estimator's cheapest 3D model (taxel.analyses.error_estimate.CHEAP_3D) as a quarter
+"""The estimator's cheapest 3D model (taxel.analyses.accuracy.error_estimate.CHEAP_3D) as a quarter
 model (model.symmetry = "auto" picks it) and as the full model, side by side: wall
 time, pressed-taxel voltage against the 3D reference (docs/reference_3d.json, made
 by benchmarks/reference_3d.py) and crosstalk, for the single thesis taxel and the
@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 import taxel
-from taxel.analyses.error_estimate import CHEAP_3D, CHEAP_3D_ERROR, output_values
+from taxel.analyses.accuracy.error_estimate import CHEAP_3D, CHEAP_3D_ERROR, output_values
 
 REFERENCE = json.loads((Path(__file__).parent.parent / "docs" / "reference_3d.json").read_text())
 

@@ -1,4 +1,4 @@
-"""The coverage metric (taxel.analyses.coverage, optimize.coverage): what it costs per
+"""The coverage metric (taxel.analyses.surface.coverage, optimize.coverage): what it costs per
 design, how it moves with the gap, what a finer or coarser line scan changes, and how
 the 2D section's line scan compares with 3D presses at one design.
 
@@ -38,8 +38,8 @@ from pathlib import Path
 import numpy as np
 
 import taxel
-from taxel.analyses.coverage import SIGMAS, best_peak, coverage
-from taxel.analyses.influence import influence
+from taxel.analyses.surface.coverage import SIGMAS, best_peak, coverage
+from taxel.analyses.surface.influence import influence
 from taxel.schema import electrode_name
 
 FORCE, NOISE = 0.2, 1e-3

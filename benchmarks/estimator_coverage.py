@@ -5,7 +5,7 @@
 3 mm (a 1x3 reference at 1 mm needs more than 6 GB beyond these: killed by the
 kernel at 6.1 GB on the 5 mm gap);
 plane strain, plane stress and axisymmetric, orders 1 and 2; and the cheapest
-3D model itself. For each, `taxel.analyses.error_estimate.estimate` (discretisation
+3D model itself. For each, `taxel.analyses.accuracy.error_estimate.estimate` (discretisation
 + model form; linear silicone on both sides, so the material part, which is
 benchmarks/silicone_model_error.py's rule, is left out) against the true error:
 the relative difference to the 3D reference (1 mm elements, 0.4 mm at the
@@ -26,7 +26,7 @@ discretisation error (the same model on an extrapolated fine reference: in 2D
 Richardson over four nested refinements of the mesh at the observed order, in 3D
 docs/reference_3d.json, where the true error is the largest against any of its
 chains' extrapolations, since they spread by as much as the default mesh's error:
-see taxel.analyses.error_estimate's docstring): the thesis PZT taxel at the
+see taxel.analyses.accuracy.error_estimate's docstring): the thesis PZT taxel at the
 default mesh (no [mesh] table) and at coarser and finer ones, with the method the
 estimate used and its order.
 
@@ -43,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.analyses import error_estimate as est
+from taxel.analyses.accuracy import error_estimate as est
 from taxel.analyses import solve_static
 from taxel.scene import Scene, load
 from taxel.schema import to_data

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 import taxel
-from taxel.analyses.dynamic import damping
+from taxel.analyses.solves.dynamic import damping
 from taxel.studies.measured.calibrate import scaled_chain
 from taxel.studies.measured.frf import lumped_frf
 from taxel.studies.bench.rig import load_rig

@@ -5,11 +5,11 @@
 For the thesis scene (thesis-pzt-3x3-2d) and two variants (silicone_above 0.5 mm;
 gap 1.5 mm): the influence functions over the taxels' span sampled every pitch / 8
 with every position solved (the reference), and every pitch / 2, / 4 and / 8 with
-the mirror symmetry (taxel.analyses.influence). Printed: the static solves, the
+the mirror symmetry (taxel.analyses.surface.influence). Printed: the static solves, the
 wall time relative to the reference, the largest |G - G_ref| at the reference's
 positions (the cubic spline between coarser samples), the mirror's own error
 (per_pitch 8 against the reference at the same positions), and the metric
-localization_error (taxel.analyses.localization, 1 mV, rms over the map) relative to
+localization_error (taxel.analyses.surface.localization, 1 mV, rms over the map) relative to
 the reference's. One run, no cache (a fresh XDG_CACHE_HOME).
 """
 
@@ -28,8 +28,8 @@ from taxel.schema import electrode_name
 
 def main():
     os.environ["XDG_CACHE_HOME"] = tempfile.mkdtemp()
-    from taxel.analyses import influence as I
-    from taxel.analyses.localization import localization_error
+    from taxel.analyses.surface import influence as I
+    from taxel.analyses.surface.localization import localization_error
     base = taxel.load("thesis-pzt-3x3-2d")
     designs = {"thesis": base, "silicone_above 0.5 mm": base.replace(**{"array.silicone_above": "0.5 mm"}),
                "gap 1.5 mm": base.replace(**{"array.gap": "1.5 mm"})}
@@ -76,7 +76,7 @@ def _no_mirror(I, sc, solve):
 
 
 def _metric(sc, infl):
-    from taxel.analyses.localization import accuracy_map
+    from taxel.analyses.surface.localization import accuracy_map
     arr = sc.array
     amap = accuracy_map(infl, arr.rows, arr.cols, float(np.mean(np.abs(infl.sensitivity))), 1e-3, float(sc.load.force))
     e = amap.position_error_mm[np.isfinite(amap.position_error_mm)]

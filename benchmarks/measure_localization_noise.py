@@ -20,7 +20,7 @@ import argparse
 
 import taxel
 from taxel.studies.measured import events
-from taxel.analyses.influence import influence
+from taxel.analyses.surface.influence import influence
 from taxel.studies.measured.localize import PressEvent, largest_taxel, model_based
 from taxel.studies.bench.rig import load_rig
 from taxel.studies.bench.signals import Settings, simulate

@@ -8,7 +8,7 @@ and 50 Hz notch) over 1 Hz-1 kHz, three chains: the analog chain alone, the thes
 bench's ADC (`thesis-bench` rig: 16 bit, +-10 V, 2 kHz), and the bench with the
 simulated rig's mains pickup (5, 1.5, 0.5 mV at 50, 150, 250 Hz; the main job's
 noise-budget step). Prints the rms noise, the minimum detectable force, the dynamic
-range and the largest shares (taxel.analyses.noise).
+range and the largest shares (taxel.analyses.solves.noise).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from __future__ import annotations
 import time
 
 from taxel import load
-from taxel.analyses.noise import noise
+from taxel.analyses.solves.noise import noise
 from taxel.studies.bench.rig import load_rig
 from taxel.studies.bench.signals import Settings
 

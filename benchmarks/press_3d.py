@@ -37,7 +37,7 @@ more levels from / 0.71, 1.41, 1.68 and 2 give orders 1.11, 1.35, 2.03, 1.43 and
 0.3-3.3; --fits prints them): their steps (1.4-1.7e-3 between / 1.41, 1.68 and 2) are within a
 few times the noise. The default press mesh: +0.84 % from the reference (+1.06 / +0.64 % at
 orders 1 / 2, +0.78 % from the sqrt 2 Richardson, +0.50 % from the finest level; --quick's V/F;
-taxel.analyses.error_estimate.PRESS_3D_ERROR). --through: / 0.5, 1, 1.5, 2 with 1, 2, 3, 4
+taxel.analyses.accuracy.error_estimate.PRESS_3D_ERROR). --through: / 0.5, 1, 1.5, 2 with 1, 2, 3, 4
 through: -0.79092, -0.78969, -0.78652, -0.78485 V/N (order 0.86, not extrapolated). --layers:
 1, 2, 4, 8 through at / 0.71: -0.78753, -0.79548, -0.79738, -0.79867; at / 1: -0.78666, -0.78969,
 -0.79071, -0.79146 V/N. --path (4 through): force control alone, 4, 8, 16, 32 steps at / 0.71:
@@ -171,7 +171,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 from taxel.analyses import problem
 from taxel.analyses import checked_layout, check
-from taxel.analyses.error_estimate import CHEAP_3D
+from taxel.analyses.accuracy.error_estimate import CHEAP_3D
 from taxel.fem.assembly import assemble
 from taxel.fem.contact import PressError, Options, Press
 from taxel.meshing.build import build
@@ -504,7 +504,7 @@ def main():
     if k == 1.0:    # a user's scene without [mesh]: the default press mesh (taxel.scene.DEFAULT_PRESS_MESH)
         user = load("thesis-pzt-probe-3d")
         print(line("**default** (thesis-pzt-probe-3d, no [mesh])", run(user, layout(user))), flush=True)
-        # the cheapest 3D model's mesh under the punch (taxel.analyses.error_estimate.CHEAP_3D_PRESS_ERROR)
+        # the cheapest 3D model's mesh under the punch (taxel.analyses.accuracy.error_estimate.CHEAP_3D_PRESS_ERROR)
         cheap = sc.replace(**CHEAP_3D)
         print(line("the cheapest 3D model's mesh (error_estimate.CHEAP_3D)", run(cheap, layout(cheap))), flush=True)
     print(line("the scene's own mesh (extruded, 1 mm / 0.4 mm, 2 through)" if k == 1.0

@@ -9,7 +9,7 @@ Yeoh Ecoflex 00-30 to 1 N, quarter models (model.symmetry = "auto"):
 
 Each at its default press mesh (taxel.scene.DEFAULT_PRESS_MESH) and at refinements of it
 (taxel.scene.refined, every size / k; --levels), through the whole pipeline a user runs
-(taxel.analyses.problem.solve_model: mesh, assembly, press, the solution with the unfolded
+(taxel.analyses.model.problem.solve_model: mesh, assembly, press, the solution with the unfolded
 capacitance), printing wall and CPU time, the unknowns, Newton iterations, load states,
 factorizations (fem.contact.PressResult.stats), V/F and crosstalk, and the error against the
 reference: the single taxel's eight-level Richardson fit (docs/press_3d_reference.json,
@@ -22,7 +22,7 @@ step (Options.reuse_analysis False); no chord steps; no tangent predictor (each 
 last state, not from the linear rate dx/dd); the first force-control trial from the unpressed
 (linear) stiffness at half the target (Options.first_force 0.5: fewer load states); and the
 taxels the punch does not touch meshed as finely as the pressed one (meshing Layout.far_taxel 1,
-the default before) and at 2 x (the default is taxel.analyses.geometry.FAR_TAXEL, 3: fewer
+the default before) and at 2 x (the default is taxel.analyses.model.geometry.FAR_TAXEL, 3: fewer
 unknowns where the silicone stays nearly linear).
 
 --designs N: N designs pressed in one process (the single taxel, silicone above 1, 0.75, 1.25, 0.5
@@ -32,7 +32,7 @@ What carries over between designs of one process: the imports, MKL's and pypardi
 gmsh's initialisation; not the mesh or the PARDISO analysis (a new design is a new mesh, a new
 pattern; fem.linalg.Refactorizer reuses its analysis within one press).
 
---estimate CASE: the error estimate of the default press (taxel.analyses.error_estimate.estimate:
+--estimate CASE: the error estimate of the default press (taxel.analyses.accuracy.error_estimate.estimate:
 for a 3D press the through-the-piezo and in-plane parts, widened) against the true error (the
 single taxel's reference), and its cost against the press's.
 
@@ -85,7 +85,7 @@ from pathlib import Path
 
 
 from taxel.analyses import checked_layout, check
-from taxel.analyses.problem import solve_model
+from taxel.analyses.model.problem import solve_model
 from taxel.meshing.build import build
 from taxel.scene import load, refined
 
@@ -111,7 +111,7 @@ def reference(case: str) -> float | None:
 
 def run(sc, options: dict | None = None, far_taxel: float | None = None) -> dict:
     """One whole solve (mesh, assembly, press, solution); its numbers. `far_taxel`: the layout's
-    (meshing Layout.far_taxel) instead of the scene's default (taxel.analyses.geometry.FAR_TAXEL)."""
+    (meshing Layout.far_taxel) instead of the scene's default (taxel.analyses.model.geometry.FAR_TAXEL)."""
     w, c = time.perf_counter(), time.process_time()
     tm = None
     if far_taxel is not None:
@@ -244,7 +244,7 @@ def designs(n: int):
 
 
 def estimate(case: str):
-    from taxel.analyses import error_estimate as est
+    from taxel.analyses.accuracy import error_estimate as est
     sc, ref = scene(case), reference(case)
     w, c = time.perf_counter(), time.process_time()
     r = solve_model(sc)
@@ -260,7 +260,7 @@ def estimate(case: str):
 
 
 def linear_estimate():
-    from taxel.analyses import error_estimate as est
+    from taxel.analyses.accuracy import error_estimate as est
     refs = json.loads((DOCS / "reference_3d.json").read_text())
     for key, rec in refs.items():
         sc = load(rec["scene"])

@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 import taxel
-from taxel.analyses import reduced as R
+from taxel.analyses.solves import reduced as R
 from taxel.analyses import problem
 from taxel.fem import dynamics
 from taxel.fem import dynamics as fr
@@ -97,8 +97,8 @@ def lumped_rows(label, scene):
     """The seed's and the FEM-informed 3-DoF models against the FEM (the scene's reduced
     model, charge output, pressed path): |FRF| and complex errors below half the first
     resonance and within +-50 % of it."""
-    from taxel.analyses.dynamic import lumped_model
-    from taxel.analyses.lumped_fem import informed, targets
+    from taxel.analyses.solves.dynamic import lumped_model
+    from taxel.analyses.solves.lumped_fem import informed, targets
     t = time.perf_counter()
     fem = targets(scene)
     idf = informed(scene, fem)

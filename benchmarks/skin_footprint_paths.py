@@ -27,7 +27,7 @@ import numpy as np
 from scipy import signal
 
 import taxel
-from taxel.analyses import reduced
+from taxel.analyses.solves import reduced
 from taxel.schema import electrode_name
 from taxel.skin.build import build
 from taxel.skin.runtime import SkinRuntime

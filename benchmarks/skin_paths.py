@@ -4,7 +4,7 @@ between-taxel error's source).
 The skin (taxel.skin.build) runs every taxel through the reference taxel's path h (its
 footprint's force to its own readout) times a static influence: it assumes the path
 from that footprint to a neighbour's readout is a constant times h. The reduced model
-the skin is built from (taxel.analyses.reduced, input the middle taxel's footprint, the
+the skin is built from (taxel.analyses.solves.reduced, input the middle taxel's footprint, the
 thesis PZT 3 x 3 2D section, mesh 1 mm / 0.2 mm, 500 Mohm readout) has those
 neighbour paths as its other outputs, with the same poles (one state space: only the
 output rows differ). For each neighbour path H_k: the least-squares constant a with
@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 import taxel
-from taxel.analyses import reduced
+from taxel.analyses.solves import reduced
 from taxel.skin.build import reference
 
 COARSE = {"readout.circuit": "resistor", "mesh.size": "1 mm", "mesh.piezo_size": "0.2 mm"}

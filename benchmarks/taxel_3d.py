@@ -2,7 +2,7 @@
 built-in 3D taxel scenes, one fresh process per row (so the peak memory is the
 row's own), solvers side by side.
 
-Each row runs `taxel.analyses.problem` (gmsh mesh), `fem.assembly.assemble`
+Each row runs `taxel.analyses.model.problem` (gmsh mesh), `fem.assembly.assemble`
 (vectorised, fem.assembly) and `fem.static.solve_linear` (elimination, scaling,
 factorization or GMRES for the load and every unit electrode charge, fields) with the solver and
 MKL thread count of the row, and prints the pressed taxel's open-circuit voltage,

@@ -6,7 +6,7 @@ Every scene this tool takes is a layered stack: bottom silicone, the piezo layer
 for verification plates, full-width layers. Pure geometry, no gmsh.
 
 Plan coordinates: x (and y in 3D), centred on the array or plate. A 2D model is
-the x-z cross-section through the loaded taxel's row. taxel.analyses.geometry
+the x-z cross-section through the loaded taxel's row. taxel.analyses.model.geometry
 makes the layout of a scene.
 """
 

@@ -51,7 +51,7 @@ from taxel.optimize.probe_front import PRESS_3D, PROBE_FILE
 # the rule's constants (module docstring)
 P_ORDER = 1.35            # the single taxel's nested family's fitted order (benchmarks/press_3d.py)
 E_SINGLE = 0.0084         # the default press mesh against the single taxel's nested reference (same)
-SAFETY = 1.25             # taxel.analyses.error_estimate.SAFETY_THREE_MESH
+SAFETY = 1.25             # taxel.analyses.accuracy.error_estimate.SAFETY_THREE_MESH
 REFINE = 2 ** 0.5         # the second mesh: every size / sqrt 2 (taxel.scene.refined)
 R = REFINE ** P_ORDER / (REFINE ** P_ORDER - 1)
 # benchmarks/answer_press_error.py, 2026-11-28 (docs/answer_press_error.json): the rule on each

@@ -1,5 +1,5 @@
 """The influence metrics of a design, coverage and localization_error: both from one set
-of influence functions (taxel.analyses.influence: the 2D section's line scan of a press
+of influence functions (taxel.analyses.surface.influence: the 2D section's line scan of a press
 as wide as a taxel, 9 static solves for a 3-taxel row, each press position a point of
 the optimization's OUT/influence store), at the smallest force of interest, against
 one noise floor.
@@ -9,9 +9,9 @@ one noise floor.
 
 coverage (ratio): the fraction of the surface between the outer taxels' centres where a
 press at the smallest force gives at least one taxel a peak above k = 3 times the
-noise floor (taxel.analyses.coverage). localization_error (m): the rms over that
+noise floor (taxel.analyses.surface.coverage). localization_error (m): the rms over that
 surface of the predicted position error at the same force (the Cramer-Rao bound of
-taxel.analyses.localization; it scales as noise / force).
+taxel.analyses.surface.localization; it scales as noise / force).
 
 The noise floor sigma (V rms, referred to a taxel's open-circuit peak) is the design's
 readout's when it has one, sigma = F_min,det S (its minimum detectable force, from the
@@ -43,9 +43,9 @@ def influence_metrics(scene, force: float, noise_V: float, min_detectable_force:
     """{coverage, localization_error, and how: noise_V, noise_source, force_N, dead_m,
     solves, seconds} of a design (a taxel-array scene); every press position a point of
     the store OUT/influence. None values when a solve fails."""
-    from taxel.analyses.coverage import coverage
-    from taxel.analyses.influence import influence
-    from taxel.analyses.localization import localization_error_of
+    from taxel.analyses.surface.coverage import coverage
+    from taxel.analyses.surface.influence import influence
+    from taxel.analyses.surface.localization import localization_error_of
     from taxel.schema import to_data
     from taxel.studies.evaluate import evaluate_safely
     from taxel.studies.store import Store

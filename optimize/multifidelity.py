@@ -30,7 +30,7 @@
    which is as large as the differences the front shows. So the two designs the
    answer compares, the reference (thesis) design and the most sensitive 3D-front
    design at or below its crosstalk, are solved again on CONFIRM_3D, the
-   estimator's cheapest 3D model (taxel.analyses.error_estimate.CHEAP_3D: at most
+   estimator's cheapest 3D model (taxel.analyses.accuracy.error_estimate.CHEAP_3D: at most
    0.42 % off in voltage and 3.5 % in crosstalk over the estimator's 22 scenes). The corrected search is restricted to the designs the cheap
    search visited: no new 2D solves, so the loop costs only 3D solves.
 
@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.analyses.error_estimate import CHEAP_3D
+from taxel.analyses.accuracy.error_estimate import CHEAP_3D
 from taxel.optimize.driver import pareto_front, violation
 from taxel.optimize.result import FrontRun
 from taxel.studies.evaluate import evaluate_safely

@@ -141,7 +141,7 @@ def press_metrics(data: dict, press: ProbePress | None = None, estimate: bool = 
     """PROBE_METRICS of a pressed scene's data (press_scene's output) under the [press]
     table `press` (its tangent step and force range; defaults without), the voltage-force
     states of the press, its force and the seconds it took (JSON-ready, SI). With
-    `estimate`, also the result's estimated error (taxel.analyses.error_estimate.estimate:
+    `estimate`, also the result's estimated error (taxel.analyses.accuracy.error_estimate.estimate:
     discretisation by the estimator's route for this mesh, no model form, the material law
     0 on Yeoh), as "error": {output: {discretisation, model_form, material, total}}."""
     from taxel.analyses import problem
@@ -188,7 +188,7 @@ def press_metrics(data: dict, press: ProbePress | None = None, estimate: bool = 
             min(span, key=lambda r: r["sensitivity"])["force"],
             max(span, key=lambda r: r["crosstalk"] or 0.0)["force"])
     if estimate:
-        from taxel.analyses.error_estimate import estimate as error_of
+        from taxel.analyses.accuracy.error_estimate import estimate as error_of
         e = error_of(scene, res, model_form=False)
         m["error"] = {k: {**o.record(), "total": o.total} for k, o in e.outputs.items()}
         m["error method"] = e.method

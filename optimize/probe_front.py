@@ -27,7 +27,7 @@ Levels (each a model of the same design, cheapest first):
 Every front design carries its estimated relative error, the sum of
   - discretisation: the 2D mesh's (DISCRETISATION_2D: the default mesh's voltage error
     against nested references, docs/benchmarks.md) at level B; for a 3D press, the project's
-    error estimator on that press (taxel.analyses.error_estimate.estimate: on a coarse
+    error estimator on that press (taxel.analyses.accuracy.error_estimate.estimate: on a coarse
     mesh, the same press on a mesh twice as coarse, Richardson at the lowest order
     measured in 3D); for C estimated from B the linear ratio's own 3D mesh error
     (VERIFY_3D_ERROR, the verification mesh's worst measured voltage error, 3.8 %);
@@ -52,7 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.analyses.error_estimate import PRESS_3D_ERROR
+from taxel.analyses.accuracy.error_estimate import PRESS_3D_ERROR
 from taxel.optimize.multifidelity import (VERIFY_3D, ScoredDesign, MultiFidelity, answer, correct, fine_data,
                                           interpolant, nondominated)
 from taxel.scene import DEFAULT_PRESS_MESH

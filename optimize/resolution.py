@@ -9,7 +9,7 @@ An optimization (or a tolerance study) asks for them in an optional table:
     band = ["1 Hz", "100 Hz"]          # the force's band (default 1-100 Hz: press events)
     force = "10 mN"                    # the force of the snr (rms; default: the scene's load force)
 
-How: taxel.analyses.noise.quasi_static_noise. The static solve gives the pressed
+How: taxel.analyses.solves.noise.quasi_static_noise. The static solve gives the pressed
 taxel's open-circuit sensitivity S = V_oc / F (V/N) and charge sensitivity
 Q_sc / F (C/N); their ratio is its capacitance C_p. Below the first mechanical
 resonance the readout output per newton is the circuit's transfer H(f) of that
@@ -22,7 +22,7 @@ charge source, and each noise source's PSD depends only on the circuit and C_p
 
 The default band stays below the silicone layer's first resonance (about 400 Hz for
 the thesis PZT taxel, where the FEM's |H| starts to rise); a band through it needs
-the FEM sweep (taxel.analyses.noise.noise), which costs a frequency analysis per
+the FEM sweep (taxel.analyses.solves.noise.noise), which costs a frequency analysis per
 design. tests/test_robust.py checks the quasi-static numbers against that sweep.
 """
 
@@ -82,5 +82,5 @@ def load_rig_of(res: Resolution):
 def noise_metrics(scene: Scene, outputs: dict, res: Resolution, rig=None) -> dict:
     """{min_detectable_force (N), snr (dB), dynamic_range (dB)} of a design from its static
     solve's named outputs (sensitivity, charge_sensitivity); None values when it has none."""
-    from taxel.analyses.noise import design_noise
+    from taxel.analyses.solves.noise import design_noise
     return design_noise(scene, outputs, rig, band_hz(res), force_n(res, scene))

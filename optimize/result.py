@@ -1,6 +1,6 @@
 """What an optimization returns: one type for an optimum and for a front.
 
-    result = taxel.optimize("thesis-pzt-front", "out/front")
+    result = taxel.run_optimization("thesis-pzt-front", "out/front")
     result.kind                  # "optimum" or "front"
     result.optimum               # driver.Result (x, metrics, success, message, nfev, history) or None
     result.runs                  # the front's epsilon-constraint runs (FrontRun: bound, result)
@@ -27,7 +27,7 @@ import numpy as np
 from taxel.optimize.driver import Result, pareto_front, violation
 
 RESULT_FILE = "result.json"
-# a base scene naming a readout: its numbers beside the open circuit's (taxel.analyses.at_readout)
+# a base scene naming a readout: its numbers beside the open circuit's (taxel.analyses.solves.at_readout)
 AT_READOUT = ("readout_sensitivity", "readout_crosstalk", "min_detectable_force")
 
 

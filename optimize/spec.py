@@ -31,13 +31,13 @@ SQLite store and reused by later runs).
 
 Metrics: sensitivity (|V| of the pressed taxel per newton, open circuit, V/N),
 readout_sensitivity and readout_crosstalk (through the base scene's [readout] chain,
-taxel.analyses.at_readout; with it min_detectable_force is the chain's own, unless
+taxel.analyses.solves.at_readout; with it min_detectable_force is the chain's own, unless
 [resolution] asks for a rig's),
 tangent_sensitivity (the small-signal slope |dV/dF| there: equal to sensitivity on the
 linear model; under a [press], optimize.probe), crosstalk (largest
 neighbour-to-pressed voltage ratio), max_strain (largest
 silicone strain), localization_error (the predicted rms position error of a press
-over the array, m: the Cramer-Rao bound of taxel.analyses.localization from the FEM
+over the array, m: the Cramer-Rao bound of taxel.analyses.surface.localization from the FEM
 influence functions at the rig's white noise `noise`, default 1 mV on each taxel
 peak; 9 more static solves per design for a 3-taxel row, kept in OUT/influence/),
 coverage (the fraction of the surface where a press at `smallest_force` gives a taxel a
@@ -199,7 +199,7 @@ class Optimization:
         metrics.update(sensitivity=abs(v) / result["force"] if v is not None else None,
                        tangent_sensitivity=abs(v) / result["force"] if v is not None else None,   # linear: V ~ F
                        crosstalk=result.get("crosstalk"), max_strain=result.get("max_strain"))
-        named = result.get("outputs") or {}          # a scene naming a readout: its numbers (analyses.at_readout)
+        named = result.get("outputs") or {}          # a scene naming a readout: its numbers (analyses.solves.at_readout)
         metrics.update({k: named.get(k) for k in (*READOUT_METRICS, "min_detectable_force") if named.get(k) is not None})
         if set(NOISE_METRICS) & (self.used | set(self.requirements)):
             from taxel.optimize.resolution import noise_metrics

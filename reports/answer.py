@@ -200,7 +200,7 @@ def _priced(designs: list[AnswerDesign], reqs: list, chosen: int | None) -> list
 
 
 def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer:
-    from taxel.analyses.error_estimate import CHEAP_3D_ERROR
+    from taxel.analyses.accuracy.error_estimate import CHEAP_3D_ERROR
     a = rec["answer"]
     ref = rec["reference"]
     x_ref = _lengths(ref)

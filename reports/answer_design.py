@@ -130,7 +130,7 @@ class FrontAnswer:
     verified: bool                              # True: 3D; False: the cheap 2D model only
     notes: list[str] = field(default_factory=list)
     error_source: str = ("the 3D model's own mesh error, measured against the converged 3D reference "
-                         "(taxel.analyses.error_estimate: CHEAP_3D_ERROR); the linear silicone holds for small "
+                         "(taxel.analyses.accuracy.error_estimate: CHEAP_3D_ERROR); the linear silicone holds for small "
                          "presses (the V/N of a light touch)")
     requirements: list = field(default_factory=list)   # optimize.requirements.Requirement, implied ones too
     binding: tuple | None = None                        # (metric, margin) when no design meets every requirement

@@ -214,7 +214,7 @@ def front_3d_banners(rec: dict) -> list[Banner]:
     """The 2D front against its 3D verification (front-3d.json): a 2D/3D disagreement
     in crosstalk larger than the 3D model's own error, and a corrected prediction that
     missed its 3D check by more than that."""
-    from taxel.analyses.error_estimate import CHEAP_3D_ERROR
+    from taxel.analyses.accuracy.error_estimate import CHEAP_3D_ERROR
     out = []
     ref = rec["reference"]
     c2, c3 = ref.get("crosstalk 2D"), ref.get("crosstalk 3D")

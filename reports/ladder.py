@@ -47,7 +47,7 @@ READOUT_FILE = "answer-readout.json"     # the answer's designs through the benc
 # the probe front's own rows: the model the candidates are chosen on (optimize.probe_front)
 SELECTION_MODEL = "the rig's probe, Yeoh silicone: 2D press x linear 3D/2D ratio (the candidate selection)"
 # The error of the coarse verification mesh (optimize.multifidelity.VERIFY_3D) against the
-# 3D reference: 0.2-3.8 % in voltage (taxel.analyses.error_estimate, measured on the thesis
+# 3D reference: 0.2-3.8 % in voltage (taxel.analyses.accuracy.error_estimate, measured on the thesis
 # PZT taxel) and 3-6 % on the 3x3 array (optimize.multifidelity, step 6): the worst of each.
 VERIFY_3D_ERROR = {"sensitivity": 0.038, "crosstalk": 0.06}
 
@@ -151,7 +151,7 @@ def _same_x(x: list, x_mm: dict) -> bool:
 def ladder(folder: Path, x_mm: dict, reference: bool) -> list[Rung]:
     """The ladder of the design `x_mm` ({variable: mm}) in an optimization folder;
     `reference`: the design is the folder's reference (thesis) design."""
-    from taxel.analyses.error_estimate import CHEAP_3D_ERROR
+    from taxel.analyses.accuracy.error_estimate import CHEAP_3D_ERROR
     folder = Path(folder)
     out: list[Rung] = []
     names = list(WHY)

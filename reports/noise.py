@@ -1,4 +1,4 @@
-"""The noise-budget page: a noise result folder (taxel.analyses.noise, result.json of
+"""The noise-budget page: a noise result folder (taxel.analyses.solves.noise, result.json of
 kind "noise") drawn as the PSD of each source at the readout output, stacked, and
 the share of each source in the band's variance. Reads the folder; never solves."""
 

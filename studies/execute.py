@@ -185,7 +185,7 @@ def _worker_died() -> str:
 
 
 # Modules a worker needs, imported once in the fork server so every worker starts warm.
-WORKER_PRELOAD = ("taxel.studies.evaluate", "taxel.analyses.analysis", "taxel.analyses.problem", "taxel.analyses.dynamic")
+WORKER_PRELOAD = ("taxel.studies.evaluate", "taxel.analyses.solves.analysis", "taxel.analyses.model.problem", "taxel.analyses.solves.dynamic")
 
 
 def start_method() -> str:

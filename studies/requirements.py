@@ -28,7 +28,7 @@ from taxel import units
 
 # The outputs a tolerance study has per point and their SI units: a static result's named
 # outputs (taxel.analyses.results.STATIC_OUTPUTS) and the noise budget's
-# (taxel.analyses.noise.DESIGN_NOISE).
+# (taxel.analyses.solves.noise.DESIGN_NOISE).
 TOLERANCE_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V",
                      "crosstalk": "", "max_strain": "", "min_detectable_force": "N", "snr": "dB",
                      "dynamic_range": "dB"}

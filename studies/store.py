@@ -20,15 +20,15 @@ import time
 from functools import cache
 from pathlib import Path
 
-from taxel.analyses.at_readout import READOUT_OUTPUTS
-from taxel.analyses.version import code_version as _code_version
+from taxel.analyses.solves.at_readout import READOUT_OUTPUTS
+from taxel.analyses.solves.version import code_version as _code_version
 from taxel.scene import SceneError, canonical, parse
 from taxel.studies.evaluate import evaluate_safely
 
 @cache
 def code_version() -> str:
     """Hash of the sources a result depends on: the scene schema, the analyses,
-    the FEM and the meshing (taxel.analyses.version), and this evaluation."""
+    the FEM and the meshing (taxel.analyses.solves.version), and this evaluation."""
     return _code_version(Path(__file__).parent / "evaluate.py")
 
 
@@ -165,7 +165,7 @@ def tidy_rows(out: Path) -> list[dict]:
             if name in res:
                 row[name] = res[name]
         for name in ("charge_sensitivity", *READOUT_OUTPUTS):    # with a [readout]: its numbers beside
-            if named.get(name) is not None:                       # the open circuit's (analyses.at_readout)
+            if named.get(name) is not None:                       # the open circuit's (analyses.solves.at_readout)
                 row[name] = named[name]
         if "requested_load" in res:       # stopped short (studies.evaluate): the outputs are at this load
             row["stopped_at"] = res["force"]

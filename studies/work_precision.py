@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses import frequency, lumped_model, lumped_response, solve_static
-from taxel.analyses.error_estimate import relative
+from taxel.analyses.accuracy.error_estimate import relative
 from taxel.scene import Scene, canonical, parse, refined
 from taxel.schema import to_data
 from taxel.studies.store import Store
@@ -118,18 +118,20 @@ def finest_3d(scene: Scene) -> tuple[Level, Level]:
 @cache
 def solver_version() -> str:
     """Hash of what a solve depends on: the FEM, the meshing, the analyses (but not
-    the error estimator and the fidelity ladder, which solve nothing themselves) and
+    the error estimate and the model choice, taxel.analyses.accuracy, which solve nothing themselves) and
     the scene schema; an estimator change keeps the cached work-precision solves."""
     import taxel.analyses
     import taxel.fem
     import taxel.meshing
     import taxel.scene
+    import taxel.scene_tables
     h = hashlib.sha256()
     for mod in (taxel.fem, taxel.meshing, taxel.analyses):
-        for f in sorted(Path(mod.__path__[0]).glob("*.py")):
-            if f.name not in ("estimate.py", "fidelity.py"):
+        for f in sorted(Path(mod.__path__[0]).rglob("*.py")):
+            if f.parent.name != "accuracy":         # taxel.analyses.accuracy: the estimate and the model choice
                 h.update(f.read_bytes())
     h.update(Path(taxel.scene.__file__).read_bytes())
+    h.update(Path(taxel.scene_tables.__file__).read_bytes())
     return h.hexdigest()[:16]
 
 

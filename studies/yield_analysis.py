@@ -196,9 +196,9 @@ MAGNITUDES = ("sensitivity", "charge_sensitivity")
 def noise_outputs(scene_data: dict, outputs: dict, band=(1.0, 100.0)) -> dict:
     """min_detectable_force (N), snr (dB at the scene's load force) and dynamic_range (dB)
     of a point from its static outputs, through the scene's own [readout] over `band` (Hz):
-    the quasi-static noise budget (taxel.analyses.noise.quasi_static_noise); {} without a
+    the quasi-static noise budget (taxel.analyses.solves.noise.quasi_static_noise); {} without a
     pressed taxel's voltage and charge."""
-    from taxel.analyses.noise import design_noise
+    from taxel.analyses.solves.noise import design_noise
     from taxel.scene import parse
     m = design_noise(parse({**scene_data, "name": "point"}), outputs, band=band)
     return {k: v for k, v in m.items() if v is not None}

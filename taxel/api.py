@@ -6,7 +6,7 @@
     result = taxel.solve(thicker)                           # StaticResult | FrequencyResult | TransientResult
     result.voltages(), result.record(), result.to_folder("out/thicker")
     taxel.run_study("fig-2-5", "out/fig-2-5", workers=2)
-    front = taxel.optimize("thesis-pzt-front", "out/front")  # OptimizationResult: front.summary(), .runs
+    front = taxel.run_optimization("thesis-pzt-front", "out/front")  # OptimizationResult: front.summary(), .runs
     taxel.report(["out/fig-2-5", "out/front"], "out/report")
 
 The command line is a thin shell over these functions.
@@ -63,7 +63,7 @@ def read(folder: str | Path):
     if kind in OPTIMIZATION_KINDS:
         return OptimizationResult.from_folder(folder)
     if kind == "reduced":                  # its matrices are in the folder's model.npz
-        from taxel.analyses.reduced import read_folder
+        from taxel.analyses.solves.reduced import read_folder
         return read_folder(folder)
     return analyses.read(folder)
 
@@ -127,7 +127,7 @@ def tidy_rows_or_none(out: Path) -> list[dict]:
         return []
 
 
-def optimize(problem, out: str | Path | None = None, workers: int = 2):
+def run_optimization(problem, out: str | Path | None = None, workers: int = 2):
     """Optimize a design (an optimization TOML file, a built-in name, or a loaded
     optimize.spec.Optimization) into `out` (default out/NAME): an OptimizationResult
     holding the optimum, or with [pareto] the sensitivity-crosstalk front, and the
@@ -173,7 +173,7 @@ def work_precision(scenes, out: str | Path, forces=(0.2, 1.0), store: str | Path
     return wps
 
 
-def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: str | Path | None = None,
+def serve_explorer(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: str | Path | None = None,
             host: str = "127.0.0.1", port: int = 8080, token: str | bool = True) -> None:
     """Serve the design explorer (taxel.explore) for a scene, or for a result,
     study or optimization folder (its scene.json; its results.sqlite is the
@@ -209,16 +209,16 @@ def explore(scene: Scene | str | Path | dict = "thesis-pzt-single-2d", folder: s
 
 def reduce(scene: Scene | str | Path | dict, inputs: str | None = None, output: str = "readout",
            f_max: float | None = None):
-    """The scene's reduced-order model (taxel.analyses.reduced.ReducedModel): inputs a
+    """The scene's reduced-order model (taxel.analyses.solves.reduced.ReducedModel): inputs a
     force on each taxel ("taxels", array scenes) or the scene's load ("probe"), outputs
     the readout chain ("readout") or the short-circuit charges ("charge") at every
     taxel; `.frf(f)`, `.simulate(t, force)`, `.to_control()`, `.to_scipy()`,
     `.save_mat(path)`, `.save(path.npz)`, `.to_folder(dir)`."""
-    from taxel.analyses.reduced import reduce as _reduce
+    from taxel.analyses.solves.reduced import reduce as _reduce
     return _reduce(scene if isinstance(scene, Scene) else load(scene), inputs, output, f_max)
 
 
-def skin(scene: Scene | str | Path | dict, out: str | Path | None = None, dt: float = 1e-3, per_pitch: int = 8,
+def build_skin(scene: Scene | str | Path | dict, out: str | Path | None = None, dt: float = 1e-3, per_pitch: int = 8,
          checks: int = 4, rig: str | Path | None = None):
     """The scene's skin (taxel.skin.model.SkinModel): the sensor model a simulator runs
     with taxel.skin.runtime.SkinRuntime (layout, influence with its measured

@@ -16,7 +16,7 @@ import re
 import tomllib
 import typing
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, ValidationError, ValidationInfo
 
@@ -128,6 +128,19 @@ def dimensionless(what: str, *, ge: float | None = None, gt: float | None = None
 
 Fraction = Annotated[float, dimensionless("fraction", gt=0, lt=1)]      # (0, 1): a tolerance, "2 %"
 LossFactor = Annotated[float, dimensionless("loss factor", ge=0, lt=1)]
+
+
+def friction_law(v):
+    """load.friction: "frictionless", "sticking", or a Coulomb coefficient (a number >= 0)."""
+    if v is None or v in ("frictionless", "sticking"):
+        return v
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+        raise ValueError(f'expected "frictionless", "sticking" or a Coulomb coefficient >= 0 such as 0.4, got {v!r}')
+    return float(v)
+
+
+FrictionLaw = Annotated[Literal["frictionless", "sticking"] | float | None, BeforeValidator(friction_law)]
+
 Ratio = Annotated[float, dimensionless("ratio (V/V)", gt=0)]
 
 NoiseVoltage = Annotated[float, _quantity("V/Hz**0.5", "voltage noise density", nonnegative=True)]

@@ -1,4 +1,4 @@
-"""A scene that names a readout is answered at the readout too (taxel.analyses.at_readout):
+"""A scene that names a readout is answered at the readout too (taxel.analyses.solves.at_readout):
 `taxel solve`'s outputs and summary carry the readout's V/N, crosstalk, minimum
 detectable force and force range beside the open-circuit values, checked against the
 circuit's closed form."""
@@ -22,7 +22,7 @@ def solved():
 
 
 def _with(scene, result, **readout):
-    from taxel.analyses.at_readout import at_readout
+    from taxel.analyses.solves.at_readout import at_readout
     from taxel.analyses.results import StaticResult
     r = StaticResult(scene.replace(**{f"readout.{k}": v for k, v in readout.items()}), result.solution,
                      {}, result.model_note)
@@ -144,7 +144,7 @@ max_evaluations = 2
     m = prob.evaluate(prob.x0)
     assert m["readout_sensitivity"] > 2 * m["sensitivity"] and m["readout_crosstalk"] == pytest.approx(
         m["crosstalk"], rel=1e-3) and m["min_detectable_force"] > 0
-    res = api.optimize(tmp_path / "opt.toml", tmp_path / "out", workers=1)
+    res = api.run_optimization(tmp_path / "opt.toml", tmp_path / "out", workers=1)
     assert any("at the readout" in line for line in res.summary())
 
 

@@ -196,7 +196,7 @@ def test_load_friction_takes_a_coefficient_and_refuses_a_negative_one():
 
 @pytest.mark.slow      # three 2D presses of the probe example
 def test_the_friction_band_of_the_probe_example():
-    """taxel.analyses.friction_band: the 2D probe example at 0.3 N with mu = 0.4, solved at
+    """taxel.analyses.solves.friction_band: the 2D probe example at 0.3 N with mu = 0.4, solved at
     frictionless, 0.4 and sticking: the frictionless press is the most sensitive (material
     squeezed out under the punch strains the piezo more), mu = 0.4 lies between, and the
     record carries every leg (the JSON key friction_band of `taxel solve --friction-band`)."""

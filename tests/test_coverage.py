@@ -1,4 +1,4 @@
-"""Coverage as a design metric and a requirement (taxel.analyses.coverage, optimize.coverage).
+"""Coverage as a design metric and a requirement (taxel.analyses.surface.coverage, optimize.coverage).
 
 Its limits: taxels that almost touch leave no dead zone; a gap much wider than the 1 mm
 silicone does, in the middle of the gap, and the dead zone shrinks as the force grows.
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import taxel
-from taxel.analyses.coverage import SIGMAS, coverage
-from taxel.analyses.influence import influence
+from taxel.analyses.surface.coverage import SIGMAS, coverage
+from taxel.analyses.surface.influence import influence
 
 
 @pytest.fixture

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import taxel
-from taxel.analyses import error_estimate as est
+from taxel.analyses.accuracy import error_estimate as est
 from taxel.analyses import solve_static
 from taxel.cli import main
 from taxel.scene import SceneError, load

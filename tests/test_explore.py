@@ -150,7 +150,7 @@ def front_page(tmp_path_factory):
     from taxel.explore.browser import Browser, ExplorerProcess
     tmp = tmp_path_factory.mktemp("front")
     (tmp / "front.toml").write_text(FRONT_SPEC)
-    result = taxel.optimize(tmp / "front.toml", tmp / "front", workers=1)
+    result = taxel.run_optimization(tmp / "front.toml", tmp / "front", workers=1)
     with ExplorerProcess(str(tmp / "front"), tmp / "app", limit=CEILING) as app, Browser(timeout=CEILING) as b:
         b.goto(app.url)
         b.wait(TEXT.format("voltage"), CEILING, "the first voltage")

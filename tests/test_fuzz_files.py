@@ -181,7 +181,7 @@ META_CHANGES = st.sampled_from(["drop-key", "null", "text", "nan", "list", "trun
 
 
 def _load(path: Path):
-    from taxel.analyses.reduced import ReducedModel
+    from taxel.analyses.solves.reduced import ReducedModel
     try:
         model = ReducedModel.load(path)
     except ValueError as exc:
@@ -264,7 +264,7 @@ def test_damaged_model_files_fail_in_one_line(model_file, flips, cut):
 
 def test_the_unmutated_files_are_accepted(model_file, tdms_bytes, tmp_path):
     """The fuzz starts from files that load: a mutation, not the base, is what is refused."""
-    from taxel.analyses.reduced import ReducedModel
+    from taxel.analyses.solves.reduced import ReducedModel
     assert ReducedModel.load(model_file).to_scipy() is not None
     assert zipfile.is_zipfile(model_file)
     (tmp_path / "a").mkdir()

@@ -12,7 +12,7 @@ import pytest
 import skfem
 
 from taxel.analyses import check, checked_layout
-from taxel.analyses.problem import solve_model
+from taxel.analyses.model.problem import solve_model
 from taxel.fem.assembly import LazyBasis
 from taxel.meshing.hexmesh import HexMeshError, axis_lines, build_hex
 from taxel.scene import SceneError, load
@@ -145,7 +145,7 @@ def test_contact_points_on_quadrilateral_faces_weigh_the_top_area():
 
 
 def test_a_hex_mesh_too_large_is_refused_before_it_is_made():
-    from taxel.analyses.problem import mesh
+    from taxel.analyses.model.problem import mesh
     sc = probe(**{"mesh.size": "0.05 mm", "mesh.piezo_size": "0.02 mm"})
     with pytest.raises(SceneError, match="unknowns.*GB"):
         mesh(sc)

@@ -13,22 +13,22 @@ REPORTS = Path(__file__).resolve().parents[1] / "reports"
 
 # modules whose functions run a model (a FEM solve, a sweep, a transient, an optimization)
 SOLVER_MODULES = {"taxel.fem.dynamics", "taxel.fem.dynamics", "taxel.fem.static", "taxel.fem.contact",
-                  "taxel.fem.hyperelastic", "taxel.fem.dynamics", "taxel.analyses", "taxel.analyses.analysis", "taxel.analyses.problem",
-                  "taxel.analyses.model_choice", "taxel.analyses.dynamic",
+                  "taxel.fem.hyperelastic", "taxel.fem.dynamics", "taxel.analyses", "taxel.analyses.solves.analysis", "taxel.analyses.model.problem",
+                  "taxel.analyses.accuracy.model_choice", "taxel.analyses.solves.dynamic",
                   "taxel.optimize.spec", "taxel.optimize.front", "taxel.optimize.coverage", "taxel.optimize.answer_press",
                   "taxel.optimize.run", "taxel.optimize.driver", "taxel.studies.execute"}
 # functions of those modules that run no model: formulas and closed forms
 NOT_A_SOLVE = {"taxel.analyses.results.static.linear_error": "a formula of the largest strain",
-               "taxel.analyses.problem.scene_materials": "the scene's materials, looked up and checked",
-               "taxel.analyses.analysis.output_folder": "a folder made whole or not at all",
-               "taxel.analyses.dynamic.lumped_model": "the closed-form 3-DoF model, no FEM",
+               "taxel.analyses.model.problem.scene_materials": "the scene's materials, looked up and checked",
+               "taxel.analyses.solves.analysis.output_folder": "a folder made whole or not at all",
+               "taxel.analyses.solves.dynamic.lumped_model": "the closed-form 3-DoF model, no FEM",
                "taxel.optimize.driver.pareto_front": "the nondominated subset of given points",
                "taxel.optimize.driver.violation": "a constraint's violation at given metrics",
                "taxel.optimize.spec.load_optimization": "reads a problem's spec file (its bounds, its reference)",
                "taxel.optimize.coverage.of": "reads a design's influence metrics from OUT/coverage.json",
                "taxel.optimize.answer_press.read": "reads the answer's 3D presses from a probe-front record"}
 # known, owned elsewhere: the model-comparison section of a scene page still solves
-KNOWN = {("scene_sections.py", "taxel.analyses.analysis.solve_static")}
+KNOWN = {("scene_sections.py", "taxel.analyses.solves.analysis.solve_static")}
 
 
 def imports(path: Path) -> list[str]:
@@ -65,8 +65,8 @@ def runs_a_model(dotted: str) -> str | None:
 def test_the_check_sees_a_solver_import():
     assert runs_a_model("taxel.fem.dynamics") == "taxel.fem.dynamics"
     assert runs_a_model("taxel.fem.dynamics") == "taxel.fem.dynamics"
-    assert runs_a_model("taxel.analyses.solve_static") == "taxel.analyses.analysis.solve_static"
-    assert runs_a_model("taxel.analyses.frequency") == "taxel.analyses.dynamic.frequency"
+    assert runs_a_model("taxel.analyses.solve_static") == "taxel.analyses.solves.analysis.solve_static"
+    assert runs_a_model("taxel.analyses.frequency") == "taxel.analyses.solves.dynamic.frequency"
     assert runs_a_model("taxel.optimize.front.front") == "taxel.optimize.front.front"
     assert runs_a_model("taxel.analyses.results.FrequencyResult") is None
     assert runs_a_model("taxel.analyses.LINEAR_ERROR_PER_STRAIN") is None

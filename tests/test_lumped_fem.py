@@ -1,11 +1,11 @@
-"""The FEM-informed 3-DoF lumped model (fem.readout.identified, taxel.analyses.lumped_fem)."""
+"""The FEM-informed 3-DoF lumped model (fem.readout.identified, taxel.analyses.solves.lumped_fem)."""
 
 import numpy as np
 
 import taxel
-from taxel.analyses import lumped_fem
+from taxel.analyses.solves import lumped_fem
 from taxel.analyses import problem
-from taxel.analyses.dynamic import lumped_model
+from taxel.analyses.solves.dynamic import lumped_model
 from taxel.fem import dynamics
 
 

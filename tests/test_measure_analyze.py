@@ -286,8 +286,8 @@ def test_model_based_position_error_below_half_a_millimetre(tmp_path, cache):
     assert rec["correct_rate"] == 1.0
     # the design-time prediction (Cramer-Rao, white noise only) at the taxel centres, for the median
     # sensitivity and press force of this record, against the estimator's measured error
-    from taxel.analyses.influence import influence
-    from taxel.analyses.localization import accuracy_map
+    from taxel.analyses.surface.influence import influence
+    from taxel.analyses.surface.localization import accuracy_map
     infl = influence(taxel.load(SCENE))
     S = float(np.median(np.abs(list(mb["sensitivity_V_per_N"].values()))))
     F = float(np.median([p["force_N"] for p in truth.params["presses"]]))
@@ -330,7 +330,7 @@ def test_a_press_beyond_an_edge_taxel_looks_like_a_weaker_press_on_it(cache):
     """Why the estimator keeps to the taxels' span: 0.5-1.7 mm beyond taxel_0_0, with the force that
     gives the same peak on it, every one of the nine peaks is within 6 mV (of 0.4 V) of a press on it;
     the neighbours' 7 % crosstalk (28 mV) is what carries the position."""
-    from taxel.analyses.influence import influence
+    from taxel.analyses.surface.influence import influence
     infl = influence(taxel.load(SCENE))
     taxels = [(r, c) for r in range(3) for c in range(3)]
     on = 0.4 * infl.weights((0.0, 0.0), taxels)

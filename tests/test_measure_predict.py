@@ -1,4 +1,4 @@
-"""The design metric localization_error (taxel.analyses.localization) in an optimization."""
+"""The design metric localization_error (taxel.analyses.surface.localization) in an optimization."""
 
 import os
 
@@ -58,7 +58,7 @@ def test_localization_error_optimization_and_its_store(tmp_path, fresh_cache):
     np.testing.assert_allclose(again.x, r.x)
     # the metric of the optimum, recomputed without the store or any cache by plain static solves
     fresh_cache("cache-2")
-    from taxel.analyses.localization import localization_error
+    from taxel.analyses.surface.localization import localization_error
     scene = taxel.load("thesis-pzt-3x3-2d").replace(**{"array.gap": float(r.x[0]) * 1e-3})
     direct = localization_error(scene, 1e-3)
     assert direct.solves == 9
@@ -66,7 +66,7 @@ def test_localization_error_optimization_and_its_store(tmp_path, fresh_cache):
 
 
 def test_localization_error_scales_with_noise_and_bad_noise_is_refused(tmp_path, capsys, fresh_cache):
-    from taxel.analyses.localization import localization_error
+    from taxel.analyses.surface.localization import localization_error
     scene = taxel.load("thesis-pzt-3x3-2d")
     a, b = localization_error(scene, 1e-3), localization_error(scene, 3e-3)
     assert b.solves == 0 and b.rms_m == pytest.approx(3 * a.rms_m, rel=1e-9)       # sigma (J^T J)^-1/2

@@ -193,7 +193,7 @@ def test_default_3d_press_mesh_of_an_array_is_coarser_at_the_taxels_the_punch_mi
     (Layout.far_taxel), so a neighbour's piezo has fewer elements than with every taxel
     alike, and the pressed taxel's piezo keeps its own (within the mesher's noise)."""
     import dataclasses
-    from taxel.analyses.geometry import FAR_TAXEL
+    from taxel.analyses.model.geometry import FAR_TAXEL
     from taxel.meshing.build import build
     scene = load("thesis-pzt-probe-3d").replace(**{"array.rows": 3, "array.cols": 3, "load.taxel": [1, 1]})
     tm = mesh(scene)

@@ -1,4 +1,4 @@
-"""The noise budget (fem.readout, taxel.analyses.noise): closed forms of the sources,
+"""The noise budget (fem.readout, taxel.analyses.solves.noise): closed forms of the sources,
 the simulated rig's drawn noise against the integrated PSD, the result protocol."""
 
 import numpy as np
@@ -108,7 +108,7 @@ def test_simulated_rig_noise_matches_the_integrated_psd():
 def test_noise_budget_of_the_thesis_taxel_round_trips(tmp_path):
     """The lumped budget through the thesis bench: protocol, shares add to one, read back equal."""
     from taxel.analyses import read
-    from taxel.analyses.noise import noise
+    from taxel.analyses.solves.noise import noise
     from taxel.scene import load
     from taxel.studies.bench.rig import load_rig
     scene = load("thesis-pzt-frequency").replace(**{"readout.hum": ["5 mV", "1.5 mV", "0.5 mV"]})

@@ -118,7 +118,7 @@ def test_api_optimize_returns_one_result_type_for_an_optimum(tmp_path):
     from taxel import api
     from taxel.optimize.result import OptimizationResult
     out = tmp_path / "o"
-    r = api.optimize(coarse_problem(tmp_path), out, workers=1)
+    r = api.run_optimization(coarse_problem(tmp_path), out, workers=1)
     assert isinstance(r, OptimizationResult) and r.kind == "optimum" and r.runs == []
     assert r.optimum.success and r.optimum.x[0] == pytest.approx(1.0, abs=0.02)
     assert r.reference is None and r.reference_dominated is None
@@ -152,7 +152,7 @@ max_evaluations = 3
     path = tmp_path / "front.toml"
     path.write_text(text)
     out = tmp_path / "f"
-    r = api.optimize(path, out, workers=1)
+    r = api.run_optimization(path, out, workers=1)
     assert isinstance(r, OptimizationResult) and r.kind == "front" and r.optimum is None
     assert len(r.runs) == 2 and all(isinstance(run, FrontRun) for run in r.runs)
     assert r.runs[0].bound <= r.runs[1].bound

@@ -1,4 +1,4 @@
-"""The reduced-order model of a scene (taxel.analyses.reduced, fem.dynamics,
+"""The reduced-order model of a scene (taxel.analyses.solves.reduced, fem.dynamics,
 fem.dynamics): against the direct FEM sweep, the FEM transient, and its
 exports read back by python-control, scipy.signal and scipy.io."""
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import taxel
-from taxel.analyses import reduced as R
-from taxel.analyses import reduced_export as X
+from taxel.analyses.solves import reduced as R
+from taxel.analyses.solves import reduced_export as X
 from taxel.analyses import problem
 from taxel.fem import dynamics
 from taxel.fem import dynamics as fr

@@ -36,11 +36,11 @@ def write(tmp_path, text, name="r.toml"):
 @pytest.mark.parametrize("band", [(1.0, 100.0), (20.0, 200.0)])
 def test_quasi_static_noise_matches_the_fem_sweep_below_resonance(band):
     """The design outputs' cheap route (one static solve: C_p = Q_sc / V_oc, the circuit's
-    H(f) of that charge source) against taxel.analyses.noise's FEM frequency sweep on the
+    H(f) of that charge source) against taxel.analyses.solves.noise's FEM frequency sweep on the
     thesis PZT taxel, charge amplifier and notch, in bands below the silicone's resonance."""
     from taxel import api
     from taxel.analyses import solve_static
-    from taxel.analyses.noise import noise, quasi_static_noise
+    from taxel.analyses.solves.noise import noise, quasi_static_noise
     sc = api.load("thesis-pzt-frequency")
     o = solve_static(sc.replace(**{"analysis.type": "static"})).outputs()
     q = quasi_static_noise(sc, o["sensitivity"], o["charge_sensitivity"], band=band)
@@ -70,7 +70,7 @@ def test_noise_and_robust_metrics_of_one_design(tmp_path):
     """The optimizer's noise metrics equal the quasi-static budget of the design's static
     solve; its robust metrics come from parts stored beside the design."""
     from taxel.analyses import solve_static
-    from taxel.analyses.noise import quasi_static_noise
+    from taxel.analyses.solves.noise import quasi_static_noise
     from taxel.scene import parse
     from taxel.studies.store import Store
     f = write(tmp_path, HEAD + '[objective]\nmaximize = "robust_sensitivity"\n[requirements]\n'

@@ -108,11 +108,11 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch, args, w
     assert not list(tmp_path.iterdir())
 
 
-def test_taxel_skin_is_the_function_after_importing_the_package():
+def test_build_skin_is_the_function_and_taxel_skin_the_package():
     code = ("import taxel, taxel.skin.runtime, taxel.skin.model; import inspect; "
-            "print(inspect.isfunction(taxel.skin), taxel.skin.__module__)")
+            "print(inspect.isfunction(taxel.build_skin), taxel.build_skin.__module__, inspect.ismodule(taxel.skin))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
-    assert out == ["True", "taxel.api"]
+    assert out == ["True", "taxel.api", "True"]
 
 
 def resonant_skin(Ad=None) -> SkinModel:

@@ -58,7 +58,7 @@ def test_influence_between_knots_matches_fem_presses(scene):
 
 def test_a_rig_gives_its_chain_and_adc(scene):
     from taxel.studies.bench.rig import load_rig
-    sk = taxel.skin(scene, dt=1e-3, checks=0, rig="thesis-bench")
+    sk = taxel.build_skin(scene, dt=1e-3, checks=0, rig="thesis-bench")
     rig = load_rig("thesis-bench")
     assert sk.adc["bits"] == rig.adc.bits and sk.adc["lo"] == rig.adc.range[0]
     assert "charge-amplifier" in sk.readout                      # the rig's conditioning, not the scene's resistor

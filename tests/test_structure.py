@@ -109,8 +109,8 @@ def cycles(g: dict[str, set[str]]) -> list[list[str]]:
 
 def test_the_graph_sees_the_layers():
     g = graph()
-    assert "taxel.fem.static" in g and "taxel.analyses.problem" in g
-    assert "taxel.fem.assembly" in g["taxel.analyses.problem"]       # a real edge is found
+    assert "taxel.fem.static" in g and "taxel.analyses.model.problem" in g
+    assert "taxel.fem.assembly" in g["taxel.analyses.model.problem"]       # a real edge is found
 
 
 def test_the_checks_see_a_cycle_and_an_underscore_import(tmp_path):
@@ -119,9 +119,9 @@ def test_the_checks_see_a_cycle_and_an_underscore_import(tmp_path):
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
     assert cycles({"a": {"b"}, "b": set()}) == []
     bad = tmp_path / "bad.py"
-    bad.write_text("from taxel.fem.static import _private\nfrom taxel.analyses import problem\n")
+    bad.write_text("from taxel.fem.static import _private\nfrom taxel.analyses.model import problem\n")
     found = imports("taxel.fake", bad, modules())
-    assert ("taxel.fem.static", 1, "_private") in found and ("taxel.analyses.problem", 2, None) in found
+    assert ("taxel.fem.static", 1, "_private") in found and ("taxel.analyses.model.problem", 2, None) in found
 
 
 def test_no_import_cycles():
@@ -230,16 +230,23 @@ def test_electrode_names_come_from_one_helper():
 
 
 def test_the_public_api_cannot_be_shadowed():
-    """`taxel.optimize` stays the function after importing every subpackage, and after
-    a first call (it had become the subpackage `taxel.optimize`)."""
+    """Every public name of `taxel` stays what it is after importing every subpackage: no
+    public function shares its name with a subpackage (`taxel.optimize` is the subpackage,
+    `taxel.run_optimization` the function), and nothing is both a function and a module."""
     code = """
-import importlib, taxel
+import importlib, importlib.util, taxel
 for name in NAMES:
     importlib.import_module(name)
-import taxel.optimize.driver
-assert callable(taxel.optimize), taxel.optimize
+import types, taxel.optimize.driver
+assert callable(taxel.run_optimization), taxel.run_optimization
 for name in taxel.__all__:
-    assert getattr(taxel, name) is not None, name
+    value = getattr(taxel, name)
+    assert value is not None, name
+    assert (name == "measure") == isinstance(value, types.ModuleType), name
+    assert name == "measure" or importlib.util.find_spec("taxel." + name) is None, name
+for name, value in vars(taxel).items():
+    if isinstance(value, types.ModuleType):
+        assert name not in taxel.__all__ or name == "measure", name
 from taxel import Scene, StaticResult, FrequencyResult, TransientResult, LumpedResult, SceneError
 assert isinstance(taxel.load("thesis-pzt-single-2d"), Scene)
 print("ok")
@@ -250,7 +257,7 @@ print("ok")
 
 
 def test_optimize_twice(tmp_path):
-    """The API bug this guards: a second `taxel.optimize(...)` raised "'module' object is
+    """The API bug this guards: a second `taxel.run_optimization(...)` raised "'module' object is
     not callable". A small optimization (3 evaluations of a coarse 2D taxel), twice,
     after importing the subpackage, in a fresh process."""
     (tmp_path / "opt.toml").write_text("""
@@ -265,8 +272,8 @@ max_evaluations = 3
 """)
     code = f"""
 import taxel, taxel.optimize.driver
-a = taxel.optimize({str(tmp_path / 'opt.toml')!r}, {str(tmp_path / 'a')!r}, workers=1)
-b = taxel.optimize({str(tmp_path / 'opt.toml')!r}, {str(tmp_path / 'b')!r}, workers=1)
+a = taxel.run_optimization({str(tmp_path / 'opt.toml')!r}, {str(tmp_path / 'a')!r}, workers=1)
+b = taxel.run_optimization({str(tmp_path / 'opt.toml')!r}, {str(tmp_path / 'b')!r}, workers=1)
 assert type(a) is type(b)
 print("ok")
 """

@@ -77,7 +77,7 @@ def test_a_users_optimization_report_speaks_of_their_design(tmp_path):
     from taxel import api
     (tmp_path / "skin.toml").write_text(SKIN)
     (tmp_path / "opt.toml").write_text(OPT)
-    result = api.optimize(tmp_path / "opt.toml", tmp_path / "o", workers=1)
+    result = api.run_optimization(tmp_path / "opt.toml", tmp_path / "o", workers=1)
     assert any(line.startswith("requirements") for line in result.summary())
     index = api.report([tmp_path / "o"], tmp_path / "r", compare=False)
     pages = {p.name: _text(p.read_text(encoding="utf-8")) for p in index.parent.glob("*.html")}

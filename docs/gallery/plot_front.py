@@ -39,7 +39,7 @@ global = "none"
 local = "COBYLA"
 max_evaluations = 10
 ''')
-front = taxel.optimize(folder / "front.toml", folder / "out", workers=1)
+front = taxel.run_optimization(folder / "front.toml", folder / "out", workers=1)
 print("\n".join(front.summary()))
 
 # %%

@@ -12,7 +12,7 @@ is the 3-DoF lumped model's here (fast); the main job uses the FEM sweep.
 import matplotlib.pyplot as plt
 import numpy as np
 
-from taxel.analyses.noise import noise
+from taxel.analyses.solves.noise import noise
 from taxel.scene import load
 from taxel.studies.bench.rig import load_rig
 

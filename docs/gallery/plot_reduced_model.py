@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import taxel
-from taxel.analyses import reduced as R
+from taxel.analyses.solves import reduced as R
 from taxel.analyses import problem
 from taxel.fem import dynamics
 from taxel.fem import dynamics as fr

@@ -25,7 +25,7 @@ from taxel.skin.mujoco import MujocoSkin, fingertip_xml
 
 scene = taxel.load("thesis-pzt-3x3-2d").replace(
     **{"readout.circuit": "resistor", "readout.R": 5e8, "mesh.size": "1 mm", "mesh.piezo_size": "0.2 mm"})
-skin = taxel.skin(scene, dt=1e-3, checks=2)
+skin = taxel.build_skin(scene, dt=1e-3, checks=2)
 print(f"{skin.rows} x {skin.cols} skin, {skin.Ad.shape[0]} states, influence interpolation error "
       f"{skin.influence_error:.1e}, readout: {skin.readout}")
 

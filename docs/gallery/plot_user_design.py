@@ -85,7 +85,7 @@ local = "COBYLA"
 max_evaluations = 8
 '''
 (folder / "front.toml").write_text(OPTIMIZATION.format(mdf="1 mN"))
-front = taxel.optimize(folder / "front.toml", folder / "front", workers=1)
+front = taxel.run_optimization(folder / "front.toml", folder / "front", workers=1)
 print("\n".join(front.summary()))
 
 # %%
@@ -106,7 +106,7 @@ print(f"recommended: {readout_V_per_N:.3g} V/N at the charge amplifier, {open_ci
 # The same front against a minimum detectable force no design reaches: no
 # recommendation, and the requirement that binds, by how much.
 (folder / "strict.toml").write_text(OPTIMIZATION.format(mdf="1 uN"))
-strict_front = taxel.optimize(folder / "strict.toml", folder / "strict", workers=1)
+strict_front = taxel.run_optimization(folder / "strict.toml", folder / "strict", workers=1)
 strict = headline_front(folder / "strict")
 print(strict.trade)
 

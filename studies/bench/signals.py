@@ -9,9 +9,9 @@ over the margins):
   charge     model "lumped": Q_k = q_per_N * g_k * sum_p W[p, k] F_p, with q_per_N the
              lumped model's short-circuit charge per newton at 1 Hz (`lumped_model(scene)`;
              its resonances are above 10 kHz, so it is quasi-static at the bench's
-             rates), W the FEM's crosstalk weights (taxel.analyses.crosstalk; with
+             rates), W the FEM's crosstalk weights (taxel.analyses.solves.crosstalk; with
              `between` > 0 the influence functions of position, W[p, (r, c)] =
-             G_r(y_p) G_c(x_p), taxel.analyses.influence, for every press) and
+             G_r(y_p) G_c(x_p), taxel.analyses.surface.influence, for every press) and
              g_k a per-taxel gain spread (log-normal, `gain_spread`);
              model "fem": the FEM transient (Newmark, electrodes shorted: fem.dynamics)
              of the scene under the rolled-off force on its pressed taxel gives the
@@ -19,7 +19,7 @@ over the margins):
              pressed row, and the other rows get W1[pressed row, row] of it. The FEM
              charge is about 4.5 x the lumped one for the thesis taxel (lateral flow,
              docs/verification.md); step, impulse and chirp only;
-             model "reduced": the scene's reduced model (taxel.analyses.reduced, inputs a
+             model "reduced": the scene's reduced model (taxel.analyses.solves.reduced, inputs a
              force on each taxel, outputs the short-circuit charges; cached), MIMO, so
              the crosstalk within the modelled row (2D) or array (3D) is the FEM's own and
              its dynamics (resonances, losses) are in; in 2D a press on row r reaches row r'
@@ -50,8 +50,8 @@ from typing import Literal
 import numpy as np
 from scipy import signal
 
-from taxel.analyses.bench_model import compliance, fem_charges, loss_factor, scaled_model
-from taxel.analyses.crosstalk import profile, weights
+from taxel.analyses.surface.bench_model import compliance, fem_charges, loss_factor, scaled_model
+from taxel.analyses.solves.crosstalk import profile, weights
 from taxel.fem.readout import notch_in_time
 from taxel.scene import Scene
 from taxel.studies.bench.protocol import Frames
@@ -193,7 +193,7 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
     s.amplitude = s.amplitude if s.amplitude is not None else float(scene.load.force or 1.0)
     infl = None
     if s.input == "presses" and s.between and arr is not None:
-        from taxel.analyses.influence import influence
+        from taxel.analyses.surface.influence import influence
         infl = influence(scene)
     spots = (positions, infl.pitch, -float(infl.x[0])) if infl is not None else \
         (positions, arr.taxel_width + arr.gap, 0.0) if arr is not None else None
@@ -288,7 +288,7 @@ def reduced_charges(scene: Scene, t, F, positions, taxels, W1, crosstalk: bool =
     """(Q (nt, taxels), C_p, q): the short-circuit charges of `taxels` under the forces F (nt,
     positions) by the scene's reduced model (see the module docstring), and the FEM's
     static capacitance (F) and charge per newton (C/N) of the pressed taxel."""
-    from taxel.analyses.reduced import cached
+    from taxel.analyses.solves.reduced import cached
     from taxel.fem.dynamics import ports
     rm = cached(scene, "taxels", "charge")
     where = {electrode_name(r, c): (r, c) for r, c in positions}

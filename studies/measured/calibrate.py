@@ -279,7 +279,7 @@ def calibrate_folder(folder, scene, scene_source: str, step=None, travel=None,
         H1's frequency resolution, Hz.
     model : {"lumped", "reduced"}
         The taxel model the chain is fitted on: the seed's lumped model, or the pressed
-        path of the scene's reduced model (taxel.analyses.reduced.one_port: the FEM's
+        path of the scene's reduced model (taxel.analyses.solves.reduced.one_port: the FEM's
         V_oc(f) and static capacitance; fast enough for the least-squares loop).
 
     Returns
@@ -295,7 +295,7 @@ def calibrate_folder(folder, scene, scene_source: str, step=None, travel=None,
     rig = read_rig(folder)
     chain = rig.chains()[a.frf.taxel].readout()
     if model == "reduced":
-        from taxel.analyses.reduced import cached, one_port
+        from taxel.analyses.solves.reduced import cached, one_port
         taxel = next(tuple(c.taxel) for c in rig.ordered() if c.name == a.frf.taxel)
         cal = calibrate(a.frf, one_port(cached(scene, None, "charge"), taxel), chain)
     elif model == "lumped":

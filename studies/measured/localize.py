@@ -29,7 +29,7 @@ presses apart; correct rate = trace(C) / presses, over the on-taxel presses.
 
 Model-based estimator: (x, y, F) by least squares of
     V_(r,c) = S_(r,c) F G_r(y) G_c(x),
-G the FEM's influence functions (taxel.analyses.influence). The influence
+G the FEM's influence functions (taxel.analyses.surface.influence). The influence
 functions change sign in the gaps (a press there lifts both neighbours), so the
 fit has distant local minima and a start at the largest taxel can end in the
 wrong gap: the fit first scans a grid every pitch / 16 over the taxels' span,
@@ -347,6 +347,6 @@ def localize_folder(folder, presses_file, scene=None) -> Localization:
     rec, presses = record(m), read_presses(presses_file)
     if scene is None:
         return largest_taxel(rec, presses)
-    from taxel.analyses.influence import influence
+    from taxel.analyses.surface.influence import influence
     infl = influence(scene)
     return model_based(rec, presses, infl, loc=largest_taxel(rec, presses, pitch_mm=1e3 * infl.pitch))

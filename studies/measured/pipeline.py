@@ -21,7 +21,7 @@ thesis's figures.
     ROOT/presses-between        60 s of presses, half on the taxels in turn and half at random points of the
                                 array (between taxels, over the margins); localization by both methods,
                                 on and between taxels, and the predicted accuracy map
-                                (taxel.analyses.localization) at the white noise of one reading
+                                (taxel.analyses.surface.localization) at the white noise of one reading
                                 (1 mV per sample over the 9 samples it averages)
     ROOT/validation.json        the summary table (measured here) beside the thesis's figures
 Each measurement folder is captured from a pseudo-terminal fed by the simulator
@@ -215,13 +215,13 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
              f"FEM {meas['rms_error_pct_fem_rig']['fem']:.2f} %")
     out = captured(rig, scene, Settings(input="chirp", seconds=10, seed=4, model="reduced"), root / "chirp-reduced")
     a = analyze_folder(out, scene, scene_name)
-    from taxel.analyses.lumped_fem import informed
+    from taxel.analyses.solves.lumped_fem import informed
     from taxel.studies.measured.frf import lumped_frf
     chain = rig.chains()[a.frf.taxel]
     a.frf.models["lumped_fem"] = lumped_frf(informed(scene).model, chain.readout(), a.frf.freqs)
     a.write()
     meas["rms_error_pct_reduced_rig"] = {k: C.rms_error(a.frf, k)["rms_error_pct"] for k in ("lumped", "lumped_fem", "fem")}
-    from taxel.analyses.reduced import cached, one_port
+    from taxel.analyses.solves.reduced import cached, one_port
     truth = json.loads((out / "truth" / "truth.json").read_text())["taxels"][a.frf.taxel]
     port = one_port(cached(scene, None, "charge"), tuple(truth["taxel"]))
     cal = C.calibrate(a.frf, port, chain.readout())              # the chain fit on the FEM's reduced model
@@ -253,8 +253,8 @@ def run(root: Path, scene_name: str = "thesis-pzt-3x3-2d", rig_name: str = "thes
                             "model_based": {c: brief(v) for c, v in loc.model.items()}}
     meas["localization"]["model_position_error_mm_rms"] = meas["localization"]["model_based"]["on"]["position_error_mm_rms"]
     meas["localization"]["model_force_error_pct_rms"] = meas["localization"]["model_based"]["on"]["force_error_pct_rms"]
-    from taxel.analyses.influence import influence
-    from taxel.analyses.localization import accuracy_map
+    from taxel.analyses.surface.influence import influence
+    from taxel.analyses.surface.localization import accuracy_map
     infl = influence(scene)
     S = float(np.median(np.abs(list(loc.sensitivity_V_per_N.values()))))
     F = float(np.median([p["force_N"] for p in json.loads((out / "truth" / "truth.json").read_text())["presses"]]))

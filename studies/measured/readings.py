@@ -58,7 +58,7 @@ def amplitudes(rec: Record, matched, pitch_mm: float) -> list:
 
 def reading_noise(noise_V: float, rate: float) -> float:
     """The white part of the noise on one V_k reading (a mean of the samples within 2 ms of its time):
-    the per-sample noise over sqrt(samples); for the Cramer-Rao map of taxel.analyses.localization."""
+    the per-sample noise over sqrt(samples); for the Cramer-Rao map of taxel.analyses.surface.localization."""
     return noise_V / np.sqrt(2 * int(round(2e-3 * rate)) + 1)
 
 

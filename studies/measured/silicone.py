@@ -44,7 +44,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from scipy import optimize, signal
 
-from taxel.analyses.bench_model import compliance, loss_factor, scaled_model
+from taxel.analyses.surface.bench_model import compliance, loss_factor, scaled_model
 from taxel.studies.measured.events import Record
 from taxel.studies.bench.folder import MeasurementError
 from taxel.studies.measured.frf import chirp_span

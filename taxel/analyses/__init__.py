@@ -1,10 +1,21 @@
-"""Analyses of a scene: the scene made into the finite-element model (problem,
-geometry), the static, frequency and transient analyses (analysis, dynamic), and
-their result objects (results).
+"""Analyses of a scene, one subpackage per job; each re-exports its public names
+(`__all__`) and imports only the ones below it (the import contract in
+`.ci/importlinter.toml`):
+
+    surface    influence functions, coverage, the predicted localization error,
+       |       the bench's taxel models
+    solves     solve (static, frequency, transient), the numbers at the readout, the
+       |       noise budget, the reduced-order model, the FEM-informed lumped model,
+       |       the crosstalk weights, the friction band
+    accuracy   the error estimate and the model choice (model.fidelity = "auto")
+       |
+    model      the scene made into the FEM's Problem: materials, layout, mesh, Problem
+       |
+    results    the result objects and their folders
 
     solve(scene) -> StaticResult | FrequencyResult | TransientResult   (success, stop)
 
-The dynamic analyses (taxel.analyses.dynamic: the frequency and transient
+The dynamic analyses (taxel.analyses.solves.dynamic: the frequency and transient
 solvers) are imported on first use, so a static solve does not load them.
 """
 
@@ -12,17 +23,17 @@ from __future__ import annotations
 
 import importlib
 
-from taxel.analyses.analysis import lumped, output_folder, solve, solve_static
-from taxel.analyses.problem import solve_model
-from taxel.analyses.friction_band import FrictionBand, FrictionLeg, friction_band, friction_leg
-from taxel.analyses.geometry import checked_layout, layout, mirror_planes, symmetry_planes
-from taxel.analyses.problem import (check, damping, electrode_states, indenter, mesh, problem, readout,
-                                    scene_materials, with_silicone)
+from taxel.analyses.solves.analysis import lumped, output_folder, solve, solve_static
+from taxel.analyses.model.problem import solve_model
+from taxel.analyses.solves.friction_band import FrictionBand, FrictionLeg, friction_band, friction_leg
+from taxel.analyses.model.geometry import checked_layout, layout, mirror_planes, symmetry_planes
+from taxel.analyses.model.problem import (check, damping, electrode_states, indenter, mesh, problem, readout,
+                                          scene_materials, with_silicone)
 from taxel.analyses.results import (AnalysisResult, FrequencyResult, LumpedResult, ResultError, StaticResult, Stop,
                                     TransientResult, read)
 from taxel.analyses.results.static import LINEAR_ERROR_PER_STRAIN, linear_error
 
-_LAZY = {name: "taxel.analyses.dynamic" for name in
+_LAZY = {name: "taxel.analyses.solves.dynamic" for name in
          ("force_history", "frequencies", "frequency", "lumped_model", "lumped_response", "transient")}
 
 

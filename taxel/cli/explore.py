@@ -45,4 +45,4 @@ def _explore(args):
     if args.host not in ("127.0.0.1", "localhost", "::1"):
         print(f"taxel explore: listening on {args.host}:{args.port}, reachable from other machines; "
               "only with the token in the printed address", file=sys.stderr, flush=True)
-    api.explore(args.scene, args.out, host=args.host, port=args.port, token=not args.no_token)
+    api.serve_explorer(args.scene, args.out, host=args.host, port=args.port, token=not args.no_token)

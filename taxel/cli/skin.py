@@ -84,7 +84,7 @@ def _skin(args):
         raise ValueError(f"-o {out}: use FILE.npz")
     if not out.parent.is_dir():
         raise ValueError(f"-o {out}: folder {out.parent} does not exist; create it first")
-    model = api.skin(args.scene, None, args.dt, args.per_pitch, args.checks, args.rig)
+    model = api.build_skin(args.scene, None, args.dt, args.per_pitch, args.checks, args.rig)
     model.save(out)
     print(f"skin of {model.provenance['scene_name']}: {model.rows} x {model.cols} taxels, pitch "
           f"{1e3 * model.pitch:g} mm, {model.Ad.shape[0]} states at dt {model.dt:g} s, {model.readout}")

@@ -88,7 +88,7 @@ def _study(args):
 
 def _optimize(args):
     import taxel.api as api
-    result = api.optimize(args.file, args.out, workers=args.workers)
+    result = api.run_optimization(args.file, args.out, workers=args.workers)
     for line in result.summary():
         print(line)
     print(f"written to {Path(args.out or Path('out') / result.name)}")

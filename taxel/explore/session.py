@@ -141,8 +141,8 @@ def coarse_3d(scene: Scene) -> Scene:
 def check_fits(scene: Scene, share: float = MEMORY_3D):
     """The scene's solve cost (meshing.cost), or TooLarge where it needs more than
     `share` of this machine's memory."""
-    from taxel.analyses.geometry import layout, solve_limit
-    from taxel.analyses.problem import scene_materials
+    from taxel.analyses.model.geometry import layout, solve_limit
+    from taxel.analyses.model.problem import scene_materials
     from taxel.meshing.cost import solve_cost
     lay = layout(scene, scene_materials(scene))
     lim = solve_limit(scene, lay)
@@ -222,7 +222,7 @@ def section_image(scene: Scene) -> str:
 
 
 def error_lines(scene: Scene) -> list[str]:
-    """The error estimate of the current model (taxel.analyses.error_estimate)."""
+    """The error estimate of the current model (taxel.analyses.accuracy.error_estimate)."""
     from taxel.analyses import solve
     res = solve(scene, estimate=True)
     return res.error.lines() if res.error is not None else ["error: no estimate for this model"]

@@ -9,7 +9,7 @@ OUT/coverage.json (optimize.coverage.RECORD), which the answer reads.
 The metrics come from the 2D section on linear silicone (the base scene of the linear
 front), whatever model the answer's sensitivity comes from: coverage asks whether a
 taxel's peak clears 3 times the noise, which the 2D section's influence functions
-screen for (taxel.analyses.coverage states how far they are from 3D presses).
+screen for (taxel.analyses.surface.coverage states how far they are from 3D presses).
 Cost: 9 static 2D solves per design not yet in the folder's influence store.
 """
 

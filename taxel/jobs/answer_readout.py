@@ -15,7 +15,7 @@ tests/test_piezo_plate.py checks the free plate). The 2D section's |Q_sc / V_oc|
 recorded beside it (capacitance_2d_F, one static solve of the design on the base
 scene): the plane section holds the piezo's strain along the depth at zero, about
 19 % less for PZT, and is not the answer's model. The chain is
-taxel.analyses.noise.quasi_static_noise on (V_oc, C_p V_oc) per newton. Written to
+taxel.analyses.solves.noise.quasi_static_noise on (V_oc, C_p V_oc) per newton. Written to
 OUT/answer-readout.json; the report's answer and its model ladder read it. Cost: one
 2D solve per design.
 """
@@ -37,7 +37,7 @@ def answer_readout(front_dir: Path) -> Path | None:
     """Write OUT/answer-readout.json for the answer of `front_dir` (a built-in optimization's folder)."""
     from taxel import api
     from taxel.analyses import lumped_model
-    from taxel.analyses.noise import quasi_static_noise
+    from taxel.analyses.solves.noise import quasi_static_noise
     from taxel.optimize import spec as O
     from taxel.reports.answer import headline_front
     from taxel.scene import parse

@@ -53,13 +53,13 @@ def front(out: Path, name: str, small: bool, full: bool = False, presses_3d: int
     front design and the thesis design with `full`), written to OUT/probe-front.json;
     `small`: one short run, no front."""
     if small:
-        api.optimize(small_optimization(name), out)
+        api.run_optimization(small_optimization(name), out)
         return out
     plan = MF.plan(O.load_optimization(name))
     print(f"      {name}: plan {plan['cheap solves (at most)']} cheap solves at most, "
           f"{plan['3D solves (first round)']} 3D solves, about {plan['estimated seconds']:.0f} s")
     t0 = time.perf_counter()
-    result = api.optimize(name, out, workers=2)
+    result = api.run_optimization(name, out, workers=2)
     t1 = time.perf_counter()
     prob = O.load_optimization(name, out)
     mf = MF.verify(prob, result.runs, reference_x(prob), max_rounds=2, workers=2)
@@ -87,8 +87,8 @@ def front(out: Path, name: str, small: bool, full: bool = False, presses_3d: int
 def noise_budget(out: Path, small: bool = False) -> Path:
     """The noise budget of the thesis PZT taxel (FEM transfer function, charge amplifier and
     notch) on the thesis bench's ADC, with the simulated rig's hum (5, 1.5, 0.5 mV at 50, 150,
-    250 Hz) as the mains pickup: result folder and figure (taxel.analyses.noise, reports.noise)."""
-    from taxel.analyses.noise import noise
+    250 Hz) as the mains pickup: result folder and figure (taxel.analyses.solves.noise, reports.noise)."""
+    from taxel.analyses.solves.noise import noise
     from taxel.reports.noise import figure
     from taxel.studies.bench.rig import load_rig
     t0 = time.perf_counter()

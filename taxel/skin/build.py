@@ -5,10 +5,10 @@ readout), so a normal force F(t) at a surface point p reaches taxel k through th
 FEM's path from p to k. The skin factors that path as v_k(t) = h(s) [W_k(p) F(t)],
 the spatial factor W_k(p) the static FEM's influence and the temporal factor h the
 reference taxel's own dynamics through its readout. The array is taken, as in
-taxel.analyses.crosstalk and .influence, separable and alike in its two directions:
+taxel.analyses.solves.crosstalk and .influence, separable and alike in its two directions:
 W_rc(x, y) = g_rc G_r(y) G_c(x), G_c = V_c(x) / V_c(x_c) the row's influence
 functions from static FEM presses (a flat probe as wide as a taxel, pressed every
-pitch / per_pitch; taxel.analyses.influence), g_rc = S_r S_c / S_ref^2 the columns'
+pitch / per_pitch; taxel.analyses.surface.influence), g_rc = S_r S_c / S_ref^2 the columns'
 and rows' open-circuit sensitivities S relative to the reference (middle) taxel's.
 The factoring is exact at low frequency (the quasi-static influence) and for presses
 on the reference taxel; it assumes the other paths share h's frequency dependence,
@@ -31,7 +31,7 @@ balanced truncation (balred, slycot), tried, lost the path at every order 4-16 o
 stiff SI-scaled system: relative errors 0.6-1.7) with its error measured over 0.01 Hz..1 / (2 dt); then it
 is discretized at the simulator's step dt with scipy.signal.cont2discrete, first-
 order hold (exact for forces linear between steps). Noise: the scene's chain
-(taxel.analyses.noise: per-source PSDs at the reference taxel's readout output, with a
+(taxel.analyses.solves.noise: per-source PSDs at the reference taxel's readout output, with a
 rig its ADC) and the saturation (amplifier swing or ADC range). With a rig, the rig's
 conditioning of the reference taxel's channel is the skin's readout chain (for h and
 the noise alike), and the ADC's quantisation is left out of the PSDs: the runtime
@@ -50,12 +50,12 @@ from scipy.interpolate import CubicSpline
 
 from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name, to_data
-from taxel.analyses import influence as influence_mod
-from taxel.analyses import reduced
-from taxel.analyses.noise import chain as noise_chain
-from taxel.analyses.noise import noise as noise_budget
-from taxel.analyses.noise import with_readout
-from taxel.analyses.version import code_version
+from taxel.analyses.surface import influence as influence_mod
+from taxel.analyses.solves import reduced
+from taxel.analyses.solves.noise import chain as noise_chain
+from taxel.analyses.solves.noise import noise as noise_budget
+from taxel.analyses.solves.noise import with_readout
+from taxel.analyses.solves.version import code_version
 from taxel.skin.model import SkinModel
 
 

@@ -182,7 +182,7 @@ def calibrate(skin: SkinModel, t: np.ndarray, kind: str) -> np.ndarray:
 
 def baseline(data: Dataset) -> dict:
     """The model-based estimator's scores on a dataset (module docstring)."""
-    from taxel.analyses.influence import Influence
+    from taxel.analyses.surface.influence import Influence
     from taxel.studies.measured.localize import fit_press
     sk = data.skin
     G = sk.influence(sk.knots)

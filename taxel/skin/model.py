@@ -5,7 +5,7 @@ from taxel (0, 0)'s centre; taxel (r, c) is centred at (c pitch, r pitch).
 
 The sensor model (built by taxel.skin.build from the FEM, the module docstring there
 derives it): a normal force F_j(t) at the point p_j = (x_j, y_j) of the surface drives
-taxel (r, c) through the separable influence of taxel.analyses.influence,
+taxel (r, c) through the separable influence of taxel.analyses.surface.influence,
 
     u_rc(t) = g_rc * sum_j F_j(t) G_r(y_j) G_c(x_j)          (N, the force "seen" by the taxel)
     v_rc    = h(s) u_rc                                      (V, the readout's output)
@@ -85,7 +85,7 @@ class SkinModel:
 
     def influence(self, s) -> np.ndarray:
         """G_c(s) of every column (the spline; s clipped to the knots' span): (len(s), n).
-        The knots are evenly spaced (taxel.analyses.influence samples), so the interval
+        The knots are evenly spaced (taxel.analyses.surface.influence samples), so the interval
         is found by division, not by a search."""
         if not hasattr(self, "_pp"):
             k = self.knots

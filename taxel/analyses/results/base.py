@@ -72,7 +72,7 @@ class OutputError:
 
 @dataclass
 class ErrorEstimate:
-    """A result's estimated error on each output (taxel.analyses.error_estimate), how
+    """A result's estimated error on each output (taxel.analyses.accuracy.error_estimate), how
     each part was found, and what the estimate cost."""
 
     outputs: dict[str, OutputError]

@@ -45,7 +45,7 @@ class FrequencyResult:
     measured_error: float       # the reduced sweep's measured relative error
     seconds: float
     capacitance: dict[str, float]          # F, each electrode's capacitance at the lowest frequency
-    error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.error_estimate)
+    error: ErrorEstimate | None = None     # estimated error of the readout output (taxel.analyses.accuracy.error_estimate)
     port: PortResponse | None = None       # open-circuit voltages and capacitances (None when read back)
     kind = "frequency"
     success = True             # no load to stop short of

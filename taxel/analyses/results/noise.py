@@ -1,4 +1,4 @@
-"""The noise budget of a taxel's readout (taxel.analyses.noise): each source's PSD at
+"""The noise budget of a taxel's readout (taxel.analyses.solves.noise): each source's PSD at
 the readout output, its share of the band's variance, and what they imply for the
 smallest force the chain can feel.
 

@@ -1,5 +1,5 @@
 """The readout's numbers of a static solve (the data; computed by
-taxel.analyses.at_readout): the readout's V/N, crosstalk, minimum detectable force and
+taxel.analyses.solves.at_readout): the readout's V/N, crosstalk, minimum detectable force and
 force range, beside the open-circuit values."""
 
 from __future__ import annotations

@@ -32,7 +32,7 @@ def linear_error(max_strain: float) -> float:
 
 
 # the outputs of a static result (`StaticResult.outputs`), SI units; with a [readout] chain
-# also its numbers (taxel.analyses.at_readout.READOUT_OUTPUTS)
+# also its numbers (taxel.analyses.solves.at_readout.READOUT_OUTPUTS)
 STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
                   "max_strain": "", "readout_sensitivity": "V/N", "readout_crosstalk": "",
                   "min_detectable_force": "N", "force_range": "N"}
@@ -67,11 +67,11 @@ class StaticResult:
     solution: Solution
     times: dict[str, float] = field(default_factory=dict)     # s: mesh, assemble, solve, total
     model_note: str = ""       # which silicone model was used and why (model.silicone = "auto")
-    error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.error_estimate)
+    error: ErrorEstimate | None = None     # estimated error per output (taxel.analyses.accuracy.error_estimate)
     yeoh: bool = False         # the silicone was solved as Yeoh (model.silicone = "yeoh", or "auto" chose it)
     contact_data: dict | None = None       # the press record of a result read back (else from the solution)
     stop: Stop | None = None   # the solve stopped short of its load: this is its last converged state
-    readout: AtReadout | None = None       # the scene's [readout] chain's numbers (taxel.analyses.at_readout)
+    readout: AtReadout | None = None       # the scene's [readout] chain's numbers (taxel.analyses.solves.at_readout)
     kind = "static"
 
     @property
@@ -163,7 +163,7 @@ class StaticResult:
 
     def at_readout(self) -> AtReadout | None:
         """The pressed taxel's numbers through the scene's [readout] chain (set by
-        taxel.analyses.solve: taxel.analyses.at_readout), None for the open circuit."""
+        taxel.analyses.solve: taxel.analyses.solves.at_readout), None for the open circuit."""
         return self.readout
 
     @property

@@ -3,11 +3,11 @@ gives at least one taxel a signal above the noise floor (the seed, section 2: "b
 increasing this distance [the gap], non-sensitive regions appear ... taxels do not
 produce any signals and sensor will not detect the position and amount of the force").
 
-Model. The press is the influence functions' press (taxel.analyses.influence: a
+Model. The press is the influence functions' press (taxel.analyses.surface.influence: a
 uniform pressure patch as wide as a taxel, the size of the thesis rig's 4 mm flat
 punch, on the 2D section through the middle row, linear silicone). Taxel (r, c)'s
 open-circuit peak for a press of force F at (x, y) is, as in
-taxel.analyses.localization,
+taxel.analyses.surface.localization,
 
     V_rc(x, y) = S_c F G_r(y) G_c(x),
 
@@ -50,7 +50,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from taxel.analyses.influence import Influence
+from taxel.analyses.surface.influence import Influence
 
 SIGMAS = 3.0          # k: a press is detected when the best taxel's peak is above k sigma
 GRID = 201            # points per direction of the surface grid (and of the line scan)
@@ -94,7 +94,7 @@ def coverage(infl: Influence, force: float, noise_V: float, sigmas: float = SIGM
     """The coverage of the influence functions `infl` (their sensitivities set) for a press of
     `force` N against white noise of rms `noise_V` on every taxel's open-circuit peak."""
     if infl.sensitivity is None:
-        raise ValueError("coverage needs the influence functions' sensitivities (taxel.analyses.influence)")
+        raise ValueError("coverage needs the influence functions' sensitivities (taxel.analyses.surface.influence)")
     if not (force > 0 and noise_V > 0 and sigmas > 0):
         raise ValueError(f"coverage needs a positive force, noise and k (got {force}, {noise_V}, {sigmas})")
     L = infl.x[-1] - infl.x[0]
@@ -112,9 +112,9 @@ def coverage(infl: Influence, force: float, noise_V: float, sigmas: float = SIGM
 def design_coverage(scene, force: float, noise_V: float, sigmas: float = SIGMAS, solve=None,
                     per_pitch: int = 8) -> Coverage:
     """The coverage of a design (a taxel-array scene): its influence functions (the same
-    samples as taxel.analyses.localization.localization_error, so the two metrics share
+    samples as taxel.analyses.surface.localization.localization_error, so the two metrics share
     their solves: 9 static 2D solves for a 3-taxel row at per_pitch 8), then `coverage`."""
-    from taxel.analyses.influence import influence
+    from taxel.analyses.surface.influence import influence
     arr = scene.array
     if arr is None or arr.cols < 2:
         raise ValueError("coverage needs a taxel array with at least two columns")

@@ -3,7 +3,7 @@ static solve (`solve_model`).
 
 scene (taxel.scene) -> materials by name (`scene_materials`, checked with the mirror
 planes by `check`) -> layered layout, refused when its solve cannot fit
-(taxel.analyses.geometry) -> tagged mesh (meshing.build) -> kinematics, laws, load,
+(taxel.analyses.model.geometry) -> tagged mesh (meshing.build) -> kinematics, laws, load,
 supports, electrodes, damping, the indenter (fem.assembly). Below this module nothing
 reads the scene schema; above it nothing assembles. The readout chain
 (`readout`) and the damping (`damping`) are translated here too.
@@ -37,7 +37,7 @@ from taxel.meshing.build import TaggedMesh, build
 from taxel.meshing.hexmesh import build_hex
 from taxel.meshing.cost import MeshTooLarge
 from taxel.scene import Scene, SceneError, electrode_state, scene_material_names
-from taxel.analyses.geometry import layout, mirror_planes, solve_limit, too_large
+from taxel.analyses.model.geometry import layout, mirror_planes, solve_limit, too_large
 from taxel.analyses.results import StaticResult
 from taxel.analyses.results.static import linear_error
 

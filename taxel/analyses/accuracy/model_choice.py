@@ -22,9 +22,9 @@ import time
 from dataclasses import dataclass
 
 from taxel.scene import Scene
-from taxel.analyses import error_estimate as est
+from taxel.analyses.accuracy import error_estimate as est
 from taxel.analyses.results import StaticResult
-from taxel.analyses.problem import solve_model
+from taxel.analyses.model.problem import solve_model
 
 
 @dataclass(frozen=True)

@@ -29,7 +29,7 @@ def cache_dir() -> Path:
 
 def profile(scene: Scene) -> np.ndarray:
     """W1 (cols, cols): voltage on each taxel of the row per voltage on the pressed one."""
-    from taxel.analyses import solve_static
+    from taxel.analyses.solves.analysis import solve_static
     arr = scene.array
     if arr is None or arr.cols == 1:
         return np.ones((1, 1))

@@ -1,6 +1,6 @@
 """From a scene to its layered layout (meshing.layout), refused when its solve cannot
 fit this machine: the geometry half of the translation from the scene schema to the
-finite-element model (taxel.analyses.problem makes the other half).
+finite-element model (taxel.analyses.model.problem makes the other half).
 
 A 2D model is the x-z cross-section through the loaded taxel's row. An
 axisymmetric model turns a square taxel of width w into a disk of equal area

@@ -18,7 +18,7 @@ from taxel.fem import readout as circuits
 from taxel.fem import dynamics
 from taxel.fem.assembly import assemble
 from taxel.scene import AnalysisTable, Scene, SceneError
-from taxel.analyses.problem import damping, problem, readout, scene_materials, with_silicone
+from taxel.analyses.model.problem import damping, problem, readout, scene_materials, with_silicone
 from taxel.analyses.results import FrequencyResult, LumpedResult, TransientResult
 
 

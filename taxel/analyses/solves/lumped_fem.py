@@ -6,7 +6,7 @@ The FEM targets, for the pressed (or only) taxel of an array scene:
 * static short-circuit charge per newton Q_sc = -C V_oc at the pressed electrode
   (every electrode grounded), and the static capacitance C_ii;
 * the first resonance: the first peak of |Q_sc(f)| of the pressed taxel's own path in the
-  scene's reduced model (taxel.analyses.reduced, charge outputs, cached) up to its
+  scene's reduced model (taxel.analyses.solves.reduced, charge outputs, cached) up to its
   highest frequency (2 kHz by default).
 """
 
@@ -21,9 +21,9 @@ from taxel.fem import linalg
 from taxel.fem import readout
 from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name
-from taxel.analyses.problem import problem
-from taxel.analyses.dynamic import lumped_model
-from taxel.analyses.reduced import cached
+from taxel.analyses.model.problem import problem
+from taxel.analyses.solves.dynamic import lumped_model
+from taxel.analyses.solves.reduced import cached
 
 
 @dataclass

@@ -40,9 +40,9 @@ from taxel.fem.dynamics import PortResponse
 from taxel.scene import Scene, SceneError, parse
 from taxel.schema import to_data
 from taxel.schema import electrode_name
-from taxel.analyses import reduced_export
-from taxel.analyses.version import code_version
-from taxel.analyses.problem import problem, readout
+from taxel.analyses.solves import reduced_export
+from taxel.analyses.solves.version import code_version
+from taxel.analyses.model.problem import problem, readout
 from taxel.analyses.results.base import FORMAT, write_result
 
 
@@ -136,7 +136,7 @@ class ReducedModel:
     def __str__(self) -> str:
         return "\n".join(self.summary())
 
-    # exports (taxel.analyses.reduced_export)
+    # exports (taxel.analyses.solves.reduced_export)
     def to_control(self):
         ss = self.state_space()
         return reduced_export.to_control(ss.A, ss.B, ss.C, ss.D, self.input_names, self.output_names, self.scene.name)
@@ -276,10 +276,10 @@ def _version() -> str:
 
 
 def cached(scene: Scene, inputs: str | None = None, output: str = "readout") -> ReducedModel:
-    """`reduce(scene, inputs, output)`, kept in the user's cache (taxel.analyses.crosstalk.cache_dir)
-    keyed by the scene's SHA-256, the options and the code version (taxel.analyses.version:
+    """`reduce(scene, inputs, output)`, kept in the user's cache (taxel.analyses.solves.crosstalk.cache_dir)
+    keyed by the scene's SHA-256, the options and the code version (taxel.analyses.solves.version:
     a change to the FEM or the analyses rebuilds it); rebuilt when missing or unreadable."""
-    from taxel.analyses.crosstalk import cache_dir
+    from taxel.analyses.solves.crosstalk import cache_dir
     key = hashlib.sha256(json.dumps([to_data(scene), inputs, output, FORMAT, code_version()],
                                     sort_keys=True).encode()).hexdigest()
     path = cache_dir() / f"reduced-{key[:16]}.npz"

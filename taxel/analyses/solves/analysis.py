@@ -2,9 +2,9 @@
 and returns its result, whether or not a static solve reached its load.
 
 The static analysis resolves model.fidelity = "auto" by the model choice
-(taxel.analyses.model_choice), attaches the error estimate when asked
-(taxel.analyses.error_estimate), and otherwise solves the model as given
-(taxel.analyses.problem.solve_model).
+(taxel.analyses.accuracy.model_choice), attaches the error estimate when asked
+(taxel.analyses.accuracy.error_estimate), and otherwise solves the model as given
+(taxel.analyses.model.problem.solve_model).
 
 A static solve that stops short of its load (a Yeoh Newton under a pressure patch,
 where the silicone creases; a press, where it measured a stop cause) is returned as
@@ -26,7 +26,7 @@ from taxel.fem.contact import PressError
 from taxel.fem.hyperelastic import NewtonError
 from taxel.scene import Scene, load, replace
 from taxel.analyses.results import FrequencyResult, StaticResult, Stop, TransientResult
-from taxel.analyses.problem import solve_model
+from taxel.analyses.model.problem import solve_model
 
 
 def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | Path | None = None,
@@ -37,7 +37,7 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
     `scene`: a Scene, a TOML file, a built-in example name or a dict (SI numbers).
     With `out`, the result's folder is written there too (`result.to_folder`, whole or
     not at all: a folder that cannot be made fails before the solve). Options:
-    estimate (attach the error estimate, taxel.analyses.error_estimate); static:
+    estimate (attach the error estimate, taxel.analyses.accuracy.error_estimate); static:
     solver ("auto", "superlu", "pardiso", "krylov"), tagged_mesh, scale,
     newton_options. Raises SceneError for bad input, and RuntimeError where not even
     the first load step of a static solve converged (there is no state to return)."""
@@ -46,25 +46,27 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
         return _written(out, lambda: solve(scene, estimate, **options))
     kind = scene.analysis.type
     if kind == "frequency":
-        from taxel.analyses.dynamic import frequency
+        from taxel.analyses.solves.dynamic import frequency
         res = frequency(scene)
         if estimate:
-            from taxel.analyses.error_estimate import estimate_frequency
-            res.error = estimate_frequency(scene, res)
+            from taxel.analyses.accuracy.error_estimate import estimate_frequency
+            res.error = estimate_frequency(scene, res, frequency)
         return res
     if kind == "transient":
-        from taxel.analyses.dynamic import transient
+        from taxel.analyses.solves.dynamic import transient
         return transient(scene)
-    from taxel.analyses.at_readout import at_readout
     try:
         res = solve_static(scene, **options)
+        stopped = False
     except (NewtonError, PressError) as exc:
-        res = _stopped(scene, exc)
+        res, stopped = _stopped(scene, exc), True
+    if scene.readout.circuit != "open":    # a scene naming a readout: its numbers too
+        from taxel.analyses.solves.at_readout import at_readout
         res.readout = at_readout(res)
+    if stopped:
         return res
-    res.readout = at_readout(res)          # a scene naming a readout: its numbers too
     if estimate and res.error is None:
-        from taxel.analyses.error_estimate import estimate as error_estimate
+        from taxel.analyses.accuracy.error_estimate import estimate as error_estimate
         res.error = error_estimate(res.scene, res, options.get("solver", "auto"))
     return res
 
@@ -72,7 +74,7 @@ def solve(scene: Scene | str | Path | dict, estimate: bool = False, out: str | P
 def lumped(scene: Scene | str | Path | dict, out: str | Path | None = None):
     """The 3-DoF lumped model's frequency response to a scene (a LumpedResult); with
     `out`, its folder is written there too, as `solve` writes one."""
-    from taxel.analyses.dynamic import lumped_response
+    from taxel.analyses.solves.dynamic import lumped_response
     scene = scene if isinstance(scene, Scene) else load(scene)
     return lumped_response(scene) if out is None else _written(out, lambda: lumped_response(scene))
 
@@ -126,11 +128,11 @@ def output_folder(path, replace: bool = False):
 
 def solve_static(scene: Scene, solver: str = "auto", **options) -> StaticResult:
     """The static analysis of a scene to its full load on the model it asks for: with
-    model.fidelity = "auto" the cheapest adequate model (taxel.analyses.model_choice),
+    model.fidelity = "auto" the cheapest adequate model (taxel.analyses.accuracy.model_choice),
     else the model as given (`solve_model`; options: tagged_mesh, scale, newton_options).
     Raises fem's NewtonError or PressError where it stops short (`solve` returns that)."""
     if scene.model.fidelity == "auto" and options.get("tagged_mesh") is None:
-        from taxel.analyses.model_choice import choose
+        from taxel.analyses.accuracy.model_choice import choose
         return choose(scene, solver)
     return solve_model(scene, solver, **options)
 

@@ -13,7 +13,7 @@ import dataclasses
 
 import numpy as np
 
-from taxel.analyses.problem import damping, problem, scene_materials
+from taxel.analyses.model.problem import damping, problem, scene_materials
 from taxel.fem import dynamics
 from taxel.fem import readout
 from taxel.scene import Scene

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from taxel.analyses.influence import Influence
+from taxel.analyses.surface.influence import Influence
 
 
 @dataclass
@@ -88,13 +88,13 @@ def localization_error(scene, noise_V: float = NOISE_V, solve=None, per_pitch: i
                        force: float | None = None) -> LocalizationError:
     """The predicted position error of a design, a metric for the optimizer.
 
-    The influence functions over the taxels' span (taxel.analyses.influence, every
+    The influence functions over the taxels' span (taxel.analyses.surface.influence, every
     pitch / per_pitch, no margins, mirror symmetry: 9 static solves for a 3-taxel row at per_pitch 8, against
     17 without the mirror; coarser sampling is cheaper but puts the bound 0.7-9 x off), then
     `localization_error_of`. benchmarks/measure_influence_cost.py measures the solves and the error of
     per_pitch 2 and 4 against 8. `solve` (scene -> {electrode: V}) lets the optimizer keep every
     press position in a study store."""
-    from taxel.analyses.influence import influence
+    from taxel.analyses.surface.influence import influence
     arr = scene.array
     if arr is None or arr.cols < 2:
         raise ValueError("localization_error needs a taxel array with at least two columns")

@@ -6,7 +6,7 @@ pressed at x (measured from the row's first taxel centre) gives the open-circuit
 voltage of every taxel of the row; G_c(x) = V_c(x) / V_c(x_c) is taxel c's
 influence function, 1 at its own centre x_c = c * pitch (it changes sign between
 taxels: a press in a gap lifts both neighbours). Between samples G is a cubic
-spline (scipy.interpolate.CubicSpline). As in taxel.analyses.crosstalk, the
+spline (scipy.interpolate.CubicSpline). As in taxel.analyses.solves.crosstalk, the
 square array's two directions are taken alike and separable: a press at (x, y)
 reaches taxel (r, c) as G_r(y) G_c(x).
 
@@ -19,7 +19,7 @@ rest mirrored (benchmarks/measure_influence_cost.py checks the mirror against
 direct solves, and the interpolation error of per_pitch 2 and 4 against 8).
 per_pitch 8 (the default): the slopes of G, which the position estimate and its
 Cramer-Rao bound live on, change fast at the taxels' edges, and a spline through
-every pitch / 4 puts the bound of taxel.analyses.localization 0.7-9 x off (pitch / 8
+every pitch / 4 puts the bound of taxel.analyses.surface.localization 0.7-9 x off (pitch / 8
 within 0.2 % of every-position solves at pitch / 8; the benchmark). Solves for a
 3-taxel row at per_pitch 8: 12 with edges (23 samples), 9 without (17).
 
@@ -41,7 +41,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from taxel.scene import Scene
-from taxel.analyses.crosstalk import cache_dir
+from taxel.analyses.solves.crosstalk import cache_dir
 from taxel.schema import electrode_name
 
 Solve = Callable[[Scene], dict]
@@ -86,7 +86,7 @@ def samples(scene: Scene, per_pitch: int = 8, edges: bool = True) -> np.ndarray:
 
 
 def _static_voltages(scene: Scene) -> dict:
-    from taxel.analyses import solve_static
+    from taxel.analyses.solves.analysis import solve_static
     return solve_static(scene).voltages()
 
 

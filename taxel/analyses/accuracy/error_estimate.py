@@ -75,7 +75,7 @@ import numpy as np
 
 from taxel.scene import Scene, refined, scene_material_names
 from taxel.analyses.results import ErrorEstimate, FrequencyResult, OutputError, StaticResult
-from taxel.analyses.problem import solve_model
+from taxel.analyses.model.problem import solve_model
 from taxel.analyses.results.static import LINEAR_ERROR_PER_STRAIN, linear_error
 
 OUTPUTS = ("sensitivity", "crosstalk", "charge_sensitivity")
@@ -202,7 +202,7 @@ def discretisation(scene: Scene, result: StaticResult, vals: dict[str, float], s
     if growth * n <= budget:
         tm = result.mesh
         if tm is None:
-            from taxel.analyses.problem import mesh     # a stored result has no mesh: mesh the scene again
+            from taxel.analyses.model.problem import mesh     # a stored result has no mesh: mesh the scene again
             tm = mesh(scene)
     p1 = " P1 is pre-asymptotic on the thesis taxels (the differences grow under refinement): use order 2." \
         if scene.mesh.order == 1 else ""
@@ -347,14 +347,14 @@ def sweep_values(result: FrequencyResult) -> np.ndarray:
     return result.sweep_values()
 
 
-def estimate_frequency(scene: Scene, result: FrequencyResult) -> ErrorEstimate:
+def estimate_frequency(scene: Scene, result: FrequencyResult, frequency) -> ErrorEstimate:
     """The error of a frequency sweep's readout output (the largest relative error
     over its frequencies): discretisation by Richardson against the sweep on a mesh
     at twice every size, model form against the cheapest 3D model's sweep (a 2D or
     axisymmetric result), plus the sweep's own measured reduction error. The
     silicone is linear in a sweep (small signal about the unloaded state): no
-    material-law part."""
-    from taxel.analyses.dynamic import frequency      # the sweep solvers, loaded when a sweep is estimated
+    material-law part. `frequency(scene)` is the sweep solver (taxel.analyses.solves.dynamic's,
+    handed in by the analysis that made `result`: the estimate sits below the solves)."""
     t0 = time.perf_counter()
     y = sweep_values(result)
     yc = sweep_values(frequency(refined(scene, 0.5)))

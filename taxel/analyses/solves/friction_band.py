@@ -75,7 +75,7 @@ class FrictionBand:
 def friction_leg(scene: Scene, friction, result=None, **options) -> FrictionLeg:
     """The press scene solved with `load.friction = friction` (or `result`, its solve
     already made) as one leg of a band; `options` as taxel.analyses.solve's."""
-    from taxel.analyses.analysis import solve
+    from taxel.analyses.solves.analysis import solve
     res = result if result is not None else solve(scene.replace(**{"load.friction": friction}), **options)
     out = res.outputs()
     if "sensitivity" not in out:

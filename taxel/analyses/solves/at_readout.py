@@ -5,7 +5,7 @@ answered with open-circuit numbers alone).
 
 A static solve gives, per newton, each taxel's open-circuit voltage V_oc and
 short-circuit charge Q_sc. Below the first mechanical resonance a taxel is a charge
-source of capacitance C_p = |Q_sc / V_oc| (taxel.analyses.noise.quasi_static_noise,
+source of capacitance C_p = |Q_sc / V_oc| (taxel.analyses.solves.noise.quasi_static_noise,
 checked there against the FEM sweep), so the readout's output per newton is the
 circuit's |H(f)| on that source (fem.readout):
 
@@ -17,7 +17,7 @@ circuit's |H(f)| on that source (fem.readout):
   charge sensitivity    |Q_sc| / F of the pressed taxel, C/N;
   minimum detectable force: the band's rms noise of every source of the chain (amplifier,
                         resistors, dielectric loss, hum; the ADC with a rig) over the band
-                        sensitivity (taxel.analyses.noise: NoiseResult);
+                        sensitivity (taxel.analyses.solves.noise: NoiseResult);
   force range           the amplifier's swing (or the ADC's full scale) over S_r, N.
 
 The band is the scene's [analysis] f_min..f_max. Assumptions: linear taxel (a press is
@@ -39,7 +39,7 @@ def at_readout(result, rig=None) -> AtReadout | None:
     """The readout's numbers of a static solve (a StaticResult: per-taxel open-circuit
     voltages and short-circuit charges at its applied force), None when the scene's
     readout is the open circuit, or there is no pressed taxel with a voltage and a charge."""
-    from taxel.analyses.noise import quasi_static_noise
+    from taxel.analyses.solves.noise import quasi_static_noise
     scene = result.scene
     if scene.readout.circuit == "open" or scene.array is None:
         return None

@@ -3,7 +3,7 @@
 The transfer function H(f) (readout output per newton of the pressed taxel) and
 each electrode's capacitance C_p(f) (complex: its imaginary part is the piezo's
 dielectric loss, -Im C_p = C' tan(delta)) come from the frequency analysis: the FEM
-sweep (taxel.analyses.dynamic.frequency, model = "fem") or the 3-DoF lumped model
+sweep (taxel.analyses.solves.dynamic.frequency, model = "fem") or the 3-DoF lumped model
 (model = "lumped", tan(delta) of the material or [dynamics] dielectric_loss). The
 noise sources, their transfer to the readout output and the ADC are fem.readout; the
 numbers of the chain are the scene's [readout] (e_n, i_n, e_n_corner, swing,
@@ -22,8 +22,8 @@ import numpy as np
 from taxel.fem import readout as N
 from taxel.fem.readout import Readout
 from taxel.scene import Scene, SceneError
-from taxel.analyses.problem import readout as scene_readout
-from taxel.analyses.problem import scene_materials
+from taxel.analyses.model.problem import readout as scene_readout
+from taxel.analyses.model.problem import scene_materials
 from taxel.analyses.results.noise import NoiseResult
 from taxel.analyses.results.base import pressed_name
 
@@ -65,13 +65,13 @@ def transfer(scene: Scene, band, model: str = "fem", points: int = 60):
     s = scene.replace(**{"analysis.type": "frequency", "analysis.f_min": band[0], "analysis.f_max": band[1],
                          "analysis.points": points, "analysis.spacing": "log"})
     if model == "lumped":
-        from taxel.analyses.dynamic import lumped_response
+        from taxel.analyses.solves.dynamic import lumped_response
         lr = lumped_response(s)
         C = np.full((len(lr.freqs), 1), lr.model.C_p * (1 - 1j * loss_tangent(s)))
         return lr.freqs, lr.output[:, None], C, ["lumped"], lr.label
     if model != "fem":
         raise SceneError(f"noise model '{model}': use fem or lumped")
-    from taxel.analyses.dynamic import frequency
+    from taxel.analyses.solves.dynamic import frequency
     fr = frequency(s.replace(**{"analysis.method": "reduced"}))
     C = np.einsum("fii->fi", fr.port.C)
     return fr.freqs, fr.output, C, list(fr.names), fr.label
