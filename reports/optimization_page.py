@@ -64,6 +64,9 @@ def optimization_page(folder: Path, out: Path, scene_data) -> dict:
     if bounds:
         blocks.append({"type": "note", "text": bounds})
     blocks += _requirements(folder)
+    if (folder / "check-3d.json").exists():           # taxel optimize --check-3d (optimize.check_3d)
+        from taxel.optimize.check_3d import lines
+        blocks.append({"type": "note", "text": " ".join(ln.strip() for ln in lines(read_json(folder / "check-3d.json")))})
     if (folder / "scene.json").exists():
         from taxel.reports.answer_assumptions import assumptions
         rows = assumptions(read_json(folder / "scene.json"))
