@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from taxel.optimize.metrics import METRIC_TABLE
-from taxel.optimize.requirements import Choice, Requirement, choose, implied, read
+from taxel.optimize.requirements import SLACK, Choice, Requirement, choose, implied, read
 from taxel.units import engineering, quantity
 
 
@@ -70,7 +70,7 @@ def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None) 
     out = []
     for i, r in enumerate(reqs):
         missed = sorted({c[r.metric] for c in candidates if c.get(r.metric) is not None
-                         and (r.margin(c[r.metric]) or 0) < -r.tolerance},
+                         and (r.margin(c[r.metric]) or 0) < -r.tolerance - SLACK},
                         key=lambda v: abs(v - r.bound))
         for v in missed:
             relaxed = [replace(q, bound=v) if j == i else q for j, q in enumerate(reqs)]
@@ -157,7 +157,7 @@ class Answer:
             out.append({"requirement": r.text(), "from": "stated" if r.stated else "implied by the reference design",
                         f"{d.label} design": "not evaluated" if value is None else _value(r, value),
                         "margin": "" if m is None else f"{100 * m:+.3g} %",
-                        "met": "not evaluated" if m is None else ("yes" if m >= -r.tolerance - 1e-12 else "NO")})
+                        "met": "not evaluated" if m is None else ("yes" if m >= -r.tolerance - SLACK else "NO")})
         return out
 
     def lines(self) -> list[str]:
@@ -175,7 +175,7 @@ class Answer:
             m = v.margins.get(r.metric)
             value = d.metrics.get(r.metric)
             shown = "not evaluated" if value is None else _value(r, value)
-            state = "not evaluated" if m is None else ("met" if m >= -r.tolerance - 1e-12 else "MISSED")
+            state = "not evaluated" if m is None else ("met" if m >= -r.tolerance - SLACK else "MISSED")
             by = "" if m is None else f" ({'margin' if m >= 0 else 'short by'} {abs(100 * m):.3g} %)"
             out.append(f"  {r.text()}{'' if r.stated else ' (implied by the reference)'}: {shown}, {state}{by}")
         b = self.binding

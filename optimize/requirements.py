@@ -55,6 +55,9 @@ from taxel.studies.requirements import RequirementError
 # the implied bar: the front's own dominance tolerance (optimize.probe_front.dominates), above
 # the discretisation noise of a design's metrics (about 1e-4, optimize.front.noise)
 TIE = 1e-3
+# A miss smaller than this (relative) is met: the optimizer's constraint tolerance (a design at a
+# limit, pitch 10 mm, comes back as 10.0000001 mm) and the metrics' rounding, far below any bound's meaning
+SLACK = 1e-6
 LIMITS = ("total_thickness", "pitch", "gap", "footprint")     # geometry: met or not, never maximized
 MET_OR_NOT = (*LIMITS, "coverage", "max_strain", "yield")      # rule 1: geometry, coverage, the strain limit
 # rule 3: the reference's sensitivity and crosstalk are the bar unless one of these is stated
@@ -142,7 +145,7 @@ def judge(values: dict, reqs: list[Requirement]) -> Verdict:
     perf = sorted(0.0 if abs(m) <= r.tolerance else m
                   for r in reqs if not r.limit and (m := margins[r.metric]) is not None)
     worst = min(known.items(), key=lambda kv: kv[1]) if known else None
-    return Verdict(margins, all(m >= -tol[k] - 1e-12 for k, m in known.items()), tuple(perf), worst)
+    return Verdict(margins, all(m >= -tol[k] - SLACK for k, m in known.items()), tuple(perf), worst)
 
 
 @dataclass

@@ -194,11 +194,18 @@ class FrontAnswer:
         """" What the requirements cost: ..." (each binding requirement, relaxed to the next
         candidate's value: the design then chosen, its numbers the model's the page names)."""
         from dataclasses import replace
-        if not self.priced:
-            return " No stated requirement binds among the designs found."
         chosen = (self.recommended or self.thesis).values
+        margins = (self.recommended or self.thesis).margins
+        at = [q.text() for q in self.requirements if q.stated and margins.get(q.metric) is not None
+              and abs(margins[q.metric]) < 1e-3 and q.metric in ("pitch", "gap", "total_thickness", "footprint")]
+        active = (f" {', '.join(at)} holds the chosen design at its bound in the search itself: relaxing it "
+                  "needs a new search with the bound moved." if at else "")
+        if not self.priced:
+            return active + " No other requirement binds among the designs found."
         return " What the requirements cost: " + "; ".join(
             replace(p, design=0).text([d.values], chosen)
             + (f" (silicone {d.silicone_above_mm:.2f} / {d.silicone_below_mm:.2f} mm, gap {d.gap_mm:.2f} mm"
-               + (", its 3D press" if d.values.get("pressed_3d") else ", the candidate selection's estimate") + ")")
-            for p, d in self.priced) + "."
+               + (", its 3D press" if d.values.get("pressed_3d") else ", the candidate selection's estimate")
+               + "".join(f"; {q.text()} not evaluated for it" for q in self.requirements
+                         if q.stated and d.values.get(q.metric) is None) + ")")
+            for p, d in self.priced) + "." + active
