@@ -20,7 +20,9 @@ import json
 from pathlib import Path
 
 from taxel.reports import friction_band
-from taxel.reports.answer_design import AnswerDesign, FrontAnswer, NoiseFloor
+from taxel.reports.answer_assumptions import of_answer
+from taxel.reports.answer_bands import bands
+from taxel.reports.answer_design import AnswerDesign, FrontAnswer, NoiseFloor, preference  # noqa: F401
 from taxel.reports.answer_3d import pressed_3d
 from taxel.reports.findings import verified_model
 from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SELECTION_MODEL, SHORT, VERIFY_3D_ERROR
@@ -47,48 +49,8 @@ def headline_front(folder: Path) -> FrontAnswer | None:
     if a is not None:
         a.path = Path(folder)
         _through_readout(a, Path(folder) / READOUT_FILE)
-        _bands(a, Path(folder))
+        bands(a, Path(folder))
     return a
-
-
-DERIVED = ("readout_sensitivity", "charge_sensitivity", "min_detectable_force", "force_range")
-
-
-def _bands(a: FrontAnswer, folder: Path) -> None:
-    """Every number's band with all of its parts (optimize.band): the model's own error (the 3D
-    press mesh's, calibrated) and the probe's friction (friction-band.json), combined; the
-    quantities derived from the sensitivity carry its band (the readout states no component
-    tolerances, the scene no material spread: their parts are absent, the assumptions say so).
-    a.error holds the combined totals, the larger of the two designs' per quantity."""
-    from taxel.optimize.band import Band, friction_share
-    mesh = "3D press mesh" if a.row == 7 else "model error"
-    bands: dict[str, Band] = {}
-    for d in (a.recommended, a.thesis):
-        if d is None:
-            continue
-        share = friction_share(folder, d.role, {"silicone_above": d.silicone_above_mm, "gap": d.gap_mm,
-                                                "silicone_below": d.silicone_below_mm}) or {}
-        for q in ("sensitivity", "crosstalk"):
-            b = Band({mesh: a.error.get(q), "friction": share.get(q)})
-            if q not in bands or b.total > bands[q].total or bands[q].total != bands[q].total:
-                bands[q] = b
-    for q in DERIVED:
-        bands[q] = bands["sensitivity"]
-    a.bands = bands
-    a.error = {q: b.total for q, b in bands.items()}
-    top = _largest_force(folder)
-    for d in (a.recommended, a.thesis, *(d for _, d in a.priced)):
-        if d is not None and top is not None:
-            d.values["largest_force"] = top
-
-
-def _largest_force(folder: Path) -> float | None:
-    """The largest force a press of the answer reached (its probe's operating force), N."""
-    path = folder / "probe-front.json"
-    if not path.exists():
-        return None
-    force = json.loads(path.read_text()).get("press", {}).get("force")
-    return magnitude(force) if force else None
 
 
 def _through_readout(a: FrontAnswer, path: Path) -> None:
@@ -359,40 +321,6 @@ def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
     return out
 
 
-def preference(answers: list[FrontAnswer]) -> str | None:
-    """Why one material is preferred: the design each material recommends (or keeps),
-    compared through the readout (charge per newton, volts at the output, minimum
-    detectable force, saturation); None without the readout numbers of two materials."""
-    ds = [(MATERIALS.get(a.thesis.material, a.thesis.material), a.recommended or a.thesis) for a in answers]
-    if len(ds) < 2 or any(d.values.get("min_detectable_force") is None for _, d in ds):
-        return None
-    (bn, b), *rest = sorted(ds, key=lambda nd: nd[1].values["min_detectable_force"])
-    on, o = rest[0]
-    v = b.values
-    text = (f"{bn} is preferred for these requirements: through the bench's charge amplifier it gives "
-            f"{eng(v['charge_sensitivity'], 'C/N', 3)} ({eng(v['readout_sensitivity'], 'V/N', 3)} at the output) "
-            f"against {eng(o.values['charge_sensitivity'], 'C/N', 3)} "
-            f"({eng(o.values['readout_sensitivity'], 'V/N', 3)}) for {on}, so it detects "
-            f"{eng(v['min_detectable_force'], 'N', 3)} against {eng(o.values['min_detectable_force'], 'N', 3)}, "
-            f"and saturates at {eng(v['force_range'], 'N', 3)}.")
-    if o.sensitivity_V_per_N > b.sensitivity_V_per_N:
-        text += (f" {on}'s open-circuit voltage is higher ({eng(o.sensitivity_V_per_N, 'V/N', 3)} against "
-                 f"{eng(b.sensitivity_V_per_N, 'V/N', 3)}), but a charge amplifier reads charge, not voltage.")
-    return text
-
-
-def _assumed(a: FrontAnswer) -> list[dict]:
-    """The answer's assumptions (reports.answer_assumptions), from its folder's scene and its readout's."""
-    from taxel.reports.answer_assumptions import assumptions
-    if a.path is None or not (a.path / "scene.json").exists():
-        return []
-    scene = json.loads((a.path / "scene.json").read_text())
-    chain = json.loads((a.path / READOUT_FILE).read_text()) if (a.path / READOUT_FILE).exists() else {}
-    if chain.get("readout"):                  # the numbers at the readout are the bench chain's
-        scene["readout"] = chain["readout"]
-    return assumptions(scene, chain.get("adc"))
-
-
 def _stack(a: FrontAnswer) -> str | None:
     from taxel.reports.stack import figure
     return figure(a, MATERIALS.get(a.thesis.material, a.thesis.material).split(" (")[0])
@@ -429,7 +357,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
                       "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
-                      "risks": risks(a), "friction": friction_band.block(a.path), "assumptions": _assumed(a),
+                      "risks": risks(a), "friction": friction_band.block(a.path), "assumptions": of_answer(a),
                       "bands": "; ".join(f"{q.replace('_', ' ')}: {b.text()}" + (" (above 2 %)" if b.flagged else "")
                                          for q, b in a.bands.items() if q in ("sensitivity", "crosstalk")), "stack": _stack(a), "stack_caption": _stack_caption(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})

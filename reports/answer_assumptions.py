@@ -85,3 +85,16 @@ def assumptions(scene: dict, adc: dict | None = None) -> list[dict]:
                      "moves": "the frequency and step responses (damping of the silicone's resonance)",
                      "source": "the scene's default dynamics: no sourced damping data for Ecoflex"})
     return rows
+
+
+def of_answer(a) -> list[dict]:
+    """The answer's assumptions (reports.answer_assumptions), from its folder's scene and its readout's."""
+    import json
+    from taxel.reports.ladder import READOUT_FILE
+    if a.path is None or not (a.path / "scene.json").exists():
+        return []
+    scene = json.loads((a.path / "scene.json").read_text())
+    chain = json.loads((a.path / READOUT_FILE).read_text()) if (a.path / READOUT_FILE).exists() else {}
+    if chain.get("readout"):                  # the numbers at the readout are the bench chain's
+        scene["readout"] = chain["readout"]
+    return assumptions(scene, chain.get("adc"))

@@ -209,3 +209,25 @@ class FrontAnswer:
                + "".join(f"; {q.text()} not evaluated for it" for q in self.requirements
                          if q.stated and d.values.get(q.metric) is None) + ")")
             for p, d in self.priced) + "." + active
+
+
+def preference(answers: list[FrontAnswer]) -> str | None:
+    """Why one material is preferred: the design each material recommends (or keeps),
+    compared through the readout (charge per newton, volts at the output, minimum
+    detectable force, saturation); None without the readout numbers of two materials."""
+    ds = [(MATERIALS.get(a.thesis.material, a.thesis.material), a.recommended or a.thesis) for a in answers]
+    if len(ds) < 2 or any(d.values.get("min_detectable_force") is None for _, d in ds):
+        return None
+    (bn, b), *rest = sorted(ds, key=lambda nd: nd[1].values["min_detectable_force"])
+    on, o = rest[0]
+    v = b.values
+    text = (f"{bn} is preferred for these requirements: through the bench's charge amplifier it gives "
+            f"{eng(v['charge_sensitivity'], 'C/N', 3)} ({eng(v['readout_sensitivity'], 'V/N', 3)} at the output) "
+            f"against {eng(o.values['charge_sensitivity'], 'C/N', 3)} "
+            f"({eng(o.values['readout_sensitivity'], 'V/N', 3)}) for {on}, so it detects "
+            f"{eng(v['min_detectable_force'], 'N', 3)} against {eng(o.values['min_detectable_force'], 'N', 3)}, "
+            f"and saturates at {eng(v['force_range'], 'N', 3)}.")
+    if o.sensitivity_V_per_N > b.sensitivity_V_per_N:
+        text += (f" {on}'s open-circuit voltage is higher ({eng(o.sensitivity_V_per_N, 'V/N', 3)} against "
+                 f"{eng(b.sensitivity_V_per_N, 'V/N', 3)}), but a charge amplifier reads charge, not voltage.")
+    return text
