@@ -55,8 +55,8 @@ path = "array.piezo_thickness"
 tolerance = "5 %"
 distribution = "normal"
 '''.replace("LIMIT", LIMIT)
-NOMINAL = 'name = "nominal"\nbase = "thesis-pzt-3x3-2d"\n[objective]\nmaximize = "sensitivity"\n[constraints]\ncrosstalk = "<= 0.05"\n'
-ROBUST = 'name = "robust"\nbase = "thesis-pzt-3x3-2d"\n[objective]\nmaximize = "robust_sensitivity"\n[constraints]\nyield = ">= 0.9"\n'
+NOMINAL = 'name = "nominal"\nbase = "thesis-pzt-3x3-2d"\n[objective]\nmaximize = "sensitivity"\n[requirements]\ncrosstalk = "<= 0.05"\n'
+ROBUST = 'name = "robust"\nbase = "thesis-pzt-3x3-2d"\n[objective]\nmaximize = "robust_sensitivity"\n[requirements]\nyield = ">= 0.9"\n'
 
 
 def load(folder: Path, head: str):

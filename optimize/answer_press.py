@@ -32,9 +32,9 @@ on sensitivity and 2.7-1.5 x on crosstalk: a constant from one design does not b
 next, so each material's constant is its worst measured; tests/test_answer_press.py, slow,
 checks a third PZT design, gap 4.78 mm). It holds for this mesh model and these piezos only:
 a press on another model (`model` not PRESS_3D) or of another piezo gets no estimate (None:
-not presented as within 2 %). The 2 % bound (WITHIN) applies to the estimate of the design's
-number, its sensitivity: PZT's 1.4 % is within it, PVDF's 2.7 % is not (the PVDF answer stays
-on the selection model). Crosstalk carries its own band (3.7 % PZT, 9.4 % PVDF), stated beside.
+not presented as within 2 %). The 2 % bound (WITHIN) is the page's flag: PZT's 1.4 % is within
+it, PVDF's 2.7 % is not, and the PVDF answer is still its 3D press (the better model), its band
+flagged (optimize.band). Crosstalk carries its own band (3.7 % PZT, 9.4 % PVDF), flagged too.
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ R = REFINE ** P_ORDER / (REFINE ** P_ORDER - 1)
 ANSWER_PRESS_ERROR = {"PSI-5H4E": {"sensitivity": 0.014, "crosstalk": 0.037},
                       "PVDF": {"sensitivity": 0.027, "crosstalk": 0.094}}
 CALIBRATION = "benchmarks/answer_press_error.py, 2026-11-28"
-WITHIN = 0.02                     # the answer's bound on a press's estimate (issue 45): above it, not the answer
+WITHIN = 0.02                     # the page flags a press's estimate above it (optimize.band.FLAG)
 KEY = "answer_3d"                 # the record's key in probe-front.json
 
 

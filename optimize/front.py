@@ -24,8 +24,8 @@ def _front_run(problem_path, out, eps, max_evals):
 def front(problem: Optimization, problem_path, workers=2) -> list[FrontRun]:
     """Sensitivity vs crosstalk front by epsilon-constraint: first the unconstrained
     maximum of sensitivity (its crosstalk c_max) and the minimum of crosstalk
-    (c_min), then maximize sensitivity with crosstalk <= eps_k for eps_k evenly
-    between; the runs are spread over Dask workers (each writes its evaluations
+    (c_min), both under the [requirements], then maximize sensitivity with crosstalk <= eps_k
+    for eps_k evenly in log between (`targets`); the runs are spread over Dask workers (each writes its evaluations
     to the shared store)."""
     n = problem.spec.pareto.points
     alg = problem.spec.algorithm
@@ -34,9 +34,21 @@ def front(problem: Optimization, problem_path, workers=2) -> list[FrontRun]:
                              problem.constraints, global_alg=None if alg.global_ == "none" else alg.global_,
                              local_alg=alg.local, max_evals=alg.max_evaluations, xtol=alg.xtol)
     c_hi, c_lo = best.metrics["crosstalk"], lowest.metrics["crosstalk"]
-    eps = list(np.linspace(c_lo, c_hi, n)[1:-1])
+    eps = targets(c_lo, c_hi, n)
     return [FrontRun(c_lo, lowest)] + _spread(problem_path, problem.out, eps, alg.max_evaluations, workers) + \
         [FrontRun(c_hi, best)]
+
+
+def targets(c_lo: float | None, c_hi: float | None, n: int) -> list[float]:
+    """The n - 2 crosstalk bounds between the front's ends: evenly in log (crosstalk spans
+    decades: an even spacing leaves the low end, where the designs differ most, empty). The ends
+    are the runs under the [requirements] (the search's constraints), so a crosstalk requirement
+    is the top end: the targets sit inside the user's limits."""
+    if c_lo is None or c_hi is None or not c_hi > c_lo:
+        return []
+    if c_lo > 0:
+        return list(np.geomspace(c_lo, c_hi, n)[1:-1])
+    return list(np.linspace(c_lo, c_hi, n)[1:-1])
 
 
 def _spread(problem_path, out, eps, max_evals, workers):

@@ -10,6 +10,7 @@ ones from the scene alone (`geometry`).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 
@@ -18,6 +19,8 @@ class Metric:
     """One optimizer metric: what it is called on an axis and its SI unit."""
     label: str
     unit: str
+    lo: float = 0.0               # the values it can take: a requirement outside them cannot be met
+    hi: float = math.inf
 
     @property
     def axis(self) -> str:
@@ -37,13 +40,13 @@ METRIC_TABLE = {
     "pitch": Metric("pitch", "m"),
     "gap": Metric("gap", "m"),
     "localization_error": Metric("localization error", "m"),
-    "coverage": Metric("coverage", "ratio"),
+    "coverage": Metric("coverage", "ratio", hi=1.0),
     "min_detectable_force": Metric("minimum detectable force", "N"),
-    "snr": Metric("SNR", "dB"),
-    "dynamic_range": Metric("dynamic range", "dB"),
+    "snr": Metric("SNR", "dB", lo=-math.inf),
+    "dynamic_range": Metric("dynamic range", "dB", lo=-math.inf),
     "robust_sensitivity": Metric("sensitivity percentile", "V/N"),
     "robust_crosstalk": Metric("crosstalk percentile", "ratio"),
-    "yield": Metric("yield", "ratio"),
+    "yield": Metric("yield", "ratio", hi=1.0),
     "warm_touch_force": Metric("warm-touch false force", "N"),
     "warm_touch_ratio": Metric("warm-touch false force / minimum detectable force", "ratio"),
 }

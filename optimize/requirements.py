@@ -23,8 +23,8 @@ margin meets it:
     localization_error = "<= 0.5 mm"  # the predicted rms position error there (optimize.coverage)
 
 How margins are weighed (`choose`):
-  1. limits (geometry: total_thickness, pitch, gap, footprint; and coverage) are met or
-     not; their margin is shown, never maximized (a thinner sensor is not a better one,
+  1. limits (geometry: total_thickness, pitch, gap, footprint; coverage, the strain limit
+     max_strain, the yield) are met or not; their margin is shown, never maximized (a thinner sensor is not a better one,
      and a surface that is live everywhere cannot be more so);
   2. among the designs meeting every requirement, the recommended one has the
      largest smallest margin over the performance requirements (sensitivity,
@@ -32,10 +32,11 @@ How margins are weighed (`choose`):
      weighs the same, in relative terms; where the smallest margins tie, the next
      smallest decides (leximin), then the more sensitive design; margins within a
      requirement's tolerance count as zero;
-  3. where the file states no performance requirement, the reference design's
-     own sensitivity and crosstalk are the bar (implied requirements: at least as
+  3. where the file states no requirement on sensitivity, crosstalk or the readout's
+     resolution (CORE), the reference design's own sensitivity and crosstalk are the bar (implied requirements: at least as
      sensitive, at most its crosstalk), so the recommendation is a design better
-     than the reference in both, with the largest balanced gain;
+     than the reference in both, with the largest balanced gain (when no design is, the
+     bar is dropped and the stated requirements alone decide);
   4. where no design meets every requirement, there is no recommendation: the
      answer names the binding requirement, the one the closest design (largest
      smallest margin over all requirements) misses by most, and by how much.
@@ -54,8 +55,14 @@ from taxel.studies.requirements import RequirementError
 # the implied bar: the front's own dominance tolerance (optimize.probe_front.dominates), above
 # the discretisation noise of a design's metrics (about 1e-4, optimize.front.noise)
 TIE = 1e-3
+# A miss smaller than this (relative) is met: the optimizer's constraint tolerance (a design at a
+# limit, pitch 10 mm, comes back as 10.0000001 mm) and the metrics' rounding, far below any bound's meaning
+SLACK = 1e-6
 LIMITS = ("total_thickness", "pitch", "gap", "footprint")     # geometry: met or not, never maximized
-MET_OR_NOT = (*LIMITS, "coverage")                             # rule 1: the geometry and coverage
+MET_OR_NOT = (*LIMITS, "coverage", "max_strain", "yield")      # rule 1: geometry, coverage, the strain limit
+# rule 3: the reference's sensitivity and crosstalk are the bar unless one of these is stated
+CORE = ("sensitivity", "tangent_sensitivity", "readout_sensitivity", "min_detectable_force", "snr", "dynamic_range",
+        "crosstalk", "readout_crosstalk", "robust_sensitivity", "robust_crosstalk")
 RULE = ("Each requirement's margin is relative to its bound, positive when met. Limits on geometry (thickness, "
         "pitch, gap) and coverage must be met; among the designs meeting every requirement the recommended one has the largest "
         "smallest margin on the performance requirements, each weighing the same (on a tie, the next smallest, then "
@@ -100,6 +107,12 @@ def read(table: dict[str, str]) -> list[Requirement]:
     out = []
     for metric, text in table.items():
         r = grammar.parse_requirement(metric, text, OUTPUTS)
+        m = METRIC_TABLE[metric]
+        if (r.op == "<=" and r.bound < m.lo) or (r.op == ">=" and r.bound > m.hi):
+            edge = m.lo if r.op == "<=" else m.hi
+            what = f"{100 * edge:g} %" if m.unit == "ratio" else f"{edge:g} {m.unit}"
+            raise RequirementError(f"requirements.{metric} = {text!r}: cannot be met, {m.label} is never "
+                                   f"{'below' if r.op == '<=' else 'above'} {what}; give a bound within reach")
         out.append(Requirement(r.output, r.op, r.bound, r.unit))
     return out
 
@@ -107,7 +120,7 @@ def read(table: dict[str, str]) -> list[Requirement]:
 def implied(reqs: list[Requirement], reference: dict) -> list[Requirement]:
     """`reqs`, plus the reference design's sensitivity and crosstalk as the bar when no
     performance requirement is stated (rule 3)."""
-    if any(not r.limit for r in reqs):
+    if any(r.metric in CORE for r in reqs) or reference.get("sensitivity") is None:
         return list(reqs)
     bar = [Requirement("sensitivity", ">=", reference["sensitivity"], "V/N", stated=False, tolerance=TIE),
            Requirement("crosstalk", "<=", reference["crosstalk"], "", stated=False, tolerance=TIE)]
@@ -135,7 +148,7 @@ def judge(values: dict, reqs: list[Requirement]) -> Verdict:
     perf = sorted(0.0 if abs(m) <= r.tolerance else m
                   for r in reqs if not r.limit and (m := margins[r.metric]) is not None)
     worst = min(known.items(), key=lambda kv: kv[1]) if known else None
-    return Verdict(margins, all(m >= -tol[k] - 1e-12 for k, m in known.items()), tuple(perf), worst)
+    return Verdict(margins, all(m >= -tol[k] - SLACK for k, m in known.items()), tuple(perf), worst)
 
 
 @dataclass
@@ -156,6 +169,12 @@ def choose(candidates: list[dict], reqs: list[Requirement]) -> Choice:
     notes = [RULE]
     if any(not r.stated for r in reqs):
         notes.append(IMPLIED)
+    if not ok and any(not r.stated for r in reqs):      # no design beats the reference in both: drop the bar
+        stated = [r for r in reqs if r.stated]
+        got = choose(candidates, stated)
+        got.notes.append("No design is both at least as sensitive as the reference and at most its crosstalk: "
+                         "the reference's bar is dropped, the stated requirements alone decide.")
+        return got
     if ok:
         best = max(ok, key=lambda i: (tuple(round(m, 9) for m in verdicts[i].weighed),
                                       candidates[i].get("sensitivity") or 0.0))

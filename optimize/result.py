@@ -156,11 +156,11 @@ class OptimizationResult:
                          + _at_readout(self.reference))
         if self.optimum is not None:
             r = self.optimum
-            lines.append(f"{'optimum' if r.success else 'best found (constraints violated)'}: "
+            lines.append(f"{'optimum' if r.success else 'best found (requirements violated)'}: "
                          + ", ".join(f"{n} = {v:.4g}" for n, v in zip(self.names, map(float, r.x)))
                          + f"; {r.nfev} evaluations; {r.message}")
             lines.append("metrics: " + ", ".join(f"{k} {v:.4g}" for k, v in r.metrics.items() if v is not None))
-            return lines
+            return lines + self.verdict()
         for row in self.front_rows:
             lines.append(f"  crosstalk <= {100 * row['crosstalk_bound']:.2f} %: sensitivity "
                          f"{row['sensitivity_V_per_N']:.4g} V/N, crosstalk {100 * row['crosstalk']:.2f} %"
@@ -175,7 +175,13 @@ class OptimizationResult:
                          f"crosstalk <= {100 * r.bound:.3g} %: {r.result.message}" for r in dropped) + ")"
                         if dropped else "")
                      + f", {self.evaluations} optimizer evaluations, {self.fem_solves} distinct FEM solves in the store")
-        return lines
+        return lines + self.verdict()
+
+    def verdict(self) -> list[str]:
+        """The requirements against the run's designs (optimize.answer): which design they choose,
+        which requirement binds; when none meets them all, which is missed, by how much, and the closest."""
+        from taxel.optimize.answer import Answer
+        return Answer.of(self).lines()
 
     def to_folder(self, out: str | Path) -> list[Path]:
         """Write result.json and the report's files (optimum.json + optimum-history.csv,

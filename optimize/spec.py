@@ -14,7 +14,7 @@ SQLite store and reused by later runs).
     [objective]
     maximize = "sensitivity"                      # or minimize = "crosstalk"
 
-    [constraints]                                 # metric = "<= value" or ">= value"
+    [requirements]                                # metric = "<= value" or ">= value": the search obeys them
     total_thickness = "<= 2 mm"
 
     [pareto]                                      # optional: the epsilon-constraint front
@@ -46,8 +46,9 @@ and geometric ones without FEM: total_thickness (silicone above + piezo + below,
 m), footprint (array width along x, m), gap (m), pitch (taxel width + gap, m).
 
 [requirements] states what the sensor must meet (optimize.requirements): the
-yield's spec and the answer's (the report recommends the design meeting every
-requirement with the largest margin).
+search's constraints (`searched`), the yield's spec and the answer's (the report
+recommends the design meeting every requirement with the largest margin). The
+retired [constraints] table is refused with the lines to move.
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective
 jitters at the level of the discretisation error's variation with geometry.
@@ -59,7 +60,6 @@ the range and the local initial step (0.1) sit well above it.
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
@@ -69,7 +69,7 @@ from pydantic import ConfigDict, Field, model_validator
 
 from taxel.optimize import driver
 from taxel.optimize.coverage import INFLUENCE_METRICS, influence_metrics
-from taxel.optimize.metrics import METRIC_TABLE, METRICS, PLAIN, geometry
+from taxel.optimize.metrics import METRICS, geometry
 from taxel.optimize.probe import PROBE_METRICS, ProbePress, press_scene, stored_press
 from taxel.optimize.requirements import LIMITS
 
@@ -78,7 +78,7 @@ from taxel.optimize.resolution import NOISE_METRICS, Resolution
 from taxel.optimize.warm import WARM_METRICS, warm_metrics
 from taxel.optimize.robust import ROBUST_METRICS, Robust
 from taxel import units as U
-from taxel.schema import Fraction, Name, Strict, dimensionless_value
+from taxel.schema import Fraction, Name, Strict
 from taxel.scene import Scene, SceneError, parse
 from taxel.studies.evaluate import evaluate_safely
 from taxel.studies.spec import read_spec, set_value
@@ -117,7 +117,6 @@ class OptimizationSpec(Strict):
     reference: dict[str, Any] = {}
     variables: dict[str, Variable] = Field(min_length=1)
     objective: dict[Literal["maximize", "minimize"], Literal[METRICS]]
-    constraints: dict[Literal[METRICS], str] = {}
     pareto: Pareto | None = None
     algorithm: Algorithm = Algorithm()
     noise: Any = "1 mV"                       # coverage, localization_error: white noise on each taxel peak
@@ -126,6 +125,16 @@ class OptimizationSpec(Strict):
     robust: Robust | None = None              # the robust metrics' tolerances (optimize.robust)
     requirements: dict[Literal[METRICS], str] = {}   # the answer's and the yield's spec, e.g. coverage = ">= 100 %"
     press: ProbePress | None = None                # the rig's probe press as the model (optimize.probe)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _retired(cls, data):
+        if isinstance(data, dict) and "constraints" in data:
+            table = data["constraints"] if isinstance(data["constraints"], dict) else {}
+            lines = "; ".join(f"{k} = \"{v}\"" for k, v in table.items()) or "its lines"
+            raise ValueError(f"[constraints]: the search obeys [requirements] alone (one table); move {lines} "
+                             "under [requirements]")
+        return data
 
     @model_validator(mode="after")
     def _check(self):
@@ -277,25 +286,7 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
         if not a <= s <= b:
             raise OptimizeError(f"variables.{name}: start {var.start} is outside [{var.min}, {var.max}]")
         lo.append(a), hi.append(b), x0.append(s), units.append(unit)
-    cons = []
-    for metric, text in spec.constraints.items():
-        text = text.strip()
-        op = text[:2]
-        if op not in ("<=", ">="):
-            raise OptimizeError(f"constraints.{metric}: write \"<= value\" or \">= value\", got {text!r}")
-        unit = "" if METRIC_TABLE[metric].unit in PLAIN else METRIC_TABLE[metric].unit
-        value = text[2:].strip()
-        if unit:
-            bound = magnitude(value, unit, f"constraints.{metric}")[0]
-        else:
-            try:
-                bound = dimensionless_value(value, "ratio")
-            except ValueError:
-                raise OptimizeError(f"constraints.{metric}: {value!r} is not a number; write e.g. \"<= 0.05\" "
-                                    "or \"<= 5 %\"") from None
-        if not math.isfinite(bound):
-            raise OptimizeError(f"constraints.{metric}: the bound {value!r} is not a finite number")
-        cons.append((metric, op, bound))
+    cons = searched(spec.requirements, OptimizeError)
     problem = Optimization(spec, base, np.array(lo), np.array(hi), np.array(x0), units, cons, out)
     if spec.press is not None:
         from taxel.optimize.probe import check as check_press
@@ -332,6 +323,19 @@ def load_optimization(path, out: Path | None = None) -> Optimization:
     return problem
 
 
+def searched(requirements: dict, error=OptimizeError) -> list[tuple[str, str, float]]:
+    """The optimizer's constraints: every [requirements] line (optimize.requirements.read, its
+    bound checked against what the metric can reach), but coverage and localization_error,
+    which take 9 more solves per design and are judged after the search on the designs the
+    answer reaches (optimize.coverage.judge_lazily)."""
+    from taxel.optimize.requirements import RequirementError, read
+    try:
+        reqs = read(requirements)
+    except RequirementError as exc:
+        raise error(str(exc)) from None
+    return [(r.metric, r.op, r.bound) for r in reqs if r.metric not in INFLUENCE_METRICS]
+
+
 def optimize(problem: Optimization, constraints=None, max_evals=None) -> driver.Result:
     """One run: the spec's objective under its constraints (plus `constraints`)."""
     (sense, metric), = problem.spec.objective.items()
@@ -360,10 +364,8 @@ gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
 [objective]
 maximize = "robust_sensitivity"
 
-[constraints]
+[requirements]                     # the search obeys them all; a good part meets all but the yield
 yield = ">= 0.9"
-
-[requirements]                     # what a good part is (the yield's spec)
 crosstalk = "<= 8 %"
 
 [resolution]                       # the noise metrics' chain

@@ -20,7 +20,9 @@ import json
 from pathlib import Path
 
 from taxel.reports import friction_band
-from taxel.reports.answer_design import AnswerDesign, FrontAnswer, NoiseFloor
+from taxel.reports.answer_assumptions import of_answer
+from taxel.reports.answer_bands import bands
+from taxel.reports.answer_design import AnswerDesign, FrontAnswer, NoiseFloor, preference  # noqa: F401
 from taxel.reports.answer_3d import pressed_3d
 from taxel.reports.findings import verified_model
 from taxel.reports.ladder import COLS as LADDER_COLS, READOUT_FILE, ROW, SELECTION_MODEL, SHORT, VERIFY_3D_ERROR
@@ -29,8 +31,12 @@ from taxel.reports.margins import limits, requirement_cols, requirement_ids, req
 from taxel.reports.tables import eng, percent
 from taxel.units import magnitude
 
-CROSSTALK_DEFINITION = ("Crosstalk: the largest neighbouring taxel's open-circuit |V| divided by the pressed "
-                        "taxel's, for a press on the middle taxel of the 3x3 array.")
+def crosstalk_definition(answers: list[FrontAnswer]) -> str:
+    """Crosstalk, defined once for the block, on the answers' own array."""
+    sizes = sorted({(a.thesis.values.get("rows"), a.thesis.values.get("cols")) for a in answers} - {(None, None)})
+    where = " or ".join(f"{r}x{c}" for r, c in sizes) or "the"
+    return ("Crosstalk: the largest neighbouring taxel's open-circuit |V| divided by the pressed taxel's, for a "
+            f"press on one taxel of the {where} array (the scene's loaded taxel).")
 
 
 
@@ -43,6 +49,7 @@ def headline_front(folder: Path) -> FrontAnswer | None:
     if a is not None:
         a.path = Path(folder)
         _through_readout(a, Path(folder) / READOUT_FILE)
+        bands(a, Path(folder))
     return a
 
 
@@ -98,7 +105,7 @@ def _geometry(array: dict) -> dict:
     def si(key, default):
         return magnitude(array.get(key, default))
     return {"taxel_width": si("taxel_width", "4 mm"), "piezo_thickness": si("piezo_thickness", "0.127 mm"),
-            "margin": si("margin", "3 mm"), "cols": int(array.get("cols", 3)),
+            "margin": si("margin", "3 mm"), "cols": int(array.get("cols", 3)), "rows": int(array.get("rows", 3)),
             "silicone_above": si("silicone_above", "1 mm"), "silicone_below": si("silicone_below", "1 mm"),
             "gap": si("gap", "3 mm")}
 
@@ -110,7 +117,7 @@ def _design(role, x: dict, g: dict, material, s, c, extra: dict | None = None) -
     below = x.get("silicone_below", 1e3 * g["silicone_below"])
     gap = x.get("gap", 1e3 * g["gap"])
     values = {"sensitivity": s, "crosstalk": c, "gap": 1e-3 * gap, "pitch": 1e-3 * (width + gap),
-              "total_thickness": 1e-3 * (above + below) + g["piezo_thickness"],
+              "total_thickness": 1e-3 * (above + below) + g["piezo_thickness"], "rows": g["rows"], "cols": g["cols"],
               "footprint": g["cols"] * 1e-3 * width + (g["cols"] - 1) * 1e-3 * gap + 2 * g["margin"],
               **{k: v for k, v in (extra or {}).items() if v is not None}}
     return AnswerDesign(role, above, below, gap, width + gap, material, s, c,
@@ -141,7 +148,17 @@ def _recommend(table: dict, thesis: AnswerDesign, candidates: list[AnswerDesign]
     for d, v in zip(designs, ch.verdicts):
         d.margins = v.margins
     best = designs[ch.recommended] if ch.recommended is not None else None
-    return (None if best is thesis else best), reqs, ch.binding, ch.notes
+    return (None if best is thesis else best), reqs, ch.binding, ch.notes, _priced(designs, reqs, ch.recommended)
+
+
+def _priced(designs: list[AnswerDesign], reqs: list, chosen: int | None) -> list[tuple]:
+    """What relaxing each binding requirement buys among the candidates (optimize.answer.prices):
+    (Price, the design then chosen as a copy with role "relaxed-<metric>") per binding requirement."""
+    from dataclasses import replace
+    from taxel.optimize.answer import prices
+    return [(p, replace(designs[p.design], role=f"relaxed-{p.requirement.metric}",
+                        values=dict(designs[p.design].values)))
+            for p in prices([d.values for d in designs], reqs, chosen)]
 
 
 def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswer:
@@ -156,7 +173,7 @@ def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAn
     thesis = _design("thesis", x_ref, geo, material, ref[s3], ref[c3])
     rows = [r for r in rec["front_3d"] if r.get(s3) is not None and _lengths(r) != x_ref]
     cands = [_design("recommended", _lengths(r), geo, material, r[s3], r[c3]) for r in rows]
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
+    best, reqs, binding, rule, priced = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     error = dict(VERIFY_3D_ERROR)
     cb = (c or {}).get("best")
     same = best is None or (cb is not None and [round(getattr(best, f"{n}_mm"), 6) for n in names]
@@ -172,7 +189,7 @@ def _from_front_3d(folder: Path, rec: dict, geo: dict, material: str) -> FrontAn
     notes = rule + [f"The 3D-verified front holds {len(rec['front_3d'])} of the {len(rec['verified'])} designs "
                     "solved in 3D."]
     return FrontAnswer(folder.name, best, thesis, model + ", 3x3 array, 1 N on the middle taxel", error, True, notes,
-                       requirements=reqs, binding=binding, row=row)
+                       requirements=reqs, binding=binding, priced=priced, row=row)
 
 
 def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
@@ -188,7 +205,7 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
     rows = [d for d in rec["front"] if d["x"] != ref["x"] and d.get("sensitivity (V/N)") is not None]
     cands = [_design("recommended", _lengths(d), geo, material, d["sensitivity (V/N)"], d["crosstalk"])
              for d in rows]
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
+    best, reqs, binding, rule, priced = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     b = rows[cands.index(best)] if best is not None else None
     err = max([ref["estimated error"]] + ([b["estimated error"]] if b else []))
     press = rec.get("press", {})
@@ -218,6 +235,7 @@ def _from_probe_front(folder: Path, rec: dict, geo: dict, material: str,
                     {"sensitivity": err, "crosstalk": err}, True, notes,
                     "the probe front's estimated error (discretisation + correction + material law, on "
                     "sensitivity), the same relative band drawn on crosstalk", requirements=reqs, binding=binding,
+                    priced=priced,
                     row=ROW[SELECTION_MODEL])
     pressed_3d(a, rec)
     return a
@@ -248,14 +266,14 @@ def _from_front(folder: Path, rec: dict, geo: dict, material: str) -> FrontAnswe
         if xs != ref_x:
             cands.append(_design("recommended", xs, geo, material, m["sensitivity"], m["crosstalk"],
                                  {k: m.get(k) for k in AT_READOUT}))
-    best, reqs, binding, rule = _recommend(rec.get("requirements", {}), thesis, cands, folder)
+    best, reqs, binding, rule, priced = _recommend(rec.get("requirements", {}), thesis, cands, folder)
     from taxel.reports.findings import scene_model_label
     scene = json.loads((folder / "scene.json").read_text()) if (folder / "scene.json").exists() else {}
     model = f"{scene_model_label(scene)}, the optimization's own load; the front's cheap model, not verified in 3D"
     dropped = sum(1 for r in rec["front"] if not r["run"].get("success", True))
     notes = rule + ([f"{dropped} of the front's {len(rec['front'])} runs found no feasible design."] if dropped else [])
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
-                       False, notes, requirements=reqs, binding=binding)
+                       False, notes, requirements=reqs, binding=binding, priced=priced)
 
 
 def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str) -> FrontAnswer | None:
@@ -275,15 +293,15 @@ def _from_optimum(folder: Path, rec: dict, scene: dict, geo: dict, material: str
         return None
     tm = start[0]
     thesis = _design("thesis", ref_x, geo, material, tm["sensitivity"], tm["crosstalk"])
-    best, reqs, binding, rule = _recommend(spec.requirements, thesis, folder=folder, candidates=[
+    best, reqs, binding, rule, priced = _recommend(spec.requirements, thesis, folder=folder, candidates=[
         _design("recommended", rec["x"], geo, material, m["sensitivity"], m["crosstalk"])])
     from taxel.reports.findings import scene_model_label
-    model = (f"{scene_model_label(scene)}, 3x3 array, 1 N on the middle taxel; a short local search, not verified "
+    model = (f"{scene_model_label(scene)}, {geo['rows']}x{geo['cols']} array, the scene's load; a short local search, not verified "
              "in 3D")
     # the 2D model's error against 3D is measured on the full run (front-3d.json): unknown here
     return FrontAnswer(folder.name, best, thesis, model, {"sensitivity": float("nan"), "crosstalk": float("nan")},
                        False, rule + ["The candidate: the short local search's best design (taxel demo --small)."],
-                       requirements=reqs, binding=binding)
+                       requirements=reqs, binding=binding, priced=priced)
 
 
 def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
@@ -301,28 +319,6 @@ def _history(path: Path, n: int) -> list[tuple[list[float], dict]]:
         metrics = {k: float(v) for k, v in zip(head[2 + n:], r[2 + n:]) if v != ""}
         out.append((x, metrics))
     return out
-
-
-def preference(answers: list[FrontAnswer]) -> str | None:
-    """Why one material is preferred: the design each material recommends (or keeps),
-    compared through the readout (charge per newton, volts at the output, minimum
-    detectable force, saturation); None without the readout numbers of two materials."""
-    ds = [(MATERIALS.get(a.thesis.material, a.thesis.material), a.recommended or a.thesis) for a in answers]
-    if len(ds) < 2 or any(d.values.get("min_detectable_force") is None for _, d in ds):
-        return None
-    (bn, b), *rest = sorted(ds, key=lambda nd: nd[1].values["min_detectable_force"])
-    on, o = rest[0]
-    v = b.values
-    text = (f"{bn} is preferred for these requirements: through the bench's charge amplifier it gives "
-            f"{eng(v['charge_sensitivity'], 'C/N', 3)} ({eng(v['readout_sensitivity'], 'V/N', 3)} at the output) "
-            f"against {eng(o.values['charge_sensitivity'], 'C/N', 3)} "
-            f"({eng(o.values['readout_sensitivity'], 'V/N', 3)}) for {on}, so it detects "
-            f"{eng(v['min_detectable_force'], 'N', 3)} against {eng(o.values['min_detectable_force'], 'N', 3)}, "
-            f"and saturates at {eng(v['force_range'], 'N', 3)}.")
-    if o.sensitivity_V_per_N > b.sensitivity_V_per_N:
-        text += (f" {on}'s open-circuit voltage is higher ({eng(o.sensitivity_V_per_N, 'V/N', 3)} against "
-                 f"{eng(b.sensitivity_V_per_N, 'V/N', 3)}), but a charge amplifier reads charge, not voltage.")
-    return text
 
 
 def _stack(a: FrontAnswer) -> str | None:
@@ -357,11 +353,13 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
                 row["open-circuit crosstalk"] = percent(d.crosstalk)
             rows.append(row)
             links.append(_links(a, d, ladders))
-            records += d.records(a.error, a.model)
+            records += d.records(a.error, a.model, a.bands)
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
                       "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
-                      "risks": risks(a), "friction": friction_band.block(a.path), "stack": _stack(a), "stack_caption": _stack_caption(a), "material": MATERIALS.get(a.thesis.material,
+                      "risks": risks(a), "friction": friction_band.block(a.path), "assumptions": of_answer(a),
+                      "bands": "; ".join(f"{q.replace('_', ' ')}: {b.text()}" + (" (above 2 %)" if b.flagged else "")
+                                         for q, b in a.bands.items() if q in ("sensitivity", "crosstalk")), "stack": _stack(a), "stack_caption": _stack_caption(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})
     parts = [("Recommended: ", None)]
     for i, t in enumerate(titles):
@@ -370,7 +368,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
     return {"title": "".join(t for t, _ in parts), "title_parts": parts, "cols": cols,
             "rows": [[row.get(c, "—") for c in cols] for row in rows],
             "links": [[link.get(c) for c in cols] for link in links],
-            "roles": [row["design"] for row in rows], "lines": lines, "definition": CROSSTALK_DEFINITION,
+            "roles": [row["design"] for row in rows], "lines": lines, "definition": crosstalk_definition(answers),
             "records": records, "ladder_cols": LADDER_COLS, "preference": preference(answers),
             "chain": next((a.chain for a in answers if a.chain), None), "dynamics": dynamics(answers, sweep),
             "verified": any(a.verified for a in answers),

@@ -16,13 +16,19 @@ from taxel.reports.ladder import anchor
 from taxel.reports.tables import eng, percent
 
 
-def _band(value: float, rel: float, unit: str) -> str:
-    """A value with its error band in the same unit: "838 ± 4 mV/N", "0.971 ± 0.049 %"."""
+def _band(value: float, rel: float | None, unit: str) -> str:
+    """A value with its error band in the same unit: "838 ± 4 mV/N", "0.971 ± 0.049 %";
+    a band above 2 % (optimize.band.FLAG) flagged: "838 ± 55 mV/N (band 6.6 % > 2 %)"."""
+    from math import isfinite
+    from taxel.optimize.band import FLAG
+    if rel is None or not isfinite(rel):
+        return (f"{value:.3g} %" if unit == "%" else eng(value, unit, 3)) + " (band not estimated)"
+    flag = f" (band {100 * rel:.2g} % > {100 * FLAG:g} %)" if rel > FLAG else ""
     if unit == "%":
-        return f"{value:.3g} ± {rel * value:.2g} %"
+        return f"{value:.3g} ± {rel * value:.2g} %" + flag
     v = eng(value, unit)
     number, u = v.split(" ", 1)
-    return f"{number} ± {float(number) * rel:.2g} {u}"
+    return f"{number} ± {float(number) * rel:.2g} {u}" + flag
 
 
 @dataclass
@@ -41,24 +47,32 @@ class AnswerDesign:
     margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
     bandwidth_Hz: tuple[float, float] | None = None   # the readout's corners with this design (READOUT_FILE)
 
-    def records(self, error: dict, model: str) -> list[dict]:
+    def records(self, error: dict, model: str, bands: dict | None = None) -> list[dict]:
         """answer.csv's rows of this design: one quantity each, numeric value, relative error
-        (empty: not estimated) and SI unit."""
+        (all of its parts combined, optimize.band; empty: not estimated), its parts, and SI unit."""
         from math import isfinite
         out = []
-        for q, v, unit, err in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
+        for q, v, unit, key in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
                                 ("silicone below", 1e-3 * self.silicone_below_mm, "m", None),
                                 ("gap", 1e-3 * self.gap_mm, "m", None), ("pitch", 1e-3 * self.pitch_mm, "m", None),
-                                ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", error["sensitivity"]),
-                                ("open-circuit crosstalk", self.crosstalk, "1", error["crosstalk"]),
-                                ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N", None),
-                                ("charge per newton", self.values.get("charge_sensitivity"), "C/N", None),
-                                ("minimum detectable force", self.min_detectable_force_N, "N", None),
-                                ("force range to saturation", self.values.get("force_range"), "N", None)):
+                                ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", "sensitivity"),
+                                ("open-circuit crosstalk", self.crosstalk, "1", "crosstalk"),
+                                ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N",
+                                 "readout_sensitivity"),
+                                ("charge per newton", self.values.get("charge_sensitivity"), "C/N", "charge_sensitivity"),
+                                ("minimum detectable force", self.min_detectable_force_N, "N", "min_detectable_force"),
+                                ("force range to saturation", self.values.get("force_range"), "N", "force_range")):
             if v is not None:
+                err = error.get(key) if key else None
+                band = (bands or {}).get(key)
                 out.append({"design": self.role, "material": MATERIALS.get(self.material, self.material),
                             "quantity": q, "value": v, "relative error": err if err is not None and isfinite(err)
-                            else "", "unit": unit, "model": model})
+                            else "", "error parts": band.text() if band is not None else
+                            ("exact (a design variable)" if key is None else ""),
+                            "unit": unit, "model": model + ("; beyond the largest force solved, "
+                                                            f"{self.values['largest_force']:g} N: a straight line"
+                                                            if key == "force_range" and self.values.get("largest_force")
+                                                            and v > self.values["largest_force"] else "")})
         return out
 
     def row(self, error: dict) -> dict:
@@ -69,16 +83,27 @@ class AnswerDesign:
                 "pitch (mm)": f"{self.pitch_mm:.2f}",
                 "open-circuit sensitivity": _band(self.sensitivity_V_per_N, error["sensitivity"], "V/N"),
                 "open-circuit crosstalk": _band(100 * self.crosstalk, error["crosstalk"], "%"),
-                "min. detectable force": (eng(self.min_detectable_force_N, "N", 3)
+                "min. detectable force": (_band(self.min_detectable_force_N, error.get("min_detectable_force"), "N")
                                           if self.min_detectable_force_N else "not computed"),
-                **({"sensitivity at the readout": eng(self.values["readout_sensitivity"], "V/N", 3)}
+                **({"sensitivity at the readout": _band(self.values["readout_sensitivity"],
+                                                        error.get("readout_sensitivity"), "V/N")}
                    if self.values.get("readout_sensitivity") is not None else {}),
                 **({"crosstalk at the readout": percent(self.values["readout_crosstalk"])}
                    if self.values.get("readout_crosstalk") is not None else {}),
-                **({"charge per newton": eng(self.values["charge_sensitivity"], "C/N", 3)}
+                **({"charge per newton": _band(self.values["charge_sensitivity"], error.get("charge_sensitivity"),
+                                               "C/N")}
                    if self.values.get("charge_sensitivity") is not None else {}),
-                **({"force range to saturation": eng(self.values["force_range"], "N", 3)}
+                **({"force range to saturation": self.saturation(error)}
                    if self.values.get("force_range") is not None else {})}
+
+    def saturation(self, error: dict) -> str:
+        """The force at which the readout clips: the number when a press reached it, else "beyond the
+        largest force solved" with that force (the straight line past it is not a press)."""
+        f, top = self.values["force_range"], self.values.get("largest_force")
+        if top is not None and f > top * (1 + 1e-9):
+            return (f"beyond {eng(top, 'N', 3)}, the largest force solved (a straight line from it: "
+                    f"{eng(f, 'N', 3)}, not a press)")
+        return _band(f, error.get("force_range"), "N")
 
 
 class NoiseFloor(NamedTuple):
@@ -112,6 +137,8 @@ class FrontAnswer:
     path: Path | None = None                            # the optimization folder (the ladder's records)
     chain: str | None = None                            # how the readout numbers were made (READOUT_FILE)
     row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
+    bands: dict = field(default_factory=dict)           # quantity -> optimize.band.Band (all of its parts)
+    priced: list = field(default_factory=list)          # (optimize.answer.Price, AnswerDesign): a relaxation's design
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
@@ -147,7 +174,7 @@ class FrontAnswer:
                     f"{100 * abs(self.binding[1]):.3g} % by the closest design.")
         if r is None:
             return (f"Keep {self.reference_name}: of the designs found, it meets every requirement with the "
-                    "largest margin.")
+                    "largest margin." + self.prices)
         parts = []
         for name, a, b in (("silicone above", t.silicone_above_mm, r.silicone_above_mm),
                            ("silicone below", t.silicone_below_mm, r.silicone_below_mm)):
@@ -160,4 +187,47 @@ class FrontAnswer:
         gain = r.sensitivity_V_per_N / t.sensitivity_V_per_N - 1
         xt = r.crosstalk / t.crosstalk - 1
         return (f"The trade: {'; '.join(parts) or 'the same geometry'}; for {100 * gain:+.2g} % sensitivity and "
-                f"{100 * xt:+.0f} % crosstalk (relative).")
+                f"{100 * xt:+.0f} % crosstalk (relative)." + self.prices)
+
+    @property
+    def prices(self) -> str:
+        """" What the requirements cost: ..." (each binding requirement, relaxed to the next
+        candidate's value: the design then chosen, its numbers the model's the page names)."""
+        from dataclasses import replace
+        chosen = (self.recommended or self.thesis).values
+        margins = (self.recommended or self.thesis).margins
+        at = [q.text() for q in self.requirements if q.stated and margins.get(q.metric) is not None
+              and abs(margins[q.metric]) < 1e-3 and q.metric in ("pitch", "gap", "total_thickness", "footprint")]
+        active = (f" {', '.join(at)} holds the chosen design at its bound in the search itself: relaxing it "
+                  "needs a new search with the bound moved." if at else "")
+        if not self.priced:
+            return active + " No other requirement binds among the designs found."
+        return " What the requirements cost: " + "; ".join(
+            replace(p, design=0).text([d.values], chosen)
+            + (f" (silicone {d.silicone_above_mm:.2f} / {d.silicone_below_mm:.2f} mm, gap {d.gap_mm:.2f} mm"
+               + (", its 3D press" if d.values.get("pressed_3d") else ", the candidate selection's estimate")
+               + "".join(f"; {q.text()} not evaluated for it" for q in self.requirements
+                         if q.stated and d.values.get(q.metric) is None) + ")")
+            for p, d in self.priced) + "." + active
+
+
+def preference(answers: list[FrontAnswer]) -> str | None:
+    """Why one material is preferred: the design each material recommends (or keeps),
+    compared through the readout (charge per newton, volts at the output, minimum
+    detectable force, saturation); None without the readout numbers of two materials."""
+    ds = [(MATERIALS.get(a.thesis.material, a.thesis.material), a.recommended or a.thesis) for a in answers]
+    if len(ds) < 2 or any(d.values.get("min_detectable_force") is None for _, d in ds):
+        return None
+    (bn, b), *rest = sorted(ds, key=lambda nd: nd[1].values["min_detectable_force"])
+    on, o = rest[0]
+    v = b.values
+    text = (f"{bn} is preferred for these requirements: through the bench's charge amplifier it gives "
+            f"{eng(v['charge_sensitivity'], 'C/N', 3)} ({eng(v['readout_sensitivity'], 'V/N', 3)} at the output) "
+            f"against {eng(o.values['charge_sensitivity'], 'C/N', 3)} "
+            f"({eng(o.values['readout_sensitivity'], 'V/N', 3)}) for {on}, so it detects "
+            f"{eng(v['min_detectable_force'], 'N', 3)} against {eng(o.values['min_detectable_force'], 'N', 3)}, "
+            f"and saturates at {eng(v['force_range'], 'N', 3)}.")
+    if o.sensitivity_V_per_N > b.sensitivity_V_per_N:
+        text += (f" {on}'s open-circuit voltage is higher ({eng(o.sensitivity_V_per_N, 'V/N', 3)} against "
+                 f"{eng(b.sensitivity_V_per_N, 'V/N', 3)}), but a charge amplifier reads charge, not voltage.")
+    return text

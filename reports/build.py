@@ -21,33 +21,20 @@ with one card per page. `PAGE_KINDS` maps a folder kind to what its page shows.
 from __future__ import annotations
 
 import csv
-import json
 import shutil
 import time
 from pathlib import Path
 
 from taxel.analyses import output_folder
-from taxel.scene import SceneError
 from taxel.reports import findings, tables
-from taxel.reports.page import Headline, Page, provenance, templates
+from taxel.reports.page import (Headline, Page, ReportError, csv_link as _csv_link, figures as _figures,  # noqa: F401
+                                 provenance, read_json, templates)
+from taxel.reports.optimization_page import optimization_page as _optimization
 from taxel.reports.scene_sections import data_uri, scene_sections, stored_result
 from taxel.reports import noise as noise_page
 from taxel.reports.validation import build_page as validation_page
 from taxel.reports.ladder import ANSWER_MODEL, ROW
 from taxel.studies.store import code_version
-
-
-class ReportError(SceneError):
-    """A folder that cannot be reported; one line with the fix."""
-
-
-def read_json(path: Path):
-    """A JSON file of a result folder; a corrupt one is one line naming it."""
-    try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ReportError(f"{path}: not valid JSON ({getattr(exc, 'msg', exc)}); rerun the command that "
-                          "wrote it") from None
 
 
 def kind_of(folder: Path) -> str:
@@ -65,27 +52,6 @@ def kind_of(folder: Path) -> str:
         return "validation"
     raise ReportError(f"{folder}: not a study, optimization or solve folder (no study.json, optimum.json, "
                       "front.json or scene.json); run taxel study/optimize/solve with --out first")
-
-
-def _figures(paths, captions=None) -> dict:
-    """A block of embedded figures at their natural size, each with its caption
-    (`captions`, else reports.captions.caption of its file name)."""
-    from taxel.reports.captions import caption
-    paths = list(paths)
-    for p in paths:
-        if not p.read_bytes():
-            raise ReportError(f"{p}: an image to embed is empty; rerun the command that wrote it")
-    caps = captions or [caption(p) for p in paths]
-    return {"type": "figures", "images": [{"src": data_uri(p.read_bytes()), "caption": c} for p, c in zip(paths, caps)]}
-
-
-def _csv_link(src: Path, out: Path, folder: Path) -> str | None:
-    """Copy a full-precision CSV beside the page; its relative link."""
-    if not src.exists():
-        return None
-    name = f"{folder.name}-{src.name}"
-    shutil.copyfile(src, out / name)
-    return name
 
 
 _PRESSED = "pressed_voltage"      # the key plot's output
@@ -141,95 +107,6 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
         "numbers": findings.study_numbers(rows, label),
         "banners": findings.study_banners(rows, scene_data or {}), "scene_banners": False,
         "thumb": key[0].read_bytes() if key else None}
-
-
-def _dominated(points: list[tuple[float, float]]) -> list[bool]:
-    """For each (sensitivity, crosstalk): is another point at least as good in both, better in one?"""
-    return [any(s2 >= s and c2 <= c and (s2 > s or c2 < c) for s2, c2 in points) for s, c in points]
-
-
-def _bounds(name: str) -> str | None:
-    """The search bounds of a built-in optimization, one sentence; None for another one."""
-    from taxel.optimize.spec import load_optimization
-    try:
-        prob = load_optimization(name)
-    except Exception:                 # not a built-in problem: its bounds are in its own spec file
-        return None
-    v = prob.spec.variables
-    return ("Search bounds: " + ", ".join(f"{n.replace('_', ' ')} {x.min} to {x.max}" for n, x in v.items())
-            + "; " + ", ".join(f"{k.replace('_', ' ')} {c}" for k, c in (prob.spec.constraints or {}).items()) + ".")
-
-
-def _front_rows(rows: list[dict], ref: dict | None, s_key: str, c_key: str):
-    """Front rows with a design column, the reference (thesis) design added, and
-    each row's mark: reference, dominated or ''."""
-    out = [{"design": f"front {i + 1}", **r} for i, r in enumerate(sorted(rows, key=lambda r: r[c_key] or 0))]
-    if ref is not None:
-        out.append({"design": "thesis design (reference)", **ref})
-    dom = _dominated([(r.get(s_key) or 0.0, r.get(c_key) if r.get(c_key) is not None else float("inf"))
-                      for r in out])
-    marks = {id(r): ("reference" if r["design"].startswith("thesis") else "") + (" dominated" if d else "")
-             for r, d in zip(out, dom)}
-    return out, lambda r: marks[id(r)].strip()
-
-
-def _optimization(folder: Path, out: Path, scene_data) -> dict:
-    blocks, numbers, banners = [], [], []
-    cheap = findings.scene_model_label(scene_data)
-    name = read_json(folder / "result.json").get("name", folder.name) if (folder / "result.json").exists() else folder.name
-    bounds = _bounds(name)
-    if bounds:
-        blocks.append({"type": "note", "text": bounds})
-    if (folder / "front.json").exists():
-        rec = read_json(folder / "front.json")
-        numbers += findings.front_numbers(rec, cheap)
-        ref = rec.get("reference")
-        ref_row = ({**{f"{k} (mm)": v for k, v in ref["x"].items()}, "sensitivity_V_per_N": ref["sensitivity"],
-                    "crosstalk": ref["crosstalk"]} if ref else None)
-        rows, mark = _front_rows(rec["front"], ref_row, "sensitivity_V_per_N", "crosstalk")
-        cols = ["design"] + [c for c in rows[0] if c.endswith("(mm)")] + ["sensitivity_V_per_N", "crosstalk"]
-        blocks += [{"type": "text", "text": f"The 2D front ({cheap}): the most sensitive design at each crosstalk "
-                                            "bound (epsilon-constraint)."},
-                   {"type": "table", "table": tables.table(rows, cols, mark=mark, title="2D front")}]
-    if (folder / "optimum.json").exists():
-        rec = read_json(folder / "optimum.json")
-        numbers += findings.optimum_numbers(rec, cheap)
-        blocks.append({"type": "table", "table": tables.table(
-            [{**{f"{k} (mm)": v for k, v in rec["x"].items()}, "objective": rec["objective"],
-              "evaluations": rec["evaluations"], "success": rec["success"], "message": rec["message"]}],
-            csv=_csv_link(folder / "optimum-history.csv", out, folder), title="optimum")})
-    imgs = sorted(folder.glob("*.png"))
-    key = [p for p in imgs if p.name == "pareto-3d.png"] or [p for p in imgs if p.name == "pareto.png"] or imgs
-    if (folder / "front-3d.json").exists():          # the 3D-verified front (MultiFidelity.to_folder)
-        rec = read_json(folder / "front-3d.json")
-        numbers += findings.front_3d_numbers(rec)
-        banners += findings.front_3d_banners(rec)
-        rows, mark = _front_rows(rec["front_3d"], rec["reference"], "sensitivity 3D (V/N)", "crosstalk 3D")
-        from taxel.reports.ladder import FRONT_3D_COLUMNS, named
-        rows = [named(r, FRONT_3D_COLUMNS) for r in rows]          # each model's numbers name their ladder row
-        model, _ = findings.verified_model(rec)
-        from types import SimpleNamespace
-        from taxel.optimize.multifidelity import sentence
-        names = [k.split(" (")[0] for k in rec["reference"] if k.endswith("(mm)")]
-        blocks += [{"type": "text", "text": sentence(SimpleNamespace(names=names, units=["mm"] * len(names)),
-                                                     rec["answer"])},      # the record's, in today's words
-                   {"type": "table", "table": tables.table(rows, mark=mark, title="3D-verified front")},
-                   {"type": "note", "text": f"3D values: {findings.verified_model({**rec, 'answer': {}})[0]} for the "
-                                            f"front; the answer's two designs confirmed on {model}."},
-                   {"type": "table", "table": tables.table(
-                       [{"round": r["round"], "designs verified in 3D": r["verified"],
-                         "largest miss of the corrected prediction (ratio)":
-                             r["largest disagreement of the corrected prediction"],
-                         "largest cheap/expensive disagreement (ratio)": r.get("largest cheap/expensive disagreement")}
-                        for r in rec["rounds"]], title="verification rounds")},
-                   {"type": "table", "table": tables.table(
-                       [{"item": k.replace("seconds", "time (s)"), "value": f"{v:.3g}" if "seconds" in k else v}
-                        for k, v in {**rec["plan"], **rec["spent"]}.items()], title="plan and cost")}]
-    if (folder / "probe-front.json").exists():       # the headline under the rig's probe (optimize.probe_front)
-        from taxel.reports.multifidelity import probe_blocks
-        blocks = probe_blocks(read_json(folder / "probe-front.json")) + blocks
-    return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
-            "banners": banners, "thumb": key[0].read_bytes() if key else None}
 
 
 def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:

@@ -13,7 +13,7 @@ _OUTPUTS = {"pressed_voltage": "the pressed taxel's open-circuit voltage (|V|)",
 
 _FIXED = {
     "pareto.png": "The 2D front: the most sensitive design at each crosstalk bound (blue), every feasible design "
-                  "the search evaluated (grey) and the thesis design (red star), on the cheap 2D model.",
+                  "the search evaluated (grey) and the reference design (red star), on the cheap 2D model.",
     "pareto-3d.png": "The 2D front (blue), every design re-solved in 3D (grey), the 3D-verified front (red) and "
                      "the thesis design in 2D (hollow star) and 3D (filled star); crosstalk on a log axis.",
     "pareto-probe.png": "The front under the rig's probe on Yeoh silicone (red) beside the linear pressure-patch "

@@ -164,9 +164,9 @@ def study_numbers(rows: list[dict], model: str) -> list[Headline]:
     return out
 
 
-def front_numbers(front: dict, model: str) -> list[Headline]:
-    """The cheap front's span and the thesis design's place against it (`model`: the
-    cheap model's label)."""
+def front_numbers(front: dict, model: str, reference: str = "thesis design") -> list[Headline]:
+    """The cheap front's span and the reference design's place against it (`model`: the
+    cheap model's label; `reference`: what the run calls it, optimize.answer.reference_label)."""
     pts = sorted((r["crosstalk"], r["sensitivity_V_per_N"]) for r in front.get("front", []))
     out = []
     if pts:
@@ -175,7 +175,7 @@ def front_numbers(front: dict, model: str) -> list[Headline]:
                                         f"at {percent(best[0])} crosstalk", model))
     ref = front.get("reference")
     if ref and pts:
-        out.append(Headline("thesis design, 2D", f"{eng(ref['sensitivity'], 'V/N', 3)}, "
+        out.append(Headline(f"{reference}, 2D", f"{eng(ref['sensitivity'], 'V/N', 3)}, "
                                                  f"{percent(ref['crosstalk'])} crosstalk", model))
     return out
 
@@ -249,8 +249,8 @@ def optimum_numbers(rec: dict, model: str) -> list[Headline]:
         out.append(Headline("optimum sensitivity", eng(m["sensitivity"], "V/N", 3), model))
     if m.get("crosstalk") is not None:
         out.append(Headline("optimum crosstalk", percent(m["crosstalk"]), model))
-    out.append(Headline("evaluations", f"{rec['evaluations']} ({'converged' if rec['success'] else 'not converged'})",
-                        model))
+    status = rec.get("message") or ("converged" if rec["success"] else "not converged")   # the driver's own words
+    out.append(Headline("evaluations", f"{rec['evaluations']} ({status})", model))
     return out
 
 

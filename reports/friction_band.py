@@ -12,7 +12,7 @@ from pathlib import Path
 from taxel.reports.ladder import SHORT
 from taxel.reports.tables import eng, percent
 
-FILE = "friction-band.json"     # in the optimization folder, beside probe-front.json
+from taxel.optimize.band import FRICTION_FILE as FILE     # in the optimization folder, beside probe-front.json
 
 
 def _law(friction) -> str:

@@ -56,7 +56,8 @@ def front(result: OptimizationResult, path: Path) -> Path:
     ax.plot([c * 100 for s, c in nd], [s for s, c in nd], "o-", label="front (epsilon-constraint)")
     ref = result.reference
     if ref and ref.get("sensitivity") is not None:
-        ax.plot(ref["crosstalk"] * 100, ref["sensitivity"], "r*", ms=14, label="thesis design")
+        from taxel.optimize.answer import reference_label
+        ax.plot(ref["crosstalk"] * 100, ref["sensitivity"], "r*", ms=14, label=reference_label(result.name))
     ax.set_xlabel(f"{METRIC_TABLE['crosstalk'].label} (%)")
     ax.set_ylabel(axis_label("sensitivity"))
     ax.set_title(result.name)

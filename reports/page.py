@@ -4,13 +4,17 @@ builders (reports/build.py, reports/validation.py)."""
 
 from __future__ import annotations
 
+import base64
 import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
+import shutil
+
 from taxel.reports import tables
+from taxel.scene import SceneError
 from taxel.studies.store import code_version
 
 
@@ -65,3 +69,42 @@ def provenance(folder: Path, scene_data: dict | None) -> list[dict]:
     if scene_data:
         blocks.append({"type": "details", "summary": "scene", "text": json.dumps(scene_data, indent=1)})
     return blocks
+
+
+class ReportError(SceneError):
+    """A folder that cannot be reported; one line with the fix."""
+
+
+def read_json(path: Path):
+    """A JSON file of a result folder; a corrupt one is one line naming it."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise ReportError(f"{path}: not valid JSON ({getattr(exc, 'msg', exc)}); rerun the command that "
+                          "wrote it") from None
+
+
+def figures(paths, captions=None) -> dict:
+    """A block of embedded figures at their natural size, each with its caption
+    (`captions`, else reports.captions.caption of its file name)."""
+    from taxel.reports.captions import caption
+    paths = list(paths)
+    for p in paths:
+        if not p.read_bytes():
+            raise ReportError(f"{p}: an image to embed is empty; rerun the command that wrote it")
+    caps = captions or [caption(p) for p in paths]
+    return {"type": "figures", "images": [{"src": data_uri(p.read_bytes()), "caption": c} for p, c in zip(paths, caps)]}
+
+
+def csv_link(src: Path, out: Path, folder: Path) -> str | None:
+    """Copy a full-precision CSV beside the page; its relative link."""
+    if not src.exists():
+        return None
+    name = f"{folder.name}-{src.name}"
+    shutil.copyfile(src, out / name)
+    return name
+
+
+def data_uri(png: bytes) -> str:
+    """An embedded image: a page opens with no other file."""
+    return "data:image/png;base64," + base64.b64encode(png).decode()

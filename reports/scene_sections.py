@@ -13,7 +13,6 @@ of the same folder solves nothing.
 
 from __future__ import annotations
 
-import base64
 import io
 import tempfile
 import time
@@ -22,15 +21,12 @@ from pathlib import Path
 from taxel.analyses import StaticResult, lumped_model, read
 from taxel.analyses.results import RESULT_TYPES, result_kind
 from taxel.reports import findings, tables
+from taxel.reports.page import data_uri  # noqa: F401  (its home: reports.page)
 from taxel.analyses.results.figures import FIELD_FIGURES, FIELDS, RENDER_NOTE
 from taxel.scene import parse
 from taxel.schema import to_data
 from taxel.studies.store import Store, StoreError
 from taxel.reports.tables import eng
-
-
-def data_uri(png: bytes) -> str:
-    return "data:image/png;base64," + base64.b64encode(png).decode()
 
 
 def figure_png(fig, dpi=110) -> bytes:

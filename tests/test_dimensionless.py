@@ -54,7 +54,7 @@ def test_a_study_override_reads_a_percent(tmp_path):
 
 
 OPT = ('base = "thesis-pzt-3x3-2d"\n[variables]\ngap = {path = "array.gap", min = "1 mm", max = "5 mm"}\n'
-       '[objective]\nmaximize = "sensitivity"\n[constraints]\ncrosstalk = "<= CON"\n'
+       '[objective]\nmaximize = "sensitivity"\n[requirements]\ncrosstalk = "<= CON"\n'
        '[algorithm]\nmax_evaluations = 4\nglobal = "none"\nxtol = XTOL\n')
 
 

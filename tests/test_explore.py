@@ -132,7 +132,7 @@ reference = {gap = "3 mm"}
 gap = {path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}
 [objective]
 maximize = "sensitivity"
-[constraints]
+[requirements]
 total_thickness = "<= 2.2 mm"
 [pareto]
 points = 2

@@ -69,7 +69,7 @@ COARSE_OPT = """base = "thesis-pzt-single-2d"
 silicone_above = {path = "array.silicone_above", min = "0.2 mm", max = "1.8 mm", start = "1 mm"}
 [objective]
 maximize = "sensitivity"
-[constraints]
+[requirements]
 total_thickness = "<= 2.127 mm"
 max_strain = "<= 5"
 [algorithm]

@@ -106,7 +106,7 @@ silicone_above = {{path = "array.silicone_above", min = "0.4 mm", max = "1.8 mm"
 gap = {{path = "array.gap", min = "1 mm", max = "5 mm", start = "3 mm"}}
 [objective]
 {objective}
-[constraints]
+[requirements]
 total_thickness = "<= 2.127 mm"
 {extra}
 [algorithm]

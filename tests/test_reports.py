@@ -537,7 +537,7 @@ def test_every_number_of_an_answer_design_is_the_answers_or_names_its_ladder_row
                         if q is None or "moved" in h or not v:
                             continue
                         row = re.search(r"ladder row (\d+)", h)
-                        shown = re.sub(r" ± \S+", "", v)
+                        shown = re.sub(r" \(band [^)]*\)", "", re.sub(r" ± \S+", "", v))
                         want = rungs.get(int(row.group(1)), {}).get(q) if row else answer[q]
                         assert shown == want, (name, folder, h, v, want)
                         checked += 1
@@ -569,7 +569,7 @@ def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_r
     assert any(t.startswith("ladder-") for t in targets) and any(t.startswith("requirement-") for t in targets)
     for target, shown in links:
         assert target in rows, target
-        number = re.sub(r" ± \S+", "", html.unescape(shown))       # "738 mV/N", "1.02 %", "3.44" (mm)
+        number = re.sub(r" \(band [^)]*\)", "", re.sub(r" ± \S+", "", html.unescape(shown)))   # "738 mV/N", "3.44"
         same = [c for c in rows[target] if c == number or (re.fullmatch(r"[\d.]+", number) and
                                                           c.split()[0] == f"{float(number):.3g}")]
         assert same, (target, shown, rows[target])

@@ -254,7 +254,8 @@ def test_charge_voltage_and_the_ladders_capacitance_agree(through_readout):
             assert "parallel plate" in g["note"] and "2D section" in g["note"]
     for row in blk["rows"]:
         cells = dict(zip(blk["cols"], row))
-        q = magnitude(cells["charge per newton"].replace("C/N", "C"))
+        words = cells["charge per newton"].split()                 # "3.3 ± 0.21 nC/N (band ...)"
+        q = magnitude(f"{words[0]} {next(w for w in words if w.endswith('C/N'))[:-2]}")
         words = cells["open-circuit sensitivity"].split()          # "738 ± 85 mV/N"
         v = magnitude(f"{words[0]} {next(w for w in words if w.endswith('V/N'))}")
         material = "PZT" if cells["material"].startswith("PZT") else "PVDF"
@@ -275,3 +276,68 @@ def test_an_optimization_whose_every_evaluation_fails_says_so():
     r = minimize(evaluate, np.array([0.5]), [(0.0, 1.0)], "sensitivity", [("crosstalk", "<=", 0.1)],
                  maximize=True, global_alg=None, local_alg="COBYLA", max_evals=4, xtol=0.02)
     assert not r.success and "every evaluation failed" in r.message
+
+
+def test_no_reference_sensitivity_implies_no_bar():
+    """A run whose only requirement is coverage and whose reference was not evaluated: no bar
+    (was a KeyError on 'sensitivity')."""
+    reqs = read({"coverage": ">= 100 %"})
+    assert implied(reqs, {}) == reqs and implied(reqs, {"x": {}}) == reqs
+    # a requirement on localization alone still leaves the reference's sensitivity and crosstalk as the bar
+    bar = implied(read({"localization_error": "<= 1 mm"}), {"sensitivity": 0.7, "crosstalk": 0.02})
+    assert {r.metric for r in bar if not r.stated} == {"sensitivity", "crosstalk"}
+
+
+@pytest.mark.parametrize("table, words", [({"coverage": ">= 200 %"}, "never above 100 %"),
+                                          ({"localization_error": "<= -0.5 mm"}, "never below 0 m"),
+                                          ({"yield": ">= 1.5"}, "never above 100 %")])
+def test_a_bound_no_design_can_reach_is_refused(table, words):
+    with pytest.raises(RequirementError, match=words) as exc:
+        read(table)
+    assert f"requirements.{next(iter(table))}" in str(exc.value) and "\n" not in str(exc.value)
+
+
+def _result(requirements, designs, reference=None):
+    import numpy as np
+    from taxel.optimize.driver import Result
+    from taxel.optimize.result import FrontRun, OptimizationResult
+    runs = [FrontRun(m["crosstalk"], Result(np.array([g]), 0.0, m, {}, 3, True, "ok", [])) for g, m in designs]
+    return OptimizationResult("t", ["gap"], ["mm"], "maximize", "sensitivity", runs=runs,
+                              reference=reference, requirements=requirements)
+
+
+def test_the_verdict_names_the_missed_requirement_by_how_much_and_the_closest_design():
+    from taxel.optimize.answer import Answer
+    res = _result({"pitch": "<= 6 mm", "crosstalk": "<= 2 %"},
+                  [(3.0, {"sensitivity": 0.8, "crosstalk": 0.05, "pitch": 7e-3}),
+                   (2.0, {"sensitivity": 0.7, "crosstalk": 0.03, "pitch": 6e-3})])
+    ans = Answer.of(res)
+    assert ans.chosen is None and ans.closest.x["gap"] == pytest.approx(2e-3)
+    req, margin = ans.binding
+    assert req.metric == "crosstalk" and margin == pytest.approx(-0.5)
+    text = "\n".join(res.summary())
+    assert "NOT met" in text and "crosstalk ≤ 2 %: 3 %, MISSED (short by 50 %)" in text and "gap 2 mm" in text
+    met = Answer.of(_result({"pitch": "<= 8 mm"}, [(3.0, {"sensitivity": 0.8, "crosstalk": 0.05, "pitch": 7e-3})]))
+    assert met.chosen is not None and met.binding[0].metric == "pitch" and met.binding[1] == pytest.approx(1 / 8)
+
+
+def test_requirements_are_the_searchs_constraints(tmp_path):
+    """[requirements] is the one table the optimizer obeys (but coverage and localization_error,
+    judged after the search); a file with the retired [constraints] is refused, naming the move."""
+    from taxel.optimize.spec import OptimizeError, load_optimization
+    head = ('base = "thesis-pzt-3x3-2d"\n[variables]\ngap = {path = "array.gap", min = "1 mm", max = "5 mm"}\n'
+            '[objective]\nmaximize = "sensitivity"\n')
+    f = tmp_path / "o.toml"
+    f.write_text(head + '[requirements]\npitch = "<= 7 mm"\ncrosstalk = "<= 2 %"\ncoverage = ">= 100 %"\n')
+    p = load_optimization(f)
+    assert p.constraints == [("pitch", "<=", pytest.approx(7e-3)), ("crosstalk", "<=", pytest.approx(0.02))]
+    f.write_text(head + '[constraints]\npitch = "<= 7 mm"\n')
+    with pytest.raises(OptimizeError, match=r'\[constraints\].*move pitch = "<= 7 mm" under \[requirements\]'):
+        load_optimization(f)
+
+
+def test_front_targets_are_spaced_in_log_between_the_ends():
+    from taxel.optimize.front import targets
+    t = targets(0.002, 0.06, 5)
+    assert len(t) == 3 and t[0] / 0.002 == pytest.approx(0.06 / t[-1]) and t[1] == pytest.approx((0.002 * 0.06) ** 0.5)
+    assert targets(None, 0.06, 5) == [] and targets(0.05, 0.05, 5) == []

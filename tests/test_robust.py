@@ -73,8 +73,8 @@ def test_noise_and_robust_metrics_of_one_design(tmp_path):
     from taxel.analyses.solves.noise import quasi_static_noise
     from taxel.scene import parse
     from taxel.studies.store import Store
-    f = write(tmp_path, HEAD + '[objective]\nmaximize = "robust_sensitivity"\n[constraints]\n'
-              'min_detectable_force = "<= 1 mN"\nyield = ">= 0.5"\n[requirements]\ncrosstalk = "<= 10 %"\n'
+    f = write(tmp_path, HEAD + '[objective]\nmaximize = "robust_sensitivity"\n[requirements]\n'
+              'min_detectable_force = "<= 1 mN"\nyield = ">= 0.5"\ncrosstalk = "<= 10 %"\n'
               '[resolution]\nband = ["2 Hz", "80 Hz"]\n' + ROBUST)
     p = load_optimization(f, tmp_path / "out")
     p.base["mesh"]["size"] = "1 mm"
@@ -96,8 +96,8 @@ def test_noise_and_robust_metrics_of_one_design(tmp_path):
 @pytest.mark.slow      # 10 s of CPU: two robust optimizations
 def test_robust_optimum_is_reproducible(tmp_path):
     """Two runs from empty stores (the same seed) give the same optimum."""
-    text = HEAD + '[objective]\nmaximize = "robust_sensitivity"\n[constraints]\nyield = ">= 0.5"\n' \
-        '[requirements]\ncrosstalk = "<= 8 %"\n[algorithm]\nglobal = "none"\nlocal = "COBYLA"\n' \
+    text = HEAD + '[objective]\nmaximize = "robust_sensitivity"\n[requirements]\nyield = ">= 0.5"\n' \
+        'crosstalk = "<= 8 %"\n[algorithm]\nglobal = "none"\nlocal = "COBYLA"\n' \
         'max_evaluations = 4\n' + ROBUST
     results = []
     for k in range(2):
@@ -112,10 +112,10 @@ def test_robust_optimum_is_reproducible(tmp_path):
 
 @pytest.mark.parametrize("extra, match", [
     ('[objective]\nmaximize = "robust_sensitivity"\n', r"robust_sensitivity needs a \[robust\] table"),
-    ('[objective]\nmaximize = "sensitivity"\n[constraints]\nyield = ">= 0.9"\n' + ROBUST,
-     r"yield needs a \[requirements\] table"),
+    ('[objective]\nmaximize = "sensitivity"\n[requirements]\nyield = ">= 0.9"\n' + ROBUST,
+     r"yield needs a part's requirement under \[requirements\]"),
     ('[objective]\nmaximize = "sensitivity"\n[requirements]\ncrosstalk = "< 2 %"\n', "requirements.crosstalk"),
-    ('[objective]\nmaximize = "sensitivity"\n[requirements]\nyield = ">= 0.9"\n', "requirements.yield"),
+    ('[objective]\nmaximize = "sensitivity"\n[requirements]\nyield = ">= 0.9"\n', "yield needs a .robust. table"),
     ('[objective]\nmaximize = "robust_sensitivity"\n' + ROBUST.replace('"0.1 mm"', '"-1 mm"'),
      "robust.parameters 'silicone_above': the tolerance must be positive"),
     ('[objective]\nmaximize = "robust_sensitivity"\n' + ROBUST.replace('"array.gap"', '"arr.gap"'),

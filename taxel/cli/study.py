@@ -25,6 +25,8 @@ def register(sub) -> None:
     p.add_argument("file", help="an optimization TOML file or a built-in name")
     p.add_argument("--out", metavar="DIR", help="results folder (default out/NAME); its store caches every design")
     p.add_argument("--workers", type=WORKERS, default=2, help="Dask workers for the front's runs")
+    p.add_argument("--check-3d", action="store_true",
+                   help="solve the chosen and the reference design again in 3D (optimize.check_3d)")
     p.set_defaults(run=_optimize)
     p = sub.add_parser("report", help="self-contained HTML reports of result folders, and an index")
     p.add_argument("folders", nargs="+", help="study, optimization or solve folders")
@@ -91,7 +93,13 @@ def _optimize(args):
     result = api.run_optimization(args.file, args.out, workers=args.workers)
     for line in result.summary():
         print(line)
-    print(f"written to {Path(args.out or Path('out') / result.name)}")
+    out = Path(args.out or Path("out") / result.name)
+    if args.check_3d:
+        from taxel.optimize.check_3d import check_3d, lines
+        from taxel.optimize.spec import load_optimization
+        for line in lines(check_3d(load_optimization(args.file, out), result, args.workers)):
+            print(line)
+    print(f"written to {out}")
     return 0 if result.kind == "front" or result.success else EXIT_FAILED
 
 

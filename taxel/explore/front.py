@@ -101,7 +101,7 @@ class Front:
 
     def optimization_data(self, values: dict[str, float], base: str) -> dict:
         """An optimization spec (TOML data) with the current design as its start: the
-        result's objective, constraints and front size; each matched variable at its
+        result's objective, requirements and front size; each matched variable at its
         control's scene path, bounded by the control's range (widened to hold the
         start), starting at `values` (control name -> display value); `base` the
         exported scene file of the current design."""
@@ -114,12 +114,12 @@ class Front:
             v = float(values[n.name])
             variables[name] = {"path": n.path, "min": f"{min(n.low, v):g} {n.unit}",
                                "max": f"{max(n.high, v):g} {n.unit}", "start": f"{v:g} {n.unit}"}
-        constraints = {}
+        requirements = dict(r.requirements)       # the one table the search obeys (older folders: their constraints)
         for c in r.constraints:
             unit = METRIC_TABLE[c.metric].unit
-            constraints[c.metric] = f"{c.op} {c.bound:.9g}" + ("" if unit in PLAIN else f" {unit}")
+            requirements.setdefault(c.metric, f"{c.op} {c.bound:.9g}" + ("" if unit in PLAIN else f" {unit}"))
         data = {"name": f"{r.name}-from-explorer", "base": base, "variables": variables,
-                "objective": {r.sense: r.metric}, "constraints": constraints}
+                "objective": {r.sense: r.metric}, "requirements": requirements}
         if r.kind == "front":
             data["pareto"] = {"points": max(2, len(r.runs))}
         return data

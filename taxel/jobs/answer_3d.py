@@ -1,5 +1,6 @@
 """The answer's designs pressed in 3D (main job): for each optimization folder, the
-recommended and the thesis design its probe front chose (reports.answer.headline_front,
+recommended and the thesis design its probe front chose, and the design each binding
+requirement's relaxation would choose (FrontAnswer.priced) (reports.answer.headline_front,
 on the candidate-selection model) pressed in 3D by the rig's probe on Yeoh silicone
 (optimize.answer_press: one `taxel.solve` each, the 3x3 quarter on the default press
 mesh, with the press family's calibrated error estimate), all designs of all folders on
@@ -29,7 +30,7 @@ def answer_presses(root: Path, names: list[str], workers: int = 2) -> list[Path]
         if a is None:
             continue
         probe = O.load_optimization(name.replace("-front", "-probe-front"), folder)
-        for d in (a.recommended, a.thesis):
+        for d in (a.recommended, a.thesis, *(d for _, d in a.priced)):   # and what relaxing a requirement buys
             if d is None:
                 continue
             x_mm = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}

@@ -78,5 +78,7 @@ def answer_readout(front_dir: Path) -> Path | None:
                      "largest_noise_source": max(shares, key=shares.get)})
     out = Path(front_dir) / READOUT_FILE
     out.write_text(json.dumps({"chain": f"{CHAIN_SCENE} readout with the simulated rig's hum, {RIG} ADC",
+                               "readout": chain, "adc": {"rig": RIG, "bits": rig.adc.bits,
+                                                          "range_V": list(rig.adc.range)},
                                "designs": rows, "seconds": time.perf_counter() - t0}, indent=1))
     return out
