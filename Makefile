@@ -1,5 +1,5 @@
 # Two entry points: `make demo` (set up, run the main job, build the report) and `make test`
-# (the fast tier: every test not marked slow, a few minutes on 2 cores); `make test-all` runs
+# (the fast tier: every test not marked slow, on two workers: under 5 minutes on 2 cores); `make test-all` runs
 # every test, slow ones too (CI runs it); `make docs` builds the documentation site into
 # docs/_build/html (warnings are errors).
 PY ?= python3
@@ -17,8 +17,10 @@ setup: $(STAMP)
 demo: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/taxel demo --out out/demo
 
+# the fast tier on two workers (pytest-xdist); a file's tests stay on one worker, in order
+# (the README's blocks build on each other's folders)
 test: $(STAMP)
-	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q -m "not slow" $(PYTEST_ARGS)
+	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q -m "not slow" -n 2 --dist loadfile $(PYTEST_ARGS)
 
 test-all: $(STAMP)
 	MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 $(VENV)/bin/pytest -q $(PYTEST_ARGS)

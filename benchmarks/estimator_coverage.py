@@ -16,7 +16,7 @@ re-run after the fix). Each (scene, output) pair counts once.
 
 Coverage: the share of pairs with estimate >= true error. Sharpness: the share
 with estimate <= 3 x true error, and the median ratio. It also prints the
-cheapest 3D mesh's own error per output (what estimate.CHEAP_3D_ERROR holds).
+cheapest 3D mesh's own error per output (what error_estimate.CHEAP_3D_ERROR holds).
 
 The 3D references are solved once and kept in a study store
 (`--store`, default out/bench-estimator): a rerun only re-estimates.
@@ -193,7 +193,7 @@ def main():
         errs = [t for kk, t in r["cheap_3d_error"] if kk == k]
         if errs:
             print(f"cheapest 3D mesh, {k}: largest error {100 * max(errs):.2f} % "
-                  f"(estimate.CHEAP_3D_ERROR: {100 * est.CHEAP_3D_ERROR[k]:g} %)")
+                  f"(error_estimate.CHEAP_3D_ERROR: {100 * est.CHEAP_3D_ERROR[k]:g} %)")
 
 
 if __name__ == "__main__":

@@ -97,7 +97,7 @@ def _study(folder: Path, out: Path, scene_data) -> dict:
     rows = list(csv.DictReader(open(folder / "results.csv"))) if (folder / "results.csv").exists() else []
     cols = list(rows[0]) if rows else []
     params = cols[:cols.index("status")] if "status" in cols else []
-    shown = params + [c for c in cols if c in ("pressed_voltage", "voltage_pressed", "max_strain", "stopped_at")
+    shown = params + [c for c in cols if c in ("pressed_voltage", "max_strain", "stopped_at")
                       or c.startswith("short_circuit_charge_")]
     if any(r.get("status") != "done" for r in rows):
         shown += ["status", "error"]
@@ -220,7 +220,7 @@ def _optimization(folder: Path, out: Path, scene_data) -> dict:
                        [{"round": r["round"], "designs verified in 3D": r["verified"],
                          "largest miss of the corrected prediction (ratio)":
                              r["largest disagreement of the corrected prediction"],
-                         "largest 2D/3D disagreement (ratio)": r.get("largest cheap/expensive disagreement", r.get("largest 2D/3D disagreement"))}
+                         "largest cheap/expensive disagreement (ratio)": r.get("largest cheap/expensive disagreement")}
                         for r in rec["rounds"]], title="verification rounds")},
                    {"type": "table", "table": tables.table(
                        [{"item": k.replace("seconds", "time (s)"), "value": f"{v:.3g}" if "seconds" in k else v}
@@ -236,7 +236,7 @@ def _redrawn(folder: Path, result, scratch: Path) -> list[Path]:
     """The folder's figures, with its Bode or time plot drawn again from the stored
     result (the current figure style, whatever release wrote the folder)."""
     from taxel.analyses import FrequencyResult, TransientResult
-    from taxel.analyses.results.figures import bode_png, transient_png
+    from taxel.analyses.results.dynamic_figures import bode_png, transient_png
     imgs = sorted(folder.glob("*.png"))
     if isinstance(result, (FrequencyResult, TransientResult)):
         suffix = "-bode.png" if isinstance(result, FrequencyResult) else "-transient.png"

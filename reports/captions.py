@@ -8,7 +8,6 @@ import re
 from pathlib import Path
 
 _OUTPUTS = {"pressed_voltage": "the pressed taxel's open-circuit voltage (|V|)",
-            "voltage_pressed": "the pressed taxel's open-circuit voltage (|V|)",
             "max_strain": "the largest silicone strain", "sensitivity": "the sensitivity (V/N)",
             "crosstalk": "the crosstalk"}
 

@@ -137,7 +137,7 @@ def study_banners(rows: list[dict], scene_data: dict) -> list[Banner]:
     return out
 
 
-_OUTPUT_KEYS = {"status", "pressed_voltage", "voltage_pressed", "sensitivity", "max_strain", "seconds", "error",
+_OUTPUT_KEYS = {"status", "pressed_voltage", "sensitivity", "max_strain", "seconds", "error",
                 "crosstalk", "charge_sensitivity", "readout_sensitivity", "readout_crosstalk", "min_detectable_force",
                 "force_range"}
 
@@ -295,8 +295,8 @@ def comparison_banners(rows: list[dict], tol: float = 0.05) -> list[Banner]:
 
 
 def _pressed(row: dict):
-    """A row's pressed_voltage (voltage_pressed in a results.csv of an older release)."""
-    return row.get("pressed_voltage", row.get("voltage_pressed"))
+    """A row's pressed_voltage."""
+    return row.get("pressed_voltage")
 
 
 def finite_number(v):

@@ -18,7 +18,7 @@ from taxel.units import engineering, magnitude
 
 # column name pattern -> (shown name, how to print an SI number)
 _COLUMNS = [
-    (r"^(pressed_voltage|voltage_pressed)$", "V pressed taxel (signed)", lambda v: eng(v, "V")),
+    (r"^pressed_voltage$", "V pressed taxel (signed)", lambda v: eng(v, "V")),
     (r"^voltage_(.+)$", "V {0}", lambda v: eng(v, "V")),
     (r"^short_circuit_charge_(.+)$", "Q {0}", lambda v: eng(v, "C")),
     (r"^capacitance.*", "capacitance", lambda v: eng(v, "F")),

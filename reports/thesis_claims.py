@@ -31,7 +31,7 @@ def _curves(rows: list[dict]) -> dict[tuple[str, str], list[tuple[float, float]]
             continue
         try:
             k = float(str(r["silicone_thickness"]).split()[0])
-            v = abs(float(r.get("pressed_voltage", r.get("voltage_pressed"))))
+            v = abs(float(r["pressed_voltage"]))
         except (KeyError, TypeError, ValueError):
             continue
         out.setdefault((r.get("piezo", ""), str(r.get("force", ""))), []).append((k, v))

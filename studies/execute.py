@@ -82,7 +82,7 @@ def _run(study, out, workers, scheduler, retry_failed, progress, t0) -> RunSumma
         todo.append((key, data))
     outputs = tuple(study.spec.outputs)
     done = failed = 0
-    bar = _bar(len(seen), cached, progress)
+    bar = progress_bar(len(seen), cached, progress)
     try:
         for key, (status, result, error) in _execute(todo, outputs, workers, scheduler):
             store.put(key, params_of[key], status, result, error, (result or {}).get("seconds", 0.0))
@@ -96,9 +96,12 @@ def _run(study, out, workers, scheduler, retry_failed, progress, t0) -> RunSumma
     return RunSummary(len(seen) + len(invalid), cached, done, failed + len(invalid), time.perf_counter() - t0)
 
 
-def _bar(total, cached, progress):
+def progress_bar(total, cached, progress):
+    """A study's progress bar of points (tqdm), drawn only when stderr is a terminal."""
     from tqdm import tqdm
-    bar = tqdm(total=total, initial=cached, disable=not progress, unit="point", dynamic_ncols=True)
+    # only on a terminal (tqdm's disable=None): a log gets the caller's one line per stage, not
+    # carriage-return bars
+    bar = tqdm(total=total, initial=cached, disable=None if progress else True, unit="point", dynamic_ncols=True)
     bar.set_postfix(done=0, failed=0, cached=cached)
     return bar
 

@@ -41,20 +41,31 @@ MAX_TIME_STEPS = 1_000_000     # a transient beyond this is refused before it st
 
 class Scene(Strict):
     name: Name = "scene"
+    """The scene's name (default: its file's name); result folders and reports use it."""
     description: str = ""
+    """A line about the design, for the reports."""
     model: ModelTable = ModelTable()
+    """The model: type, silicone law, symmetry, fidelity."""
     mesh: MeshTable = MeshTable()
+    """The mesh: sizes, elements through the piezo, order, element kind."""
     array: ArrayTable | None = None
+    """A taxel array: piezo squares in silicone (or a [plate])."""
     plate: PlateTable | None = None
+    """A verification plate: a stack of full-width layers (or an [array])."""
     load: LoadTable = LoadTable()
+    """The load case: a pressure patch, a probe (as a patch or a rigid indenter), or a pressure."""
     supports: SupportsTable = SupportsTable()
-    electrodes: dict[str, str] = {}     # name (or "taxels") -> "open" | "ground" | "<value> V"
+    """The boundary conditions at the bottom and the edges."""
+    electrodes: dict[str, str] = {}
+    """Electrode states by name (or "taxels"): "open", "ground" or a voltage such as "10 V"."""
     dynamics: DynamicsTable = DynamicsTable()
+    """Damping: loss factors and Rayleigh factors."""
     analysis: AnalysisTable = AnalysisTable()
+    """The analysis: static, a frequency sweep or a transient, and its settings."""
     readout: ReadoutTable = ReadoutTable()
-    # user materials by name, each a piezo or a solid (see the examples below); a value is a
-    # string with its unit ("27.5 kPa") or an SI number
+    """The readout chain: circuit, notch and noise."""
     materials: dict[str, UserMaterial] = {}
+    """User materials by name, each a piezo or a solid; a value is a string with its unit ("27.5 kPa") or an SI number."""
     _default_mesh: tuple[str, ...] = PrivateAttr(())    # the mesh keys filled from DEFAULT_MESH
     _checked: dict | None = PrivateAttr(None)            # its materials once checked (taxel.analyses.check)
 

@@ -52,21 +52,24 @@ UserMaterial = Annotated[dict, AfterValidator(material_in_si)]
 
 class ModelTable(Strict):
     type: Literal["plane_strain", "plane_stress", "axisymmetric", "3d"] = "plane_strain"
-    depth: Length | None = None     # out-of-plane depth of a 2D model; default: the taxel or plate width
-    silicone: Literal["linear", "yeoh", "auto"] = "linear"   # constitutive model of the silicone
-    tolerance: Fraction = 0.02   # "auto": largest accepted linear-model voltage error
-    # solve a half (cut at x = 0) or quarter (and y = 0) of a mirror-symmetric array: see
-    # symmetry_planes; "auto": the largest the scene allows, in 3d (a 2D section is cheap: full)
+    """The model type: a 2D section (plane strain or plane stress), a disk (axisymmetric) or 3D."""
+    depth: Length | None = None
+    """Out-of-plane depth of a 2D model; default: the taxel or plate width."""
+    silicone: Literal["linear", "yeoh", "auto"] = "linear"
+    """The silicone law: linear, Yeoh, or auto (linear while its estimated error is within tolerance)."""
+    tolerance: Fraction = 0.02
+    """Auto models: the largest accepted estimated relative error of the outputs."""
     symmetry: Literal["auto", "full", "half", "quarter"] = "auto"
-    # "auto": the cheapest model, mesh and law whose estimated error on `outputs` is within tolerance
+    """Solve a half (cut at x = 0) or quarter (and y = 0) of a mirror-symmetric array; auto: the largest the scene allows in 3D."""
     fidelity: Literal["fixed", "auto"] = "fixed"
+    """Auto: the cheapest model, mesh and silicone law whose estimated error on `outputs` is within tolerance."""
     outputs: tuple[Literal["sensitivity", "crosstalk", "charge_sensitivity"], ...] = ("sensitivity",)
-
+    """The outputs the model choice (fidelity = "auto") judges the error on."""
 
 
 # The mesh a scene without mesh.size gets, per model type of an array scene: (size,
 # piezo_size; None: size / 4), measured within 0.5 % on the thesis taxel's pressed-taxel
-# voltage (benchmarks/default_mesh.py, docs/benchmarks.md). 3D: estimate.CHEAP_3D's mesh.
+# voltage (benchmarks/default_mesh.py, docs/benchmarks.md). 3D: the error estimate's cheapest 3D mesh (taxel.analyses.accuracy.CHEAP_3D).
 DEFAULT_MESH = {"plane_strain": (0.5e-3, None), "plane_stress": (0.75e-3, None),
                 "axisymmetric": (0.5e-3, None), "3d": (1.5e-3, 0.6e-3)}
 # A 3D array scene pressed by a flat punch in contact (Scene.pressed_by_punch) without mesh.size:
@@ -77,120 +80,187 @@ DEFAULT_PRESS_MESH = (1.4e-3, 0.56e-3, 1)
 
 
 class MeshTable(Strict):
-    size: MeshSize | None = None    # element size far from the piezo; default: DEFAULT_MESH by model type
-    piezo_size: MeshSize | None = None  # in-plane element size on the taxels; default: DEFAULT_MESH or size / 4
-    piezo_layers: StrictInt = Field(2, ge=1, le=8)   # elements through each piezo layer (2: within 0.5 %)
-    order: Literal[1, 2] = 2        # 1: P1 (+bubble in silicone: MINI), 2: P2 / P1 Taylor-Hood
-    formulation: Literal["mixed", "displacement"] = "mixed"   # silicone: u-p mixed, or u only (locks)
-    # 3D: the silicone extruded through its height (true), or meshed free, graded at the taxel edges
-    # and the punch's rim only (false); default: free for a 3D punch press on DEFAULT_PRESS_MESH
+    size: MeshSize | None = None
+    """Element size far from the piezo; default: the model type's default mesh (taxel.scene.DEFAULT_MESH)."""
+    piezo_size: MeshSize | None = None
+    """In-plane element size on the taxels; default: the default mesh's, or size / 4."""
+    piezo_layers: StrictInt = Field(2, ge=1, le=8)
+    """Elements through each piezo layer (2: within 0.5 % on the thesis taxel)."""
+    order: Literal[1, 2] = 2
+    """Element order: 1, P1 (+bubble in the silicone: MINI); 2, P2 / P1 Taylor-Hood."""
+    formulation: Literal["mixed", "displacement"] = "mixed"
+    """The silicone's formulation: u-p mixed, or displacement only (locks when nearly incompressible)."""
     extruded: StrictBool | None = None
-    # 3D arrays: tetrahedra meshed by gmsh, or hexahedra on a structured grid aligned with the layers
-    # and taxel edges (Q2/P0 with order 2, Q1/P0 with order 1; meshing.hexmesh, benchmarks/press_hex.py)
+    """3D: the silicone extruded through its height (true) or meshed free, graded at the taxel edges and the punch's rim (false); default: free for a 3D punch press."""
     element: Literal["tet", "hex"] = "tet"
+    """3D arrays: tetrahedra meshed by gmsh, or hexahedra on a structured grid aligned with the layers and taxel edges."""
 
 
 class ArrayTable(Strict):
     rows: StrictInt = Field(1, ge=1, le=16)
+    """Taxel rows (along y)."""
     cols: StrictInt = Field(1, ge=1, le=16)
+    """Taxel columns (along x)."""
     taxel_width: Length = "4 mm"
+    """Width of a square piezo taxel."""
     piezo: str = "PSI-5H4E"
+    """The taxels' piezo material: a built-in name or a [materials] table."""
     piezo_thickness: Length = "0.127 mm"
+    """Thickness of the piezo taxels."""
     poling: Literal["up", "down"] = "up"
-    gap: Coordinate = "3 mm"        # edge to edge
-    margin: Thickness = "3 mm"      # silicone beyond the outer taxels
+    """Poling direction of the piezo (along z)."""
+    gap: Coordinate = "3 mm"
+    """Gap between neighbouring taxels, edge to edge."""
+    margin: Thickness = "3 mm"
+    """Silicone beyond the outer taxels."""
     silicone: str = "Ecoflex-00-30"
+    """The silicone: a built-in name or a [materials] table."""
     silicone_above: Thickness = "1 mm"
+    """Silicone above the taxels (between them and the pressed surface)."""
     silicone_below: Thickness = "1 mm"
+    """Silicone below the taxels."""
 
 
 class LayerTable(Strict):
     material: str
+    """The layer's material: a built-in name or a [materials] table."""
     thickness: Length
+    """The layer's thickness."""
     poling: Literal["up", "down"] = "up"
+    """Poling direction of a piezo layer (along z)."""
 
 
 class PlateTable(Strict):
     shape: Literal["rectangle", "disk"] = "rectangle"
-    width: Length | None = None     # rectangle, along x
-    length: Length | None = None    # rectangle, along y (3D)
-    radius: Length | None = None    # disk
+    """The plate's outline."""
+    width: Length | None = None
+    """A rectangle's width, along x."""
+    length: Length | None = None
+    """A rectangle's length, along y (3D)."""
+    radius: Length | None = None
+    """A disk's radius."""
     layers: list[LayerTable] = Field(min_length=1)
-
-
+    """The stack of full-width layers, bottom first."""
 
 
 class LoadTable(Strict):
     kind: Literal["taxel", "between", "probe", "pressure"] = "taxel"
+    """What presses: a pressure patch on a taxel, between two taxels, a probe, or a pressure on the whole top."""
     force: Force | None = "1 N"
-    pressure: Pressure | None = None   # kind = "pressure" only
-    taxel: tuple[StrictInt, StrictInt] = (0, 0)    # [row, col] of the pressed taxel or the probe's centre
-    neighbour: tuple[StrictInt, StrictInt] | None = None   # kind = "between": the other taxel
-    profile: Literal["flat", "round"] = "flat"  # probe without contact, its pressure patch: uniform, or Hertzian sqrt(1-r^2/a^2)
-    radius: Length | None = None       # the probe's radius (half-width in 2D)
-    offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)   # the probe's centre from the taxel centre
-    # kind = "probe": a pressure patch under the probe; contact = true: a rigid indenter pressed to `force` (or to
-    # `travel`, displacement control); radius: punch half-width/radius, or sphere radius
+    """The total force of the load."""
+    pressure: Pressure | None = None
+    """The pressure of kind = "pressure" (instead of a force)."""
+    taxel: tuple[StrictInt, StrictInt] = (0, 0)
+    """[row, col] of the pressed taxel, or of the taxel under the probe's centre."""
+    neighbour: tuple[StrictInt, StrictInt] | None = None
+    """kind = "between": the other taxel [row, col]."""
+    profile: Literal["flat", "round"] = "flat"
+    """A probe's pressure patch without contact: uniform (flat), or Hertzian sqrt(1 - r^2/a^2) (round)."""
+    radius: Length | None = None
+    """The probe's radius (its half-width in 2D): a punch's or a sphere's."""
+    offset: tuple[Coordinate, Coordinate] = (0.0, 0.0)
+    """The probe's centre from the taxel's centre, [x, y]."""
     contact: bool = False
+    """A probe as a rigid indenter pressed to `force` or `travel` (true), or as its pressure patch (false)."""
     shape: Literal["flat", "sphere", "cylinder"] = "flat"
-    edge_radius: Length | None = None  # flat punch's rounded edge; default radius / 20
-    # sticking (the default under contact): no slip once in contact, as a dry probe on tacky
-    # silicone; frictionless: the closed-form cases (Hertz, Boussinesq); a number mu >= 0: Coulomb
-    # friction with that coefficient (e.g. 0.4); see the guide page "Silicone laws and contact"
+    """The probe's shape: a flat punch (rounded edge), a sphere or a cylinder."""
+    edge_radius: Length | None = None
+    """A flat punch's edge radius; default: radius / 20."""
     friction: FrictionLaw = None
-    travel: Length | None = None       # prescribed indenter travel (instead of force)
+    """A press's friction: "sticking" (the default under contact), "frictionless", or a Coulomb coefficient such as 0.4."""
+    travel: Length | None = None
+    """The indenter's prescribed travel (displacement control, instead of a force)."""
 
 
 class SupportsTable(Strict):
     bottom: Literal["bonded", "rollers", "free"] = "bonded"
+    """The bottom face: bonded (fixed), on rollers (free in plane), or free."""
     edges: Literal["free", "clamped", "simply_supported", "rollers"] = "free"
+    """The side faces: free, clamped, simply supported or on rollers."""
 
 
 class DynamicsTable(Strict):
     """Damping. No sourced damping data exists for Ecoflex: loss factors are parameters."""
-    silicone_loss: Annotated[float, dimensionless("loss factor", ge=0, lt=2)] = 0.1     # structural loss factor eta of the silicone
-    piezo_loss: LossFactor | None = None        # default 1/Qm of the material
-    dielectric_loss: LossFactor | None = None   # default tan(delta) of the material
-    rayleigh_alpha: float = Field(0.0, ge=0)          # 1/s, C = alpha M + beta K
-    rayleigh_beta: float = Field(0.0, ge=0)           # s
-    reference_frequency: Frequency = "100 Hz"         # lumped models: eta -> viscous eta / (2 pi f_ref) (the FEM: fem.constitution)
+    silicone_loss: Annotated[float, dimensionless("loss factor", ge=0, lt=2)] = 0.1
+    """The silicone's structural loss factor eta (no sourced value for Ecoflex: a parameter)."""
+    piezo_loss: LossFactor | None = None
+    """The piezo's structural loss factor; default: 1/Qm of the material."""
+    dielectric_loss: LossFactor | None = None
+    """The piezo's dielectric loss tangent; default: tan(delta) of the material."""
+    rayleigh_alpha: float = Field(0.0, ge=0)
+    """Rayleigh damping's mass factor alpha (1/s) in C = alpha M + beta K."""
+    rayleigh_beta: float = Field(0.0, ge=0)
+    """Rayleigh damping's stiffness factor beta (s) in C = alpha M + beta K."""
+    reference_frequency: Frequency = "100 Hz"
+    """Lumped models: the frequency a loss factor becomes viscous damping at, b = eta k / (2 pi f_ref)."""
 
 
 class AnalysisTable(Strict):
     type: Literal["static", "frequency", "transient"] = "static"
+    """The analysis: static, a frequency sweep, or a transient."""
     f_min: Frequency = "1 Hz"
+    """A sweep's lowest frequency."""
     f_max: Frequency = "1000 Hz"
+    """A sweep's highest frequency."""
     points: StrictInt = Field(200, ge=2, le=100000)
+    """A sweep's number of frequencies."""
     spacing: Literal["log", "linear"] = "log"
+    """A sweep's frequency spacing."""
     method: Literal["reduced", "direct"] = "reduced"
-    tolerance: Fraction = 1e-3        # reduced sweep: accepted relative error
+    """A sweep on a reduced-order model (Krylov projection, its error measured) or a direct solve per frequency."""
+    tolerance: Fraction = 1e-3
+    """A reduced sweep's accepted relative error."""
     input: Literal["step", "impulse", "chirp", "csv"] = "step"
+    """A transient's force history: a step, an impulse, a chirp, or a CSV file."""
     duration: Duration = "1 s"
+    """A transient's duration."""
     dt: Duration = "0.5 ms"
-    rise: Duration = "1 ms"           # step: rise time (a smooth ramp)
-    width: Duration = "10 ms"         # impulse: half-sine width
-    f0: float = Field(0.0, ge=0)      # chirp start frequency, Hz
-    f1: float = Field(100.0, gt=0)    # chirp end frequency, Hz (thesis: 0 to 100 Hz over 8 s)
-    file: str | None = None           # csv: columns time (s), force (N)
+    """A transient's time step."""
+    rise: Duration = "1 ms"
+    """A step's rise time (a smooth ramp)."""
+    width: Duration = "10 ms"
+    """An impulse's half-sine width."""
+    f0: float = Field(0.0, ge=0)
+    """A chirp's start frequency, Hz."""
+    f1: float = Field(100.0, gt=0)
+    """A chirp's end frequency, Hz (the thesis: 0 to 100 Hz over 8 s)."""
+    file: str | None = None
+    """A csv input's file: columns time (s) and force (N)."""
 
 
 class ReadoutTable(Strict):
     circuit: Literal["open", "resistor", "charge_amplifier"] = "open"
-    R: Resistance = "500 Mohm"        # resistor: the input resistance (thesis tau 1.7-3.1 s at ~4 nF)
-    C_f: Capacitance = "820 pF"       # charge amplifier, TI SLOA033A
+    """The readout circuit: open (the open-circuit voltage), a resistor, or a charge amplifier."""
+    R: Resistance = "500 Mohm"
+    """A resistor readout's input resistance (the thesis: tau 1.7-3.1 s at about 4 nF)."""
+    C_f: Capacitance = "820 pF"
+    """A charge amplifier's feedback capacitance (TI SLOA033A)."""
     R_f: Resistance = "10 Mohm"
-    R_i: Resistance = "10 kohm"       # input resistor (assumed; sets the upper cutoff)
-    C_c: Capacitance = "100 pF"       # cable (assumed: about 1 m)
-    notch: bool = False               # the thesis's 50 Hz second-order Butterworth band-stop
+    """A charge amplifier's feedback resistance."""
+    R_i: Resistance = "10 kohm"
+    """A charge amplifier's input resistor (assumed; it sets the upper cutoff)."""
+    C_c: Capacitance = "100 pF"
+    """The cable's capacitance (assumed: about 1 m)."""
+    notch: bool = False
+    """The thesis's second-order Butterworth band-stop at the mains frequency."""
     notch_frequency: Frequency = "50 Hz"
+    """The notch's centre frequency."""
     notch_bandwidth: Frequency = "10 Hz"
+    """The notch's bandwidth."""
     # noise of the chain (taxel.analyses.solves.noise; fem.readout has the physics). The thesis does not
     # name its op-amp: the defaults are a TL072-class JFET op-amp (TI datasheet SLOS080: 18 nV/sqrt(Hz)
     # at 1 kHz, 0.01 pA/sqrt(Hz), +-12 V linear swing on +-15 V supplies), white (no 1/f corner).
-    e_n: NoiseVoltage = "18 nV/Hz**0.5"   # op-amp (or buffer) voltage noise density
-    i_n: NoiseCurrent = "10 fA/Hz**0.5"   # op-amp current noise density
-    e_n_corner: Frequency | None = None   # 1/f corner of e_n (None: white)
-    swing: Voltage = "12 V"               # the amplifier's largest linear output (+-)
-    temperature: Temperature = "296.15 K" # of the resistors and the piezo's dielectric loss
-    hum: tuple[Voltage, ...] = ()          # mains pickup at the output before the notch: peak amplitudes of
-    mains_frequency: Frequency = "50 Hz"  # the mains frequency and its odd harmonics (1, 3, 5...)
+    e_n: NoiseVoltage = "18 nV/Hz**0.5"
+    """The op-amp's (or buffer's) voltage noise density (default: a TL072-class JFET op-amp)."""
+    i_n: NoiseCurrent = "10 fA/Hz**0.5"
+    """The op-amp's current noise density."""
+    e_n_corner: Frequency | None = None
+    """The 1/f corner of e_n (none: white)."""
+    swing: Voltage = "12 V"
+    """The amplifier's largest linear output (+-)."""
+    temperature: Temperature = "296.15 K"
+    """Temperature of the resistors and of the piezo's dielectric loss (their thermal noise)."""
+    hum: tuple[Voltage, ...] = ()
+    """Mains pickup at the output before the notch: peak amplitudes of the mains frequency and its odd harmonics."""
+    mains_frequency: Frequency = "50 Hz"
+    """The mains frequency (hum at it and its odd harmonics 3, 5, ...)."""

@@ -26,7 +26,8 @@ from taxel import units
 class Strict(BaseModel):
     """The strict base of every schema model (see the module docstring)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+    # a field's docstring is its description (JSON Schema, `taxel schema`, the key reference)
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, use_attribute_docstrings=True)
 
 
 def _quantity(unit: str, what: str, positive=False, nonnegative=False, scale: tuple[float, float] | None = None):

@@ -47,6 +47,7 @@ def test_hertz_sphere_on_a_block_in_3d():
     assert pt.penetration <= 1e-3 * d
 
 
+@pytest.mark.slow   # a 3D press (about 9 s of CPU); the 2D and axisymmetric Boussinesq presses stay in the fast tier (test_contact.py)
 def test_boussinesq_flat_punch_in_3d():
     a = 1e-3
     d = 1e-3 * a

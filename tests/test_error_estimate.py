@@ -249,7 +249,7 @@ def test_estimate_of_a_yeoh_press_has_no_linear_law_part_and_the_punch_floor():
     """A Yeoh silicone pressed by a rigid punch: the material part is zero (Yeoh is the
     reference law; the press's Solution has no Newton record, so the result says which
     law was solved), and the model form is widened by at least the 3D mesh's measured
-    press error (estimate.CHEAP_3D_PRESS_ERROR), not the pressure patch's 0.5 %."""
+    press error (error_estimate.CHEAP_3D_PRESS_ERROR), not the pressure patch's 0.5 %."""
     sc = small(**{"model.silicone": "yeoh", "load.kind": "probe", "load.contact": True,
                   "load.radius": "2 mm", "load.edge_radius": "0.2 mm", "load.force": 0.3})
     res = taxel.solve(sc, estimate=True)

@@ -94,3 +94,41 @@ def test_the_parser_finds_paths_in_any_cell():
     assert file_paths(text) == ["fem/contact/_press.py", "benchmarks/studies.py"]
     with pytest.raises(AttributeError):
         resolve("taxel.fem.contact.NoSuchName")
+
+
+@pytest.mark.parametrize("path", code_paths(TEXT) + file_paths(TEXT))
+def test_every_path_in_the_glossary_is_public(path):
+    """No private module or name (`_name`): the glossary names a subpackage's surface."""
+    parts = re.split(r"[./]", path.removesuffix(".py"))
+    assert not [p for p in parts if p.startswith("_")], f"docs/glossary.md names the private {path}"
+
+
+def test_the_glossary_names_its_own_test():
+    assert "`tests/test_glossary.py`" in TEXT.split("##", 1)[0]
+
+
+# Names that changed (CHANGELOG.md keeps them); none is written or read anywhere else.
+OLD_NAMES = ["voltage_pressed", "largest 2D/3D disagreement", "taxel.optimize(", "taxel.skin(", "taxel.explore(",
+             "api.optimize(", "api.skin(", "api.explore(", 'rec.get("silicone")', "reduced basis", "reduced run",
+             "taxel.analyses.problem.", "taxel.analyses.error_estimate", "taxel.analyses.model_choice",
+             "taxel.analyses.influence", "taxel.analyses.coverage", "taxel.analyses.localization",
+             "taxel.analyses.reduced", "taxel.analyses.noise", "taxel.analyses.dynamic", "taxel.analyses.at_readout",
+             "taxel.analyses.analysis", "tests/test_docs.py`)"]
+
+
+def test_no_old_name_is_read_anywhere():
+    import subprocess
+    files = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True).stdout.split()
+    skip = {"CHANGELOG.md", "tests/test_glossary.py"}
+    hits = []
+    for f in files:
+        path = ROOT / f
+        if f in skip or f.startswith("tests/data/") or not path.is_file() or path.suffix not in (
+                ".py", ".md", ".toml", ".html", ".txt", ".cfg", ".json", ".yml", ".yaml", ".sh", ""):
+            continue
+        try:
+            text = path.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            continue
+        hits += [f"{f}: {old}" for old in OLD_NAMES if old in text]
+    assert not hits, "old names: " + "; ".join(hits)

@@ -16,7 +16,7 @@ import scipy.sparse as sp
 from pyamg.gallery import poisson
 
 from taxel.fem import linalg
-from taxel.fem.linalg import _direct as direct      # white-box: the memory budget check_fits reads
+from taxel.fem.linalg import _memory as direct      # white-box: the memory budget check_fits reads
 from taxel.analyses import solve_static as solve
 from taxel.scene import load, parse
 
@@ -112,6 +112,7 @@ def test_two_out_of_core_factorizations_alive_at_once_each_solve_their_own(monke
     assert np.allclose(fa(b), xa, rtol=0, atol=1e-12 * np.abs(xa).max()) and Path(folder_a).exists()
 
 
+@pytest.mark.skipif("pardiso" not in SOLVERS, reason="PARDISO is not installed here")
 def test_a_factorization_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
     """PARDISO's analysis phase gives the memory the factors need; with (pretend)
     almost no free memory the solve is refused with the estimate, not killed."""

@@ -144,6 +144,7 @@ def test_axisymmetric_simply_supported_disk():
 # 3D
 # --------------------------------------------------------------------------------------
 
+@pytest.mark.slow   # a 3D plate of 30 k unknowns (about 9 s of CPU); the 2D plates stay in the fast tier
 def test_3d_simply_supported_square():
     """a = b = 10 mm, h = 0.05 mm (h/a = 0.005), mesh.size 0.5 mm, piezo_layers 1 (2 tets
     through h), 30 k unknowns: -0.30 % against Navier at the vertex (0, 0.196 mm).

@@ -43,13 +43,17 @@ def _commands(body):
             yield line
 
 
-# slow: a block naming a scene whose solve is slow in test_examples.py, and a tour of more than
-# three commands (each its own process: the getting-started tour takes 25 s on a busy machine)
+# slow: a block naming a scene whose solve is slow in test_examples.py, a command that is slow
+# itself (a simulated rig's stream, an error estimate: 10-14 s of CPU each; test_measure_cli.py and
+# test_error_estimate.py run them in the fast tier), and a tour of more than three commands (each its
+# own process: the getting-started tour takes 25 s on a busy machine)
 SLOW_SCENES = ("thesis-pzt-probe-3d", "thesis-pzt-3x3-3d", "thesis-pvdf-3x3-3d")
+SLOW_COMMANDS = ("taxel measure simulate", "--estimate")
 
 
 def _slow(lang, body):
-    return any(s in body for s in SLOW_SCENES) or (lang == "sh" and len(list(_commands(body))) > 3)
+    return (any(s in body for s in SLOW_SCENES + SLOW_COMMANDS)
+            or (lang == "sh" and len(list(_commands(body))) > 3))
 
 
 def blocks(lang):

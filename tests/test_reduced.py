@@ -200,6 +200,7 @@ def test_simulated_rig_on_the_reduced_model_has_the_fems_static_charge_and_cross
     assert abs(settled[middle]) > 5 * np.abs(np.delete(settled, middle)).max()
 
 
+@pytest.mark.slow   # a 10 s chirp simulated on the reduced model, then calibrated (about 13 s of CPU)
 def test_calibrate_on_the_reduced_model_recovers_the_drawn_gain_and_time_constant(tmp_path):
     """A 10 s chirp on the rig whose taxel is the reduced model (thesis bench: charge
     amplifier and notch); `taxel measure calibrate --model reduced` from the stream."""

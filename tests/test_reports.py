@@ -584,6 +584,7 @@ def test_each_number_on_the_answers_first_screen_links_to_its_table_row(answer_r
     assert len(re.findall(r'<h2><a|<h2>[^<]*<a', first)) == 1 and first.count('href="#ladder-') >= 12
 
 
+@pytest.mark.slow   # a frequency sweep and a report (about 10 s of CPU)
 def test_page_one_gives_the_first_resonance_or_says_not_computed(answer_report, tmp_path):
     """Without a frequency sweep page one says the first resonance is not computed; with
     the main job's sweep (thesis-pzt-frequency, 20 points) it gives the sweep's peak above
@@ -612,6 +613,7 @@ def test_page_one_gives_the_first_resonance_or_says_not_computed(answer_report, 
     assert line.startswith("Bandwidth: not computed")                      # no readout record in these folders
 
 
+@pytest.mark.slow   # a whole report of two solve folders and the index (about 14 s of CPU)
 def test_a_3d_view_of_an_answer_design_names_its_ladder_row(tmp_path):
     """The main job's 3D views of the answer's designs (folders <front>-thesis-3d and
     <front>-recommended-3d, taxel.jobs.answer_3d: the 3D presses the answer's numbers come

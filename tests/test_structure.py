@@ -3,7 +3,7 @@ names, and a public API that no subpackage can shadow.
 
 The import graph is read from the sources with `ast`, every import counted (at the
 top of a module or inside a function: a cycle held by a lazy import is still a
-cycle), with the folder -> package mapping of pyproject.toml.
+cycle), with the folder -> package mapping of setup.py.
 """
 
 from __future__ import annotations
@@ -21,8 +21,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def package_dirs() -> dict[str, Path]:
-    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-    mapped = cfg["package-dir"]
+    """Every installed package -> its folder, by setup.py's folder map and package finder."""
+    import runpy
+    build = runpy.run_path(str(ROOT / "setup.py"), run_name="setup")     # (setup() runs only as __main__)
+    mapped = build["FOLDERS"]
 
     def folder(pkg: str) -> Path:          # setuptools' rule: the nearest mapped parent, then the names
         head, tail = pkg, []
@@ -30,7 +32,14 @@ def package_dirs() -> dict[str, Path]:
             head, _, last = head.rpartition(".")
             tail.insert(0, last)
         return ROOT.joinpath(mapped.get(head, head.replace(".", "/")), *tail)
-    return {pkg: folder(pkg) for pkg in cfg["packages"]}
+    import os
+    here = os.getcwd()
+    os.chdir(ROOT)                          # the finder reads the folders relative to the checkout
+    try:
+        names = build["packages"]()
+    finally:
+        os.chdir(here)
+    return {pkg: folder(pkg) for pkg in names}
 
 
 def modules() -> dict[str, Path]:
@@ -214,12 +223,12 @@ def test_the_fem_import_contract_follows_the_chain():
 
 
 def test_every_package_folder_is_installed():
-    """A folder with an __init__.py under a layer folder is listed in pyproject's packages
-    (an unlisted one works editable and is missing from a real install)."""
+    """A folder with an __init__.py under a layer folder is one of setup.py's packages
+    (found, not listed: an unlisted one would work editable and be missing from a real install)."""
     listed = package_dirs()
     for folder in set(listed.values()):
         for init in folder.rglob("__init__.py"):
-            assert init.parent in listed.values(), f"{init.parent.relative_to(ROOT)} is not in pyproject's packages"
+            assert init.parent in listed.values(), f"{init.parent.relative_to(ROOT)} is not among setup.py's packages"
 
 
 def test_electrode_names_come_from_one_helper():
@@ -232,9 +241,10 @@ def test_electrode_names_come_from_one_helper():
 def test_the_public_api_cannot_be_shadowed():
     """Every public name of `taxel` stays what it is after importing every subpackage: no
     public function shares its name with a subpackage (`taxel.optimize` is the subpackage,
-    `taxel.run_optimization` the function), and nothing is both a function and a module."""
+    `taxel.run_optimization` the function), and no package's public name (its `__all__`)
+    is both a function or class and a module."""
     code = """
-import importlib, importlib.util, taxel
+import importlib, importlib.util, sys, taxel
 for name in NAMES:
     importlib.import_module(name)
 import types, taxel.optimize.driver
@@ -244,9 +254,16 @@ for name in taxel.__all__:
     assert value is not None, name
     assert (name == "measure") == isinstance(value, types.ModuleType), name
     assert name == "measure" or importlib.util.find_spec("taxel." + name) is None, name
-for name, value in vars(taxel).items():
-    if isinstance(value, types.ModuleType):
-        assert name not in taxel.__all__ or name == "measure", name
+clashes = []                     # no package's public name is both a function (or class) and a module
+for name in NAMES:
+    pkg = sys.modules[name]
+    if not hasattr(pkg, "__path__"):
+        continue
+    for attr in getattr(pkg, "__all__", [n for n in vars(pkg) if not n.startswith("_")]):
+        if not isinstance(getattr(pkg, attr), types.ModuleType) and importlib.util.find_spec(f"{name}.{attr}"):
+            clashes.append(f"{name}.{attr}")
+assert not clashes, clashes
+assert type(taxel) is types.ModuleType         # no module-class swap
 from taxel import Scene, StaticResult, FrequencyResult, TransientResult, LumpedResult, SceneError
 assert isinstance(taxel.load("thesis-pzt-single-2d"), Scene)
 print("ok")

@@ -222,3 +222,14 @@ def test_a_second_run_on_a_busy_folder_is_refused_and_the_lock_dies_with_the_fir
         proc.wait()
     assert main(["study", "run", str(study), "--out", str(out), "--workers", "1", "--quiet"]) == 0
     assert count(out) == 96
+
+
+def test_the_progress_bar_is_drawn_on_a_terminal_only(capsys):
+    """A log (stderr not a terminal) gets no carriage-return bars: the main job's log has
+    one line per stage."""
+    from taxel.studies.execute import progress_bar
+    bar = progress_bar(5, 1, True)
+    bar.update(2)
+    bar.close()
+    assert bar.disable and "\r" not in capsys.readouterr().err
+    assert progress_bar(5, 0, False).disable

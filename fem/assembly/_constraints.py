@@ -146,7 +146,7 @@ class Elimination:
     nf: int
     active: list[str]
     ref: list[str]
-    is_u: np.ndarray          # reduced unknowns that are displacements
+    is_u: np.ndarray          # eliminated unknowns that are displacements
 
     @property
     def n(self):

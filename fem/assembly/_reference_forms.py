@@ -27,7 +27,7 @@ with beta = 1/3, kappa = K (the deviatoric/volumetric split: the same split as
 the Yeoh form of fem.hyperelastic, so both discretize the small-strain limit
 identically), which stays well posed as K -> infinity (Taylor-Hood P2/P1 or
 MINI P1+bubble/P1 are inf-sup stable). In plane stress beta = 0 and kappa is
-the reduced lambda* = 2 lambda mu / (lambda + 2 mu), which stays bounded (a
+the plane-stress lambda* = 2 lambda mu / (lambda + 2 mu), which stays bounded (a
 thin sheet is not incompressible in its plane), so plane stress does not lock.
 
 The strain vector S and the volume measure dV of each model type come from its

@@ -1,9 +1,9 @@
-"""The reduced sparse matrix of a nonlinear solve, its pattern built once.
+"""The eliminated sparse matrix of a nonlinear solve, its pattern built once.
 
-The elimination of fem.assembly maps every full unknown to at most one reduced
+The elimination of fem.assembly maps every full unknown to at most one eliminated
 unknown with weight 1 (x_full = P y, P a 0/1 matrix with one entry per row at
 most), so P^T K P is K with its rows and columns relabelled by `col` (full ->
-reduced, -1 dropped) and duplicates summed. The pattern is the union of the
+eliminated, -1 dropped) and duplicates summed. The pattern is the union of the
 constant matrix's entries and those of every element block (Yeoh, contact) that
 will be added; each block entry gets, once, its position in the CSR data array.
 A Newton iteration then only fills values:
@@ -20,7 +20,7 @@ import scipy.sparse as sp
 
 
 def column_map(P: sp.csr_matrix) -> np.ndarray:
-    """col[i]: the reduced unknown of full unknown i, or -1 (P a 0/1 elimination)."""
+    """col[i]: the eliminated unknown of full unknown i, or -1 (P a 0/1 elimination)."""
     Pc = sp.csr_matrix(P)
     counts = np.diff(Pc.indptr)
     if counts.max(initial=0) > 1 or not np.all(Pc.data == 1):
@@ -32,7 +32,7 @@ def column_map(P: sp.csr_matrix) -> np.ndarray:
 
 
 class Pattern:
-    """The reduced matrix P^T (A + sum of element blocks) P for changing block values."""
+    """The eliminated matrix P^T (A + sum of element blocks) P for changing block values."""
 
     def __init__(self, P: sp.csr_matrix, A: sp.spmatrix, blocks: dict[str, tuple[np.ndarray, np.ndarray]]):
         """`blocks`: name -> (full row indices, full column indices) of the element
@@ -62,7 +62,7 @@ class Pattern:
             self.pos[name] = pos
 
     def matrix(self, values: dict[str, np.ndarray]) -> sp.csr_matrix:
-        """The reduced CSR matrix with these block values added to the constant part."""
+        """The eliminated CSR matrix with these block values added to the constant part."""
         data = np.append(self.base, 0.0)
         for name, v in values.items():
             data += np.bincount(self.pos[name], weights=np.asarray(v, dtype=float).ravel(), minlength=self.nnz + 1)

@@ -1,10 +1,10 @@
-"""Constitutive laws as the forms use them: a material reduced to a model type.
+"""Constitutive laws as the forms use them: a material cut to a model type.
 
-PiezoLaw: stress-charge tensors (c, e, eps) reduced exactly to the model type
+PiezoLaw: stress-charge tensors (c, e, eps) cut exactly to the model type
 (fem.constitution). SolidLaw: an isotropic solid in the mixed u-p split of
 fem.assembly, T = 2 mu (S - beta tr S I) + p I with p = kappa div u: beta = 1/3 and
 kappa = K (the deviatoric/volumetric split), or in plane stress beta = 0 and
-kappa = lambda* = 2 lambda mu / (lambda + 2 mu); `c` is the reduced stiffness for
+kappa = lambda* = 2 lambda mu / (lambda + 2 mu); `c` is the model type's stiffness for
 the displacement-only formulation. A solid with Yeoh data also carries its
 fem.constitution.Yeoh law (used when the problem is hyperelastic).
 """
@@ -22,7 +22,7 @@ from ._yeoh import Yeoh
 
 @dataclass(frozen=True, eq=False)
 class PiezoLaw:
-    c: np.ndarray      # Pa, reduced stiffness at constant field
+    c: np.ndarray      # Pa, the model type's stiffness at constant field
     e: np.ndarray      # C/m^2
     eps: np.ndarray    # F/m, at constant strain
     material: materials.Piezo
@@ -34,7 +34,7 @@ class SolidLaw:
     lam: float
     beta: float
     kappa: float
-    c: np.ndarray      # reduced stiffness (displacement formulation)
+    c: np.ndarray      # the model type's stiffness (displacement formulation)
     material: materials.Solid
     yeoh: Yeoh | None = None
 

@@ -1,6 +1,6 @@
 r"""The linear dynamic model of a problem: mass, stiffness by kind, loss factors.
 
-Equation of motion on the reduced unknowns x of fem.assembly.elimination (supports
+Equation of motion on the eliminated unknowns x of fem.assembly.elimination (supports
 and the reference electrode eliminated; each other electrode one potential
 whose row is its charge balance, right-hand side -Q_k):
 
@@ -57,12 +57,12 @@ from taxel.fem.assembly import Problem
 class DynamicModel:
     sy: System
     red: Elimination
-    parts: dict          # kind -> reduced real sparse matrix
+    parts: dict          # kind -> eliminated real sparse matrix
     relax: rx.Relaxation # the causal loss law of the lossy kinds (fem.constitution)
     M: sp.csr_matrix
     alpha: float
     beta: float
-    F: np.ndarray        # reduced load vector of 1 N of the problem's load
+    F: np.ndarray        # eliminated load vector of 1 N of the problem's load
     Be: np.ndarray       # (n, na) unit-charge right-hand sides
     names: list[str]     # active electrodes (open model) or grounded ones (short model)
     charge_rows: sp.csr_matrix | None = None   # short model: Q = charge_rows @ x (massless rows)
@@ -74,7 +74,7 @@ class DynamicModel:
     @property
     def method(self) -> str:
         """The direct solver for this model's size and dimension (fem.linalg.resolve; a complex
-        K(omega) goes to PARDISO through its real equivalent, fem.linalg._factorize_complex)."""
+        K(omega) goes to PARDISO through its real equivalent, fem.linalg.factorize)."""
         return linalg.resolve("auto", self.M.shape[0], dim=self.sy.tm.mesh.dim())
 
     def kappa(self, omega) -> dict:

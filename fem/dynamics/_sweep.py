@@ -99,7 +99,7 @@ def sweep(dm: DynamicModel, freqs, method: str = "reduced", tol: float = 1e-3, m
         red_model = project(dm, basis)
         errs = {f: _rel_error(_reduced_ports(dm, red_model, f), reference[f]) for f in checks}
         err = max(errs.values())
-        logging.getLogger(__name__).info("sweep: reduced basis of %d vectors, error %.2g (tolerance %.2g)",
+        logging.getLogger(__name__).info("sweep: Krylov basis of %d vectors, error %.2g (tolerance %.2g)",
                                          basis.shape[1], err, tol)
         if err <= tol:
             break

@@ -5,7 +5,7 @@ Residual at load factor lam (fem.hyperelastic for the Yeoh part):
 
     r(x, lam) = A_lin x + R_yeoh(x) - lam b,     tangent K(x) = A_lin + K_yeoh(x)
 
-on the reduced unknowns of fem.assembly.elimination (supports and grounded
+on the eliminated unknowns of fem.assembly.elimination (supports and grounded
 electrodes eliminated; each open electrode one potential with zero net charge).
 
 Each Newton step solves K dy = -r with the scaled direct solver, then backtracks
@@ -144,7 +144,7 @@ def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0,
     lam, step = 0.0, min(first_step, 1.0)
     solver = None
 
-    def reduced_residual(x, lam):
+    def eliminated_residual(x, lam):
         r_y, _ = yeoh_terms(sy, x, with_tangent=False)
         return P.T @ (A_lin @ x + r_y) - lam * b
 
@@ -170,7 +170,7 @@ def newton(sy: System, method="auto", *, tol=1e-10, max_iter=15, first_step=1.0,
             while True:
                 x_new = x_try + alpha * (P @ dy)
                 if _min_jacobian(sy, x_new) > 0:
-                    r_new = reduced_residual(x_new, target)
+                    r_new = eliminated_residual(x_new, target)
                     new = np.linalg.norm(D * r_new) / max(np.linalg.norm(D * target * b), 1e-300)
                     if not line_search or new < (1 - 1e-4 * alpha) * norm or alpha <= 1 / 64:
                         break

@@ -19,7 +19,7 @@ Lagrangian, so B never changes). At a state (u, p), with dV = w_q |det J| * meas
 
 Only the gradient components the model uses enter (2D: 4, axisymmetric: 5, 3D: 9).
 No Python loop runs over elements; elements go in chunks to bound memory. The
-element arrays are scattered into the reduced matrix by fem.assembly. Equal to the
+element arrays are scattered into the eliminated matrix by fem.assembly. Equal to the
 scikit-fem forms of fem.hyperelastic to round-off (tests/test_hyperelastic.py).
 """
 

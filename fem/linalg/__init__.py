@@ -8,7 +8,8 @@ the direct/Krylov choice from the size of the system.
 """
 
 
-from ._direct import (AUTO_KRYLOV_ABOVE, AUTO_PARDISO_ABOVE, MemoryLimitError, Refactorizer, analysis_bytes, available, budget, factorize, in_core_bytes, resident_memory, resolve, scaled_solver, scaling, set_memory_cap)
+from ._direct import (AUTO_KRYLOV_ABOVE, AUTO_PARDISO_ABOVE, Refactorizer, available, factorize, in_core_bytes, resolve, scaled_solver, scaling)
+from ._memory import MemoryLimitError, analysis_bytes, budget, resident_memory, set_memory_cap
 from ._krylov import KrylovError, krylov_blocks, krylov_solver
 
 __all__ = ["AUTO_KRYLOV_ABOVE", "AUTO_PARDISO_ABOVE", "KrylovError", "MemoryLimitError", "Refactorizer", "analysis_bytes", "available", "budget", "factorize", "in_core_bytes", "krylov_blocks", "krylov_solver", "resident_memory", "resolve", "scaled_solver", "scaling", "set_memory_cap"]

@@ -19,7 +19,7 @@ has a ~0.3 s floor here) and PARDISO on large ones (33 000 unknowns: 0.43 s vs
 2.9 s). In 3D the fill makes PARDISO pay from about 3 000 unknowns (4 000: 1.7 s
 vs 2.1 s; 8 400: 1.2 s vs 2.8 s, quarter taxel models), so 3D uses PARDISO above that.
 PARDISO factorizes out of core when its analysis says the factors do not fit the
-memory budget (`check_fits`, `MEMORY_CAP`). Single-precision factors (MKL iparm[27])
+memory budget (fem/linalg/_memory.py: `check_fits`, `MEMORY_CAP`). Single-precision factors (MKL iparm[27])
 with double-precision refinement were tried (a one-off trial, not scripted) and dropped: on the 3x3 3D array (33k
 unknowns) the refined residual stayed at 0.19-3.7 and the voltages were wrong (the
 scaled coupled system is too ill-conditioned for float32).
@@ -27,18 +27,17 @@ scaled coupled system is too ill-conditioned for float32).
 
 from __future__ import annotations
 
-import ctypes
 import glob
 import logging
 import os
-import shutil
 import sys
-import tempfile
 import weakref
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+from ._memory import FIX, MemoryLimitError, analysis_bytes, check_fits
 
 METHODS = ("auto", "superlu", "pardiso", "umfpack", "krylov")
 
@@ -80,17 +79,6 @@ AUTO_PARDISO_ABOVE_3D = 3_000   # 3D fill: PARDISO 1.2 s vs SuperLU 2.8 s at 8.4
 # static solves above this go to GMRES (fem.linalg); below, PARDISO, out of core where its factors
 # do not fit (check_fits; the 16x16 array's 794k unknowns, benchmarks/array_8x8.py)
 AUTO_KRYLOV_ABOVE = 1_500_000
-# The memory this process may use in all (bytes; None: whatever is free). A caller on a shared
-# machine sets it (benchmarks/array_8x8.py --cap-gb); a factorization that would not fit
-# in it in core goes out of core (check_fits).
-MEMORY_CAP: float | None = None
-
-
-def set_memory_cap(cap: float | None) -> None:
-    """Bytes this process may hold in all (None: no cap beyond the free memory); a
-    factorization that would not fit under it runs out of core (`check_fits`)."""
-    global MEMORY_CAP
-    MEMORY_CAP = cap
 log = logging.getLogger(__name__)
 
 
@@ -114,26 +102,6 @@ def resolve(method: str, n: int = 0, iterative: bool = False, dim: int | None = 
     if not available(method):
         raise ValueError(f"linear solver '{method}' is not installed; use 'superlu' or 'auto'")
     return method
-
-
-FIX = "coarsen mesh.size / mesh.piezo_size, use fewer elements through the piezo, or model less (2D, axisymmetric)"
-
-
-class MemoryLimitError(ValueError):
-    """A factorization that cannot fit in this machine's free memory (found by
-    PARDISO's symbolic analysis, before the numerical factorization starts)."""
-
-
-def available_memory() -> float:
-    """Free memory for a new allocation (MemAvailable of /proc/meminfo), bytes."""
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES"))
 
 
 def symmetric_matrix(A: sp.csr_matrix) -> bool:
@@ -160,27 +128,6 @@ def numeric_factorization(solver, A) -> None:
     log.info("PARDISO factorized %d unknowns", A.shape[0])
 
 
-def resident_memory() -> float:
-    """This process's resident memory, bytes."""
-    with open("/proc/self/statm") as fh:
-        return float(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-
-
-def budget() -> float:
-    """Bytes a new factorization may use: the free memory, and under MEMORY_CAP no more
-    than the cap less what this process already holds."""
-    have = available_memory()
-    return have if MEMORY_CAP is None else min(have, MEMORY_CAP - resident_memory())
-
-
-def analysis_bytes(solver, A) -> float:
-    """PARDISO's analysis (phase 11); the bytes its factorization needs in core
-    (iparm 15: the analysis's peak, 16 + 17: permanent + factors, in KB)."""
-    solver.set_phase(11)
-    solver._call_pardiso(A, np.zeros((A.shape[0], 1)))
-    return 1024.0 * max(solver.get_iparm(15), solver.get_iparm(16) + solver.get_iparm(17))
-
-
 def in_core_bytes(A: sp.spmatrix) -> float:
     """Bytes PARDISO's analysis says a factorization of the symmetric matrix A needs in
     core (`analysis_bytes` on its upper triangle, symmetric-indefinite mode; nothing factorized)."""
@@ -190,43 +137,6 @@ def in_core_bytes(A: sp.spmatrix) -> float:
         return analysis_bytes(probe, sp.csr_matrix(sp.triu(A)))
     finally:
         probe.free_memory(True)
-
-
-def check_fits(solver, A) -> None:
-    """PARDISO's analysis phase (11) reports the memory the factorization will need;
-    when that exceeds the budget (the free memory, or MEMORY_CAP) the factorization goes
-    out of core: MKL's defaults for the matrix type (pardisoinit), iparm[59] = 2, the
-    factors in files in a temporary folder of its own (MKL_PARDISO_OOC_PATH; under
-    $TMPDIR, removed with the solver: never the working directory, which is the user's)
-    and at most MKL_PARDISO_OOC_MAX_CORE_SIZE of them in memory (set to 0.6 x the
-    budget), the analysis redone. Refused (MemoryLimitError) before factorizing when
-    even that does not fit, in memory or on that folder's disk, instead of being killed
-    by the kernel halfway."""
-    need, have = analysis_bytes(solver, A), budget()
-    log.info("PARDISO analysis: %d unknowns, %.3g GB in core, %.3g GB free", A.shape[0], need / 1e9, have / 1e9)
-    if need <= 0.9 * have:
-        return
-    solver.free_memory(True)
-    solver.libmkl.pardisoinit(solver.pt.ctypes.data_as(ctypes.c_void_p), ctypes.byref(ctypes.c_int32(solver.mtype)),
-                              solver.iparm.ctypes.data_as(ctypes.c_void_p))
-    solver.iparm[34] = 0                            # one-based indices, as pypardiso passes them
-    solver.iparm[59] = 2                            # out of core
-    folder = tempfile.mkdtemp(prefix="taxel-pardiso-")
-    weakref.finalize(solver, shutil.rmtree, folder, ignore_errors=True)
-    disk = shutil.disk_usage(folder).free
-    if need > 0.9 * disk:
-        raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB, more than "
-                               f"the {have / 1e9:.3g} GB free in memory and the {disk / 1e9:.3g} GB free on {folder}'s disk "
-                               f"(set TMPDIR to a larger disk); {FIX}")
-    os.environ["MKL_PARDISO_OOC_PATH"] = folder
-    os.environ["MKL_PARDISO_OOC_MAX_CORE_SIZE"] = str(max(int(0.6 * have / 2**20), 1))
-    analysis_bytes(solver, A)
-    core = 1024.0 * solver.get_iparm(16)            # what stays in memory out of core too (permanent, KB)
-    log.info("PARDISO out of core: %d unknowns, %.3g GB in core against %.3g GB free (%.3g GB permanent)",
-             A.shape[0], need / 1e9, have / 1e9, core / 1e9)
-    if core > 0.9 * have:
-        raise MemoryLimitError(f"the direct solve of {A.shape[0]} unknowns needs about {need / 1e9:.3g} GB in memory "
-                               f"and {core / 1e9:.3g} GB out of core, more than the {have / 1e9:.3g} GB free; {FIX}")
 
 
 def factorize(A: sp.spmatrix, method: str = "auto"):

@@ -1,6 +1,6 @@
 r"""An iterative solver for large coupled systems: GMRES with a block preconditioner.
 
-The reduced system (fem.assembly), scaled as for the direct solvers
+The eliminated system (fem.assembly), scaled as for the direct solvers
 (fem.linalg.scaling: A_s = D A D, unit displacement diagonal, unit approximate
 Schur diagonals), is split into displacement unknowns u and the rest q
 (mixed pressures, potentials, floating electrodes):
@@ -67,10 +67,10 @@ class KrylovError(RuntimeError):
 
 @dataclass(frozen=True)
 class Blocks:
-    """How the reduced unknowns split for the block preconditioner."""
+    """How the eliminated unknowns split for the block preconditioner."""
 
-    soft: np.ndarray      # reduced indices of displacements in soft regions
-    stiff: np.ndarray     # reduced indices of displacements touching a stiff region
+    soft: np.ndarray      # eliminated indices of displacements in soft regions
+    stiff: np.ndarray     # eliminated indices of displacements touching a stiff region
     other: np.ndarray     # pressures, potentials, electrode potentials
     modes: np.ndarray     # (len(soft), 3 or 6) rigid-body modes of the soft unknowns (unscaled)
 

@@ -1,7 +1,7 @@
 """The static linear solve: one factorization, every electrode quantity.
 
 With the active electrodes collapsed (fem.assembly), one factorization of the
-reduced matrix gives, by back-substitution:
+eliminated matrix gives, by back-substitution:
 
     x_f        load, all active electrodes open (Q = 0): open-circuit voltages V_f
     X_k        unit charge on electrode k:        column k of C^-1
@@ -90,7 +90,7 @@ def solve_linear(sy: System, method: str = "auto", scale: bool = True) -> Soluti
 
 def unfold_solution(sy: System, sol: Solution, red: Elimination, Cinv, method, scale=True, K=None) -> Solution:
     """The full sensor's Solution from a symmetric (half or quarter) model's. `K`: the
-    full (unreduced) matrix the capacitance is linearised with (default the linear
+    full (not eliminated) matrix the capacitance is linearised with (default the linear
     sy.A; a pressed state's tangent, fem.contact)."""
     blocks = {symmetry.group(sy.tm.layout.planes)[0]: (red.active, np.linalg.inv(Cinv))}
     residual = sol.residual

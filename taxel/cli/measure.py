@@ -108,8 +108,9 @@ def _capture(args):
     port = open_port(rig)
     print(f"capturing {rig.port.url} ({rig.port.protocol}, {rig.n} channels) into {args.out}; Ctrl-C stops",
           file=sys.stderr)
-    res = tm.capture(rig, args.out, seconds=args.seconds, progress=None if args.quiet else print_progress, port=port)
-    if not args.quiet:
+    live = not args.quiet and sys.stderr.isatty()     # live progress on a terminal only: a log gets the result line
+    res = tm.capture(rig, args.out, seconds=args.seconds, progress=print_progress if live else None, port=port)
+    if live:
         print(file=sys.stderr)
     *vanished, line = res.summary()
     for v in vanished:

@@ -1,4 +1,4 @@
-"""`taxel schema [scene|study|optimization|rig]`, and the key reference of the docs.
+"""`taxel schema [scene|study|optimization|rig] [--json]`, and the key reference of the docs.
 
 One generator, read from the pydantic schemas themselves so that it cannot drift:
 
@@ -8,8 +8,14 @@ One generator, read from the pydantic schemas themselves so that it cannot drift
   included, as `Key` rows: dotted path, type, unit (the `unit` carried by the
   quantity validators of `taxel.schema`), default, allowed values (`Literal`),
   bounds (`Field(ge=, gt=, le=, lt=)`) and the key's comment in the schema source;
+- `text(kind)`: those rows for a terminal (`taxel schema KIND`): path, type, unit,
+  default, then the key's description;
 - `markdown(kind)`: those rows as the Markdown page of the docs' reference
-  (`docs/conf.py` writes it at every build).
+  (docs/reference/keys/KIND.md, kept in the repository so that a clone can read it;
+  the docs build rewrites it, and tests/test_docs.py checks it is current).
+
+A key's description is its field's docstring (pydantic `use_attribute_docstrings`,
+so the JSON Schema carries it too), else its comment in the schema source.
 """
 
 from __future__ import annotations
@@ -242,7 +248,7 @@ def model_keys(cls: type[BaseModel], prefix: str = "") -> list[Key]:
         path = f"{prefix}{key}"
         rows.append(Key(path=path, type=_type_name(info.annotation), unit=unit, default=_default(info),
                         allowed=" | ".join(dict.fromkeys(allowed)), bounds=", ".join(dict.fromkeys(bounds)),
-                        doc=docs.get(name, ""), table=bool(nested)))
+                        doc=" ".join((info.description or docs.get(name, "")).split()), table=bool(nested)))
         for suffix, sub in nested:
             rows += model_keys(sub, f"{path}{suffix}.")
     return rows
@@ -280,15 +286,32 @@ def markdown(kind: str) -> str:
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
+def text(kind: str) -> str:
+    """Every key of a file kind for a terminal: its dotted path, then its type, unit,
+    default, allowed values and bounds, then its one-line description."""
+    lines = [f"The keys of a{'n' if kind[0] in 'aeiou' else ''} {kind} file ({KINDS[kind][2].split(' (')[0]}); quantities are strings with a unit (\"0.5 mm\").",
+             "--json prints the JSON Schema; the docs' key reference has the same rows "
+             f"(docs/reference/keys/{kind}.md).", ""]
+    for k in keys(kind):
+        facts = [k.type] + ([f"unit {k.unit}"] if k.unit else [])
+        facts += [] if k.default == "(table)" else [k.default if k.default == "required" else f"default {k.default}"]
+        facts += [f"one of {k.allowed}"] if k.allowed else []
+        facts += [k.bounds] if k.bounds else []
+        lines += [f"{k.path}  ({'; '.join(facts)})", f"    {k.doc or '(no description)'}"]
+    return "\n".join(lines) + "\n"
+
+
 def _print(args) -> int:
-    print(json.dumps(json_schema(args.kind), indent=2))
+    print(json.dumps(json_schema(args.kind), indent=2) if args.json else text(args.kind), end="\n" if args.json else "")
     return 0
 
 
 def register(sub) -> None:
-    p = sub.add_parser("schema", help="the JSON Schema of a scene, study, optimization or rig file (for editors)")
+    p = sub.add_parser("schema", help="every key of a scene, study, optimization or rig file: unit, default, "
+                                      "description (--json: the JSON Schema, for editors)")
     p.add_argument("kind", nargs="?", default="scene", choices=list(KINDS))
+    p.add_argument("--json", action="store_true", help="the JSON Schema instead (point a TOML language server at it)")
     p.set_defaults(run=_print)
 
 
-__all__ = ["KINDS", "Key", "json_schema", "keys", "markdown", "model", "model_keys", "register"]
+__all__ = ["KINDS", "Key", "json_schema", "keys", "markdown", "model", "model_keys", "register", "text"]

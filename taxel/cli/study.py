@@ -34,7 +34,7 @@ def register(sub) -> None:
     p.set_defaults(run=_report)
     p = sub.add_parser("demo", help="the main job: thesis study, optimization, dynamics and the report")
     p.add_argument("--out", default="out/demo", metavar="DIR")
-    p.add_argument("--small", action="store_true", help="a reduced run (for CI)")
+    p.add_argument("--small", action="store_true", help="a small run (for CI)")
     p.add_argument("--full", action="store_true", help="also the thesis-model Fig. 2.5/2.8 studies and the probe fronts verified by 3D presses (slow)")
     p.add_argument("--presses-3d", type=number(0, integer=True), default=0, metavar="N",
                    help="press N designs of each probe front in 3D (default 0; --full presses them all)")

@@ -231,7 +231,7 @@ def error_lines(scene: Scene) -> list[str]:
 def frequency_image(scene: Scene) -> str:
     """The frequency response through the scene's readout (a reduced sweep)."""
     from taxel.analyses import frequency
-    from taxel.analyses.results.figures import bode
+    from taxel.analyses.results.dynamic_figures import bode
     fr = frequency(replace(scene, **{"analysis.type": "frequency", "analysis.method": "reduced",
                                      "analysis.points": 60}))
     with tempfile.TemporaryDirectory() as tmp:

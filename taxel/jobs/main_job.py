@@ -6,8 +6,8 @@ the frequency
 response through the charge amplifier and the step response through the 500 MOhm
 input, the validation loop on the simulated rig (simulate, capture over a pty,
 analyze, calibrate, localize: studies.measured.pipeline), then build the report;
-`small` is the reduced run CI uses. Each step is a call of the API (taxel.api:
-run_study, optimize, solve, report)."""
+`small` is the small run CI uses. Each step is a call of the API (taxel.api:
+run_study, run_optimization, solve, report)."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ THESIS_MODEL_STUDIES = ("fig-2-5-thesis", "fig-2-8-thesis")     # about an hour 
 
 
 def small_study(st: Study) -> Study:
-    """The study reduced for `--small`: the first value of each listed parameter, two of each range."""
+    """The study cut down for `--small`: the first value of each listed parameter, two of each range."""
     st.spec = st.spec.model_copy(update={"parameters": [
         p.model_copy(update={"values": p.values[:1], "labels": (p.labels or [None])[:1] if p.labels else None})
         if p.values else p.model_copy(update={"step": None, "num": 2}) for p in st.spec.parameters]})
@@ -38,7 +38,7 @@ def small_study(st: Study) -> Study:
 
 
 def small_optimization(name: str) -> O.Optimization:
-    """A built-in optimization reduced to one short local run (6 evaluations, no front)."""
+    """A built-in optimization cut down to one short local run (6 evaluations, no front)."""
     prob = O.load_optimization(name)
     prob.spec = prob.spec.model_copy(update={"pareto": None, "algorithm": prob.spec.algorithm.model_copy(
         update={"max_evaluations": 6, "global_": "none"})})

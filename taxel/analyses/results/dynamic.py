@@ -19,7 +19,7 @@ from taxel.fem.dynamics import PortResponse
 from taxel.fem.dynamics import Transient
 from taxel.scene import Scene
 from taxel.analyses.results.base import ErrorEstimate, error_lines, error_record, read_error
-from taxel.analyses.results.figures import bode_png, lumped_png, resonance, transient_png
+from taxel.analyses.results.dynamic_figures import bode_png, lumped_png, resonance, transient_png
 from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
 from taxel.schema import electrode_name
 
@@ -67,7 +67,7 @@ class FrequencyResult:
         return np.abs(self.output[:, _pressed_index(self.scene, self.names)])
 
     def first_resonance(self) -> float | None:
-        """The resonance of the pressed (or first) taxel's sweep, Hz (figures.resonance: the
+        """The resonance of the pressed (or first) taxel's sweep, Hz (dynamic_figures.resonance: the
         largest peak above the lowest decade, inside the sweep; the Bode plot marks it),
         to the sweep's resolution; None when the sweep holds none."""
         i = resonance(self.freqs, self.sweep_values())

@@ -226,7 +226,7 @@ class StaticResult:
                        None, None, newton)
         st = rec.get("stop")
         return cls(scene, sol, dict(rec.get("times_s", {})), rec.get("model_note", ""), read_error(rec),
-                   bool(rec.get("yeoh", rec.get("silicone") == "yeoh")), rec.get("contact"),
+                   bool(rec["yeoh"]), rec.get("contact"),
                    None if st is None else Stop(st["requested"], st["load"], st["message"], st.get("cause")),
                    AtReadout.from_record(rec.get("at_readout")))
 
