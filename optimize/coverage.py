@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import logging
 import time
 from pathlib import Path
 
@@ -101,6 +102,8 @@ def influence_metrics(scene, force: float, noise_V: float, min_detectable_force:
         m, path = design_map(scene, out)
     except Exception as exc:       # gmsh raises a bare Exception: reported in the row, never hidden
         why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        logging.getLogger(__name__).error("%s: coverage not checked, the 3D surface map failed: %s (the design "
+                                          "is not recommended)", scene.name, why)
         return {**dict.fromkeys(INFLUENCE_METRICS), "error": f"the 3D surface map failed: {why}",
                 "seconds": time.perf_counter() - t0}
     if min_detectable_force is not None and min_detectable_force > 0:

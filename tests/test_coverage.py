@@ -161,7 +161,7 @@ def test_the_main_jobs_answer_is_judged_on_coverage(tmp_path, fresh_cache):
     assert [r[4] for r in thesis_ladder if r[0].startswith("1.")] == ["100 %"]
 
 
-def test_a_failed_coverage_check_is_reported_and_never_recommended(tmp_path):
+def test_a_failed_coverage_check_is_reported_and_never_recommended(tmp_path, caplog):
     """A design whose coverage cannot be checked (here its 3D map's mesh cannot fit this
     machine: refused before gmsh runs) gets the error in its row and is not recommended,
     however sensitive; with every candidate failing, none is."""
@@ -171,6 +171,7 @@ def test_a_failed_coverage_check_is_reported_and_never_recommended(tmp_path):
     got = influence_metrics(sc, 0.2, 1e-3, out=tmp_path)
     assert got["coverage"] is None and got["error"].startswith("the 3D surface map failed: ")
     assert "\n" not in got["error"]
+    assert any("coverage not checked" in r.getMessage() and r.levelname == "ERROR" for r in caplog.records)
     reqs = read({"coverage": ">= 100 %"})
     cands = [{"sensitivity": 2.0}, {"sensitivity": 1.0}]
     judge_lazily(cands, reqs, lambda i: influence_metrics(sc, 0.2, 1e-3, out=tmp_path))

@@ -129,9 +129,37 @@ def displacement_probe(sy: System, points: np.ndarray) -> sp.csr_matrix:
         raise RuntimeError("displacement basis numbering differs from the assembled one")
     p = np.asarray(points, float)
     lo, hi = sy.tm.mesh.p.min(axis=1), sy.tm.mesh.p.max(axis=1)
-    eps = INSIDE * (hi - lo)             # on the outline or the top: a hair inside (scikit-fem's finder
-    p = np.clip(p, (lo + eps)[:, None], (hi - eps)[:, None])     # misses points on the boundary)
-    return basis.probes(p).tocsr()
+    eps = INSIDE * (hi - lo)             # on the outline or the top: a hair inside
+    p = np.clip(p, (lo + eps)[:, None], (hi - eps)[:, None])
+    cells = _cells(sy.tm.mesh, basis.mapping, p)
+    # scikit-fem's CellBasis.probes with these cells (its own finder, failing one point, tests every
+    # element against every point: 7.6 GB on the 8x8 array's map)
+    ref = basis.mapping.invF(p[:, :, None], tind=cells)
+    phis = np.array([basis.elem.gbasis(basis.mapping, ref, k, tind=cells)[0] for k in range(basis.Nbfun)]).flatten()
+    comp = int(np.prod(basis._base_tensor_order))
+    rows = np.tile(np.arange(comp * p.shape[1], dtype=np.int64), basis.Nbfun)
+    cols = basis.element_dofs[:, np.tile(cells, comp)].flatten()
+    return sp.coo_matrix((phis, (rows, cols)), shape=(comp * p.shape[1], basis.N)).tocsr()
+
+
+def _cells(mesh, mapping, p: np.ndarray, tol: float = 1e-9) -> np.ndarray:
+    """The element holding each point (3, n): the candidates nearest by centroid, more of
+    them for the points not found yet; memory O(n x candidates)."""
+    from scipy.spatial import cKDTree
+    tree = cKDTree(mesh.p[:, mesh.t].mean(axis=1).T)
+    cells = np.full(p.shape[1], -1)
+    todo = np.arange(p.shape[1])
+    for k in (8, 32, 128, 512):
+        k = min(k, mesh.t.shape[1])
+        cand = tree.query(p[:, todo].T, k)[1].reshape(len(todo), k)
+        for j in range(k):
+            X = mapping.invF(p[:, todo][:, :, None], tind=cand[:, j])[..., 0]
+            hit = (X >= -tol).all(axis=0) & (1 - X.sum(axis=0) >= -tol)
+            cells[todo[hit]] = cand[hit, j]
+            todo, cand = todo[~hit], cand[~hit]
+            if not todo.size:
+                return cells
+    raise ValueError(f"{todo.size} surface points are outside the mesh (first at {p[:, todo[0]]} m)")
 
 
 @dataclass
