@@ -1,0 +1,160 @@
+"""The 3D press's reference settled by direction (issue 57): each size that matters refined on
+its own and together, on the single taxel and the 3x3 quarter pressed at its centre.
+
+The press is the answer's own: the rig's probe (a sticking 4 mm flat punch, 0.2 mm edge radius)
+pressing Yeoh silicone to 1 N, a quarter model, force control (taxel.analyses.problem.solve_model,
+the path `taxel solve` and optimize.answer_press take), the free silicone mesh (Layout.free). A mesh
+is five numbers (Mesh): the far size, the in-plane size at the piezo's edges (`edge`,
+Layout.piezo_size), the size under the punch's rounded edge (`rim`, Layout.contact_size; the mesher
+uses min(rim, edge) there), the piezo's elements through its thickness (`layers`) and the distance
+over which the sizes grow to the far size (`grow`, m: Layout.growth x size). Directions: one
+number divided by k from a base mesh, the others kept; "joint": every size / k, the distance kept,
+the layers x k. Every run is appended to the JSON (--out, default docs/press_3d_directions.json)
+as it finishes, so a stopped run keeps what it had and runs can go side by side.
+
+What `taxel.scene.refined` does to the default press mesh, in these numbers: size and edge / k,
+rim max(0.2 mm, edge / 2 / k) (taxel.analyses.geometry.punch_grading floors it at the edge
+radius), grow / k (the growth factor is kept, so the graded zone narrows), layers round(k).
+
+    python benchmarks/press_directions.py --case single --direction rim --levels 1,1.41,2,2.83,4
+    python benchmarks/press_directions.py --case 3x3 --base 1.4,0.56,0.28,1,2.8 --direction joint --levels 1
+    python benchmarks/press_directions.py --summary          # orders and Richardson from the JSON
+
+Run with MKL_NUM_THREADS=1 OMP_NUM_THREADS=1. RESULT: docs/benchmarks.md ("The 3D press's
+reference settled", 2026-11-29) and the JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+OUT = DOCS / "press_3d_directions.json"
+DEFAULT = (1.4e-3, 0.56e-3, 0.28e-3, 1, 2.8e-3)     # the default press mesh (taxel.scene.DEFAULT_PRESS_MESH)
+
+
+@dataclasses.dataclass(frozen=True)
+class Mesh:
+    """A free press mesh: sizes in m, `layers` elements through the piezo."""
+    size: float
+    edge: float
+    rim: float
+    layers: int
+    grow: float
+
+    def divided(self, direction: str, k: float) -> "Mesh":
+        """This mesh with `direction` refined by k (module docstring)."""
+        if direction == "joint":
+            return Mesh(self.size / k, self.edge / k, self.rim / k, max(1, round(self.layers * k)), self.grow)
+        if direction == "plane":            # every in-plane size but the rim's
+            return dataclasses.replace(self, size=self.size / k, edge=self.edge / k)
+        if direction == "layers":
+            return dataclasses.replace(self, layers=max(1, round(self.layers * k)))
+        if direction == "refined":          # taxel.scene.refined's path
+            return Mesh(self.size / k, self.edge / k, max(0.2e-3, self.edge / 2 / k), max(1, round(self.layers * k)),
+                        self.grow / k)
+        return dataclasses.replace(self, **{direction: getattr(self, direction) / k})
+
+
+def scene(case: str):
+    from taxel.scene import load
+    sc = load("thesis-pzt-probe-3d")
+    if case == "3x3":
+        sc = sc.replace(**{"array.rows": 3, "array.cols": 3, "load.taxel": [1, 1]})
+    return sc
+
+
+def layout(sc, m: Mesh):
+    from taxel.analyses import check, checked_layout
+    lay = checked_layout(sc, check(sc))
+    return dataclasses.replace(lay, size=m.size, piezo_size=m.edge, contact_size=m.rim, piezo_layers=m.layers,
+                               free=True, growth=m.grow / m.size)
+
+
+def run(case: str, m: Mesh) -> dict:
+    """One whole press (mesh, assembly, force-controlled press, solution); its numbers."""
+    from taxel.analyses.problem import solve_model
+    from taxel.meshing.build import build
+    sc = scene(case)
+    w, c = time.perf_counter(), time.process_time()
+    res = solve_model(sc, tagged_mesh=build(layout(sc, m)))
+    out = res.outputs()
+    st = res.contact.stats
+    return dict(n=res.unknowns, VF=abs(out["sensitivity"]), crosstalk=out.get("crosstalk"),
+                cpu=time.process_time() - c, wall=time.perf_counter() - w, iterations=res.contact.total_iterations,
+                factorizations=st["factorizations"], load=os.getloadavg()[0])
+
+
+def record(path: Path, row: dict):
+    """Append a run to the JSON (re-read first: another run may have written meanwhile)."""
+    rows = json.loads(path.read_text())["runs"] if path.exists() else []
+    rows.append(row)
+    path.write_text(json.dumps({"script": "benchmarks/press_directions.py", "runs": rows}, indent=1) + "\n")
+
+
+def richardson(h, v):
+    """(order, extrapolated value) of three levels at sizes h0 > h1 > h2 (any ratios), or (None, None)."""
+    from scipy.optimize import brentq
+    (h0, h1, h2), (v0, v1, v2) = h, v
+    d1, d2 = v0 - v1, v1 - v2
+    if d1 * d2 <= 0:
+        return None, None
+    g = lambda p: (h0 ** p - h1 ** p) / (h1 ** p - h2 ** p) - d1 / d2
+    try:
+        p = brentq(g, 1e-3, 12.0)
+    except ValueError:
+        return None, None
+    return p, v2 - d2 / (h1 ** p - h2 ** p) * h2 ** p
+
+
+def summary(path: Path):
+    """Per case, base and direction: the levels, the last three's order and Richardson value."""
+    rows = json.loads(path.read_text())["runs"]
+    groups: dict[tuple, list] = {}
+    for r in rows:
+        groups.setdefault((r["case"], tuple(r["base"]), r["direction"]), []).append(r)
+    for (case, base, direction), rs in sorted(groups.items()):
+        rs = sorted({r["k"]: r for r in rs}.values(), key=lambda r: r["k"])
+        print(f"\n{case}, base {base}, {direction}:")
+        for r in rs:
+            print(f"  k {r['k']:.3g}: {r['n']} unknowns, V/F {r['VF']:.5f} V/N"
+                  + (f", crosstalk {100 * r['crosstalk']:.4f} %" if r.get("crosstalk") else "") + f", {r['cpu']:.1f} s")
+        if len(rs) >= 3:
+            p, v = richardson([1 / r["k"] for r in rs[-3:]], [r["VF"] for r in rs[-3:]])
+            print(f"  last three: " + (f"order {p:.2f}, V/F {v:.5f} V/N ({100 * (v / rs[0]['VF'] - 1):+.2f} % from k 1)"
+                                       if p else "not monotone"))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--case", choices=("single", "3x3"), default="single")
+    ap.add_argument("--base", default=",".join(f"{v:g}" for v in (1.4, 0.56, 0.28, 1, 2.8)),
+                    help="size, edge, rim (mm), layers, grow (mm) of the base mesh")
+    ap.add_argument("--direction", choices=("size", "edge", "rim", "layers", "grow", "plane", "joint", "refined"),
+                    default="joint")
+    ap.add_argument("--levels", default="1", help="divisors k")
+    ap.add_argument("--out", default=str(OUT))
+    ap.add_argument("--summary", action="store_true")
+    a = ap.parse_args()
+    if a.summary:
+        summary(Path(a.out))
+        return
+    s, e, r, n, g = (float(v) for v in a.base.split(","))
+    base = Mesh(s * 1e-3, e * 1e-3, r * 1e-3, int(n), g * 1e-3)
+    for k in (float(v) for v in a.levels.split(",")):
+        m = base.divided(a.direction, k)
+        res = run(a.case, m)
+        row = dict(case=a.case, base=[s, e, r, int(n), g], direction=a.direction, k=k,
+                   mesh=[1e3 * m.size, 1e3 * m.edge, 1e3 * m.rim, m.layers, 1e3 * m.grow], **res)
+        record(Path(a.out), row)
+        print(json.dumps(row), flush=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
