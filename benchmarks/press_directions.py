@@ -8,8 +8,9 @@ is five numbers (Mesh): the far size, the in-plane size at the piezo's edges (`e
 Layout.piezo_size), the size under the punch's rounded edge (`rim`, Layout.contact_size; the mesher
 uses min(rim, edge) there), the piezo's elements through its thickness (`layers`) and the distance
 over which the sizes grow to the far size (`grow`, m: Layout.growth x size). Directions: one
-number divided by k from a base mesh, the others kept; "joint": every size / k, the distance kept,
-the layers x k. Every run is appended to the JSON (--out, default docs/press_3d_directions.json)
+number divided by k from a base mesh, the others kept ("plane": size and edge); "sizes": every size /
+k, the layers and the distance kept (benchmarks/press_3d.py's Family); "joint": every size / k, the
+distance kept, the layers x k. Every run is appended to the JSON (--out, default docs/press_3d_directions.json)
 as it finishes, so a stopped run keeps what it had and runs can go side by side.
 
 What `taxel.scene.refined` does to the default press mesh, in these numbers: size and edge / k,
@@ -52,6 +53,8 @@ class Mesh:
         """This mesh with `direction` refined by k (module docstring)."""
         if direction == "joint":
             return Mesh(self.size / k, self.edge / k, self.rim / k, max(1, round(self.layers * k)), self.grow)
+        if direction == "sizes":            # every size, layers and distance kept (press_3d.py's Family)
+            return dataclasses.replace(self, size=self.size / k, edge=self.edge / k, rim=self.rim / k)
         if direction == "plane":            # every in-plane size but the rim's
             return dataclasses.replace(self, size=self.size / k, edge=self.edge / k)
         if direction == "layers":
@@ -131,19 +134,65 @@ def summary(path: Path):
                                        if p else "not monotone"))
 
 
+def settle(path: Path):
+    """--write-reference: docs/press_reference.json, the single taxel's and the 3x3's references with
+    their uncertainties, from the nested family (docs/press_3d_reference.json), the directions run
+    here and the 3x3 / single-taxel ratios of docs/answer_press_error.json (module docstring)."""
+    ref = json.loads((DOCS / "press_3d_reference.json").read_text())
+    rows = json.loads(path.read_text())["runs"]
+    v = abs(ref["VF"])
+    lo, hi = sorted(abs(b) for b in ref["bracket"].values())
+    # the parts of the single taxel's uncertainty (relative, one standard uncertainty each)
+    parts = {
+        "extrapolation (half the order-1 / order-2 bracket of the fit)": (hi - lo) / 2 / v,
+        "fit's start level (orders 1.11-2.03 from / 0.71 ... / 2: V_ref 0.77933-0.78112, half the range)":
+            (0.78112 - 0.77933) / 2 / v,
+        "elements through the piezo beyond the family's 4 (4 -> 8 at / 1: 0.095 %)": 0.00095,
+        "load path (16 travel steps against force control at / 1: 0.05 %)": 0.0005,
+        "the piezo's corner (one-off ball refinement at / 1: 0.14 %)": 0.0014,
+    }
+    u_single = sum(x ** 2 for x in parts.values()) ** 0.5
+    ans = json.loads((DOCS / "answer_press_error.json").read_text())["designs"]["thesis-pzt-probe-front"]
+    rho = ans["rho"]
+    joint = {r["k"]: r for r in rows if r["case"] == "3x3" and r["direction"] == "joint"}
+    rho_move = abs(rho[1] / rho[0] - 1)
+    from taxel.optimize.answer_press import R
+    u_rho = R * rho_move + abs(rho[1] - rho[0]) / 2 / rho[1]
+    out = {
+        "script": "benchmarks/press_directions.py --write-reference",
+        "quantity": "|V/F| of the pressed taxel, V/N: the rig's probe (sticking 4 mm flat punch, 0.2 mm edge), "
+                    "Yeoh, 1 N, quarter model",
+        "single": {"VF": v, "uncertainty": u_single, "parts": parts,
+                   "from": "docs/press_3d_reference.json (eight nested levels to 424k unknowns, fit over six: "
+                           f"order {ref['order']:.2f})"},
+        "3x3": {"VF": v * rho[1], "uncertainty": (u_single ** 2 + u_rho ** 2) ** 0.5,
+                "rho": rho, "rho_uncertainty": u_rho,
+                "from": "the single taxel's reference x rho = V_3x3 / V_single on the same mesh (its move under "
+                        "refinement extrapolated at the family's order, docs/answer_press_error.json)"},
+    }
+    if joint:
+        out["3x3"]["joint_levels"] = {f"{k:.3g}": joint[k]["VF"] for k in sorted(joint)}
+    (DOCS / "press_reference.json").write_text(json.dumps(out, indent=1) + "\n")
+    print(json.dumps(out, indent=1))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--case", choices=("single", "3x3"), default="single")
     ap.add_argument("--base", default=",".join(f"{v:g}" for v in (1.4, 0.56, 0.28, 1, 2.8)),
                     help="size, edge, rim (mm), layers, grow (mm) of the base mesh")
-    ap.add_argument("--direction", choices=("size", "edge", "rim", "layers", "grow", "plane", "joint", "refined"),
+    ap.add_argument("--direction", choices=("size", "edge", "rim", "layers", "grow", "plane", "sizes", "joint", "refined"),
                     default="joint")
     ap.add_argument("--levels", default="1", help="divisors k")
     ap.add_argument("--out", default=str(OUT))
     ap.add_argument("--summary", action="store_true")
+    ap.add_argument("--write-reference", action="store_true")
     a = ap.parse_args()
     if a.summary:
         summary(Path(a.out))
+        return
+    if a.write_reference:
+        settle(Path(a.out))
         return
     s, e, r, n, g = (float(v) for v in a.base.split(","))
     base = Mesh(s * 1e-3, e * 1e-3, r * 1e-3, int(n), g * 1e-3)
