@@ -187,9 +187,14 @@ def main():
     ap.add_argument("--out", default=str(OUT))
     ap.add_argument("--summary", action="store_true")
     ap.add_argument("--write-reference", action="store_true")
+    ap.add_argument("--sizes", action="store_true")
     a = ap.parse_args()
     if a.summary:
         summary(Path(a.out))
+        return
+    if a.sizes:
+        s, e, r, n, g = (float(v) for v in a.base.split(","))
+        sizes(a.case, Mesh(s * 1e-3, e * 1e-3, r * 1e-3, int(n), g * 1e-3))
         return
     if a.write_reference:
         settle(Path(a.out))
@@ -204,6 +209,34 @@ def main():
         record(Path(a.out), row)
         print(json.dumps(row), flush=True)
 
+
+
+def sizes(case: str, base: Mesh, ks=(1.0, 2 ** 0.5, 2.0)):
+    """--sizes: no press; the median element size (the edge of a regular tetrahedron of the
+    element's volume) of the silicone by distance from the punch's rim circle at the top surface,
+    along `refined`'s path and along the sizes divided with the distance kept ("sizes"): how much
+    each path refines the graded zone."""
+    import numpy as np
+    from taxel.meshing.build import build
+    sc = scene(case)
+    bins = (0.0, 0.2e-3, 0.5e-3, 1.0e-3, 2.0e-3, 4.0e-3)
+    print("| path | k | unknowns (P2 nodes x 3) | " + " | ".join(f"{1e3 * a:g}-{1e3 * b:g} mm" for a, b in
+                                                          zip(bins[:-1], bins[1:])) + " |")
+    for path in ("refined", "sizes"):
+        for k in ks:
+            tm = build(layout(sc, base.divided(path, k)))
+            m, lay = tm.mesh, tm.layout
+            P = m.p[:, m.t]
+            vol = np.abs(np.einsum("ij,ij->j", P[:, 1] - P[:, 0], np.cross(P[:, 2] - P[:, 0], P[:, 3] - P[:, 0],
+                                                                             axis=0))) / 6
+            h = (6 * 2 ** 0.5 * vol) ** (1 / 3)
+            c = P.mean(axis=1)
+            r = np.hypot(c[0] - lay.load.x, c[1] - lay.load.y)
+            d = np.hypot(r - lay.load.half, c[2] - lay.height)
+            sil = tm.regions["silicone"]
+            cells = [np.median(h[sil][(d[sil] >= a) & (d[sil] < b)]) for a, b in zip(bins[:-1], bins[1:])]
+            print(f"| {path} | {k:.3g} | {m.nvertices + m.nedges} nodes | "
+                  + " | ".join(f"{1e3 * x:.3f}" for x in cells) + " |", flush=True)
 
 if __name__ == "__main__":
     sys.exit(main())
