@@ -101,23 +101,10 @@ def record(path: Path, row: dict):
     path.write_text(json.dumps({"script": "benchmarks/press_directions.py", "runs": rows}, indent=1) + "\n")
 
 
-def richardson(h, v):
-    """(order, extrapolated value) of three levels at sizes h0 > h1 > h2 (any ratios), or (None, None)."""
-    from scipy.optimize import brentq
-    (h0, h1, h2), (v0, v1, v2) = h, v
-    d1, d2 = v0 - v1, v1 - v2
-    if d1 * d2 <= 0:
-        return None, None
-    g = lambda p: (h0 ** p - h1 ** p) / (h1 ** p - h2 ** p) - d1 / d2
-    try:
-        p = brentq(g, 1e-3, 12.0)
-    except ValueError:
-        return None, None
-    return p, v2 - d2 / (h1 ** p - h2 ** p) * h2 ** p
-
-
 def summary(path: Path):
     """Per case, base and direction: the levels, the last three's order and Richardson value."""
+    sys.path.insert(0, str(Path(__file__).parent))
+    from press_speed import richardson
     rows = json.loads(path.read_text())["runs"]
     groups: dict[tuple, list] = {}
     for r in rows:
