@@ -36,7 +36,6 @@ rest removed before extrusion), and one per electrode ("taxel_0_0", "ground"; "b
 from __future__ import annotations
 
 import contextlib
-import math
 from dataclasses import dataclass, field
 from typing import Callable
 from pathlib import Path
@@ -46,6 +45,7 @@ import skfem
 
 from taxel.meshing.cost import SolveLimit, check_fits
 from taxel.meshing.layout import Layout, is_graded
+from taxel.meshing.sizefield import rim_field, size_field
 
 
 @dataclass
@@ -77,7 +77,7 @@ class TaggedMesh:
 
 
 @contextlib.contextmanager
-def _gmsh_model(name="taxel"):
+def gmsh_model(name="taxel"):
     import gmsh
     fresh = not gmsh.isInitialized()
     if fresh:
@@ -99,9 +99,9 @@ def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | N
     """
     if limit is not None:
         check_fits(lay, limit)
-    with _gmsh_model() as gmsh:
+    with gmsh_model() as gmsh:
         occ = gmsh.model.occ
-        plan = _plan(occ, lay)
+        plan = plan_faces(occ, lay)
         occ.synchronize()
         for layer in lay.layers:
             step = (0, layer.thickness, 0) if lay.dim == 2 else (0, 0, layer.thickness)
@@ -112,7 +112,7 @@ def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | N
                 out = occ.extrude(plan, *step, numElements=n, heights=heights, recombine=False)
             plan = [out[i - 1] for i, e in enumerate(out) if e[0] == lay.dim]
         occ.synchronize()
-        _size_field(gmsh, lay)
+        size_field(gmsh, lay)
         gmsh.model.mesh.generate(lay.dim)
         groups = _classify(gmsh, lay)
         for (dim, name), tags in groups.items():
@@ -122,9 +122,9 @@ def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | N
         return _to_skfem(gmsh, lay, groups)
 
 
-def _plan(occ, lay: Layout):
+def plan_faces(occ, lay: Layout):
     """Plan entities at z = 0, fragmented at every patch edge."""
-    patches = list(lay.taxels) + ([lay.load] if lay.load and not _rim_field(lay) else [])
+    patches = list(lay.taxels) + ([lay.load] if lay.load and not rim_field(lay) else [])
     if lay.dim == 2:
         xs = lay.breakpoints()
         pts = [occ.addPoint(x, 0, 0) for x in xs]
@@ -196,122 +196,9 @@ def _two_sided(thickness, h_bottom, h_top, h_max):
     return np.array(lo + hi[::-1]) * thickness / (sum(lo) + sum(hi))
 
 
-def _size_field(gmsh, lay: Layout):
-    opt = gmsh.option
-    opt.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-    opt.setNumber("Mesh.MeshSizeFromPoints", 0)
-    opt.setNumber("Mesh.MeshSizeFromCurvature", 0)
-    opt.setNumber("Mesh.MeshSizeMax", lay.size)
-    f = gmsh.model.mesh.field
-    free = lay.free and lay.dim == 3
-    piezo = [L for L in lay.layers if not is_graded(lay, L)]
-    # where the edges' sizes hold: the plan (extruded to every height), or in a free layout
-    # the taxel edges on the piezo's faces and the punch's rim on the top surface
-    at_piezo = sorted({z for L in piezo for z in (L.z0, L.z1)}) if free else [0.0]
-    at_top = [lay.height] if free else [0.0]
-    edges = list(lay.taxels) + ([lay.load] if lay.load and not free and not _rim_field(lay) else [])
-    if not edges and lay.load is None:
-        return
-    far = [p for p in lay.taxels if lay.far_taxel != 1.0 and not lay.near_load(p)]
-    near = [p for p in edges if p not in far]
-    fields = [_threshold(gmsh, lay, near, lay.piezo_size, 0.0, at_piezo)] if near else []
-    if far:                                       # taxels the load does not touch: coarser edges
-        fields.append(_threshold(gmsh, lay, far, min(lay.far_taxel * lay.piezo_size, lay.size), 0.0, at_piezo))
-    if free and lay.load is not None and lay.contact_size is None:
-        fields.append(_threshold(gmsh, lay, [lay.load], lay.piezo_size, 0.0, at_top))
-    if _rim_field(lay):                                  # the band under the punch's rounded edge
-        fields.append(_rim_threshold(gmsh, lay, min(lay.contact_size, lay.piezo_size), at_top[0] if free else None))
-    elif lay.contact_size is not None and lay.load is not None:
-        fields.append(_threshold(gmsh, lay, [lay.load], min(lay.contact_size, lay.piezo_size), lay.rim, at_top))
-    zs = (min(L.z0 for L in piezo), max(L.z1 for L in piezo)) if free and piezo else (-1.0, 1.0)
-    for p in lay.taxels:                          # cap inside taxels (free: inside the piezo)
-        box = f.add("Box")
-        f.setNumber(box, "VIn", min(lay.taxel_cap * lay.piezo_size * (1.0 if p not in far else lay.far_taxel),
-                                    lay.size))
-        f.setNumber(box, "VOut", lay.size)
-        f.setNumber(box, "XMin", p.x - p.half)
-        f.setNumber(box, "XMax", p.x + p.half)
-        f.setNumber(box, "YMin", -1.0 if lay.dim == 2 else p.y - p.half)
-        f.setNumber(box, "YMax", 1.0 if lay.dim == 2 else p.y + p.half)
-        f.setNumber(box, "ZMin", zs[0])
-        f.setNumber(box, "ZMax", zs[1])
-        fields.append(box)
-    mn = f.add("Min")
-    f.setNumbers(mn, "FieldsList", fields)
-    f.setAsBackgroundMesh(mn)
-
-
-def _threshold(gmsh, lay: Layout, patches, size_min, dist_min, heights=(0.0,)):
-    """A size field: `size_min` within `dist_min` of the patches' edges at the given
-    heights (the plan, z = 0, where it is extruded: the in-plane size at every height),
-    growing linearly to `size` over `growth` x `size` beyond."""
-    f = gmsh.model.mesh.field
-    if lay.dim == 2:
-        xs = {round(p.x + s * p.half, 12) for p in patches for s in (-1, 1)}
-        ents = [t for _, t in gmsh.model.getEntities(0)
-                if abs(gmsh.model.getValue(0, t, [])[1]) < 1e-12
-                and round(gmsh.model.getValue(0, t, [])[0], 12) in xs]
-        kind = "PointsList"
-    else:
-        ents, tol = [], 1e-9 * lay.height
-        for _, t in gmsh.model.getEntities(1):
-            # points on the curve, not its bounding box: gmsh pads OCC boxes by 1e-7
-            a, b = gmsh.model.getParametrizationBounds(1, t)
-            xyz = np.reshape(gmsh.model.getValue(1, t, [a[0], 0.5 * (a[0] + b[0]), b[0]]), (3, 3))
-            if (any(np.all(np.abs(xyz[:, 2] - z) < tol) for z in heights)
-                    and any(_on_edge(p, xyz[1, 0], xyz[1, 1]) for p in patches)):
-                ents.append(t)
-        kind = "CurvesList"
-    dist = f.add("Distance")
-    f.setNumbers(dist, kind, ents)
-    f.setNumber(dist, "Sampling", 50 if dist_min == 0 else 200)
-    thr = f.add("Threshold")
-    f.setNumber(thr, "InField", dist)
-    f.setNumber(thr, "SizeMin", size_min)
-    f.setNumber(thr, "SizeMax", lay.size)
-    f.setNumber(thr, "DistMin", dist_min)
-    f.setNumber(thr, "DistMax", dist_min + lay.growth * lay.size)
-    return thr
-
-
-def _rim_field(lay: Layout) -> bool:
-    """A 3D punch with a rounded edge: its rim is a size field (_rim_threshold), not a
-    plan curve. Where the punch touches is the contact's outcome, not a boundary of the
-    geometry; and a rim circle fragmented with a taxel square it touches (the thesis
-    probe: both 2 mm from the centre) leaves slivers along the tangency through every
-    height (2.8 degree dihedral angles on the default press mesh, 0.86 on the reference
-    family's; tests/test_meshing.py)."""
-    return lay.dim == 3 and lay.contact_size is not None and lay.load is not None
-
-
-def _rim_threshold(gmsh, lay: Layout, size_min, z_top):
-    """`size_min` within `rim` of the punch's rim circle (at the top surface, z_top; None:
-    in the plan, extruded to every height), growing linearly to `size` over growth x size:
-    the distance to the circle in closed form (a MathEval field)."""
-    f = gmsh.model.mesh.field
-    p = lay.load
-    radial = f"(Sqrt((x - ({p.x!r}))^2 + (y - ({p.y!r}))^2) - {p.half!r})"
-    dist = f.add("MathEval")
-    f.setString(dist, "F", f"Sqrt({radial}^2 + (z - ({z_top!r}))^2)" if z_top is not None else f"Abs{radial}")
-    thr = f.add("Threshold")
-    f.setNumber(thr, "InField", dist)
-    f.setNumber(thr, "SizeMin", size_min)
-    f.setNumber(thr, "SizeMax", lay.size)
-    f.setNumber(thr, "DistMin", lay.rim)
-    f.setNumber(thr, "DistMax", lay.rim + lay.growth * lay.size)
-    return thr
-
-
 def region_name(patch):
     """The region of a taxel's piezo body ("piezo_0_1"); its top electrode is "taxel_0_1"."""
     return patch.name.replace("taxel", "piezo", 1)
-
-
-def _on_edge(p, x, y, tol=1e-9):
-    if p.shape == "disk":
-        return abs(math.hypot(x - p.x, y - p.y) - p.half) < tol
-    dx, dy = abs(x - p.x), abs(y - p.y)
-    return (abs(dx - p.half) < tol and dy <= p.half + tol) or (abs(dy - p.half) < tol and dx <= p.half + tol)
 
 
 def _classify(gmsh, lay: Layout):
@@ -350,8 +237,8 @@ def _classify(gmsh, lay: Layout):
                 add(D - 1, "bottom", tag)
             if abs(zc - H) < tol:
                 add(D - 1, "top", tag)
-                if lay.load is None or _rim_field(lay) or lay.load.contains(xc, yc):
-                    add(D - 1, "load", tag)         # a punch (_rim_field): the contact finds where
+                if lay.load is None or rim_field(lay) or lay.load.contains(xc, yc):
+                    add(D - 1, "load", tag)         # a punch (rim_field): the contact finds where
             for el in lay.electrodes:
                 if abs(zc - el.z) < tol and (not el.patches or any(p.contains(xc, yc) for p in el.patches)):
                     add(D - 1, el.name, tag)

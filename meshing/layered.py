@@ -2,8 +2,8 @@
 (the taxel edges, the punch's rim), extruded through the stack (issue 57).
 
 The plan (the kept quadrant or half of the outline, fragmented at every taxel edge; meshing.build's
-`_plan`) is meshed by gmsh's quadrilateral mesher (Frontal-Delaunay for quads, Blossom full-quad
-recombination) under the plan size field of meshing.build (`piezo_size` at the taxel edges,
+`plan_faces`) is meshed by gmsh's quadrilateral mesher (Frontal-Delaunay for quads, Blossom full-quad
+recombination) under the plan size field of meshing.sizefield (`piezo_size` at the taxel edges,
 `contact_size` within `rim` of the punch's rim circle, growing to `size` over growth x size, at
 most taxel_cap x piezo_size inside the taxels), then extruded layer by layer with recombination,
 with each layer's own elements through it (meshing.build.vertical_divisions: `piezo_layers`
@@ -26,7 +26,8 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from taxel.meshing.build import TaggedMesh, _gmsh_model, _plan, _size_field, vertical_divisions
+from taxel.meshing.build import TaggedMesh, gmsh_model, plan_faces, vertical_divisions
+from taxel.meshing.sizefield import size_field
 from taxel.meshing.hexmesh import HexMeshError, supports, tag
 from taxel.meshing.layout import Layout
 
@@ -40,9 +41,9 @@ def build_layered(lay: Layout) -> TaggedMesh:
     if why:
         raise HexMeshError(why.replace("'hex'", "'layered'"))
     flat = _replace(lay, free=False)
-    with _gmsh_model("layered") as gmsh:
+    with gmsh_model("layered") as gmsh:
         occ = gmsh.model.occ
-        plan = _plan(occ, flat)
+        plan = plan_faces(occ, flat)
         occ.synchronize()
         opt = gmsh.option.setNumber
         opt("Mesh.RecombineAll", 1)
@@ -53,7 +54,7 @@ def build_layered(lay: Layout) -> TaggedMesh:
             out = occ.extrude(plan, 0, 0, layer.thickness, numElements=n, heights=heights, recombine=True)
             plan = [out[i - 1] for i, e in enumerate(out) if e[0] == 3]
         occ.synchronize()
-        _size_field(gmsh, flat)
+        size_field(gmsh, flat)
         gmsh.model.mesh.generate(3)
         tags, coords, _ = gmsh.model.mesh.getNodes()
         index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
