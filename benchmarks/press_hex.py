@@ -12,7 +12,9 @@ wall and CPU time; a stop's cause. --tet also presses the scene's default tetrah
 side by side. --nest K1,K2,...: the hexahedral press at sizes / K (its own nested family).
 --array: the 3x3 array pressed at its centre taxel instead. --linear: the linear 3D taxel
 (thesis-pzt-single-3d) on each element at sizes / K and on the default tetrahedra, against
-docs/reference_3d.json's nested reference.
+docs/reference_3d.json's nested reference. --layered: the layered hexahedral mesh (meshing.layered:
+a quadrilateral plan graded at the rim and the taxel edges, extruded through each layer) instead of
+the tensor grid.
 
 RESULT: docs/benchmarks.md, "Hexahedra for the 3D press".
 
@@ -34,6 +36,7 @@ from taxel.fem.contact import Press, PressError
 from taxel.fem.static import solve_linear
 from taxel.meshing.build import build
 from taxel.meshing.hexmesh import build_hex
+from taxel.meshing.layered import build_layered
 from taxel.scene import load
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
@@ -101,7 +104,7 @@ def row(label, r):
           f"[{r['stop']}]", flush=True)
 
 
-def linear(elements, divides):
+def linear(elements, divides, mesher=build_hex):
     """thesis-pzt-single-3d (linear silicone, pressure on the taxel) on hexahedra at sizes / k
     and on the default tetrahedra, against the nested tetrahedral reference."""
     ref = json.loads((DOCS / "reference_3d.json").read_text())["single"]
@@ -112,7 +115,9 @@ def linear(elements, divides):
             sc = base.replace(**{"mesh.size": base.mesh.size / k, "mesh.piezo_size": base.mesh.piezo_size / k,
                                  "mesh.element": "hex" if el != "tet" else "tet"})
             w = time.perf_counter()
-            tm = build_hex(checked_layout(sc, check(sc))) if el != "tet" else build(checked_layout(sc, check(sc)))
+            lay = checked_layout(sc, check(sc))
+            tm = mesher(lay if mesher is build_hex else dataclasses.replace(lay, piezo_layers=max(1, round(
+                lay.piezo_layers * k)))) if el != "tet" else build(lay)
             prob = problem(sc, tagged_mesh=tm)
             order, pressure = ELEMENTS.get(el, (2, "p1"))
             prob = dataclasses.replace(prob, discretization=Discretization(order, True, pressure))
@@ -137,17 +142,19 @@ def main():
     ap.add_argument("--nest", default="", help="sizes / K for each K (comma-separated)")
     ap.add_argument("--tet", action="store_true", help="the default tetrahedral press beside it")
     ap.add_argument("--array", action="store_true", help="the 3x3 array pressed at its centre taxel")
+    ap.add_argument("--layered", action="store_true", help="the layered mesh (meshing.layered), not the tensor grid")
     a = ap.parse_args()
+    mesher = build_layered if a.layered else build_hex
     if a.linear:
-        return linear(a.element.split(","), [float(k) for k in (a.nest or "1").split(",")])
+        return linear(a.element.split(","), [float(k) for k in (a.nest or "1").split(",")], mesher)
     print(f"sticking reference (tetrahedra, nested): {REF_STICKING} V/N")
     divides = [float(k) for k in a.nest.split(",")] if a.nest else [a.divide]
     for fr in a.friction.split(","):
         sc = scene(friction(fr), a.array)
         for el in a.element.split(","):
             for k in divides:
-                tm = build_hex(hex_layout(sc, k, a.layers))
-                row(f"hex {el} /{k:g} {fr}", run(sc, tm, el))
+                tm = mesher(hex_layout(sc, k, a.layers))
+                row(f"{'layered' if a.layered else 'hex'} {el} /{k:g} {fr}", run(sc, tm, el))
         if a.tet:
             lay = checked_layout(sc, check(sc))
             row(f"tet P2/P1 default {fr}", run(sc, build(lay)))

@@ -47,8 +47,9 @@ docs/benchmarks.md ("The 3D press in seconds").
 RESULT (2026-11-28, one run each unless said, CPU s, the 2-core machine at load 4-10):
 - --case single: sizes / 1, 1.41, 2 (taxel.scene.refined): 8 031, 13 223, 21 866 unknowns, V/F
   -0.78635, -0.78850, -0.79327 V/N, +0.84, +1.11, +1.73 % from the reference -0.77981; 8.1, 24.7,
-  42.0 s (refined keeps the rim's size and rounds the piezo's elements through: not a converging
-  family of the press; benchmarks/press_3d.py's Family is).
+  42.0 s (refined kept the rim's size and shrank the grading distance with the sizes: not a converging
+  family of the press then; since 2026-11-29 a press's finer [mesh] divides the same size field,
+  taxel.analyses.model.geometry.punch_grading, and benchmarks/press_directions.py measures both paths).
 - --levers 3x3 (before FAR_TAXEL was the default: far taxels 1 then): far taxels 1, 2, 3 x:
   34 482, 20 292, 17 935 unknowns, V/F -0.77836, -0.77632, -0.77609 V/N, crosstalk 1.140, 1.159,
   1.133 %, 79.1, 35.3, 28.3 s (182, 61, 56 s wall).

@@ -103,7 +103,7 @@ def _reading_files_only():
 
 
 @contextlib.contextmanager
-def _gmsh_model(name="taxel"):
+def gmsh_model(name="taxel"):
     import gmsh
     with _GMSH:
         fresh = not gmsh.isInitialized()
@@ -127,9 +127,9 @@ def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | N
     """
     if limit is not None:
         check_fits(lay, limit)
-    with _gmsh_model() as gmsh:
+    with gmsh_model() as gmsh:
         occ = gmsh.model.occ
-        plan = _plan(occ, lay)
+        plan = plan_faces(occ, lay)
         occ.synchronize()
         for layer in lay.layers:
             step = (0, layer.thickness, 0) if lay.dim == 2 else (0, 0, layer.thickness)
@@ -150,7 +150,7 @@ def build(lay: Layout, msh_path: str | Path | None = None, limit: SolveLimit | N
         return _to_skfem(gmsh, lay, groups)
 
 
-def _plan(occ, lay: Layout):
+def plan_faces(occ, lay: Layout):
     """Plan entities at z = 0, fragmented at every patch edge."""
     patches = list(lay.taxels) + ([lay.load] if lay.load and not rim_field(lay) else [])
     if lay.dim == 2:

@@ -141,7 +141,12 @@ def refined(tm: TaggedMesh, times: int = 1) -> TaggedMesh:
 
 def tagged(lay: Layout, x, y, z) -> TaggedMesh:
     """The tensor grid of lines x, y, z with the layout's regions and facet sets."""
-    mesh = skfem.MeshHex.init_tensor(x, y, z)
+    return tag(lay, skfem.MeshHex.init_tensor(x, y, z), refined)
+
+
+def tag(lay: Layout, mesh: skfem.MeshHex, refiner=None) -> TaggedMesh:
+    """A hexahedral mesh of the layout (each element in one layer and material) with the layout's
+    regions (from the element centroids) and facet sets (from their midpoints)."""
     p = mesh.p
     c = p[:, mesh.t].mean(axis=1)
     H, tol = lay.height, 1e-9 * max(lay.height, lay.plan.half)
@@ -180,7 +185,7 @@ def tagged(lay: Layout, x, y, z) -> TaggedMesh:
     for L in lay.layers:
         mats["silicone"] = mats["silicone"] or (L.material, L.poling)
         mats.update({region_name(q): (L.patch_material, L.poling) for q in L.patches})
-    return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions}, refined)
+    return TaggedMesh(mesh, lay, regions, facets, {k: v for k, v in mats.items() if k in regions}, refiner)
 
 
 def _inside(patch, mid, tol=1e-12) -> np.ndarray:

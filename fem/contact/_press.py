@@ -60,26 +60,25 @@ scaled linear solve loses accuracy: relative residual above 1e-6).
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import time
 
 import numpy as np
 
 from . import _newton as contact_newton
-from taxel.fem import hyperelastic
 from taxel.fem import linalg
 from . import _loadpath as loadpath
 from taxel.fem import static
-from taxel.fem.assembly import System, place
+from taxel.fem.assembly import System
 from taxel.fem.assembly import elimination
 from taxel.fem.assembly import Indenter
 from ._friction import Coulomb
 from ._geometry import Stick, Surface
-from taxel.fem.hyperelastic import scatter, yeoh_regions, yeoh_terms, yeoh_terms_skfem
+from taxel.fem.hyperelastic import scatter, yeoh_regions
 from taxel.fem.assembly import Pattern
 from ._records import PressError, PressResult, Options, PressPoint
-from taxel.fem.static import Solution, results, unfold_solution
+from taxel.fem.static import Solution
+from ._solution import final_solution, residual_skfem
 
 __all__ = ["PressError", "PressResult", "Options", "Press", "PressPoint", "press"]
 
@@ -161,8 +160,6 @@ class Press:
 
     def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None):
         if self.o.assembly == "skfem":
-            if self._stick is not None:
-                raise ValueError("sticking contact is assembled by the vectorised path only")
             return self._residual_skfem(x, d, lam, tangent, frozen, fixed)
         sy, pat = self.sy, self._pattern()
         n = len(x)
@@ -186,22 +183,8 @@ class Press:
         return r, ref, st, pat.matrix(vals)
 
     def _residual_skfem(self, x, d, lam, tangent=True, frozen=None, fixed=None):
-        """`_residual` through scikit-fem's forms and sparse products (the reference path beside the
-        vectorisation; benchmarks/contact_speed.py compares the two)."""
-        sy, P = self.sy, self.red.P
-        u = x[sy.offsets["u"]]
-        r_y, K_y = yeoh_terms_skfem(sy, x, with_tangent=tangent) if sy.yeoh else (0.0, 0.0)
-        self._min_J = min((hyperelastic.min_jacobian(sy.ubases[r], u, sy.kin) for r in sy.yeoh), default=1.0)
-        st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed)
-        rc = np.zeros_like(x)
-        rc[sy.offsets["u"]] = self.surf.residual(st)
-        r = P.T @ (sy.A @ x + r_y + rc)
-        ref = P.T @ rc
-        if not tangent:
-            return r, ref, st, None
-        Kc_full = place([("u", "u", self.surf.tangent(st, self.eps, frozen))], sy.offsets, sy.A.shape[0])
-        K = (P.T @ (sy.A + K_y + Kc_full) @ P).tocsc()
-        return r, ref, st, K
+        """`_residual` through scikit-fem's forms (fem.contact's residual_skfem)."""
+        return residual_skfem(self, x, d, lam, tangent, frozen, fixed)
 
     def _newton(self, x, d, lam, tol=None):
         """Newton at travel d, multipliers lam (fem.contact)."""
@@ -374,36 +357,13 @@ class Press:
         return loadpath.force(self, F_target, max_trials)
 
     def solution(self) -> Solution:
-        """The Solution of the final state (voltages open circuit; capacitance and
-        short-circuit charge linearised at it)."""
-        sy, red = self.sy, self.red
-        x = self.x
-        r_y, _ = yeoh_terms(sy, x, with_tangent=False) if sy.yeoh else (0.0, None)
-        r = sy.A @ x + r_y
-        S = self.surf.dofs.ravel() + sy.offsets["u"].start
-        r += np.bincount(S, self.surf.element_residual(self.res.state).ravel(), minlength=len(r))
-        self._stick = self._sticking()           # the tangent at the final state (Newton stops unfactorized)
-        self.refactor(self._residual(x, self.d, self.lam)[3])
-        self._stick = None
-        X, _ = self.solver(red.unit_charges()) if red.active else (np.zeros((red.n, 0)), None)
-        Cinv = X[red.nf:, :] if red.active else np.zeros((0, 0))
-        sol = results(sy, red, x, r, Cinv, self.method, self.o.tol)
-        if sy.tm.layout.planes:            # the full sensor's electrodes, linearised at the pressed state
-            sol = unfold_solution(sy, sol, red, Cinv, self.method, K=self._full_tangent())
-        sol = dataclasses.replace(sol, applied_force=self.res.points[-1].force)
-        sol.contact = self.res
-        return sol
-
+        """The Solution of the final state (fem.contact's final_solution)."""
+        return final_solution(self)
 
     def contact_tangent(self):
         """K_c of the final state as a full-size CSR matrix."""
         S = self.surf.dofs + self.sy.offsets["u"].start
         return scatter(S, S, self.surf.element_tangent(self.res.state, self.eps), self.sy.A.shape[0])
-
-    def _full_tangent(self):
-        """The full (unreduced) tangent at the current state: sy.A + K_yeoh + K_c."""
-        sy = self.sy
-        return (sy.A + (yeoh_terms(sy, self.x)[1] if sy.yeoh else 0) + self.contact_tangent()).tocsr()
 
 
 def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,

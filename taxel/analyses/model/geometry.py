@@ -29,7 +29,7 @@ from taxel.fem import constitution
 from taxel.meshing.cost import MeshTooLarge, SolveLimit, check_fits, estimated_unknowns
 from taxel.meshing import hexmesh
 from taxel.meshing.layout import Electrode, Layer, Layout, Patch, cut
-from taxel.scene import Scene, SceneError, electrode_state
+from taxel.scene import DEFAULT_PRESS_MESH, Scene, SceneError, electrode_state
 from taxel.schema import electrode_name
 
 
@@ -153,14 +153,28 @@ def punch_grading(scene: Scene) -> dict:
     default mesh (taxel.scene.DEFAULT_PRESS_MESH), or mesh.extruded = false, the silicone is meshed free
     (meshing.layout.Layout.free: graded at the rim on the top surface and at the taxel
     edges on the piezo's faces only; benchmarks/press_3d_mesh.py), and the taxels the punch does not
-    touch coarser (FAR_TAXEL)."""
+    touch coarser (FAR_TAXEL).
+
+    A `[mesh]` finer or coarser than the default press mesh is the same size field divided: the rim's
+    size is divided as the taxel edges' size is (from its default, max(edge radius, half the default
+    edge size)), and the distance over which the sizes grow is the default's, PRESS_GROWTH (not
+    growth x size: that distance shrank with the sizes, so the graded zone was not refined and the
+    press did not converge; benchmarks/press_directions.py --sizes, docs/benchmarks.md)."""
     ld = scene.load
     if not scene.pressed_by_punch:
         return {}
     edge = ld.edge_radius if ld.edge_radius is not None else ld.radius / 20
-    floor = (scene.mesh.piezo_size or scene.mesh.size / 4) / 2
+    piezo = scene.mesh.piezo_size or scene.mesh.size / 4
+    scale = piezo / DEFAULT_PRESS_MESH[1]            # 1 at the default press mesh
     free = dict(free=True, far_taxel=FAR_TAXEL) if scene.mesh.extruded is False else {}
-    return dict(contact_size=max(edge, floor), rim=edge, **free) if edge > 0 else free
+    grading = dict(contact_size=scale * max(edge, DEFAULT_PRESS_MESH[1] / 2), rim=edge,
+                   growth=PRESS_GROWTH / scene.mesh.size)
+    return dict(grading, **free) if edge > 0 else free
+
+
+# m: the distance over which a press mesh's sizes grow from the taxel edges' and the rim's to the far
+# size: the default press mesh's (growth 2 x its 1.4 mm), kept when a [mesh] divides the sizes
+PRESS_GROWTH = 2 * DEFAULT_PRESS_MESH[0]
 
 
 # A free press mesh's taxels the punch does not touch: their edges at this x the taxel edges' size
