@@ -2,7 +2,7 @@
 its own and together, on the single taxel and the 3x3 quarter pressed at its centre.
 
 The press is the answer's own: the rig's probe (a sticking 4 mm flat punch, 0.2 mm edge radius)
-pressing Yeoh silicone to 1 N, a quarter model, force control (taxel.analyses.problem.solve_model,
+pressing Yeoh silicone to 1 N, a quarter model, force control (taxel.analyses.model.problem.solve_model,
 the path `taxel solve` and optimize.answer_press take), the free silicone mesh (Layout.free). A mesh
 is five numbers (Mesh): the far size, the in-plane size at the piezo's edges (`edge`,
 Layout.piezo_size), the size under the punch's rounded edge (`rim`, Layout.contact_size; the mesher
