@@ -66,6 +66,7 @@ import time
 
 import numpy as np
 
+from . import _alart_curnier as alart_curnier
 from . import _newton as contact_newton
 from taxel.fem import hyperelastic
 from taxel.fem import linalg
@@ -148,18 +149,19 @@ class Press:
             self._pat = Pattern(self.red.P, self.sy.A, blocks)
         return self._pat
 
-    def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+    def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None, contact=True):
         """(reduced residual, reduced contact residual, contact state, reduced tangent or None);
-        the smallest J of the Yeoh silicone in self._min_J."""
+        the smallest J of the Yeoh silicone in self._min_J. contact=False: without the contact
+        terms (residual, None, None, tangent; fem.contact's semi-smooth Newton adds its own)."""
         t0 = time.process_time()          # CPU time: the machine is shared
         try:
-            return self._residual_any(x, d, lam, tangent, frozen, fixed)
+            return self._residual_any(x, d, lam, tangent, frozen, fixed, contact)
         finally:
             self.stats["residuals"] += 1
             self.stats["tangents"] += bool(tangent)
             self.stats["assemble_s"] += time.process_time() - t0
 
-    def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+    def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None, contact=True):
         if self.o.assembly == "skfem":
             if self._stick is not None:
                 raise ValueError("sticking contact is assembled by the vectorised path only")
@@ -175,6 +177,8 @@ class Press:
             r_full += np.bincount(reg.pdofs.ravel(), t.r_p.ravel(), minlength=n)
             if tangent:
                 vals.update({f"uu:{k}": t.K_uu, f"up:{k}": t.K_up, f"pu:{k}": t.K_up, f"pp:{k}": t.K_pp})
+        if not contact:
+            return pat.reduce(r_full), None, None, pat.matrix(vals) if tangent else None
         u = x[sy.offsets["u"]]
         st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed, stick=self._stick)
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
@@ -204,8 +208,17 @@ class Press:
         return r, ref, st, K
 
     def _newton(self, x, d, lam, tol=None):
-        """Newton at travel d, multipliers lam (fem.contact)."""
+        """Newton at travel d, multipliers lam (fem.contact): the semi-smooth Newton on the
+        Alart-Curnier equations (frictionless and Coulomb, Options.solver "semismooth"), else
+        the penalty Newton inside the Uzawa loop."""
+        if self._semismooth():
+            return alart_curnier.newton(self, x, d, lam, tol)
         return contact_newton.newton(self, x, d, lam, tol)
+
+    def _semismooth(self) -> bool:
+        o = self.o
+        return (o.solver == "semismooth" and self.ind.friction != "sticking" and o.method != "penalty"
+                and o.assembly != "skfem")
 
     def solve_at(self, d):
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
@@ -229,6 +242,11 @@ class Press:
         for k in range(o.max_uzawa + 1):
             x, st, it = self._newton(x, d, lam, tol_n if exact else loose)
             its += it
+            if self._semismooth():       # the multipliers are unknowns of the solve (fem.contact): no Uzawa pass
+                lam = st.tn
+                if st.tang is not None:
+                    self._stick = Coulomb(self._stick.mu, self._stick.a0, st.tang.t.copy(), self._stick.slip)
+                break
             tol = o.gap_tol * max(abs(d), 1e-12)
             err = float(np.abs(st.tn - lam).max()) / self.eps   # m: penetration, or gap under pressure
             if st.stuck is not None:                            # m: the stuck points' distance to their anchors

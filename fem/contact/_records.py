@@ -129,5 +129,8 @@ class Options:
     chord: bool = True              # try the last factorization first (a chord step) while the active set holds
     reuse_analysis: bool = True     # PARDISO: one symbolic analysis for every tangent of the press (fem.linalg.Refactorizer)
     assembly: str = "vectorised"    # vectorised (fem.hyperelastic, fem.assembly) | skfem (the reference path)
+    solver: str = "semismooth"      # frictionless and Coulomb: semismooth (Newton on the Alart-Curnier equations,
+    #                                 the multipliers unknowns; fem.contact._alart_curnier) | uzawa (penalty Newton
+    #                                 inside the Uzawa loop; sticking contact always)
     continuation: bool = True       # past a stagnating Newton (an unstable state): pseudo-transient continuation
     #                                 (fem.contact.continuation) to a stable equilibrium at the same travel
