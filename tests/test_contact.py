@@ -141,9 +141,12 @@ def test_penalty_too_low_is_reported_with_its_penetration(small_sphere):
     with pytest.raises(PressError, match="penalty too low: penetration .* % of the travel") as err:
         Press(sy, ind, opts=Options(method="penalty", penalty_factor=1.0)).travel(d, first=1.0)
     assert err.value.cause == "penalty"          # raised at once: a shorter travel step does not mend it
-    # the same penalty inside the augmented Lagrangian reaches the tolerance
-    pt = Press(sy, ind, opts=Options(penalty_factor=1.0)).travel(d, first=1.0)
+    # the same penalty inside the augmented Lagrangian reaches the tolerance (the Uzawa loop);
+    # the semi-smooth Newton's multipliers are unknowns: no penetration left, no Uzawa pass
+    pt = Press(sy, ind, opts=Options(penalty_factor=1.0, solver="uzawa")).travel(d, first=1.0)
     assert pt.penetration <= 1e-3 * d and pt.uzawa > 1
+    pt = Press(sy, ind, opts=Options(penalty_factor=1.0)).travel(d, first=1.0)
+    assert pt.penetration <= 1e-6 * d and pt.uzawa == 0
 
 
 def test_penalty_error_falls_as_one_over_the_penalty(small_sphere):

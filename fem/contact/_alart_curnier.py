@@ -86,6 +86,8 @@ class Points:
     merge: np.ndarray        # (facets * points,) the point of every copy
     W: np.ndarray            # (np,) m^2, summed reference weight
     B: sp.csr_matrix         # (n_reduced, dim np): P^T \int phi^T dA
+    free: np.ndarray         # (dim, np) bool: the components that move (False: fixed by a symmetry plane
+    #                          or the axis, where the traction component is zero by symmetry: lambda_c = 0)
 
 
 def points(pr) -> Points:
@@ -100,11 +102,13 @@ def points(pr) -> Points:
     merge = merge.ravel()
     dA = surf.dA.ravel()
     W = np.bincount(merge, dA)
-    f, q, i, c = np.nonzero(surf.phi)                       # phi[f, q, i, c]: local function i at point q
+    f, q, i, c = np.nonzero(np.abs(surf.phi) > 1e-12)      # phi[f, q, i, c]: local function i at point q
     rows = surf.dofs[f, i] + sy.offsets["u"].start
     cols = dim * merge[f * surf.phi.shape[1] + q] + c
     B = sp.csr_matrix((surf.dA[f, q] * surf.phi[f, q, i, c], (rows, cols)), shape=(sy.A.shape[0], dim * len(W)))
-    pr._points = Points(first, merge, W, (pr.red.P.T @ B).tocsr())
+    B = (pr.red.P.T @ B).tocsr()
+    free = (np.asarray(abs(B).sum(axis=0)).ravel() > 0).reshape(len(W), dim).T
+    pr._points = Points(first, merge, W, B, free)
     return pr._points
 
 
@@ -144,8 +148,8 @@ def conditions(ind, x, lam, a, z_top, travel, mu, eps, frictionless) -> Conditio
     nt = np.sqrt((tau ** 2).sum(axis=0))
     stick = closed & (nt <= b) & (not frictionless)
     slip = closed & ~stick
-    e = tau / np.maximum(nt, 1e-300)
-    q = np.where(slip, b / np.maximum(nt, 1e-300), 0.0)
+    e = np.divide(tau, nt, out=np.zeros_like(tau), where=nt > 0)
+    q = np.divide(b, nt, out=np.zeros_like(b), where=slip)          # no overflow where b is large and tau small
     Q = eye - outer(e, e)
     gn = eps * (n * g)
     C = np.where(closed, gn + np.where(stick, eps * s, lT - b * e), lam)
@@ -170,7 +174,7 @@ def newton(pr, x, d, lam_n, tol=None):
     o, P, surf = pr.o, pr.red.P, pr.surf
     pts = points(pr)
     dim, npts = surf.X.shape[0], len(pts.W)
-    eps = pr.eps
+    eps = pr.eps * o.semismooth_factor / o.penalty_factor
     c = pr._stick                                          # Coulomb state, or None (frictionless)
     mu = 0.0 if c is None else c.mu
     uo = pr.sy.offsets["u"]
@@ -188,6 +192,7 @@ def newton(pr, x, d, lam_n, tol=None):
         a = c.anchor(d).reshape(dim, -1)[:, pts.first]
     else:
         a = xp.copy()
+    lam = np.where(pts.free, lam, 0.0)
     tol_u = min(o.tol, 1e-3 * o.gap_tol)
     tol_c = 1e-3 * o.gap_tol * max(abs(d), 1e-12)
     is_u = np.append(pr.red.is_u, np.zeros(dim * npts, bool))
@@ -200,6 +205,11 @@ def newton(pr, x, d, lam_n, tol=None):
         if pr._min_J <= 0 or not np.all(np.isfinite(r)):
             return None
         cd = conditions(pr.ind, at_points(x[uo]), lam, a, pr.z_top, d, mu, eps, c is None)
+        if not pts.free.all():            # lambda_c = 0 where a symmetry plane fixes the component
+            fr = pts.free
+            cd.C = np.where(fr, cd.C, lam)
+            cd.Cx = np.where(fr[:, None], cd.Cx, 0.0)
+            cd.Cl = np.where(fr[:, None], cd.Cl, np.eye(dim)[:, :, None])
         ru = r - pts.B @ lam.T.ravel()
         E = -(pts.W / eps) * cd.C
         return ru, E.T.ravel(), cd, K

@@ -105,7 +105,7 @@ def return_mapping(c: Coulomb, x, n, H, tn, active, eps, travel) -> Tangential:
     bound = c.mu * np.where(active, np.maximum(tn, 0.0), 0.0)
     stick = active & (norm <= bound)
     slip = active & ~stick
-    scale = np.where(stick, 1.0, np.where(slip, bound / np.maximum(norm, 1e-300), 0.0))
+    scale = np.divide(bound, norm, out=stick.astype(float), where=slip)     # 1 stick, mu t_N / |t_tr| slip, 0 open
     t = tr * scale
     if H is None:
         return Tangential(t, None, slip, stick, s)

@@ -132,5 +132,7 @@ class Options:
     solver: str = "semismooth"      # frictionless and Coulomb: semismooth (Newton on the Alart-Curnier equations,
     #                                 the multipliers unknowns; fem.contact._alart_curnier) | uzawa (penalty Newton
     #                                 inside the Uzawa loop; sticking contact always)
+    semismooth_factor: float = 3.0  # the Alart-Curnier parameter eps, x mu / h (its solution does not depend on it;
+    #                                 the iteration does: 3 took the 2D probe to 1 N under every law, 10 stagnated at mu 0.3)
     continuation: bool = True       # past a stagnating Newton (an unstable state): pseudo-transient continuation
     #                                 (fem.contact.continuation) to a stable equilibrium at the same travel
