@@ -72,6 +72,7 @@ from ._records import PressError
 
 STALL_STEPS = 8      # Newton iterations ...
 STALL_CUT = 0.5      # ... that cut the merit's root by less than this factor in all: stagnation
+CANDIDATE = 0.2      # points within this fraction of the travel of the indenter get multiplier unknowns
 MIN_STEP = 1 / 256   # the line search's shortest step
 import os
 LS = os.environ.get("AC_LS", "armijo"); LS = None if LS == "none" else LS
@@ -86,6 +87,7 @@ class Points:
     merge: np.ndarray        # (facets * points,) the point of every copy
     W: np.ndarray            # (np,) m^2, summed reference weight
     B: sp.csr_matrix         # (n_reduced, dim np): P^T \int phi^T dA
+    Bc: sp.csc_matrix        # the same, by columns (the candidates' columns)
     free: np.ndarray         # (dim, np) bool: the components that move (False: fixed by a symmetry plane
     #                          or the axis, where the traction component is zero by symmetry: lambda_c = 0)
 
@@ -108,7 +110,7 @@ def points(pr) -> Points:
     B = sp.csr_matrix((surf.dA[f, q] * surf.phi[f, q, i, c], (rows, cols)), shape=(sy.A.shape[0], dim * len(W)))
     B = (pr.red.P.T @ B).tocsr()
     free = (np.asarray(abs(B).sum(axis=0)).ravel() > 0).reshape(len(W), dim).T
-    pr._points = Points(first, merge, W, B, free)
+    pr._points = Points(first, merge, W, B, B.tocsc(), free)
     return pr._points
 
 
@@ -149,7 +151,7 @@ def conditions(ind, x, lam, a, z_top, travel, mu, eps, frictionless) -> Conditio
     stick = closed & (nt <= b) & (not frictionless)
     slip = closed & ~stick
     e = np.divide(tau, nt, out=np.zeros_like(tau), where=nt > 0)
-    q = np.divide(b, nt, out=np.zeros_like(b), where=slip)          # no overflow where b is large and tau small
+    q = np.divide(b, nt, out=np.zeros_like(b), where=slip & (nt > 0))        # no overflow where b is large and tau small
     Q = eye - outer(e, e)
     gn = eps * (n * g)
     C = np.where(closed, gn + np.where(stick, eps * s, lT - b * e), lam)
@@ -195,10 +197,13 @@ def newton(pr, x, d, lam_n, tol=None):
     lam = np.where(pts.free, lam, 0.0)
     tol_u = min(o.tol, 1e-3 * o.gap_tol)
     tol_c = 1e-3 * o.gap_tol * max(abs(d), 1e-12)
-    is_u = np.append(pr.red.is_u, np.zeros(dim * npts, bool))
     fac = getattr(pr, "_ac_factorize", None)
     if fac is None:
         fac = pr._ac_factorize = linalg.Refactorizer(pr.method)
+    # the multipliers that are unknowns: the points within CANDIDATE x travel of the indenter at the
+    # start or carrying a traction (the others stay open: lambda = 0), more if one closes
+    g0 = gap(pr.ind, xp, pr.z_top, d, with_curvature=False)[0]
+    cand = (g0 < CANDIDATE * abs(d)) | (np.abs(lam).sum(axis=0) > 0)
 
     def evaluate(x, lam, tangent=True):
         r, _, _, K = pr._residual(x, d, None, tangent=tangent, contact=False)
@@ -211,9 +216,15 @@ def newton(pr, x, d, lam_n, tol=None):
             cd.Cx = np.where(fr[:, None], cd.Cx, 0.0)
             cd.Cl = np.where(fr[:, None], cd.Cl, np.eye(dim)[:, :, None])
         ru = r - pts.B @ lam.T.ravel()
-        E = -(pts.W / eps) * cd.C
+        E = -(pts.W[sel] / eps) * cd.C[:, sel]
         return ru, E.T.ravel(), cd, K
 
+    def select(cand):
+        sel = np.flatnonzero(cand)
+        cols = (dim * sel[:, None] + np.arange(dim)).ravel()
+        return sel, pts.Bc[:, cols].tocsr(), np.append(pr.red.is_u, np.zeros(len(cols), bool))
+
+    sel, Bs, is_u = select(cand)
     state = evaluate(x, lam)
     if state is None:
         raise PressError("inversion", f"the semi-smooth Newton starts from inverted silicone at travel {d:.4g} m",
@@ -224,17 +235,22 @@ def newton(pr, x, d, lam_n, tol=None):
         if K is None:
             ru, E, cd, K = state = evaluate(x, lam)
         Blam = pts.B @ lam.T.ravel()
-        J = sp.bmat([[K, -pts.B], [-(1 / eps) * _block_diag(cd.Cx) @ pts.B.T,
-                                   -(1 / eps) * _block_diag(cd.Cl * pts.W)]], format="csr")
+        J = sp.bmat([[K, -Bs], [-(1 / eps) * _block_diag(cd.Cx[..., sel]) @ Bs.T,
+                                -(1 / eps) * _block_diag(cd.Cl[..., sel] * pts.W[sel])]], format="csr")
         if D is None:
             D = linalg.scaling(J, is_u)
         Du = D[:len(ru)]
         rel = np.linalg.norm(Du * ru) / max(np.linalg.norm(Du * Blam), 1e-300)
-        cmax = float(np.abs(cd.C).max(initial=0.0)) / eps
+        cmax = float(np.abs(cd.C[:, sel]).max(initial=0.0)) / eps
         merit = np.linalg.norm(D * np.concatenate([ru, E]))
-        pr.trace.append((d, it, rel, int(cd.closed.sum()), "semismooth", cmax, int(cd.stick.sum())))
+        pr.trace.append((d, it, rel, int(cd.closed.sum()), "semismooth", cmax, int(cd.stick.sum()), len(sel)))
         if rel < (tol_u if tol is None else min(tol, tol_u)) and cmax <= tol_c:
-            return x, _state(pr, x, lam, d, cd, pts), it
+            if not (cd.closed & ~cand).any():
+                return x, _state(pr, x, lam, d, cd, pts), it
+            cand = cand | cd.closed                    # a point outside the candidates entered the indenter
+            sel, Bs, is_u = select(cand)
+            state, merits, D = evaluate(x, lam), [], None
+            continue
         if len(merits) >= STALL_STEPS and merit > STALL_CUT * merits[-STALL_STEPS]:
             raise PressError("stagnation", f"the semi-smooth Newton stagnates at travel {d:.4g} m: {STALL_STEPS} "
                              f"steps cut the residual from {merits[-STALL_STEPS]:.2e} only to {merit:.2e}", pr.res,
@@ -251,7 +267,9 @@ def newton(pr, x, d, lam_n, tol=None):
         if float(np.max(lres)) > 1e-6:
             raise PressError("penalty", f"the semi-smooth Newton's scaled linear solve has a relative residual "
                              f"{float(np.max(lres)):.1e} (> 1e-6) at travel {d:.4g} m", pr.res)
-        dy, dl = dz[:len(ru), 0], dz[len(ru):, 0].reshape(npts, dim).T
+        dy = dz[:len(ru), 0]
+        dl = np.zeros_like(lam)
+        dl[:, sel] = dz[len(ru):, 0].reshape(len(sel), dim).T
         dx = P @ dy
         alpha = 1.0
         while True:
