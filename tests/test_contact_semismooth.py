@@ -51,7 +51,7 @@ def test_the_alart_curnier_jacobian_is_a_derivative(dim, frictionless):
 def flat_pair():
     """A flat punch on a bonded compressible layer (plane strain), each law by both solvers."""
     a, d = 1e-3, 2e-5
-    tm = block(20 * a, 20 * a, 1.2 * a, a / 8, model="plane_strain", growth=1.3)
+    tm = block(8 * a, 8 * a, 1.2 * a, a / 6, model="plane_strain", growth=1.4)
     out = {}
     for friction in ("frictionless", 0.3):
         ind = Indenter("flat", a, 0.0, travel=d, friction=friction)

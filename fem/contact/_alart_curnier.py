@@ -74,9 +74,6 @@ STALL_STEPS = 8      # Newton iterations ...
 STALL_CUT = 0.5      # ... that cut the merit's root by less than this factor in all: stagnation
 CANDIDATE = 0.2      # points within this fraction of the travel of the indenter get multiplier unknowns
 MIN_STEP = 1 / 256   # the line search's shortest step
-import os
-LS = os.environ.get("AC_LS", "armijo"); LS = None if LS == "none" else LS
-MEMORY = 5           # the line search is non-monotone: against the largest merit of the last MEMORY iterates
 
 
 @dataclass
@@ -276,7 +273,7 @@ def newton(pr, x, d, lam_n, tol=None):
             trial = evaluate(x + alpha * dx, lam + alpha * dl, tangent=False)
             if trial is not None:
                 m_new = np.linalg.norm(D * np.concatenate(trial[:2]))
-                if LS is None or m_new <= (1 - 1e-4 * alpha) * (max(merits[-MEMORY:]) if LS == "nm" else merit) or alpha <= MIN_STEP:
+                if m_new <= (1 - 1e-4 * alpha) * merit or alpha <= MIN_STEP:
                     break
             elif alpha <= MIN_STEP:
                 raise PressError("inversion", f"the semi-smooth Newton inverts silicone elements at travel "
