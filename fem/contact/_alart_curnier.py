@@ -73,6 +73,7 @@ from ._records import PressError
 STALL_STEPS = 8      # Newton iterations ...
 STALL_CUT = 0.5      # ... that cut the merit's root by less than this factor in all: stagnation
 CANDIDATE = 0.2      # points within this fraction of the travel of the indenter get multiplier unknowns
+CHORD_CUT = 0.25     # a chord step (the last factorization, the same branches) is kept if it cuts the merit so
 MIN_STEP = 1 / 256   # the line search's shortest step
 
 
@@ -226,27 +227,34 @@ def newton(pr, x, d, lam_n, tol=None):
     if state is None:
         raise PressError("inversion", f"the semi-smooth Newton starts from inverted silicone at travel {d:.4g} m",
                          pr.res, _crush(pr, x))
-    merits, D = [], None
+    merits, D, last = [], None, None          # last: (branches, solver) of the last factorization
+
+    def jacobian(K, cd):
+        return sp.bmat([[K, -Bs], [-(1 / eps) * _block_diag(cd.Cx[..., sel]) @ Bs.T,
+                                   -(1 / eps) * _block_diag(cd.Cl[..., sel] * pts.W[sel])]], format="csr")
+
+    def split(dz):
+        dl = np.zeros_like(lam)
+        dl[:, sel] = dz[n_y:, 0].reshape(len(sel), dim).T
+        return P @ dz[:n_y, 0], dl
+
+    n_y = P.shape[1]
     for it in range(max(o.max_iter, 40)):
         ru, E, cd, K = state
-        if K is None:
-            ru, E, cd, K = state = evaluate(x, lam)
-        Blam = pts.B @ lam.T.ravel()
-        J = sp.bmat([[K, -Bs], [-(1 / eps) * _block_diag(cd.Cx[..., sel]) @ Bs.T,
-                                -(1 / eps) * _block_diag(cd.Cl[..., sel] * pts.W[sel])]], format="csr")
         if D is None:
-            D = linalg.scaling(J, is_u)
-        Du = D[:len(ru)]
-        rel = np.linalg.norm(Du * ru) / max(np.linalg.norm(Du * Blam), 1e-300)
+            D = linalg.scaling(jacobian(K, cd), is_u)
+        Du = D[:n_y]
+        rel = np.linalg.norm(Du * ru) / max(np.linalg.norm(Du * (pts.B @ lam.T.ravel())), 1e-300)
         cmax = float(np.abs(cd.C[:, sel]).max(initial=0.0)) / eps
-        merit = np.linalg.norm(D * np.concatenate([ru, E]))
+        F = np.concatenate([ru, E])
+        merit = np.linalg.norm(D * F)
         pr.trace.append((d, it, rel, int(cd.closed.sum()), "semismooth", cmax, int(cd.stick.sum()), len(sel)))
         if rel < (tol_u if tol is None else min(tol, tol_u)) and cmax <= tol_c:
             if not (cd.closed & ~cand).any():
                 return x, _state(pr, x, lam, d, cd, pts), it
             cand = cand | cd.closed                    # a point outside the candidates entered the indenter
             sel, Bs, is_u = select(cand)
-            state, merits, D = evaluate(x, lam), [], None
+            state, merits, D, last = evaluate(x, lam), [], None, None
             continue
         if len(merits) >= STALL_STEPS and merit > STALL_CUT * merits[-STALL_STEPS]:
             raise PressError("stagnation", f"the semi-smooth Newton stagnates at travel {d:.4g} m: {STALL_STEPS} "
@@ -254,20 +262,30 @@ def newton(pr, x, d, lam_n, tol=None):
                              f"{int(cd.closed.sum())} points closed, {int(cd.stick.sum())} sticking; relative "
                              f"residual {rel:.2e}, largest gap or slip residual {cmax:.3g} m")
         merits.append(merit)
+        branches = (cd.closed[sel].tobytes(), cd.stick[sel].tobytes())
+        if o.chord and last is not None and last[0] == branches:
+            # a chord step: the last factorization (the same branches), kept if it cuts the merit by CHORD_CUT
+            dx, dl = split(last[1](-F, rtol=1e-10)[0])
+            trial = evaluate(x + dx, lam + dl, tangent=False)
+            if trial is not None and np.linalg.norm(D * np.concatenate(trial[:2])) < CHORD_CUT * merit:
+                pr.stats["chord_steps"] += 1
+                pr.trace[-1] += ("chord",)
+                x, lam, state = x + dx, lam + dl, trial
+                continue
+        if K is None:
+            ru, E, cd, K = state = evaluate(x, lam)
         t0 = time.process_time()
-        solver = fac(J, is_u, D=D)
+        solver = fac(jacobian(K, cd), is_u, D=D)
+        last = (branches, solver)
         pr.stats["factorizations"] += 1
         pr.stats["factorize_s"] += time.process_time() - t0
         t0 = time.process_time()
-        dz, lres = solver(-np.concatenate([ru, E]), rtol=1e-10)
+        dz, lres = solver(-F, rtol=1e-10)
         pr.stats["solve_s"] += time.process_time() - t0
         if float(np.max(lres)) > 1e-6:
             raise PressError("penalty", f"the semi-smooth Newton's scaled linear solve has a relative residual "
                              f"{float(np.max(lres)):.1e} (> 1e-6) at travel {d:.4g} m", pr.res)
-        dy = dz[:len(ru), 0]
-        dl = np.zeros_like(lam)
-        dl[:, sel] = dz[len(ru):, 0].reshape(len(sel), dim).T
-        dx = P @ dy
+        dx, dl = split(dz)
         alpha = 1.0
         while True:
             trial = evaluate(x + alpha * dx, lam + alpha * dl, tangent=False)

@@ -48,7 +48,9 @@ offset), so dt/dd = (dt/dx) e_z: the travel derivatives (predictor, force contro
 reuse the tangent's column. mu = 0 is frictionless; mu -> infinity sticking
 without adhesion (the "sticking" law, fem.contact.Stick, also keeps tensile tractions).
 Assumptions: isotropic Coulomb friction, one coefficient (static = kinetic), the
-indenter rigid and translating only (no rotation).
+indenter rigid and translating only (no rotation). This return mapping is the Uzawa path's
+(Options.solver "uzawa"); the default solve takes the same conditions as one nonsmooth
+equation with the tractions as unknowns (fem.contact._alart_curnier).
 """
 
 from __future__ import annotations
