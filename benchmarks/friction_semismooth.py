@@ -1,7 +1,7 @@
-"""Frictionless and Coulomb presses in 3D to the rig's load: the semi-smooth Newton on the
-Alart-Curnier conditions (fem.contact._alart_curnier, Options.solver "semismooth", the default)
-against the penalty Newton inside the Uzawa loop (solver "uzawa", the path before), side by side
-in one run (issue 57).
+"""Frictionless and Coulomb presses in 3D to the rig's load: the default solve (Options.solver
+"auto": the penalty Newton inside the Uzawa loop, and a step it stops in again by the semi-smooth
+Newton on the Alart-Curnier conditions, fem.contact._alart_curnier) against the Uzawa path alone
+("uzawa", the path before) and the semi-smooth Newton alone ("semismooth"), side by side (issue 57).
 
 The rig's probe (a 4 mm flat punch, 0.2 mm edge radius) presses the thesis PZT taxel
 (thesis-pzt-probe-3d: "single") or the 3x3 array at its centre taxel ("3x3"), Yeoh Ecoflex,
@@ -13,7 +13,7 @@ states, Newton iterations, factorizations, CPU seconds; and the ratio of the two
 estimate of each law's own discretisation error.
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/friction_semismooth.py
-       [--cases single,3x3] [--laws frictionless,0.1,0.3,1.0] [--solvers semismooth,uzawa] [--divide K]
+       [--cases single,3x3] [--laws frictionless,0.1,0.3,1.0] [--solvers auto,uzawa,semismooth] [--divide K]
 writes benchmarks/out/friction_semismooth[_K].json (--write: docs/friction_semismooth.json too).
 Measured: docs/benchmarks.md, "Friction that converges".
 """
@@ -65,13 +65,16 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cases", default="single,3x3")
     ap.add_argument("--laws", default="frictionless,0.1,0.3,1.0")
-    ap.add_argument("--solvers", default="semismooth,uzawa")
+    ap.add_argument("--solvers", default="auto,uzawa")
     ap.add_argument("--divide", type=float, default=None)
     ap.add_argument("--write", action="store_true")
+    ap.add_argument("--out", default=None, help="another JSON file (runs in parallel processes)")
     a = ap.parse_args()
     tag = "" if a.divide is None else f"_{a.divide:g}"
     path = OUT / f"friction_semismooth{tag}.json"
     rows = json.loads(path.read_text()) if path.exists() else []
+    if a.out is not None:
+        path = Path(a.out)
     for case in a.cases.split(","):
         sc = scene(case)
         if a.divide is not None:

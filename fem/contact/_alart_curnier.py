@@ -74,6 +74,7 @@ STALL_STEPS = 8      # Newton iterations ...
 STALL_CUT = 0.5      # ... that cut the merit's root by less than this factor in all: stagnation
 CANDIDATE = 0.2      # points within this fraction of the travel of the indenter get multiplier unknowns
 CHORD_CUT = 0.25     # a chord step (the last factorization, the same branches) is kept if it cuts the merit so
+STEP_CAP = 0.5      # the largest move of a contact point in one Newton step, x the travel
 MIN_STEP = 1 / 256   # the line search's shortest step
 
 
@@ -239,6 +240,7 @@ def newton(pr, x, d, lam_n, tol=None):
         return P @ dz[:n_y, 0], dl
 
     n_y = P.shape[1]
+    pts_zero = at_points(np.zeros(len(x[uo])))
     for it in range(max(o.max_iter, 40)):
         ru, E, cd, K = state
         if D is None:
@@ -286,7 +288,9 @@ def newton(pr, x, d, lam_n, tol=None):
             raise PressError("penalty", f"the semi-smooth Newton's scaled linear solve has a relative residual "
                              f"{float(np.max(lres)):.1e} (> 1e-6) at travel {d:.4g} m", pr.res)
         dx, dl = split(dz)
-        alpha = 1.0
+        # a trust region on the contact points: no Newton step moves one by more than STEP_CAP x the travel
+        move = float(np.abs(at_points(dx[uo]) - pts_zero).max(initial=0.0))
+        alpha = min(1.0, STEP_CAP * abs(d) / max(move, 1e-300))
         while True:
             trial = evaluate(x + alpha * dx, lam + alpha * dl, tangent=False)
             if trial is not None:

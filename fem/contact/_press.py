@@ -135,6 +135,7 @@ class Press:
         self.res.stats = self.stats      # the same dict: the result carries the work it cost
         self._chord_key = None           # what the last factorization was made for (fem.contact)
         self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
+        self._fallback = False           # Options.solver "auto": this step by the semi-smooth Newton
 
     # ------------------------------------------------------------ one equilibrium
     def _pattern(self) -> Pattern:
@@ -219,10 +220,12 @@ class Press:
             return alart_curnier.newton(self, x, d, lam, tol)
         return contact_newton.newton(self, x, d, lam, tol)
 
-    def _semismooth(self) -> bool:
+    def _semismooth(self, fallback=False) -> bool:
+        """Whether the semi-smooth Newton solves this step (or, `fallback`, would solve a step the
+        Uzawa path stopped in): Options.solver "semismooth", or "auto" after a stop."""
         o = self.o
-        return (o.solver == "semismooth" and self.ind.friction != "sticking" and o.method != "penalty"
-                and o.assembly != "skfem")
+        chosen = o.solver == "semismooth" or (o.solver == "auto" and (fallback or self._fallback))
+        return chosen and self.ind.friction != "sticking" and o.method != "penalty" and o.assembly != "skfem"
 
     def solve_at(self, d):
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
@@ -376,15 +379,22 @@ class Press:
         return Stick(self.stick.mask.copy(), self.stick.a0, self.stick.lam.copy())
 
     def attempt(self, d):
-        """solve_at, restoring the state on failure."""
+        """solve_at, restoring the state on failure; with Options.solver "auto", a step the
+        Uzawa path stops in is solved again by the semi-smooth Newton (fem.contact)."""
         saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick)
         try:
             return self.solve_at(d)
-        except PressError:
+        except PressError as exc:
             self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick = saved
             self._stick = None
             self.res.failed_trials += 1
-            raise
+            if self._fallback or not self._semismooth(fallback=True) or exc.cause == "penalty":
+                raise
+        self._fallback = True
+        try:
+            return self.attempt(d)
+        finally:
+            self._fallback = False
 
     # ------------------------------------------------------------ load control (fem.contact)
     def travel(self, d_target, first=0.25, min_frac=1e-3):
