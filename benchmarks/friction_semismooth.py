@@ -5,6 +5,7 @@ Newton on the Alart-Curnier conditions, fem.contact._alart_curnier) against the 
 
 The rig's probe (a 4 mm flat punch, 0.2 mm edge radius) presses the thesis PZT taxel
 (thesis-pzt-probe-3d: "single") or the 3x3 array at its centre taxel ("3x3"), Yeoh Ecoflex,
+(or the plane-strain probe example, thesis-pzt-probe-2d: "2d"),
 quarter models, the default press mesh, force control to 1 N, with load.friction = frictionless,
 0.1, 0.3, 1.0 (and sticking, for scale: the Uzawa path, the same in both). Per press: the force
 reached (where a press stops: the force of its last converged state and the cause), V/F, load
@@ -29,6 +30,7 @@ from pathlib import Path
 from taxel.analyses import problem
 from taxel.fem.assembly import assemble
 from taxel.fem.contact import Options, Press, PressError
+from taxel.scene import load
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from press_speed import scene  # noqa: E402
@@ -76,7 +78,7 @@ def main():
     if a.out is not None:
         path = Path(a.out)
     for case in a.cases.split(","):
-        sc = scene(case)
+        sc = scene(case) if case != "2d" else load("thesis-pzt-probe-2d")
         if a.divide is not None:
             from taxel.scene import refined
             sc = refined(sc, a.divide)
