@@ -42,9 +42,15 @@ the coupling is -B_r in both places (symmetric); open points are lambda = 0 rows
 factorized by PARDISO (fem.linalg.Refactorizer, the nonsymmetric mode where points slip),
 scaled as the press's saddle point (fem.linalg.scaling: the multipliers as constraint rows).
 
-Globalisation: a backtracking (Armijo) line search on the merit |D F|^2 of the scaled residual
-F = (r_u, E), keeping J > 0 in the Yeoh silicone; the load path (fem.contact.travel, force)
-cuts the load step where Newton fails and grows it after easy steps. Convergence:
+Globalisation: a trust region (no Newton step moves a contact point by more than STEP_CAP x the
+travel: without it, on a 3D Yeoh block at mu = 0.3, the iterates left the branch after failed
+trials and converged to a state with the centre of the top open, 1.6 % off in force), then a
+backtracking (Armijo) line search on the merit |D F| of the scaled residual F = (r_u, E), keeping
+J > 0 in the Yeoh silicone; chord steps reuse the last factorization while no point changes
+branch; the load path (fem.contact.travel, force) cuts the load step where Newton fails and
+grows it after easy steps. Multipliers are unknowns only at candidate points (within CANDIDATE x
+the travel of the indenter at the start, or carrying a traction; a point outside that closes
+adds itself): the others are open, lambda = 0, and cost nothing. Convergence:
 |D r_u| / |D B_r lambda| < tol (the press's relative residual) and max |C| / eps (m: the
 penetration, or a stuck point's slip) below 1e-3 gap_tol x travel. Stops are PressError:
 "inversion" (every step inverts silicone elements), "stagnation" (STALL_STEPS iterations
