@@ -110,10 +110,10 @@ def test_the_probe_reaches_one_newton_in_2d_under_every_law():
         prob = scene_problem(sc.replace(**{"load.friction": friction}), tagged_mesh=tm)
         sy = assemble(prob)
         pt = Press(sy, prob.indenter).force(1.0)
-        VF[friction] = pt.voltages["taxel_0"] / pt.force
+        VF[friction] = next(iter(pt.voltages.values())) / pt.force
         if friction == 0.3:
             pu = Press(sy, prob.indenter, opts=Options(solver="uzawa")).force(1.0)
-            assert VF[friction] == pytest.approx(pu.voltages["taxel_0"] / pu.force, rel=1e-3)
+            assert VF[friction] == pytest.approx(next(iter(pu.voltages.values())) / pu.force, rel=1e-3)
         if friction == "frictionless":
             with pytest.raises(PressError):
                 Press(sy, prob.indenter, opts=Options(solver="uzawa")).force(1.0)
