@@ -27,10 +27,10 @@ over-constrain the about two nodes per facet and lock the contact zone; the edge
 midpoints alone (rule "midpoints") leave the vertices free to enter the punch
 (benchmarks/contact_3d.py --rules).
 
-Frictionless and Coulomb contact are solved by default (Options.solver "semismooth") by the
-semi-smooth Newton on the Alart-Curnier conditions with the tractions as unknowns
-(fem.contact._alart_curnier): no Uzawa loop, no penetration left; what follows on the Uzawa
-loop is the path of sticking contact and of solver "uzawa".
+Frictionless and Coulomb contact can be solved by the semi-smooth Newton on the Alart-Curnier
+conditions with the tractions as unknowns (fem.contact._alart_curnier; Options.solver
+"semismooth", and by default, "auto", a load step the Uzawa path below stops in): no Uzawa
+loop, no penetration left.
 When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
 contact (Indenter.friction): points that came into contact in a converged step
