@@ -138,12 +138,12 @@ def felupe_extrapolated_3d(mu, mults=(10.0, 20.0), **kw):
                 xy=xy, X=X, zone=np.where(act, np.where(slip, SLIP, STICK), OPEN))
 
 
-def ours_3d(mu, n=N3D, steps=STEPS_3D, travel=TRAVEL_3D):
+def ours_3d(mu, n=N3D, steps=STEPS_3D, travel=TRAVEL_3D, opts=None):
     """Our plate (a flat punch of radius 20 mm, no edge radius) on the same grid: the full
-    block's force at each travel and the stick radius."""
+    block's force at each travel and the stick radius (`opts`: the press's Options)."""
     mat = Solid("block", 2 * C10, K, 1000.0, yeoh=(C10, C20, C30))
     ind = Indenter("flat", 20e-3, 0.0, travel=travel, friction=mu)
-    pr = Press(assemble(problem(box3d(n), mat, ind, hyperelastic=True)), ind)
+    pr = Press(assemble(problem(box3d(n), mat, ind, hyperelastic=True)), ind, opts=opts)
     assert pr.G == 4
     F = np.array([pr.travel(d, first=1.0).force for d in travels_3d(steps, travel)])
     st = pr.res.state

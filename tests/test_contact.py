@@ -141,9 +141,12 @@ def test_penalty_too_low_is_reported_with_its_penetration(small_sphere):
     with pytest.raises(PressError, match="penalty too low: penetration .* % of the travel") as err:
         Press(sy, ind, opts=Options(method="penalty", penalty_factor=1.0)).travel(d, first=1.0)
     assert err.value.cause == "penalty"          # raised at once: a shorter travel step does not mend it
-    # the same penalty inside the augmented Lagrangian reaches the tolerance
-    pt = Press(sy, ind, opts=Options(penalty_factor=1.0)).travel(d, first=1.0)
+    # the same penalty inside the augmented Lagrangian reaches the tolerance (the Uzawa loop);
+    # the semi-smooth Newton's multipliers are unknowns: no penetration left, no Uzawa pass
+    pt = Press(sy, ind, opts=Options(penalty_factor=1.0, solver="uzawa")).travel(d, first=1.0)
     assert pt.penetration <= 1e-3 * d and pt.uzawa > 1
+    pt = Press(sy, ind, opts=Options(penalty_factor=1.0, solver="semismooth")).travel(d, first=1.0)
+    assert pt.penetration <= 1e-6 * d and pt.uzawa == 0
 
 
 def test_penalty_error_falls_as_one_over_the_penalty(small_sphere):
@@ -159,7 +162,7 @@ def test_penalty_error_falls_as_one_over_the_penalty(small_sphere):
 def test_penalty_too_high_is_reported_as_ill_conditioning(small_sphere):
     sy, ind, d = small_sphere
     with pytest.raises(PressError, match="penalty too high") as err:
-        Press(sy, ind, opts=Options(penalty_factor=1e14)).travel(d, first=1.0)
+        Press(sy, ind, opts=Options(penalty_factor=1e14, solver="uzawa")).travel(d, first=1.0)
     assert err.value.cause == "penalty"
 
 
@@ -172,7 +175,7 @@ def test_newton_without_the_active_set_update_fails_and_says_so(small_sphere):
     pt = Press(sy, ind).solve_at(d)
     assert pt.iterations <= 15 and pt.penetration <= 1e-3 * d
     with pytest.raises(PressError, match="did not converge|cycles|stagnates") as err:
-        Press(sy, ind, opts=Options(active_set_update=False)).solve_at(d)
+        Press(sy, ind, opts=Options(active_set_update=False, solver="uzawa")).solve_at(d)
     assert err.value.cause in ("iterations", "cycling", "stagnation")
 
 

@@ -1,7 +1,8 @@
 """Contact: a rigid indenter pressing the top surface (`Press`).
 
 The indenter's gap and contact surface (augmented Lagrangian, frictionless,
-sticking, or Coulomb friction by a return mapping), the semi-smooth Newton with its continuation, the load path (travel steps,
+sticking, or Coulomb friction by a return mapping), the semi-smooth Newton on the Alart-Curnier
+conditions (frictionless and Coulomb, the tractions as unknowns), the penalty Newton with its continuation, the load path (travel steps,
 then force control), and the records a press leaves (`PressPoint`, `PressResult`,
 and `PressError` with its typed cause when a press stops short).
 """

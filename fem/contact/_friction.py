@@ -48,7 +48,9 @@ offset), so dt/dd = (dt/dx) e_z: the travel derivatives (predictor, force contro
 reuse the tangent's column. mu = 0 is frictionless; mu -> infinity sticking
 without adhesion (the "sticking" law, fem.contact.Stick, also keeps tensile tractions).
 Assumptions: isotropic Coulomb friction, one coefficient (static = kinetic), the
-indenter rigid and translating only (no rotation).
+indenter rigid and translating only (no rotation). This return mapping is the Uzawa path's
+(Options.solver "uzawa"); the default solve takes the same conditions as one nonsmooth
+equation with the tractions as unknowns (fem.contact._alart_curnier).
 """
 
 from __future__ import annotations
@@ -105,7 +107,7 @@ def return_mapping(c: Coulomb, x, n, H, tn, active, eps, travel) -> Tangential:
     bound = c.mu * np.where(active, np.maximum(tn, 0.0), 0.0)
     stick = active & (norm <= bound)
     slip = active & ~stick
-    scale = np.where(stick, 1.0, np.where(slip, bound / np.maximum(norm, 1e-300), 0.0))
+    scale = np.divide(bound, norm, out=stick.astype(float), where=slip)     # 1 stick, mu t_N / |t_tr| slip, 0 open
     t = tr * scale
     if H is None:
         return Tangential(t, None, slip, stick, s)

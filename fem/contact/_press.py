@@ -27,6 +27,10 @@ over-constrain the about two nodes per facet and lock the contact zone; the edge
 midpoints alone (rule "midpoints") leave the vertices free to enter the punch
 (benchmarks/contact_3d.py --rules).
 
+Frictionless and Coulomb contact can be solved by the semi-smooth Newton on the Alart-Curnier
+conditions with the tractions as unknowns (fem.contact._alart_curnier; Options.solver
+"semismooth", and by default, "auto", a load step the Uzawa path below stops in): no Uzawa
+loop, no penetration left.
 When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
 contact (Indenter.friction): points that came into contact in a converged step
@@ -65,6 +69,7 @@ import time
 
 import numpy as np
 
+from . import _alart_curnier as alart_curnier
 from . import _newton as contact_newton
 from taxel.fem import linalg
 from . import _loadpath as loadpath
@@ -129,6 +134,7 @@ class Press:
         self.res.stats = self.stats      # the same dict: the result carries the work it cost
         self._chord_key = None           # what the last factorization was made for (fem.contact)
         self.trace = []                  # (travel, iteration, scaled residual, active points) per Newton step
+        self._fallback = False           # Options.solver "auto": this step by the semi-smooth Newton
 
     # ------------------------------------------------------------ one equilibrium
     def _pattern(self) -> Pattern:
@@ -147,18 +153,19 @@ class Press:
             self._pat = Pattern(self.red.P, self.sy.A, blocks)
         return self._pat
 
-    def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+    def _residual(self, x, d, lam, tangent=True, frozen=None, fixed=None, contact=True):
         """(reduced residual, reduced contact residual, contact state, reduced tangent or None);
-        the smallest J of the Yeoh silicone in self._min_J."""
+        the smallest J of the Yeoh silicone in self._min_J. contact=False: without the contact
+        terms (residual, None, None, tangent; fem.contact's semi-smooth Newton adds its own)."""
         t0 = time.process_time()          # CPU time: the machine is shared
         try:
-            return self._residual_any(x, d, lam, tangent, frozen, fixed)
+            return self._residual_any(x, d, lam, tangent, frozen, fixed, contact)
         finally:
             self.stats["residuals"] += 1
             self.stats["tangents"] += bool(tangent)
             self.stats["assemble_s"] += time.process_time() - t0
 
-    def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None):
+    def _residual_any(self, x, d, lam, tangent=True, frozen=None, fixed=None, contact=True):
         if self.o.assembly == "skfem":
             return self._residual_skfem(x, d, lam, tangent, frozen, fixed)
         sy, pat = self.sy, self._pattern()
@@ -172,6 +179,8 @@ class Press:
             r_full += np.bincount(reg.pdofs.ravel(), t.r_p.ravel(), minlength=n)
             if tangent:
                 vals.update({f"uu:{k}": t.K_uu, f"up:{k}": t.K_up, f"pu:{k}": t.K_up, f"pp:{k}": t.K_pp})
+        if not contact:
+            return pat.reduce(r_full), None, None, pat.matrix(vals) if tangent else None
         u = x[sy.offsets["u"]]
         st = self.surf.state(u, self.ind, d, lam, self.eps, with_curvature=tangent, fixed=fixed, stick=self._stick)
         S = self.surf.dofs.ravel() + sy.offsets["u"].start
@@ -187,8 +196,19 @@ class Press:
         return residual_skfem(self, x, d, lam, tangent, frozen, fixed)
 
     def _newton(self, x, d, lam, tol=None):
-        """Newton at travel d, multipliers lam (fem.contact)."""
+        """Newton at travel d, multipliers lam (fem.contact): the semi-smooth Newton on the
+        Alart-Curnier equations (frictionless and Coulomb, Options.solver "semismooth"), else
+        the penalty Newton inside the Uzawa loop."""
+        if self._semismooth():
+            return alart_curnier.newton(self, x, d, lam, tol)
         return contact_newton.newton(self, x, d, lam, tol)
+
+    def _semismooth(self, fallback=False) -> bool:
+        """Whether the semi-smooth Newton solves this step (or, `fallback`, would solve a step the
+        Uzawa path stopped in): Options.solver "semismooth", or "auto" after a stop."""
+        o = self.o
+        chosen = o.solver == "semismooth" or (o.solver == "auto" and (fallback or self._fallback))
+        return chosen and self.ind.friction != "sticking" and o.method != "penalty" and o.assembly != "skfem"
 
     def solve_at(self, d):
         """Equilibrium at travel d from the last converged state; appends a PressPoint."""
@@ -212,6 +232,11 @@ class Press:
         for k in range(o.max_uzawa + 1):
             x, st, it = self._newton(x, d, lam, tol_n if exact else loose)
             its += it
+            if self._semismooth():       # the multipliers are unknowns of the solve (fem.contact): no Uzawa pass
+                lam = st.tn
+                if st.tang is not None:
+                    self._stick = Coulomb(self._stick.mu, self._stick.a0, st.tang.t.copy(), self._stick.slip)
+                break
             tol = o.gap_tol * max(abs(d), 1e-12)
             err = float(np.abs(st.tn - lam).max()) / self.eps   # m: penetration, or gap under pressure
             if st.stuck is not None:                            # m: the stuck points' distance to their anchors
@@ -337,15 +362,22 @@ class Press:
         return Stick(self.stick.mask.copy(), self.stick.a0, self.stick.lam.copy())
 
     def attempt(self, d):
-        """solve_at, restoring the state on failure."""
+        """solve_at, restoring the state on failure; with Options.solver "auto", a step the
+        Uzawa path stops in is solved again by the semi-smooth Newton (fem.contact)."""
         saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick)
         try:
             return self.solve_at(d)
-        except PressError:
+        except PressError as exc:
             self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick = saved
             self._stick = None
             self.res.failed_trials += 1
-            raise
+            if self._fallback or not self._semismooth(fallback=True) or exc.cause == "penalty":
+                raise
+        self._fallback = True
+        try:
+            return self.attempt(d)
+        finally:
+            self._fallback = False
 
     # ------------------------------------------------------------ load control (fem.contact)
     def travel(self, d_target, first=0.25, min_frac=1e-3):

@@ -129,5 +129,11 @@ class Options:
     chord: bool = True              # try the last factorization first (a chord step) while the active set holds
     reuse_analysis: bool = True     # PARDISO: one symbolic analysis for every tangent of the press (fem.linalg.Refactorizer)
     assembly: str = "vectorised"    # vectorised (fem.hyperelastic, fem.assembly) | skfem (the reference path)
+    solver: str = "auto"            # frictionless and Coulomb: semismooth (Newton on the Alart-Curnier equations,
+    #                                 the multipliers unknowns; fem.contact._alart_curnier) | uzawa (penalty Newton
+    #                                 inside the Uzawa loop; sticking contact always) | auto (uzawa, and a step it
+    #                                 stops in again by semismooth)
+    semismooth_factor: float = 3.0  # the Alart-Curnier parameter eps, x mu / h (its solution does not depend on it;
+    #                                 the iteration does: 3 took the 2D probe to 1 N under every law, 10 stagnated at mu 0.3)
     continuation: bool = True       # past a stagnating Newton (an unstable state): pseudo-transient continuation
     #                                 (fem.contact.continuation) to a stable equilibrium at the same travel
