@@ -67,7 +67,7 @@ def test_semismooth_and_uzawa_reach_the_same_state(flat_pair):
     tolerance, 1e-3 of the travel), the semi-smooth state without penetration and without an
     Uzawa pass, Coulomb's conditions exact at its points (consistency test)."""
     for friction in ("frictionless", 0.3):
-        (pr, pt), (_, pu) = flat_pair[friction, "semismooth"], flat_pair[friction, "uzawa"]
+        (_, pt), (_, pu) = flat_pair[friction, "semismooth"], flat_pair[friction, "uzawa"]
         assert pt.force == pytest.approx(pu.force, rel=2e-3)
         assert pt.penetration <= 1e-9 * 2e-5 and pt.uzawa == 0
     st = flat_pair[0.3, "semismooth"][0].res.state

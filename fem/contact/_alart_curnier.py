@@ -180,7 +180,7 @@ def newton(pr, x, d, lam_n, tol=None):
     (y, lambda) from x and the multipliers of the last converged state (module docstring)."""
     o, P, surf = pr.o, pr.red.P, pr.surf
     pts = points(pr)
-    dim, npts = surf.X.shape[0], len(pts.W)
+    dim = surf.X.shape[0]
     eps = pr.eps * o.semismooth_factor / o.penalty_factor
     c = pr._stick                                          # Coulomb state, or None (frictionless)
     mu = 0.0 if c is None else c.mu
