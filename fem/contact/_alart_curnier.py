@@ -73,7 +73,7 @@ import scipy.sparse as sp
 from taxel.fem import linalg
 from ._friction import Coulomb
 from ._geometry import gap
-from ._newton import _crush
+from ._newton import crush_where
 from ._records import PressError
 
 STALL_STEPS = 8      # Newton iterations ...
@@ -233,7 +233,7 @@ def newton(pr, x, d, lam_n, tol=None):
     state = evaluate(x, lam)
     if state is None:
         raise PressError("inversion", f"the semi-smooth Newton starts from inverted silicone at travel {d:.4g} m",
-                         pr.res, _crush(pr, x))
+                         pr.res, crush_where(pr, x))
     merits, D, last = [], None, None          # last: (branches, solver) of the last factorization
 
     def jacobian(K, cd):
@@ -305,7 +305,7 @@ def newton(pr, x, d, lam_n, tol=None):
                     break
             elif alpha <= MIN_STEP:
                 raise PressError("inversion", f"the semi-smooth Newton inverts silicone elements at travel "
-                                 f"{d:.4g} m", pr.res, _crush(pr, x + alpha * dx))
+                                 f"{d:.4g} m", pr.res, crush_where(pr, x + alpha * dx))
             alpha /= 2
         pr.trace[-1] += (alpha,)
         x, lam, state = x + alpha * dx, lam + alpha * dl, trial

@@ -132,7 +132,7 @@ def newton(pr, x, d, lam, tol=None):
                     break
             elif not np.all(np.isfinite(r_new)) or alpha <= 1 / 64:
                 inverts = PressError("inversion", f"Newton inverts silicone elements at travel {d:.4g} m",
-                                       pr.res, _crush(pr, x_new))
+                                       pr.res, crush_where(pr, x_new))
                 if not (o.continuation and o.active_set_update) or norm > NEAR:     # far from equilibrium: a shorter travel step
                     raise inverts
                 x, st, k = continuation(pr, x, d, lam, tol, inverts)
@@ -250,7 +250,7 @@ def _stability(pr) -> str:
             "condensed displacement stiffness" if extra > 0 else "; the state is stable: a kink in the contact zone")
 
 
-def _crush(pr, x_step) -> str:
+def crush_where(pr, x_step) -> str:
     """Where Newton's last line-search step inverts the silicone (its smallest J and that point's
     reference position from the indenter's axis and below the top surface), and the smallest
     J of the last converged state (fem.hyperelastic.smallest_jacobian)."""
