@@ -172,7 +172,7 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         print(f"      the answer's designs through the bench's readout in {time.perf_counter() - t3:.0f} s")
         for name in ("thesis-pzt-front", "thesis-pvdf-front"):    # frictionless to sticking (taxel.jobs.friction_band)
             friction_band(root / name, workers=2)
-    print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm; a warm finger")
+    print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = api.load(name)
         if small:
@@ -180,12 +180,6 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         out = root / name
         for line in api.solve(scene, out=out).summary():
             print(line)
-        folders.append(out)
-    for name in ("thesis-pzt-single-2d", "thesis-pvdf-single-2d"):   # a warm finger on each thesis taxel,
-        scene = api.load(name).replace(**{"readout.circuit": "charge_amplifier", "readout.notch": True,
-                                          "warm_touch": {}})          # through the bench's chain (2D, a few s)
-        out = root / ("warm-touch-" + name.split("-")[1])
-        print("      " + next(line for line in api.solve(scene, out=out).summary() if line.startswith("warm touch")))
         folders.append(out)
     folders.append(noise_budget(root / "noise-budget", small))
     tolerances(root / "tolerances")
