@@ -82,7 +82,7 @@ def layout(sc, m: Mesh):
 
 def run(case: str, m: Mesh) -> dict:
     """One whole press (mesh, assembly, force-controlled press, solution); its numbers."""
-    from taxel.analyses.problem import solve_model
+    from taxel.analyses.model.problem import solve_model
     from taxel.meshing.build import build
     sc = scene(case)
     w, c = time.perf_counter(), time.process_time()

@@ -27,7 +27,7 @@ THRESHOLDS = (0.002, 0.004, 0.01, 0.02, 0.05)
 
 
 def main():
-    from taxel.analyses.problem import solve_model
+    from taxel.analyses.model.problem import solve_model
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--case", choices=("single", "3x3"), default="single")
     a = ap.parse_args()

@@ -31,8 +31,8 @@ class Design:
     shown: dict[str, str] = field(default_factory=dict)    # name -> the value in the variable's own unit
 
     def text(self) -> str:
-        """"silicone_above 1 mm, gap 3 mm"."""
-        return ", ".join(f"{n} {self.shown.get(n, f'{v:.4g}')}" for n, v in self.x.items())
+        """"silicone above 1 mm, gap 3 mm" (the variables' names in words, as the pages write them)."""
+        return ", ".join(f"{n.replace('_', ' ')} {self.shown.get(n, f'{v:.4g}')}" for n, v in self.x.items())
 
 
 @dataclass

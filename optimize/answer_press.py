@@ -75,7 +75,11 @@ R = REFINE ** P_ORDER / (REFINE ** P_ORDER - 1)
 # 2026-11-29: the sensitivity constants re-computed from the same recorded moves of rho with E_SINGLE
 # including the reference's uncertainty (issue 57): PZT 1.47 / 1.74 / 1.65 % (thesis, gap 3.44, the
 # check at gap 4.78), PVDF 2.26 / 3.00 %; stored as the worst, rounded up: PZT 1.8 %, PVDF 3.0 %.
-ANSWER_PRESS_ERROR = {"PSI-5H4E": {"sensitivity": 0.018, "crosstalk": 0.037},
+# 2026-11-29, after a press's [mesh] became the converging refinement (the rule's second mesh is now
+# every size / sqrt 2 with the grading distance kept): the check design (PZT gap 4.78 mm) gives
+# e_s 2.04 % (tests/test_answer_press.py, slow), above 1.8 %: PZT stored as 2.1 % until the
+# calibration is re-run on the new path (benchmarks/answer_press_error.py --write; not run here).
+ANSWER_PRESS_ERROR = {"PSI-5H4E": {"sensitivity": 0.021, "crosstalk": 0.037},
                       "PVDF": {"sensitivity": 0.030, "crosstalk": 0.094}}
 CALIBRATION = "benchmarks/answer_press_error.py, 2026-11-28; E_SINGLE with the reference's uncertainty, 2026-11-29"
 WITHIN = 0.02                     # the answer's bound on a press's estimate (issue 45): above it, not the answer

@@ -48,7 +48,7 @@ def test_the_recorded_refinements_lie_in_the_answers_band():
 
 
 def _press(case: str, k: float):
-    from taxel.analyses.problem import solve_model
+    from taxel.analyses.model.problem import solve_model
     from taxel.scene import load, refined
     sc = load("thesis-pzt-probe-3d")
     if case == "3x3":
