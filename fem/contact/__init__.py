@@ -10,7 +10,8 @@ and `PressError` with its typed cause when a press stops short).
 
 from ._friction import OPEN, SLIP, STICK, Coulomb
 from ._geometry import Surface, gap
-from ._press import Press, press
+from ._press import Press
+from ._drive import press
 from ._records import PressError, Options, SlipZone, StopCause
 
 __all__ = ["OPEN", "SLIP", "STICK", "Coulomb", "Options", "Press", "PressError", "SlipZone", "StopCause", "Surface", "gap", "press"]

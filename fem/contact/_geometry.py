@@ -2,6 +2,15 @@ r"""Contact of a rigid indenter on the top surface: geometry, gap, and the
 augmented-Lagrangian contact terms with their consistent tangent (frictionless,
 sticking, or Coulomb friction: fem.contact's return mapping, `_friction`).
 
+Contact points (the press, fem.contact) are the quadrature points of the top facets, 2 per P2 edge by
+default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
+multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
+In 3D the points are the P2 triangles' six nodes with lumped weights (rule "nodal",
+shared by neighbouring facets, fem.contact: one point per surface node): Gauss points
+over-constrain the about two nodes per facet and lock the contact zone; the edge
+midpoints alone (rule "midpoints") leave the vertices free to enter the punch
+(benchmarks/contact_3d.py --rules).
+
 Indenter geometry. Every shape is a *core* offset by a radius rho: a flat punch
 of half-width (2D) or radius (axisymmetric, 3D) `a` with edge radius rho is the
 set of points within rho of the flat core {|x_lat - c| <= a - rho, z = z_c}; a

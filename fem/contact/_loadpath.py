@@ -99,3 +99,4 @@ def _falsi(lo, hi, F_target):
     if hi[1] == lo[1]:
         return (lo[0] + hi[0]) / 2
     return lo[0] + (F_target - lo[1]) * (hi[0] - lo[0]) / (hi[1] - lo[1])
+

@@ -18,14 +18,7 @@ method = "penalty" does one Newton solve with lambda = 0 and reports the
 penetration it leaves). While the multipliers still move, Newton stops at
 min(uzawa_tol, gap_tol) (inexact Uzawa); once they have converged, one more pass
 takes it to the full tolerance on them.
-Contact points are the quadrature points of the top facets, 2 per P2 edge by
-default (`intorder` 3): 4 per edge over-constrain a curved punch and stall the
-multiplier loop (measured once: thesis taxel, 0.02 mm travel, penalty 10 mu/h).
-In 3D the points are the P2 triangles' six nodes with lumped weights (rule "nodal",
-shared by neighbouring facets, fem.contact: one point per surface node): Gauss points
-over-constrain the about two nodes per facet and lock the contact zone; the edge
-midpoints alone (rule "midpoints") leave the vertices free to enter the punch
-(benchmarks/contact_3d.py --rules).
+Contact points: fem.contact (its `_geometry` docstring).
 
 Frictionless and Coulomb contact can be solved by the semi-smooth Newton on the Alart-Curnier
 conditions with the tractions as unknowns (fem.contact._alart_curnier; Options.solver
@@ -71,21 +64,17 @@ import numpy as np
 
 from . import _alart_curnier as alart_curnier
 from . import _newton as contact_newton
-from taxel.fem import linalg
+from taxel.fem import linalg, static
 from . import _loadpath as loadpath
-from taxel.fem import static
-from taxel.fem.assembly import System
-from taxel.fem.assembly import elimination
-from taxel.fem.assembly import Indenter
+from taxel.fem.assembly import Indenter, Pattern, System, elimination
 from ._friction import Coulomb
 from ._geometry import Stick, Surface
 from taxel.fem.hyperelastic import scatter, yeoh_regions
-from taxel.fem.assembly import Pattern
 from ._records import PressError, PressResult, Options, PressPoint
 from taxel.fem.static import Solution
 from ._solution import final_solution, residual_skfem
 
-__all__ = ["PressError", "PressResult", "Options", "Press", "PressPoint", "press"]
+__all__ = ["PressError", "PressResult", "Options", "Press", "PressPoint"]
 
 
 class Press:
@@ -397,23 +386,3 @@ class Press:
         S = self.surf.dofs + self.sy.offsets["u"].start
         return scatter(S, S, self.surf.element_tangent(self.res.state, self.eps), self.sy.A.shape[0])
 
-
-def press(sy: System, ind: Indenter, method="auto", opts: Options | None = None,
-          path: list[float] | None = None) -> Solution:
-    """Press to the indenter's travel or force (through the intermediate targets of
-    `path`, N or m alike), and return the final Solution with `.contact`. Where the press
-    stops, its PressError carries the Solution of the last converged state."""
-    pr = Press(sy, ind, method, opts)
-    try:
-        if ind.travel is not None:
-            for d in list(path or []) + [ind.travel]:
-                pr.travel(d)
-            pr.res.message = f"travel {1e3 * ind.travel:.4g} mm: {pr.res.points[-1].force:.4g} N"
-        else:
-            for F in list(path or []) + [ind.force]:
-                pr.force(F)
-    except PressError as exc:
-        if pr.res.points:               # the last converged state (a failed trial restores it)
-            exc.solution = pr.solution()
-        raise
-    return pr.solution()
