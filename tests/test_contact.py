@@ -380,9 +380,6 @@ def test_continuation_lets_the_contact_set_change_along_the_flow(probe_example_m
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="under the default solver ('auto': the semi-smooth Newton where the active-set path "
-                          "stops, issue 57) this press, asked for 3 N, stops with its last converged state at "
-                          "3.49 N, past its target: to be found (measured 2026-11-29)", strict=False)
 def test_a_study_point_whose_press_stops_short_is_the_press_at_the_force_it_reached(tmp_path):
     """The 2D probe example, frictionless, asked for 3 N: the press stops (measured: Newton
     inverts silicone elements past 1.62 N, where the free surface beside the punch folds), and

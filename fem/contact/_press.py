@@ -22,7 +22,7 @@ Contact points: fem.contact (its `_geometry` docstring).
 
 Frictionless and Coulomb contact can be solved by the semi-smooth Newton on the Alart-Curnier
 conditions with the tractions as unknowns (fem.contact._alart_curnier; Options.solver
-"semismooth", and by default, "auto", a load step the Uzawa path below stops in): no Uzawa
+"semismooth", and with "auto" a load step the Uzawa path below (the default) stops in): no Uzawa
 loop, no penetration left.
 When an active set comes back within one Newton solve (`fix_cycling`, default),
 Newton finishes on it (a smooth problem) and the Uzawa loop decides. Sticking
