@@ -182,7 +182,7 @@ class SkinRuntime:
         L, B = NOISE_TAPS, self.block
         white = np.concatenate([self._white, self.rng.standard_normal((B, self._E, self.model.taxels))])
         N = 1 << int(np.ceil(np.log2(len(white) + L)))
-        col = np.fft.irfft(np.fft.rfft(white, N, axis=0) * np.fft.rfft(self._taps, N)[:, None, None], N, axis=0)
+        col = _fft_filter(white, self._taps, N)
         self._noise, self._k = col[L - 1:L - 1 + B], 0
         self._white = white[-(L - 1):]
 
@@ -387,7 +387,7 @@ class SkinRuntime:
             h[0] = D
             h[1:] = (Pk[:L - 1] @ w).real
             N = 2 * L
-            V[:, e] = np.fft.irfft(np.fft.rfft(U[:, e], N, axis=0) * np.fft.rfft(h, N)[:, None], N, axis=0)[:L]
+            V[:, e] = _fft_filter(U[:, e], h, N)[:L]
             z0 = self._modes[e]                                                     # (n, T)
             if z0.any():                                                            # the free response
                 V[:, e] += (Pk[:L] @ (w[:, None] * z0)).real
@@ -395,3 +395,11 @@ class SkinRuntime:
             z0 *= Pk[L][:, None]
             z0 += R.real @ U[:, e] + 1j * (R.imag @ U[:, e])
         return V
+
+
+def _fft_filter(x: np.ndarray, h: np.ndarray, n: int) -> np.ndarray:
+    """x (time first, any trailing axes) filtered by the impulse response h, by FFTs of length n
+    (n >= len(x) + len(h) - 1 for a linear, not circular, convolution): the one copy the noise
+    and the replay share (the runtime is numpy only, so not scipy.signal.fftconvolve)."""
+    H = np.fft.rfft(h, n).reshape((-1,) + (1,) * (x.ndim - 1))
+    return np.fft.irfft(np.fft.rfft(x, n, axis=0) * H, n, axis=0)
