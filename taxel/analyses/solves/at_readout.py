@@ -16,9 +16,9 @@ circuit's |H(f)| on that source (fem.readout):
                         the frequency of S_r (each taxel on its own channel);
   charge sensitivity    |Q_sc| / F of the pressed taxel, C/N;
   minimum detectable force: the band's rms noise of every source of the chain (amplifier,
-                        resistors, dielectric loss, hum; the ADC with a rig) over the band
+                        resistors, dielectric loss, hum; the ADC's quantisation: [readout.adc] or a rig's) over the band
                         sensitivity (taxel.analyses.solves.noise: NoiseResult);
-  force range           the amplifier's swing (or the ADC's full scale) over S_r, N.
+  force range           the smaller of the amplifier's swing and the ADC's half range over S_r, N.
 
 The band is the scene's [analysis] f_min..f_max. Assumptions: linear taxel (a press is
 linearised at its operating force: secant V/N); the quasi-static source (the band well
