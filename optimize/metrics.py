@@ -59,8 +59,7 @@ def geometry(scene) -> dict:
     above + piezo + below), footprint (the array's width along x with its margins), gap, pitch."""
     a = scene.array
     return {"total_thickness": a.silicone_above + a.piezo_thickness + a.silicone_below,
-            "footprint": a.cols * a.taxel_width + (a.cols - 1) * a.gap + 2 * a.margin, "gap": a.gap,
-            "pitch": a.taxel_width + a.gap}
+            "footprint": a.footprint, "gap": a.gap, "pitch": a.pitch}
 
 
 def axis_label(metric: str) -> str:

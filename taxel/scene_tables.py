@@ -122,6 +122,16 @@ class ArrayTable(Strict):
     silicone_below: Thickness = "1 mm"
     """Silicone below the taxels."""
 
+    @property
+    def pitch(self) -> float:
+        """The centre-to-centre distance of neighbouring taxels, m: taxel width plus gap."""
+        return self.taxel_width + self.gap
+
+    @property
+    def footprint(self) -> float:
+        """The array's width along x with its margins, m: cols taxels, cols - 1 gaps, two margins."""
+        return self.cols * self.taxel_width + (self.cols - 1) * self.gap + 2 * self.margin
+
 
 class LayerTable(Strict):
     material: str
