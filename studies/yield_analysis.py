@@ -193,9 +193,10 @@ def analyze(name: str, spreads: list[Spread], x: np.ndarray, values: dict[str, n
 MAGNITUDES = ("sensitivity", "charge_sensitivity")
 
 
-def noise_outputs(scene_data: dict, outputs: dict, band=(1.0, 100.0)) -> dict:
+def noise_outputs(scene_data: dict, outputs: dict, band=None) -> dict:
     """min_detectable_force (N), snr (dB at the scene's load force) and dynamic_range (dB)
-    of a point from its static outputs, through the scene's own [readout] over `band` (Hz):
+    of a point from its static outputs, through the scene's own [readout] over `band` (Hz;
+    None: its readout.band, default 1-300 Hz):
     the quasi-static noise budget (taxel.analyses.solves.noise.quasi_static_noise); {} without a
     pressed taxel's voltage and charge."""
     from taxel.analyses.solves.noise import design_noise
@@ -204,7 +205,7 @@ def noise_outputs(scene_data: dict, outputs: dict, band=(1.0, 100.0)) -> dict:
     return {k: v for k, v in m.items() if v is not None}
 
 
-def from_study(study, store, noise_band=(1.0, 100.0)) -> ToleranceResult:
+def from_study(study, store, noise_band=None) -> ToleranceResult:
     """The ToleranceResult of a tolerance study from its store (studies.store.Store): the
     named outputs of every point (sensitivity and charge_sensitivity as magnitudes, crosstalk,
     ...) and its noise outputs over `noise_band` (noise_outputs)."""

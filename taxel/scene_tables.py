@@ -268,7 +268,15 @@ class AdcTable(Strict):
         return self
 
 
+# The default noise band (Hz): the vibrations human mechanoreceptors sense, up to 300 Hz (the
+# thesis, section 1.2, its reference [12]; Pacinian corpuscles are the fastest), from 1 Hz, a slow
+# press (a piezo taxel reads no static force). `taxel solve`, `taxel optimize` ([resolution]) and the
+# tolerance study's noise outputs all take it from here (ReadoutTable.band).
+NOISE_BAND = ("1 Hz", "300 Hz")
+
+
 class ReadoutTable(Strict):
+    """The readout chain behind each taxel (fem.readout): its circuit, notch, noise sources, ADC and band."""
     circuit: Literal["open", "resistor", "charge_amplifier"] = "open"
     """The readout circuit: open (the open-circuit voltage), a resistor, or a charge amplifier."""
     R: Resistance = "500 Mohm"
@@ -304,8 +312,16 @@ class ReadoutTable(Strict):
     """Mains pickup at the output before the notch: peak amplitudes of the mains frequency and its odd harmonics."""
     mains_frequency: Frequency = "50 Hz"
     """The mains frequency (hum at it and its odd harmonics 3, 5, ...)."""
+    band: tuple[Frequency, Frequency] = NOISE_BAND
+    """The band of the noise, the minimum detectable force and the readout's V/N (default: what human mechanoreceptors sense)."""
     adc: AdcTable | None = None
     """The ADC behind the readout ([readout.adc]); none: no quantisation, the amplifier's swing clips."""
+
+    @model_validator(mode="after")
+    def _band(self):
+        if not self.band[0] < self.band[1]:
+            raise ValueError(f"readout.band must go from low to high, got [{self.band[0]:g}, {self.band[1]:g}] Hz")
+        return self
 
 
 class WarmTouchTable(Strict):

@@ -20,7 +20,7 @@ circuit's |H(f)| on that source (fem.readout):
                         sensitivity (taxel.analyses.solves.noise: NoiseResult);
   force range           the smaller of the amplifier's swing and the ADC's half range over S_r, N.
 
-The band is the scene's [analysis] f_min..f_max. Assumptions: linear taxel (a press is
+The band is the scene's readout.band (default 1-300 Hz, taxel.scene.NOISE_BAND). Assumptions: linear taxel (a press is
 linearised at its operating force: secant V/N); the quasi-static source (the band well
 below the first resonance); uncorrelated noise sources.
 """

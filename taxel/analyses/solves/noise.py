@@ -13,8 +13,9 @@ gain and the ADC (bits, range, rate) of the rig, which replace the scene's.
 
 Assumptions: the sources are uncorrelated (their PSDs add); the chain is linear up
 to saturation; the ADC's quantisation is white (the noise spans several codes);
-the band is [analysis.f_min, analysis.f_max], cut at the rig's (or the scene's ADC's)
-Nyquist frequency; a scene's ADC without a rate samples at twice the band's top.
+the band is the scene's readout.band (default taxel.scene.NOISE_BAND, 1-300 Hz: what human
+mechanoreceptors sense), cut at the rig's (or the scene's ADC's) Nyquist frequency; a scene's
+ADC without a rate samples at twice the band's top.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ def scene_adc(scene: Scene, band=None) -> N.Converter | None:
     if a is None:
         return None
     lo, hi = a.range
-    rate = a.rate or 2 * (band[1] if band is not None else scene.analysis.f_max)
+    rate = a.rate or 2 * (band[1] if band is not None else scene.readout.band[1])
     return N.Converter(a.bits, lo, hi, rate, 1.0, (lo + hi) / 2 if a.offset is None else a.offset, a.enob)
 
 
@@ -64,14 +65,14 @@ def with_readout(scene: Scene, r: Readout) -> Scene:
 
 
 def band_of(scene: Scene, rig=None, band=None) -> tuple[float, float]:
-    """The band (Hz): given, else the scene's [analysis] f_min..f_max, cut at the rig's Nyquist."""
-    lo, hi = band if band is not None else (scene.analysis.f_min, scene.analysis.f_max)
+    """The band (Hz): given, else the scene's readout.band, cut at the rig's (or readout.adc's) Nyquist."""
+    lo, hi = band if band is not None else scene.readout.band
     if rig is not None:
         hi = min(hi, rig.sampling.rate / 2)
     elif scene.readout.adc is not None and scene.readout.adc.rate:
         hi = min(hi, scene.readout.adc.rate / 2)
     if not 0 < lo < hi:
-        raise SceneError(f"noise band {lo:g}-{hi:g} Hz is empty; set analysis.f_min < analysis.f_max "
+        raise SceneError(f"noise band {lo:g}-{hi:g} Hz is empty; set readout.band = [low, high] "
                          "(below the rig's or readout.adc's Nyquist frequency)")
     return float(lo), float(hi)
 
