@@ -31,11 +31,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from taxel.analyses.results.outputs import table
 from taxel.schema import Strict
 from taxel.scene import Scene
 from taxel import units as U
 
-NOISE_METRICS = ("min_detectable_force", "snr", "dynamic_range")
+NOISE_METRICS = tuple(table("design_noise"))      # min_detectable_force, snr, dynamic_range
 
 
 class Resolution(Strict):

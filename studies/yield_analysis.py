@@ -23,7 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.studies.requirements import TOLERANCE_OUTPUTS, parse_requirements
+from taxel.analyses.results.outputs import units_of as output_units
+from taxel.studies.requirements import parse_requirements
 from taxel.studies.tolerance import Spread, meets
 
 PERCENTILES = (5, 50, 95)
@@ -173,7 +174,8 @@ def analyze(name: str, spreads: list[Spread], x: np.ndarray, values: dict[str, n
     for k, text in requirements.items():
         if k not in values:
             raise ValueError(f"requirements.{k}: not an output of the study ({', '.join(values)})")
-    units_of = {k: TOLERANCE_OUTPUTS.get(k) for k in values}       # None: an output of unknown unit
+    known = output_units("tolerance")
+    units_of = {k: known.get(k) for k in values}       # None: an output of unknown unit
     for k, r in parse_requirements(requirements, units_of).items():
         reqs[k] = (r.op, r.bound)
     res = ToleranceResult(name, spreads, x, values, reqs)

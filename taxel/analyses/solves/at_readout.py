@@ -29,10 +29,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.analyses.results.readout import READOUT_OUTPUTS, AtReadout
+from taxel.analyses.results.readout import AtReadout
 from taxel.scene import SceneError
 
-__all__ = ["READOUT_OUTPUTS", "AtReadout", "at_readout"]
+__all__ = ["AtReadout", "at_readout"]
 
 
 def at_readout(result, rig=None) -> AtReadout | None:

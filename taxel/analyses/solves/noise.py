@@ -28,6 +28,7 @@ from taxel.scene import Scene, SceneError
 from taxel.analyses.model.problem import readout as scene_readout
 from taxel.analyses.model.problem import scene_materials
 from taxel.analyses.results.noise import NoiseResult
+from taxel.analyses.results.outputs import table
 from taxel.analyses.results.base import pressed_name
 
 
@@ -130,7 +131,7 @@ def _budget(scene, rig, ch, band, f_sw, H, C, names, label, points) -> NoiseResu
                        by if np.isfinite(sat) else "none", label, getattr(rig, "name", None))
 
 
-DESIGN_NOISE = ("min_detectable_force", "snr", "dynamic_range")
+DESIGN_NOISE = tuple(table("design_noise"))       # min_detectable_force, snr, dynamic_range
 
 
 def design_noise(scene: Scene, outputs: dict, rig=None, band=None, force: float | None = None) -> dict:
