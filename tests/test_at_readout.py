@@ -198,3 +198,7 @@ def test_the_assumptions_table_names_a_missing_adc():
     assert [r["value"] for r in rows if r["assumed"] == "ADC"] == ["none (an ideal converter)"]
     named = to_data(scene.replace(**{"readout.adc": {"bits": 12, "range": ["0 V", "3.3 V"]}}))
     assert not [r for r in assumptions(named) if r["assumed"] == "ADC"]
+    assert [r["value"] for r in assumptions(named) if r["assumed"] == "ADC noise"] == [
+        "enob = bits (an ideal quantiser), rate = twice the band's top"]
+    full = to_data(scene.replace(**{"readout.adc": {"bits": 12, "range": ["0 V", "3.3 V"], "enob": 11, "rate": "1 kHz"}}))
+    assert not [r for r in assumptions(full) if r["assumed"].startswith("ADC")]

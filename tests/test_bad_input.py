@@ -127,6 +127,8 @@ SCENES = [
     scene("adc-range-backwards", ARRAY + '[readout.adc]\nbits = 12\nrange = ["3.3 V", "0 V"]\n',
           "readout.adc.range", "low to high"),
     scene("adc-no-bits", ARRAY + '[readout.adc]\nrange = ["0 V", "3.3 V"]\n', "readout.adc.bits"),
+    scene("band-backwards", ARRAY + '[readout]\nband = ["300 Hz", "1 Hz"]\n', "readout.band", "low to high"),
+    scene("band-in-seconds", ARRAY + '[readout]\nband = ["1 s", "300 Hz"]\n', "readout.band", "not a frequency"),
     scene("adc-enob-above-bits", ARRAY + '[readout.adc]\nbits = 12\nrange = ["0 V", "3 V"]\nenob = 14\n',
           "readout.adc.enob", "bits"),
     scene("dynamics-negative-loss", ARRAY + "[dynamics]\nsilicone_loss = -0.1\n", "dynamics.silicone_loss"),
