@@ -49,7 +49,7 @@ def chain(scene: Scene, rig=None, channel: str | None = None, band=None) -> N.Ch
 
 def scene_adc(scene: Scene, band=None) -> N.Converter | None:
     """The scene's ADC ([readout.adc]) as fem.readout's Converter; None without one. Its rate:
-    the table's, else twice the top of `band` (else of the scene's analysis band)."""
+    the table's, else twice the top of `band` (else of the scene's readout.band)."""
     a = scene.readout.adc
     if a is None:
         return None
