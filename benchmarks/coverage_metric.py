@@ -103,7 +103,7 @@ def three_d(gap_mm: float, corner_only: bool = False) -> dict:
     sc2 = taxel.load("thesis-pzt-3x3-2d").replace(**{"array.gap": f"{gap_mm} mm"})
     sc3 = taxel.load("thesis-pzt-3x3-3d").replace(**{"array.gap": f"{gap_mm} mm"})
     arr = sc3.array
-    pitch = arr.taxel_width + arr.gap
+    pitch = arr.pitch
     infl = influence(sc2, per_pitch=8, edges=False)
     positions = {"taxel centre": (0.0, 0.0), "taxel edge": (arr.taxel_width / 2, 0.0),
                  "gap middle": (pitch / 2, 0.0), "corner of four taxels": (pitch / 2, pitch / 2)}

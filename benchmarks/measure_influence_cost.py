@@ -60,7 +60,7 @@ def main():
 def _no_mirror(I, sc, solve):
     """The reference: every pitch / 8 over the span, each position solved."""
     arr = sc.array
-    pitch = arr.taxel_width + arr.gap
+    pitch = arr.pitch
     xs = I.samples(sc, 8, False)
     V = []
     for x in xs:

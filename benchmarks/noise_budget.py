@@ -4,7 +4,7 @@
     python benchmarks/noise_budget.py
 
 The thesis PZT taxel (`thesis-pzt-frequency`: FEM transfer function, charge amplifier
-and 50 Hz notch) over 1 Hz-1 kHz, three chains: the analog chain alone, the thesis
+and 50 Hz notch) over the default band (readout.band, 1-300 Hz), three chains: the analog chain alone, the thesis
 bench's ADC (`thesis-bench` rig: 16 bit, +-10 V, 2 kHz), and the bench with the
 simulated rig's mains pickup (5, 1.5, 0.5 mV at 50, 150, 250 Hz; the main job's
 noise-budget step). Prints the rms noise, the minimum detectable force, the dynamic

@@ -96,7 +96,7 @@ def search(m) -> dict:
 
 def positions(sc):
     a = sc.array
-    w, p = a.taxel_width, a.taxel_width + a.gap
+    w, p = a.taxel_width, a.pitch
     return {"taxel centre": (0, 0), "diagonal p/8": (p / 8, p / 8), "diagonal p/4": (p / 4, p / 4),
             "diagonal 3p/8": (3 * p / 8, 3 * p / 8), "corner of four taxels": (p / 2, p / 2),
             "taxel edge": (w / 2, 0), "row p/4": (p / 4, 0), "gap middle": (p / 2, 0),
@@ -148,7 +148,7 @@ def probe() -> dict:
     from taxel.analyses.surface.probe_map import factor_error, probe_correction
     sc = scene(3)
     m = build(sc)
-    p = sc.array.taxel_width + sc.array.gap
+    p = sc.array.pitch
     t0, c0 = time.perf_counter(), time.process_time()
     corr, cost_ = probe_correction(sc, m, [0.0, p / 2], [0.0], [0.2, 0.5, 1.0])
     rec = {"knots_x_mm": [0.0, 1e3 * p / 2], "forces_N": corr.forces.tolist(), "factor": corr.factor[:, 0, :].tolist(),

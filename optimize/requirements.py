@@ -70,7 +70,7 @@ RULE = ("Each requirement's margin is relative to its bound, positive when met. 
 IMPLIED = ("No performance requirement is stated, so the reference design's own sensitivity and crosstalk are the "
            "bar: the recommended design must be at least as sensitive with at most its crosstalk.")
 # The optimizer's metrics as the requirement grammar's outputs: name -> SI unit ("" a ratio)
-OUTPUTS = {k: ("" if m.unit == "ratio" else m.unit) for k, m in METRIC_TABLE.items()}
+OUTPUTS = {k: m.si_unit for k, m in METRIC_TABLE.items()}
 
 __all__ = ["Requirement", "RequirementError", "read", "implied", "judge", "choose", "Verdict", "Choice"]
 

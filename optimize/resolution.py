@@ -6,7 +6,7 @@ An optimization (or a tolerance study) asks for them in an optional table:
     [resolution]
     rig = "thesis-bench"              # the rig's conditioning, channel gain and ADC (default: none,
                                       # the scene's [readout] alone)
-    band = ["1 Hz", "100 Hz"]          # the force's band (default 1-100 Hz: press events)
+    band = ["1 Hz", "100 Hz"]          # the force's band (default: the scene's readout.band, 1-300 Hz)
     force = "10 mN"                    # the force of the snr (rms; default: the scene's load force)
 
 How: taxel.analyses.solves.noise.quasi_static_noise. The static solve gives the pressed
@@ -20,32 +20,36 @@ charge source, and each noise source's PSD depends only on the circuit and C_p
     snr = 20 log10(force / min_detectable_force)   (dB)
     dynamic_range = 20 log10(F_sat / sqrt 2 / min_detectable_force)   (dB; F_sat = swing / max|H|)
 
-The default band stays below the silicone layer's first resonance (about 400 Hz for
-the thesis PZT taxel, where the FEM's |H| starts to rise); a band through it needs
-the FEM sweep (taxel.analyses.solves.noise.noise), which costs a frequency analysis per
-design. tests/test_robust.py checks the quasi-static numbers against that sweep.
+The default band is the scene's readout.band (taxel.scene.NOISE_BAND, 1-300 Hz: what human
+mechanoreceptors sense, as `taxel solve`'s); it stays below the silicone layer's first
+resonance (about 400 Hz for the thesis PZT taxel, where the FEM's |H| starts to rise); a band
+through it needs the FEM sweep (taxel.analyses.solves.noise.noise), which costs a frequency
+analysis per design. tests/test_robust.py checks the quasi-static numbers against that sweep.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from taxel.analyses.results.outputs import table
 from taxel.schema import Strict
 from taxel.scene import Scene
 from taxel import units as U
 
-NOISE_METRICS = ("min_detectable_force", "snr", "dynamic_range")
+NOISE_METRICS = tuple(table("design_noise"))      # min_detectable_force, snr, dynamic_range
 
 
 class Resolution(Strict):
     """The [resolution] table of an optimization: where the noise floor is taken."""
     rig: str | None = None
-    band: tuple[Any, Any] = ("1 Hz", "100 Hz")
+    band: tuple[Any, Any] | None = None      # None: the scene's readout.band
     force: Any = None
 
 
-def band_hz(res: Resolution) -> tuple[float, float]:
-    """The band in Hz; a ValueError naming the key otherwise."""
+def band_hz(res: Resolution) -> tuple[float, float] | None:
+    """The band in Hz (None: the scene's readout.band); a ValueError naming the key otherwise."""
+    if res.band is None:
+        return None
     try:
         lo, hi = (U.in_unit(v, "Hz")[0] for v in res.band)
     except U.UnitError as exc:

@@ -370,7 +370,7 @@ crosstalk = "<= 8 %"
 
 [resolution]                       # the noise metrics' chain
 rig = "thesis-bench"
-band = ["1 Hz", "100 Hz"]
+band = ["1 Hz", "100 Hz"]          # default: the scene's readout.band (1-300 Hz)
 force = "10 mN"
 
 [robust]

@@ -60,6 +60,15 @@ def assumptions(scene: dict, adc: dict | None = None) -> list[dict]:
         rows.append({"assumed": "ADC", "value": f"{adc['bits']} bits, {adc['range_V'][0]:g} to {adc['range_V'][1]:g} V",
                      "moves": "the quantisation noise (the minimum detectable force) and the full scale (saturation)",
                      "source": f"the {adc['rig']} rig file (studies/bench/builtin)"})
+    elif readout.get("circuit", "open") != "open" and not readout.get("adc"):
+        rows.append({"assumed": "ADC", "value": "none (an ideal converter)", "moves": "no quantisation noise in the "
+                     "minimum detectable force; the amplifier's swing alone sets the saturation",
+                     "source": "the scene names no [readout.adc]"})
+    elif readout.get("adc") and not {"enob", "rate"} <= set(readout["adc"]):
+        rows.append({"assumed": "ADC noise", "value": ", ".join(v for k, v in (
+            ("enob", "enob = bits (an ideal quantiser)"), ("rate", "rate = twice the band's top")) if k not in readout["adc"]),
+                     "moves": "the quantisation noise: the minimum detectable force",
+                     "source": "the defaults of [readout.adc] (the scene gives no enob or rate)"})
     array = scene.get("array") or {}
     dyn = scene.get("dynamics") or {}
     name = str(array.get("piezo", ""))

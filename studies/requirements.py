@@ -12,7 +12,7 @@ snr ">= 40 dB". A bound without a unit is accepted only for a ratio. Anything el
 refused with one line naming `requirements.OUTPUT` and the fix (RequirementError).
 
     from taxel.studies.requirements import Requirement, parse_requirements
-    reqs = parse_requirements({"crosstalk": "<= 2 %"}, TOLERANCE_OUTPUTS)
+    reqs = parse_requirements({"crosstalk": "<= 2 %"}, units_of("tolerance"))
     reqs["crosstalk"].met(values)          # bool array; NaN (a failed point) never meets it
 """
 
@@ -26,12 +26,8 @@ import numpy as np
 
 from taxel import units
 
-# The outputs a tolerance study has per point and their SI units: a static result's named
-# outputs (taxel.analyses.results.STATIC_OUTPUTS) and the noise budget's
-# (taxel.analyses.solves.noise.DESIGN_NOISE).
-TOLERANCE_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V",
-                     "crosstalk": "", "max_strain": "", "min_detectable_force": "N", "snr": "dB",
-                     "dynamic_range": "dB"}
+# The outputs a tolerance study has per point and their SI units are the output table's
+# "tolerance" ones (taxel.analyses.results.outputs.units_of("tolerance")).
 
 _GRAMMAR = re.compile(r"\s*(<=|>=)\s*(\S.*?)\s*")
 _NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")

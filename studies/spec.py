@@ -104,8 +104,9 @@ class StudySpec(Strict):
             raise ValueError("requirements: only a tolerance study (sampling = \"tolerance\") has a yield; "
                              "remove [requirements] or set sampling = \"tolerance\"")
         if self.requirements:
-            from taxel.studies.requirements import TOLERANCE_OUTPUTS, parse_requirements
-            parse_requirements(self.requirements, TOLERANCE_OUTPUTS)
+            from taxel.analyses.results.outputs import units_of
+            from taxel.studies.requirements import parse_requirements
+            parse_requirements(self.requirements, units_of("tolerance"))
         if self.sampling == "tolerance":
             for p in self.parameters:
                 if p.tolerance is None:

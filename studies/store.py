@@ -20,7 +20,7 @@ import time
 from functools import cache
 from pathlib import Path
 
-from taxel.analyses.solves.at_readout import READOUT_OUTPUTS
+from taxel.analyses.results.outputs import table
 from taxel.analyses.solves.version import code_version as _code_version
 from taxel.scene import SceneError, canonical, parse
 from taxel.studies.evaluate import evaluate_safely
@@ -164,7 +164,7 @@ def tidy_rows(out: Path) -> list[dict]:
         for name in ("crosstalk", "max_strain", "seconds"):
             if name in res:
                 row[name] = res[name]
-        for name in ("charge_sensitivity", *READOUT_OUTPUTS):    # with a [readout]: its numbers beside
+        for name in ("charge_sensitivity", *table("readout")):   # with a [readout]: its numbers beside
             if named.get(name) is not None:                       # the open circuit's (analyses.solves.at_readout)
                 row[name] = named[name]
         if "requested_load" in res:       # stopped short (studies.evaluate): the outputs are at this load

@@ -13,7 +13,7 @@ by the study's `seed`) mapped through each distribution's inverse CDF, `samples`
 points (a power of two keeps the sequence balanced). A study's `[requirements]`
 table, e.g. {sensitivity = ">= 0.7 V/N", crosstalk = "<= 2 %"}, gives the yield
 (studies.yield_analysis); its grammar and units are studies.requirements', checked when
-the study file is read against the outputs a tolerance study has (TOLERANCE_OUTPUTS).
+the study file is read against the outputs a tolerance study has (the output table's "tolerance" ones, taxel.analyses.results.outputs).
 
     sampling = "tolerance"
     samples = 64

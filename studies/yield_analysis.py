@@ -23,7 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.studies.requirements import TOLERANCE_OUTPUTS, parse_requirements
+from taxel.analyses.results.outputs import units_of as output_units
+from taxel.studies.requirements import parse_requirements
 from taxel.studies.tolerance import Spread, meets
 
 PERCENTILES = (5, 50, 95)
@@ -173,7 +174,8 @@ def analyze(name: str, spreads: list[Spread], x: np.ndarray, values: dict[str, n
     for k, text in requirements.items():
         if k not in values:
             raise ValueError(f"requirements.{k}: not an output of the study ({', '.join(values)})")
-    units_of = {k: TOLERANCE_OUTPUTS.get(k) for k in values}       # None: an output of unknown unit
+    known = output_units("tolerance")
+    units_of = {k: known.get(k) for k in values}       # None: an output of unknown unit
     for k, r in parse_requirements(requirements, units_of).items():
         reqs[k] = (r.op, r.bound)
     res = ToleranceResult(name, spreads, x, values, reqs)
@@ -193,9 +195,10 @@ def analyze(name: str, spreads: list[Spread], x: np.ndarray, values: dict[str, n
 MAGNITUDES = ("sensitivity", "charge_sensitivity")
 
 
-def noise_outputs(scene_data: dict, outputs: dict, band=(1.0, 100.0)) -> dict:
+def noise_outputs(scene_data: dict, outputs: dict, band=None) -> dict:
     """min_detectable_force (N), snr (dB at the scene's load force) and dynamic_range (dB)
-    of a point from its static outputs, through the scene's own [readout] over `band` (Hz):
+    of a point from its static outputs, through the scene's own [readout] over `band` (Hz;
+    None: its readout.band, default 1-300 Hz):
     the quasi-static noise budget (taxel.analyses.solves.noise.quasi_static_noise); {} without a
     pressed taxel's voltage and charge."""
     from taxel.analyses.solves.noise import design_noise
@@ -204,7 +207,7 @@ def noise_outputs(scene_data: dict, outputs: dict, band=(1.0, 100.0)) -> dict:
     return {k: v for k, v in m.items() if v is not None}
 
 
-def from_study(study, store, noise_band=(1.0, 100.0)) -> ToleranceResult:
+def from_study(study, store, noise_band=None) -> ToleranceResult:
     """The ToleranceResult of a tolerance study from its store (studies.store.Store): the
     named outputs of every point (sensitivity and charge_sensitivity as magnitudes, crosstalk,
     ...) and its noise outputs over `noise_band` (noise_outputs)."""

@@ -19,8 +19,8 @@ from pydantic import BaseModel, PrivateAttr, ValidationError, model_validator
 
 from taxel import units
 from taxel.schema import GEOMETRY, Name, Strict, one_line, read_toml, safe_name, set_path, to_data
-from taxel.scene_tables import (DEFAULT_MESH, DEFAULT_PRESS_MESH, MATERIAL_UNITS, AnalysisTable, ArrayTable,  # noqa: F401
-                                DynamicsTable, FrictionLaw, LayerTable, LoadTable, MeshTable, ModelTable, PlateTable,
+from taxel.scene_tables import (DEFAULT_MESH, DEFAULT_PRESS_MESH, MATERIAL_UNITS, NOISE_BAND, AdcTable,  # noqa: F401
+                                AnalysisTable, ArrayTable, DynamicsTable, FrictionLaw, LayerTable, LoadTable, MeshTable, ModelTable, PlateTable,
                                 ReadoutTable, SupportsTable, UserMaterial, WarmTouchTable, material_in_si)
 
 EXAMPLES = Path(__file__).parent / "examples"

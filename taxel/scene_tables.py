@@ -1,6 +1,6 @@
 """The scene tables: one `[table]` of a scene as its schema class (`ModelTable`,
 `MeshTable`, `ArrayTable`, `PlateTable`, `LayerTable`, `LoadTable`, `SupportsTable`,
-`DynamicsTable`, `AnalysisTable`, `ReadoutTable`, `WarmTouchTable`), the default meshes, and a user
+`DynamicsTable`, `AnalysisTable`, `ReadoutTable` and its `AdcTable`, `WarmTouchTable`), the default meshes, and a user
 material table's units (`[materials.NAME]`). The scene (taxel.scene) is made of them;
 `taxel.scene` re-exports every name here.
 """
@@ -9,12 +9,12 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import AfterValidator, Field, StrictBool, StrictInt
+from pydantic import AfterValidator, Field, StrictBool, StrictInt, model_validator
 
 from taxel import units
 from taxel.schema import (Capacitance, Coordinate, Duration, Force, Fraction, Frequency, FrictionLaw, HeatTransfer, Length,
-                          LossFactor, MeshSize, NoiseCurrent, NoiseVoltage, Pressure, Resistance, Strict,
-                          Temperature, Thickness, Voltage, dimensionless)
+                          LossFactor, MeshSize, NoiseCurrent, NoiseVoltage, Pressure, Resistance, SignedVoltage,
+                          Strict, Temperature, Thickness, Voltage, dimensionless)
 
 
 # The unit of each key of a user material table ([materials.NAME]) that has one; a
@@ -121,6 +121,16 @@ class ArrayTable(Strict):
     """Silicone above the taxels (between them and the pressed surface)."""
     silicone_below: Thickness = "1 mm"
     """Silicone below the taxels."""
+
+    @property
+    def pitch(self) -> float:
+        """The centre-to-centre distance of neighbouring taxels, m: taxel width plus gap."""
+        return self.taxel_width + self.gap
+
+    @property
+    def footprint(self) -> float:
+        """The array's width along x with its margins, m: cols taxels, cols - 1 gaps, two margins."""
+        return self.cols * self.taxel_width + (self.cols - 1) * self.gap + 2 * self.margin
 
 
 class LayerTable(Strict):
@@ -230,7 +240,43 @@ class AnalysisTable(Strict):
     """A csv input's file: columns time (s) and force (N)."""
 
 
+class AdcTable(Strict):
+    """The ADC that digitizes the readout's output ([readout.adc]; fem.readout.Converter).
+    Its quantisation is noise of LSB^2 / 12 (LSB = span / 2^enob) spread evenly to rate / 2;
+    its input range clips the output (the readout's output shifted to `offset`), the smaller
+    of it and the amplifier's swing sets the saturation. A rig's [adc] replaces it."""
+    bits: StrictInt = Field(ge=1, le=32)
+    """The ADC's resolution in bits."""
+    range: tuple[SignedVoltage, SignedVoltage]
+    """The ADC's input range [low, high], e.g. ["0 V", "3.3 V"] for a 3.3 V reference."""
+    offset: SignedVoltage | None = None
+    """The ADC input of a zero readout output (its bias); default: the range's middle."""
+    enob: Annotated[float, dimensionless("effective number of bits", gt=0, le=32)] | None = None
+    """Effective number of bits: its noise as the quantisation of that many bits; default: bits (an ideal ADC)."""
+    rate: Frequency | None = None
+    """Sampling rate; default: twice the noise band's top (the band holds all of LSB^2 / 12)."""
+
+    @model_validator(mode="after")
+    def _span(self):
+        lo, hi = self.range
+        if not hi > lo:
+            raise ValueError(f"readout.adc.range must go from low to high, got [{lo:g}, {hi:g}] V")
+        if self.offset is not None and not lo <= self.offset <= hi:
+            raise ValueError(f"readout.adc.offset {self.offset:g} V is outside the range [{lo:g}, {hi:g}] V")
+        if self.enob is not None and self.enob > self.bits:
+            raise ValueError(f"readout.adc.enob {self.enob:g} is above its bits ({self.bits}); give enob <= bits")
+        return self
+
+
+# The default noise band (Hz): the vibrations human mechanoreceptors sense, up to 300 Hz (the
+# thesis, section 1.2, its reference [12]; Pacinian corpuscles are the fastest), from 1 Hz, a slow
+# press (a piezo taxel reads no static force). `taxel solve`, `taxel optimize` ([resolution]) and the
+# tolerance study's noise outputs all take it from here (ReadoutTable.band).
+NOISE_BAND = ("1 Hz", "300 Hz")
+
+
 class ReadoutTable(Strict):
+    """The readout chain behind each taxel (fem.readout): its circuit, notch, noise sources, ADC and band."""
     circuit: Literal["open", "resistor", "charge_amplifier"] = "open"
     """The readout circuit: open (the open-circuit voltage), a resistor, or a charge amplifier."""
     R: Resistance = "500 Mohm"
@@ -266,6 +312,16 @@ class ReadoutTable(Strict):
     """Mains pickup at the output before the notch: peak amplitudes of the mains frequency and its odd harmonics."""
     mains_frequency: Frequency = "50 Hz"
     """The mains frequency (hum at it and its odd harmonics 3, 5, ...)."""
+    band: tuple[Frequency, Frequency] = NOISE_BAND
+    """The band of the noise, the minimum detectable force and the readout's V/N (default: what human mechanoreceptors sense)."""
+    adc: AdcTable | None = None
+    """The ADC behind the readout ([readout.adc]); none: no quantisation, the amplifier's swing clips."""
+
+    @model_validator(mode="after")
+    def _band(self):
+        if not self.band[0] < self.band[1]:
+            raise ValueError(f"readout.band must go from low to high, got [{self.band[0]:g}, {self.band[1]:g}] Hz")
+        return self
 
 
 class WarmTouchTable(Strict):

@@ -155,6 +155,7 @@ Ratio = Annotated[float, dimensionless("ratio (V/V)", gt=0)]
 NoiseVoltage = Annotated[float, _quantity("V/Hz**0.5", "voltage noise density", nonnegative=True)]
 NoiseCurrent = Annotated[float, _quantity("A/Hz**0.5", "current noise density", nonnegative=True)]
 Voltage = Annotated[float, _quantity("V", "voltage", nonnegative=True)]
+SignedVoltage = Annotated[float, _quantity("V", "voltage")]     # an ADC's input range may go below zero
 Temperature = Annotated[float, _quantity("K", "temperature", positive=True)]
 # a surface's heat transfer coefficient: a contact conductance or a convection coefficient
 HeatTransfer = Annotated[float, _quantity("W/(m^2*K)", "heat transfer coefficient", nonnegative=True)]

@@ -159,3 +159,46 @@ maximize = "readout_sensitivity"
 ''')
     with pytest.raises(OptimizeError, match="needs a readout in the base scene"):
         load_optimization(tmp_path / "opt.toml")
+
+
+def test_a_scene_adc_clips_and_quantises_by_its_closed_forms(solved):
+    """[readout.adc]: a 10-bit ADC on 0-3.3 V (its output biased to the middle) clips at its half
+    range, 1.65 V < the amplifier's 12 V, so the force range is 1.65 V / S_r; its quantisation
+    adds LSB^2 / 12 (LSB = 3.3 V / 2^10), spread to rate / 2 = the band's top, to the band's
+    variance, through the band sensitivity; an enob of 8 adds (3.3 V / 2^8)^2 / 12 instead."""
+    from taxel.analyses.solves.noise import quasi_static_noise
+    scene, res = solved
+    e = res.electrodes[res.pressed]
+    force = abs(res.applied_force)
+    v, q = e.voltage / force, e.short_circuit_charge / force
+    ca = scene.replace(**{"readout.circuit": "charge_amplifier"})
+    quiet = quasi_static_noise(ca, v, q)
+    for enob, bits in ((None, 10), (8.0, 8)):
+        adc = {"bits": 10, "range": ["0 V", "3.3 V"]} | ({} if enob is None else {"enob": enob})
+        nr = quasi_static_noise(ca.replace(**{"readout.adc": adc}), v, q)
+        f1, f2 = nr.band
+        quantisation = (3.3 / 2 ** bits) ** 2 / 12 * (f2 - f1) / f2
+        assert nr.variance()["ADC quantisation"] == pytest.approx(quantisation, rel=1e-9)
+        assert nr.min_detectable_force == pytest.approx(
+            np.sqrt(quiet.min_detectable_force ** 2 + quantisation / nr.band_sensitivity ** 2), rel=1e-9)
+        assert nr.saturation_by == "ADC" and nr.saturation_force == pytest.approx(1.65 / nr.gain.max(), rel=1e-12)
+    a = _with(scene, res, circuit="charge_amplifier", adc={"bits": 10, "range": ["0 V", "3.3 V"]}).at_readout()
+    assert a.force_range == pytest.approx(1.65 / a.sensitivity, rel=1e-9) and a.saturation_by == "ADC"
+    # a range wider than the swing: the amplifier clips first
+    wide = _with(scene, res, circuit="charge_amplifier", adc={"bits": 16, "range": ["-30 V", "30 V"]}).at_readout()
+    assert wide.saturation_by == "amplifier" and wide.force_range == pytest.approx(12.0 / wide.sensitivity, rel=1e-9)
+
+
+def test_the_assumptions_table_names_a_missing_adc():
+    """A readout without [readout.adc] shows "ADC: none" among the assumptions; one naming it does not."""
+    from taxel.reports.answer_assumptions import assumptions
+    from taxel.schema import to_data
+    scene = api.load("thesis-pzt-3x3-2d").replace(**{"readout.circuit": "charge_amplifier"})
+    rows = assumptions(to_data(scene))
+    assert [r["value"] for r in rows if r["assumed"] == "ADC"] == ["none (an ideal converter)"]
+    named = to_data(scene.replace(**{"readout.adc": {"bits": 12, "range": ["0 V", "3.3 V"]}}))
+    assert not [r for r in assumptions(named) if r["assumed"] == "ADC"]
+    assert [r["value"] for r in assumptions(named) if r["assumed"] == "ADC noise"] == [
+        "enob = bits (an ideal quantiser), rate = twice the band's top"]
+    full = to_data(scene.replace(**{"readout.adc": {"bits": 12, "range": ["0 V", "3.3 V"], "enob": 11, "rate": "1 kHz"}}))
+    assert not [r for r in assumptions(full) if r["assumed"].startswith("ADC")]

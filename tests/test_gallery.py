@@ -152,13 +152,15 @@ def test_noise_budget(run):
     g = run("plot_noise_budget")
     res = g["res"]
     var = res.variance()
-    # the ADC's quantisation: white, LSB^2 / 12 over the Nyquist band, LSB = 20 V / 2^16, here 1-1000 Hz of 0-1000
+    # the ADC's quantisation: white, LSB^2 / 12 over the Nyquist band, LSB = 20 V / 2^16, here the
+    # default band 1-300 Hz of 0-1000
     lsb = 20.0 / 2 ** 16
-    assert var["ADC quantisation"] == pytest.approx(lsb ** 2 / 12 * (999 / 1000), rel=1e-3)
+    assert res.band == (1.0, 300.0)
+    assert var["ADC quantisation"] == pytest.approx(lsb ** 2 / 12 * (299 / 1000), rel=1e-3)
     # the hum left after the notch dominates this bench; the smallest force seen is about a millinewton
     assert res.shares()["hum residual"] > 0.9
     assert res.noise_rms == pytest.approx(math.sqrt(sum(var.values())))
-    assert res.min_detectable_force == pytest.approx(1.222e-3, rel=0.02)
+    assert res.min_detectable_force == pytest.approx(1.478e-3, rel=0.02)     # 1.222 mN over 1-1000 Hz
     assert res.saturation_by == "ADC" and res.saturation_output == pytest.approx(10.0)
 
 

@@ -111,7 +111,8 @@ def test_noise_budget_of_the_thesis_taxel_round_trips(tmp_path):
     from taxel.analyses.solves.noise import noise
     from taxel.scene import load
     from taxel.studies.bench.rig import load_rig
-    scene = load("thesis-pzt-frequency").replace(**{"readout.hum": ["5 mV", "1.5 mV", "0.5 mV"]})
+    scene = load("thesis-pzt-frequency").replace(**{"readout.hum": ["5 mV", "1.5 mV", "0.5 mV"],
+                                                     "readout.band": ["1 Hz", "5 kHz"]})
     res = noise(scene, load_rig("thesis-bench"), model="lumped")
     out = res.outputs()
     assert set(out) == {"min_detectable_force", "noise_rms", "snr", "dynamic_range"}

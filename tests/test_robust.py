@@ -33,7 +33,7 @@ def write(tmp_path, text, name="r.toml"):
     return f
 
 
-@pytest.mark.parametrize("band", [(1.0, 100.0), (20.0, 200.0)])
+@pytest.mark.parametrize("band", [(1.0, 100.0), (20.0, 200.0), (1.0, 300.0)])   # the last: the default band
 def test_quasi_static_noise_matches_the_fem_sweep_below_resonance(band):
     """The design outputs' cheap route (one static solve: C_p = Q_sc / V_oc, the circuit's
     H(f) of that charge source) against taxel.analyses.solves.noise's FEM frequency sweep on the

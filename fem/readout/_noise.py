@@ -34,7 +34,9 @@ The notch (when on) multiplies every analog source by |H_notch|^2.
 
 ADC quantisation: a uniform error of one LSB Delta = span / 2^bits has variance
 Delta^2 / 12, spread evenly over 0..fs/2 (white; valid when the signal spans many
-codes): density Delta^2 / (6 fs) at the ADC, / gain^2 at the readout output.
+codes): density Delta^2 / (6 fs) at the ADC, / gain^2 at the readout output. An ADC
+of effective number of bits `enob` (below bits: its own noise and distortion) is
+taken as the quantisation of span / 2^enob.
 Mains hum: lines at the mains frequency and its odd harmonics, of peak amplitude
 A_k at the readout output before the notch; after it A_k |H_notch(f_k)|, power
 (A_k |H_notch|)^2 / 2 each.
@@ -71,14 +73,17 @@ class Converter:
     rate: float = 2000.0
     gain: float = 1.0
     offset: float = 0.0
+    enob: float | None = None     # effective number of bits (None: bits, an ideal quantiser)
 
     @property
     def lsb(self) -> float:
         return (self.hi - self.lo) / 2 ** self.bits
 
     def psd(self) -> float:
-        """Quantisation noise density at the readout output, V^2/Hz (white to rate / 2)."""
-        return self.lsb ** 2 / 12 / (self.rate / 2) / self.gain ** 2
+        """Quantisation noise density at the readout output, V^2/Hz (white to rate / 2):
+        (span / 2^enob)^2 / 12 over rate / 2, enob = bits for an ideal ADC."""
+        step = (self.hi - self.lo) / 2 ** (self.enob if self.enob is not None else self.bits)
+        return step ** 2 / 12 / (self.rate / 2) / self.gain ** 2
 
     @property
     def full_scale(self) -> float:

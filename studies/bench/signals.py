@@ -196,7 +196,7 @@ def simulate(rig: Rig, scene: Scene, s: Settings) -> Truth:
         from taxel.analyses.surface.influence import influence
         infl = influence(scene)
     spots = (positions, infl.pitch, -float(infl.x[0])) if infl is not None else \
-        (positions, arr.taxel_width + arr.gap, 0.0) if arr is not None else None
+        (positions, arr.pitch, 0.0) if arr is not None else None
     t, Fcmd, presses = command(s, rate, len(positions), centre, rng, spots)
     sos = signal.butter(2, min(s.actuator_Hz, 0.45 * rate), fs=rate, output="sos")
     F = signal.sosfilt(sos, Fcmd, axis=0)

@@ -84,7 +84,7 @@ def press_voltages(scene: Scene, x: float) -> np.ndarray:
     """Open-circuit voltages (n,) of the middle row's taxels, a taxel-wide flat probe at x (m from column 0)."""
     from taxel.analyses import solve_static
     a = scene.array
-    pitch, row, n = a.taxel_width + a.gap, a.rows // 2, a.cols
+    pitch, row, n = a.pitch, a.rows // 2, a.cols
     c = int(np.clip(np.round(x / pitch), 0, n - 1))
     s = scene.replace(**{"load.kind": "probe", "load.taxel": [row, c], "load.radius": a.taxel_width / 2,
                          "load.offset": [float(x - c * pitch), 0.0], "load.profile": "flat"})
@@ -129,7 +129,7 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     A, B, C, D = h.state_space()
     disc = readout_mod.discretize(h, dt, lambda f: readout_mod.sweep(rm, f))
     Ad, Bd, Cd, Dd = disc.state_space()
-    pitch = a.taxel_width + a.gap
+    pitch = a.pitch
     if three_d:
         from taxel.analyses.surface import surface_map as smap
         from taxel.fem import dynamics

@@ -55,7 +55,7 @@ def mirror_planes(scene: Scene) -> tuple[tuple[int, ...], str]:
     for k in ((0, 1) if m.type == "3d" else (0,)):
         n, i = (a.cols, 1) if k == 0 else (a.rows, 0)      # x runs along columns, y along rows
         pos = ld.taxel[i] + (ld.neighbour[i] if ld.kind == "between" else ld.taxel[i])
-        centre = (pos - (n - 1)) / 2 * (a.taxel_width + a.gap) * (1 if k == 0 else -1) + (
+        centre = (pos - (n - 1)) / 2 * a.pitch * (1 if k == 0 else -1) + (
             ld.offset[k] if ld.kind == "probe" else 0)              # the press's x or y
         rows = range(a.rows) if m.type == "3d" else (ld.taxel[0],)
         mirrored = all(state(r, c) == (state(r, a.cols - 1 - c) if k == 0 else state(a.rows - 1 - r, c))
@@ -100,7 +100,7 @@ def layout(scene: Scene, mats: dict) -> Layout:
 
 def _array_layout(scene: Scene, common) -> Layout:
     a, ld, model = scene.array, scene.load, scene.model.type
-    w, pitch = a.taxel_width, a.taxel_width + a.gap
+    w, pitch = a.taxel_width, a.pitch
     axisym = model == "axisymmetric"
     half = w / math.sqrt(math.pi) if axisym else w / 2
     shape = "disk" if axisym else "square"
@@ -117,7 +117,7 @@ def _array_layout(scene: Scene, common) -> Layout:
         plan = Patch("plan", 0.0, 0.0, (w + 2 * a.margin) / math.sqrt(math.pi), "disk")
         half_y = plan.half
     else:
-        plan = Patch("plan", 0.0, 0.0, (a.cols * w + (a.cols - 1) * a.gap) / 2 + a.margin)
+        plan = Patch("plan", 0.0, 0.0, a.footprint / 2)
         half_y = (a.rows * w + (a.rows - 1) * a.gap) / 2 + a.margin
 
     load = _load_patch(scene, centre, half, model)

@@ -7,11 +7,12 @@ from taxel.analyses.results.dynamic import FrequencyResult, LumpedResult, Transi
 from taxel.analyses.results.base import (KINDS, MEMBERS, NOT_ESTIMATED, OUTPUT_NAMES,
                                          AnalysisResult, ErrorEstimate, OutputError)
 from taxel.analyses.results.base import FORMAT, write_csv, write_scene
-from taxel.analyses.results.noise import NOISE_OUTPUTS, NoiseResult
-from taxel.analyses.results.static import STATIC_OUTPUTS, StaticResult, Stop
+from taxel.analyses.results.noise import NoiseResult
+from taxel.analyses.results.outputs import OUTPUTS, Output, table
+from taxel.analyses.results.static import StaticResult, Stop
 from taxel.analyses.results.stored import RESULT_TYPES, ResultError, read, read_record, result_kind
 
 __all__ = ["FrequencyResult", "LumpedResult", "TransientResult", "StaticResult", "Stop", "ErrorEstimate", "OutputError",
            "OUTPUT_NAMES", "NOT_ESTIMATED", "FORMAT", "write_csv",
-           "write_scene", "KINDS", "MEMBERS", "AnalysisResult", "STATIC_OUTPUTS", "RESULT_TYPES", "ResultError",
-           "read", "read_record", "result_kind", "NoiseResult", "NOISE_OUTPUTS"]
+           "write_scene", "KINDS", "MEMBERS", "AnalysisResult", "OUTPUTS", "Output", "table", "RESULT_TYPES",
+           "ResultError", "read", "read_record", "result_kind", "NoiseResult"]

@@ -26,8 +26,6 @@ from taxel.analyses.results.base import ErrorEstimate, error_record
 from taxel.analyses.results.base import FORMAT, write_csv, write_result, write_summary
 from taxel import units
 
-NOISE_OUTPUTS = {"min_detectable_force": "N", "noise_rms": "V", "snr": "dB", "dynamic_range": "dB"}
-
 
 @dataclass
 class NoiseResult:

@@ -10,10 +10,6 @@ import numpy as np
 
 from taxel.units import engineering
 
-# the named outputs a static result adds when its scene names a readout (SI)
-READOUT_OUTPUTS = {"readout_sensitivity": "V/N", "readout_crosstalk": "", "min_detectable_force": "N",
-                   "force_range": "N"}
-
 
 @dataclass(frozen=True)
 class AtReadout:

@@ -31,13 +31,6 @@ def linear_error(max_strain: float) -> float:
     return LINEAR_ERROR_PER_STRAIN * max_strain
 
 
-# the outputs of a static result (`StaticResult.outputs`), SI units; with a [readout] chain
-# also its numbers (taxel.analyses.solves.at_readout.READOUT_OUTPUTS)
-STATIC_OUTPUTS = {"sensitivity": "V/N", "charge_sensitivity": "C/N", "pressed_voltage": "V", "crosstalk": "",
-                  "max_strain": "", "readout_sensitivity": "V/N", "readout_crosstalk": "",
-                  "min_detectable_force": "N", "force_range": "N", "warm_touch_force": "N", "warm_touch_ratio": ""}
-
-
 @dataclass(frozen=True)
 class Stop:
     """Why a static solve stopped short of its load: the result is then its last converged
@@ -144,7 +137,7 @@ class StaticResult:
         return max(abs(x) for k, x in v.items() if k != p) / abs(v[p])
 
     def outputs(self) -> dict[str, float]:
-        """The named outputs (SI, STATIC_OUTPUTS): sensitivity (open-circuit V/N),
+        """The named outputs (SI; the output table's "static" ones, taxel.analyses.results.outputs): sensitivity (open-circuit V/N),
         charge_sensitivity (short-circuit C/N) and pressed_voltage (V) of the pressed
         taxel, or of the first taxel when the load presses none (signed; per newton
         of |applied force|); crosstalk (with a pressed taxel and a neighbour);

@@ -18,7 +18,6 @@ from __future__ import annotations
 import importlib
 
 from taxel.analyses.solves.analysis import lumped, output_folder, solve, solve_static
-from taxel.analyses.solves.at_readout import READOUT_OUTPUTS
 from taxel.analyses.solves.crosstalk import cache_dir, profile, weights
 from taxel.analyses.solves.friction_band import FrictionBand, FrictionLeg, friction_leg
 from taxel.analyses.solves.version import code_version
@@ -39,5 +38,5 @@ def __getattr__(name):
     raise AttributeError(f"module 'taxel.analyses.solves' has no attribute {name!r}")
 
 
-__all__ = ["solve", "solve_static", "lumped", "output_folder", "READOUT_OUTPUTS", "cache_dir", "profile", "weights",
+__all__ = ["solve", "solve_static", "lumped", "output_folder", "cache_dir", "profile", "weights",
            "FrictionBand", "FrictionLeg", "friction_leg", "code_version", *_LAZY]

@@ -16,11 +16,11 @@ circuit's |H(f)| on that source (fem.readout):
                         the frequency of S_r (each taxel on its own channel);
   charge sensitivity    |Q_sc| / F of the pressed taxel, C/N;
   minimum detectable force: the band's rms noise of every source of the chain (amplifier,
-                        resistors, dielectric loss, hum; the ADC with a rig) over the band
+                        resistors, dielectric loss, hum; the ADC's quantisation: [readout.adc] or a rig's) over the band
                         sensitivity (taxel.analyses.solves.noise: NoiseResult);
-  force range           the amplifier's swing (or the ADC's full scale) over S_r, N.
+  force range           the smaller of the amplifier's swing and the ADC's half range over S_r, N.
 
-The band is the scene's [analysis] f_min..f_max. Assumptions: linear taxel (a press is
+The band is the scene's readout.band (default 1-300 Hz, taxel.scene.NOISE_BAND). Assumptions: linear taxel (a press is
 linearised at its operating force: secant V/N); the quasi-static source (the band well
 below the first resonance); uncorrelated noise sources.
 """
@@ -29,10 +29,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from taxel.analyses.results.readout import READOUT_OUTPUTS, AtReadout
+from taxel.analyses.results.readout import AtReadout
 from taxel.scene import SceneError
 
-__all__ = ["READOUT_OUTPUTS", "AtReadout", "at_readout"]
+__all__ = ["AtReadout", "at_readout"]
 
 
 def at_readout(result, rig=None) -> AtReadout | None:

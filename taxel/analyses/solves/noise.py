@@ -7,12 +7,15 @@ sweep (taxel.analyses.solves.dynamic.frequency, model = "fem") or the 3-DoF lump
 (model = "lumped", tan(delta) of the material or [dynamics] dielectric_loss). The
 noise sources, their transfer to the readout output and the ADC are fem.readout; the
 numbers of the chain are the scene's [readout] (e_n, i_n, e_n_corner, swing,
-temperature, hum, mains_frequency), with a rig the conditioning of the pressed
-taxel's channel, the channel gain and the ADC (bits, range, rate) of the rig.
+temperature, hum, mains_frequency, and its ADC [readout.adc]: bits, range, offset,
+enob, rate), with a rig the conditioning of the pressed taxel's channel, the channel
+gain and the ADC (bits, range, rate) of the rig, which replace the scene's.
 
 Assumptions: the sources are uncorrelated (their PSDs add); the chain is linear up
 to saturation; the ADC's quantisation is white (the noise spans several codes);
-the band is [analysis.f_min, analysis.f_max], cut at the rig's Nyquist frequency.
+the band is the scene's readout.band (default taxel.scene.NOISE_BAND, 1-300 Hz: what human
+mechanoreceptors sense), cut at the rig's (or the scene's ADC's) Nyquist frequency; a scene's
+ADC without a rate samples at twice the band's top.
 """
 
 from __future__ import annotations
@@ -25,21 +28,34 @@ from taxel.scene import Scene, SceneError
 from taxel.analyses.model.problem import readout as scene_readout
 from taxel.analyses.model.problem import scene_materials
 from taxel.analyses.results.noise import NoiseResult
+from taxel.analyses.results.outputs import table
 from taxel.analyses.results.base import pressed_name
 
 
-def chain(scene: Scene, rig=None, channel: str | None = None) -> N.Chain:
-    """The noise chain of a scene (and rig: the conditioning of `channel`, its gain and the ADC)."""
+def chain(scene: Scene, rig=None, channel: str | None = None, band=None) -> N.Chain:
+    """The noise chain of a scene (and rig: the conditioning of `channel`, its gain and the ADC;
+    without one the scene's [readout.adc], sampling at twice the top of `band` when it names no rate)."""
     r = scene.readout
     amp = N.Amplifier(r.e_n, r.i_n, r.e_n_corner or 0.0, r.swing, r.temperature)
     hum = N.Hum(tuple(r.hum), r.mains_frequency)
     if rig is None:
-        return N.Chain(scene_readout(scene), amp, None, hum)
+        return N.Chain(scene_readout(scene), amp, scene_adc(scene, band), hum)
     chains = rig.chains()
     name = channel if channel in chains else next(iter(chains))
     gain = next((c.volts_per_si for c in rig.ordered() if c.name == name), 1.0)
     adc = N.Converter(rig.adc.bits, rig.adc.range[0], rig.adc.range[1], rig.sampling.rate, gain, rig.adc.offset)
     return N.Chain(chains[name].readout(), amp, adc, hum)
+
+
+def scene_adc(scene: Scene, band=None) -> N.Converter | None:
+    """The scene's ADC ([readout.adc]) as fem.readout's Converter; None without one. Its rate:
+    the table's, else twice the top of `band` (else of the scene's readout.band)."""
+    a = scene.readout.adc
+    if a is None:
+        return None
+    lo, hi = a.range
+    rate = a.rate or 2 * (band[1] if band is not None else scene.readout.band[1])
+    return N.Converter(a.bits, lo, hi, rate, 1.0, (lo + hi) / 2 if a.offset is None else a.offset, a.enob)
 
 
 def with_readout(scene: Scene, r: Readout) -> Scene:
@@ -50,13 +66,15 @@ def with_readout(scene: Scene, r: Readout) -> Scene:
 
 
 def band_of(scene: Scene, rig=None, band=None) -> tuple[float, float]:
-    """The band (Hz): given, else the scene's [analysis] f_min..f_max, cut at the rig's Nyquist."""
-    lo, hi = band if band is not None else (scene.analysis.f_min, scene.analysis.f_max)
+    """The band (Hz): given, else the scene's readout.band, cut at the rig's (or readout.adc's) Nyquist."""
+    lo, hi = band if band is not None else scene.readout.band
     if rig is not None:
         hi = min(hi, rig.sampling.rate / 2)
+    elif scene.readout.adc is not None and scene.readout.adc.rate:
+        hi = min(hi, scene.readout.adc.rate / 2)
     if not 0 < lo < hi:
-        raise SceneError(f"noise band {lo:g}-{hi:g} Hz is empty; set analysis.f_min < analysis.f_max "
-                         "(below the rig's Nyquist frequency)")
+        raise SceneError(f"noise band {lo:g}-{hi:g} Hz is empty; set readout.band = [low, high] "
+                         "(below the rig's or readout.adc's Nyquist frequency)")
     return float(lo), float(hi)
 
 
@@ -82,7 +100,7 @@ def noise(scene: Scene, rig=None, band=None, model: str = "fem", points: int = 2
     source's PSD over the band on `points` log-spaced frequencies, the rms noise at
     every electrode, and the minimum detectable force, SNR and dynamic range."""
     band = band_of(scene, rig, band)
-    ch = chain(scene, rig, _pressed_hint(scene))
+    ch = chain(scene, rig, _pressed_hint(scene), band)
     f_sw, H, C, names, label = transfer(with_readout(scene, ch.readout), band, model)
     return _budget(scene, rig, ch, band, f_sw, H, C, names, label, points)
 
@@ -113,7 +131,7 @@ def _budget(scene, rig, ch, band, f_sw, H, C, names, label, points) -> NoiseResu
                        by if np.isfinite(sat) else "none", label, getattr(rig, "name", None))
 
 
-DESIGN_NOISE = ("min_detectable_force", "snr", "dynamic_range")
+DESIGN_NOISE = tuple(table("design_noise"))       # min_detectable_force, snr, dynamic_range
 
 
 def design_noise(scene: Scene, outputs: dict, rig=None, band=None, force: float | None = None) -> dict:
@@ -162,7 +180,7 @@ def quasi_static_noise(scene: Scene, sensitivity: float, charge_sensitivity: flo
     if not sensitivity or not charge_sensitivity:
         raise SceneError("quasi-static noise: the pressed taxel has no voltage or no charge; press a taxel")
     band = band_of(scene, rig, band)
-    ch = chain(scene, rig, _pressed_hint(scene))
+    ch = chain(scene, rig, _pressed_hint(scene), band)
     from taxel.fem import constitution
     C_p = abs(charge_sensitivity / sensitivity)
     f = np.geomspace(band[0], band[1], 200)

@@ -79,7 +79,7 @@ class Influence:
 def samples(scene: Scene, per_pitch: int = 8, edges: bool = True) -> np.ndarray:
     """The sample positions (m) of the module docstring."""
     arr = scene.array
-    pitch = arr.taxel_width + arr.gap
+    pitch = arr.pitch
     h = pitch / per_pitch
     k = int(np.floor(arr.margin / h + 1e-9)) if edges else 0       # the indenter's centre stays over the margin
     return np.arange(-k, per_pitch * (arr.cols - 1) + k + 1) * h
@@ -95,7 +95,7 @@ def influence(scene: Scene, per_pitch: int = 8, edges: bool = True, solve: Solve
     arr = scene.array
     if arr is None:
         raise ValueError("influence functions need a taxel-array scene ([array])")
-    pitch = arr.taxel_width + arr.gap
+    pitch = arr.pitch
     tag = f"influence-{per_pitch}-{int(edges)}"
     key = hashlib.sha256((tag + scene.model_dump_json()).encode()).hexdigest()[:16]
     path = cache_dir() / f"{tag}-{key}.json"

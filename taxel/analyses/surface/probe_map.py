@@ -37,7 +37,7 @@ def press_scene(scene, x: float, y: float, force: float, probe: dict | None = No
     from taxel.scene import DEFAULT_PRESS_MESH
     p = {**PROBE, **(probe or {})}
     a = scene.array
-    pitch = a.taxel_width + a.gap
+    pitch = a.pitch
     r, c = (a.rows - 1) // 2, (a.cols - 1) // 2
     cx, cy = (c - (a.cols - 1) / 2) * pitch, ((a.rows - 1) / 2 - r) * pitch
     return scene.replace(**{
