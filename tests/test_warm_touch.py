@@ -117,3 +117,35 @@ def test_the_report_section_reads_the_record(pvdf, tmp_path):
     b = section.block(tmp_path)
     assert dict(b["rows"])["false force"].endswith("N") and len(b["png"]) > 10_000
     assert section.block(tmp_path / "none") is None and list(tmp_path.iterdir()) == [tmp_path / "warm-touch.json"]
+
+
+
+def test_the_warm_pages_read_in_plain_language(pvdf, tmp_path):
+    """The warm touch's page section and its answer row show no code identifier and no number
+    past 4 significant figures (reports.plain, the report tests' rule): the model by its name."""
+    from taxel.reports import warm_touch as section
+    from taxel.reports.page import templates
+    from taxel.reports.plain import problems
+    pvdf.write(tmp_path)
+    row = section.answer_row(tmp_path)
+    assert row["rows"][0][3].endswith("mN") and "fakes a press" in row["note"]
+    html = templates().get_template("page.html").render(title="warm", kind="analysis", folder="warm",
+                                                         banners=[], headline=[], sections=[section.section(tmp_path)])
+    text = html + "<p>" + " ".join(row["cols"] + row["rows"][0] + [row["caption"], row["note"]]) + "</p>"
+    assert "2D plane strain model" in html and not problems(text), problems(text)
+
+
+@pytest.mark.slow      # a static solve and a conduction on a busy machine: 3-12 s
+def test_the_main_jobs_warm_touch_on_the_bench(tmp_path):
+    """The main job's warm touch of an optimization folder (taxel.jobs.warm_touch): the thesis
+    PVDF design through the bench's charge amplifier and notch, the minimum detectable force
+    on the bench's converter: 11.2 mN false against 0.33 mN detectable (docs/benchmarks.md)."""
+    from taxel.jobs.warm_touch import warm_touch as job
+    from taxel.reports import warm_touch as section
+    folder = tmp_path / "thesis-pvdf-front"
+    folder.mkdir()
+    job(folder)
+    rec = section.record(folder)
+    assert rec["false_force_N"] == pytest.approx(11.2e-3, rel=0.03)
+    assert rec["min_detectable_force_N"] == pytest.approx(0.33e-3, rel=0.05) and rec["ratio"] > 10
+    assert rec["scene"] == "thesis-pvdf-single-2d" and "notch" in rec["readout"]
