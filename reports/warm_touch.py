@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from taxel.analyses.solves.warm_touch import FILE
+from taxel.analyses.solves.warm_touch import FILE, drift_words
 from taxel.reports.findings import MODEL_NAMES
 from taxel.reports.page import data_uri
 from taxel.reports.tables import eng, table
@@ -73,7 +73,8 @@ def block(folder) -> dict | None:
             ["pyroelectric charge (largest)", eng(rec["pyro_charge_C"], "C", 3)],
             ["false force", eng(rec["false_force_N"], "N", 3)],
             ["minimum detectable force", "-" if mdf is None else eng(mdf, "N", 3)],
-            ["false force / minimum detectable", "-" if rec["ratio"] is None else f"{rec['ratio']:.3g}"]]
+            ["false force / minimum detectable", "-" if rec["ratio"] is None else f"{rec['ratio']:.3g}"],
+            ["sensitivity drift, 0 to 50 °C", drift_text(rec)]]
     import tempfile
     with tempfile.TemporaryDirectory(prefix="taxel-report-") as tmp:    # redrawn from the stored record
         png = figure(rec, Path(tmp) / FIGURE).read_bytes()
@@ -81,6 +82,11 @@ def block(folder) -> dict | None:
             "png": png,
             "note": (f"{rec['readout']}; {_model(rec)} model. The false force is the press, held as long, with the "
                      "same peak output (docs/theory/heat.md).")}
+
+
+def drift_text(rec: dict) -> str:
+    """The record's sensitivity drift in words (taxel.analyses.solves.warm_touch.drift_words)."""
+    return drift_words(rec.get("drift"), rec["readout"])
 
 
 def _model(rec: dict) -> str:
@@ -115,5 +121,5 @@ def answer_row(folder) -> dict | None:
                " It stays below what the readout can see.")
     return {"caption": "a warm finger on the skin: the false press at the readout", "cols": ANSWER_COLS, "rows": [row],
             "note": (f"A warm touch alone (no force), through the {rec['readout']}, {_model(rec)} model; the false "
-                     f"force is the press that gives the same peak output.{verdict} The temperature field and the "
-                     "traces: this folder's page, Warm touch.")}
+                     f"force is the press that gives the same peak output.{verdict} Sensitivity drift from 0 to "
+                     f"50 °C: {drift_text(rec)}. The temperature field and the traces: this folder's page, Warm touch.")}

@@ -1,6 +1,7 @@
 """The answer's warm touch (main job): a warm finger on the thesis design of an
 optimization folder's material, through the bench's charge amplifier and notch, with the
-minimum detectable force on the bench's converter; written to OUT/warm-touch.json (the
+minimum detectable force on the bench's converter with the simulated rig's mains hum (as
+the answer's own, taxel.jobs.answer_readout); written to OUT/warm-touch.json (the
 format of taxel.analyses.solves.warm_touch.WarmTouchResult.write), which the report shows
 twice: a row in the answer (reports.warm_touch.answer_row) and a "Warm touch" section on
 the folder's page with the temperature field and the output traces (reports.warm_touch.section).
@@ -27,10 +28,11 @@ SCENES = {"pzt": "thesis-pzt-single-2d", "pvdf": "thesis-pvdf-single-2d"}
 
 def thesis_scene(folder: Path):
     """The thesis design's 2D scene of an optimization folder's material (thesis-MAT-front:
-    MAT), on the bench's chain, with a default warm touch."""
+    MAT), on the bench's chain with the rig's hum, with a default warm touch."""
     from taxel import api
+    from taxel.studies.bench.signals import Settings
     material = Path(folder).name.split("-")[1]
-    return api.load(SCENES[material]).replace(**BENCH)
+    return api.load(SCENES[material]).replace(**BENCH, **{"readout.hum": list(Settings().hum_V)})
 
 
 def warm_touch(folder: Path) -> float:
