@@ -7,7 +7,7 @@ amplifier, and how the silicone above changes it (issue 58).
    temperature; plane strain, axisymmetric, 3D; the largest error over t = 0.5, 1, 3 s.
 2. Both thesis designs (PSI-5H4E 0.127 mm, PVDF 52 um; 4 x 4 mm, 1 mm silicone above and
    below) through the bench's chain (the thesis-bench rig: charge amplifier C_f 820 pF,
-   R_f 10 MOhm, 50 Hz notch; its 16-bit converter in the noise budget): a 34 C finger held
+   R_f 10 MOhm, 50 Hz notch; its 16-bit converter and the simulated rig's hum in the noise budget): a 34 C finger held
    1 s on the taxel's footprint of a 23 C skin (1000 W/(m^2 K); air 10 W/(m^2 K)); 2D plane
    strain and axisymmetric (PZT: PVDF's drawn film is not axisymmetric) and 3D (PZT);
    the false force beside the minimum detectable force, and the warm press (1 N and the
@@ -16,6 +16,9 @@ amplifier, and how the silicone above changes it (issue 58).
    response peaks seconds after the lift): false force, press sensitivity at the readout,
    minimum detectable force.
 4. Convergence of the 2D PZT false force: mesh refined 2x and 4x, the time step halved.
+5. The main job's cost (`taxel demo`, taxel.jobs.warm_touch): each thesis design's warm touch
+   into its optimization folder, three times, the median seconds; and the sensitivity drift
+   it reports (0 to 50 C).
 
 Run: OMP_NUM_THREADS=1 python benchmarks/warm_touch.py [out.json]   (about 2 min)
 Writes benchmarks/results/warm_touch.json (or out.json).
@@ -37,7 +40,9 @@ from taxel.scene import load, refined
 from taxel.studies.bench.rig import load_rig
 
 OUT = Path(__file__).resolve().parent / "results" / "warm_touch.json"
-BENCH = {"readout.circuit": "charge_amplifier", "readout.notch": True}
+from taxel.studies.bench.signals import Settings
+# the bench's chain with the simulated rig's mains hum: the answer's (taxel.jobs.answer_readout) and the main job's
+BENCH = {"readout.circuit": "charge_amplifier", "readout.notch": True, "readout.hum": list(Settings().hum_V)}
 
 
 def column(layers, model, width=0.4e-3, size=0.25e-3):
@@ -91,6 +96,24 @@ def row(scene, rig) -> dict:
             "wall_s": time.perf_counter() - t0}
 
 
+def job_cost(repeats: int = 3) -> dict:
+    """The main job's warm touch of each thesis design (taxel.jobs.warm_touch): median seconds
+    of `repeats` runs (the first of a process pays the imports), its numbers and drift."""
+    import tempfile
+    from taxel.jobs.warm_touch import warm_touch as job
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for m in ("pzt", "pvdf"):
+            folder = Path(tmp) / f"thesis-{m}-front"
+            folder.mkdir()
+            secs = [job(folder) for _ in range(repeats)]
+            rec = json.loads((folder / "warm-touch.json").read_text())
+            out[m] = {"seconds": secs, "median_s": float(np.median(secs)), "false_force_mN": 1e3 * rec["false_force_N"],
+                      "min_detectable_force_mN": 1e3 * rec["min_detectable_force_N"], "ratio": rec["ratio"],
+                      "drift": rec["drift"]}
+    return out
+
+
 def main(out=OUT):
     rig = load_rig("thesis-bench")
     res = {"closed_forms_max_rel_error": closed_forms()}
@@ -122,6 +145,8 @@ def main(out=OUT):
         r = {"refinement": f, "dt_s": dt, **row(sc, rig)}
         res["convergence"].append(r)
         print(json.dumps(r))
+    res["main_job"] = job_cost()
+    print(json.dumps(res["main_job"]))
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(res, indent=1))

@@ -19,7 +19,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from taxel.reports import friction_band
+from taxel.reports import friction_band, warm_touch
 from taxel.reports.answer_assumptions import of_answer
 from taxel.reports.answer_bands import bands
 from taxel.reports.answer_design import AnswerDesign, FrontAnswer, NoiseFloor, preference  # noqa: F401
@@ -357,7 +357,7 @@ def block(answers: list[FrontAnswer], noise: NoiseFloor | None = None, sweep: Sw
         lines.append({"folder": a.folder, "model": a.model, "trade": a.trade, "notes": a.notes,
                       "requirements": requirement_rows(a), "requirement_cols": requirement_cols(a),
                       "requirement_ids": requirement_ids(a), "ladders": ladders, "limits": limits(a),
-                      "risks": risks(a), "friction": friction_band.block(a.path), "assumptions": of_answer(a),
+                      "risks": risks(a), "friction": friction_band.block(a.path), "warm": warm_touch.answer_row(a.path), "assumptions": of_answer(a),
                       "bands": "; ".join(f"{q.replace('_', ' ')}: {b.text()}" + (" (above 2 %)" if b.flagged else "")
                                          for q, b in a.bands.items() if q in ("sensitivity", "crosstalk")), "stack": _stack(a), "stack_caption": _stack_caption(a), "material": MATERIALS.get(a.thesis.material,
                                                                                      a.thesis.material)})

@@ -120,7 +120,9 @@ def optimization_page(folder: Path, out: Path, scene_data) -> dict:
     if (folder / "probe-front.json").exists():       # the headline under the rig's probe (optimize.probe_front)
         from taxel.reports.multifidelity import probe_blocks
         blocks = probe_blocks(read_json(folder / "probe-front.json")) + blocks
-    return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}], "numbers": numbers,
-            "banners": banners, "thumb": key[0].read_bytes() if key else None}
+    from taxel.reports.warm_touch import section
+    warm = section(folder)          # the main job's warm touch of the thesis design (taxel.jobs.warm_touch)
+    return {"sections": [{"title": "Optimization", "blocks": blocks + [_figures(imgs)]}] + ([warm] if warm else []),
+            "numbers": numbers, "banners": banners, "thumb": key[0].read_bytes() if key else None}
 
 

@@ -75,12 +75,9 @@ def scene_sections(folder: Path, scene_data: dict, compare: bool):
                      {"title": "Solver", "blocks": [{"type": "table", "table": solver_table(result)},
                                                     {"type": "table", "table": electrode_table(result)}]}]
         from taxel.reports import warm_touch
-        warm = warm_touch.block(folder)        # a [warm_touch]: its numbers, the field and the traces
+        warm = warm_touch.section(folder)      # a [warm_touch]: its numbers, the field and the traces
         if warm is not None:
-            sections.append({"title": "Warm touch", "blocks": [
-                {"type": "table", "table": tables.table([{"": k, warm["cols"][1]: v} for k, v in warm["rows"]],
-                                                        title=warm["caption"])},
-                {"type": "figures", "images": [{"src": data_uri(warm["png"]), "caption": warm["note"]}]}]})
+            sections.append(warm)
         numbers, banners = findings.static_numbers(result), findings.static_banners(result)
         key = next((n for n in ("render.png", "taxels.png") if n in names), None)
         key_png = images[names.index(key)] if key else (images[0] if images else None)

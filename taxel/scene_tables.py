@@ -26,7 +26,8 @@ MATERIAL_UNITS = {"E": ("Pa", "modulus"), "mu": ("Pa", "shear modulus"), "K": ("
                   "rho": ("kg/m^3", "density"), "s": ("1/Pa", "compliance"), "d": ("C/N", "piezoelectric constant"),
                   "c": ("Pa", "stiffness"), "e": ("C/m^2", "piezoelectric stress constant"),
                   "conductivity": ("W/(m*K)", "thermal conductivity"), "specific_heat": ("J/(kg*K)", "specific heat"),
-                  "pyro": ("C/(m^2*K)", "pyroelectric coefficient")}
+                  "pyro": ("C/(m^2*K)", "pyroelectric coefficient"),
+                  "permittivity_tc": ("1/K", "temperature coefficient"), "d_tc": ("1/K", "temperature coefficient")}
 
 
 def material_in_si(rec):

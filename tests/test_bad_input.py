@@ -219,6 +219,8 @@ MORE_SCENES = [
     scene("user-material-negative-conductivity", ARRAY + 'silicone = "soft"\n[materials.soft]\nkind = "solid"\n'
           'E = 3.0e4\nnu = 0.45\nrho = 1070\nconductivity = "-0.2 W/(m*K)"\n', "materials.soft", "conductivity",
           "positive"),
+    scene("user-material-drift-in-volts", ARRAY + 'piezo = "film"\n[materials.film]\nkind = "piezo"\n'
+          'rho = 1780\npermittivity_tc = "0.5 V"\n', "materials.film", "permittivity_tc", "1/K"),
     scene("warm-touch-temperature-in-volts", ARRAY + '[warm_touch]\nfinger = "5 V"\n', "warm_touch.finger",
           "temperature"),
     scene("warm-touch-longer-than-time", ARRAY + '[warm_touch]\nduration = "5 s"\ntime = "3 s"\n',

@@ -117,3 +117,62 @@ def test_the_report_section_reads_the_record(pvdf, tmp_path):
     b = section.block(tmp_path)
     assert dict(b["rows"])["false force"].endswith("N") and len(b["png"]) > 10_000
     assert section.block(tmp_path / "none") is None and list(tmp_path.iterdir()) == [tmp_path / "warm-touch.json"]
+
+
+
+def test_the_warm_pages_read_in_plain_language(pvdf, tmp_path):
+    """The warm touch's page section and its answer row show no code identifier and no number
+    past 4 significant figures (reports.plain, the report tests' rule): the model by its name."""
+    from taxel.reports import warm_touch as section
+    from taxel.reports.page import templates
+    from taxel.reports.plain import problems
+    pvdf.write(tmp_path)
+    row = section.answer_row(tmp_path)
+    assert row["rows"][0][3].endswith("mN") and "fakes a press" in row["note"]
+    html = templates().get_template("page.html").render(title="warm", kind="analysis", folder="warm",
+                                                         banners=[], headline=[], sections=[section.section(tmp_path)])
+    text = html + "<p>" + " ".join(row["cols"] + row["rows"][0] + [row["caption"], row["note"]]) + "</p>"
+    assert "2D plane strain model" in html and not problems(text), problems(text)
+
+
+@pytest.mark.slow      # a static solve and a conduction on a busy machine: 3-12 s
+def test_the_main_jobs_warm_touch_on_the_bench(tmp_path):
+    """The main job's warm touch of an optimization folder (taxel.jobs.warm_touch): the thesis
+    PVDF design through the bench's charge amplifier and notch, the minimum detectable force
+    on the bench's converter with the rig's hum (as the answer's): 11.2 mN false against 4.17 mN
+    detectable (docs/benchmarks.md)."""
+    from taxel.jobs.warm_touch import warm_touch as job
+    from taxel.reports import warm_touch as section
+    folder = tmp_path / "thesis-pvdf-front"
+    folder.mkdir()
+    job(folder)
+    rec = section.record(folder)
+    assert rec["false_force_N"] == pytest.approx(11.2e-3, rel=0.03)
+    assert rec["min_detectable_force_N"] == pytest.approx(4.17e-3, rel=0.05)
+    assert rec["ratio"] == pytest.approx(2.69, rel=0.05)
+    assert rec["scene"] == "thesis-pvdf-single-2d" and "notch" in rec["readout"]
+
+
+def test_the_sensitivity_drift_is_the_datasheets_or_says_it_has_none():
+    """PSI-5H4E's permittivity coefficient (PI Ceramic's PIC153, 5e-3/K) moves the capacitance
+    by 5e-3 x (0 - 23) = -11.5 % at 0 C and +13.5 % at 50 C about a 23 C skin; no sheet gives
+    a d coefficient (PZT) nor any (PVDF): "no drift data", never a zero. A user piezo's
+    coefficients (in units) give the charge's and the open-circuit volts' drift."""
+    from taxel.analyses.solves.warm_touch import drift, drift_words
+    pzt = drift(constitution.get("PSI-5H4E"), 296.15)
+    assert pzt["capacitance"] == pytest.approx([-0.115, 0.135]) and pzt["charge_sensitivity"] is None
+    assert "PIC153" in pzt["source"]
+    words = drift_words(pzt, "charge-amplifier output")
+    assert words.startswith("no drift data") and "-11.5 % at 0 °C, +13.5 % at 50 °C" in words
+    pvdf = drift(constitution.get("PVDF"), 296.15)
+    assert pvdf["capacitance"] is None and drift_words(pvdf, "open-circuit voltage") == \
+        "no drift data (no temperature coefficient of the d constants found)"
+    base = taxel.load("thesis-pvdf-single-2d")
+    s, d, eps_T = constitution.get("PVDF").strain_charge()
+    user = {"kind": "piezo", "s": s.tolist(), "d": d.tolist(), "eps_T": (eps_T / constitution.EPS0).tolist(),
+            "rho": 1780, "permittivity_tc": "0.2 %/K", "d_tc": "-0.1 %/K"}
+    from taxel.analyses.model.problem import check
+    mat = check(base.replace(**{"array.piezo": "film", "materials.film": user}))["film"]
+    r = drift(mat, 296.15)
+    assert r["charge_sensitivity"] == pytest.approx([0.023, -0.027])
+    assert r["open_circuit_sensitivity"][1] == pytest.approx(0.973 / 1.054 - 1)

@@ -55,6 +55,12 @@ class Piezo:
     specific_heat: float | None = None
     pyro: float = 0.0
     thermal_source: str = ""
+    # temperature coefficients, 1/K, linear about room temperature: of eps33^T and of the
+    # d constants (d31, d33 together); None where no datasheet gives one (the warm touch
+    # then says "no drift data", never zero); where each comes from
+    permittivity_tc: float | None = None
+    d_tc: float | None = None
+    drift_source: str = ""
 
     kind = "piezo"
 
@@ -147,9 +153,15 @@ def model_tensors(material, model: str):
 # polarization falls on heating). The same values for the generic PZT-5H. Silicone: no sourced value for
 # Ecoflex 00-30; a measured thin silicone rubber sheet, 0.237 W/(m K) (Thermtest, guarded heat-flow
 # meter, ASTM E1530, 26 C), and 1250 J/(kg K), the middle of silicone rubbers' 1.0-1.5 kJ/(kg K) (assumed).
+# Temperature drift (docs/materials.md, "Temperature drift"): no sheet gives PSI-5H4E's or PZT-5H's;
+# PI Ceramic's "Piezo Material Data" gives TK eps33 = 5e-3/K (-20 to +125 C) for PIC153, its PZT-5H-class
+# soft ceramic (eps33 4200, d33 600 pC/N, Tc 185 C): taken for both. No d31/d33 coefficient found.
 PZT_THERMAL = dict(conductivity=1.2, specific_heat=420.0, pyro=-400e-6,
                    thermal_source="k, c: CTS Materials Technical Data, PZT-5H (3203HD); p3: Piezo Systems "
-                                  "technical note, typical PZT (-400e-6)")
+                                  "technical note, typical PZT (-400e-6)",
+                   permittivity_tc=5e-3,
+                   drift_source="eps33: PI Ceramic Piezo Material Data, PIC153 (PZT-5H class), TK eps33 5e-3/K, "
+                                "-20 to +125 C; d: no sourced coefficient")
 SILICONE_THERMAL = dict(conductivity=0.237, specific_heat=1250.0,
                         thermal_source="k: Thermtest, thin silicone rubber sheet (not Ecoflex); c: assumed 1250")
 
@@ -216,7 +228,9 @@ def _pvdf() -> Piezo:
                                            "d32, E, nu assumed",
                                     Qm=10.0, tan_delta=0.02, conductivity=0.19, specific_heat=1200.0, pyro=-30e-6,
                                     thermal_source="p3: TE Piezo Film Sensors Technical Manual, Table 1 (30e-6, sign: "
-                                                   "polarization falls on heating); k, c: PVDF resin, typical (assumed)")
+                                                   "polarization falls on heating); k, c: PVDF resin, typical (assumed)",
+                                    drift_source="none: the TE manual shows d33, g31 and the permittivity against "
+                                                 "temperature as curves (Figures 24, 25b) and gives no coefficient")
 
 
 # Incompressible Yeoh least-squares fits to the Marechal et al. uniaxial test of Ecoflex

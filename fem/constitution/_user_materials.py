@@ -6,7 +6,9 @@
                            optional Yeoh: C10, C20, C30 (Pa); with only C10.. given, mu = 2 C10
     optional: Qm and tan_delta (piezo losses), eps_r (solid, relative permittivity)
     heat (fem.thermal; a warm touch needs them): conductivity (W/(m K)) and specific_heat
-    (J/(kg K)), both positive; a piezo's pyro, its pyroelectric coefficient p3 (C/(m^2 K))
+    (J/(kg K)), both positive; a piezo's pyro, its pyroelectric coefficient p3 (C/(m^2 K));
+    a piezo's temperature drift (1/K, linear about room temperature): permittivity_tc of
+    eps33^T, d_tc of its d constants (left out: "no drift data")
 
 Physically impossible materials are refused (ValueError, one line naming the key):
 a stiffness or permittivity that is not positive definite, E, mu, K, rho, eps_r
@@ -25,7 +27,8 @@ from . import _yeoh as yeoh
 from ._materials import EPS0, Piezo, Solid, check_piezo
 
 THERMAL_KEYS = {"conductivity", "specific_heat"}
-KEYS = {"piezo": {"kind", "s", "d", "eps_T", "c", "e", "eps_S", "rho", "Qm", "tan_delta", "pyro", *THERMAL_KEYS},
+KEYS = {"piezo": {"kind", "s", "d", "eps_T", "c", "e", "eps_S", "rho", "Qm", "tan_delta", "pyro",
+                  "permittivity_tc", "d_tc", *THERMAL_KEYS},
         "solid": {"kind", "E", "nu", "mu", "K", "rho", "eps_r", "C10", "C20", "C30", *THERMAL_KEYS}}
 SMALL_STRAIN_STRETCH = (0.7, 1.5)
 
@@ -66,8 +69,11 @@ def from_record(name: str, rec: dict):
         raise ValueError("rho (density, kg/m^3) is missing")
     rho = _number(rec, "rho", positive=True)
     extra = {k: _number(rec, k, positive=True) for k in ("Qm", *sorted(THERMAL_KEYS)) if k in rec}
-    if "pyro" in rec:
-        extra["pyro"] = _number(rec, "pyro")
+    for k in ("pyro", "permittivity_tc", "d_tc"):
+        if k in rec:
+            extra[k] = _number(rec, k)
+    if "permittivity_tc" in extra or "d_tc" in extra:
+        extra["drift_source"] = "user"
     if "tan_delta" in rec:
         extra["tan_delta"] = _number(rec, "tan_delta")
         if not 0 <= extra["tan_delta"] < 1:

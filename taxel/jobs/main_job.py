@@ -172,6 +172,8 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         print(f"      the answer's designs through the bench's readout in {time.perf_counter() - t3:.0f} s")
         for name in ("thesis-pzt-front", "thesis-pvdf-front"):    # frictionless to sticking (taxel.jobs.friction_band)
             friction_band(root / name, workers=2)
+    from taxel.jobs.warm_touch import warm_touch      # a warm finger on each thesis design (2D, a few s each)
+    print(f"      the answer's warm touch in {sum(warm_touch(f) for f in folders if f.name.endswith('-front')):.0f} s")
     print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = api.load(name)

@@ -278,6 +278,7 @@ class StaticResult:
                          f"{w['film_rise_K']:.3g} K, false force {engineering(w['false_force_N'], 'N')}"
                          + ("" if mdf is None else f" ({w['ratio']:.3g} x the minimum detectable "
                                                    f"{engineering(mdf, 'N')})") + f", {w['readout']}")
+            lines.append("  sensitivity drift 0-50 C: " + drift_words(w.get("drift"), w["readout"], "C"))
         if self.stop is not None:
             st = self.stop
             lines.insert(1, f"STOPPED SHORT of load.{st.load} = {engineering(st.requested, st.unit)}: these are "
@@ -326,3 +327,22 @@ class StaticResult:
 
     def __str__(self) -> str:
         return "\n".join(self.summary())
+
+
+DRIFT_RANGE_K = (273.15, 323.15)   # a warm touch's sensitivity drift range: 0 to 50 C (solves.warm_touch.drift)
+
+
+def drift_words(d: dict | None, readout: str, degree: str = "°C") -> str:
+    """A drift() record in words: the readout's sensitivity (the charge per newton at a charge
+    amplifier, named by the readout's label; the open-circuit volts per newton otherwise) and
+    the capacitance at the range's ends; "no drift data" where no coefficient is given."""
+    d = d or {}
+    lo, hi = (f"{T - 273.15:.0f} {degree}" for T in d.get("range_K", DRIFT_RANGE_K))
+    sens = d.get("charge_sensitivity" if readout.startswith("charge") else "open_circuit_sensitivity")
+    cap = d.get("capacitance")
+    text = ("no drift data (no temperature coefficient of the d constants found)" if sens is None else
+            f"{100 * sens[0]:+.3g} % at {lo}, {100 * sens[1]:+.3g} % at {hi}")
+    if cap is not None:
+        text += f"; capacitance {100 * cap[0]:+.3g} % at {lo}, {100 * cap[1]:+.3g} % at {hi}"
+    return text
+

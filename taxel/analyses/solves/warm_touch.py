@@ -25,6 +25,13 @@ resonance), capacitance C_p = |Q_sc / V_oc| of the pressed taxel for every taxel
                     noise budget, taxel.analyses.solves.quasi_static_noise): <= 1, a warm
                     finger does not fake a press the readout could see.
 
+The sensitivity drift: the piezo's temperature coefficients (fem.constitution: permittivity_tc
+of eps33^T, d_tc of the d constants; linear about the skin's `ambient`) over DRIFT_RANGE_K,
+0 to 50 C: the capacitance changes by permittivity_tc (T - ambient), the short-circuit charge
+per newton (the charge amplifier's sensitivity) by d_tc (T - ambient), the open-circuit
+sensitivity by their ratio; a coefficient no datasheet gives is None, "no drift data"
+(never zero).
+
 Assumptions: fem.thermal's (one-way coupling; free film, datasheet constant-stress p3;
 the silicone's thermal stress neglected); the finger a body at a fixed temperature behind
 a contact conductance (not its own transient); no heat from the press itself.
@@ -40,13 +47,14 @@ from pathlib import Path
 import numpy as np
 
 from taxel.analyses.model.problem import check, mesh, readout, solve_model
+from taxel.analyses.results.static import DRIFT_RANGE_K, drift_words  # noqa: F401  (drift_words: its words)
 from taxel.fem import constitution, thermal
 from taxel.fem import readout as circuits
 from taxel.scene import Scene, SceneError
 from taxel.schema import electrode_name
 from taxel.scene_tables import WarmTouchTable
 
-__all__ = ["FILE", "WarmTouchResult", "warm_touch", "thermal_model", "surfaces"]
+__all__ = ["FILE", "WarmTouchResult", "warm_touch", "thermal_model", "surfaces", "drift", "drift_words"]
 
 FILE = "warm-touch.json"      # a warm touch's record in a result folder (WarmTouchResult.write)
 
@@ -72,6 +80,7 @@ class WarmTouchResult:
     cells: np.ndarray = field(repr=False)        # (nodes per element, ne) its elements
     temperature: np.ndarray = field(repr=False)  # (nv,) K at field_time, at the vertices
     timings: dict = field(default_factory=dict)
+    drift: dict = field(default_factory=dict)   # the piezo's sensitivity drift (drift(), below)
 
     @property
     def ratio(self) -> float | None:
@@ -104,7 +113,7 @@ class WarmTouchResult:
                 "warm_press_peak": float(np.abs(self.warm_press[p]).max()),
                 "touch_peak_time_s": self.touch_peak_time, "peak_at_end": self.peak_at_end,
                 "false_force_N": self.false_force, "min_detectable_force_N": self.min_detectable_force,
-                "ratio": self.ratio, "timings_s": self.timings}
+                "ratio": self.ratio, "timings_s": self.timings, "drift": self.drift}
 
 
     def write(self, folder, points: int = 600) -> Path:
@@ -214,7 +223,22 @@ def warm_touch(scene: Scene, static=None, rig=None) -> WarmTouchResult:
                            {n: Q_touch[:, j] for j, n in enumerate(names)}, per["touch"], per["press"],
                            per["warm_press"], r.label, false_force, mdf, float(t_th[at]), tm.mesh.p, tm.mesh.t,
                            cond.T[at][:tm.mesh.p.shape[1]],
-                           {"thermal": t1 - t0, "static": t2 - t1, "readout": time.perf_counter() - t2})
+                           {"thermal": t1 - t0, "static": t2 - t1, "readout": time.perf_counter() - t2},
+                           drift(check(scene)[a.piezo], w.ambient))
+
+
+def drift(material, reference_K: float) -> dict:
+    """The piezo's sensitivity drift over DRIFT_RANGE_K about `reference_K` (relative
+    changes at the range's ends, linear in the material's temperature coefficients): the
+    capacitance, the charge per newton, the open-circuit volts per newton; None for one
+    whose coefficient no datasheet gives ("no drift data"), and the coefficients' source."""
+    def change(tc):
+        return None if tc is None else [tc * (T - reference_K) for T in DRIFT_RANGE_K]
+    cap, charge = change(material.permittivity_tc), change(material.d_tc)
+    volts = None if cap is None or charge is None else [(1 + q) / (1 + c) - 1 for q, c in zip(charge, cap)]
+    return {"range_K": list(DRIFT_RANGE_K), "reference_K": reference_K, "capacitance": cap,
+            "charge_sensitivity": charge, "open_circuit_sensitivity": volts,
+            "source": material.drift_source or "none given"}
 
 
 def _ramp(t, rise):
@@ -230,3 +254,4 @@ def _min_detectable_force(scene, v_per_n, q_per_n, rig=None):
         return float(quasi_static_noise(scene, v_per_n, q_per_n, rig).min_detectable_force)
     except (SceneError, ValueError):
         return None
+
