@@ -34,6 +34,7 @@ from trame.widgets import html
 from trame.widgets import vuetify3 as v3
 
 from taxel.explore import session as S
+from taxel.explore import workers as W
 from taxel.explore.controls import (
     LAWS,
     LOADS,
@@ -41,9 +42,7 @@ from taxel.explore.controls import (
     NUMBERS,
     READOUTS,
     ControlValues,
-    FieldError,
     piezo_names,
-    scene_of,
 )
 from taxel.explore.front import Front
 from taxel.explore.tab import Tab
@@ -51,7 +50,7 @@ from taxel.explore.wire import MAX_MESSAGE, Refusals, Wire
 from taxel.scene import Scene
 from taxel.schema import to_data
 
-FAST_WORKERS = 2
+FAST_WORKERS = W.count()   # the design solves' processes (workers.count: cores and memory)
 RECENT = 256            # designs whose answers the explorer keeps in memory (a few kB each)
 
 
@@ -65,6 +64,7 @@ class Lanes:
 
     fast: ThreadPoolExecutor
     slow: ThreadPoolExecutor
+    solvers: W.Solvers
     small: float = S.SMALL_UNKNOWNS
 
 
@@ -78,8 +78,8 @@ class Explorer:
         self.server.options["ws_max_msg_size"] = MAX_MESSAGE     # aiohttp refuses a longer frame
         self.state, self.ctrl = self.server.state, self.server.controller
         self.store = store if store is not None else self.folder / "store"
-        self.lanes = Lanes(ThreadPoolExecutor(FAST_WORKERS, thread_name_prefix="explore-fast"),
-                           ThreadPoolExecutor(1, thread_name_prefix="explore-slow"))
+        self.lanes = Lanes(ThreadPoolExecutor(1, thread_name_prefix="explore-fast"),
+                           ThreadPoolExecutor(1, thread_name_prefix="explore-slow"), W.Solvers(FAST_WORKERS))
         self._sessions = threading.local()              # one store connection per thread
         self.tabs: dict[str, Tab] = {}
         self._recent: OrderedDict = OrderedDict()      # design key -> (scene, answer): Explorer.recall
@@ -151,13 +151,7 @@ class Explorer:
 
     def prepare(self, design: ControlValues) -> tuple[Scene, object]:
         """The design's scene and solve cost; FieldError (one line) where it is refused."""
-        try:
-            scene = scene_of(self.base, design)
-            return scene, S.check_fits(scene, S.MEMORY_2D)
-        except FieldError:
-            raise
-        except Exception as exc:                        # TooLarge, or a value no control makes
-            raise FieldError(str(exc).splitlines()[0] if str(exc) else type(exc).__name__, None) from None
+        return W.prepare(self.base, design)
 
     def answer(self, scene: Scene) -> S.Answer:
         return self.session().answer(scene)
@@ -355,6 +349,7 @@ class Explorer:
         def ready(**_):
             # the base design into the store, so every page's first answer is read, not solved
             self.lanes.fast.submit(self._warm)
+            self.lanes.solvers.start()
             print(f"taxel explore: serving {self.base.name} at {guard.url()}", flush=True)
         self.server.start(host=host, port=port, open_browser=False, show_connection_info=False)
 
