@@ -191,10 +191,13 @@ def phase(app, tabs: int, seconds: float, hostile: int, fresh: bool = False) -> 
     for t in threads:
         t.start()
     time.sleep(max(0.0, start - time.time()))
-    c0, t0 = cpu(proc), time.monotonic()
+    c0, t0, l0 = cpu(proc), time.monotonic(), os.getloadavg()[0]
+    me0 = psutil.Process().cpu_times()
     for t in threads:
         t.join()
     wall = time.monotonic() - t0
+    me1 = psutil.Process().cpu_times()
+    pages_cpu = (me1.user + me1.system) - (me0.user + me0.system)
     for _ in procs:
         got, ref = queue.get(timeout=120)
         for k, v in got.items():
@@ -210,7 +213,8 @@ def phase(app, tabs: int, seconds: float, hostile: int, fresh: bool = False) -> 
             "server_answer_p95_s": pct(solve, 95), "wait_p50_s": pct([a - b for a, b, _ in rows if b is not None], 50),
             "solved_fraction": sum(r[2] for r in rows) / max(len(rows), 1),
             "wall_s": wall, "server_cpu_s": (used := cpu(proc) - c0),
-            "server_cpu_per_move_ms": 1e3 * used / max(len(rows), 1), "hostile_counts": counts,
+            "server_cpu_per_move_ms": 1e3 * used / max(len(rows), 1), "server_cores_used": used / wall,
+            "pages_cpu_s": pages_cpu, "load_average": (l0 + os.getloadavg()[0]) / 2, "hostile_counts": counts,
             "long_value_refusal_p50_s": pct(refusals, 50), "long_value_refusal_max_s": max(refusals, default=None)}
 
 
@@ -237,11 +241,25 @@ def main():
         many = phase(app, args.tabs, args.seconds, args.hostile, args.fresh)
         refused = sum("refused" in ln for ln in app.log)
         tracebacks = sum("Traceback" in ln for ln in app.log)
+        workers = [p for p in psutil.Process(app.proc.pid).children(recursive=True) if "spawn_main" in " ".join(p.cmdline())]
+        worker_rss = max((p.memory_info().rss for p in workers), default=0)
+    # the CPU-bound floor: ten pages each asking for a move that costs the explorer c CPU
+    # seconds (one page alone's CPU per move) are answered at most cores / c moves a second,
+    # so a page waits at least tabs * c / cores per move on average (Little's law), however
+    # the work is scheduled. With the machine's cores free, and with the cores the explorer
+    # got in the loaded phase (its CPU seconds over the wall seconds: a shared machine gives
+    # a niced process a share of it); each over one page alone's p50, the smallest ratio
+    # those cores allow
+    c1 = alone["server_cpu_per_move_ms"] / 1e3
+    floor_free = args.tabs * c1 / (os.cpu_count() or 1)
+    floor_got = args.tabs * c1 / max(many["server_cores_used"], 1e-3)
     res = {"date": time.strftime("%Y-%m-%d"), "cores": os.cpu_count(), "load_average_before": load0,
            "load_average_after": os.getloadavg()[0], "seconds": args.seconds, "fresh": args.fresh, "alone": alone, "pages": pages, "loaded": many,
            "p95_ratio": many["p95_s"] / alone["p95_s"], "p50_ratio": many["p50_s"] / alone["p50_s"],
            "p95_ratio_pages_only": pages["p95_s"] / alone["p95_s"],
-           "refusal_lines": refused, "tracebacks": tracebacks}
+           "refusal_lines": refused, "tracebacks": tracebacks, "workers": len(workers), "worker_rss_max_bytes": worker_rss,
+           "cpu_floor_free_s": floor_free, "cpu_floor_free_ratio": max(1.0, floor_free / alone["p50_s"]),
+           "cpu_floor_got_s": floor_got, "cpu_floor_got_ratio": max(1.0, floor_got / alone["p50_s"])}
     result = RESULT.with_name("explore_load_fresh.json") if args.fresh else RESULT
     result.write_text(json.dumps(res, indent=1))
     print(f"slider-to-answer latency of well-behaved pages, {args.seconds:g} s per phase, loopback, "
@@ -262,6 +280,16 @@ def main():
           f"({'within' if res['p95_ratio'] <= 2 else 'beyond'} the 2x goal); median {res['p50_ratio']:.2f}x; "
           f"{args.tabs} pages without the hostile clients: p95 {res['p95_ratio_pages_only']:.2f}x; "
           f"{refused} refusal lines, {tracebacks} tracebacks in the explorer's log; wrote {result}")
+    phases = (alone, pages, many)
+    cores = ", ".join(f"{r['server_cores_used']:.2f}" for r in phases)
+    loads = ", ".join(f"{r['load_average']:.1f}" for r in phases)
+    own = ", ".join(f"{r['pages_cpu_s']:.1f}" for r in phases)
+    print(f"CPU-bound floor: {args.tabs} pages x {1e3 * c1:.0f} ms of explorer CPU per move / {os.cpu_count()} free cores = "
+          f"{floor_free:.3f} s per move ({res['cpu_floor_free_ratio']:.2f}x one page alone's p50); / the "
+          f"{many['server_cores_used']:.2f} cores it got loaded = {floor_got:.3f} s ({res['cpu_floor_got_ratio']:.2f}x, "
+          f"measured p50 {many['p50_s']:.3f} s); the explorer used {cores} cores "
+          f"in the three phases (load average {loads}); the pages' own CPU {own} s; {len(workers)} solve workers, "
+          f"at most {worker_rss / 1e9:.2f} GB resident each")
 
 
 if __name__ == "__main__":
