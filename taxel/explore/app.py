@@ -7,15 +7,19 @@ never change another's); what a page may send is checked on the WebSocket first
 holds what the pages share: the base scene, the study store (a design seen before,
 by any page, is read, not solved) and the lanes the work runs in, off the event loop:
 
-- the fast lane (FAST_WORKERS threads): reading a design and solving a small one
-  (at most SMALL_UNKNOWNS unknowns, well under a second);
+- the solve workers (FAST_WORKERS processes, taxel.explore.workers): reading a design
+  and solving a small one (at most SMALL_UNKNOWNS unknowns, well under a second), the
+  pages' solves on several cores at once, behind a bounded queue that drops a job no
+  page wants and shares one job among pages asking for the same design;
+- the fast lane (one thread): the front's figure, the base design at start;
 - the slow lane (one thread): a larger design (up to the 2D cap, session.MEMORY_2D
   of this machine's memory) and the figures on request (section, error estimate,
   frequency response, voltage-force curve), one at a time;
 - 3D: one process at a time (session.Job3D, up to session.MEMORY_3D).
 
-So the caps add up: the slow lane's solve, the 3D solve and the fast lane's small
-solves together need at most session.MEMORY_BUDGET of this machine's memory.
+So the caps add up: the slow lane's solve, the 3D solve and the workers (each its
+interpreter and a small solve) together need at most session.MEMORY_BUDGET of this
+machine's memory.
 """
 
 from __future__ import annotations

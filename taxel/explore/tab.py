@@ -12,10 +12,11 @@ An update: after a pause of DEBOUNCE for more moves, the design is applied to th
 base scene (controls.scene_of: the scene schema's checks, as `taxel solve` makes
 them; a refused value is shown beside its field and logged in one line), its solve
 cost checked against the explorer's 2D cap (session.check_fits), and answered from
-the study store or solved: a small solve in the fast lane, a large one in the slow
-lane, so one large design never holds up the others' small ones. A design answered
-lately (by any page) is answered from the explorer's memory (Explorer.recall), on the
-event loop, without reading or solving it again.
+the study store or solved: all of that in a solve worker (taxel.explore.workers, a
+process) when the design is small; a large one is solved in the slow lane, so one
+large design never holds up the others' small ones. A design answered lately (by any
+page) is answered from the explorer's memory (Explorer.recall), on the event loop,
+without reading or solving it again.
 """
 
 from __future__ import annotations
