@@ -133,9 +133,21 @@ class Solvers:
 
     def start(self) -> None:
         """Spawn the workers now (each imports the solver's libraries), not at the first move."""
-        pool = self.pool()
         for _ in range(self.size):
-            pool.submit(time.sleep, 0.2)
+            self._submit(time.sleep, 0.2)
+
+    def _submit(self, fn, *args):
+        """pool().submit, with Ctrl-C ignored in the workers it spawns: the explorer ends
+        them (a worker interrupted as well, importing, printed a traceback). An ignored
+        SIGINT is inherited, and Python then installs no KeyboardInterrupt for it."""
+        import signal
+        if threading.current_thread() is not threading.main_thread():
+            return self.pool().submit(fn, *args)
+        old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            return self.pool().submit(fn, *args)
+        finally:
+            signal.signal(signal.SIGINT, old)
 
     async def run(self, key, wanted, fn, *args):
         """fn(*args) in a worker, once per key at a time; None when dropped (no page
@@ -157,7 +169,7 @@ class Solvers:
                     return None                       # dropped before it reached a process
                 pool = self.pool()
                 try:
-                    return await asyncio.wrap_future(pool.submit(fn, *args))
+                    return await asyncio.wrap_future(self._submit(fn, *args))
                 except BrokenProcessPool:
                     if self._pool is pool:
                         self._pool = None             # the next job starts a new pool
