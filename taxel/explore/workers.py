@@ -41,8 +41,8 @@ from taxel.explore.controls import ControlValues, FieldError, scene_of
 from taxel.scene import Scene
 
 # a worker's memory besides its solve: an interpreter with numpy, scipy, scikit-fem, gmsh,
-# pint and taxel imported, after six thesis-taxel solves 0.15 GB resident (`rss`, printed by
-# benchmarks/explore_load.py), rounded up
+# pint and taxel imported, 0.15-0.16 GB resident after a run of benchmarks/explore_load.py
+# (its worker_rss_max_bytes), rounded up
 WORKER_BYTES = 0.2e9
 MAX_WORKERS = 4
 
@@ -108,12 +108,6 @@ def solve(base: Scene, design: ControlValues, store: str, small: float) -> Outco
     if _SESSION is None:
         _SESSION = S.Session(store)
     return Outcome(scene, _SESSION.answer(scene), None, cost.unknowns)
-
-
-def rss() -> int:
-    """A worker's resident bytes (for the memory figure above)."""
-    import psutil
-    return psutil.Process().memory_info().rss
 
 
 class Solvers:
