@@ -110,6 +110,10 @@ def gmsh_model(name="taxel"):
         if fresh:
             with _reading_files_only():
                 gmsh.initialize(readConfigFiles=False, interruptible=False)   # no signal handler: off the main thread
+        else:
+            # options are gmsh's process state: one model's (the layered mesh's RecombineAll and
+            # quad algorithm) carried into the next tetrahedral mesh of the same process
+            gmsh.option.restoreDefaults()
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add(name)
         try:

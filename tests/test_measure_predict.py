@@ -8,6 +8,7 @@ import pytest
 import taxel
 from taxel.cli import main
 from taxel.optimize.spec import load_optimization, optimize
+from taxel.scene import parse
 
 PROBLEM = """
 base = "thesis-pzt-3x3-2d"
@@ -60,9 +61,11 @@ def test_localization_error_optimization_and_its_maps(tmp_path, fresh_cache):
     assert [m.stat().st_mtime_ns for m in sorted((out / MAPS).glob("*.npz"))] == stamps
     np.testing.assert_allclose(again.x, r.x)
     fresh_cache("cache-2")
-    scene = taxel.load("thesis-pzt-3x3-2d").replace(**{"array.gap": float(r.x[0]) * 1e-3})
+    # the design's own scene: a gap one ulp away (2.75e-3 against the optimizer's 2.7500000000005 mm
+    # converted) is meshed differently by gmsh and moves the metric by 5e-5 (measured 2026-11-29)
+    scene = parse({**p.scene_data(r.x), "name": "design"})
     direct = influence_metrics(scene, p.smallest_force_N, 1e-3)
-    assert direct["localization_error"] == pytest.approx(r.metrics["localization_error"], rel=1e-9)
+    assert direct["localization_error"] == pytest.approx(r.metrics["localization_error"], rel=1e-6)
 
 
 def test_localization_error_scales_with_noise_and_bad_noise_is_refused(tmp_path, capsys, fresh_cache):
