@@ -252,6 +252,9 @@ class SkinRuntime:
     def _inputs(self, points, forces, lead: tuple) -> tuple[np.ndarray, np.ndarray]:
         """points (*lead, m, 2), forces (*lead, m) or (*lead, m, 3) as float arrays; ValueError (one line) otherwise."""
         p, f = np.asarray(points, float), np.asarray(forces, float)
+        ps, fs = p.shape, f.shape
+        if not lead and len(ps) == 2 and ps[1] == 2 and (fs == ps[:1] or fs == (ps[0], 3)):
+            return p, f                                         # one skin's well-formed contacts, at once
         if p.ndim != len(lead) + 2 or p.shape[:-2] != lead or p.shape[-1] != 2 or f.shape not in (
                 p.shape[:-1], (*p.shape[:-1], 3)):
             want = "".join(f"{n}, " for n in lead)

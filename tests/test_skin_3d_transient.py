@@ -1,0 +1,37 @@
+"""The 3D skin's transient against the 3D model's own dynamics (slow: a 3D reduced model of a
+2 x 2 PZT array on a coarse mesh, three presses at once; tests/skin_3d_transient.py,
+benchmarks/skin_3d_transient.py has the numbers).
+
+- the pad's first resonance (the 3D model's lowest oscillatory pole) is far above the
+  skin's band: the static-map-times-h factoring's premise;
+- a quarter pitch along the diagonal, mid-gap and in the edge margin, each a step, an
+  impulse and a chirp: the skin runtime within 2 % of the pressed taxel's peak, every
+  taxel above 1 % of that peak with the 3D model's sign.
+"""
+
+import pytest
+
+import taxel
+from skin_3d_transient import HISTORIES, POINTS, SMALL, Reference, errors
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def setup():
+    from taxel.skin.build import build
+    scene = taxel.load("thesis-pzt-3x3-3d").replace(**SMALL)
+    sk = build(scene, dt=2.5e-4, checks=0)
+    return sk, Reference(scene, sk, {k: f(sk.pitch, sk.taxel_width) for k, f in POINTS.items()})
+
+
+def test_the_pad_is_quasi_static_in_the_skins_band(setup):
+    sk, ref = setup
+    assert ref.first_resonance() > 3 * sk.band
+
+
+@pytest.mark.parametrize("history", list(HISTORIES))
+@pytest.mark.parametrize("where", list(POINTS))
+def test_runtime_against_the_3d_model(setup, where, history):
+    r = errors(setup[1].compare(where, history))
+    assert r["error"] < 0.02 and r["signs"], r
