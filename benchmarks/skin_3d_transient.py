@@ -58,10 +58,9 @@ def main():
     out.update(wall_s=time.perf_counter() - t0, cpu_s=time.process_time() - c0,
                max_rss_gb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6,
                load_average_end=os.getloadavg()[0])
-    path = Path(__file__).parent / "results" / "skin_3d_transient.json"
-    path.parent.mkdir(exist_ok=True)
-    path.write_text(json.dumps(out, indent=1))
-    print(f"wrote {path} ({out['cpu_s']:.0f} s CPU, {out['max_rss_gb']:.2f} GB)")
+    (Path(__file__).parent / "results").mkdir(exist_ok=True)
+    (Path(__file__).parent / "results" / "skin_3d_transient.json").write_text(json.dumps(out, indent=1))
+    print(f"wrote results/skin_3d_transient.json ({out['cpu_s']:.0f} s CPU, {out['max_rss_gb']:.2f} GB)")
 
 
 if __name__ == "__main__":

@@ -224,32 +224,20 @@ def designs() -> dict:
     return out
 
 
+def write(name: str, rec: dict) -> None:
+    path = OUT.with_name(name)
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(json.dumps(rec, indent=1, default=str))
+    print(f"wrote {path}")
+
+
 if __name__ == "__main__":
-    if "--designs" in sys.argv:
-        path = OUT.with_name("surface_map_designs.json")
-        path.parent.mkdir(exist_ok=True)
-        path.write_text(json.dumps(designs(), indent=1, default=str))
-        print(f"wrote {path}")
-        sys.exit(0)
-    if "--remap" in sys.argv:
-        path = OUT.with_name("surface_map_remap.json")
-        path.parent.mkdir(exist_ok=True)
-        path.write_text(json.dumps(remap(), indent=1))
-        print(f"wrote {path}")
-        sys.exit(0)
-    if "--probe" in sys.argv:
-        path = OUT.with_name("surface_map_probe.json")
-        path.parent.mkdir(exist_ok=True)
-        path.write_text(json.dumps(probe(), indent=1))
-        print(f"wrote {path}")
-        sys.exit(0)
-    if "--8x8" in sys.argv:
-        _, rec = cost(8)
-        path = OUT.with_name("surface_map_8x8.json")
-        path.parent.mkdir(exist_ok=True)
-        path.write_text(json.dumps({"8x8": rec}, indent=1))
-        print(f"wrote {path}")
-        sys.exit(0)
+    for flag, name, part in (("--designs", "surface_map_designs.json", designs), ("--remap", "surface_map_remap.json", remap),
+                             ("--probe", "surface_map_probe.json", probe),
+                             ("--8x8", "surface_map_8x8.json", lambda: {"8x8": cost(8)[1]})):
+        if flag in sys.argv:
+            write(name, part())
+            sys.exit(0)
     res = json.loads(OUT.read_text()) if OUT.exists() else {}
     m, res["3x3"] = cost(3)
     res["search_3x3"] = search(m)
