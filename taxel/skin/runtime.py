@@ -36,12 +36,7 @@ arithmetic, sets the time at these sizes):
   lambda, Z[:modes] += u. At load the diagonal form is checked against Ad..Dd (their impulse responses
   over 400 steps); a file where it does not hold (V ill-conditioned) is stepped through
   the dense product [x'; v] = [[Ad, Bd], [Cd, Dd]] [x; u] instead.
-- The influence, bilinear on its grid: each contact's cell (one scaling, one floor),
-  its four corners' rows of the table W (one gather: (cells x 3, taxels), or the z
-  plane alone for normal-only forces) and their weights times the force's components,
-  summed over contacts, corners and directions in one product. One skin with up to 8
-  contacts finds the cells and weights in Python floats (a dozen numpy calls cost
-  more than the arithmetic at that size): one gather and one product.
+- The influence, bilinear on its grid (taxel.skin.influence: one gather and one product).
 - Noise drawn in blocks of `block` steps (2048: the FIR filter of 1024 taps costs one FFT per block).
 - `check=False` skips the input checks (shapes; finite values, checked on the loads)
   for callers that guarantee finite float arrays of the right shapes.
@@ -58,12 +53,12 @@ steps over its range, referred back to the readout output).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from taxel.skin.discrete import balanced_form, diagonal_form, first_order_hold
+from taxel.skin.influence import InfluenceTable, check_finite
 from taxel.skin.model import SkinModel
 
 _RUN_BLOCK = 1024               # steps per block of `run`'s convolution
@@ -116,24 +111,8 @@ class SkinRuntime:
             self._adc = None
         s = model.saturation
         self._sat = float(s) if np.isfinite(s) else None
-        # the influence table (module docstring): rows cell * 3 + direction, and the z plane alone
-        gx, gy = np.asarray(model.grid_x, float), np.asarray(model.grid_y, float)
-        for g, name in ((gx, "grid_x"), (gy, "grid_y")):
-            if len(g) < 2 or not np.allclose(np.diff(g), (g[-1] - g[0]) / (len(g) - 1), rtol=1e-9, atol=0):
-                raise ValueError(f"skin file: {name} is not evenly spaced; rebuild the skin")
-        self._nx, self._ny = len(gx), len(gy)
-        self._ih = np.array([(len(gx) - 1) / (gx[-1] - gx[0]), (len(gy) - 1) / (gy[-1] - gy[0])])
-        self._oih = np.array([gx[0], gy[0]]) * self._ih
-        self._stride, self._xyz = np.array([1, len(gx)], dtype=np.intp), np.arange(3)
-        self._sgn, self._one = np.array([-1.0, 1.0]), np.array([1.0, 0.0])
-        self._scalars = (float(self._ih[0]), float(self._ih[1]), float(self._oih[0]), float(self._oih[1]),
-                         len(gx) - 1.0, len(gy) - 1.0, len(gx) - 2, len(gy) - 2, len(gx))
-        self._top = np.array([len(gx) - 1.0, len(gy) - 1.0])
-        W = np.asarray(model.influence, float).transpose(2, 3, 1, 0)                 # (ny, nx, 3, T)
-        self._W3 = np.ascontiguousarray(W.reshape(-1, T))
-        self._Wz = np.ascontiguousarray(-W[:, :, 2, :].reshape(-1, T))               # a press F > 0 is f_z = -F
-        self._corner = np.array([0, 1, self._nx, self._nx + 1])
-        self._last = np.array([len(gx) - 2, len(gy) - 2])
+        self._table = InfluenceTable(model)
+        self._loads, self._loads_few = self._table.loads, self._table.few
         self._rows, self._cols, self._T = rows, cols, T
         self._steps = 0
         self.g = np.ones((E, 1, T))
@@ -262,11 +241,6 @@ class SkinRuntime:
                              f"N in the skin frame, or normal forces ({want}m,) N")
         return p, f
 
-    @staticmethod
-    def _finite(u) -> None:
-        if not np.isfinite(u).all():
-            raise ValueError("points or forces not finite: give finite contact points (m) and forces (N)")
-
     def loads(self, points, forces) -> np.ndarray:
         """u (..., rows, cols) N: the force each taxel sees from forces (..., m, 3) in the skin
         frame, or normal forces (..., m) > 0 pressing, at points (..., m, 2)."""
@@ -275,58 +249,8 @@ class SkinRuntime:
             raise ValueError(f"points {p.shape}, forces {f.shape}: give points (..., m, 2) m and forces "
                              "(..., m, 3) or (..., m) N")
         u = self._loads(p, f).reshape(*p.shape[:-2], self._rows, self._cols)
-        self._finite(u)
+        check_finite(u)
         return u
-
-    def _loads(self, p, f) -> np.ndarray:
-        """sum_j sum_d W_kd(p_j) f_jd (..., T), bilinear (module docstring)."""
-        t = p * self._ih
-        t -= self._oih                                                                 # grid units
-        np.maximum(t, 0.0, out=t)
-        np.minimum(t, self._top, out=t)
-        i = t.astype(np.intp)
-        np.minimum(i, self._last, out=i)                                               # the last cell at the far end
-        d = t - i
-        cell = (i @ self._stride)[..., None] + self._corner                             # (..., m, 4)
-        a = d[..., None] * self._sgn
-        a += self._one                                                                  # (..., m, xy, 2): 1 - d, d
-        w = a[..., 1, :, None] * a[..., 0, None, :]                                     # (..., m, 2, 2): corners
-        lead = p.shape[:-2]
-        if f.shape == p.shape[:-1]:                                                      # normal only
-            w *= f[..., None, None]
-            return (w.reshape(*lead, 1, -1) @ self._Wz.take(cell.reshape(*lead, -1), axis=0))[..., 0, :]
-        c = (w[..., None] * f[..., None, None, :]).reshape(*lead, 1, -1)                 # (..., 1, m 4 3)
-        rows = (cell[..., None] * 3 + self._xyz).reshape(*lead, -1)
-        return (c @ self._W3[rows])[..., 0, :]
-
-    def _loads_few(self, p, f, finite: bool = False) -> np.ndarray:
-        """_loads for one skin and a few contacts: the cell and the weights in Python floats
-        (cheaper than a dozen numpy calls at this size), then one gather and one product;
-        with `finite`, ValueError (one line) unless the points and forces are finite."""
-        ihx, ihy, ox, oy, tx_, ty_, lx, ly, nx = self._scalars
-        rows, coef, at = [], [], 0.0
-        normal = f.ndim == 1
-        for (x, y), F in zip(p.tolist(), f.tolist()):
-            at += x + y
-            tx, ty = x * ihx - ox, y * ihy - oy
-            tx = tx if 0.0 <= tx <= tx_ else tx_ if tx > tx_ else 0.0        # clamped; nan -> 0 (checked below)
-            ty = ty if 0.0 <= ty <= ty_ else ty_ if ty > ty_ else 0.0
-            ix, iy = int(tx), int(ty)
-            ix, iy = lx if ix > lx else ix, ly if iy > ly else iy
-            dx, dy = tx - ix, ty - iy
-            c = iy * nx + ix
-            ex, ey = 1.0 - dx, 1.0 - dy
-            if normal:
-                rows += (c, c + 1, c + nx, c + nx + 1)
-                a, b = F * ey, F * dy
-                coef += (a * ex, a * dx, b * ex, b * dx)
-            else:
-                for cc, wc in zip((c, c + 1, c + nx, c + nx + 1), (ex * ey, dx * ey, ex * dy, dx * dy)):
-                    rows += (3 * cc, 3 * cc + 1, 3 * cc + 2)
-                    coef += (wc * F[0], wc * F[1], wc * F[2])
-        if finite and not math.isfinite(sum(coef) + at):   # inf - inf is nan: caught too
-            self._finite([np.nan])
-        return np.dot(coef, (self._Wz if normal else self._W3).take(rows, axis=0))
 
     def step(self, points, forces) -> np.ndarray:
         """Advance one dt with forces (m, 3) N in the skin frame (or normal forces (m,) N,
@@ -350,7 +274,7 @@ class SkinRuntime:
         else:
             u = self._loads(points, forces).reshape(-1, 1, self._T)
             if self.check:
-                self._finite(u)
+                check_finite(u)
         if self.randomization is None:             # unit gains: the input row's real part is u
             self._ureal[...] = u
         else:
@@ -412,7 +336,7 @@ class SkinRuntime:
         points, forces = self._inputs(points, forces, (len(forces), *self.shape[:-2]))
         nt = len(forces)
         U = self._loads(points, forces).reshape(nt, -1, self._T) * self.g[:, 0]    # (nt, E, taxels)
-        self._finite(U)
+        check_finite(U)
         V = np.empty(U.shape)
         if self.diagonal:
             for k in range(0, nt, _RUN_BLOCK):
