@@ -25,7 +25,7 @@ from taxel.schema import electrode_name
 from taxel.skin.runtime import SkinRuntime
 
 SMALL = {"array.rows": 2, "array.cols": 2, "readout.circuit": "resistor", "load.taxel": [1, 1],
-         "mesh.size": "3 mm", "mesh.piezo_size": "1.2 mm"}
+         "mesh.size": "3 mm", "mesh.piezo_size": "1.2 mm", "model.symmetry": "full"}
 RADIUS = 1.6e-3                    # m: the nodes carrying each press (tests/skin_3d_loads.py's)
 # the press centres in the skin frame (p the pitch, w the taxel width): tests/skin_3d_loads.POINTS
 POINTS = {"diagonal": lambda p, w: (0.25 * p, 0.25 * p), "gap": lambda p, w: (0.5 * p, 0.0),

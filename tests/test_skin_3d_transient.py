@@ -3,7 +3,7 @@
 benchmarks/skin_3d_transient.py has the numbers).
 
 - the pad's first resonance (the 3D model's lowest oscillatory pole) is far above the
-  skin's band: the static-map-times-h factoring's premise;
+  histories' band (the chirp's 100 Hz; 555 Hz measured): the static-map-times-h premise;
 - a quarter pitch along the diagonal, mid-gap and in the edge margin, each a step, an
   impulse and a chirp: the skin runtime within 2 % of the pressed taxel's peak, every
   taxel above 1 % of that peak with the 3D model's sign.
@@ -25,9 +25,8 @@ def setup():
     return sk, Reference(scene, sk, {k: f(sk.pitch, sk.taxel_width) for k, f in POINTS.items()})
 
 
-def test_the_pad_is_quasi_static_in_the_skins_band(setup):
-    sk, ref = setup
-    assert ref.first_resonance() > 3 * sk.band
+def test_the_pad_is_quasi_static_in_the_histories_band(setup):
+    assert setup[1].first_resonance() > 4 * HISTORIES["chirp"]["analysis.f1"]
 
 
 @pytest.mark.parametrize("history", list(HISTORIES))
