@@ -14,13 +14,17 @@ the 3D model's sign at its own peak. First, why a static map times h can hold: t
 model's first resonance (the lowest oscillatory pole of its realization) against the
 skin's band. Writes benchmarks/results/skin_3d_transient.json.
 
-    MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/skin_3d_transient.py
+    MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/skin_3d_transient.py [--reference FILE]
+
+(--reference FILE: the reduced 3D model kept in FILE, pickled, and read from it when there:
+its reduction takes 5-7 minutes of CPU; the skin is built anew either way.)
 """
 
 from __future__ import annotations
 
 import json
 import os
+import pickle
 import resource
 import sys
 import time
@@ -39,7 +43,14 @@ def main():
     scene = taxel.load("thesis-pzt-3x3-3d").replace(**SMALL)
     sk = build(scene, dt=2.5e-4, checks=0)
     t1 = time.process_time()
-    ref = Reference(scene, sk, {k: f(sk.pitch, sk.taxel_width) for k, f in POINTS.items()})
+    keep = Path(sys.argv[sys.argv.index("--reference") + 1]) if "--reference" in sys.argv else None
+    if keep is not None and keep.exists():
+        ref = pickle.loads(keep.read_bytes())
+        ref.sk = sk
+    else:
+        ref = Reference(scene, sk, {k: f(sk.pitch, sk.taxel_width) for k, f in POINTS.items()})
+        if keep is not None:
+            keep.write_bytes(pickle.dumps(ref))
     out = {"load_average_start": os.getloadavg()[0], "mesh": [SMALL["mesh.size"], SMALL["mesh.piezo_size"]],
            "unknowns": ref.unknowns, "reduced_order": ref.red.order, "reduction_error": float(ref.red.error),
            "first_resonance_hz": ref.first_resonance(), "skin_band_hz": float(sk.band), "dt": sk.dt,
