@@ -30,6 +30,7 @@ RADIUS = 1.6e-3                    # m: the nodes carrying each press (tests/ski
 # the press centres in the skin frame (p the pitch, w the taxel width): tests/skin_3d_loads.POINTS
 POINTS = {"diagonal": lambda p, w: (0.25 * p, 0.25 * p), "gap": lambda p, w: (0.5 * p, 0.0),
           "edge": lambda p, w: (-(w / 2 + 1.5e-3), 0.0)}
+CENTRE = (0.0, 0.0)                # taxel (0, 0)'s centre, the nearest taxel of every point: the pressed taxel's peak
 HISTORIES = {"step": {"analysis.duration": 0.2, "analysis.rise": 0.005},
              "impulse": {"analysis.duration": 0.1, "analysis.width": 0.01},
              "chirp": {"analysis.duration": 0.5, "analysis.f0": 0.0, "analysis.f1": 100.0}}
@@ -83,14 +84,23 @@ class Reference:
         return {"t": t, "skin": v, "fem": V}
 
 
-def errors(r: dict) -> dict:
-    """max |skin - 3D| of the pressed taxel's peak (the largest |v_3D|), that peak, and whether
-    every taxel above 1 % of it has the 3D model's sign at its own peak."""
+def centres(p: float, w: float) -> dict:
+    """The reference's press points (skin frame, m) for pitch p, taxel width w: POINTS and the centre press."""
+    return {**{k: f(p, w) for k, f in POINTS.items()}, "centre": CENTRE}
+
+
+def errors(r: dict, peak: float | None = None) -> dict:
+    """max |skin - 3D| of the pressed taxel's peak (`peak`: the largest |v_3D| of the same history
+    pressed by the same nodes on the nearest taxel's centre; else this press's own largest |v_3D|),
+    that peak, this press's own peak, and whether every taxel above 1 % of the pressed peak has
+    the 3D model's sign at its own peak."""
     v, V = r["skin"], r["fem"]
-    peak = float(np.abs(V).max())
+    own = float(np.abs(V).max())
+    peak = own if peak is None else float(peak)
     at = np.argmax(np.abs(V), axis=0)
     cols = np.arange(V.shape[1])
     big = np.abs(V[at, cols]) > 0.01 * peak
-    return {"error": float(np.abs(v - V).max() / peak), "peak": peak,
+    return {"error": float(np.abs(v - V).max() / peak), "peak": peak, "own_peak": own,
+            "error_of_own_peak": float(np.abs(v - V).max() / own),
             "signs": bool(np.all((np.sign(v[at, cols]) == np.sign(V[at, cols]))[big])),
             "fem_at_peaks": V[at, cols].tolist(), "skin_at_peaks": v[at, cols].tolist()}
