@@ -9,14 +9,20 @@ discretized at dt = 1 ms. Side by side in one process on one thread:
   (m, 3) (shear: the three planes of W gathered), with 10 contacts, with the noise on;
 - "step, E envs": one call of SkinRuntime(envs=E).step for E environments, per environment;
 - "run": SkinRuntime.run over the whole history (contacts known ahead), per step;
+- "step, idle": SkinRuntime.step with zero forces after 3000 idle steps (the modes decayed
+  towards zero: without the runtime's flush of subnormal numbers this cost 110 us);
+- "step, full order": SkinRuntime.step with order_tol = 0 (every mode of the file kept:
+  the balanced cut off), to show what the cut buys;
 - "numpy floor": the fewest numpy calls a step can be (the state update and the output
-  product alone: np.multiply, np.matmul, .real.copy, two in-place updates), what the
-  interpreter costs whatever the loads are;
+  product alone: the input row written, np.matmul, .real.copy, two in-place updates),
+  what the interpreter costs whatever the loads are;
 - MuJoCo (the 3 x 3 skin on taxel.skin.mujoco's fingertip, the flat probe pressed):
   mj_step alone, and mj_step + MujocoSkin.step (contacts, patches, the runtime).
 
 Each case: 2000 steps with random contacts (the same for every case), noise off unless
-said; 7 rounds, each round running every case once (so a change of the machine's load
+said, timed without the runtime's construction (copying an 8 x 8 skin's influence table
+and cutting its modes take about 20 ms: 10 us a step over 2000 steps, which this
+benchmark counted before); 7 rounds, each round running every case once (so a change of the machine's load
 hits all cases alike); the median over rounds of the process's CPU time per step
 (time.process_time: on a machine shared by more processes than cores the wall time
 counts the waits for a core, the CPU time does not). Real-time factor = dt / (CPU time
@@ -62,34 +68,64 @@ def skin(n: int) -> SkinModel:
         return sk
 
 
+def timed(loop) -> tuple[float, float]:
+    """(CPU, wall) seconds of loop() (the runtime built before: its construction is not a step's cost)."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    loop()
+    return time.process_time() - c0, time.perf_counter() - t0
+
+
 def cases(sk):
-    """name -> (contacts, force shape, a function running STEPS steps of it on (P, F), the environments it steps)."""
+    """name -> (contacts, force shape, a function timing STEPS steps of it on (P, F): (CPU, wall) s,
+    the environments it steps)."""
     def stepping(make, envs=1):
         def go(P, F):
             rt = make()
             if envs > 1:                                   # E environments, each its own contacts
                 P, F = np.repeat(P[:, None], envs, axis=1), np.repeat(F[:, None], envs, axis=1)
-            for k in range(STEPS):
-                rt.step(P[k], F[k])
+
+            def loop():
+                for k in range(STEPS):
+                    rt.step(P[k], F[k])
+            return timed(loop)
         return go
 
+    def idle(P, F):
+        rt = SkinRuntime(sk)
+        for k in range(200):
+            rt.step(P[k], F[k])
+        z = np.zeros(F.shape[1:])
+        for _ in range(3000):
+            rt.step(P[0], z)
+
+        def loop():
+            for k in range(STEPS):
+                rt.step(P[k], z)
+        return timed(loop)
+
     def running(P, F):
-        SkinRuntime(sk).run(P, F)
+        rt = SkinRuntime(sk)
+        return timed(lambda: rt.run(P, F))
 
     def floor(P, F):
         rt = SkinRuntime(sk, check=False)
-        u = np.ones((1, 1, sk.taxels))
-        for _ in range(STEPS):
-            np.multiply(u, rt.g, out=rt._urep)
-            np.matmul(rt._w, rt._Z, out=rt._out)
-            rt._out.real.copy()
-            rt._modes *= rt._lam
-            rt._modes += rt._urep
+        u = np.ones(sk.taxels)
+
+        def loop():
+            for _ in range(STEPS):
+                rt._ureal[...] = u
+                np.matmul(rt._w, rt._Z, out=rt._out)
+                rt._out.real.copy()
+                rt._modes *= rt._lam
+                rt._modes += rt._urep
+        return timed(loop)
 
     return {
         "step": (1, "normal", stepping(lambda: SkinRuntime(sk)), 1),
         "step, check=False": (1, "normal", stepping(lambda: SkinRuntime(sk, check=False)), 1),
         "step, forces (m, 3)": (1, "vector", stepping(lambda: SkinRuntime(sk, check=False)), 1),
+        "step, idle": (1, "normal", idle, 1),
+        "step, full order": (1, "normal", stepping(lambda: SkinRuntime(sk, order_tol=0.0)), 1),
         "step, 10 contacts": (10, "normal", stepping(lambda: SkinRuntime(sk)), 1),
         "step, noise on": (1, "normal", stepping(lambda: SkinRuntime(sk, noise=True, seed=1)), 1),
         "step, 4 envs": (1, "normal", stepping(lambda: SkinRuntime(sk, envs=4, check=False), 4), 4),
@@ -141,13 +177,20 @@ def main():
         cpu, wall = {k: [] for k in table}, {k: [] for k in table}
         for _ in range(ROUNDS):
             for name, (m, kind, go, envs) in table.items():
-                t0, c0 = time.perf_counter(), time.process_time()
-                go(*data[m, kind])
-                cpu[name].append((time.process_time() - c0) / STEPS / envs)
-                wall[name].append((time.perf_counter() - t0) / STEPS / envs)
+                c, w = go(*data[m, kind])
+                cpu[name].append(c / STEPS / envs)
+                wall[name].append(w / STEPS / envs)
         rt = SkinRuntime(sk)
-        modes = f"{rt._lam.shape[1]} ({sk.Ad.shape[0]})" if rt.diagonal else f"dense ({sk.Ad.shape[0]})"
-        rec = {"modes": modes, "dt": sk.dt, "cases": {}}
+        c0 = time.process_time()
+        full = SkinRuntime(sk, order_tol=0.0)
+        c1 = time.process_time()
+        SkinRuntime(sk)
+        c2 = time.process_time()
+        modes = (f"{rt._lam.shape[1]} of {full._lam.shape[1]} ({sk.Ad.shape[0]})" if rt.diagonal
+                 else f"dense ({sk.Ad.shape[0]})")
+        rec = {"modes": modes, "modes_kept": int(rt._lam.shape[1]), "modes_file": int(full._lam.shape[1]),
+               "order_error": rt.order_error, "dt": sk.dt,
+               "construct_ms": 1e3 * (c2 - c1), "construct_full_order_ms": 1e3 * (c1 - c0), "cases": {}}
         for name in table:
             c, w = float(np.median(cpu[name])), float(np.median(wall[name]))
             rec["cases"][name] = {"cpu_us": 1e6 * c, "wall_us": 1e6 * w, "real_time_factor": sk.dt / c}

@@ -6,6 +6,7 @@ direct 3D solves, and what the coverage search on it costs.
     python benchmarks/surface_map.py --no-validate
     python benchmarks/surface_map.py --probe      # the probe correction alone (surface_map_probe.json)
     python benchmarks/surface_map.py --designs    # the answer's per-design cost (surface_map_designs.json)
+    python benchmarks/surface_map.py --remap      # the stored direct solves against finer maps (surface_map_remap.json)
 
 Parts, printed and written to benchmarks/results/surface_map.json:
 
@@ -30,6 +31,10 @@ Parts, printed and written to benchmarks/results/surface_map.json:
 5. with --designs: what the main job's answer pays per design: optimize.coverage.
    influence_metrics (map, coverage, localization) of the thesis PZT and PVDF designs from
    their 2D base scenes (made 3D on optimize.coverage.MAP_MESH), wall and CPU seconds.
+6. with --remap: the stored validation's direct solves (validation_3x3 of surface_map.json,
+   not solved again) against the map on MESH and on finer meshes (REMAP: 1.5 / 0.6 and
+   1 / 0.4 mm), each pressed with the direct solve's own polygon (its mesh made again, not
+   solved): whether the map's mesh or the direct reference sets a neighbour's error.
 4. with --probe: the probe correction (taxel.analyses.surface.probe_map) on the 3x3 map:
    3D presses of the rig's probe (4 mm flat punch, 0.2 mm edge, sticking, Yeoh, the press
    mesh) at two knots on the middle row (the centre: a quarter model; mid-gap: a half
@@ -144,6 +149,47 @@ def validate(m, sc) -> dict:
     return out
 
 
+REMAP = {"2 / 0.8 mm": MESH, "1.5 / 0.6 mm": {"mesh.size": "1.5 mm", "mesh.piezo_size": "0.6 mm", "mesh.piezo_layers": 2},
+         "1 / 0.4 mm": {"mesh.size": "1 mm", "mesh.piezo_size": "0.4 mm", "mesh.piezo_layers": 2}}
+
+
+def remap() -> dict:
+    """The stored direct solves against maps on REMAP's meshes (module docstring, 6.)."""
+    from taxel.analyses.model.problem import mesh as make_mesh
+    stored = json.loads(OUT.read_text())["validation_3x3"]
+    sc = scene(3)
+    c = (sc.array.cols - 1) // 2
+    polys = {}
+    for name, (x, y) in positions(sc).items():            # each direct solve's polygon: its mesh, not solved
+        s = sc.replace(**{"load.kind": "probe", "load.taxel": [c, c], "load.radius": "2 mm", "load.profile": "flat",
+                          "load.offset": [float(x), float(y)], "load.force": 1.0, "model.symmetry": "auto"})
+        polys[name] = patch_quadrature(make_mesh(s))
+    centre = abs(np.array(stored["taxel centre"]["direct_V_per_N"])).max()
+    out = {}
+    for label, sizes in REMAP.items():
+        t0, c0 = time.perf_counter(), time.process_time()
+        m = build(sc.replace(**sizes))
+        rec = {"unknowns": m.info.get("unknowns"), "wall_s": time.perf_counter() - t0,
+               "cpu_s": time.process_time() - c0, "positions": {}}
+        for name, (pts, w) in polys.items():
+            vd = np.array(stored[name]["direct_V_per_N"])
+            vm = -np.linalg.solve(m.capacitance, m.charge(pts, np.column_stack([0 * w, 0 * w, -w])).sum(0))
+            k = int(np.argmax(np.abs(vd)))
+            others = [i for i in range(len(vd)) if i != k]
+            rec["positions"][name] = {"map_V_per_N": vm.tolist(), "pressed_error_of_centre": float((vm[k] - vd[k]) / centre),
+                                      "neighbour_error_of_peak": float(max(abs(vm[i] - vd[i]) for i in others) / centre),
+                                      "signs_agree": bool(all(np.sign(vm[i]) == np.sign(vd[i]) for i in others
+                                                              if abs(vd[i]) > 2e-3 * abs(vd[k])))}
+        worst = max(rec["positions"].items(), key=lambda kv: kv[1]["neighbour_error_of_peak"])
+        print(f"map {label} ({rec['unknowns']} unknowns, {rec['cpu_s']:.0f} s CPU): pressed within "
+              f"{100 * max(abs(r['pressed_error_of_centre']) for r in rec['positions'].values()):.2f} % of the centre "
+              f"value, neighbours within {100 * worst[1]['neighbour_error_of_peak']:.3f} % of the peak ({worst[0]}); "
+              f"corner of four taxels {100 * rec['positions']['corner of four taxels']['neighbour_error_of_peak']:.3f} %",
+              flush=True)
+        out[label] = rec
+    return out
+
+
 def probe() -> dict:
     from taxel.analyses.surface.probe_map import factor_error, probe_correction
     sc = scene(3)
@@ -178,26 +224,20 @@ def designs() -> dict:
     return out
 
 
+def write(name: str, rec: dict) -> None:
+    path = OUT.with_name(name)
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(json.dumps(rec, indent=1, default=str))
+    print(f"wrote {path}")
+
+
 if __name__ == "__main__":
-    if "--designs" in sys.argv:
-        path = OUT.with_name("surface_map_designs.json")
-        path.parent.mkdir(exist_ok=True)
-        path.write_text(json.dumps(designs(), indent=1, default=str))
-        print(f"wrote {path}")
-        sys.exit(0)
-    if "--probe" in sys.argv:
-        path = OUT.with_name("surface_map_probe.json")
-        path.parent.mkdir(exist_ok=True)
-        path.write_text(json.dumps(probe(), indent=1))
-        print(f"wrote {path}")
-        sys.exit(0)
-    if "--8x8" in sys.argv:
-        _, rec = cost(8)
-        path = OUT.with_name("surface_map_8x8.json")
-        path.parent.mkdir(exist_ok=True)
-        path.write_text(json.dumps({"8x8": rec}, indent=1))
-        print(f"wrote {path}")
-        sys.exit(0)
+    for flag, name, part in (("--designs", "surface_map_designs.json", designs), ("--remap", "surface_map_remap.json", remap),
+                             ("--probe", "surface_map_probe.json", probe),
+                             ("--8x8", "surface_map_8x8.json", lambda: {"8x8": cost(8)[1]})):
+        if flag in sys.argv:
+            write(name, part())
+            sys.exit(0)
     res = json.loads(OUT.read_text()) if OUT.exists() else {}
     m, res["3x3"] = cost(3)
     res["search_3x3"] = search(m)

@@ -16,7 +16,9 @@ the pad's resonances (from 585 Hz in the coarse thesis 3 x 3 section) break at f
 edges between taxels (benchmarks/skin_accuracy.py measures it). The linear silicone
 only: the surface map has no probe correction for a Yeoh silicone yet (issue 54).
 
-h, the pressed path through the scene's readout chain, is taxel.skin.readout's: the
+h, the pressed path through the scene's readout chain, is taxel.skin.readout's (for a
+3D scene with its circuit on the 3D reference electrode's capacitance: the section's is
+1 / 1.23 of it on the thesis PZT; its sweep target corrected alike): the
 path up to the chain's per-electrode stages cut to its dominant modes, the stages
 (charge amplifier, notch) multiplied in as poles and residues, every pole mapped to
 e^(l dt), first-order hold; its error against the solver's sweep of the same path
@@ -125,15 +127,19 @@ def build(scene: Scene, dt: float = 1e-3, per_pitch: int = 8, checks: int = 4, r
     if rig is not None:          # the rig's conditioning of the reference taxel's channel is the skin's chain
         ref = with_readout(ref, noise_chain(ref, rig, electrode_name(*ref.load.taxel)).readout)
     rm = reduced.cached(ref, inputs="probe", output="readout")
-    h, cut = readout_mod.path(rm, (0.01, 0.5 / dt))
+    C_p = None
+    if three_d:                  # the 3D map, and the 3D reference electrode's capacitance for the circuit
+        from taxel.analyses.surface import surface_map as smap
+        mp = surface_map if surface_map is not None else smap.build(scene)
+        k = mp.index(electrode_name(a.rows - 1 - m, m))
+        C_p = float(mp.capacitance[k, k])
+    h, cut, electrical = readout_mod.path(rm, (0.01, 0.5 / dt), C_p=C_p)
     A, B, C, D = h.state_space()
-    disc = readout_mod.discretize(h, dt, lambda f: readout_mod.sweep(rm, f))
+    disc = readout_mod.discretize(h, dt, lambda f: readout_mod.sweep(rm, f) * electrical.frf_hz(f))
     Ad, Bd, Cd, Dd = disc.state_space()
     pitch = a.pitch
     if three_d:
-        from taxel.analyses.surface import surface_map as smap
         from taxel.fem import dynamics
-        mp = surface_map if surface_map is not None else smap.build(scene)
         V, Ci = dynamics.ports(rm.red, [1e-3])
         i, _ = rm.pressed()
         voltage = rm.readout.circuit == "open"

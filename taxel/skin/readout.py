@@ -139,16 +139,28 @@ def stages(r: Readout, C_p: float) -> Poles:
     return out
 
 
-def path(rm, band, tol: float = 3e-3) -> tuple[Poles, float]:
-    """h of a reduced model's pressed path through its readout (module docstring), and the
-    modal cut's measured error against the uncut path over `band`."""
+def path(rm, band, tol: float = 3e-3, C_p: float | None = None) -> tuple[Poles, float, Poles]:
+    """h of a reduced model's pressed path through its readout (module docstring), the
+    modal cut's measured error against the uncut path over `band`, and the electrical
+    correction `electrical` applied (1 without C_p).
+
+    With C_p (F, the pressed electrode's static capacitance in the 3D model, when the path
+    is a 2D section's), the circuit sees the 3D electrode: the charge amplifier's input pole
+    R_i (C_p + C_c) takes it, and a resistor's voltage per charge R s / (1 + s R C) is
+    moved from the section's C0 to C_p by (1 + s R C0) / (1 + s R C_p) (the plane-strain
+    section's C0 is 1 / 1.23 of the 3D taxel's on the thesis 2 x 2: without it a resistor
+    skin read 1.2 x the 3D model's voltages in its band)."""
     i, j = rm.pressed()
     r = rm.readout
     base = "charge" if r.circuit == "charge_amplifier" else replace(r, notch=False)
     ss = dynamics.realize(rm.red, base, rm.band)
     h, cut = truncate(ss.A, ss.B[:, [j]], ss.C[[i], :], ss.D[[i]][:, [j]], band, tol)
-    C0 = np.linalg.inv(dynamics.ports(rm.red, [1e-3])[1][0]).real        # static capacitance matrix
-    return h.times(stages(r, float(C0[i, i]))), cut
+    C0 = float(np.linalg.inv(dynamics.ports(rm.red, [1e-3])[1][0]).real[i, i])        # static capacitance
+    one = Poles(np.zeros(0, complex), np.zeros(0, complex), 1.0)
+    electrical = one
+    if C_p is not None and r.circuit == "resistor":
+        electrical = Poles.rational([r.R * C0, 1.0], [r.R * C_p, 1.0])
+    return h.times(stages(r, C0 if C_p is None else C_p)).times(electrical), cut, electrical
 
 
 def sweep(rm, freqs) -> np.ndarray:

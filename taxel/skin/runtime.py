@@ -36,12 +36,7 @@ arithmetic, sets the time at these sizes):
   lambda, Z[:modes] += u. At load the diagonal form is checked against Ad..Dd (their impulse responses
   over 400 steps); a file where it does not hold (V ill-conditioned) is stepped through
   the dense product [x'; v] = [[Ad, Bd], [Cd, Dd]] [x; u] instead.
-- The influence, bilinear on its grid: each contact's cell (one scaling, one floor),
-  its four corners' rows of the table W (one gather: (cells x 3, taxels), or the z
-  plane alone for normal-only forces) and their weights times the force's components,
-  summed over contacts, corners and directions in one product. One skin with up to 8
-  contacts finds the cells and weights in Python floats (a dozen numpy calls cost
-  more than the arithmetic at that size): one gather and one product.
+- The influence, bilinear on its grid (taxel.skin.influence: one gather and one product).
 - Noise drawn in blocks of `block` steps (2048: the FIR filter of 1024 taps costs one FFT per block).
 - `check=False` skips the input checks (shapes; finite values, checked on the loads)
   for callers that guarantee finite float arrays of the right shapes.
@@ -62,12 +57,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from taxel.skin.discrete import diagonal_form, first_order_hold
+from taxel.skin.discrete import balanced_form, diagonal_form, first_order_hold
+from taxel.skin.influence import InfluenceTable, check_finite
 from taxel.skin.model import SkinModel
 
 _RUN_BLOCK = 1024               # steps per block of `run`'s convolution
 _FEW = 8                        # contacts up to which one skin's step finds cells in Python floats
 NOISE_TAPS = 1024
+ORDER_TOL = 1e-6                # the balanced cut of the modes: its error bound, of the peak |H|
+FLUSH_BELOW = 1e-100             # modes' parts zeroed below this (SkinRuntime._flush)
+_FLUSH_MASK = 63                # every 64 steps
 _SLOW = 2 * np.pi * 20.0        # rad/s: real poles slower than this are the readout's time constants
 
 
@@ -89,7 +88,7 @@ class SkinRuntime:
 
     def __init__(self, model: SkinModel, noise: bool = False, seed: int | None = None, dt: float | None = None,
                  envs: int | None = None, check: bool = True, block: int = 2048,
-                 randomization: Randomization | None = None):
+                 randomization: Randomization | None = None, order_tol: float = ORDER_TOL):
         if dt is not None and abs(dt - model.dt) > 1e-9 * model.dt:
             raise ValueError(f"dt = {dt:g} s: this skin is discretized at {model.dt:g} s; rebuild it with "
                              f"taxel skin SCENE --dt {dt:g} or step the simulator at {model.dt:g} s")
@@ -112,29 +111,19 @@ class SkinRuntime:
             self._adc = None
         s = model.saturation
         self._sat = float(s) if np.isfinite(s) else None
-        # the influence table (module docstring): rows cell * 3 + direction, and the z plane alone
-        gx, gy = np.asarray(model.grid_x, float), np.asarray(model.grid_y, float)
-        for g, name in ((gx, "grid_x"), (gy, "grid_y")):
-            if len(g) < 2 or not np.allclose(np.diff(g), (g[-1] - g[0]) / (len(g) - 1), rtol=1e-9, atol=0):
-                raise ValueError(f"skin file: {name} is not evenly spaced; rebuild the skin")
-        self._nx, self._ny = len(gx), len(gy)
-        self._ih = np.array([(len(gx) - 1) / (gx[-1] - gx[0]), (len(gy) - 1) / (gy[-1] - gy[0])])
-        self._oih = np.array([gx[0], gy[0]]) * self._ih
-        self._stride, self._xyz = np.array([1, len(gx)], dtype=np.intp), np.arange(3)
-        self._sgn, self._one = np.array([-1.0, 1.0]), np.array([1.0, 0.0])
-        self._scalars = (float(self._ih[0]), float(self._ih[1]), float(self._oih[0]), float(self._oih[1]),
-                         len(gx) - 1.0, len(gy) - 1.0, len(gx) - 2, len(gy) - 2, len(gx))
-        self._top = np.array([len(gx) - 1.0, len(gy) - 1.0])
-        W = np.asarray(model.influence, float).transpose(2, 3, 1, 0)                 # (ny, nx, 3, T)
-        self._W3 = np.ascontiguousarray(W.reshape(-1, T))
-        self._Wz = np.ascontiguousarray(-W[:, :, 2, :].reshape(-1, T))               # a press F > 0 is f_z = -F
-        self._corner = np.array([0, 1, self._nx, self._nx + 1])
-        self._last = np.array([len(gx) - 2, len(gy) - 2])
+        self._table = InfluenceTable(model)
+        self._loads, self._loads_few = self._table.loads, self._table.few
         self._rows, self._cols, self._T = rows, cols, T
+        self._steps = 0
         self.g = np.ones((E, 1, T))
         # the dynamics: diagonal form, or the dense product where it does not hold
         form = diagonal_form(model.Ad, model.Bd, model.Cd, model.Dd)
         self.diagonal = form is not None
+        self.order_error = 0.0           # the balanced cut's measured error (max |H_r - H| / max |H|)
+        if self.diagonal and order_tol > 0 and not (randomization is not None and randomization.tau):
+            cut = balanced_form(form[0], form[1][:-1], float(form[1][-1].real), order_tol)
+            if cut is not None:
+                form, self.order_error = (cut[0], np.append(cut[1], form[1][-1])), cut[2]
         if self.diagonal:
             lam, w = form[0].astype(complex), form[1].astype(complex)
             n = len(lam)
@@ -144,14 +133,21 @@ class SkinRuntime:
             self._w = np.repeat(w[None, None, :], E, axis=0)
             self._Z = np.zeros((E, n + 1, T), complex)
             self._modes, self._urep = self._Z[:, :n], self._Z[:, n:]
+            self._ureal = self._urep.real
             self._out = np.zeros((E, 1, T), complex)
+            # one environment: the output product as one gemv on 2D views (a stacked matmul costs more)
+            self._one_env = (self._w[0, 0], self._Z[0], self._out[0, 0]) if E == 1 else None
         else:
+            self._one_env = None
             if randomization is not None and randomization.tau:
                 raise ValueError("randomization.tau needs the diagonal form; this skin's Ad has none")
             n = model.Ad.shape[0]
             self._M = np.block([[model.Ad, model.Bd[:, :1]], [model.Cd[:1], model.Dd[:1, :1]]])
             self._Z, self._Znew = np.zeros((E, n + 1, T)), np.zeros((E, n + 1, T))
-            self._urep = self._Z[:, n:]
+            self._urep = self._ureal = self._Z[:, n:]
+        # one skin, diagonal form, unit gains, no noise, saturation or ADC: step's shortest path
+        self._plain = (self.diagonal and E == 1 and randomization is None and not self.sigma and self._sat is None
+                       and self._adc is None)
         if randomization is not None:
             self.reset()
 
@@ -235,17 +231,15 @@ class SkinRuntime:
     def _inputs(self, points, forces, lead: tuple) -> tuple[np.ndarray, np.ndarray]:
         """points (*lead, m, 2), forces (*lead, m) or (*lead, m, 3) as float arrays; ValueError (one line) otherwise."""
         p, f = np.asarray(points, float), np.asarray(forces, float)
+        ps, fs = p.shape, f.shape
+        if not lead and len(ps) == 2 and ps[1] == 2 and (fs == ps[:1] or fs == (ps[0], 3)):
+            return p, f                                         # one skin's well-formed contacts, at once
         if p.ndim != len(lead) + 2 or p.shape[:-2] != lead or p.shape[-1] != 2 or f.shape not in (
                 p.shape[:-1], (*p.shape[:-1], 3)):
             want = "".join(f"{n}, " for n in lead)
             raise ValueError(f"points {p.shape}, forces {f.shape}: give points ({want}m, 2) m and forces ({want}m, 3) "
                              f"N in the skin frame, or normal forces ({want}m,) N")
         return p, f
-
-    @staticmethod
-    def _finite(u) -> None:
-        if not np.isfinite(u).all():
-            raise ValueError("points or forces not finite: give finite contact points (m) and forces (N)")
 
     def loads(self, points, forces) -> np.ndarray:
         """u (..., rows, cols) N: the force each taxel sees from forces (..., m, 3) in the skin
@@ -255,50 +249,8 @@ class SkinRuntime:
             raise ValueError(f"points {p.shape}, forces {f.shape}: give points (..., m, 2) m and forces "
                              "(..., m, 3) or (..., m) N")
         u = self._loads(p, f).reshape(*p.shape[:-2], self._rows, self._cols)
-        self._finite(u)
+        check_finite(u)
         return u
-
-    def _loads(self, p, f) -> np.ndarray:
-        """sum_j sum_d W_kd(p_j) f_jd (..., T), bilinear (module docstring)."""
-        t = p * self._ih
-        t -= self._oih                                                                 # grid units
-        np.maximum(t, 0.0, out=t)
-        np.minimum(t, self._top, out=t)
-        i = t.astype(np.intp)
-        np.minimum(i, self._last, out=i)                                               # the last cell at the far end
-        d = t - i
-        cell = (i @ self._stride)[..., None] + self._corner                             # (..., m, 4)
-        a = d[..., None] * self._sgn
-        a += self._one                                                                  # (..., m, xy, 2): 1 - d, d
-        w = a[..., 1, :, None] * a[..., 0, None, :]                                     # (..., m, 2, 2): corners
-        lead = p.shape[:-2]
-        if f.shape == p.shape[:-1]:                                                      # normal only
-            w *= f[..., None, None]
-            return (w.reshape(*lead, 1, -1) @ self._Wz.take(cell.reshape(*lead, -1), axis=0))[..., 0, :]
-        c = (w[..., None] * f[..., None, None, :]).reshape(*lead, 1, -1)                 # (..., 1, m 4 3)
-        rows = (cell[..., None] * 3 + self._xyz).reshape(*lead, -1)
-        return (c @ self._W3[rows])[..., 0, :]
-
-    def _loads_few(self, p, f) -> np.ndarray:
-        """_loads for one skin and a few contacts: the cell and the weights in Python floats
-        (cheaper than a dozen numpy calls at this size), then one gather and one product."""
-        ihx, ihy, ox, oy, tx_, ty_, lx, ly, nx = self._scalars
-        rows, coef = [], []
-        normal = f.ndim == 1
-        for (x, y), F in zip(p.tolist(), f.tolist()):
-            tx, ty = min(max(x * ihx - ox, 0.0), tx_), min(max(y * ihy - oy, 0.0), ty_)
-            ix, iy = min(int(tx), lx), min(int(ty), ly)
-            dx, dy = tx - ix, ty - iy
-            c = iy * nx + ix
-            w = ((1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy)
-            if normal:
-                rows += (c, c + 1, c + nx, c + nx + 1)
-                coef += (F * w[0], F * w[1], F * w[2], F * w[3])
-            else:
-                for cc, wc in zip((c, c + 1, c + nx, c + nx + 1), w):
-                    rows += (3 * cc, 3 * cc + 1, 3 * cc + 2)
-                    coef += (wc * F[0], wc * F[1], wc * F[2])
-        return np.array(coef) @ (self._Wz if normal else self._W3).take(rows, axis=0)
 
     def step(self, points, forces) -> np.ndarray:
         """Advance one dt with forces (m, 3) N in the skin frame (or normal forces (m,) N,
@@ -306,26 +258,57 @@ class SkinRuntime:
         and forces (E, m, 3) or (E, m): (E, rows, cols) V."""
         if self.check:
             points, forces = self._inputs(points, forces, self.shape[:-2])
-        if self.envs is None and len(points) <= _FEW:
-            u = self._loads_few(np.asarray(points, float), np.asarray(forces, float))
+        few = self.envs is None and len(points) <= _FEW
+        if few and self._plain:           # the common case in the fewest calls (the general path below alike)
+            self._ureal[...] = self._loads_few(np.asarray(points, float), np.asarray(forces, float), self.check)
+            np.dot(*self._one_env)
+            v = self._out.real.copy()
+            self._modes *= self._lam
+            self._modes += self._urep
+            self._steps += 1
+            if not self._steps & _FLUSH_MASK:
+                self._flush()
+            return v.reshape(self.shape)
+        if few:
+            u = self._loads_few(np.asarray(points, float), np.asarray(forces, float), self.check)
         else:
             u = self._loads(points, forces).reshape(-1, 1, self._T)
-        if self.check:
-            self._finite(u)
-        if self.diagonal:
+            if self.check:
+                check_finite(u)
+        if self.randomization is None:             # unit gains: the input row's real part is u
+            self._ureal[...] = u
+        else:
             np.multiply(u, self.g, out=self._urep)
-            np.matmul(self._w, self._Z, out=self._out)
+        if self.diagonal:
+            if self._one_env is not None:
+                np.dot(*self._one_env)
+            else:
+                np.matmul(self._w, self._Z, out=self._out)
             v = self._out.real.copy() if not self.sigma else self._out.real + self._draw()
             self._modes *= self._lam
             self._modes += self._urep
         else:
-            np.multiply(u, self.g, out=self._urep)
             np.matmul(self._M, self._Z, out=self._Znew)
             self._Z, self._Znew = self._Znew, self._Z
             n = self._Z.shape[1] - 1
             v = self._Z[:, n:].copy() if not self.sigma else self._Z[:, n:] + self._draw()
-            self._urep = self._Z[:, n:]
+            self._urep = self._ureal = self._Z[:, n:]
+        self._steps += 1
+        if not self._steps & _FLUSH_MASK:
+            self._flush()
+        if self._sat is None and self._adc is None:
+            return v.reshape(self.shape)
         return self._output(v).reshape(self.shape)
+
+    def _flush(self) -> None:
+        """Zero the modes' parts below FLUSH_BELOW: a skin left idle decays its modes towards
+        zero and, past 1e-308, into subnormal numbers, whose arithmetic costs the processor
+        ten times more (an 8 x 8 skin's step went from 12 to 110 us after 3000 idle steps).
+        Every 64 steps: a mode with |lambda| >= 1e-3 cannot fall from FLUSH_BELOW to 1e-308 in
+        64 steps (a faster one crosses the subnormals in a few steps); what it drops is below 1e-100 of a
+        newton's load. The dense form's state alike."""
+        parts = self._Z.view(float)
+        parts[np.abs(parts) < FLUSH_BELOW] = 0.0
 
     def _output(self, v) -> np.ndarray:
         """Saturation and the ADC applied in place to voltages v (noise already added)."""
@@ -353,7 +336,7 @@ class SkinRuntime:
         points, forces = self._inputs(points, forces, (len(forces), *self.shape[:-2]))
         nt = len(forces)
         U = self._loads(points, forces).reshape(nt, -1, self._T) * self.g[:, 0]    # (nt, E, taxels)
-        self._finite(U)
+        check_finite(U)
         V = np.empty(U.shape)
         if self.diagonal:
             for k in range(0, nt, _RUN_BLOCK):
