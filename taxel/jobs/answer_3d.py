@@ -1,6 +1,6 @@
 """The answer's designs pressed in 3D (main job): for each optimization folder, the
 recommended and the thesis design its probe front chose, and the design each binding
-requirement's relaxation would choose (FrontAnswer.priced) (reports.answer.headline_front,
+requirement's relaxation would choose (FrontAnswer.priced; a design named twice is pressed once) (reports.answer.headline_front,
 on the candidate-selection model) pressed in 3D by the rig's probe on Yeoh silicone
 (optimize.answer_press: one `taxel.solve` each, the 3x3 quarter on the default press
 mesh, with the press family's calibrated error estimate), all designs of all folders on
@@ -35,15 +35,19 @@ def answer_presses(root: Path, names: list[str], workers: int = 2) -> list[Path]
                 continue
             x_mm = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
             x = [x_mm[n] for n in probe.names]
+            owners.append((folder, d.role, x))
+            if any(o[0] == folder and all(abs(u - v) < 1e-9 for u, v in zip(o[2], x)) for o in owners[:-1]):
+                continue                     # a design named twice (a relaxation choosing the thesis design): one press
             view = f"{name.removesuffix('-front')}-{d.role}-3d"
             data = AP.scene_data(probe, x)
             data["name"] = view
             shutil.rmtree(root / view, ignore_errors=True)
             jobs.append((view, data, str(root / view)))
-            owners.append((folder, d.role, x))
     got = AP.press_all(jobs, workers)
+    pressed = [(folder, x, r) for (folder, _, x), r in zip(_firsts(owners), got)]
     by_folder: dict[Path, list] = {}
-    for (folder, role, x), r in zip(owners, got):
+    for folder, role, x in owners:
+        r = next(r for f, y, r in pressed if f == folder and all(abs(u - v) < 1e-9 for u, v in zip(y, x)))
         by_folder.setdefault(folder, []).append(AP.AnswerPress(role, x, **r))
     for folder, presses in by_folder.items():
         AP.write(folder, presses)
@@ -55,3 +59,12 @@ def answer_presses(root: Path, names: list[str], workers: int = 2) -> list[Path]
                 f"3D press {p.sensitivity} V/N, no estimate" if p.failed is None else f"failed: {p.failed}"))
     print(f"      {len(jobs)} 3D presses of the answer's designs in {time.perf_counter() - t0:.0f} s", flush=True)
     return [Path(out) for (_, _, out), r in zip(jobs, got) if r.get("failed") is None]
+
+
+def _firsts(owners: list[tuple]) -> list[tuple]:
+    """The first (folder, role, x) of each design of each folder: the ones pressed."""
+    out: list[tuple] = []
+    for o in owners:
+        if not any(f == o[0] and all(abs(u - v) < 1e-9 for u, v in zip(x, o[2])) for f, _, x in out):
+            out.append(o)
+    return out
