@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from taxel.optimize.metrics import METRIC_TABLE
-from taxel.optimize.requirements import SLACK, Choice, Requirement, choose, implied, read, value_of
+from taxel.optimize.requirements import SLACK, Choice, Requirement, choose, implied, read, relaxations, value_of
 from taxel.units import engineering, quantity
 
 
@@ -62,24 +62,8 @@ def _bound(r: Requirement) -> str:
 
 
 def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None) -> list[Price]:
-    """For each stated requirement (the reference design's implied bar is a preference among the
-    designs meeting them, not a requirement: it has no price), the smallest relaxation that changes the choice
-    (optimize.requirements.choose) among `candidates`: each candidate's own value that misses
-    it, nearest first, tried as the bound. A requirement with a price is one that binds."""
-    out = []
-    for i, r in enumerate(reqs):
-        if not r.stated:
-            continue
-        missed = sorted({v for c in candidates if (v := value_of(c, r)) is not None
-                         and (r.margin(v) or 0) < -r.tolerance - SLACK},
-                        key=lambda v: abs(v - r.bound))
-        for v in missed:
-            relaxed = [replace(q, bound=v) if j == i else q for j, q in enumerate(reqs)]
-            ch = choose(candidates, relaxed)
-            if ch.recommended is not None and ch.recommended != chosen:
-                out.append(Price(r, v, ch.recommended))
-                break
-    return out
+    """What relaxing each stated requirement buys (optimize.requirements.relaxations), as Prices."""
+    return [Price(reqs[i], v, d) for i, v, d in relaxations(candidates, reqs, chosen)]
 
 
 def reference_label(name: str) -> str:

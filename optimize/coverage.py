@@ -174,8 +174,6 @@ def judge_lazily(candidates: list[dict], reqs: list, compute, always=()) -> None
     judged, and gets it. `compute(i)` -> {metric: value, "error": why, when a metric is
     None}; a candidate whose named metric could not be computed gets CHECK_ERRORS
     {metric: why} and is not recommended (optimize.requirements.judge)."""
-    from taxel.optimize.answer import prices
-    from taxel.optimize.requirements import choose
     named = [r for r in reqs if r.metric in INFLUENCE_METRICS]
     if not named:
         return
@@ -191,17 +189,19 @@ def judge_lazily(candidates: list[dict], reqs: list, compute, always=()) -> None
     for i in (range(len(candidates)) if any(not r.limit for r in named) else always):
         judged(i)
     while True:
-        todo = [i for i in reached(candidates, reqs, choose, prices) if i not in done]
+        todo = [i for i in reached(candidates, reqs) if i not in done]
         if not todo:
             return
         for i in todo:
             judged(i)
 
 
-def reached(candidates: list[dict], reqs: list, choose, prices) -> list[int]:
+def reached(candidates: list[dict], reqs: list) -> list[int]:
     """The candidates the answer names (judge_lazily): the recommended one and each price's
-    design; every candidate when none is recommended (the closest is named among all)."""
+    design (optimize.requirements.relaxations); every candidate when none is recommended (the
+    closest is named among all)."""
+    from taxel.optimize.requirements import choose, relaxations
     ch = choose(candidates, reqs)
     if ch.recommended is None:
         return list(range(len(candidates)))
-    return list(dict.fromkeys([ch.recommended] + [p.design for p in prices(candidates, reqs, ch.recommended)]))
+    return list(dict.fromkeys([ch.recommended] + [d for _, _, d in relaxations(candidates, reqs, ch.recommended)]))

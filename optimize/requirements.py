@@ -81,7 +81,8 @@ IMPLIED = ("No performance requirement is stated, so among the designs meeting e
 # The optimizer's metrics as the requirement grammar's outputs: name -> SI unit ("" a ratio)
 OUTPUTS = {k: ("" if m.unit == "ratio" else m.unit) for k, m in METRIC_TABLE.items()}
 
-__all__ = ["Requirement", "RequirementError", "read", "implied", "judge", "choose", "Verdict", "Choice", "value_of"]
+__all__ = ["Requirement", "RequirementError", "read", "implied", "judge", "choose", "Verdict", "Choice", "value_of",
+           "relaxations"]
 
 
 @dataclass(frozen=True)
@@ -204,3 +205,26 @@ def choose(candidates: list[dict], reqs: list[Requirement]) -> Choice:
                   default=None)
     binding = verdicts[closest].worst if closest is not None else None
     return Choice(None, verdicts, reqs, binding, notes)
+
+
+def relaxations(candidates: list[dict], reqs: list[Requirement], chosen: int | None) -> list[tuple[int, float, int]]:
+    """For each stated requirement (the reference design's implied bar is a preference among the
+    designs meeting them, not a requirement: it has no price), the smallest relaxation that
+    changes the choice (`choose`) among `candidates`: each candidate's own value that misses
+    it, nearest first, tried as the bound. (index of the requirement, relaxed bound, index of
+    the design then chosen); a requirement with one is one that binds (optimize.answer.prices)."""
+    from dataclasses import replace
+    out = []
+    for i, r in enumerate(reqs):
+        if not r.stated:
+            continue
+        missed = sorted({v for c in candidates if (v := value_of(c, r)) is not None
+                         and (r.margin(v) or 0) < -r.tolerance - SLACK},
+                        key=lambda v: abs(v - r.bound))
+        for v in missed:
+            relaxed = [replace(q, bound=v) if j == i else q for j, q in enumerate(reqs)]
+            ch = choose(candidates, relaxed)
+            if ch.recommended is not None and ch.recommended != chosen:
+                out.append((i, v, ch.recommended))
+                break
+    return out
