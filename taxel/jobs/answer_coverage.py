@@ -14,8 +14,8 @@ model the answer's sensitivity comes from: the coverage minimum is searched over
 whole surface between the outer taxels, and a 100 % coverage is judged on it. A design
 whose check fails gets the error in its row and is not recommended. Cost: one map per
 design not yet in OUT/maps (the thesis PZT design: 46 243 unknowns, four
-factorizations, about 11 s of CPU: benchmarks/surface_map.py); the folders on a pool of
-workers (`answer_coverage_all`), one folder each.
+factorizations, about 11 s of CPU: benchmarks/surface_map.py); the main job runs each
+folder's on a worker beside the presses (taxel.jobs.answer_3d.answer_designs).
 """
 
 from __future__ import annotations
@@ -57,9 +57,6 @@ def answer_coverage(front_dir: Path) -> float:
     return time.perf_counter() - t0
 
 
-def answer_coverage_all(folders: list[Path], workers: int = 2) -> float:
-    """answer_coverage for each folder, one folder per worker (taxel.studies.execute.map_on_workers;
-    each folder's maps in order, since each design judged decides the next); returns the seconds
-    of the slowest folder."""
+def answer_coverage_all(folders: list[Path], workers: int = 2) -> float:   # TEMPORARY shim for a running demo
     from taxel.studies.execute import map_on_workers
     return max(map_on_workers(answer_coverage, [(Path(f),) for f in folders], workers), default=0.0)

@@ -141,7 +141,7 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     10 minutes each), the probe fronts verified by 3D presses and the linear front's
     confirmation on a finer mesh; `answer_3d` (off with `taxel demo --no-answer-3d`): the
     answer's designs, the recommended and the thesis design of each material, pressed in 3D
-    by the rig's probe (taxel.jobs.answer_3d): 51 s of the job's 260 s on a quiet machine
+    by the rig's probe after their coverage is judged (taxel.jobs.answer_3d): 51 s of the job's 260 s on a quiet machine
     (docs/getting-started.md); without them the answer is the candidate-selection model's,
     and says so."""
     t0 = time.perf_counter()
@@ -165,14 +165,10 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D" + _cpu())
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
         folders.append(front(root / name, name, small, full, presses_3d))
-    if not small:                      # the answer's coverage decides its designs: judged before they are pressed
-        from taxel.jobs.answer_coverage import answer_coverage_all
-        t3 = time.perf_counter()
-        answer_coverage_all([root / n for n in ("thesis-pzt-front", "thesis-pvdf-front")], workers=2)
-        print(f"      the answer's coverage (optimize.coverage) in {time.perf_counter() - t3:.0f} s{_cpu()}")
-    if not small and answer_3d:        # the answer's numbers: its designs pressed in 3D (their 3D views too)
-        from taxel.jobs.answer_3d import answer_presses
-        folders += answer_presses(root, ["thesis-pzt-front", "thesis-pvdf-front"], workers=2)
+    if not small:                      # the answer's coverage decides its designs, pressed in 3D (their 3D views)
+        from taxel.jobs.answer_3d import answer_designs
+        folders += answer_designs(root, ["thesis-pzt-front", "thesis-pvdf-front"], workers=2, press=answer_3d)
+        print(f"     {_cpu()}")
     if not small:                      # the answer's designs through the bench's readout (one 2D solve each)
         from taxel.jobs.answer_readout import answer_readout
         t3 = time.perf_counter()
