@@ -103,7 +103,3 @@ def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool =
     print(f"      {sum(len(v) for v in got.values())} 3D presses of the answer's designs, coverage judged, in "
           f"{time.perf_counter() - t0:.0f} s", flush=True)
     return views
-
-
-def answer_presses(root: Path, names: list[str], workers: int = 2) -> list[Path]:   # TEMPORARY shim for a running demo
-    return answer_designs(root, names, workers)

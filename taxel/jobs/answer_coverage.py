@@ -55,8 +55,3 @@ def answer_coverage(front_dir: Path) -> float:
     from taxel.reports.coverage_map import draw_folder
     draw_folder(front_dir)                 # the designs' coverage maps, on the optimization page
     return time.perf_counter() - t0
-
-
-def answer_coverage_all(folders: list[Path], workers: int = 2) -> float:   # TEMPORARY shim for a running demo
-    from taxel.studies.execute import map_on_workers
-    return max(map_on_workers(answer_coverage, [(Path(f),) for f in folders], workers), default=0.0)
