@@ -141,8 +141,8 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     10 minutes each), the probe fronts verified by 3D presses and the linear front's
     confirmation on a finer mesh; `answer_3d` (off with `taxel demo --no-answer-3d`): the
     answer's designs, the recommended and the thesis design of each material, pressed in 3D
-    by the rig's probe after their coverage is judged (taxel.jobs.answer_3d): 51 s of the job's 260 s on a quiet machine
-    (docs/getting-started.md); without them the answer is the candidate-selection model's,
+    by the rig's probe beside their coverage's 3D maps (taxel.jobs.answer_3d; the step's time
+    in docs/getting-started.md); without them the answer is the candidate-selection model's,
     and says so."""
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%d %H:%M:%S")
