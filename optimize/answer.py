@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from taxel.optimize.metrics import METRIC_TABLE
-from taxel.optimize.requirements import SLACK, Choice, Requirement, choose, implied, read
+from taxel.optimize.requirements import SLACK, Choice, Requirement, choose, implied, read, relaxations, value_of
 from taxel.units import engineering, quantity
 
 
@@ -54,8 +54,7 @@ class Price:
                 continue
             rel = f" ({100 * (m[k] / chosen[k] - 1):+.2g} %)" if chosen and chosen.get(k) else ""
             gain.append((f"{100 * m[k]:.3g} % crosstalk" if unit == "ratio" else engineering(m[k], unit, 3)) + rel)
-        implied = "" if self.requirement.stated else " (implied by the reference design)"
-        return f"{self.requirement.text()}{implied} binds: at {_bound(r)} the choice is {' at '.join(gain)}"
+        return f"{self.requirement.text()} binds: at {_bound(r)} the choice is {' at '.join(gain)}"
 
 
 def _bound(r: Requirement) -> str:
@@ -63,22 +62,8 @@ def _bound(r: Requirement) -> str:
 
 
 def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None) -> list[Price]:
-    """For each requirement (stated, or implied by the reference: then the price is the front's own
-    trade), the smallest relaxation that changes the choice
-    (optimize.requirements.choose) among `candidates`: each candidate's own value that misses
-    it, nearest first, tried as the bound. A requirement with a price is one that binds."""
-    out = []
-    for i, r in enumerate(reqs):
-        missed = sorted({c[r.metric] for c in candidates if c.get(r.metric) is not None
-                         and (r.margin(c[r.metric]) or 0) < -r.tolerance - SLACK},
-                        key=lambda v: abs(v - r.bound))
-        for v in missed:
-            relaxed = [replace(q, bound=v) if j == i else q for j, q in enumerate(reqs)]
-            ch = choose(candidates, relaxed)
-            if ch.recommended is not None and ch.recommended != chosen:
-                out.append(Price(r, v, ch.recommended))
-                break
-    return out
+    """What relaxing each stated requirement buys (optimize.requirements.relaxations), as Prices."""
+    return [Price(reqs[i], v, d) for i, v, d in relaxations(candidates, reqs, chosen)]
 
 
 def reference_label(name: str) -> str:
@@ -153,7 +138,7 @@ class Answer:
         out = []
         for r in self.requirements:
             m = v.margins.get(r.metric)
-            value = d.metrics.get(r.metric)
+            value = value_of(d.metrics, r)
             out.append({"requirement": r.text(), "from": "stated" if r.stated else "implied by the reference design",
                         f"{d.label} design": "not evaluated" if value is None else _value(r, value),
                         "margin": "" if m is None else f"{100 * m:+.3g} %",
@@ -173,7 +158,7 @@ class Answer:
         out = [head]
         for r in self.requirements:
             m = v.margins.get(r.metric)
-            value = d.metrics.get(r.metric)
+            value = value_of(d.metrics, r)
             shown = "not evaluated" if value is None else _value(r, value)
             state = "not evaluated" if m is None else ("met" if m >= -r.tolerance - SLACK else "MISSED")
             by = "" if m is None else f" ({'margin' if m >= 0 else 'short by'} {abs(100 * m):.3g} %)"
@@ -190,6 +175,8 @@ class Answer:
 
 
 def _value(r: Requirement, value: float) -> str:
+    if r.weakest:
+        return f"the weakest point at {value:.3g}x the detection threshold"
     unit = METRIC_TABLE[r.metric].unit
     return f"{100 * value:.3g} %" if unit == "ratio" else (f"{value:.3g} dB" if unit == "dB" else
                                                           engineering(value, unit, 3))

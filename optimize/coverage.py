@@ -29,8 +29,8 @@ taxel), else `noise`.
 When they are computed: during the search when the objective or a constraint names
 them; when only a [requirements] line names them, after the search, for the designs the
 answer's choice reaches (`judge_lazily`: the reference design, then the recommended one
-until it has them; every candidate for a localization_error requirement, whose margin
-is weighed; optimize.run for a front or an optimum, taxel.jobs.answer_coverage for the
+and each priced relaxation's design until they have them, exactly: both are limits;
+optimize.run for a front or an optimum, taxel.jobs.answer_coverage for the
 main job's answer). Their values go to OUT/coverage.json (RECORD), which the report's
 answer reads beside each design's record.
 
@@ -52,6 +52,7 @@ RECORD = "coverage.json"
 MAPS = "maps"
 MAP_MESH = ("2 mm", "0.8 mm")     # mesh.size, mesh.piezo_size of a 2D design's 3D map
 CHECK_ERRORS = "check_errors"     # a candidate's {metric: why it could not be checked}
+WEAKEST = ("coverage_minimum", "coverage_minimum_at_mm")   # the 3D map's weakest point, which a 100 % coverage is judged on
 
 
 def design_map_scene(scene):
@@ -150,7 +151,7 @@ def of(folder: Path, x_mm: dict) -> dict:
     row = next((r for r in record(folder) if same(r["x_mm"], x_mm)), None)
     if row is None:
         return {}
-    got = {k: row[k] for k in INFLUENCE_METRICS if row.get(k) is not None}
+    got = {k: row[k] for k in (*INFLUENCE_METRICS, *WEAKEST) if row.get(k) is not None}
     if row.get("error"):             # the check failed: the design is never recommended (requirements.judge)
         got[CHECK_ERRORS] = {k: row["error"] for k in INFLUENCE_METRICS if row.get(k) is None}
     return got
@@ -158,16 +159,21 @@ def of(folder: Path, x_mm: dict) -> dict:
 
 def judge_lazily(candidates: list[dict], reqs: list, compute, always=()) -> None:
     """Fill in the influence metrics `reqs` name, in place, for the candidates `always` lists
-    (the reference design, shown beside the answer) and for the one the answer's choice
-    (optimize.requirements.choose) recommends, again until the recommended one has them: a
-    candidate the choice never reaches is not solved (its margin "not evaluated"), and
-    one that fails a requirement loses to the next. That is exact for a requirement met
-    or not (coverage: the choice never weighs its margin); a performance requirement
-    (localization_error: its margin is weighed, and an unsolved design cannot win on it)
-    is computed for every candidate. `compute(i)` -> {metric: value, "error": why, when a
-    metric is None}; a candidate whose named metric could not be computed gets
-    CHECK_ERRORS {metric: why} and is not recommended (optimize.requirements.judge)."""
-    from taxel.optimize.requirements import choose
+    (the reference design, shown beside the answer), for the one the answer's choice
+    (optimize.requirements.choose) recommends and for each design a relaxation's price
+    (optimize.answer.prices) names, again until every one of them has them: a candidate
+    the choice never reaches is not solved (its value "not evaluated"), and one that
+    fails a requirement loses to the next.
+
+    Exact, not a shortcut: coverage and localization_error are limits (met or not, their
+    margins never weighed), and a candidate not judged counts as meeting them, so the
+    choice among the candidates judged so far is the best it can be; once the design it
+    picks (and each price's) has been judged, a candidate not judged can only lose
+    (its true values can only exclude it) or, for a price, was already counted in. A
+    weighed influence metric (none is: both are limits) would need every candidate
+    judged, and gets it. `compute(i)` -> {metric: value, "error": why, when a metric is
+    None}; a candidate whose named metric could not be computed gets CHECK_ERRORS
+    {metric: why} and is not recommended (optimize.requirements.judge)."""
     named = [r for r in reqs if r.metric in INFLUENCE_METRICS]
     if not named:
         return
@@ -183,7 +189,19 @@ def judge_lazily(candidates: list[dict], reqs: list, compute, always=()) -> None
     for i in (range(len(candidates)) if any(not r.limit for r in named) else always):
         judged(i)
     while True:
-        i = choose(candidates, reqs).recommended
-        if i is None or i in done:
+        todo = [i for i in reached(candidates, reqs) if i not in done]
+        if not todo:
             return
-        judged(i)
+        for i in todo:
+            judged(i)
+
+
+def reached(candidates: list[dict], reqs: list) -> list[int]:
+    """The candidates the answer names (judge_lazily): the recommended one and each price's
+    design (optimize.requirements.relaxations); every candidate when none is recommended (the
+    closest is named among all)."""
+    from taxel.optimize.requirements import choose, relaxations
+    ch = choose(candidates, reqs)
+    if ch.recommended is None:
+        return list(range(len(candidates)))
+    return list(dict.fromkeys([ch.recommended] + [d for _, _, d in relaxations(candidates, reqs, ch.recommended)]))

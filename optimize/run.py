@@ -82,5 +82,5 @@ def required_influence_metrics(problem: Optimization, result: OptimizationResult
         if problem.out is not None:
             x_mm = {n: float(v) for n, v, u in zip(problem.names, x, problem.units) if u == "mm"}
             coverage.add(problem.out, x_mm, got)
-        return {k: got.get(k) for k in (*coverage.INFLUENCE_METRICS, "error")}
+        return {k: got.get(k) for k in (*coverage.INFLUENCE_METRICS, *coverage.WEAKEST, "error")}
     coverage.judge_lazily([m for _, m in designs], reqs, compute, always=[0] if ref else [])

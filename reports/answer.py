@@ -48,6 +48,8 @@ def headline_front(folder: Path) -> FrontAnswer | None:
     a = _headline(Path(folder))
     if a is not None:
         a.path = Path(folder)
+        scene = Path(folder) / "scene.json"
+        a.geometry = _geometry(json.loads(scene.read_text()).get("array", {})) if scene.exists() else {}
         _through_readout(a, Path(folder) / READOUT_FILE)
         bands(a, Path(folder))
     return a
@@ -64,7 +66,8 @@ def _through_readout(a: FrontAnswer, path: Path) -> None:
                 abs(r["x_mm"]["silicone_above"] - d.silicone_above_mm) > 1e-6:
             continue                                     # written for another answer: not this design's
         d.values.update(charge_sensitivity=r["charge_sensitivity_C_per_N"], readout_sensitivity=r["readout_V_per_N"],
-                        min_detectable_force=r["min_detectable_force_N"], force_range=r["force_range_N"])
+                        min_detectable_force=r["min_detectable_force_N"], force_range=r["force_range_N"],
+                        capacitance=r.get("capacitance_F"))
         d.min_detectable_force_N = r["min_detectable_force_N"]
         if r.get("bandwidth_Hz"):
             d.bandwidth_Hz = tuple(r["bandwidth_Hz"])

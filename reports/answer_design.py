@@ -139,6 +139,7 @@ class FrontAnswer:
     row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
     bands: dict = field(default_factory=dict)           # quantity -> optimize.band.Band (all of its parts)
     priced: list = field(default_factory=list)          # (optimize.answer.Price, AnswerDesign): a relaxation's design
+    geometry: dict = field(default_factory=dict)        # the array's fixed geometry, SI (reports.answer._geometry)
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""

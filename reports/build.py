@@ -181,8 +181,10 @@ PAGE_KINDS = {"study": _study, "optimization": _optimization, "analysis": _analy
               "noise": noise_page.page}
 
 
-def build_page(folder: Path, out: Path, compare=True) -> Page:
-    """Write OUT/<folder name>.html (and the folder's CSVs beside it)."""
+def build_page(folder: Path, out: Path, compare=True, answers: list | None = None) -> Page:
+    """Write OUT/<folder name>.html (and the folder's CSVs beside it); `answers`
+    (reports.answer_numbers.AnswerNumbers): the run's answer designs, whose numbers a page of
+    one of them names beside its own model's (reports.answer_numbers.of_answers)."""
     folder = Path(folder)
     if not folder.is_dir():
         raise ReportError(f"{folder}: no such folder")
@@ -201,6 +203,11 @@ def build_page(folder: Path, out: Path, compare=True) -> Page:
         thumb = thumb or key_png
     if kind == "analysis" and _design_view(folder):          # its card's numbers name their ladder row
         numbers = [n._replace(model=f"{n.model} — ladder row {VIEW_ROW}") for n in numbers]
+    elif answers and kind in ("analysis", "noise"):          # an answer design on another model: which, and why
+        from taxel.reports.answer_numbers import annotate
+        numbers, note = annotate(numbers, scene_data, answers)
+        if note is not None:
+            sections.insert(0, {"title": "The answer's numbers", "blocks": [note]})
     sections.append({"title": "Provenance", "blocks": provenance(folder, scene_data)})
     tables.write_csvs(sections, out, folder.name)
     path = out / f"{folder.name}.html"
@@ -229,7 +236,10 @@ def build(folders, out: Path, pdf=False, compare=True, run: dict | None = None) 
     out = Path(out)
     run = run or {}
     with output_folder(out, replace=True) as tmp:
-        pages = [build_page(f, tmp, compare) for f in folders]
+        from taxel.reports.answer import headline_front
+        from taxel.reports.answer_numbers import of_answers
+        answers = of_answers([a for a in (headline_front(f) for f in folders if kind_of(f) == "optimization") if a])
+        pages = [build_page(f, tmp, compare, answers) for f in folders]
         grouped: dict = {}                       # one banner per warning, naming every page it is on
         for p in pages:
             for b in p.banners:

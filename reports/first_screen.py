@@ -73,7 +73,7 @@ def links(a, d, ladders: list[dict]) -> dict:
     ladder_row = next((g["answer"] for g in ladders if g["role"] == d.role), None)
     if ladder_row:
         out["open-circuit sensitivity"] = out["open-circuit crosstalk"] = f"#{ladder_row}"
-    stated = {q.metric for q in a.requirements}
+    stated = {q.metric for q in a.requirements if q.stated}
     for col, metric in REQUIREMENT_COLUMNS.items():
         if metric in stated and d.values.get(metric) is not None:
             out[col] = f"#{requirement_anchor(a.folder, metric)}"

@@ -9,8 +9,10 @@ in row 1, and in the answer's row the one its charge per newton uses, the 3D mod
 (the free parallel plate eps33^T A / t); the 3D verification mesh's own from the
 design's 3D view (the main job's NAME-ROLE-3d solve folder beside the optimization
 folder) in row 3; why they differ is the ladder's note (`capacitance_note`).
-Coverage (optimize.coverage, OUT/coverage.json) is computed on the 2D section under a
-pressure patch on linear silicone: it sits in that model's row.
+Coverage (optimize.coverage, OUT/coverage.json) is the design's 3D surface map's weakest
+point (its best taxel's response over the detection threshold, and where; linear
+silicone, the probe's footprint), the value a 100 % coverage requirement is judged on: it
+sits in the answer's row, named as the map's.
 
 The rows come from an optimization folder's records, matched to the design by its
 variables (within 1 µm):
@@ -122,7 +124,7 @@ class Rung:
     answer: bool = False
     number: int = 0                    # ROW's number of the model
     capacitance: float | None = None   # F, the pressed taxel's (module docstring)
-    coverage: float | None = None      # ratio (optimize.coverage), on the model it is computed with
+    coverage: str | None = None        # the 3D map's weakest point, in words (optimize.coverage)
     crosstalk_error: float | None = None   # relative, when crosstalk carries its own band
 
     def row(self) -> list[str]:
@@ -133,7 +135,7 @@ class Rung:
                 eng(self.sensitivity, "V/N", 3) if self.sensitivity is not None else "—",
                 percent(self.crosstalk) if self.crosstalk is not None else "—",
                 eng(self.capacitance, "F", 3) if self.capacitance is not None else "—",
-                percent(self.coverage) if self.coverage is not None else "—", err, self.why]
+                self.coverage or "—", err, self.why]
 
 
 COLS = ["model", "sensitivity", "crosstalk", "capacitance", "coverage", "error estimate",
@@ -204,10 +206,14 @@ def ladder(folder: Path, x_mm: dict, reference: bool) -> list[Rung]:
         r.number = ROW.get(r.model, ROW[ANSWER_MODEL])
     caps = capacitances(folder, x_mm, "thesis" if reference else "recommended")
     from taxel.optimize.coverage import of as influence_metrics_of
-    cov = influence_metrics_of(folder, x_mm).get("coverage")
+    got = influence_metrics_of(folder, x_mm)
+    at = got.get("coverage_minimum_at_mm")
+    cov = (f"weakest point {got['coverage_minimum']:.3g}x the threshold"
+           + (f" at ({at[0]:.2f}, {at[1]:.2f}) mm" if at else "") + " (its 3D surface map)"
+           if got.get("coverage_minimum") is not None else None)
     for r in out:
         r.capacitance = caps.get("answer") if r.answer else caps.get(r.number)
-        r.coverage = cov if r.number == 1 else None
+        r.coverage = cov if r.answer else None
     return out
 
 

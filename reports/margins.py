@@ -18,10 +18,20 @@ def _margin(m: float | None) -> str:
     return f"{100 * m:+.3g} %"
 
 
-def _prediction(metric: str, value: float | None) -> str:
+def _prediction(q, values: dict) -> str:
+    """The value requirement `q` is judged on, in words; a 100 % coverage's weakest point on the 3D
+    map with where it is: "the weakest point 0.992x the detection threshold, at (-7.00, -3.50) mm"."""
     from taxel.optimize.metrics import METRIC_TABLE
+    from taxel.optimize.requirements import value_of
+    metric, value = q.metric, value_of(values, q)
     if value is None:
         return "not evaluated"
+    if q.weakest and values.get("coverage_minimum") is not None:
+        at = values.get("coverage_minimum_at_mm")
+        return (f"the weakest point {value:.3g}x the detection threshold"
+                + (f", at ({at[0]:.2f}, {at[1]:.2f}) mm" if at else "")
+                + (f" ({percent(values['coverage'])} of the surface on the map's grid)"
+                   if values.get("coverage") is not None else ""))
     unit = METRIC_TABLE[metric].unit
     return percent(value) if unit == "ratio" else eng(value, unit, 3)
 
@@ -29,14 +39,16 @@ def _prediction(metric: str, value: float | None) -> str:
 def requirement_rows(a) -> list[list[str]]:
     """Requirement / prediction / margin of the recommended and the reference design of
     `a` (a reports.answer.FrontAnswer: the block's requirements table, columns
-    `requirement_cols(a)`; the recommended design's columns only when there is one; a
-    requirement implied by the reference design says so)."""
+    `requirement_cols(a)`; the recommended design's columns only when there is one). Only the
+    stated requirements: the reference design's own sensitivity and crosstalk, the bar a run
+    without a performance requirement prefers (optimize.requirements, rule 3), are not a
+    requirement of the application; the answer's notes say when they decide."""
     rows = []
-    for q in a.requirements:
-        row = [q.text() + ("" if q.stated else f" ({a.reference_name}'s own)")]
+    for q in stated(a):
+        row = [q.text()]
         for d in (a.recommended, a.thesis):
             if d is not None:
-                row += [_prediction(q.metric, d.values.get(q.metric)), _margin(d.margins.get(q.metric))]
+                row += [_prediction(q, d.values), _margin(d.margins.get(q.metric))]
         rows.append(row)
     return rows
 
@@ -48,7 +60,12 @@ def anchor(folder: str, metric: str) -> str:
 
 def requirement_ids(a) -> list[str]:
     """The anchors of `requirement_rows(a)`, row by row."""
-    return [anchor(a.folder, q.metric) for q in a.requirements]
+    return [anchor(a.folder, q.metric) for q in stated(a)]
+
+
+def stated(a) -> list:
+    """The requirements of `a` the file states (not the reference's implied bar)."""
+    return [q for q in a.requirements if q.stated]
 
 
 def requirement_cols(a) -> list[str]:
@@ -62,7 +79,7 @@ def requirement_cols(a) -> list[str]:
 
 def _full(q, d) -> bool:
     """A coverage requirement met by a surface live everywhere: at its bound, but nothing limits it."""
-    return q.metric == "coverage" and d.values.get("coverage") == 1.0
+    return q.metric == "coverage" and not q.weakest and d.values.get("coverage") == 1.0
 
 
 def limits(a) -> str:

@@ -24,6 +24,7 @@ class Headline(NamedTuple):
     label: str
     value: str
     model: str
+    href: str | None = None     # where the model's number is explained (reports.answer_numbers: a ladder row)
 
 
 class Banner(NamedTuple):

@@ -1,12 +1,18 @@
-"""The answer's designs pressed in 3D (main job): for each optimization folder, the
-recommended and the thesis design its probe front chose, and the design each binding
-requirement's relaxation would choose (FrontAnswer.priced) (reports.answer.headline_front,
-on the candidate-selection model) pressed in 3D by the rig's probe on Yeoh silicone
-(optimize.answer_press: one `taxel.solve` each, the 3x3 quarter on the default press
-mesh, with the press family's calibrated error estimate), all designs of all folders on
-one pool of workers. Each press's result folder, ROOT/<front>-<role>-3d, is the design's
-3D view on the report (the same solve as the answer's numbers); the numbers go into the
-folder's probe-front.json, where the answer reads them.
+"""The answer's designs judged and pressed in 3D (main job): for each optimization folder,
+its coverage judged on 3D surface maps (taxel.jobs.answer_coverage: it can change the
+recommendation), then the recommended and the thesis design its probe front chose, and the
+design each binding requirement's relaxation would choose (FrontAnswer.priced)
+(reports.answer.headline_front, on the candidate-selection model) pressed in 3D by the
+rig's probe on Yeoh silicone (optimize.answer_press: one `taxel.solve` each, the 3x3
+quarter on the default press mesh, with the press family's calibrated error estimate).
+
+One pool of workers does it all (`answer_designs`): each folder's coverage and each
+thesis design's press start at once (the thesis design is pressed whatever the coverage
+says); a folder's other designs are pressed as soon as its coverage has chosen them, ahead
+of the presses still waiting. A design named twice (a relaxation choosing the thesis
+design) is pressed once. Each press's result folder, ROOT/<front>-<role>-3d, is the
+design's 3D view on the report (the same solve as the answer's numbers); the numbers go
+into the folder's probe-front.json, where the answer reads them.
 """
 
 from __future__ import annotations
@@ -16,42 +22,84 @@ import time
 from pathlib import Path
 
 
-def answer_presses(root: Path, names: list[str], workers: int = 2) -> list[Path]:
-    """Press the answer designs of ROOT/<name> for each built-in front `name` (its
-    -probe-front problem's [press]); returns the presses' result folders."""
+def _designs(root: Path, name: str, roles: tuple[str, ...] | None = None) -> list[tuple[str, list, dict]]:
+    """(role, x, scene data) of the answer designs of ROOT/<name> (its -probe-front problem's
+    [press]), in the answer's order (recommended, thesis, priced), each design once; only
+    `roles` when given ("thesis")."""
     from taxel.optimize import answer_press as AP
     from taxel.optimize import spec as O
     from taxel.reports.answer import headline_front
-    t0 = time.perf_counter()
-    jobs, owners = [], []
-    for name in names:
-        folder = root / name
-        a = headline_front(folder)
-        if a is None:
+    folder = root / name
+    a = headline_front(folder)
+    if a is None:
+        return []
+    probe = O.load_optimization(name.replace("-front", "-probe-front"), folder)
+    out = []
+    for d in (a.recommended, a.thesis, *(d for _, d in a.priced)):   # and what relaxing a requirement buys
+        if d is None or (roles and d.role not in roles):
             continue
-        probe = O.load_optimization(name.replace("-front", "-probe-front"), folder)
-        for d in (a.recommended, a.thesis, *(d for _, d in a.priced)):   # and what relaxing a requirement buys
-            if d is None:
-                continue
-            x_mm = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-            x = [x_mm[n] for n in probe.names]
-            view = f"{name.removesuffix('-front')}-{d.role}-3d"
-            data = AP.scene_data(probe, x)
-            data["name"] = view
-            shutil.rmtree(root / view, ignore_errors=True)
-            jobs.append((view, data, str(root / view)))
-            owners.append((folder, d.role, x))
-    got = AP.press_all(jobs, workers)
-    by_folder: dict[Path, list] = {}
-    for (folder, role, x), r in zip(owners, got):
-        by_folder.setdefault(folder, []).append(AP.AnswerPress(role, x, **r))
-    for folder, presses in by_folder.items():
-        AP.write(folder, presses)
-        for p in presses:
-            print(f"      {folder.name} {p.role}: " + (
-                f"3D press {p.sensitivity:.4g} V/N at {100 * p.crosstalk:.3g} % crosstalk, estimated error "
-                f"{100 * p.error:.2g} % / {100 * p.crosstalk_error:.2g} %, {p.unknowns} unknowns, {p.seconds:.0f} s"
-                if p.failed is None and p.error is not None else
-                f"3D press {p.sensitivity} V/N, no estimate" if p.failed is None else f"failed: {p.failed}"))
-    print(f"      {len(jobs)} 3D presses of the answer's designs in {time.perf_counter() - t0:.0f} s", flush=True)
-    return [Path(out) for (_, _, out), r in zip(jobs, got) if r.get("failed") is None]
+        x_mm = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+        x = [x_mm[n] for n in probe.names]
+        data = AP.scene_data(probe, x)
+        data["name"] = f"{name.removesuffix('-front')}-{d.role}-3d"
+        out.append((d.role, x, data))
+    return out
+
+
+def _same(x, y) -> bool:
+    return all(abs(u - v) < 1e-9 for u, v in zip(x, y))
+
+
+def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool = True) -> list[Path]:
+    """Judge the coverage of the answers of ROOT/<name> for each built-in front `name` and press
+    their designs in 3D (module docstring; `press` False: the coverage only); returns the
+    presses' result folders."""
+    from dask.distributed import Client, as_completed
+    from taxel.jobs.answer_coverage import answer_coverage
+    from taxel.optimize import answer_press as AP
+    from taxel.studies.execute import local_cluster
+    t0 = time.perf_counter()
+    cluster = local_cluster(workers)
+    client = Client(cluster)
+    pressed: dict[str, list] = {n: [] for n in names}       # name -> [(x, data, future)]
+
+    def submit(name, x, data, priority):
+        if any(_same(x, y) for y, _, _ in pressed[name]):
+            return
+        out = root / data["name"]
+        shutil.rmtree(out, ignore_errors=True)
+        pressed[name].append((x, data, client.submit(AP.press, data, str(out), AP.PRESS_3D, pure=False,
+                                                     priority=priority)))
+    try:
+        judged = {client.submit(answer_coverage, root / n, pure=False, priority=2): n for n in names}
+        for n in names if press else []:        # the thesis design is pressed whatever the coverage says
+            for _, x, data in _designs(root, n, ("thesis",)):
+                submit(n, x, data, 0)
+        for fut in as_completed(list(judged)):
+            n = judged[fut]
+            print(f"      {n}: the answer's coverage (optimize.coverage) judged in {fut.result():.0f} s", flush=True)
+            for _, x, data in (_designs(root, n) if press else []):   # the designs the coverage chose: next
+                submit(n, x, data, 1)
+        got = {n: [(x, data, f.result()) for x, data, f in pressed[n]] for n in names}
+    finally:
+        client.close()
+        cluster.close()
+    views = []
+    for n in names:
+        if not got[n]:
+            continue
+        presses = []
+        for role, x, _ in _designs(root, n):
+            _, data, r = next(g for g in got[n] if _same(g[0], x))
+            presses.append(AP.AnswerPress(role, x, **r))
+            print(f"      {n} {role}: " + (
+                f"3D press {r['sensitivity']:.4g} V/N at {100 * r['crosstalk']:.3g} % crosstalk, estimated error "
+                f"{100 * r['error']:.2g} % / {100 * r['crosstalk_error']:.2g} %, {r['unknowns']} unknowns, "
+                f"{r['seconds']:.0f} s" if r.get("failed") is None and r.get("error") is not None else
+                f"3D press {r.get('sensitivity')} V/N, no estimate" if r.get("failed") is None else
+                f"failed: {r['failed']}"))
+        AP.write(root / n, presses)
+        views += [root / data["name"] for _, data, r in got[n] if r.get("failed") is None]
+    print(f"      {sum(len(v) for v in got.values())} 3D presses of the answer's designs, coverage judged, in "
+          f"{time.perf_counter() - t0:.0f} s", flush=True)
+    return views

@@ -1,18 +1,21 @@
 """The answer's coverage and localization error (main job): for an optimization folder
 whose requirements name them, the influence metrics (optimize.coverage) of the thesis
-design and of the design the answer recommends (reports.answer.headline_front), again
-until the recommended design has them: a recommended design that fails coverage loses
-to the next candidate, which is then solved. A localization_error requirement, whose
-margin the choice weighs, has every candidate of the records solved first. Each design's row goes to
-OUT/coverage.json (optimize.coverage.RECORD), which the answer reads.
+design, of the design the answer recommends (reports.answer.headline_front) and of each
+design a priced relaxation names, again until all of them have them: a recommended
+design that fails coverage loses to the next candidate, which is then solved. Both
+metrics are limits (met or not), so judging in the answer's own order is exact
+(optimize.coverage.judge_lazily says why): the candidates the choice never reaches are
+not mapped. Each design's row goes to OUT/coverage.json (optimize.coverage.RECORD),
+which the answer reads.
 
 The metrics come from each design's 3D surface map on linear silicone (optimize.coverage:
 a 2D design made 3D on its array mesh, the rig's 4 mm punch as the footprint), whatever
 model the answer's sensitivity comes from: the coverage minimum is searched over the
-whole surface between the outer taxels. A design whose check fails gets the error in its
-row and is not recommended. Cost: one map per design not yet in OUT/maps (the thesis
-PZT design: 46 243 unknowns, four factorizations, about 11 s of CPU:
-benchmarks/surface_map.py).
+whole surface between the outer taxels, and a 100 % coverage is judged on it. A design
+whose check fails gets the error in its row and is not recommended. Cost: one map per
+design not yet in OUT/maps (the thesis PZT design: 46 243 unknowns, four
+factorizations, about 11 s of CPU: benchmarks/surface_map.py); the main job runs each
+folder's on a worker beside the presses (taxel.jobs.answer_3d.answer_designs).
 """
 
 from __future__ import annotations
@@ -31,21 +34,17 @@ def answer_coverage(front_dir: Path) -> float:
     front_dir = Path(front_dir)
     prob = O.load_optimization(front_dir.name, front_dir)
     tried: list[dict] = []
-    a = headline_front(front_dir)
-    if a is not None and any(q.metric in coverage.INFLUENCE_METRICS and not q.limit for q in a.requirements):
-        for x in (x for x in _candidates(front_dir) if all(n in x for n in prob.names)):   # a weighed margin:
-            coverage.add(front_dir, {n: x[n] for n in prob.names}, prob.influence_metrics([x[n] for n in prob.names]))
     while True:
         a = headline_front(front_dir)
         if a is None or not {q.metric for q in a.requirements} & set(coverage.INFLUENCE_METRICS):
             break
         todo = []
-        for d in (a.thesis, a.recommended):
-            if d is None or all(d.values.get(m) is not None for m in coverage.INFLUENCE_METRICS
-                                if any(q.metric == m for q in a.requirements)):
+        for d in (a.thesis, a.recommended, *(d for _, d in a.priced)):
+            if d is None or all(d.values.get(q.metric) is not None or q.metric in d.values.get(coverage.CHECK_ERRORS, {})
+                                for q in a.requirements if q.metric in coverage.INFLUENCE_METRICS):
                 continue
             x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-            if not any(coverage.same(t, x) for t in tried):
+            if not any(coverage.same(t, x) for t in tried + todo):
                 todo.append(x)
         if not todo:
             break
@@ -56,19 +55,3 @@ def answer_coverage(front_dir: Path) -> float:
     from taxel.reports.coverage_map import draw_folder
     draw_folder(front_dir)                 # the designs' coverage maps, on the optimization page
     return time.perf_counter() - t0
-
-
-def _candidates(front_dir: Path) -> list[dict]:
-    """Every design of the answer's records ({variable: mm}): the probe front's and the 3D front's
-    rows and their reference."""
-    import json
-    out: list[dict] = []
-    for name, key in (("probe-front.json", "front"), ("front-3d.json", "front_3d")):
-        path = Path(front_dir) / name
-        if path.exists():
-            rec = json.loads(path.read_text())
-            for row in [rec.get("reference") or {}] + rec.get(key, []):
-                x = {k.split(" (")[0]: v for k, v in row.items() if k.endswith("(mm)")}
-                if x and x not in out:
-                    out.append(x)
-    return out

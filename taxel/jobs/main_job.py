@@ -11,6 +11,7 @@ run_study, run_optimization, solve, report)."""
 
 from __future__ import annotations
 
+import os
 import shutil
 import time
 from pathlib import Path
@@ -127,6 +128,12 @@ def tolerances(out: Path) -> Path:
     return out
 
 
+def _cpu() -> str:
+    """" (CPU 123 s)": this process's CPU seconds and its finished workers' (os.times), for the stage log."""
+    t = os.times()
+    return f" (CPU so far {t.user + t.system + t.children_user + t.children_system:.0f} s)"
+
+
 def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = PF.RUN_3D_PRESSES,
         answer_3d: bool = True) -> Path:
     """Run the main job into `root` and return the report's index page; `full`: also the
@@ -134,8 +141,8 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     10 minutes each), the probe fronts verified by 3D presses and the linear front's
     confirmation on a finer mesh; `answer_3d` (off with `taxel demo --no-answer-3d`): the
     answer's designs, the recommended and the thesis design of each material, pressed in 3D
-    by the rig's probe (taxel.jobs.answer_3d): 51 s of the job's 260 s on a quiet machine
-    (docs/getting-started.md); without them the answer is the candidate-selection model's,
+    by the rig's probe beside their coverage's 3D maps (taxel.jobs.answer_3d; the step's time
+    in docs/getting-started.md); without them the answer is the candidate-selection model's,
     and says so."""
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%d %H:%M:%S")
@@ -155,17 +162,15 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         elif not small and (root / name / "results.csv").exists():     # from an earlier --full (or taxel study run)
             folders.append(root / name)
             print(f"      {name}: from an earlier run in {root / name} (taxel demo --full runs it)")
-    print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D")
+    print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D" + _cpu())
     for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
         folders.append(front(root / name, name, small, full, presses_3d))
-    if not small and answer_3d:        # the answer's numbers: its 4 designs pressed in 3D (their 3D views too)
-        from taxel.jobs.answer_3d import answer_presses
-        folders += answer_presses(root, ["thesis-pzt-front", "thesis-pvdf-front"], workers=2)
+    if not small:                      # the answer's coverage decides its designs, pressed in 3D (their 3D views)
+        from taxel.jobs.answer_3d import answer_designs
+        folders += answer_designs(root, ["thesis-pzt-front", "thesis-pvdf-front"], workers=2, press=answer_3d)
+        print(f"     {_cpu()}")
     if not small:                      # the answer's designs through the bench's readout (one 2D solve each)
-        from taxel.jobs.answer_coverage import answer_coverage
         from taxel.jobs.answer_readout import answer_readout
-        spent = sum(answer_coverage(root / name) for name in ("thesis-pzt-front", "thesis-pvdf-front"))
-        print(f"      the answer's coverage (optimize.coverage) in {spent:.0f} s")
         t3 = time.perf_counter()
         for name in ("thesis-pzt-front", "thesis-pvdf-front"):
             answer_readout(root / name)
@@ -174,7 +179,7 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
             friction_band(root / name, workers=2)
     from taxel.jobs.warm_touch import warm_touch      # a warm finger on each thesis design (2D, a few s each)
     print(f"      the answer's warm touch in {sum(warm_touch(f) for f in folders if f.name.endswith('-front')):.0f} s")
-    print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm")
+    print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm" + _cpu())
     for name in ("thesis-pzt-frequency", "thesis-pzt-step"):
         scene = api.load(name)
         if small:
@@ -185,14 +190,14 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         folders.append(out)
     folders.append(noise_budget(root / "noise-budget", small))
     tolerances(root / "tolerances")
-    print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize")
+    print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize" + _cpu())
     shutil.rmtree(root / "validation", ignore_errors=True)
     measure.validate(root / "validation")
     folders.append(root / "validation")
-    print("[5/5] report")
+    print("[5/5] report" + _cpu())
     what = ("taxel demo" + (" --small" if small else "") + ": thesis Fig. 2.5 study, sensitivity-crosstalk "
             "front, frequency response, step response, validation on the simulated rig")
     index = api.report(folders, root / "report", compare=not small,
                        run={"what": what, "started": started, "seconds": time.perf_counter() - t0})
-    print(f"done in {time.perf_counter() - t0:.0f} s; open {index.resolve()}")
+    print(f"done in {time.perf_counter() - t0:.0f} s{_cpu()}; open {index.resolve()}")
     return index
