@@ -136,6 +136,21 @@ def small_sphere():
     return assemble(problem(tm, MAT, ind)), ind, d
 
 
+def test_a_force_step_ends_at_its_target_not_past_it(small_sphere):
+    """Force control whose first trial goes past the target (the trial travel 2.5 x the target's,
+    Hertz): that trial is a bracket end, not a state of the path; every converged state is at or
+    below the target, the last at it (fem.contact.force)."""
+    sy, ind, d = small_sphere
+    target = 4 / 3 * E_STAR * ind.radius ** 0.5 * (d / 2.5) ** 1.5
+    pr = Press(sy, ind, opts=Options(predictor=False))
+    pr.o.first_travel = d / pr.height
+    pt = pr.force(target)
+    assert pr.stats["crossings"] >= 1
+    assert pt.force == pytest.approx(target, rel=pr.o.force_tol)
+    assert all(p.force <= target * (1 + pr.o.force_tol) for p in pr.res.points)
+    assert pt is pr.res.points[-1] and len(pr.res.points) >= 2
+
+
 def test_penalty_too_low_is_reported_with_its_penetration(small_sphere):
     sy, ind, d = small_sphere
     with pytest.raises(PressError, match="penalty too low: penetration .* % of the travel") as err:
