@@ -16,7 +16,8 @@ def test_the_calibrated_press_error_holds_on_a_third_design():
     m = AP.rule(prob, [1.0, 1.0, 4.777777777777778])
     cal = AP.ANSWER_PRESS_ERROR["PSI-5H4E"]
     # the calibration holds on the third design; re-calibrated on the converging refinement (issue 57,
-    # benchmarks/answer_press_error.py, 2026-11-29) the PZT constants are 2.6 % / 1.5 %, the sensitivity's
+    # benchmarks/answer_press_error.py, 2026-11-29) the PZT constants are 2.6 % / 3.7 % (crosstalk: 1.5 % from
+    # the two designs did not bound this one's 1.98 %), the sensitivity's
     # above the 2 % bound (AP.WITHIN): flagged on the page
     assert 0 < m["sensitivity"] <= cal["sensitivity"], m
     assert 0 < m["crosstalk"] <= cal["crosstalk"], m
