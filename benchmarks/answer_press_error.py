@@ -37,7 +37,12 @@ Run with MKL_NUM_THREADS=1.
 (The RESULT below is the 2026-11-28 run, with E_SINGLE 0.84 %; with 1.14 % the same moves give e_s
 PZT 1.47, 1.74, 1.65 %, PVDF 2.26, 3.00 %: the constants 1.8 % and 3.0 %.)
 
-RESULT (2026-11-28, one run, CPU s, the 2-core machine shared at load 5-10; --write,
+RESULT (2026-11-29, on the converging refinement path; docs/answer_press_error.json, the table in
+docs/benchmarks.md "re-calibrated on the converging refinement path"): e_s / e_c PZT gap 3 mm 1.55 /
+1.46 %, gap 3.44 mm 2.57 / 0.81 %, the check (gap 4.78 mm) 2.11 / 1.98 %; PVDF gap 3 mm 2.07 / 6.57 %,
+gap 4.78 mm 3.32 / 9.48 %. Stored: PZT 2.6 / 3.7 %, PVDF 3.4 / 9.5 %.
+
+The earlier RESULT (2026-11-28, the old refinement path, one run, CPU s, the 2-core machine shared at load 5-10; --write,
 docs/answer_press_error.json):
 
   PZT  3x3 / 1: 17 941 unknowns, 0.77581 V/N, crosstalk 1.1336 %, 33.2 s; / 1.41: 33 501,
