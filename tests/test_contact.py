@@ -360,7 +360,9 @@ def test_continuation_takes_a_stalled_press_past_an_unstable_state(probe_example
     prob, sy = probe_example_mesh
     path = (0.2, 0.4, 0.6, 0.7, 0.8, 0.9, 1.0)
     off = Press(sy, prob.indenter, opts=Options(continuation=False, solver="uzawa"))
-    with pytest.raises(PressError, match="Newton stagnates"):
+    # its stop names the last failed trial: Newton stagnating, or (measured since a failed trial's doubled
+    # penalty is restored with its state, 2026-11-29) inverting elements at 0.49 mm
+    with pytest.raises(PressError, match="Newton stagnates|Newton inverts"):
         for F in path:
             off.force(F)
     assert off.res.points[-1].force < 0.95

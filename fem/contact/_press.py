@@ -368,13 +368,14 @@ class Press:
             self._fallback = False
 
     def snapshot(self) -> tuple:
-        """The converged state (restore() returns to it): a failed or rejected trial leaves no trace."""
+        """The converged state (restore() returns to it): a failed or rejected trial leaves no trace
+        (its penalty too: a trial that stopped after doubling it kept the doubled one before)."""
         return (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick, len(self.res.points),
-                self.res.state)
+                self.res.state, self.eps)
 
     def restore(self, saved: tuple) -> None:
         """Back to a snapshot(): the states converged since are dropped from the path."""
-        self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick, n, self.res.state = saved
+        self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick, n, self.res.state, self.eps = saved
         del self.res.points[n:]
         self._stick = None
 
