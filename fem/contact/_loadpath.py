@@ -89,8 +89,12 @@ def force(pr, F_target, max_trials=40):
                 pt = pr.attempt(d_new)
                 break
             except PressError as exc:
-                if exc.cause == "penalty" or abs(d_new - pr.d) < 1e-4 * pr.height:
+                if exc.cause == "penalty":
                     raise
+                if abs(d_new - pr.d) < 1e-4 * pr.height:      # every shorter trial failed: named as a force stop
+                    raise PressError(exc.cause, f"force control: {F_target:.4g} N not reached, every trial from "
+                                     f"the last state at {F:.4g} N failed down to the shortest step", pr.res,
+                                     f"the last failed trial: {exc}") from exc
                 failed = exc
                 d_new = (pr.d + d_new) / 2
         dt, Ft = pt.travel, pt.force
