@@ -91,7 +91,9 @@ def test_cli_prints_and_records_the_press(tmp_path, capsys):
     assert rec["force_N"] == pytest.approx(0.05, rel=2e-3)
     assert rec["travel_m"] > 0 and rec["contact_area_m2"] > 0 and rec["max_pressure_Pa"] > 0
     assert 0 <= rec["penetration_m"] <= 1e-3 * rec["travel_m"]
-    assert rec["load_steps"] == len(rec["curve"]["force_N"]) >= 2 and rec["newton_iterations"] > 0
+    # one state or more: a trial past the target is not a state (fem.contact.force; this press's first
+    # trial goes past 0.05 N, its second ends at it: one state since 2026-11-29)
+    assert rec["load_steps"] == len(rec["curve"]["force_N"]) >= 1 and rec["newton_iterations"] > 0
     assert np.all(np.diff(rec["curve"]["travel_m"]) > 0)
     assert len(rec["curve"]["voltages_V"]["taxel_0_0"]) == rec["load_steps"]
     assert main(["solve", str(path), "--out", str(tmp_path / "out")]) == 0

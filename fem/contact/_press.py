@@ -353,12 +353,11 @@ class Press:
     def attempt(self, d):
         """solve_at, restoring the state on failure; with Options.solver "auto", a step the
         Uzawa path stops in is solved again by the semi-smooth Newton (fem.contact)."""
-        saved = (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick)
+        saved = self.snapshot()
         try:
             return self.solve_at(d)
         except PressError as exc:
-            self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick = saved
-            self._stick = None
+            self.restore(saved)
             self.res.failed_trials += 1
             if self._fallback or not self._semismooth(fallback=True) or exc.cause == "penalty":
                 raise
@@ -367,6 +366,18 @@ class Press:
             return self.attempt(d)
         finally:
             self._fallback = False
+
+    def snapshot(self) -> tuple:
+        """The converged state (restore() returns to it): a failed or rejected trial leaves no trace
+        (its penalty too: a trial that stopped after doubling it kept the doubled one before)."""
+        return (self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick, len(self.res.points),
+                self.res.state, self.eps)
+
+    def restore(self, saved: tuple) -> None:
+        """Back to a snapshot(): the states converged since are dropped from the path."""
+        self.x, self.lam, self.d, self.prev, self.v, self.slope, self.stick, n, self.res.state, self.eps = saved
+        del self.res.points[n:]
+        self._stick = None
 
     # ------------------------------------------------------------ load control (fem.contact)
     def travel(self, d_target, first=0.25, min_frac=1e-3):
