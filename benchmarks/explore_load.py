@@ -150,11 +150,9 @@ def attacker(url: str, seconds: float, counts: dict, refusals: list):
         time.sleep(0.2)
 
 
-def cpu(proc: psutil.Process, main_only: bool = False) -> float:
-    """CPU seconds (user + system) of the explorer's process and, unless `main_only`, its
-    children (the solve workers, a 3D solve)."""
+def cpu(proc: psutil.Process) -> float:
     total = 0.0
-    for p in [proc] if main_only else [proc, *proc.children(recursive=True)]:
+    for p in [proc, *proc.children(recursive=True)]:
         try:
             t = p.cpu_times()
             total += t.user + t.system
@@ -193,13 +191,10 @@ def phase(app, tabs: int, seconds: float, hostile: int, fresh: bool = False) -> 
     for t in threads:
         t.start()
     time.sleep(max(0.0, start - time.time()))
-    c0, m0, t0, l0 = cpu(proc), cpu(proc, True), time.monotonic(), os.getloadavg()[0]
-    me0 = psutil.Process().cpu_times()
+    c0, t0 = cpu(proc), time.monotonic()
     for t in threads:
         t.join()
     wall = time.monotonic() - t0
-    me1 = psutil.Process().cpu_times()
-    pages_cpu = (me1.user + me1.system) - (me0.user + me0.system)
     for _ in procs:
         got, ref = queue.get(timeout=120)
         for k, v in got.items():
@@ -215,9 +210,7 @@ def phase(app, tabs: int, seconds: float, hostile: int, fresh: bool = False) -> 
             "server_answer_p95_s": pct(solve, 95), "wait_p50_s": pct([a - b for a, b, _ in rows if b is not None], 50),
             "solved_fraction": sum(r[2] for r in rows) / max(len(rows), 1),
             "wall_s": wall, "server_cpu_s": (used := cpu(proc) - c0),
-            "server_cpu_per_move_ms": 1e3 * used / max(len(rows), 1), "server_cores_used": used / wall,
-            "main_cpu_per_move_ms": 1e3 * (cpu(proc, True) - m0) / max(len(rows), 1),
-            "pages_cpu_s": pages_cpu, "load_average": (l0 + os.getloadavg()[0]) / 2, "hostile_counts": counts,
+            "server_cpu_per_move_ms": 1e3 * used / max(len(rows), 1), "hostile_counts": counts,
             "long_value_refusal_p50_s": pct(refusals, 50), "long_value_refusal_max_s": max(refusals, default=None)}
 
 
@@ -244,27 +237,11 @@ def main():
         many = phase(app, args.tabs, args.seconds, args.hostile, args.fresh)
         refused = sum("refused" in ln for ln in app.log)
         tracebacks = sum("Traceback" in ln for ln in app.log)
-        workers = [p for p in psutil.Process(app.proc.pid).children(recursive=True) if "spawn_main" in " ".join(p.cmdline())]
-        worker_rss = max((p.memory_info().rss for p in workers), default=0)
-    # the CPU-bound floor, where every move is a solve (--fresh: the explorer busy throughout):
-    # pages each asking for a move that costs the explorer c CPU seconds (one page alone's CPU
-    # per move) are answered at most cores / c moves a second, so a page waits at least
-    # tabs * c / cores per move on average (Little's law), however the work is scheduled. (a) On the machine's cores, free: over one page alone on free cores,
-    # c + its wait (latency - answer time: the debounce, the transport), an estimate from
-    # the CPU measured, not a latency measured; (b) on the cores the explorer got in the
-    # loaded phase (its CPU seconds over the wall seconds: a shared machine's scheduler
-    # gives the explorer's session a share), over one page alone's p50 measured
-    c1 = alone["server_cpu_per_move_ms"] / 1e3
-    floor_free = args.tabs * c1 / (os.cpu_count() or 1)
-    floor_got = args.tabs * c1 / max(many["server_cores_used"], 1e-3)
     res = {"date": time.strftime("%Y-%m-%d"), "cores": os.cpu_count(), "load_average_before": load0,
            "load_average_after": os.getloadavg()[0], "seconds": args.seconds, "fresh": args.fresh, "alone": alone, "pages": pages, "loaded": many,
            "p95_ratio": many["p95_s"] / alone["p95_s"], "p50_ratio": many["p50_s"] / alone["p50_s"],
            "p95_ratio_pages_only": pages["p95_s"] / alone["p95_s"],
-           "refusal_lines": refused, "tracebacks": tracebacks, "workers": len(workers), "worker_rss_max_bytes": worker_rss,
-           "cpu_floor_free_s": floor_free, "alone_free_s": c1 + alone["wait_p50_s"],
-           "cpu_floor_free_ratio": max(1.0, floor_free / (c1 + alone["wait_p50_s"])),
-           "cpu_floor_got_s": floor_got, "cpu_floor_got_ratio": max(1.0, floor_got / alone["p50_s"])}
+           "refusal_lines": refused, "tracebacks": tracebacks}
     result = RESULT.with_name("explore_load_fresh.json") if args.fresh else RESULT
     result.write_text(json.dumps(res, indent=1))
     print(f"slider-to-answer latency of well-behaved pages, {args.seconds:g} s per phase, loopback, "
@@ -285,19 +262,6 @@ def main():
           f"({'within' if res['p95_ratio'] <= 2 else 'beyond'} the 2x goal); median {res['p50_ratio']:.2f}x; "
           f"{args.tabs} pages without the hostile clients: p95 {res['p95_ratio_pages_only']:.2f}x; "
           f"{refused} refusal lines, {tracebacks} tracebacks in the explorer's log; wrote {result}")
-    phases = (alone, pages, many)
-    cores = ", ".join(f"{r['server_cores_used']:.2f}" for r in phases)
-    loads = ", ".join(f"{r['load_average']:.1f}" for r in phases)
-    own = ", ".join(f"{r['pages_cpu_s']:.1f}" for r in phases)
-    main = ", ".join(f"{r['main_cpu_per_move_ms']:.0f}" for r in phases)
-    print(f"CPU-bound floor: {args.tabs} pages x {1e3 * c1:.0f} ms of explorer CPU per move / {os.cpu_count()} free cores = "
-          f"{floor_free:.3f} s per move ({res['cpu_floor_free_ratio']:.2f}x one page alone on free cores, "
-          f"{res['alone_free_s']:.3f} s); / the "
-          f"{many['server_cores_used']:.2f} cores it got loaded = {floor_got:.3f} s ({res['cpu_floor_got_ratio']:.2f}x, "
-          f"measured p50 {many['p50_s']:.3f} s); the explorer used {cores} cores "
-          f"in the three phases (load average {loads}), its main process {main} ms per move (the rest in the workers); "
-          f"the pages' own CPU {own} s; {len(workers)} solve workers, "
-          f"at most {worker_rss / 1e9:.2f} GB resident each")
 
 
 if __name__ == "__main__":

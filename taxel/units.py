@@ -10,7 +10,7 @@ more often a millimetre than a metre.
 from __future__ import annotations
 
 import math
-from functools import cache, lru_cache
+from functools import cache
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:                   # pint is imported on first use (registry), not at import
@@ -86,16 +86,6 @@ def to_si(value, unit: str, what: str, *, si_numbers: bool = False, positive: bo
         return _check(float(value), value, positive, nonnegative)
     if not isinstance(value, str):
         raise UnitError(f"expected a {what} such as \"1 {hint}\"")
-    return _check(_text_si(value, unit, what), value, positive, nonnegative)
-
-
-@lru_cache(maxsize=4096)
-def _text_si(value: str, unit: str, what: str) -> float:
-    """The SI magnitude of a quantity text (to_si's parse). Remembered: a scene is read
-    several times on its way to a solve (validation, the store's key, the evaluation),
-    and pint's parse was a quarter of the CPU of a thesis-taxel solve in the explorer
-    (benchmarks/explore_load.py); a refusal (UnitError) is raised again each time."""
-    hint = HINT.get(unit, unit)
     try:
         q = quantity(value)
     except UnitError:
@@ -106,9 +96,10 @@ def _text_si(value: str, unit: str, what: str) -> float:
         raise UnitError(f"missing unit in {value!r}; write e.g. \"{value} {hint}\"")
     import pint
     try:
-        return float(q.to(unit).magnitude)
+        x = float(q.to(unit).magnitude)
     except pint.DimensionalityError:
         raise UnitError(f"unit mismatch: {value!r} is not a {what}") from None
+    return _check(x, value, positive, nonnegative)
 
 
 def _check(x: float, value, positive: bool, nonnegative: bool) -> float:

@@ -7,19 +7,15 @@ never change another's); what a page may send is checked on the WebSocket first
 holds what the pages share: the base scene, the study store (a design seen before,
 by any page, is read, not solved) and the lanes the work runs in, off the event loop:
 
-- the solve workers (FAST_WORKERS processes, taxel.explore.workers): reading a design
-  and solving a small one (at most SMALL_UNKNOWNS unknowns, well under a second), the
-  pages' solves on several cores at once, behind a bounded queue that drops a job no
-  page wants and shares one job among pages asking for the same design;
-- the fast lane (one thread): the front's figure, the base design at start;
+- the fast lane (FAST_WORKERS threads): reading a design and solving a small one
+  (at most SMALL_UNKNOWNS unknowns, well under a second);
 - the slow lane (one thread): a larger design (up to the 2D cap, session.MEMORY_2D
   of this machine's memory) and the figures on request (section, error estimate,
   frequency response, voltage-force curve), one at a time;
 - 3D: one process at a time (session.Job3D, up to session.MEMORY_3D).
 
-So the caps add up: the slow lane's solve, the 3D solve and the workers (each its
-interpreter and a small solve) together need at most session.MEMORY_BUDGET of this
-machine's memory.
+So the caps add up: the slow lane's solve, the 3D solve and the fast lane's small
+solves together need at most session.MEMORY_BUDGET of this machine's memory.
 """
 
 from __future__ import annotations
@@ -38,7 +34,6 @@ from trame.widgets import html
 from trame.widgets import vuetify3 as v3
 
 from taxel.explore import session as S
-from taxel.explore import workers as W
 from taxel.explore.controls import (
     LAWS,
     LOADS,
@@ -46,7 +41,9 @@ from taxel.explore.controls import (
     NUMBERS,
     READOUTS,
     ControlValues,
+    FieldError,
     piezo_names,
+    scene_of,
 )
 from taxel.explore.front import Front
 from taxel.explore.tab import Tab
@@ -54,7 +51,7 @@ from taxel.explore.wire import MAX_MESSAGE, Refusals, Wire
 from taxel.scene import Scene
 from taxel.schema import to_data
 
-FAST_WORKERS = W.count()   # the design solves' processes (workers.count: cores and memory)
+FAST_WORKERS = 2
 RECENT = 256            # designs whose answers the explorer keeps in memory (a few kB each)
 
 
@@ -68,7 +65,6 @@ class Lanes:
 
     fast: ThreadPoolExecutor
     slow: ThreadPoolExecutor
-    solvers: W.Solvers
     small: float = S.SMALL_UNKNOWNS
 
 
@@ -82,8 +78,8 @@ class Explorer:
         self.server.options["ws_max_msg_size"] = MAX_MESSAGE     # aiohttp refuses a longer frame
         self.state, self.ctrl = self.server.state, self.server.controller
         self.store = store if store is not None else self.folder / "store"
-        self.lanes = Lanes(ThreadPoolExecutor(1, thread_name_prefix="explore-fast"),
-                           ThreadPoolExecutor(1, thread_name_prefix="explore-slow"), W.Solvers(FAST_WORKERS))
+        self.lanes = Lanes(ThreadPoolExecutor(FAST_WORKERS, thread_name_prefix="explore-fast"),
+                           ThreadPoolExecutor(1, thread_name_prefix="explore-slow"))
         self._sessions = threading.local()              # one store connection per thread
         self.tabs: dict[str, Tab] = {}
         self._recent: OrderedDict = OrderedDict()      # design key -> (scene, answer): Explorer.recall
@@ -155,7 +151,13 @@ class Explorer:
 
     def prepare(self, design: ControlValues) -> tuple[Scene, object]:
         """The design's scene and solve cost; FieldError (one line) where it is refused."""
-        return W.prepare(self.base, design)
+        try:
+            scene = scene_of(self.base, design)
+            return scene, S.check_fits(scene, S.MEMORY_2D)
+        except FieldError:
+            raise
+        except Exception as exc:                        # TooLarge, or a value no control makes
+            raise FieldError(str(exc).splitlines()[0] if str(exc) else type(exc).__name__, None) from None
 
     def answer(self, scene: Scene) -> S.Answer:
         return self.session().answer(scene)
@@ -353,7 +355,6 @@ class Explorer:
         def ready(**_):
             # the base design into the store, so every page's first answer is read, not solved
             self.lanes.fast.submit(self._warm)
-            self.lanes.solvers.start()
             print(f"taxel explore: serving {self.base.name} at {guard.url()}", flush=True)
         self.server.start(host=host, port=port, open_browser=False, show_connection_info=False)
 

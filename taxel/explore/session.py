@@ -125,11 +125,9 @@ class Session:
 
 # The explorer's memory caps, as shares of this machine's memory (meshing.cost.machine_memory),
 # chosen so that they add up: at once run at most the one 3D solve (MEMORY_3D), the slow lane's
-# one 2D solve or figure (MEMORY_2D) and the solve workers (app.FAST_WORKERS processes, each its
-# interpreter, workers.WORKER_BYTES, and a solve of at most SMALL_UNKNOWNS unknowns, about
-# 0.15 GB; workers.count keeps them within what is left): together within MEMORY_BUDGET, the
-# rest of the machine left to whatever else it runs. On a 24 GB machine (25.3 GB), two
-# workers: 6.3 + 2.5 + 0.7 GB.
+# one 2D solve or figure (MEMORY_2D) and the fast lane's small solves (app.FAST_WORKERS of at most
+# SMALL_UNKNOWNS unknowns, about 0.15 GB each): together within MEMORY_BUDGET, the rest of the
+# machine left to whatever else it runs. On a 24 GB machine (25.3 GB): 6.3 + 2.5 + 0.3 GB.
 MEMORY_3D = 0.25
 MEMORY_2D = 0.10
 SMALL_UNKNOWNS = 50_000        # a 2D solve answered in the fast lane (the thesis taxel: 4k unknowns)

@@ -12,11 +12,10 @@ An update: after a pause of DEBOUNCE for more moves, the design is applied to th
 base scene (controls.scene_of: the scene schema's checks, as `taxel solve` makes
 them; a refused value is shown beside its field and logged in one line), its solve
 cost checked against the explorer's 2D cap (session.check_fits), and answered from
-the study store or solved: all of that in a solve worker (taxel.explore.workers, a
-process) when the design is small; a large one is solved in the slow lane, so one
-large design never holds up the others' small ones. A design answered lately (by any
-page) is answered from the explorer's memory (Explorer.recall), on the event loop,
-without reading or solving it again.
+the study store or solved: a small solve in the fast lane, a large one in the slow
+lane, so one large design never holds up the others' small ones. A design answered
+lately (by any page) is answered from the explorer's memory (Explorer.recall), on the
+event loop, without reading or solving it again.
 """
 
 from __future__ import annotations
@@ -25,7 +24,6 @@ import asyncio
 from dataclasses import dataclass, field
 
 from taxel.explore import session as S
-from taxel.explore import workers as W
 from taxel.explore.controls import NUMBERS, ControlValues, FieldError
 from taxel.scene import Scene
 from taxel.units import MAX_TEXT, engineering
@@ -150,43 +148,32 @@ class Tab:
             if ex.front is not None:
                 await self._plot_front(hit[1], hit[0], gen)
             return
-        wanted = lambda: gen == self.generation and not self.closed      # noqa: E731
-        self.push(busy=True)
-        try:                                           # read, checked and (when small) solved in a worker
-            out = await ex.lanes.solvers.run(design.key(), wanted, W.solve, ex.base, design, str(ex.store),
-                                             ex.lanes.small)
-        except Exception as exc:                       # a failed solve: its one line, the page goes on
+        try:
+            scene, cost = await loop.run_in_executor(ex.lanes.fast, ex.prepare, design)
+        except FieldError as exc:
             if gen == self.generation:
-                self._failed(exc)
+                self._refused(exc)
             return
-        if out is None or gen != self.generation:
+        if gen != self.generation:
             return
-        if out.refused is not None:
-            self._refused(FieldError(*out.refused))
-            return
-        ans, scene = out.answer, out.scene
-        if ans is None:                                # a large design: the slow lane, one at a time
-            self.push(**{f"e_{n.name}": [] for n in NUMBERS}, e_piezo=[], message="")
+        self.push(**{f"e_{n.name}": [] for n in NUMBERS}, e_piezo=[], message="", busy=True)
+        lane = ex.lanes.fast if cost.unknowns <= ex.lanes.small else ex.lanes.slow
 
-            def work():
-                return ex.answer(scene) if gen == self.generation else None
-            try:
-                ans = await loop.run_in_executor(ex.lanes.slow, work)
-            except Exception as exc:                   # a failed solve: its one line, the page goes on
-                self._failed(exc)
-                return
+        def work():
+            return ex.answer(scene) if gen == self.generation else None
+        try:
+            ans = await loop.run_in_executor(lane, work)
+        except Exception as exc:                       # a failed solve: its one line, the page goes on
+            self.push(message=f"the solve failed: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
+                      busy=False)
+            return
         if ans is None or gen != self.generation:
             return
         self.scene = scene
         ex.remember(design, scene, ans)
-        self.push(**{f"e_{n.name}": [] for n in NUMBERS}, e_piezo=[], message="", **self._shown(ans), busy=False,
-                  answers=self.state["answers"] + 1)
+        self.push(**self._shown(ans), busy=False, answers=self.state["answers"] + 1)
         if ex.front is not None:
             await self._plot_front(ans, scene, gen)
-
-    def _failed(self, exc: Exception) -> None:
-        self.push(message=f"the solve failed: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
-                  busy=False)
 
     def _refused(self, exc: FieldError) -> None:
         self.explorer.refuse(self.client, str(exc))
