@@ -43,7 +43,7 @@ def test_the_rig_file_gives_the_probes_coefficient_or_says_it_is_unknown(tmp_pat
 def test_the_answers_friction_band_is_written_and_shown(tmp_path, coefficient):
     """taxel.jobs.friction_band on the main job's PZT front records (tests/data/answer): the
     thesis design's 2D probe press at each law. Its own law (sticking) reproduces the
-    probe front's stored 2D press (probe-front.json, the same model: ladder row 5) to 1e-6;
+    probe front's stored 2D press (probe-front.json, the same model: ladder row 5) to 1e-3 (its load path);
     the frictionless press is more sensitive (the silicone squeezed out under the punch
     strains the piezo more; measured +9.8 %), a coefficient from the rig lies between the
     limits, and the report's answer carries the band's table."""
@@ -61,8 +61,10 @@ def test_the_answers_friction_band_is_written_and_shown(tmp_path, coefficient):
     s = {leg["friction"]: leg["sensitivity_V_per_N"] for leg in thesis["legs"]}
     x = {leg["friction"]: leg["crosstalk"] for leg in thesis["legs"]}
     assert all(leg["success"] and leg["force_N"] == pytest.approx(1.0, rel=2e-3) for leg in thesis["legs"])
-    assert s["sticking"] == pytest.approx(ref["sensitivity 2D press (V/N)"], rel=1e-6)
-    assert x["sticking"] == pytest.approx(ref["crosstalk 2D press"], rel=1e-6)
+    # the same model; a sticking press depends on its load path, and the stored front's was made
+    # before a force step stopped at its target (fem.contact, 2026-11-29): 4.3e-4 apart since
+    assert s["sticking"] == pytest.approx(ref["sensitivity 2D press (V/N)"], rel=1e-3)
+    assert x["sticking"] == pytest.approx(ref["crosstalk 2D press"], rel=1e-3)
     assert s["frictionless"] > 1.05 * s["sticking"]
     if coefficient != "unknown":
         assert s["frictionless"] > s[coefficient] > 0.999 * s["sticking"]
