@@ -33,6 +33,17 @@ CHAIN_SCENE = "thesis-pzt-frequency"       # its [readout]: the thesis's charge 
 RIG = "thesis-bench"
 
 
+def bench_chain() -> dict:
+    """The bench's readout as scene data: CHAIN_SCENE's [readout] (the thesis's charge
+    amplifier and notch) with the simulated rig's mains hum."""
+    from taxel import api
+    from taxel.schema import to_data
+    from taxel.studies.bench.signals import Settings
+    chain = to_data(api.load(CHAIN_SCENE))["readout"]
+    chain["hum"] = [f"{v:g} V" for v in Settings().hum_V]          # the simulated rig's mains pickup
+    return chain
+
+
 def answer_readout(front_dir: Path) -> Path | None:
     """Write OUT/answer-readout.json for the answer of `front_dir` (a built-in optimization's folder)."""
     from taxel import api
@@ -42,15 +53,12 @@ def answer_readout(front_dir: Path) -> Path | None:
     from taxel.reports.answer import headline_front
     from taxel.scene import parse
     from taxel.studies.bench.rig import load_rig
-    from taxel.studies.bench.signals import Settings
     t0 = time.perf_counter()
     a = headline_front(front_dir)
     if a is None:
         return None
     prob = O.load_optimization(front_dir.name)
-    from taxel.schema import to_data
-    chain = to_data(api.load(CHAIN_SCENE))["readout"]
-    chain["hum"] = [f"{v:g} V" for v in Settings().hum_V]          # the simulated rig's mains pickup
+    chain = bench_chain()
     rig = load_rig(RIG)
     r = api.load(CHAIN_SCENE).readout
     rows = []

@@ -22,7 +22,6 @@ import time
 from pathlib import Path
 
 RIG = "thesis-bench"
-BENCH = {"readout.circuit": "charge_amplifier", "readout.notch": True, "warm_touch": {}}
 SCENES = {"pzt": "thesis-pzt-single-2d", "pvdf": "thesis-pvdf-single-2d"}
 
 
@@ -30,9 +29,9 @@ def thesis_scene(folder: Path):
     """The thesis design's 2D scene of an optimization folder's material (thesis-MAT-front:
     MAT), on the bench's chain with the rig's hum, with a default warm touch."""
     from taxel import api
-    from taxel.studies.bench.signals import Settings
+    from taxel.jobs.answer_readout import bench_chain
     material = Path(folder).name.split("-")[1]
-    return api.load(SCENES[material]).replace(**BENCH, **{"readout.hum": list(Settings().hum_V)})
+    return api.load(SCENES[material]).replace(readout=bench_chain(), warm_touch={})
 
 
 def warm_touch(folder: Path) -> float:
