@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from taxel.optimize.driver import Result, pareto_front, violation
+from taxel.optimize.relax import of_record
 
 RESULT_FILE = "result.json"
 # a base scene naming a readout: its numbers beside the open circuit's (taxel.analyses.solves.at_readout)
@@ -81,6 +82,7 @@ class OptimizationResult:
     reference: dict | None = None              # {"x": {name: value}, metric: value, ...}
     fem_solves: int = 0                        # distinct FEM solves in the run's store
     requirements: dict = field(default_factory=dict)   # the spec's [requirements] (optimize.requirements)
+    prices: list = field(default_factory=list)          # each binding requirement's price, searched (optimize.relax)
 
     @property
     def kind(self) -> str:
@@ -145,7 +147,7 @@ class OptimizationResult:
                 "nondominated": [{"sensitivity_V_per_N": s, "crosstalk": c} for s, c in self.nondominated],
                 "reference": self.reference, "reference_dominated": self.reference_dominated,
                 "evaluations": self.evaluations, "fem_solves": self.fem_solves,
-                "requirements": self.requirements}
+                "requirements": self.requirements, "prices": [r.record() for r in self.prices]}
 
     def summary(self) -> list[str]:
         """Lines for a person: the reference, the optimum or each front point, the cost."""
@@ -181,7 +183,9 @@ class OptimizationResult:
         """The requirements against the run's designs (optimize.answer): which design they choose,
         which requirement binds; when none meets them all, which is missed, by how much, and the closest."""
         from taxel.optimize.answer import Answer
-        return Answer.of(self).lines()
+        before = self.optimum.metrics if self.optimum is not None else {}
+        return Answer.of(self).lines() + [f"  {r.text(self.names, self.units, self.metric, before)}"
+                                          for r in self.prices]
 
     def to_folder(self, out: str | Path) -> list[Path]:
         """Write result.json and the report's files (optimum.json + optimum-history.csv,
@@ -208,7 +212,8 @@ class OptimizationResult:
                    [Constraint(*c) for c in rec["constraints"]],
                    None if rec["optimum"] is None else _run_of(rec["optimum"], list(rec["variables"])),
                    [FrontRun(r["crosstalk_bound"], _run_of(r["run"], list(rec["variables"]))) for r in rec["front"]],
-                   rec["reference"], rec["fem_solves"], rec.get("requirements", {}))
+                   rec["reference"], rec["fem_solves"], rec.get("requirements", {}),
+                   of_record(rec.get("prices", [])))
 
 
 def _run_record(r: Result) -> dict:

@@ -11,6 +11,7 @@ import numpy as np
 from taxel.optimize.result import Constraint, OptimizationResult
 from taxel.optimize import coverage
 from taxel.optimize.front import front
+from taxel.optimize.relax import relax
 from taxel.optimize.spec import Optimization, OptimizeError, magnitude, optimize
 from taxel.studies.store import Store
 
@@ -49,6 +50,7 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2)
         result.runs = front(problem, path, workers=workers)
     else:
         result.optimum = optimize(problem)
+        result.prices = relax(problem, result.optimum)      # what each binding requirement costs
     required_influence_metrics(problem, result)
     if problem.out is not None:
         store = Store(problem.out)

@@ -33,12 +33,13 @@ def _requirements(folder: Path) -> list[dict]:
     from taxel.optimize.result import OptimizationResult
     if not (folder / "result.json").exists():
         return []
-    ans = Answer.of(OptimizationResult.from_folder(folder))
-    rows = ans.rows()
+    result = OptimizationResult.from_folder(folder)
+    rows = Answer.of(result).rows()
     if not rows:
         return []
+    lines = result.verdict()              # the answer's lines and each binding requirement's price (optimize.relax)
     return [{"type": "table", "table": tables.table(rows, title="requirements")},
-            {"type": "note", "text": " ".join(ans.lines()[:1] + [ln.strip() for ln in ans.lines() if "binds" in ln])}]
+            {"type": "note", "text": " ".join(lines[:1] + [ln.strip() for ln in lines if "bind" in ln])}]
 
 
 def _front_rows(rows: list[dict], ref: dict | None, s_key: str, c_key: str, label: str = "thesis design"):

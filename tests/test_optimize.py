@@ -122,12 +122,33 @@ def test_api_optimize_returns_one_result_type_for_an_optimum(tmp_path):
     assert isinstance(r, OptimizationResult) and r.kind == "optimum" and r.runs == []
     assert r.optimum.success and r.optimum.x[0] == pytest.approx(1.0, abs=0.02)
     assert r.reference is None and r.reference_dominated is None
-    assert 0 < r.fem_solves <= r.optimum.nfev
+    assert 0 < r.fem_solves <= r.optimum.nfev + sum(x.evaluations for x in r.prices)
     assert r.summary()[0].startswith("optimum: silicone_above = ")
     for name in ("result.json", "optimum.json", "optimum-history.csv", "optimum-convergence.png"):
         assert (out / name).stat().st_size > 0
     back = OptimizationResult.from_folder(out)
     assert back.record() == json.loads(json.dumps(r.record()))
+
+
+def test_a_binding_requirement_is_priced_by_searching_again_with_its_bound_relaxed(tmp_path):
+    """The coarse problem's optimum sits at total thickness <= 2.127 mm (the sensitivity rises
+    with the top silicone, Fig. 2.5; below 1 mm and the piezo 0.127 mm fixed). Relaxed by the
+    stated 10 %, the bound is 2.3397 mm, so the new optimum is at silicone above
+    2.3397 - 1.127 = 1.2127 mm (closed form), more sensitive; max_strain <= 5, far from its
+    bound at the optimum, is not tried. The price reaches the summary and result.json."""
+    from taxel import api
+    from taxel.optimize import relax
+    from taxel.optimize.result import OptimizationResult
+    r = api.run_optimization(coarse_problem(tmp_path), tmp_path / "o", workers=1)
+    assert [x.metric for x in r.prices] == ["total_thickness"]
+    p = r.prices[0]
+    assert p.relaxed == pytest.approx(2.127e-3 * (1 + relax.STEP))
+    assert p.x[0] == pytest.approx(2.127 * (1 + relax.STEP) - 1.127, abs=0.02)
+    assert p.metrics["total_thickness"] <= p.relaxed * (1 + 1e-6)
+    assert p.metrics["sensitivity"] > r.optimum.metrics["sensitivity"] * 1.01
+    line = next(ln for ln in r.summary() if "binds" in ln)
+    assert "total thickness ≤ 2.13 mm binds: at ≤ 2.34 mm (+10 %), sensitivity" in line
+    assert OptimizationResult.from_folder(tmp_path / "o").prices == r.prices
 
 
 def test_api_optimize_returns_one_result_type_for_a_front(tmp_path):
