@@ -18,7 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 from taxel.optimize.metrics import METRIC_TABLE
-from taxel.optimize.requirements import SLACK, Choice, Requirement, choose, implied, read, relaxations, value_of
+from taxel.optimize.requirements import (OBJECTIVE, SLACK, Choice, Requirement, choose, implied, read, relaxations,
+                                         value_of)
 from taxel.units import engineering, quantity
 
 
@@ -61,9 +62,10 @@ def _bound(r: Requirement) -> str:
     return r.text()[len(METRIC_TABLE[r.metric].label) + 1:]
 
 
-def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None) -> list[Price]:
+def prices(candidates: list[dict], reqs: list[Requirement], chosen: int | None,
+           objective: tuple[str, str] = OBJECTIVE) -> list[Price]:
     """What relaxing each stated requirement buys (optimize.requirements.relaxations), as Prices."""
-    return [Price(reqs[i], v, d) for i, v, d in relaxations(candidates, reqs, chosen)]
+    return [Price(reqs[i], v, d) for i, v, d in relaxations(candidates, reqs, chosen, objective)]
 
 
 def reference_label(name: str) -> str:
@@ -73,7 +75,8 @@ def reference_label(name: str) -> str:
     return "thesis design" if name and (BUILTIN / f"{name}.toml").exists() else "reference design"
 
 
-def _si(value: float, unit: str) -> float:
+def si(value: float, unit: str) -> float:
+    """A variable's value in its own unit, in SI."""
     return float(quantity(f"{float(value)!r} {unit}").to_base_units().magnitude) if unit else float(value)
 
 
@@ -83,6 +86,7 @@ class Answer:
     requirements: list[Requirement]
     designs: list[Design]
     choice: Choice
+    objective: tuple[str, str] = OBJECTIVE      # the run's (sense, metric): the choice's rule 2
 
     @classmethod
     def of(cls, result) -> "Answer":
@@ -90,18 +94,19 @@ class Answer:
         designs = []
         ref = result.reference
         if ref and ref.get("sensitivity") is not None:
-            designs.append(Design("reference", {n: _si(ref["x"][n], u) for n, u in zip(result.names, result.units)},
+            designs.append(Design("reference", {n: si(ref["x"][n], u) for n, u in zip(result.names, result.units)},
                                   {k: v for k, v in ref.items() if k != "x"},
                                   {n: f"{ref['x'][n]:.4g} {u}".strip() for n, u in zip(result.names, result.units)}))
         runs = [("optimum", result.optimum)] if result.optimum is not None else \
             [(f"front: crosstalk <= {100 * r.bound:.3g} %", r.result) for r in result.runs if r.bound is not None]
         for label, r in runs:
             if r is not None and r.metrics.get("sensitivity") is not None:
-                designs.append(Design(label, {n: _si(v, u) for n, u, v in zip(result.names, result.units, r.x)},
+                designs.append(Design(label, {n: si(v, u) for n, u, v in zip(result.names, result.units, r.x)},
                                       dict(r.metrics), {n: f"{v:.4g} {u}".strip()
                                                         for n, u, v in zip(result.names, result.units, r.x)}))
         reqs = implied(read(result.requirements), ref or {})
-        return cls(reqs, designs, choose([d.metrics for d in designs], reqs))
+        objective = (result.sense, result.metric)
+        return cls(reqs, designs, choose([d.metrics for d in designs], reqs, objective), objective)
 
     @property
     def chosen(self) -> Design | None:
@@ -168,7 +173,7 @@ class Answer:
             out.append(f"  closest to its bound: {b[0].text()} ({'met with' if b[1] >= 0 else 'missed by'} "
                        f"{abs(100 * b[1]):.3g} %)")
         metrics = [x.metrics for x in self.designs]
-        for p in prices(metrics, self.requirements, self.choice.recommended):
+        for p in prices(metrics, self.requirements, self.choice.recommended, self.objective):
             out.append(f"  {p.text(metrics, self.chosen.metrics if self.chosen else None)} "
                        f"(the {self.designs[p.design].label} design: {self.designs[p.design].text()})")
         return out

@@ -11,7 +11,7 @@ metric per line, in the grammar a tolerance study's `[requirements]` uses
 
 The same table is the yield's spec (optimize.robust: the fraction of parts meeting
 every requirement) and the answer's: the report recommends, per optimization, the
-design that meets every requirement with the largest margin.
+design that meets every requirement and is the best by the search's objective.
 
 Margin of one requirement, relative to its bound and signed so that a positive
 margin meets it:
@@ -29,24 +29,28 @@ minus 1 (the thesis PZT design's 0.992 misses by 0.8 %); relaxing it lowers that
 ("coverage ≥ 99.2 % of the detection threshold at the weakest point"). A bound below
 100 % is judged on the fraction of the surface.
 
-How margins are weighed (`choose`):
-  1. limits (geometry: total_thickness, pitch, gap, footprint; coverage, localization_error,
-     the strain limit max_strain, the yield) are met or not (a requirement is a constraint); their margin is shown, never maximized (a thinner sensor is not a better one,
-     and a surface that is live everywhere cannot be more so);
-  2. among the designs meeting every requirement, the recommended one has the
-     largest smallest margin over the performance requirements (sensitivity,
-     crosstalk, minimum detectable force, ...): every performance requirement
-     weighs the same, in relative terms; where the smallest margins tie, the next
-     smallest decides (leximin), then the more sensitive design; margins within a
-     requirement's tolerance count as zero;
+How the answer chooses (`choose`):
+  1. every requirement is met or not (a requirement is a constraint, its margin shown, never
+     maximized: a thinner sensor is not a better one, a crosstalk far under its bound is not
+     asked for, and a surface that is live everywhere cannot be more so);
+  2. among the designs meeting every requirement, the recommended one is the best by the
+     search's own objective (the most sensitive, for `maximize = "sensitivity"`); where two
+     are equal to within TIE, the larger smallest margin over the performance requirements
+     (sensitivity, crosstalk, minimum detectable force, ...; leximin) decides; margins within
+     a requirement's tolerance count as zero;
   3. where the file states no requirement on sensitivity, crosstalk or the readout's
-     resolution (CORE), the reference design's own sensitivity and crosstalk are the bar (implied requirements: at least as
-     sensitive, at most its crosstalk), so the recommendation is a design better
-     than the reference in both, with the largest balanced gain (when no design is, the
-     bar is dropped and the stated requirements alone decide);
+     resolution (CORE), the reference design's own sensitivity and crosstalk are the bar
+     (implied requirements: at least as sensitive, at most its crosstalk), so the
+     recommendation is the best design, by the objective, that is better than the reference
+     in both (when no design is, the bar is dropped and the stated requirements alone decide);
   4. where no design meets every requirement, there is no recommendation: the
      answer names the binding requirement, the one the closest design (largest
      smallest margin over all requirements) misses by most, and by how much.
+
+The objective decides, not the margins, because the margins would choose against the
+user: with crosstalk <= 3 % the only performance requirement, the largest margin is the
+least crosstalk at any cost in sensitivity (a user's PVDF front: 0.27 % crosstalk at
+5.41 V/N, over 2.99 % at 9.40 V/N, with `maximize = "sensitivity"` stated).
 """
 
 from __future__ import annotations
@@ -70,14 +74,14 @@ MET_OR_NOT = (*LIMITS, "coverage", "localization_error", "max_strain", "yield") 
 # rule 3: the reference's sensitivity and crosstalk are the bar unless one of these is stated
 CORE = ("sensitivity", "tangent_sensitivity", "readout_sensitivity", "min_detectable_force", "snr", "dynamic_range",
         "crosstalk", "readout_crosstalk", "robust_sensitivity", "robust_crosstalk")
-RULE = ("Each requirement's margin is relative to its bound, positive when met. Limits on geometry (thickness, "
-        "pitch, gap), coverage, localization and strain must be met; among the designs meeting every requirement the recommended one has the largest "
-        "smallest margin on the performance requirements, each weighing the same (on a tie, the next smallest, then "
-        "the more sensitive design).")
+RULE = ("Each requirement's margin is relative to its bound, positive when met. Every requirement must be met; "
+        "among the designs meeting them all the recommended one is the best by the search's objective (on a tie, "
+        "the one with the larger smallest margin on the performance requirements).")
 IMPLIED = ("No performance requirement is stated, so among the designs meeting every requirement the "
            "recommendation prefers one at least as sensitive as the reference design with at most its crosstalk "
-           "(a preference, not a requirement: it is not in the requirements table and has no price), else the "
-           "most sensitive.")
+           "(a preference, not a requirement: it is not in the requirements table and has no price), the best of "
+           "those by the objective, else the best by the objective.")
+OBJECTIVE = ("maximize", "sensitivity")     # the fronts' objective (a front maximizes sensitivity)
 # The optimizer's metrics as the requirement grammar's outputs: name -> SI unit ("" a ratio)
 OUTPUTS = {k: m.si_unit for k, m in METRIC_TABLE.items()}
 
@@ -183,9 +187,10 @@ class Choice:
     notes: list[str] = field(default_factory=list)
 
 
-def choose(candidates: list[dict], reqs: list[Requirement]) -> Choice:
+def choose(candidates: list[dict], reqs: list[Requirement], objective: tuple[str, str] = OBJECTIVE) -> Choice:
     """The design among `candidates` (metric -> SI value each) that meets every
-    requirement with the largest margin (the module's rules 1, 2 and 4)."""
+    requirement and is the best by `objective` ("maximize" | "minimize", metric), the
+    largest smallest performance margin breaking a tie (the module's rules 1 to 4)."""
     verdicts = [judge(c, reqs) for c in candidates]
     ok = [i for i, v in enumerate(verdicts) if v.meets]
     notes = [RULE]
@@ -193,13 +198,20 @@ def choose(candidates: list[dict], reqs: list[Requirement]) -> Choice:
         notes.append(IMPLIED)
     if not ok and any(not r.stated for r in reqs):      # no design beats the reference in both: drop the bar
         stated = [r for r in reqs if r.stated]
-        got = choose(candidates, stated)
+        got = choose(candidates, stated, objective)
         got.notes.append("No design is both at least as sensitive as the reference and at most its crosstalk: "
                          "the reference's bar is dropped, the stated requirements alone decide.")
         return got
     if ok:
-        best = max(ok, key=lambda i: (tuple(round(m, 9) for m in verdicts[i].weighed),
-                                      candidates[i].get("sensitivity") or 0.0))
+        sense, metric = objective
+        sign = 1.0 if sense == "maximize" else -1.0
+
+        def goal(i):
+            v = candidates[i].get(metric)
+            return -math.inf if v is None or not math.isfinite(v) else sign * v
+        top = max(goal(i) for i in ok)
+        tied = [i for i in ok if goal(i) >= top - TIE * abs(top)]
+        best = max(tied, key=lambda i: (tuple(round(m, 9) for m in verdicts[i].weighed), goal(i)))
         return Choice(best, verdicts, reqs, None, notes)
     closest = max(range(len(candidates)), key=lambda i: verdicts[i].worst[1] if verdicts[i].worst else -math.inf,
                   default=None)
@@ -207,7 +219,8 @@ def choose(candidates: list[dict], reqs: list[Requirement]) -> Choice:
     return Choice(None, verdicts, reqs, binding, notes)
 
 
-def relaxations(candidates: list[dict], reqs: list[Requirement], chosen: int | None) -> list[tuple[int, float, int]]:
+def relaxations(candidates: list[dict], reqs: list[Requirement], chosen: int | None,
+                objective: tuple[str, str] = OBJECTIVE) -> list[tuple[int, float, int]]:
     """For each stated requirement (the reference design's implied bar is a preference among the
     designs meeting them, not a requirement: it has no price), the smallest relaxation that
     changes the choice (`choose`) among `candidates`: each candidate's own value that misses
@@ -223,7 +236,7 @@ def relaxations(candidates: list[dict], reqs: list[Requirement], chosen: int | N
                         key=lambda v: abs(v - r.bound))
         for v in missed:
             relaxed = [replace(q, bound=v) if j == i else q for j, q in enumerate(reqs)]
-            ch = choose(candidates, relaxed)
+            ch = choose(candidates, relaxed, objective)
             if ch.recommended is not None and ch.recommended != chosen:
                 out.append((i, v, ch.recommended))
                 break

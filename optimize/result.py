@@ -183,9 +183,7 @@ class OptimizationResult:
         """The requirements against the run's designs (optimize.answer): which design they choose,
         which requirement binds; when none meets them all, which is missed, by how much, and the closest."""
         from taxel.optimize.answer import Answer
-        before = self.optimum.metrics if self.optimum is not None else {}
-        return Answer.of(self).lines() + [f"  {r.text(self.names, self.units, self.metric, before)}"
-                                          for r in self.prices]
+        return Answer.of(self).lines() + [f"  {r.text(self.names, self.units, self.metric)}" for r in self.prices]
 
     def to_folder(self, out: str | Path) -> list[Path]:
         """Write result.json and the report's files (optimum.json + optimum-history.csv,

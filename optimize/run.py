@@ -50,8 +50,8 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2)
         result.runs = front(problem, path, workers=workers)
     else:
         result.optimum = optimize(problem)
-        result.prices = relax(problem, result.optimum)      # what each binding requirement costs
     required_influence_metrics(problem, result)
+    result.prices = relax(problem, chosen_run(result))      # what each binding requirement costs
     if problem.out is not None:
         store = Store(problem.out)
         try:
@@ -59,6 +59,21 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2)
         finally:
             store.close()
     return result
+
+
+def chosen_run(result: OptimizationResult):
+    """The optimizer's run (driver.Result) of the design the answer chooses (optimize.answer):
+    the optimum, or the front run it picks; None when it picks the reference or none."""
+    from taxel.optimize.answer import Answer, si
+    chosen = Answer.of(result).chosen
+    if chosen is None or chosen.label == "reference":
+        return None
+    runs = [result.optimum] if result.optimum is not None else [r.result for r in result.runs]
+    for r in runs:
+        if r is not None and all(abs(si(v, u) - chosen.x[n]) <= 1e-12 * max(abs(chosen.x[n]), 1e-300)
+                                 for n, u, v in zip(result.names, result.units, r.x)):
+            return r
+    return None
 
 
 def required_influence_metrics(problem: Optimization, result: OptimizationResult) -> None:

@@ -47,7 +47,7 @@ m), footprint (array width along x, m), gap (m), pitch (taxel width + gap, m).
 
 [requirements] states what the sensor must meet (optimize.requirements): the
 search's constraints (`searched`), the yield's spec and the answer's (the report
-recommends the design meeting every requirement with the largest margin). The
+recommends the design meeting every requirement that is best by the objective). The
 retired [constraints] table is refused with the lines to move.
 
 Discretisation noise: the mesh is rebuilt for every design, so the objective

@@ -54,19 +54,33 @@ def test_margin_is_relative_and_signed():
     assert r.margin(None) is None and r.margin(float("nan")) is None
 
 
-def test_choose_limits_exclude_then_leximin_then_binding():
+def test_choose_limits_exclude_then_the_objective_then_leximin_then_binding():
     reqs = read({"pitch": "<= 7 mm", "crosstalk": "<= 2 %", "sensitivity": ">= 0.5 V/N"})
-    a = {"pitch": 6e-3, "crosstalk": 0.019, "sensitivity": 0.9}      # crosstalk margin 5 %
-    b = {"pitch": 7e-3, "crosstalk": 0.01, "sensitivity": 0.6}       # smallest margin 20 %: recommended
+    a = {"pitch": 6e-3, "crosstalk": 0.019, "sensitivity": 0.9}      # the most sensitive that meets all: recommended
+    b = {"pitch": 7e-3, "crosstalk": 0.01, "sensitivity": 0.6}       # larger smallest margin (20 % against 5 %)
     c = {"pitch": 8e-3, "crosstalk": 0.001, "sensitivity": 1.0}      # breaks the pitch limit
     ch = choose([a, b, c], reqs)
-    assert ch.recommended == 1 and not ch.verdicts[2].meets and ch.binding is None
+    assert ch.recommended == 0 and not ch.verdicts[2].meets and ch.binding is None
+    # the objective is the run's: minimizing crosstalk takes b
+    assert choose([a, b, c], reqs, ("minimize", "crosstalk")).recommended == 1
+    # equal by the objective (within TIE): the larger smallest margin decides (leximin)
+    assert choose([a, dict(b, sensitivity=0.9 * (1 + 1e-4))], reqs).recommended == 1
     # a thinner design is not a better one: the limits' margins are not weighed
     assert choose([b, dict(b, pitch=5e-3)], reqs).recommended == 0
     none = choose([c, {"pitch": 6e-3, "crosstalk": 0.03, "sensitivity": 0.9}], reqs)
     assert none.recommended is None
     # the closest design misses pitch by 1/7 (the other misses crosstalk by 1/2): pitch binds
     assert none.binding[0] == "pitch" and none.binding[1] == pytest.approx(-1 / 7)
+
+
+def test_a_crosstalk_requirement_alone_does_not_buy_crosstalk_with_sensitivity():
+    """A user's PVDF front (thickness <= 1.5 mm, crosstalk <= 3 %, maximize sensitivity): the
+    design at 2.99 % and 9.40 V/N is recommended, not the one at 0.27 % and 5.41 V/N that the
+    largest crosstalk margin would take (the objective decides among designs meeting them all)."""
+    reqs = read({"total_thickness": "<= 1.5 mm", "crosstalk": "<= 3 %"})
+    low = {"total_thickness": 0.668e-3, "crosstalk": 0.0027, "sensitivity": 5.41}
+    high = {"total_thickness": 1.48e-3, "crosstalk": 0.0299, "sensitivity": 9.40}
+    assert choose([low, high], reqs).recommended == 1
 
 
 def test_implied_bar_is_the_reference_design():
