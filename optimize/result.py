@@ -81,6 +81,7 @@ class OptimizationResult:
     reference: dict | None = None              # {"x": {name: value}, metric: value, ...}
     fem_solves: int = 0                        # distinct FEM solves in the run's store
     requirements: dict = field(default_factory=dict)   # the spec's [requirements] (optimize.requirements)
+    paths: dict = field(default_factory=dict)          # variable -> its scene path ("array.gap")
 
     @property
     def kind(self) -> str:
@@ -145,7 +146,7 @@ class OptimizationResult:
                 "nondominated": [{"sensitivity_V_per_N": s, "crosstalk": c} for s, c in self.nondominated],
                 "reference": self.reference, "reference_dominated": self.reference_dominated,
                 "evaluations": self.evaluations, "fem_solves": self.fem_solves,
-                "requirements": self.requirements}
+                "requirements": self.requirements, "paths": self.paths}
 
     def summary(self) -> list[str]:
         """Lines for a person: the reference, the optimum or each front point, the cost."""
@@ -208,7 +209,7 @@ class OptimizationResult:
                    [Constraint(*c) for c in rec["constraints"]],
                    None if rec["optimum"] is None else _run_of(rec["optimum"], list(rec["variables"])),
                    [FrontRun(r["crosstalk_bound"], _run_of(r["run"], list(rec["variables"]))) for r in rec["front"]],
-                   rec["reference"], rec["fem_solves"], rec.get("requirements", {}))
+                   rec["reference"], rec["fem_solves"], rec.get("requirements", {}), rec.get("paths", {}))
 
 
 def _run_record(r: Result) -> dict:
