@@ -1,9 +1,10 @@
-"""The answer's types: one design in engineering units (`AnswerDesign`: its table row
-and its answer.csv rows), the answer of one optimization folder (`FrontAnswer`: the
-recommended and the reference design, the model and error band of their numbers, the
-requirements, what the recommendation trades, the model ladder), and a noise budget's
-minimum detectable force (`NoiseFloor`). reports.answer reads a folder into them and
-draws the index's answer block from them."""
+"""The answer's view types: one design as the page draws it (`AnswerDesign`: the owner's
+design, optimize.answer_folder.FolderAnswer's, with its table row and its answer.csv rows),
+the answer of one optimization folder as drawn (`FrontAnswer`: the recommended and the
+reference design, the model and error band of their numbers, the requirements, what the
+recommendation trades, the model ladder), and a noise budget's minimum detectable force
+(`NoiseFloor`). reports.answer builds them from the owner and draws the index's answer
+block from them; nothing here chooses."""
 
 from __future__ import annotations
 
