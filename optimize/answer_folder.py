@@ -2,7 +2,7 @@
 holds every candidate as a design (optimize.answer.Design: the optimization's own
 variables, name -> SI value, with its metrics, SI), chooses among them with the folder's
 requirements and prices each binding one, and writes and reads what the jobs add to the
-folder (the answer's coverage, 3D presses and readout numbers). Jobs call it; reports
+folder (the answer's coverage, 3D presses, readout numbers and friction band). Jobs call it; reports
 draw it (reports.answer.headline_front); nothing is solved here.
 
     a = FolderAnswer.read(folder)        # None when the folder holds no answer
@@ -10,7 +10,7 @@ draw it (reports.answer.headline_front); nothing is solved here.
     a.priced                             # [(Price, Design)]: what relaxing a binding requirement buys
     a.answer_designs()                   # recommended, reference, the priced ones: each once
     a.array(d)                           # the design's array (taxel.scene_tables.ArrayTable)
-    a.add_coverage(d, values); a.write_presses(presses); a.write_readout(record)
+    a.add_coverage(d, values); a.write_presses(presses); a.write_readout(record); a.write_friction_band(record)
 
 The headline record, first found: the front under the rig's probe (probe-front.json, its
 3D presses in it, the linear 3D-verified front beside it as `linear`), else the
@@ -235,6 +235,13 @@ class FolderAnswer:
     def write_readout(self, record: dict) -> Path:
         """The answer's designs through the bench's chain (taxel.jobs.answer_readout) into READOUT_FILE."""
         out = self.folder / READOUT_FILE
+        out.write_text(json.dumps(record, indent=1))
+        return out
+
+    def write_friction_band(self, record: dict) -> Path:
+        """The answer's friction band (taxel.jobs.friction_band) into optimize.band.FRICTION_FILE."""
+        from taxel.optimize.band import FRICTION_FILE
+        out = self.folder / FRICTION_FILE
         out.write_text(json.dumps(record, indent=1))
         return out
 

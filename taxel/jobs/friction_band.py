@@ -1,7 +1,8 @@
 """The answer's friction band (main job): the recommended and the thesis design of an
 optimization folder pressed by the rig's probe when it is frictionless, at the rig's
 Coulomb coefficient (`[probe] friction` of the rig file, when it gives a number) and
-sticking; written to OUT/friction-band.json, the report's answer shows it
+sticking; written to OUT/friction-band.json by the answer's owner
+(optimize.answer_folder.FolderAnswer.write_friction_band), the report's answer shows it
 (reports.friction_band).
 
 Model: the probe front's own level-B press (optimize.probe_front: the [press] probe of the
@@ -20,11 +21,8 @@ benchmarks/friction_band_job.py.
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
-
-from taxel.reports.friction_band import FILE
 
 RIG = "thesis-bench"
 # benchmarks/friction_band_3d.py (one run, load 4-6 on 2 cores): the thesis PZT design under the
@@ -115,8 +113,7 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
            "reference": datas[0]["load"]["friction"], "model": model, "three_d": THREE_D,
            "designs": rows, "seconds": time.perf_counter() - t0,
            "presses": sum(len(t[1]) for t in tasks), "workers": workers}
-    out = front_dir / FILE
-    out.write_text(json.dumps(rec, indent=1))
+    out = a.write_friction_band(rec)
     for d in rows:
         print(f"      friction band, {front_dir.name} {d['role']}: " + ", ".join(
             f"{leg['friction']} " + ("no state" if leg["sensitivity_V_per_N"] is None else
