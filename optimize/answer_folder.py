@@ -106,13 +106,12 @@ class FolderAnswer:
         if kind == "probe-front":
             vs = _variables(rec.get("name") or folder.name, rec["reference"])
             s, c = "sensitivity (V/N)", "crosstalk"
-            rows = [d for d in rec["front"] if d["x"] != rec["reference"]["x"] and d.get(s) is not None]
-            ref, named = rec["reference"], [(r, {s: r[s], c: r[c]}) for r in rows]
-            refm = {"sensitivity": ref[s], "crosstalk": ref[c]}
-            xs = [dict(zip((v.name for v in vs), r["x"])) for r, _ in named]
+            ref = rec["reference"]
+            rows = [d for d in rec["front"] if d["x"] != ref["x"] and d.get(s) is not None]
+            xs = [dict(zip((v.name for v in vs), r["x"])) for r in rows]
+            mets = [{"sensitivity": r[s], "crosstalk": r[c]} for r in rows]
             ref_x = dict(zip((v.name for v in vs), ref["x"]))
-            mets = [{"sensitivity": m[s], "crosstalk": m[c]} for _, m in named]
-            role = "thesis"
+            refm, role = {"sensitivity": ref[s], "crosstalk": ref[c]}, "thesis"
         elif kind == "front-3d":
             ref = rec["reference"]
             vs = _variables(folder.name, ref)
@@ -179,9 +178,10 @@ class FolderAnswer:
         """The design's array: the scene's [array] with the design's variables set at their paths."""
         from taxel.scene_tables import ArrayTable
         data = json.loads(json.dumps(self.scene.get("array") or {}))
-        for v in self.variables:
-            if v.path.startswith("array.") and v.name in d.x:
-                data[v.path.split(".", 1)[1]] = f"{d.x[v.name]!r} m" if _unit(v.unit) != 1.0 else d.x[v.name]
+        for v in self.variables:          # a variable elsewhere in the scene does not move the array
+            key = v.path.split(".", 1)[1] if v.path.startswith("array.") else None
+            if key in ArrayTable.model_fields and v.name in d.x:
+                data[key] = f"{d.x[v.name]!r} m" if v.unit else d.x[v.name]
         return ArrayTable.model_validate(data)
 
     # -- the choice ----------------------------------------------------------------------------
