@@ -32,7 +32,7 @@ from pathlib import Path
 from taxel.jobs.friction_band import friction_band
 from taxel.optimize import spec as O
 from taxel.optimize.probe import press_scene, stored_press
-from taxel.reports.answer import headline_front
+from taxel.optimize.answer_folder import FolderAnswer
 from taxel.studies.store import Store
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "answer"
@@ -46,14 +46,12 @@ def prepared(root: Path) -> list[Path]:
         folder = root / name
         shutil.copytree(DATA / name, folder)
         probe = O.load_optimization(name.replace("-front", "-probe-front"), folder)
-        a = headline_front(folder)
+        a = FolderAnswer.read(folder)
         store = Store(folder)
         try:
-            for d in (a.recommended, a.thesis):
-                if d is not None:
-                    x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-                    stored_press(store, press_scene(probe.scene_data([x[n] for n in probe.names]), probe.spec.press),
-                                 probe.spec.press)
+            for d in a.answer_designs(("recommended", a.reference.label)):
+                stored_press(store, press_scene(probe.scene_data(d.vector(probe.names)), probe.spec.press),
+                             probe.spec.press)
         finally:
             store.close()
         out.append(folder)

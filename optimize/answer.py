@@ -16,6 +16,7 @@ is optimize.requirements.choose's (its rules 1 to 4).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 
 from taxel.optimize.metrics import METRIC_TABLE
 from taxel.optimize.requirements import (OBJECTIVE, SLACK, Choice, Requirement, choose, implied, read, relaxations,
@@ -25,15 +26,38 @@ from taxel.units import engineering, quantity
 
 @dataclass
 class Design:
-    """One candidate: its variables (name -> SI value), its metrics (SI) and what it is."""
-    label: str                                  # "reference", "optimum", "front: crosstalk <= 1.2 %"
+    """One candidate: its variables (name -> SI value), its metrics (SI) and what it is. The
+    same type holds a run's candidates (`Answer`) and an optimization folder's answer designs
+    (optimize.answer_folder.FolderAnswer)."""
+    label: str                                  # "reference", "optimum", "front: crosstalk <= 1.2 %", "recommended"
     x: dict[str, float]
     metrics: dict = field(default_factory=dict)
-    shown: dict[str, str] = field(default_factory=dict)    # name -> the value in the variable's own unit
+    units: dict[str, str] = field(default_factory=dict)    # name -> the variable's own unit ("" a number)
+    margins: dict = field(default_factory=dict)            # metric -> relative margin (optimize.requirements)
+    record: dict = field(default_factory=dict)             # the design's own row of the record it was read from
+
+    def in_units(self) -> dict[str, float]:
+        """The variables in their own units ({"gap": 3.0} for a gap in mm): how a folder's records key a design."""
+        return {n: float(f"{v / _factor(self.units.get(n, '')):.15g}") for n, v in self.x.items()}
+
+    def vector(self, names: list[str]) -> list[float]:
+        """The variables `names` in their own units, in that order (an Optimization's x)."""
+        got = self.in_units()
+        return [got[n] for n in names]
+
+    def same(self, other: "Design", tol: float = 1e-6) -> bool:
+        """The same design: every variable within `tol` of the other's, in its own unit."""
+        a, b = self.in_units(), other.in_units()
+        return a.keys() == b.keys() and all(abs(a[n] - b[n]) <= tol for n in a)
+
+    @property
+    def shown(self) -> dict[str, str]:
+        """name -> the value in the variable's own unit: "1 mm"."""
+        return {n: f"{v:.4g} {self.units.get(n, '')}".strip() for n, v in self.in_units().items()}
 
     def text(self) -> str:
         """"silicone above 1 mm, gap 3 mm" (the variables' names in words, as the pages write them)."""
-        return ", ".join(f"{n.replace('_', ' ')} {self.shown.get(n, f'{v:.4g}')}" for n, v in self.x.items())
+        return ", ".join(f"{n.replace('_', ' ')} {s}" for n, s in self.shown.items())
 
 
 @dataclass
@@ -77,7 +101,13 @@ def reference_label(name: str) -> str:
 
 def si(value: float, unit: str) -> float:
     """A variable's value in its own unit, in SI."""
-    return float(quantity(f"{float(value)!r} {unit}").to_base_units().magnitude) if unit else float(value)
+    return float(value) * _factor(unit)
+
+
+@lru_cache(maxsize=None)
+def _factor(unit: str) -> float:
+    """SI value of one `unit` ("mm" -> 0.001; "" a plain number: 1)."""
+    return float(quantity(f"1 {unit}").to_base_units().magnitude) if unit else 1.0
 
 
 @dataclass
@@ -92,18 +122,17 @@ class Answer:
     def of(cls, result) -> "Answer":
         """The answer of an OptimizationResult (optimize.result)."""
         designs = []
+        units = dict(zip(result.names, result.units))
         ref = result.reference
         if ref and ref.get("sensitivity") is not None:
             designs.append(Design("reference", {n: si(ref["x"][n], u) for n, u in zip(result.names, result.units)},
-                                  {k: v for k, v in ref.items() if k != "x"},
-                                  {n: f"{ref['x'][n]:.4g} {u}".strip() for n, u in zip(result.names, result.units)}))
+                                  {k: v for k, v in ref.items() if k != "x"}, units))
         runs = [("optimum", result.optimum)] if result.optimum is not None else \
             [(f"front: crosstalk <= {100 * r.bound:.3g} %", r.result) for r in result.runs if r.bound is not None]
         for label, r in runs:
             if r is not None and r.metrics.get("sensitivity") is not None:
                 designs.append(Design(label, {n: si(v, u) for n, u, v in zip(result.names, result.units, r.x)},
-                                      dict(r.metrics), {n: f"{v:.4g} {u}".strip()
-                                                        for n, u, v in zip(result.names, result.units, r.x)}))
+                                      dict(r.metrics), units))
         reqs = implied(read(result.requirements), ref or {})
         objective = (result.sense, result.metric)
         return cls(reqs, designs, choose([d.metrics for d in designs], reqs, objective), objective)

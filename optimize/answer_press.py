@@ -179,7 +179,8 @@ def rule(problem, x, model: dict = PRESS_3D, log=print) -> dict:
 
 
 def write(front_dir: Path, presses: list[AnswerPress], model: dict = PRESS_3D) -> None:
-    """The presses into the folder's probe-front.json (KEY), where the answer reads them."""
+    """The presses into the folder's probe-front.json (KEY), where the answer reads them (through its
+    owner: optimize.answer_folder.FolderAnswer.write_presses)."""
     path = Path(front_dir) / PROBE_FILE
     rec = json.loads(path.read_text())
     rec[KEY] = {"model": dict(model), "calibration": CALIBRATION if model == PRESS_3D else None,

@@ -25,7 +25,7 @@ def check_3d(problem, result, workers: int = 2) -> dict:
     picked = [d for d in (ans.closest, next((d for d in ans.designs if d.label == "reference"), None))
               if d is not None]
     picked = list({id(d): d for d in picked}.values())
-    xs = [np.array([_in_units(d.shown[n]) for n in problem.names]) for d in picked]
+    xs = [np.array(d.vector(problem.names)) for d in picked]
     got = solve_3d(problem, xs, workers) if xs else []
     rows = []
     for d, g in zip(picked, got):
@@ -38,11 +38,6 @@ def check_3d(problem, result, workers: int = 2) -> dict:
     if problem.out is not None:
         Path(problem.out, FILE).write_text(json.dumps(rec, indent=1))
     return rec
-
-
-def _in_units(shown: str) -> float:
-    """The number of "1.039 mm" (a variable in its own unit, as the problem's x holds it)."""
-    return float(shown.split()[0])
 
 
 def lines(rec: dict) -> list[str]:

@@ -83,6 +83,7 @@ class OptimizationResult:
     fem_solves: int = 0                        # distinct FEM solves in the run's store
     requirements: dict = field(default_factory=dict)   # the spec's [requirements] (optimize.requirements)
     prices: list = field(default_factory=list)          # each binding requirement's price, searched (optimize.relax)
+    paths: dict = field(default_factory=dict)          # variable -> its scene path ("array.gap")
 
     @property
     def kind(self) -> str:
@@ -147,7 +148,8 @@ class OptimizationResult:
                 "nondominated": [{"sensitivity_V_per_N": s, "crosstalk": c} for s, c in self.nondominated],
                 "reference": self.reference, "reference_dominated": self.reference_dominated,
                 "evaluations": self.evaluations, "fem_solves": self.fem_solves,
-                "requirements": self.requirements, "prices": [r.record() for r in self.prices]}
+                "requirements": self.requirements, "prices": [r.record() for r in self.prices],
+                "paths": self.paths}
 
     def summary(self) -> list[str]:
         """Lines for a person: the reference, the optimum or each front point, the cost."""
@@ -211,7 +213,7 @@ class OptimizationResult:
                    None if rec["optimum"] is None else _run_of(rec["optimum"], list(rec["variables"])),
                    [FrontRun(r["crosstalk_bound"], _run_of(r["run"], list(rec["variables"]))) for r in rec["front"]],
                    rec["reference"], rec["fem_solves"], rec.get("requirements", {}),
-                   of_record(rec.get("prices", [])))
+                   of_record(rec.get("prices", [])), rec.get("paths", {}))
 
 
 def _run_record(r: Result) -> dict:

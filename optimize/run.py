@@ -43,7 +43,8 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2)
     (sense, metric), = problem.spec.objective.items()
     result = OptimizationResult(problem.spec.name, problem.names, list(problem.units), sense, metric,
                                 [Constraint(*c) for c in problem.constraints], reference=reference,
-                                requirements=dict(problem.spec.requirements))
+                                requirements=dict(problem.spec.requirements),
+                                paths={n: v.path for n, v in problem.spec.variables.items()})
     if problem.spec.pareto:
         if path is None:
             raise OptimizeError(f"{problem.spec.name}: a front's runs read the optimization file; pass its path")

@@ -99,7 +99,7 @@ def assumptions(scene: dict, adc: dict | None = None) -> list[dict]:
 def of_answer(a) -> list[dict]:
     """The answer's assumptions (reports.answer_assumptions), from its folder's scene and its readout's."""
     import json
-    from taxel.reports.ladder import READOUT_FILE
+    from taxel.optimize.answer_folder import READOUT_FILE
     if a.path is None or not (a.path / "scene.json").exists():
         return []
     scene = json.loads((a.path / "scene.json").read_text())

@@ -25,8 +25,7 @@ def bands(a: FrontAnswer, folder: Path) -> None:
     for d in (a.recommended, a.thesis):
         if d is None:
             continue
-        share = friction_share(folder, d.role, {"silicone_above": d.silicone_above_mm, "gap": d.gap_mm,
-                                                "silicone_below": d.silicone_below_mm}) or {}
+        share = friction_share(folder, d.role, d.design.in_units()) or {}
         for q in ("sensitivity", "crosstalk"):
             b = Band({mesh: a.error.get(q), "friction": share.get(q)})
             if q not in out or b.total > out[q].total or out[q].total != out[q].total:

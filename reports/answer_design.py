@@ -1,9 +1,10 @@
-"""The answer's types: one design in engineering units (`AnswerDesign`: its table row
-and its answer.csv rows), the answer of one optimization folder (`FrontAnswer`: the
-recommended and the reference design, the model and error band of their numbers, the
-requirements, what the recommendation trades, the model ladder), and a noise budget's
-minimum detectable force (`NoiseFloor`). reports.answer reads a folder into them and
-draws the index's answer block from them."""
+"""The answer's view types: one design as the page draws it (`AnswerDesign`: the owner's
+design, optimize.answer_folder.FolderAnswer's, with its table row and its answer.csv rows),
+the answer of one optimization folder as drawn (`FrontAnswer`: the recommended and the
+reference design, the model and error band of their numbers, the requirements, what the
+recommendation trades, the model ladder), and a noise budget's minimum detectable force
+(`NoiseFloor`). reports.answer builds them from the owner and draws the index's answer
+block from them; nothing here chooses."""
 
 from __future__ import annotations
 
@@ -11,7 +12,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
+from taxel.optimize.answer import Design
 from taxel.reports.first_screen import MATERIALS
+from taxel.scene_tables import ArrayTable
 from taxel.reports.ladder import anchor
 from taxel.reports.tables import eng, percent
 
@@ -33,28 +36,60 @@ def _band(value: float, rel: float | None, unit: str) -> str:
 
 @dataclass
 class AnswerDesign:
-    """One design of the answer, in engineering units (lengths in mm)."""
-    role: str                                   # "recommended", "thesis" or (a user's) "reference"
-    silicone_above_mm: float
-    silicone_below_mm: float
-    gap_mm: float
-    pitch_mm: float
+    """One design of the answer as the page draws it: the owner's design
+    (optimize.answer_folder.FolderAnswer: its variables, SI, and metrics) with its array, and
+    the numbers the page shows; lengths in mm for display only."""
+    role: str                                   # "recommended", "thesis", (a user's) "reference", "relaxed-<metric>"
+    design: Design                              # the owner's (variables and metrics, SI)
+    array: ArrayTable                           # the design's array: the scene's with its variables set
     material: str
-    sensitivity_V_per_N: float
+    sensitivity_V_per_N: float                  # the page's numbers (a finer mesh's, when it solved this design)
     crosstalk: float
     min_detectable_force_N: float | None = None
-    values: dict = field(default_factory=dict)        # metric -> SI value, for the requirements
-    margins: dict = field(default_factory=dict)       # metric -> relative margin (optimize.requirements)
     bandwidth_Hz: tuple[float, float] | None = None   # the readout's corners with this design (READOUT_FILE)
+
+    @property
+    def values(self) -> dict:
+        """metric -> SI value (the owner's design's metrics), for the requirements."""
+        return self.design.metrics
+
+    @property
+    def margins(self) -> dict:
+        """metric -> relative margin (optimize.requirements), the owner's."""
+        return self.design.margins
+
+    def mm(self, name: str) -> float:
+        """A length of the design in mm, for display: a variable's own value (as the run wrote it)
+        when it is a variable in mm, else the design's array's."""
+        if self.design.units.get(name) == "mm":
+            return self.design.in_units()[name]
+        return 1e3 * getattr(self.array, name)
+
+    @property
+    def silicone_above_mm(self) -> float:
+        return self.mm("silicone_above")
+
+    @property
+    def silicone_below_mm(self) -> float:
+        return self.mm("silicone_below")
+
+    @property
+    def gap_mm(self) -> float:
+        return self.mm("gap")
+
+    @property
+    def pitch_mm(self) -> float:
+        """The array's pitch (ArrayTable.pitch), mm."""
+        return 1e3 * self.array.pitch
 
     def records(self, error: dict, model: str, bands: dict | None = None) -> list[dict]:
         """answer.csv's rows of this design: one quantity each, numeric value, relative error
         (all of its parts combined, optimize.band; empty: not estimated), its parts, and SI unit."""
         from math import isfinite
         out = []
-        for q, v, unit, key in (("silicone above", 1e-3 * self.silicone_above_mm, "m", None),
-                                ("silicone below", 1e-3 * self.silicone_below_mm, "m", None),
-                                ("gap", 1e-3 * self.gap_mm, "m", None), ("pitch", 1e-3 * self.pitch_mm, "m", None),
+        for q, v, unit, key in (("silicone above", self.array.silicone_above, "m", None),
+                                ("silicone below", self.array.silicone_below, "m", None),
+                                ("gap", self.array.gap, "m", None), ("pitch", self.array.pitch, "m", None),
                                 ("open-circuit sensitivity", self.sensitivity_V_per_N, "V/N", "sensitivity"),
                                 ("open-circuit crosstalk", self.crosstalk, "1", "crosstalk"),
                                 ("sensitivity at the readout", self.values.get("readout_sensitivity"), "V/N",
@@ -139,7 +174,6 @@ class FrontAnswer:
     row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
     bands: dict = field(default_factory=dict)           # quantity -> optimize.band.Band (all of its parts)
     priced: list = field(default_factory=list)          # (optimize.answer.Price, AnswerDesign): a relaxation's design
-    geometry: dict = field(default_factory=dict)        # the array's fixed geometry, SI (reports.answer._geometry)
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
@@ -150,7 +184,7 @@ class FrontAnswer:
         for d in (self.recommended, self.thesis):
             if d is None:
                 continue
-            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+            x = d.design.in_units()
             rungs = ladder(self.path, x, d is self.thesis)
             if rungs:
                 out.append({"design": "recommended design" if d is self.recommended else self.reference_name,
@@ -174,8 +208,8 @@ class FrontAnswer:
             return (f"No design found meets every requirement: {req.text()} binds, missed by "
                     f"{100 * abs(self.binding[1]):.3g} % by the closest design.")
         if r is None:
-            return (f"Keep {self.reference_name}: of the designs found, it meets every requirement with the "
-                    "largest margin." + self.prices)
+            return (f"Keep {self.reference_name}: of the designs found, it meets every requirement and is the "
+                    "best by the run's objective." + self.prices)
         parts = []
         for name, a, b in (("silicone above", t.silicone_above_mm, r.silicone_above_mm),
                            ("silicone below", t.silicone_below_mm, r.silicone_below_mm)):

@@ -65,11 +65,9 @@ def of_answers(answers: list) -> list[AnswerNumbers]:
         for d in (a.recommended, a.thesis):
             if d is None:
                 continue
-            g = a.geometry or {}
             out.append(AnswerNumbers(a.folder, d.role, {
-                "piezo": d.material, "silicone_above": 1e-3 * d.silicone_above_mm,
-                "silicone_below": 1e-3 * d.silicone_below_mm, "gap": 1e-3 * d.gap_mm,
-                "taxel_width": g.get("taxel_width"), "piezo_thickness": g.get("piezo_thickness")},
+                "piezo": d.material, **{k: getattr(d.array, k) for k in ("silicone_above", "silicone_below", "gap",
+                                                                         "taxel_width", "piezo_thickness")}},
                 {"sensitivity": d.sensitivity_V_per_N, **{k: d.values.get(k) for k in
                                                          ("min_detectable_force", "capacitance", "force_range")}}))
     return [n for n in out if None not in n.array.values()]

@@ -42,9 +42,8 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from taxel.optimize.answer_folder import READOUT_FILE  # noqa: F401  the answer's designs through the bench's chain
 from taxel.reports.tables import eng, percent
-
-READOUT_FILE = "answer-readout.json"     # the answer's designs through the bench's chain (taxel.jobs.answer_readout)
 
 # the probe front's own rows: the model the candidates are chosen on (optimize.probe_front)
 SELECTION_MODEL = "the rig's probe, Yeoh silicone: 2D press x linear 3D/2D ratio (the candidate selection)"

@@ -510,7 +510,7 @@ def test_every_number_of_an_answer_design_is_the_answers_or_names_its_ladder_row
         for d in (a.recommended, a.thesis):
             if d is None:
                 continue
-            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
+            x = d.design.in_units()
             rungs = {r.number: {"sensitivity": eng(r.sensitivity, "V/N", 3) if r.sensitivity is not None else None,
                                 "crosstalk": percent(r.crosstalk) if r.crosstalk is not None else None}
                      for r in ladder(a.path, x, d is a.thesis)}

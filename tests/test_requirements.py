@@ -253,8 +253,7 @@ def test_charge_voltage_and_the_ladders_capacitance_agree(through_readout):
     blk = block(through_readout)
     for a in through_readout:
         for d in (a.recommended, a.thesis):
-            rungs = ladder(a.path, {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm,
-                                    "gap": d.gap_mm}, d is a.thesis)
+            rungs = ladder(a.path, d.design.in_units(), d is a.thesis)
             c = next(r for r in rungs if r.answer).capacitance
             assert d.values["charge_sensitivity"] / c == pytest.approx(d.sensitivity_V_per_N, rel=1e-12)
             two = next((r.capacitance for r in rungs if r.number == 1), None)    # a 2D-pressure-patch row, if solved

@@ -8,8 +8,8 @@ charge amplifier (``[readout] circuit = "charge_amplifier"``). The optimization
 file states what the sensor must meet (``[requirements]``): a minimum detectable
 force through the readout, a pitch and a thickness. The sensitivity-crosstalk front
 of the 2D section is searched; the report's answer names the user's reference
-design as theirs, recommends the front design meeting every requirement with the
-largest margin, and gives the readout's numbers (its V/N, crosstalk and the
+design as theirs, recommends the front design meeting every requirement that is
+best by the objective (the most sensitive), and gives the readout's numbers (its V/N, crosstalk and the
 minimum detectable force) beside the open-circuit ones. A second file with a
 stricter minimum detectable force shows the requirement that binds.
 """

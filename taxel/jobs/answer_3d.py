@@ -1,8 +1,8 @@
 """The answer's designs judged and pressed in 3D (main job): for each optimization folder,
 its coverage judged on 3D surface maps (taxel.jobs.answer_coverage: it can change the
 recommendation), then the recommended and the thesis design its probe front chose, and the
-design each binding requirement's relaxation would choose (FrontAnswer.priced)
-(reports.answer.headline_front, on the candidate-selection model) pressed in 3D by the
+design each binding requirement's relaxation would choose (the answer's owner,
+optimize.answer_folder.FolderAnswer: answer_designs, on the candidate-selection model) pressed in 3D by the
 rig's probe on Yeoh silicone (optimize.answer_press: one `taxel.solve` each, the 3x3
 quarter on the default press mesh, with the press family's calibrated error estimate).
 
@@ -11,8 +11,8 @@ thesis design's press start at once (the thesis design is pressed whatever the c
 says); a folder's other designs are pressed as soon as its coverage has chosen them, ahead
 of the presses still waiting. A design named twice (a relaxation choosing the thesis
 design) is pressed once. Each press's result folder, ROOT/<front>-<role>-3d, is the
-design's 3D view on the report (the same solve as the answer's numbers); the numbers go
-into the folder's probe-front.json, where the answer reads them.
+design's 3D view on the report (the same solve as the answer's numbers); the owner writes
+the numbers into the folder's probe-front.json (FolderAnswer.write_presses), where it reads them.
 """
 
 from __future__ import annotations
@@ -28,21 +28,18 @@ def _designs(root: Path, name: str, roles: tuple[str, ...] | None = None) -> lis
     `roles` when given ("thesis")."""
     from taxel.optimize import answer_press as AP
     from taxel.optimize import spec as O
-    from taxel.reports.answer import headline_front
+    from taxel.optimize.answer_folder import FolderAnswer
     folder = root / name
-    a = headline_front(folder)
+    a = FolderAnswer.read(folder)
     if a is None:
         return []
     probe = O.load_optimization(name.replace("-front", "-probe-front"), folder)
     out = []
-    for d in (a.recommended, a.thesis, *(d for _, d in a.priced)):   # and what relaxing a requirement buys
-        if d is None or (roles and d.role not in roles):
-            continue
-        x_mm = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-        x = [x_mm[n] for n in probe.names]
+    for d in a.answer_designs(roles):           # and what relaxing a requirement buys
+        x = d.vector(probe.names)
         data = AP.scene_data(probe, x)
-        data["name"] = f"{name.removesuffix('-front')}-{d.role}-3d"
-        out.append((d.role, x, data))
+        data["name"] = f"{name.removesuffix('-front')}-{d.label}-3d"
+        out.append((d.label, x, data))
     return out
 
 
@@ -57,6 +54,7 @@ def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool =
     from dask.distributed import Client, as_completed
     from taxel.jobs.answer_coverage import answer_coverage
     from taxel.optimize import answer_press as AP
+    from taxel.optimize.answer_folder import FolderAnswer
     from taxel.studies.execute import local_cluster
     t0 = time.perf_counter()
     cluster = local_cluster(workers)
@@ -98,7 +96,7 @@ def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool =
                 f"{r['seconds']:.0f} s" if r.get("failed") is None and r.get("error") is not None else
                 f"3D press {r.get('sensitivity')} V/N, no estimate" if r.get("failed") is None else
                 f"failed: {r['failed']}"))
-        AP.write(root / n, presses)
+        FolderAnswer.read(root / n, with_presses=False).write_presses(presses)
         views += [root / data["name"] for _, data, r in got[n] if r.get("failed") is None]
     print(f"      {sum(len(v) for v in got.values())} 3D presses of the answer's designs, coverage judged, in "
           f"{time.perf_counter() - t0:.0f} s", flush=True)

@@ -1,12 +1,12 @@
 """The answer's coverage and localization error (main job): for an optimization folder
 whose requirements name them, the influence metrics (optimize.coverage) of the thesis
-design, of the design the answer recommends (reports.answer.headline_front) and of each
+design, of the design the answer recommends (optimize.answer_folder.FolderAnswer) and of each
 design a priced relaxation names, again until all of them have them: a recommended
 design that fails coverage loses to the next candidate, which is then solved. Both
 metrics are limits (met or not), so judging in the answer's own order is exact
 (optimize.coverage.judge_lazily says why): the candidates the choice never reaches are
-not mapped. Each design's row goes to OUT/coverage.json (optimize.coverage.RECORD),
-which the answer reads.
+not mapped. The owner writes each design's row to OUT/coverage.json (optimize.coverage.RECORD,
+FolderAnswer.add_coverage), where it reads them.
 
 The metrics come from each design's 3D surface map on linear silicone (optimize.coverage:
 a 2D design made 3D on its array mesh, the rig's 4 mm punch as the footprint), whatever
@@ -29,29 +29,27 @@ def answer_coverage(front_dir: Path) -> float:
     returns the seconds it took."""
     from taxel.optimize import coverage
     from taxel.optimize import spec as O
-    from taxel.reports.answer import headline_front
+    from taxel.optimize.answer_folder import FolderAnswer
     t0 = time.perf_counter()
     front_dir = Path(front_dir)
     prob = O.load_optimization(front_dir.name, front_dir)
-    tried: list[dict] = []
+    tried: list = []
     while True:
-        a = headline_front(front_dir)
+        a = FolderAnswer.read(front_dir)
         if a is None or not {q.metric for q in a.requirements} & set(coverage.INFLUENCE_METRICS):
             break
         todo = []
-        for d in (a.thesis, a.recommended, *(d for _, d in a.priced)):
-            if d is None or all(d.values.get(q.metric) is not None or q.metric in d.values.get(coverage.CHECK_ERRORS, {})
+        for d in (a.reference, a.recommended, *(d for _, d in a.priced)):
+            if d is None or all(d.metrics.get(q.metric) is not None or q.metric in d.metrics.get(coverage.CHECK_ERRORS, {})
                                 for q in a.requirements if q.metric in coverage.INFLUENCE_METRICS):
                 continue
-            x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-            if not any(coverage.same(t, x) for t in tried + todo):
-                todo.append(x)
+            if not any(d.same(t) for t in tried + todo):
+                todo.append(d)
         if not todo:
             break
-        for x in todo:
-            tried.append(x)
-            got = prob.influence_metrics([x[n] for n in prob.names])
-            coverage.add(front_dir, {n: x[n] for n in prob.names}, got)
+        for d in todo:
+            tried.append(d)
+            a.add_coverage(d, prob.influence_metrics(d.vector(prob.names)))
     from taxel.reports.coverage_map import draw_folder
     draw_folder(front_dir)                 # the designs' coverage maps, on the optimization page
     return time.perf_counter() - t0

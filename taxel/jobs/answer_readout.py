@@ -1,7 +1,7 @@
 """The answer's designs through the thesis bench's readout (main job): for the recommended
 and the thesis design of an optimization folder, the charge per newton, the volts per
 newton at the readout's output, the minimum detectable force and the force range to
-saturation, from the answer's own sensitivity (reports.answer.headline_front) through
+saturation, from the answer's own sensitivity (optimize.answer_folder.FolderAnswer) through
 the bench's chain: the charge amplifier and notch of the thesis-pzt-frequency scene
 with the simulated rig's mains hum, on the thesis bench's ADC.
 
@@ -16,19 +16,18 @@ recorded beside it (capacitance_2d_F, one static solve of the design on the base
 scene): the plane section holds the piezo's strain along the depth at zero, about
 19 % less for PZT, and is not the answer's model. The chain is
 taxel.analyses.solves.noise.quasi_static_noise on (V_oc, C_p V_oc) per newton. Written to
-OUT/answer-readout.json; the report's answer and its model ladder read it. Cost: one
+OUT/answer-readout.json by the answer's owner (FolderAnswer.write_readout); the owner, the
+report's answer and its model ladder read it. Cost: one
 2D solve per design.
 """
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
 import numpy as np
 
-from taxel.reports.answer import READOUT_FILE
 CHAIN_SCENE = "thesis-pzt-frequency"       # its [readout]: the thesis's charge amplifier and notch
 RIG = "thesis-bench"
 
@@ -50,11 +49,11 @@ def answer_readout(front_dir: Path) -> Path | None:
     from taxel.analyses import lumped_model
     from taxel.analyses.solves.noise import quasi_static_noise
     from taxel.optimize import spec as O
-    from taxel.reports.answer import headline_front
+    from taxel.optimize.answer_folder import FolderAnswer
     from taxel.scene import parse
     from taxel.studies.bench.rig import load_rig
     t0 = time.perf_counter()
-    a = headline_front(front_dir)
+    a = FolderAnswer.read(front_dir)
     if a is None:
         return None
     prob = O.load_optimization(front_dir.name)
@@ -62,21 +61,18 @@ def answer_readout(front_dir: Path) -> Path | None:
     rig = load_rig(RIG)
     r = api.load(CHAIN_SCENE).readout
     rows = []
-    for d in (a.recommended, a.thesis):
-        if d is None:
-            continue
-        x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-        data = prob.scene_data([x[n] for n in prob.names])
+    for d in a.answer_designs(("recommended", a.reference.label)):
+        data = prob.scene_data(d.vector(prob.names))
         data["readout"] = chain
-        scene = parse({**data, "name": f"{front_dir.name}-{d.role}"})
+        scene = parse({**data, "name": f"{front_dir.name}-{d.label}"})
         res = api.solve(scene)
         e = res.electrodes[res.pressed]
         c_2d = abs(e.short_circuit_charge / e.voltage)
         c_p = lumped_model(scene).C_p                  # the 3D model's: the free parallel plate (docstring)
-        s = abs(d.sensitivity_V_per_N)
+        s = abs(d.metrics["sensitivity"])
         nr = quasi_static_noise(scene, s, s * c_p, rig)
         shares = nr.shares()
-        rows.append({"role": d.role, "x_mm": x, "capacitance_F": c_p, "charge_sensitivity_C_per_N": s * c_p,
+        rows.append({"role": d.label, "x_mm": d.in_units(), "capacitance_F": c_p, "charge_sensitivity_C_per_N": s * c_p,
                      "capacitance_2d_F": c_2d,
                      "readout_V_per_N": float(np.max(nr.gain)), "band_Hz": list(nr.band),
                      "min_detectable_force_N": nr.min_detectable_force, "force_range_N": nr.saturation_force,
@@ -84,9 +80,6 @@ def answer_readout(front_dir: Path) -> Path | None:
                      # the charge amplifier's corners: 1 / (2 pi R_f C_f) and 1 / (2 pi R_i (C_p + C_c))
                      "bandwidth_Hz": [1 / (2 * np.pi * r.R_f * r.C_f), 1 / (2 * np.pi * r.R_i * (c_p + r.C_c))],
                      "largest_noise_source": max(shares, key=shares.get)})
-    out = Path(front_dir) / READOUT_FILE
-    out.write_text(json.dumps({"chain": f"{CHAIN_SCENE} readout with the simulated rig's hum, {RIG} ADC",
-                               "readout": chain, "adc": {"rig": RIG, "bits": rig.adc.bits,
-                                                          "range_V": list(rig.adc.range)},
-                               "designs": rows, "seconds": time.perf_counter() - t0}, indent=1))
-    return out
+    return a.write_readout({"chain": f"{CHAIN_SCENE} readout with the simulated rig's hum, {RIG} ADC",
+                            "readout": chain, "adc": {"rig": RIG, "bits": rig.adc.bits, "range_V": list(rig.adc.range)},
+                            "designs": rows, "seconds": time.perf_counter() - t0})

@@ -1,7 +1,8 @@
 """The answer's friction band (main job): the recommended and the thesis design of an
 optimization folder pressed by the rig's probe when it is frictionless, at the rig's
 Coulomb coefficient (`[probe] friction` of the rig file, when it gives a number) and
-sticking; written to OUT/friction-band.json, the report's answer shows it
+sticking; written to OUT/friction-band.json by the answer's owner
+(optimize.answer_folder.FolderAnswer.write_friction_band), the report's answer shows it
 (reports.friction_band).
 
 Model: the probe front's own level-B press (optimize.probe_front: the [press] probe of the
@@ -20,11 +21,8 @@ benchmarks/friction_band_job.py.
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
-
-from taxel.reports.friction_band import FILE
 
 RIG = "thesis-bench"
 # benchmarks/friction_band_3d.py (one run, load 4-6 on 2 cores): the thesis PZT design under the
@@ -78,23 +76,20 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
     folder with its probe front); None when the folder holds no answer or no probe front."""
     from taxel.optimize import spec as O
     from taxel.optimize.probe import press_scene
-    from taxel.reports.answer import headline_front
+    from taxel.optimize.answer_folder import FolderAnswer
     from taxel.studies.bench.rig import load_rig
     from taxel.studies.store import Store
     t0 = time.perf_counter()
     front_dir = Path(front_dir)
-    a = headline_front(front_dir)
+    a = FolderAnswer.read(front_dir)
     if a is None or not (front_dir / "probe-front.json").exists():
         return None
     probe = O.load_optimization(front_dir.name.replace("-front", "-probe-front"), front_dir)
     press = probe.spec.press
     coefficient = load_rig(rig).probe.friction
     laws = ["frictionless"] + ([coefficient] if isinstance(coefficient, float) else []) + ["sticking"]
-    designs = [d for d in (a.recommended, a.thesis) if d is not None]
-    datas = []
-    for d in designs:
-        x = {"silicone_above": d.silicone_above_mm, "silicone_below": d.silicone_below_mm, "gap": d.gap_mm}
-        datas.append(press_scene(probe.scene_data([x[n] for n in probe.names]), press))
+    designs = a.answer_designs(("recommended", a.reference.label))
+    datas = [press_scene(probe.scene_data(d.vector(probe.names)), press) for d in designs]
     store = Store(front_dir)
     try:
         stored = [_stored(store, data, press) for data in datas]
@@ -108,8 +103,7 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
         legs = [by[law] for law in laws]
         sens = [leg["sensitivity_V_per_N"] for leg in legs if leg["sensitivity_V_per_N"] is not None]
         ref = by["sticking"]["sensitivity_V_per_N"]
-        rows.append({"role": d.role, "x_mm": {"silicone_above": d.silicone_above_mm,
-                                              "silicone_below": d.silicone_below_mm, "gap": d.gap_mm},
+        rows.append({"role": d.label, "x_mm": d.in_units(),
                      "legs": legs, "sensitivity_spread": (max(sens) - min(sens)) / ref
                      if ref and len(sens) == len(legs) else None})
     force = datas[0]["load"]["force"]
@@ -119,8 +113,7 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
            "reference": datas[0]["load"]["friction"], "model": model, "three_d": THREE_D,
            "designs": rows, "seconds": time.perf_counter() - t0,
            "presses": sum(len(t[1]) for t in tasks), "workers": workers}
-    out = front_dir / FILE
-    out.write_text(json.dumps(rec, indent=1))
+    out = a.write_friction_band(rec)
     for d in rows:
         print(f"      friction band, {front_dir.name} {d['role']}: " + ", ".join(
             f"{leg['friction']} " + ("no state" if leg["sensitivity_V_per_N"] is None else
