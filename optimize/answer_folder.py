@@ -316,8 +316,9 @@ def _json(path: Path) -> dict | None:
 
 
 def _unit(unit: str) -> float:
-    from taxel.optimize.answer import _factor
-    return _factor(unit)
+    """SI value of one `unit` ("mm" -> 0.001)."""
+    from taxel.optimize.answer import si
+    return si(1.0, unit)
 
 
 def _keyed(row: dict, vs: list[Variable]) -> dict:
