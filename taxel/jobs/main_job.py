@@ -7,7 +7,14 @@ response through the charge amplifier and the step response through the 500 MOhm
 input, the validation loop on the simulated rig (simulate, capture over a pty,
 analyze, calibrate, localize: studies.measured.pipeline), then build the report;
 `small` is the small run CI uses. Each step is a call of the API (taxel.api:
-run_study, run_optimization, solve, report)."""
+run_study, run_optimization, solve, report).
+
+Scheduling (the job's time: benchmarks/demo_time.py, docs/getting-started.md): the validation
+runs in a process of its own from the start (its capture waits on the wall clock); the two
+materials' fronts run side by side in two more, each with its own Dask pools; their cheap
+fronts judge the coverage of the reference design only, the answer's designs are judged by
+taxel.jobs.answer_coverage; the answer's coverage and 3D presses share one pool
+(taxel.jobs.answer_3d), both materials' friction bands another (taxel.jobs.friction_band)."""
 
 from __future__ import annotations
 
