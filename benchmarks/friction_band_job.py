@@ -1,5 +1,7 @@
 """The cost of the answer's friction band in the main job (taxel.jobs.friction_band), per
-material and in all, on 1 and 2 workers, side by side in one run.
+material and in all: each folder on its own pool of 2 workers (friction_band: one cluster
+per folder) against both folders' presses in one pool of 2 (friction_bands,
+one task per design and law: how `taxel demo` runs them), side by side in one run.
 
 The folders are the main job's PZT and PVDF front records (tests/data/answer: probe-front.json
 with a recommended and the thesis design); as in `taxel demo`, the study store in each folder
@@ -9,10 +11,10 @@ band solves one 2D press per design and law not stored: with the rig's "unknown"
 the frictionless press of each design. Each configuration is run `--repeat` times on fresh
 copies of the folders; the median wall time is printed with the load average.
 
-Measured (two runs each, load 6.8-8.8 on 2 cores, four helpers running): both materials,
-four frictionless 2D presses, median 174.8 s on 1 worker and 238.8 s on 2 (ratio 0.73: on a
-saturated machine the second worker only adds its cluster's start); per folder 68-115 s
-(PZT), 83-172 s (PVDF). Not the ~15 s the demo allows: see docs/guide/silicone-and-contact.md.
+Measured before (two runs each, load 6.8-8.8 on 2 cores, four helpers running): both
+materials, four frictionless 2D presses, median 174.8 s on 1 worker and 238.8 s on 2 (ratio
+0.73: on a saturated machine the second worker only adds its cluster's start). The per-folder
+against one-pool numbers: docs/benchmarks.md ("The main job's time").
 
 Run: MKL_NUM_THREADS=1 OMP_NUM_THREADS=1 python benchmarks/friction_band_job.py [--repeat 3]
 writes benchmarks/out/friction_band_job.json.
@@ -29,7 +31,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from taxel.jobs.friction_band import friction_band
+from taxel.jobs.friction_band import friction_band, friction_bands
 from taxel.optimize import spec as O
 from taxel.optimize.probe import press_scene, stored_press
 from taxel.optimize.answer_folder import FolderAnswer
@@ -65,26 +67,25 @@ def main():
     base = Path(tempfile.mkdtemp(prefix="friction-band-"))
     seed = prepared(base / "seed")
     rows = {}
-    for workers in (1, 2):
+    for mode in ("per folder", "one pool"):
         runs = []
         for k in range(args.repeat):
-            root = base / f"w{workers}-{k}"
+            root = base / f"{mode.replace(' ', '-')}-{k}"
             folders = [Path(shutil.copytree(f, root / f.name)) for f in seed]
             load = os.getloadavg()[0]
-            per = {}
             t0 = time.perf_counter()
-            for f in folders:
-                t = time.perf_counter()
-                rec = json.loads(friction_band(f, workers=workers).read_text())
-                per[f.name] = {"seconds": time.perf_counter() - t, "presses": rec["presses"]}
-            runs.append({"seconds": time.perf_counter() - t0, "load": load, "folders": per})
-            each = ", ".join(f"{n} {v['seconds']:.1f} s, {v['presses']} presses" for n, v in per.items())
-            print(f"workers {workers}, run {k + 1}: {runs[-1]['seconds']:.1f} s for both materials ({each}); "
+            if mode == "per folder":
+                outs = [friction_band(f, workers=2) for f in folders]
+            else:
+                outs = friction_bands(folders, workers=2)
+            presses = sum(json.loads(o.read_text())["presses"] for o in outs)
+            runs.append({"seconds": time.perf_counter() - t0, "load": load, "presses": presses})
+            print(f"{mode}, run {k + 1}: {runs[-1]['seconds']:.1f} s for both materials ({presses} presses); "
                   f"load {load:.1f}", flush=True)
-        rows[workers] = {"median_seconds": statistics.median(r["seconds"] for r in runs), "runs": runs}
-    print("median wall for both materials: " + ", ".join(f"{w} worker(s) {r['median_seconds']:.1f} s"
-                                                          for w, r in rows.items())
-          + f"; ratio 1/2 workers {rows[1]['median_seconds'] / rows[2]['median_seconds']:.2f}")
+        rows[mode] = {"median_seconds": statistics.median(r["seconds"] for r in runs), "runs": runs}
+    print("median wall for both materials on 2 workers: " + ", ".join(
+        f"{m} {r['median_seconds']:.1f} s" for m, r in rows.items())
+        + f"; ratio per folder / one pool {rows['per folder']['median_seconds'] / rows['one pool']['median_seconds']:.2f}")
     Path("benchmarks/out").mkdir(parents=True, exist_ok=True)
     Path("benchmarks/out/friction_band_job.json").write_text(json.dumps(rows, indent=1))
     shutil.rmtree(base, ignore_errors=True)

@@ -36,9 +36,14 @@ def reference_evaluation(problem: Optimization) -> dict | None:
     return {"x": dict(zip(problem.names, x.tolist())), **problem.evaluate(x)}
 
 
-def run(problem: Optimization, path: str | Path | None = None, workers: int = 2) -> OptimizationResult:
+def run(problem: Optimization, path: str | Path | None = None, workers: int = 2,
+        influence: str = "answer") -> OptimizationResult:
     """Run `problem` (its store: problem.out): the optimum, or the front when the spec
-    has [pareto] (its runs load the spec from `path` on `workers` Dask workers)."""
+    has [pareto] (its runs load the spec from `path` on `workers` Dask workers). The
+    influence metrics only [requirements] names (`required_influence_metrics`): of the
+    reference design and the designs the run's answer reaches (`influence` "answer"), or
+    of the reference design only ("reference": for a caller that judges another answer's
+    designs itself, as the main job does the probe front's: taxel.jobs.answer_coverage)."""
     reference = reference_evaluation(problem)
     (sense, metric), = problem.spec.objective.items()
     result = OptimizationResult(problem.spec.name, problem.names, list(problem.units), sense, metric,
@@ -51,7 +56,7 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2)
         result.runs = front(problem, path, workers=workers)
     else:
         result.optimum = optimize(problem)
-    required_influence_metrics(problem, result)
+    required_influence_metrics(problem, result, influence)
     result.prices = relax(problem, chosen_run(result))      # what each binding requirement costs
     if problem.out is not None:
         store = Store(problem.out)
@@ -77,11 +82,14 @@ def chosen_run(result: OptimizationResult):
     return None
 
 
-def required_influence_metrics(problem: Optimization, result: OptimizationResult) -> None:
+def required_influence_metrics(problem: Optimization, result: OptimizationResult, influence: str = "answer") -> None:
     """coverage and localization_error that only a [requirements] line names (optimize.coverage):
     computed after the search, lazily (coverage.judge_lazily), for the reference design and the
     design the answer's choice picks among the front's (or the optimum), added to their metrics
-    and written to OUT/coverage.json, where the answer reads them."""
+    and written to OUT/coverage.json, where the answer reads them; `influence` "reference": the
+    reference design's only (the run's own choice then shows them "not evaluated")."""
+    if influence not in ("answer", "reference"):
+        raise ValueError(f"influence: 'answer' or 'reference', not {influence!r}")
     from taxel.optimize.requirements import implied, read
     need = set(coverage.INFLUENCE_METRICS) & set(problem.spec.requirements)
     if not need or need <= problem.used:
@@ -90,6 +98,8 @@ def required_influence_metrics(problem: Optimization, result: OptimizationResult
     runs = [r.result for r in result.runs] if result.runs else [result.optimum]
     designs = ([(np.array([ref["x"][n] for n in problem.names]), ref)] if ref else []) + \
         [(r.x, r.metrics) for r in runs if r is not None and r.metrics.get("sensitivity") is not None]
+    if influence == "reference":
+        designs = designs[:1] if ref else []
     if not designs:
         return
     reqs = implied(read(problem.spec.requirements), ref or {})

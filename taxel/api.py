@@ -127,13 +127,15 @@ def tidy_rows_or_none(out: Path) -> list[dict]:
         return []
 
 
-def run_optimization(problem, out: str | Path | None = None, workers: int = 2):
+def run_optimization(problem, out: str | Path | None = None, workers: int = 2, influence: str = "answer"):
     """Optimize a design (an optimization TOML file, a built-in name, or a loaded
     optimize.spec.Optimization) into `out` (default out/NAME): an OptimizationResult
     holding the optimum, or with [pareto] the sensitivity-crosstalk front, and the
     reference design's evaluation; its files (result.json, optimum.json or
     front.json, the history CSV) and plots are written to `out`; every design is
-    cached in out's store."""
+    cached in out's store. `influence`: whose coverage and localization error only
+    [requirements] names are judged, the answer's designs' or the reference's only
+    (optimize.run.run)."""
     from taxel.optimize import spec as O
     from taxel.optimize.run import run
     from taxel.reports.optimization import draw
@@ -147,7 +149,7 @@ def run_optimization(problem, out: str | Path | None = None, workers: int = 2):
         prob = O.load_optimization(problem, out)
         path = problem if Path(problem).is_file() else O.BUILTIN / f"{problem}.toml"
     write_scene(out, parse({**prob.scene_data(prob.x0), "name": name}))
-    result = run(prob, path, workers=workers)
+    result = run(prob, path, workers=workers, influence=influence)
     result.to_folder(out)
     draw(result, out)
     return result

@@ -59,7 +59,7 @@ maximize = "sensitivity"
 """
 
 
-def _answer(tmp_path, requirements: str):
+def _answer(tmp_path, requirements: str, influence: str = "answer"):
     """The answer (reports.answer) of a front of three designs of the thesis PZT row, gaps 3
     (the reference), 4 and 14 mm, each evaluated by the optimizer, with `requirements`
     (optimize.run.required_influence_metrics judges coverage after the search)."""
@@ -79,7 +79,7 @@ def _answer(tmp_path, requirements: str):
     runs = [FrontRun(None, Result(np.array([g]), 0.0, prob.evaluate([g]), {}, 1, True, "ok")) for g in (4.0, 14.0)]
     res = OptimizationResult("gap-front", prob.names, prob.units, "maximize", "sensitivity", runs=runs,
                              reference=ref, requirements=dict(prob.spec.requirements))
-    required_influence_metrics(prob, res)
+    required_influence_metrics(prob, res, influence)
     res.to_folder(out)
     write_scene(out, parse({**prob.scene_data(prob.x0), "name": "gap-front"}))
     return headline_front(out), out
@@ -103,6 +103,13 @@ def test_the_coverage_requirement_refuses_the_design_with_a_dead_zone(tmp_path, 
     # narrower than the map's grid, while the grid's fraction is 100 %
     assert 0.9 < rows[3.0]["coverage_minimum"] < 15.7
     assert rows[14.0]["noise_source"] == "noise on each open-circuit peak" and rows[14.0]["sigmas"] == SIGMAS
+    # influence "reference" (the main job's cheap front, whose answer's designs taxel.jobs.answer_coverage
+    # judges): the reference design's map only; the run's own choice is not judged, and says so
+    ref_only, ref_out = _answer(tmp_path / "ref", 'coverage = ">= 100 %"\n', influence="reference")
+    judged = json.loads((ref_out / "coverage.json").read_text())["designs"]
+    assert [r["x_mm"]["gap"] for r in judged] == [3.0] and judged[0]["coverage"] == rows[3.0]["coverage"]
+    assert ref_only.recommended is not None and ref_only.recommended.gap_mm == pytest.approx(14.0)
+    assert ref_only.recommended.values.get("coverage") is None
     # the localization error at 0.2 N: finite where every press is found, larger with a dead zone
     loc = {g: r["localization_error"] for g, r in rows.items()}
     assert 0 < loc[3.0] < loc[14.0] and np.isfinite(loc[14.0])

@@ -15,8 +15,8 @@ by benchmarks/friction_band_3d.py (THREE_D, below). The press at the probe front
 law is the front's stored press (the study store in the folder): not solved again.
 
 Cost: one 2D press per design and law not stored (two designs, one or two laws: 2 to 4
-presses per folder, in parallel on `workers` processes), measured by
-benchmarks/friction_band_job.py.
+presses per folder), in parallel on `workers` processes, every folder's in one pool
+(`friction_bands`), measured by benchmarks/friction_band_job.py.
 """
 
 from __future__ import annotations
@@ -66,21 +66,40 @@ def _stored(store, data: dict, press) -> dict | None:
             "seconds": 0.0, "stored": True}
 
 
-def _run(tasks: list[tuple[dict, list]], workers: int) -> list[list[dict]]:
-    from taxel.studies.execute import map_on_workers
-    return map_on_workers(_legs, tasks, workers)
+def _legs_of(data: dict, law) -> dict:
+    """One press: `data`'s design at friction `law` (a leg record; `_legs`)."""
+    return _legs(data, [law])[0]
 
 
 def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> Path | None:
     """Write OUT/friction-band.json for the answer of `front_dir` (a built-in optimization's
     folder with its probe front); None when the folder holds no answer or no probe front."""
+    return friction_bands([front_dir], workers, rig)[0]
+
+
+def friction_bands(front_dirs: list[Path], workers: int = 2, rig: str | Path = RIG) -> list[Path | None]:
+    """`friction_band` of each folder, their presses (one per design and law not stored) in one
+    pool of `workers` processes: the main job's two materials share one cluster start, and a
+    folder's single press runs beside the other's two (benchmarks/friction_band_job.py: no gain
+    on two presses per folder, ratio 1.01; the demo's 3 presses 44 -> 26 s between two runs)."""
+    from taxel.studies.execute import map_on_workers
+    t0 = time.perf_counter()
+    plans = [_plan(Path(f), rig) for f in front_dirs]
+    calls = [(data, law) for p in plans if p for data, laws in p["tasks"] for law in laws]
+    solved = iter(map_on_workers(_legs_of, calls, workers))
+    seconds = time.perf_counter() - t0
+    return [None if p is None else _write(p, [[next(solved) for _ in laws] for _, laws in p["tasks"]],
+                                          seconds, len(calls), workers, len(front_dirs)) for p in plans]
+
+
+def _plan(front_dir: Path, rig) -> dict | None:
+    """What a folder's band needs: its answer's designs, their press scenes, the stored
+    presses and the presses to solve (`tasks`: (data, laws) per design)."""
     from taxel.optimize import spec as O
     from taxel.optimize.probe import press_scene
     from taxel.optimize.answer_folder import FolderAnswer
     from taxel.studies.bench.rig import load_rig
     from taxel.studies.store import Store
-    t0 = time.perf_counter()
-    front_dir = Path(front_dir)
     a = FolderAnswer.read(front_dir)
     if a is None or not (front_dir / "probe-front.json").exists():
         return None
@@ -96,9 +115,15 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
     finally:
         store.close()
     tasks = [(data, [law for law in laws if s is None or law != s["friction"]]) for data, s in zip(datas, stored)]
-    solved = _run(tasks, workers)
+    return {"dir": front_dir, "answer": a, "rig": rig, "coefficient": coefficient, "laws": laws, "designs": designs,
+            "datas": datas, "stored": stored, "tasks": tasks, "press": press}
+
+
+def _write(p: dict, solved: list[list[dict]], seconds: float, presses: int, workers: int, folders: int) -> Path:
+    """OUT/friction-band.json of plan `p` with its solved legs (per design, in its tasks' order)."""
+    laws = p["laws"]
     rows = []
-    for d, s, legs in zip(designs, stored, solved):
+    for d, s, legs in zip(p["designs"], p["stored"], solved):
         by = {leg["friction"]: leg for leg in legs + ([s] if s else [])}
         legs = [by[law] for law in laws]
         sens = [leg["sensitivity_V_per_N"] for leg in legs if leg["sensitivity_V_per_N"] is not None]
@@ -106,18 +131,20 @@ def friction_band(front_dir: Path, workers: int = 2, rig: str | Path = RIG) -> P
         rows.append({"role": d.label, "x_mm": d.in_units(),
                      "legs": legs, "sensitivity_spread": (max(sens) - min(sens)) / ref
                      if ref and len(sens) == len(legs) else None})
+    datas, press = p["datas"], p["press"]
     force = datas[0]["load"]["force"]
     model = (f"the probe front's 2D press (plane strain, Yeoh silicone, {press.shape or 'flat'} probe, "
              f"{force}), only the friction changed")
-    rec = {"rig": str(rig), "coefficient": coefficient, "laws": laws,
+    rec = {"rig": str(p["rig"]), "coefficient": p["coefficient"], "laws": laws,
            "reference": datas[0]["load"]["friction"], "model": model, "three_d": THREE_D,
-           "designs": rows, "seconds": time.perf_counter() - t0,
-           "presses": sum(len(t[1]) for t in tasks), "workers": workers}
-    out = a.write_friction_band(rec)
+           "designs": rows, "seconds": seconds,
+           "presses": sum(len(t[1]) for t in p["tasks"]), "workers": workers}
+    out = p["answer"].write_friction_band(rec)
+    shared = f" ({presses} 2D presses in {seconds:.1f} s for {folders} folders)" if folders > 1 else \
+        f" ({rec['presses']} 2D presses in {seconds:.1f} s for the folder)"
     for d in rows:
-        print(f"      friction band, {front_dir.name} {d['role']}: " + ", ".join(
+        print(f"      friction band, {p['dir'].name} {d['role']}: " + ", ".join(
             f"{leg['friction']} " + ("no state" if leg["sensitivity_V_per_N"] is None else
                                      f"{leg['sensitivity_V_per_N']:.4g} V/N") for leg in d["legs"])
-            + f" ({rec['presses']} 2D presses in {rec['seconds']:.1f} s for the folder)", flush=True)
+            + shared, flush=True)
     return out
-

@@ -7,7 +7,14 @@ response through the charge amplifier and the step response through the 500 MOhm
 input, the validation loop on the simulated rig (simulate, capture over a pty,
 analyze, calibrate, localize: studies.measured.pipeline), then build the report;
 `small` is the small run CI uses. Each step is a call of the API (taxel.api:
-run_study, run_optimization, solve, report)."""
+run_study, run_optimization, solve, report).
+
+Scheduling (the job's time: benchmarks/demo_time.py, docs/getting-started.md): the validation
+runs in a process of its own from the start (its capture waits on the wall clock); the two
+materials' fronts run side by side in two more, each with its own Dask pools; their cheap
+fronts judge the coverage of the reference design only, the answer's designs are judged by
+taxel.jobs.answer_coverage; the answer's coverage and 3D presses share one pool
+(taxel.jobs.answer_3d), both materials' friction bands another (taxel.jobs.friction_band)."""
 
 from __future__ import annotations
 
@@ -23,7 +30,7 @@ from taxel.optimize import spec as O
 from taxel.optimize.run import reference_x
 from taxel.reports.multifidelity import draw as draw_verified_front, draw_probe as draw_probe_front
 from taxel import measure
-from taxel.jobs.friction_band import friction_band
+from taxel.jobs.friction_band import friction_bands
 from taxel.studies.spec import Study, load_study
 
 STUDY_PLOTS = ("pressed_voltage", "max_strain")
@@ -60,7 +67,7 @@ def front(out: Path, name: str, small: bool, full: bool = False, presses_3d: int
     print(f"      {name}: plan {plan['cheap solves (at most)']} cheap solves at most, "
           f"{plan['3D solves (first round)']} 3D solves, about {plan['estimated seconds']:.0f} s")
     t0 = time.perf_counter()
-    result = api.run_optimization(name, out, workers=2)
+    result = api.run_optimization(name, out, workers=2, influence="reference")   # the answer's: answer_coverage
     t1 = time.perf_counter()
     prob = O.load_optimization(name, out)
     mf = MF.verify(prob, result.runs, reference_x(prob), max_rounds=2, workers=2)
@@ -128,6 +135,31 @@ def tolerances(out: Path) -> Path:
     return out
 
 
+def front_logged(out: Path, name: str, full: bool, presses_3d: int) -> tuple[Path, str]:
+    """`front` (not small) with its stage lines returned, not printed: the main job runs the
+    two materials' fronts side by side (`run`), each in a process with its own Dask pools, so
+    that one's serial steps (its reference design's map, its figures, a pool's last task)
+    overlap the other's solves; their lines are printed whole, one front after the other."""
+    import contextlib
+    import io
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        path = front(out, name, False, full, presses_3d)
+    return path, buf.getvalue()
+
+
+def validation(out: Path) -> tuple[list[str], float]:
+    """The validation loop on the simulated rig (measure.validate) into `out`: its progress
+    lines and seconds. The main job runs it in a process of its own from the start (`run`):
+    its capture waits on the wall clock (the simulated rig streams in real time: 54 s of
+    wall, 34 s of CPU alone), which the other steps' compute fills."""
+    t0 = time.perf_counter()
+    lines: list[str] = []
+    shutil.rmtree(out, ignore_errors=True)
+    measure.validate(out, progress=lines.append)
+    return lines, time.perf_counter() - t0
+
+
 def _cpu() -> str:
     """" (CPU 123 s)": this process's CPU seconds and its finished workers' (os.times), for the stage log."""
     t = os.times()
@@ -144,6 +176,14 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     by the rig's probe beside their coverage's 3D maps (taxel.jobs.answer_3d; the step's time
     in docs/getting-started.md); without them the answer is the candidate-selection model's,
     and says so."""
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+    root.mkdir(parents=True, exist_ok=True)
+    with ProcessPoolExecutor(3, mp_context=get_context("spawn")) as side:   # the validation and the fronts
+        return _run(root, small, full, presses_3d, answer_3d, side, side.submit(validation, root / "validation"))
+
+
+def _run(root: Path, small: bool, full: bool, presses_3d: int, answer_3d: bool, side, validated) -> Path:
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%d %H:%M:%S")
     root.mkdir(parents=True, exist_ok=True)
@@ -163,8 +203,15 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
             folders.append(root / name)
             print(f"      {name}: from an earlier run in {root / name} (taxel demo --full runs it)")
     print("[2/5] optimization: the thesis designs against the sensitivity-crosstalk front, verified in 3D" + _cpu())
-    for name in ("thesis-pzt-front",) if small else ("thesis-pzt-front", "thesis-pvdf-front"):
-        folders.append(front(root / name, name, small, full, presses_3d))
+    if small:
+        folders.append(front(root / "thesis-pzt-front", "thesis-pzt-front", small, full, presses_3d))
+    else:                              # the two materials side by side, each in a process of its own
+        done = [side.submit(front_logged, root / n, n, full, presses_3d) for n in ("thesis-pzt-front",
+                                                                                    "thesis-pvdf-front")]
+        for fut in done:
+            path, log = fut.result()
+            print(log, end="", flush=True)
+            folders.append(path)
     if not small:                      # the answer's coverage decides its designs, pressed in 3D (their 3D views)
         from taxel.jobs.answer_3d import answer_designs
         folders += answer_designs(root, ["thesis-pzt-front", "thesis-pvdf-front"], workers=2, press=answer_3d)
@@ -175,8 +222,7 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
         for name in ("thesis-pzt-front", "thesis-pvdf-front"):
             answer_readout(root / name)
         print(f"      the answer's designs through the bench's readout in {time.perf_counter() - t3:.0f} s")
-        for name in ("thesis-pzt-front", "thesis-pvdf-front"):    # frictionless to sticking (taxel.jobs.friction_band)
-            friction_band(root / name, workers=2)
+        friction_bands([root / "thesis-pzt-front", root / "thesis-pvdf-front"], workers=2)   # frictionless to sticking
     from taxel.jobs.warm_touch import warm_touch      # a warm finger on each thesis design (2D, a few s each)
     print(f"      the answer's warm touch in {sum(warm_touch(f) for f in folders if f.name.endswith('-front')):.0f} s")
     print("[3/5] frequency response through the charge amplifier and notch; step through 500 MOhm" + _cpu())
@@ -191,8 +237,10 @@ def run(root: Path, small: bool = False, full: bool = False, presses_3d: int = P
     folders.append(noise_budget(root / "noise-budget", small))
     tolerances(root / "tolerances")
     print("[4/5] validation on the simulated rig: simulate -> capture over a pty -> analyze -> calibrate -> localize" + _cpu())
-    shutil.rmtree(root / "validation", ignore_errors=True)
-    measure.validate(root / "validation")
+    lines, seconds = validated.result()
+    for line in lines:
+        print(line)
+    print(f"      validation on the simulated rig in {seconds:.0f} s (its own process, from the job's start)")
     folders.append(root / "validation")
     print("[5/5] report" + _cpu())
     what = ("taxel demo" + (" --small" if small else "") + ": thesis Fig. 2.5 study, sensitivity-crosstalk "
