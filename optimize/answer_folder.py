@@ -273,10 +273,13 @@ class FolderAnswer:
         for _, d in self.priced:              # what relaxing a requirement buys: its own press, when it has one
             p = self.press_of(d)
             if p is not None and not p.failed and p.sensitivity is not None and p.error is not None:
-                d.metrics.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk, pressed_3d=True)
+                d.metrics.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk, pressed_3d=True,
+                                 **({"max_strain": p.max_strain} if p.max_strain is not None else {}))
         self.before = {d.label: (d.metrics["sensitivity"], d.metrics["crosstalk"]) for d in ds}
         for d in ds:
-            d.metrics.update(sensitivity=self.pressed[d.label].sensitivity, crosstalk=self.pressed[d.label].crosstalk)
+            p = self.pressed[d.label]
+            d.metrics.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk,
+                             **({"max_strain": p.max_strain} if p.max_strain is not None else {}))
         self.requirements = implied(read_requirements(self.record.get("requirements") or {}), self.reference.metrics)
         for d in ds:
             d.margins = judge(d.metrics, self.requirements).margins

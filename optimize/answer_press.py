@@ -106,6 +106,7 @@ class AnswerPress:
     crosstalk: float | None = None              # ratio
     error: float | None = None                  # relative, on sensitivity (ANSWER_PRESS_ERROR)
     crosstalk_error: float | None = None        # relative, on crosstalk
+    max_strain: float | None = None             # the press's largest silicone strain (the strain limit's value)
     unknowns: int | None = None
     seconds: float | None = None
     folder: str | None = None                   # the press's result folder (its 3D view)
@@ -137,7 +138,8 @@ def press(data: dict, out: str | None, model: dict = PRESS_3D) -> dict:
         return {"failed": f"the press stopped short: {res.stop.message}"}
     o = res.outputs()
     cal = ANSWER_PRESS_ERROR.get((data.get("array") or {}).get("piezo"), {}) if model == PRESS_3D else {}
-    return {"sensitivity": abs(o["sensitivity"]), "crosstalk": o.get("crosstalk"), "unknowns": res.unknowns,
+    return {"sensitivity": abs(o["sensitivity"]), "crosstalk": o.get("crosstalk"), "max_strain": o.get("max_strain"),
+            "unknowns": res.unknowns,
             "error": cal.get("sensitivity"), "crosstalk_error": cal.get("crosstalk"),
             "seconds": time.perf_counter() - t0, "folder": str(out) if out else None}
 

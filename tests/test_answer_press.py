@@ -99,3 +99,25 @@ def test_a_press_estimated_above_2_percent_is_the_answer_with_its_band_flagged(t
             rows = [r[0] for r in g["rows"]]
             assert rows[-1].startswith("7. ") and "(the answer)" not in rows[-1]
             assert g["answer"].endswith("-6")
+
+
+def test_the_strain_limit_is_judged_on_the_answers_3d_presses(tmp_path):
+    """The silicone's strain limit (max_strain, Ecoflex 00-30's elongation at break in the built-in
+    requirements) is judged on each answer design's own 3D press (its largest silicone strain),
+    not left "not evaluated": margin 1 - strain / bound, and a bound below it is missed."""
+    from taxel.optimize.answer_folder import FolderAnswer
+    strain = {"thesis": 1.378, "recommended": 1.775}         # the demo's presses, 2026-11-29
+
+    def edit(limit):
+        def f(rec):
+            rec["requirements"] = {**rec["requirements"], "max_strain": limit}
+            for d in rec["answer_3d"]["designs"]:
+                d["max_strain"] = strain.get(d["role"], 1.4)
+        return f
+    folder = _answer_folders(tmp_path / "a", edit("<= 900 %"))[1]          # thesis-pzt-front
+    a = FolderAnswer.read(folder)
+    ref = a.reference
+    assert ref.metrics["max_strain"] == strain["thesis"]
+    assert ref.margins["max_strain"] == pytest.approx(1 - strain["thesis"] / 9.0)
+    tight = FolderAnswer.read(_answer_folders(tmp_path / "b", edit("<= 100 %"))[1])
+    assert tight.reference.margins["max_strain"] == pytest.approx(1 - strain["thesis"] / 1.0)
