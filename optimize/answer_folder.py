@@ -69,6 +69,7 @@ class FolderAnswer:
     pressed: dict = field(default_factory=dict)  # label -> its AnswerPress (or None): the answer's 3D presses
     before: dict = field(default_factory=dict)  # label -> (sensitivity, crosstalk) before the presses took over
     readout: dict = field(default_factory=dict)  # label -> its row of READOUT_FILE
+    reversed: set = field(default_factory=set)  # priced designs' labels whose 3D press is no better than the chosen's
 
     # -- reading -------------------------------------------------------------------------------
     @classmethod
@@ -283,6 +284,14 @@ class FolderAnswer:
         self.requirements = implied(read_requirements(self.record.get("requirements") or {}), self.reference.metrics)
         for d in ds:
             d.margins = judge(d.metrics, self.requirements).margins
+        # a price the presses reverse: the design a relaxation would take (chosen on the candidate
+        # selection's numbers) presses no better, by the objective, than the chosen design's press
+        chosen = self.recommended or self.reference
+        sense, metric = self.objective
+        sign = 1.0 if sense == "maximize" else -1.0
+        self.reversed = {d.label for _, d in self.priced if d.metrics.get("pressed_3d")
+                         and None not in (d.metrics.get(metric), chosen.metrics.get(metric))
+                         and sign * d.metrics[metric] <= sign * chosen.metrics[metric]}
 
     def confirmed(self) -> dict | None:
         """A 3D-verified front's (front-3d.json) finer confirmation mesh's numbers, label ->

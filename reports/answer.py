@@ -70,7 +70,7 @@ def _views(o: FolderAnswer, numbers: dict | None = None) -> dict:
     """FrontAnswer's design fields of the owner's answer."""
     return {"recommended": _view(o, o.recommended, numbers), "thesis": _view(o, o.reference, numbers),
             "requirements": o.requirements, "binding": o.binding,
-            "priced": [(p, _view(o, d)) for p, d in o.priced]}
+            "priced": [(p, _view(o, d)) for p, d in o.priced], "reversed": set(o.reversed)}
 
 
 def _through_readout(a: FrontAnswer, o: FolderAnswer) -> None:

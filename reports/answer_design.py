@@ -174,6 +174,7 @@ class FrontAnswer:
     row: int = 6                                        # the ladder row (reports.ladder.ROW) of its numbers
     bands: dict = field(default_factory=dict)           # quantity -> optimize.band.Band (all of its parts)
     priced: list = field(default_factory=list)          # (optimize.answer.Price, AnswerDesign): a relaxation's design
+    reversed: set = field(default_factory=set)          # priced designs' roles the 3D presses reverse (FolderAnswer)
 
     def ladders(self) -> list[dict]:
         """The model ladder (reports.ladder) of the recommended and the reference design."""
@@ -237,13 +238,20 @@ class FrontAnswer:
                   "needs a new search with the bound moved." if at else "")
         if not self.priced:
             return active + " No other requirement binds among the designs found."
-        return " What the requirements cost: " + "; ".join(
-            replace(p, design=0).text([d.values], chosen)
-            + (f" (silicone {d.silicone_above_mm:.2f} / {d.silicone_below_mm:.2f} mm, gap {d.gap_mm:.2f} mm"
-               + (", its 3D press" if d.values.get("pressed_3d") else ", the candidate selection's estimate")
-               + "".join(f"; {q.text()} not evaluated for it" for q in self.requirements
-                         if q.stated and d.values.get(q.metric) is None) + ")")
-            for p, d in self.priced) + "." + active
+        def where(d):
+            return (f"silicone {d.silicone_above_mm:.2f} / {d.silicone_below_mm:.2f} mm, gap {d.gap_mm:.2f} mm"
+                    + (", its 3D press" if d.values.get("pressed_3d") else ", the candidate selection's estimate")
+                    + "".join(f"; {q.text()} not evaluated for it" for q in self.requirements
+                              if q.stated and d.values.get(q.metric) is None))
+
+        def cost(p, d):
+            if d.role in self.reversed:     # the candidate selection's order, reversed by the 3D presses
+                return (f"{p.requirement.text()} binds on the candidate selection's numbers, but relaxing it "
+                        f"buys nothing on the 3D presses: the design it would take ({where(d)}) presses at "
+                        f"{eng(d.sensitivity_V_per_N, 'V/N', 3)} and {100 * d.crosstalk:.3g} % crosstalk, no better "
+                        f"than the chosen design's {eng(chosen['sensitivity'], 'V/N', 3)}")
+            return replace(p, design=0).text([d.values], chosen) + f" ({where(d)})"
+        return " What the requirements cost: " + "; ".join(cost(p, d) for p, d in self.priced) + "." + active
 
 
 def preference(answers: list[FrontAnswer]) -> str | None:

@@ -121,3 +121,28 @@ def test_the_strain_limit_is_judged_on_the_answers_3d_presses(tmp_path):
     assert ref.margins["max_strain"] == pytest.approx(1 - strain["thesis"] / 9.0)
     tight = FolderAnswer.read(_answer_folders(tmp_path / "b", edit("<= 100 %"))[1])
     assert tight.reference.margins["max_strain"] == pytest.approx(1 - strain["thesis"] / 1.0)
+
+
+def test_a_price_the_3d_presses_reverse_buys_nothing(tmp_path):
+    """pitch <= 7 mm keeps the thesis PZT design; relaxing it takes the 3.44 mm gap design on the
+    candidate selection's numbers. Its own 3D press (0.7786 V/N, above the thesis design's
+    0.7758) makes that a price ("binds: at <= 7.44 mm the choice is 779 mV/N"); pressed at
+    0.770 V/N, below the chosen design's press, the relaxation buys nothing, and the page
+    says so instead of offering a worse design as what the requirement costs."""
+    from taxel.reports.answer import headline_front
+
+    def edit(sensitivity):
+        def f(rec):
+            rec["requirements"] = {"pitch": "<= 7 mm"}
+            for d in rec["answer_3d"]["designs"]:
+                if d["role"] == "recommended":
+                    d["role"] = "relaxed-pitch"
+                    d["sensitivity"] = sensitivity or d["sensitivity"]
+        return f
+    bought = headline_front(_answer_folders(tmp_path / "a", edit(None))[1])
+    assert bought.recommended is None and not bought.reversed
+    assert "pitch ≤ 7 mm binds: at ≤ 7.44 mm the choice is 779 mV/N" in bought.trade
+    none = headline_front(_answer_folders(tmp_path / "b", edit(0.770))[1])
+    assert none.reversed == {"relaxed-pitch"}
+    assert "pitch ≤ 7 mm binds on the candidate selection's numbers, but relaxing it buys nothing" in none.trade
+    assert "presses at 770 mV/N" in none.trade and "no better than the chosen design's 776 mV/N" in none.trade
