@@ -43,7 +43,10 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2,
     influence metrics only [requirements] names (`required_influence_metrics`): of the
     reference design and the designs the run's answer reaches (`influence` "answer"), or
     of the reference design only ("reference": for a caller that judges another answer's
-    designs itself, as the main job does the probe front's: taxel.jobs.answer_coverage)."""
+    designs itself, as the main job does the probe front's: taxel.jobs.answer_coverage).
+    With "answer", each requirement binding the run's own answer is priced by searching
+    again (optimize.relax); with "reference" the answer is the caller's, and so are its prices
+    (the main job's cheap fronts spent 17-18 evaluations each on a price nobody read)."""
     reference = reference_evaluation(problem)
     (sense, metric), = problem.spec.objective.items()
     result = OptimizationResult(problem.spec.name, problem.names, list(problem.units), sense, metric,
@@ -57,7 +60,8 @@ def run(problem: Optimization, path: str | Path | None = None, workers: int = 2,
     else:
         result.optimum = optimize(problem)
     required_influence_metrics(problem, result, influence)
-    result.prices = relax(problem, chosen_run(result))      # what each binding requirement costs
+    if influence == "answer":           # what each binding requirement costs the run's own answer; the main
+        result.prices = relax(problem, chosen_run(result))     # job's answer is priced by its answer step
     if problem.out is not None:
         store = Store(problem.out)
         try:
