@@ -28,6 +28,7 @@ from __future__ import annotations
 import csv
 import json
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -192,8 +193,12 @@ class FolderAnswer:
         """The designs the choice is among: the candidates (but the reference's own), then the reference."""
         return [d for d in self.candidates if not d.same(self.reference)] + [self.reference]
 
+    def _requirements(self) -> list[Requirement]:
+        """The record's requirements, with the bar the reference's metrics (as they stand) imply."""
+        return implied(read_requirements(self.record.get("requirements") or {}), self.reference.metrics)
+
     def _choose(self) -> None:
-        self.requirements = implied(read_requirements(self.record.get("requirements") or {}), self.reference.metrics)
+        self.requirements = self._requirements()
         ds = self.designs
         self.choice = choose([d.metrics for d in ds], self.requirements, self.objective)
         for d, v in zip(ds, self.choice.verdicts):
@@ -205,10 +210,10 @@ class FolderAnswer:
                        for p in prices([d.metrics for d in ds], self.requirements, self.choice.recommended,
                                        self.objective)]
 
-    @property
+    @cached_property
     def objective(self) -> tuple[str, str]:
-        """The run's (sense, metric) from its result.json (the choice's rule 2); a front's
-        maximize sensitivity without one."""
+        """The run's (sense, metric) from its result.json (the choice's rule 2), read once; a
+        front's maximize sensitivity without one."""
         rec = _json(self.folder / "result.json") or {}
         return next(iter((rec.get("objective") or {}).items()), OBJECTIVE)
 
@@ -244,14 +249,15 @@ class FolderAnswer:
 
     def write_readout(self, record: dict) -> Path:
         """The answer's designs through the bench's chain (taxel.jobs.answer_readout) into READOUT_FILE."""
-        out = self.folder / READOUT_FILE
-        out.write_text(json.dumps(record, indent=1))
-        return out
+        return self._write(READOUT_FILE, record)
 
     def write_friction_band(self, record: dict) -> Path:
         """The answer's friction band (taxel.jobs.friction_band) into optimize.band.FRICTION_FILE."""
         from taxel.optimize.band import FRICTION_FILE
-        out = self.folder / FRICTION_FILE
+        return self._write(FRICTION_FILE, record)
+
+    def _write(self, name: str, record: dict) -> Path:
+        out = self.folder / name
         out.write_text(json.dumps(record, indent=1))
         return out
 
@@ -274,14 +280,12 @@ class FolderAnswer:
         for _, d in self.priced:              # what relaxing a requirement buys: its own press, when it has one
             p = self.press_of(d)
             if p is not None and not p.failed and p.sensitivity is not None and p.error is not None:
-                d.metrics.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk, pressed_3d=True,
-                                 **({"max_strain": p.max_strain} if p.max_strain is not None else {}))
+                _take(d, p)
+                d.metrics["pressed_3d"] = True
         self.before = {d.label: (d.metrics["sensitivity"], d.metrics["crosstalk"]) for d in ds}
         for d in ds:
-            p = self.pressed[d.label]
-            d.metrics.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk,
-                             **({"max_strain": p.max_strain} if p.max_strain is not None else {}))
-        self.requirements = implied(read_requirements(self.record.get("requirements") or {}), self.reference.metrics)
+            _take(d, self.pressed[d.label])
+        self.requirements = self._requirements()
         for d in ds:
             d.margins = judge(d.metrics, self.requirements).margins
         # a price the presses reverse: the design a relaxation would take (chosen on the candidate
@@ -321,6 +325,13 @@ class FolderAnswer:
                 continue                                 # written for another answer: not this design's
             d.metrics.update({k: r.get(key) for k, key in READOUT.items()})
             self.readout[d.label] = r
+
+
+def _take(d: Design, p) -> None:
+    """A design's metrics from its 3D press (optimize.answer_press.AnswerPress): sensitivity,
+    crosstalk and, when the press recorded it, the largest silicone strain."""
+    d.metrics.update(sensitivity=p.sensitivity, crosstalk=p.crosstalk,
+                     **({"max_strain": p.max_strain} if p.max_strain is not None else {}))
 
 
 def _json(path: Path) -> dict | None:

@@ -239,7 +239,7 @@ class FrontAnswer:
         if not self.priced:
             return active + " No other requirement binds among the designs found."
         def where(d):
-            return (f"silicone {d.silicone_above_mm:.2f} / {d.silicone_below_mm:.2f} mm, gap {d.gap_mm:.2f} mm"
+            return (d.design.text()                   # its variables, every one (optimize.answer.Design)
                     + (", its 3D press" if d.values.get("pressed_3d") else ", the candidate selection's estimate")
                     + "".join(f"; {q.text()} not evaluated for it" for q in self.requirements
                               if q.stated and d.values.get(q.metric) is None))

@@ -22,17 +22,17 @@ import time
 from pathlib import Path
 
 
-def _designs(root: Path, name: str, roles: tuple[str, ...] | None = None) -> list[tuple[str, list, dict]]:
-    """(role, x, scene data) of the answer designs of ROOT/<name> (its -probe-front problem's
-    [press]), in the answer's order (recommended, thesis, priced), each design once; only
-    `roles` when given ("thesis")."""
+def _designs(root: Path, name: str, roles: tuple[str, ...] | None = None):
+    """The answer's owner of ROOT/<name> (None when it holds no answer) and (role, x, scene
+    data) of its answer designs (its -probe-front problem's [press]), in the answer's order
+    (recommended, thesis, priced), each design once; only `roles` when given ("thesis")."""
     from taxel.optimize import answer_press as AP
     from taxel.optimize import spec as O
     from taxel.optimize.answer_folder import FolderAnswer
     folder = root / name
     a = FolderAnswer.read(folder)
     if a is None:
-        return []
+        return None, []
     probe = O.load_optimization(name.replace("-front", "-probe-front"), folder)
     out = []
     for d in a.answer_designs(roles):           # and what relaxing a requirement buys
@@ -40,7 +40,7 @@ def _designs(root: Path, name: str, roles: tuple[str, ...] | None = None) -> lis
         data = AP.scene_data(probe, x)
         data["name"] = f"{name.removesuffix('-front')}-{d.label}-3d"
         out.append((d.label, x, data))
-    return out
+    return a, out
 
 
 def _same(x, y) -> bool:
@@ -54,12 +54,12 @@ def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool =
     from dask.distributed import Client, as_completed
     from taxel.jobs.answer_coverage import answer_coverage
     from taxel.optimize import answer_press as AP
-    from taxel.optimize.answer_folder import FolderAnswer
     from taxel.studies.execute import local_cluster
     t0 = time.perf_counter()
     cluster = local_cluster(workers)
     client = Client(cluster)
     pressed: dict[str, list] = {n: [] for n in names}       # name -> [(x, data, future)]
+    chosen: dict[str, tuple] = {}                            # name -> (owner, its answer designs): read once
 
     def submit(name, x, data, priority):
         if any(_same(x, y) for y, _, _ in pressed[name]):
@@ -71,12 +71,13 @@ def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool =
     try:
         judged = {client.submit(answer_coverage, root / n, pure=False, priority=2): n for n in names}
         for n in names if press else []:        # the thesis design is pressed whatever the coverage says
-            for _, x, data in _designs(root, n, ("thesis",)):
+            for _, x, data in _designs(root, n, ("thesis",))[1]:
                 submit(n, x, data, 0)
         for fut in as_completed(list(judged)):
             n = judged[fut]
             print(f"      {n}: the answer's coverage (optimize.coverage) judged in {fut.result():.0f} s", flush=True)
-            for _, x, data in (_designs(root, n) if press else []):   # the designs the coverage chose: next
+            chosen[n] = _designs(root, n)               # the owner after the coverage, and its designs
+            for _, x, data in (chosen[n][1] if press else []):   # the designs the coverage chose: next
                 submit(n, x, data, 1)
         got = {n: [(x, data, f.result()) for x, data, f in pressed[n]] for n in names}
     finally:
@@ -86,8 +87,9 @@ def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool =
     for n in names:
         if not got[n]:
             continue
+        owner, designs = chosen[n]
         presses = []
-        for role, x, _ in _designs(root, n):
+        for role, x, _ in designs:
             _, data, r = next(g for g in got[n] if _same(g[0], x))
             presses.append(AP.AnswerPress(role, x, **r))
             print(f"      {n} {role}: " + (
@@ -96,7 +98,7 @@ def answer_designs(root: Path, names: list[str], workers: int = 2, press: bool =
                 f"{r['seconds']:.0f} s" if r.get("failed") is None and r.get("error") is not None else
                 f"3D press {r.get('sensitivity')} V/N, no estimate" if r.get("failed") is None else
                 f"failed: {r['failed']}"))
-        FolderAnswer.read(root / n, with_presses=False).write_presses(presses)
+        owner.write_presses(presses)
         views += [root / data["name"] for _, data, r in got[n] if r.get("failed") is None]
     print(f"      {sum(len(v) for v in got.values())} 3D presses of the answer's designs, coverage judged, in "
           f"{time.perf_counter() - t0:.0f} s", flush=True)
